@@ -1,0 +1,49 @@
+"""cshape: Shape-DNA and compact Shape-DNA (cShape-DNA) of triangle meshes.
+
+The pipeline, one module per stage (data flows one way):
+
+1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`load_mesh`, :func:`repair_mesh`
+2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
+3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
+4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
+   :func:`compact_shape_dna` (Eq. 9-10), :func:`real_form`, :func:`inverse_compact_shape_dna`,
+   :func:`f1_feature`
+
+:mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, hemisphere, ...).
+"""
+
+from . import shapes
+from .descriptors import (
+    compact_shape_dna,
+    compact_shape_dna_real,
+    f1_feature,
+    inverse_compact_shape_dna,
+    normalize,
+    real_form,
+    weyl_subtract,
+)
+from .fem import fem_matrices
+from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, load_mesh, repair_mesh
+from .spectrum import eigenpairs, shape_dna
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "CShapeWarning",
+    "Mesh",
+    "as_mesh",
+    "compact_shape_dna",
+    "compact_shape_dna_real",
+    "eigenpairs",
+    "f1_feature",
+    "fem_matrices",
+    "inverse_compact_shape_dna",
+    "largest_component",
+    "load_mesh",
+    "normalize",
+    "real_form",
+    "repair_mesh",
+    "shape_dna",
+    "shapes",
+    "weyl_subtract",
+]

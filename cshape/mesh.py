@@ -1,0 +1,474 @@
+"""Stage 1 of the pipeline: triangle meshes (container, validation, topology, loading, repair).
+
+A :class:`Mesh` is a thin, validated pair of plain arrays
+
+* ``vertices`` : (n, 3) float64, positions in R^3,
+* ``faces``    : (m, 3) int64, zero-based vertex indices of each triangle,
+
+plus the topological facts the FEM stage needs (boundary and non-manifold edges,
+connected components).  Every public function of cshape also accepts the pair
+``(vertices, faces)`` in place of a :class:`Mesh` (see :func:`as_mesh`).
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+__all__ = [
+    "CShapeWarning",
+    "Mesh",
+    "as_mesh",
+    "load_mesh",
+    "repair_mesh",
+    "largest_component",
+]
+
+
+class CShapeWarning(UserWarning):
+    """Warning issued by cshape when it repairs or interprets an imperfect input."""
+
+
+class Mesh:
+    """A triangle mesh: vertex positions and triangles, validated on construction.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (n, 3)
+        Vertex coordinates. Must be finite real numbers.
+    faces : array_like, shape (m, 3)
+        Zero-based vertex indices of each triangle; integers in ``[0, n)``.
+
+    Raises
+    ------
+    ValueError
+        If an array has the wrong shape, a coordinate is NaN or infinite, or a face
+        index is negative, out of range or not an integer.  The message names the
+        argument, the bad value and how to fix it.
+
+    Notes
+    -----
+    The constructor only validates; it does not repair.  Degenerate faces, duplicate
+    or unreferenced vertices are handled by :func:`repair_mesh` (which
+    :func:`load_mesh` and the FEM stage call for you, with a warning).
+
+    Examples
+    --------
+    >>> import numpy as np, cshape
+    >>> V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
+    >>> F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    >>> m = cshape.Mesh(V, F)
+    >>> m.n_vertices, m.n_faces, m.is_closed
+    (4, 4, True)
+    """
+
+    def __init__(self, vertices, faces):
+        self.vertices = _check_vertices(vertices)
+        self.faces = _check_faces(faces, len(self.vertices))
+        self.vertices.setflags(write=False)
+        self.faces.setflags(write=False)
+
+    # ------------------------------------------------------------------ sizes
+    @property
+    def n_vertices(self) -> int:
+        """Number of vertices ``n``."""
+        return int(self.vertices.shape[0])
+
+    @property
+    def n_faces(self) -> int:
+        """Number of triangles ``m``."""
+        return int(self.faces.shape[0])
+
+    def __repr__(self) -> str:
+        return (
+            f"Mesh(n_vertices={self.n_vertices}, n_faces={self.n_faces}, "
+            f"area={self.area:.6g}, components={self.n_components}, "
+            f"boundary_edges={len(self.boundary_edges)}, "
+            f"nonmanifold_edges={len(self.nonmanifold_edges)})"
+        )
+
+    # --------------------------------------------------------------- geometry
+    @cached_property
+    def face_areas(self) -> np.ndarray:
+        """Area ``|t|`` of each triangle, shape (m,)."""
+        v = self.vertices
+        f = self.faces
+        cross = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+        return 0.5 * np.linalg.norm(cross, axis=1)
+
+    @cached_property
+    def area(self) -> float:
+        """Surface area, the sum of the triangle areas (used by the area normalisation)."""
+        return float(self.face_areas.sum())
+
+    @cached_property
+    def mean_edge_length(self) -> float:
+        """Mean length ``L`` of the (unique) edges."""
+        e = self.edges
+        if len(e) == 0:
+            return 0.0
+        return float(np.linalg.norm(self.vertices[e[:, 0]] - self.vertices[e[:, 1]], axis=1).mean())
+
+    # --------------------------------------------------------------- topology
+    @cached_property
+    def _edge_data(self):
+        f = self.faces
+        half = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+        und = np.sort(half, axis=1)
+        edges, inverse, counts = np.unique(und, axis=0, return_inverse=True, return_counts=True)
+        return edges, inverse.reshape(-1), counts
+
+    @property
+    def edges(self) -> np.ndarray:
+        """Unique undirected edges, shape (e, 2), each row sorted ascending."""
+        return self._edge_data[0]
+
+    @property
+    def edge_face_counts(self) -> np.ndarray:
+        """Number of triangles containing each edge of :attr:`edges`, shape (e,)."""
+        return self._edge_data[2]
+
+    @property
+    def boundary_edges(self) -> np.ndarray:
+        """Edges contained in exactly one triangle, shape (b, 2)."""
+        return self.edges[self.edge_face_counts == 1]
+
+    @property
+    def nonmanifold_edges(self) -> np.ndarray:
+        """Edges shared by three or more triangles, shape (k, 2)."""
+        return self.edges[self.edge_face_counts > 2]
+
+    @cached_property
+    def boundary_vertices(self) -> np.ndarray:
+        """Sorted indices of vertices on a boundary edge."""
+        return np.unique(self.boundary_edges)
+
+    @cached_property
+    def nonmanifold_vertices(self) -> np.ndarray:
+        """Sorted indices of non-manifold vertices.
+
+        A vertex is non-manifold if it lies on a non-manifold edge, or if the triangles
+        around it form more than one fan (a "bow-tie" vertex where two sheets touch).
+        """
+        on_edge = np.unique(self.nonmanifold_edges)
+        return np.union1d(on_edge, self._bowtie_vertices)
+
+    @cached_property
+    def _bowtie_vertices(self) -> np.ndarray:
+        f = self.faces
+        m = len(f)
+        if m == 0:
+            return np.zeros(0, dtype=np.int64)
+        # corners (face, local index) -> vertex; two corners at the same vertex are in one
+        # fan when their triangles share an edge through that vertex.
+        corner_v = f.reshape(-1)
+        corner_id = np.arange(3 * m)
+        nxt = np.roll(f, -1, axis=1).reshape(-1)
+        prv = np.roll(f, 1, axis=1).reshape(-1)
+        # key (v, w) for each of the two edges at the corner
+        keys = np.concatenate([np.stack([corner_v, nxt], 1), np.stack([corner_v, prv], 1)])
+        ids = np.concatenate([corner_id, corner_id])
+        _, kinv = np.unique(keys, axis=0, return_inverse=True)
+        kinv = kinv.reshape(-1)
+        nk = kinv.max() + 1
+        g = sp.coo_matrix((np.ones(len(ids)), (ids, kinv + 3 * m)), shape=(3 * m + nk, 3 * m + nk))
+        _, lab = connected_components(g, directed=False)
+        fans = np.unique(np.stack([corner_v, lab[: 3 * m]], 1), axis=0)
+        nfans = np.bincount(fans[:, 0], minlength=self.n_vertices)
+        return np.flatnonzero(nfans > 1)
+
+    @cached_property
+    def component_labels(self) -> np.ndarray:
+        """Connected-component label of each vertex, shape (n,); isolated vertices get their own."""
+        n = self.n_vertices
+        f = self.faces
+        rows = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
+        cols = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
+        g = sp.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
+        _, lab = connected_components(g, directed=False)
+        return lab
+
+    @property
+    def n_components(self) -> int:
+        """Number of connected components of the referenced vertices (edge-connected)."""
+        used = np.zeros(self.n_vertices, bool)
+        used[self.faces.reshape(-1)] = True
+        return int(len(np.unique(self.component_labels[used])))
+
+    @property
+    def unreferenced_vertices(self) -> np.ndarray:
+        """Indices of vertices used by no triangle."""
+        used = np.zeros(self.n_vertices, bool)
+        used[self.faces.reshape(-1)] = True
+        return np.flatnonzero(~used)
+
+    @property
+    def is_closed(self) -> bool:
+        """True when every edge is shared by exactly two triangles (no boundary, no non-manifold edge)."""
+        return bool(self.n_faces > 0 and np.all(self.edge_face_counts == 2))
+
+    @property
+    def euler_characteristic(self) -> int:
+        """``V - E + F`` over the referenced vertices."""
+        nv = self.n_vertices - len(self.unreferenced_vertices)
+        return int(nv - len(self.edges) + self.n_faces)
+
+    @property
+    def genus(self) -> int | None:
+        """Genus of a closed, connected, manifold mesh; ``None`` otherwise."""
+        if not self.is_closed or self.n_components != 1 or len(self.nonmanifold_vertices):
+            return None
+        return int((2 - self.euler_characteristic) // 2)
+
+
+# ---------------------------------------------------------------------- validation
+def _check_vertices(vertices) -> np.ndarray:
+    try:
+        v = np.asarray(vertices, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(
+            f"vertices must be a real array of shape (n, 3); could not convert it to float64 ({exc})"
+        ) from None
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise ValueError(
+            f"vertices must have shape (n, 3), got {v.shape}; pass one row of x, y, z per vertex"
+        )
+    if v.shape[0] == 0:
+        raise ValueError("vertices is empty: a mesh needs at least 3 vertices")
+    bad = ~np.isfinite(v).all(axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"vertices contain NaN or infinite coordinates ({int(bad.sum())} vertices, first at "
+            f"index {i}: {v[i].tolist()}); remove or fix those vertices before building the mesh"
+        )
+    return np.ascontiguousarray(v)
+
+
+def _check_faces(faces, n_vertices: int) -> np.ndarray:
+    f0 = np.asarray(faces)
+    if f0.dtype.kind == "f":
+        if f0.size and not np.all(np.isfinite(f0) & (f0 == np.round(f0))):
+            raise TypeError("faces must hold integer vertex indices; got non-integer floats")
+    elif f0.dtype.kind not in "iu" and f0.size:
+        raise TypeError(f"faces must be an integer array of shape (m, 3), got dtype {f0.dtype}")
+    f = f0.astype(np.int64) if f0.size else np.zeros((0, 3), np.int64)
+    if f.ndim != 2 or f.shape[1] != 3:
+        raise ValueError(
+            f"faces must have shape (m, 3) (triangles), got {f0.shape}; triangulate polygons "
+            "first, e.g. with cshape.load_mesh which does it for you"
+        )
+    if f.shape[0] == 0:
+        raise ValueError("faces is empty: a mesh needs at least one triangle")
+    lo, hi = int(f.min()), int(f.max())
+    if lo < 0 or hi >= n_vertices:
+        bad = int(np.flatnonzero(((f < 0) | (f >= n_vertices)).any(axis=1))[0])
+        raise ValueError(
+            f"faces reference vertex indices outside [0, {n_vertices - 1}] (face {bad} is "
+            f"{f[bad].tolist()}); indices are zero-based and must be smaller than the number "
+            "of vertices"
+        )
+    return np.ascontiguousarray(f)
+
+
+def as_mesh(mesh_or_vf) -> Mesh:
+    """Return a :class:`Mesh` from a ``Mesh`` or a ``(vertices, faces)`` pair.
+
+    Parameters
+    ----------
+    mesh_or_vf : Mesh or tuple of (array_like (n, 3), array_like (m, 3))
+
+    Raises
+    ------
+    TypeError
+        If the argument is neither.
+    """
+    if isinstance(mesh_or_vf, Mesh):
+        return mesh_or_vf
+    if isinstance(mesh_or_vf, (tuple, list)) and len(mesh_or_vf) == 2:
+        return Mesh(*mesh_or_vf)
+    if isinstance(mesh_or_vf, (str, os.PathLike)):
+        raise TypeError(
+            f"got a path ({mesh_or_vf!r}) where a mesh was expected; load it first with "
+            "cshape.load_mesh(path)"
+        )
+    raise TypeError(
+        f"expected a cshape.Mesh or a (vertices, faces) pair, got {type(mesh_or_vf).__name__}"
+    )
+
+
+# ---------------------------------------------------------------------- repair
+def repair_mesh(mesh, *, merge_tol: float = 0.0, warn: bool = True) -> Mesh:
+    """Return a cleaned copy of a mesh; what changed is reported in one warning.
+
+    The repairs, in order:
+
+    1. vertices at identical positions (within ``merge_tol`` times the bounding-box
+       diagonal) are welded into one, as in STL triangle soup;
+    2. faces that repeat a vertex index (collapsed to a segment or point) are removed;
+    3. duplicate faces (the same three vertices, in any order) are reduced to one;
+    4. unreferenced vertices are removed and the faces re-indexed.
+
+    Geometrically degenerate faces with three distinct vertices (zero area, as left by
+    marching cubes) are *kept*: the FEM stage handles them (see
+    :func:`cshape.fem.fem_matrices`), because removing them would cut the surface.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+    merge_tol : float, default=0.0
+        Relative welding tolerance; 0 welds only exactly coincident vertices.
+    warn : bool, default=True
+        Issue a :class:`CShapeWarning` describing the repairs, if any.
+
+    Returns
+    -------
+    Mesh
+        The repaired mesh (the input itself when nothing needed repair).
+    """
+    mesh = as_mesh(mesh)
+    V = mesh.vertices
+    F = mesh.faces
+    notes = []
+    # 1. weld coincident vertices
+    if merge_tol < 0:
+        raise ValueError(f"merge_tol must be >= 0, got {merge_tol}")
+    if merge_tol > 0:
+        diag = float(np.linalg.norm(V.max(0) - V.min(0))) or 1.0
+        key = np.round(V / (merge_tol * diag)).astype(np.int64)
+    else:
+        key = V
+    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    inv = inv.reshape(-1)
+    if len(first) < len(V):
+        notes.append(f"welded {len(V) - len(first)} duplicate vertices")
+        # keep the vertex order of first occurrence
+        order = np.argsort(first)
+        rank = np.empty_like(order)
+        rank[order] = np.arange(len(order))
+        V = V[first[order]]
+        F = rank[inv][F]
+    # 2. faces with a repeated index
+    degenerate = (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
+    if degenerate.any():
+        notes.append(f"removed {int(degenerate.sum())} faces with a repeated vertex")
+        F = F[~degenerate]
+    # 3. duplicate faces
+    if len(F):
+        _, keep = np.unique(np.sort(F, axis=1), axis=0, return_index=True)
+        if len(keep) < len(F):
+            notes.append(f"removed {len(F) - len(keep)} duplicate faces")
+            F = F[np.sort(keep)]
+    if len(F) == 0:
+        raise ValueError(
+            "the mesh has no valid triangle left after removing degenerate faces; "
+            "check that the faces reference three distinct vertices"
+        )
+    # 4. unreferenced vertices
+    used = np.zeros(len(V), bool)
+    used[F.reshape(-1)] = True
+    if not used.all():
+        notes.append(f"removed {int((~used).sum())} unreferenced vertices")
+        new = np.cumsum(used) - 1
+        V = V[used]
+        F = new[F]
+    if not notes:
+        return mesh
+    if warn:
+        warnings.warn("repaired mesh: " + "; ".join(notes), CShapeWarning, stacklevel=2)
+    return Mesh(V, F)
+
+
+def largest_component(mesh) -> Mesh:
+    """Return the connected component with the largest surface area.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+
+    Returns
+    -------
+    Mesh
+        The component, with unreferenced vertices removed.
+    """
+    mesh = as_mesh(mesh)
+    lab = mesh.component_labels[mesh.faces[:, 0]]
+    per = np.bincount(lab, weights=mesh.face_areas)
+    keep = lab == int(np.argmax(per))
+    return repair_mesh(Mesh(mesh.vertices, mesh.faces[keep]), warn=False)
+
+
+# ---------------------------------------------------------------------- loading
+def load_mesh(path, *, repair: bool = True) -> Mesh:
+    """Read a triangle mesh from any format PyMeshLab reads (OFF, PLY, OBJ, STL, ...).
+
+    Polygons are triangulated.  OBJ texture coordinates and normals are ignored, keeping
+    one vertex per position (the surface is not cut at UV seams).  STL triangle soup is
+    welded into a connected mesh.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The mesh file.
+    repair : bool, default=True
+        Apply :func:`repair_mesh` (weld duplicate vertices, drop collapsed and duplicate
+        faces, drop unreferenced vertices), with a warning if anything changed.
+
+    Returns
+    -------
+    Mesh
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    ValueError
+        If the file cannot be read as a mesh (unknown extension, empty, truncated or
+        corrupt file, no triangles); the message names the file.
+    """
+    import pymeshlab
+
+    p = Path(path)
+    if not p.exists():
+        raise FileNotFoundError(f"no mesh file at {str(p)!r}")
+    if p.is_dir():
+        raise ValueError(f"{str(p)!r} is a folder, not a mesh file")
+    if p.stat().st_size == 0:
+        raise ValueError(f"cannot read mesh {str(p)!r}: the file is empty")
+    ext = p.suffix.lower().lstrip(".")
+    ms = pymeshlab.MeshSet()
+    try:
+        ms.load_new_mesh(str(p))
+    except pymeshlab.PyMeshLabException as exc:
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        if "Unknown format" in str(exc) or "unknown format" in str(exc).lower():
+            raise ValueError(
+                f"cannot read mesh {str(p)!r}: the extension '.{ext}' is not a mesh format "
+                "PyMeshLab reads (use OFF, PLY, OBJ, STL, ...)"
+            ) from None
+        raise ValueError(
+            f"cannot read mesh {str(p)!r}: PyMeshLab reports {msg!r}; the file is probably "
+            "truncated, corrupt or not a mesh of that format"
+        ) from None
+    m = ms.current_mesh()
+    if m.face_number() == 0:
+        raise ValueError(
+            f"cannot read mesh {str(p)!r}: it has {m.vertex_number()} vertices but no triangles "
+            "(a point cloud?); cshape needs a triangle surface mesh"
+        )
+    V = np.array(m.vertex_matrix(), dtype=np.float64)
+    F = np.array(m.face_matrix(), dtype=np.int64)
+    mesh = Mesh(V, F)
+    if repair:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", CShapeWarning)
+            mesh = repair_mesh(mesh)
+        for w in caught:
+            warnings.warn(f"{p.name}: {w.message}", CShapeWarning, stacklevel=2)
+    return mesh

@@ -1,0 +1,214 @@
+"""Built-in analytic shapes, made with NumPy alone (no file, no download).
+
+They are the known-answer cases of the test suite and the demo:
+
+=================  ===========================================  ==============================
+shape              exact Laplace-Beltrami spectrum              function
+=================  ===========================================  ==============================
+unit sphere        l(l+1), multiplicity 2l+1                    :func:`icosphere`
+unit square        pi^2 (m^2 + n^2); Neumann m,n >= 0,          :func:`square`
+                   Dirichlet m,n >= 1
+unit disk          Neumann j'_{m,k}^2, Dirichlet j_{m,k}^2       :func:`disk`
+                   (Bessel zeros; multiplicity 2 for m > 0)
+unit hemisphere    l(l+1) with l+m even (Neumann) or odd        :func:`hemisphere`
+                   (Dirichlet), m = -l..l
+=================  ===========================================  ==============================
+
+Each function returns a :class:`cshape.Mesh`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .mesh import Mesh, repair_mesh
+
+__all__ = ["icosphere", "square", "disk", "hemisphere", "torus", "cube", "sphere_spectrum"]
+
+
+def _check_level(name, value, lo, hi):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+    return int(value)
+
+
+def icosphere(subdivisions=4, radius=1.0) -> Mesh:
+    """Icosphere: an icosahedron subdivided ``subdivisions`` times, projected to the sphere.
+
+    Vertex counts ``10 * 4**s + 2``: 642 (s=3), 2562 (4), 10242 (5), 40962 (6), 163842 (7).
+    """
+    s = _check_level("subdivisions", subdivisions, 0, 8)
+    t = (1.0 + 5**0.5) / 2.0
+    V = np.array(
+        [
+            [-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0],
+            [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t],
+            [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1],
+        ],
+        dtype=np.float64,
+    )
+    F = np.array(
+        [
+            [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
+            [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
+            [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
+            [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        ],
+        dtype=np.int64,
+    )
+    V /= np.linalg.norm(V, axis=1, keepdims=True)
+    for _ in range(s):
+        V, F = _midpoint_subdivide(V, F)
+        V /= np.linalg.norm(V, axis=1, keepdims=True)
+    return Mesh(V * float(radius), F)
+
+
+def _midpoint_subdivide(V, F):
+    e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    uniq, inv = np.unique(e, axis=0, return_inverse=True)
+    inv = inv.reshape(3, -1).T + len(V)
+    mids = 0.5 * (V[uniq[:, 0]] + V[uniq[:, 1]])
+    a, b, c = F[:, 0], F[:, 1], F[:, 2]
+    ab, bc, ca = inv[:, 0], inv[:, 1], inv[:, 2]
+    F2 = np.concatenate(
+        [np.stack([a, ab, ca], 1), np.stack([b, bc, ab], 1), np.stack([c, ca, bc], 1),
+         np.stack([ab, bc, ca], 1)]
+    )
+    return np.vstack([V, mids]), F2
+
+
+def square(n=32, size=1.0) -> Mesh:
+    """Flat square ``[0, size]^2`` in the z=0 plane, an ``n x n`` grid of cells, each cut
+    into two triangles along alternating diagonals.  ``(n+1)^2`` vertices."""
+    n = _check_level("n", n, 1, 4096)
+    x = np.linspace(0.0, float(size), n + 1)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    V = np.stack([X.ravel(), Y.ravel(), np.zeros(X.size)], 1)
+    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    a = idx[:-1, :-1].ravel()
+    b = idx[1:, :-1].ravel()
+    c = idx[1:, 1:].ravel()
+    d = idx[:-1, 1:].ravel()
+    alt = ((np.add.outer(np.arange(n), np.arange(n))) % 2 == 0).ravel()
+    F = np.concatenate(
+        [
+            np.where(alt[:, None], np.stack([a, b, c], 1), np.stack([a, b, d], 1)),
+            np.where(alt[:, None], np.stack([a, c, d], 1), np.stack([b, c, d], 1)),
+        ]
+    )
+    return Mesh(V, F)
+
+
+def _disk_param(rings):
+    """Concentric-ring triangulation of the unit disk: ring k has 6k vertices.
+
+    Returns (r, theta, F) with polar coordinates of the vertices."""
+    r = [np.zeros(1)]
+    th = [np.zeros(1)]
+    start = [0]
+    for k in range(1, rings + 1):
+        nk = 6 * k
+        start.append(start[-1] + len(r[-1]))
+        r.append(np.full(nk, k / rings))
+        th.append(2 * np.pi * np.arange(nk) / nk)
+    faces = []
+    for k in range(1, rings + 1):
+        inner = np.arange(len(th[k - 1])) + start[k - 1]
+        outer = np.arange(len(th[k])) + start[k]
+        ti = th[k - 1] if k > 1 else np.zeros(1)
+        to = th[k]
+        i = o = 0
+        ni, no = len(inner), len(outer)
+        # stitch the two rings by increasing angle
+        while i < ni or o < no:
+            a_next = ti[(i + 1) % ni] + (2 * np.pi if i + 1 >= ni else 0.0)
+            b_next = to[(o + 1) % no] + (2 * np.pi if o + 1 >= no else 0.0)
+            if k == 1 or (o < no and (i >= ni or b_next <= a_next)):
+                faces.append([inner[i % ni], outer[o % no], outer[(o + 1) % no]])
+                o += 1
+            else:
+                faces.append([inner[i % ni], outer[o % no], inner[(i + 1) % ni]])
+                i += 1
+            if k == 1 and o >= no:
+                break
+    return np.concatenate(r), np.concatenate(th), np.array(faces, dtype=np.int64)
+
+
+def disk(rings=24, radius=1.0) -> Mesh:
+    """Flat disk of the given radius: ``1 + 3 rings (rings + 1)`` vertices on concentric rings."""
+    rings = _check_level("rings", rings, 1, 2048)
+    r, th, F = _disk_param(rings)
+    V = np.stack([r * np.cos(th), r * np.sin(th), np.zeros_like(r)], 1) * float(radius)
+    return _orient_up(Mesh(V, F))
+
+
+def hemisphere(rings=24, radius=1.0) -> Mesh:
+    """Upper unit hemisphere ``z >= 0``, the disk triangulation mapped by polar angle
+    ``phi = r pi / 2``; its boundary is the equator."""
+    rings = _check_level("rings", rings, 1, 2048)
+    r, th, F = _disk_param(rings)
+    phi = r * (np.pi / 2)
+    V = np.stack([np.sin(phi) * np.cos(th), np.sin(phi) * np.sin(th), np.cos(phi)], 1)
+    return _orient_up(Mesh(V * float(radius), F))
+
+
+def _orient_up(mesh):
+    V, F = mesh.vertices, mesh.faces
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    flip = n[:, 2] < 0
+    F = F.copy()
+    F[flip] = F[flip][:, ::-1]
+    return Mesh(V, F)
+
+
+def torus(n_major=64, n_minor=32, R=1.0, r=0.4) -> Mesh:
+    """Torus of revolution with major radius ``R`` and tube radius ``r`` (genus 1)."""
+    n_major = _check_level("n_major", n_major, 3, 8192)
+    n_minor = _check_level("n_minor", n_minor, 3, 8192)
+    if not 0 < r < R:
+        raise ValueError(f"torus needs 0 < r < R, got R={R}, r={r}")
+    u = 2 * np.pi * np.arange(n_major) / n_major
+    v = 2 * np.pi * np.arange(n_minor) / n_minor
+    U, W = np.meshgrid(u, v, indexing="ij")
+    V = np.stack(
+        [(R + r * np.cos(W)) * np.cos(U), (R + r * np.cos(W)) * np.sin(U), r * np.sin(W)], -1
+    ).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(n_major), np.arange(n_minor), indexing="ij")
+    a = (i * n_minor + j).ravel()
+    b = (((i + 1) % n_major) * n_minor + j).ravel()
+    c = (((i + 1) % n_major) * n_minor + (j + 1) % n_minor).ravel()
+    d = (i * n_minor + (j + 1) % n_minor).ravel()
+    F = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    return Mesh(V, F)
+
+
+def cube(n=16, size=1.0) -> Mesh:
+    """Surface of the cube ``[0, size]^3``, each face an ``n x n`` grid (closed, welded)."""
+    n = _check_level("n", n, 1, 1024)
+    sq = square(n, size)
+    V0, F0 = sq.vertices, sq.faces
+    parts_v, parts_f = [], []
+    s = float(size)
+    # six faces as (axes permutation, offset, flip)
+    for axis in range(3):
+        for side in (0.0, s):
+            V = np.zeros_like(V0)
+            others = [k for k in range(3) if k != axis]
+            V[:, others[0]] = V0[:, 0]
+            V[:, others[1]] = V0[:, 1]
+            V[:, axis] = side
+            F = F0 if (side > 0) == (axis != 1) else F0[:, ::-1]
+            parts_f.append(F + sum(len(p) for p in parts_v))
+            parts_v.append(V)
+    mesh = Mesh(np.vstack(parts_v), np.vstack(parts_f))
+    return repair_mesh(mesh, merge_tol=1e-9, warn=False)
+
+
+def sphere_spectrum(N, radius=1.0) -> np.ndarray:
+    """The first ``N`` exact eigenvalues of the sphere: ``l(l+1)/radius^2``, each ``2l+1`` times."""
+    out = []
+    ell = 0
+    while len(out) < N:
+        out.extend([ell * (ell + 1) / radius**2] * (2 * ell + 1))
+        ell += 1
+    return np.array(out[:N], dtype=np.float64)
