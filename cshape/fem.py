@@ -24,7 +24,7 @@ import warnings
 import numpy as np
 import scipy.sparse as sp
 
-from .mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
+from .mesh import CShapeWarning, as_mesh, repair_mesh
 
 __all__ = ["fem_matrices", "FEM", "assemble"]
 
@@ -73,7 +73,7 @@ class FEM:
         return int(self.A.shape[0])
 
     def to_vertices(self, f: np.ndarray) -> np.ndarray:
-        """Extend functions on the unknowns, shape (k,) or (k, p), to all n vertices (zeros elsewhere)."""
+        """Extend functions on the unknowns, (k,) or (k, p), to all n vertices (0 elsewhere)."""
         f = np.asarray(f)
         out = np.zeros((self.n_vertices,) + f.shape[1:], dtype=f.dtype)
         out[self.free] = f

@@ -210,7 +210,7 @@ class Mesh:
 
     @property
     def is_closed(self) -> bool:
-        """True when every edge is shared by exactly two triangles (no boundary, no non-manifold edge)."""
+        """True when every edge has exactly two triangles (no boundary, no non-manifold edge)."""
         return bool(self.n_faces > 0 and np.all(self.edge_face_counts == 2))
 
     @property
@@ -233,7 +233,8 @@ def _check_vertices(vertices) -> np.ndarray:
         v = np.asarray(vertices, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise TypeError(
-            f"vertices must be a real array of shape (n, 3); could not convert it to float64 ({exc})"
+            "vertices must be a real array of shape (n, 3); "
+            f"could not convert it to float64 ({exc})"
         ) from None
     if v.ndim != 2 or v.shape[1] != 3:
         raise ValueError(
