@@ -1,0 +1,635 @@
+"""Shape variants made with PyMeshLab: primitives, marching cubes, remeshing, subdivision, noise.
+
+The paper's experiments (Section 3) compare a shape with versions of itself:
+
+* the same surface at several resolutions (spheres S1-S3, :func:`sphere`; D1 / D2,
+  :func:`subdivide`);
+* a marching-cubes mesh with needle and zero-area triangles ("CM", :func:`marching_cubes`)
+  and its quality-improved remesh ("CS", :func:`remesh`); :func:`mesh_quality` measures the
+  difference (minimum angle, aspect ratio);
+* near-isometric poses of an articulated figure (:func:`articulated_figure`: an implicit union
+  of capsules whose joint angles change, meshed by marching cubes and remeshed);
+* noisy copies, each vertex moved along its outward normal by a uniform random amount of at
+  most ``lam * L`` (Section 3.3, :func:`add_normal_noise`).
+
+Every function returns a :class:`cshape.Mesh` and accepts a ``Mesh`` or a ``(vertices,
+faces)`` pair.  Everything is deterministic: PyMeshLab's filters used here are, and the
+random choices take a ``random_state``.  Cached, named collections of these shapes are in
+:mod:`cshape.data`.
+"""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+
+from .mesh import Mesh, as_mesh, repair_mesh
+
+__all__ = [
+    "ARTICULATED_KINDS",
+    "NOISE_LEVELS",
+    "Capsule",
+    "add_normal_noise",
+    "articulated_figure",
+    "capsules_expression",
+    "cube",
+    "eight",
+    "figure_capsules",
+    "marching_cubes",
+    "mesh_quality",
+    "remesh",
+    "sphere",
+    "subdivide",
+    "torus",
+    "triangle_angles",
+    "vertex_normals",
+]
+
+#: The noise levels ``lam`` of Section 3.3 (maximum displacement ``lam * L``).
+NOISE_LEVELS = (0.5, 1.0, 2.0, 4.0, 10.0)
+
+#: The classes of :func:`articulated_figure`.
+ARTICULATED_KINDS = ("human", "quadruped", "spider", "snake")
+
+
+# ---------------------------------------------------------------------- PyMeshLab glue
+def _meshset(mesh=None):
+    import pymeshlab
+
+    ms = pymeshlab.MeshSet()
+    if mesh is not None:
+        m = as_mesh(mesh)
+        ms.add_mesh(pymeshlab.Mesh(vertex_matrix=m.vertices, face_matrix=m.faces))
+    return ms
+
+
+def _from_meshset(ms, *, what: str) -> Mesh:
+    m = ms.current_mesh()
+    if m.face_number() == 0:
+        raise ValueError(f"{what} produced no triangles; check its parameters")
+    V = np.array(m.vertex_matrix(), dtype=np.float64)
+    F = np.array(m.face_matrix(), dtype=np.int64)
+    return repair_mesh(Mesh(V, F), warn=False)
+
+
+def _check_int(name, value, lo, hi=None):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {value!r}")
+    if value < lo or (hi is not None and value > hi):
+        rng = f"[{lo}, {hi}]" if hi is not None else f">= {lo}"
+        raise ValueError(f"{name} must be an integer in {rng}, got {value!r}")
+    return int(value)
+
+
+def _check_pos(name, value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not value > 0:
+        raise ValueError(f"{name} must be a positive number, got {value!r}")
+    if not np.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return float(value)
+
+
+# ---------------------------------------------------------------------- primitives
+def sphere(subdiv=4, radius=1.0) -> Mesh:
+    """Icosphere from PyMeshLab's ``create_sphere``: ``10 * 4**subdiv + 2`` vertices.
+
+    Parameters
+    ----------
+    subdiv : int, default=4
+        Subdivision level, 0 to 7: 2562 (4), 10242 (5), 40962 (6) vertices -- the paper's
+        S1, S2, S3 ("roughly 2K, 10K and 40K" vertices).
+    radius : float, default=1.0
+
+    Returns
+    -------
+    Mesh
+        Closed, genus 0, every vertex at distance ``radius`` from the origin.
+    """
+    subdiv = _check_int("subdiv", subdiv, 0, 7)
+    radius = _check_pos("radius", radius)
+    ms = _meshset()
+    ms.create_sphere(radius=radius, subdiv=subdiv)
+    return _from_meshset(ms, what="create_sphere")
+
+
+def torus(R=1.0, r=0.4, n_major=64, n_minor=32) -> Mesh:
+    """Torus of revolution from PyMeshLab's ``create_torus`` (genus 1).
+
+    Parameters
+    ----------
+    R, r : float, default=1.0, 0.4
+        Major radius and tube radius, ``0 < r < R``.
+    n_major, n_minor : int, default=64, 32
+        Subdivisions around the axis and around the tube; ``n_major * n_minor`` vertices.
+    """
+    R, r = _check_pos("R", R), _check_pos("r", r)
+    if not r < R:
+        raise ValueError(f"torus needs 0 < r < R, got R={R}, r={r}; pass a smaller tube radius")
+    n_major = _check_int("n_major", n_major, 3, 4096)
+    n_minor = _check_int("n_minor", n_minor, 3, 4096)
+    ms = _meshset()
+    ms.create_torus(hradius=R, vradius=r, hsubdiv=n_major, vsubdiv=n_minor)
+    return _from_meshset(ms, what="create_torus")
+
+
+def cube(size=1.0, subdiv=4) -> Mesh:
+    """Cube from PyMeshLab's ``create_cube``, refined by ``subdiv`` midpoint subdivisions.
+
+    Midpoint subdivision keeps the faces flat and the edges sharp; the mesh has
+    ``12 * 4**subdiv`` triangles and ``6 * 4**subdiv + 2`` vertices (1538 at 4, 6146 at 5).
+
+    Parameters
+    ----------
+    size : float, default=1.0
+        Edge length; the cube is centred at the origin.
+    subdiv : int, default=4
+        Number of midpoint subdivisions, 0 to 7.
+    """
+    size = _check_pos("size", size)
+    subdiv = _check_int("subdiv", subdiv, 0, 7)
+    ms = _meshset()
+    ms.create_cube(size=size)
+    if subdiv:
+        mesh = _from_meshset(ms, what="create_cube")
+        return subdivide(mesh, iterations=subdiv, method="midpoint")
+    return _from_meshset(ms, what="create_cube")
+
+
+def _smooth_min(a: str, b: str, k: float) -> str:
+    # polynomial smooth minimum: min(a, b) - h^2 k / 4, h = max(k - |a - b|, 0) / k
+    h = f"(max({k}-abs(({a})-({b})),0)/{k})"
+    return f"(min({a},{b})-{h}*{h}*{k}/4)"
+
+
+def eight(voxelsize=0.02, target_vertices=4000, *, R=0.6, r=0.22, separation=1.1) -> Mesh:
+    """A genus-2 "eight": two tori blended into one (the paper's "E"), remeshed.
+
+    The implicit surface ``smin(torus(x + s/2), torus(x - s/2)) = 0`` (a smooth union of two
+    tori whose centres are ``separation`` apart) is meshed by marching cubes
+    (:func:`marching_cubes`) and remeshed isotropically (:func:`remesh`).
+
+    Parameters
+    ----------
+    voxelsize : float, default=0.02
+        Marching-cubes voxel size.
+    target_vertices : int or None, default=4000
+        Approximate vertex count after remeshing; ``None`` returns the raw marching-cubes mesh.
+    R, r : float, default=0.6, 0.22
+        Major and tube radius of each torus.
+    separation : float, default=1.1
+        Distance between the torus centres; must be below ``2 * (R + r)`` so they merge and
+        above ``2 * (R - r)`` so the two holes stay open.
+
+    Returns
+    -------
+    Mesh
+        Closed, connected, genus 2.
+    """
+    R, r, separation = _check_pos("R", R), _check_pos("r", r), _check_pos("separation", separation)
+    if not 2 * (R - r) < separation < 2 * (R + r):
+        raise ValueError(
+            f"separation must lie in (2(R - r), 2(R + r)) = ({2 * (R - r):g}, {2 * (R + r):g}) "
+            f"for a genus-2 eight, got {separation}"
+        )
+    a = separation / 2
+    t1 = f"sqrt((sqrt((x+{a})^2+y^2)-{R})^2+z^2)-{r}"
+    t2 = f"sqrt((sqrt((x-{a})^2+y^2)-{R})^2+z^2)-{r}"
+    m = 2 * voxelsize + 0.05
+    bx, by, bz = a + R + r + m, R + r + m, r + m
+    mesh = marching_cubes(_smooth_min(t1, t2, 0.1), (-bx, -by, -bz, bx, by, bz), voxelsize)
+    if target_vertices is None:
+        return mesh
+    return remesh(mesh, target_vertices=target_vertices)
+
+
+# ---------------------------------------------------------------------- marching cubes
+def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
+    """Mesh the zero level set of an implicit function with PyMeshLab's marching cubes.
+
+    Wraps ``create_implicit_surface``.  Its output is a typical marching-cubes mesh: closed
+    where the surface stays inside the box, with needle triangles and some triangles of
+    (numerically) zero area -- the paper's low-quality "CM".  The FEM stage handles the
+    zero-area ones (intrinsic mollification, with a :class:`cshape.CShapeWarning`).
+
+    Parameters
+    ----------
+    expr : str
+        The implicit function of ``x, y, z`` in muparser syntax (``sqrt``, ``min``, ``max``,
+        ``abs``, ``^``, ...), negative inside.
+    bbox : sequence of 6 floats
+        ``(xmin, ymin, zmin, xmax, ymax, zmax)``, the sampled box; keep the surface inside it.
+    voxelsize : float, default=0.02
+        Edge of the sampling voxels; the edge length of the output is about this.
+
+    Returns
+    -------
+    Mesh
+        With duplicate vertices welded and collapsed faces removed (zero-area faces with three
+        distinct vertices are kept).
+    """
+    if not isinstance(expr, str) or not expr.strip():
+        raise TypeError(f"expr must be a non-empty muparser expression string, got {expr!r}")
+    try:
+        box = np.asarray(bbox, dtype=np.float64).reshape(6)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"bbox must be 6 numbers (xmin, ymin, zmin, xmax, ymax, zmax), got {bbox!r}"
+        ) from None
+    if not np.all(box[3:] > box[:3]):
+        raise ValueError(f"bbox must have max > min on every axis, got {box.tolist()}")
+    voxelsize = _check_pos("voxelsize", voxelsize)
+    n_vox = np.prod(np.ceil((box[3:] - box[:3]) / voxelsize))
+    if n_vox > 2e8:
+        raise ValueError(
+            f"voxelsize={voxelsize} samples {n_vox:.3g} voxels in this bbox; use a larger voxelsize"
+        )
+    ms = _meshset()
+    ms.create_implicit_surface(
+        expr=expr, voxelsize=voxelsize,
+        minx=box[0], miny=box[1], minz=box[2], maxx=box[3], maxy=box[4], maxz=box[5],
+    )
+    return _from_meshset(ms, what=f"marching cubes of {expr[:60]!r}")
+
+
+# ---------------------------------------------------------------------- remeshing
+def remesh(
+    mesh, target_length=None, *, target_vertices=None, iterations=10, feature_angle=90.0
+) -> Mesh:
+    """Isotropic explicit remeshing (PyMeshLab ``meshing_isotropic_explicit_remeshing``).
+
+    Splits, collapses and flips edges and smooths tangentially towards a uniform edge
+    length, reprojecting onto the input: the quality-improvement step turning "CM" into "CS".
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+    target_length : float, optional
+        Target edge length in the mesh's units.
+    target_vertices : int, optional
+        Alternatively, an approximate vertex count; the target edge length is then
+        ``sqrt(area / (0.866 * target_vertices))`` (equilateral triangles, two per vertex).
+        Give exactly one of the two.
+    iterations : int, default=10
+    feature_angle : float, default=90.0
+        Edges whose dihedral angle exceeds this many degrees are kept as sharp features.
+        The default 90 smooths the creases a union of capsules leaves (PyMeshLab's own
+        default, 30, keeps them and with them slivers of about 3 degrees).
+
+    Returns
+    -------
+    Mesh
+    """
+    mesh = as_mesh(mesh)
+    if (target_length is None) == (target_vertices is None):
+        raise ValueError(
+            "give exactly one of target_length (an edge length) or target_vertices (a count), "
+            f"got target_length={target_length!r}, target_vertices={target_vertices!r}"
+        )
+    if target_vertices is not None:
+        target_vertices = _check_int("target_vertices", target_vertices, 4)
+        target_length = float(np.sqrt(mesh.area / (0.866 * target_vertices)))
+    target_length = _check_pos("target_length", target_length)
+    iterations = _check_int("iterations", iterations, 1, 1000)
+    feature_angle = _check_pos("feature_angle", feature_angle)
+    import pymeshlab
+
+    ms = _meshset(mesh)
+    ms.meshing_isotropic_explicit_remeshing(
+        iterations=iterations,
+        targetlen=pymeshlab.PureValue(target_length),
+        featuredeg=feature_angle,
+    )
+    return _from_meshset(ms, what="isotropic remeshing")
+
+
+def subdivide(mesh, iterations=1, method="loop") -> Mesh:
+    """Refine a mesh by splitting every edge (about 4x the vertices per iteration).
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+    iterations : int, default=1
+    method : {'loop', 'midpoint'}, default='loop'
+        ``'loop'`` (smooths; the paper's D1 -> D2 refinement) or ``'midpoint'`` (keeps every
+        face flat; for the cube).
+
+    Returns
+    -------
+    Mesh
+        ``V + E`` vertices after one iteration (``E`` the number of edges, ``~3V``).
+    """
+    mesh = as_mesh(mesh)
+    iterations = _check_int("iterations", iterations, 0, 8)
+    if method not in ("loop", "midpoint"):
+        raise ValueError(f"method must be one of {{'loop', 'midpoint'}}, got {method!r}")
+    if iterations == 0:
+        return mesh
+    import pymeshlab
+
+    ms = _meshset(mesh)
+    zero = pymeshlab.PercentageValue(0.0)  # split every edge, however short
+    if method == "loop":
+        ms.meshing_surface_subdivision_loop(iterations=iterations, threshold=zero)
+    else:
+        ms.meshing_surface_subdivision_midpoint(iterations=iterations, threshold=zero)
+    return _from_meshset(ms, what=f"{method} subdivision")
+
+
+# ---------------------------------------------------------------------- articulated figures
+@dataclass(frozen=True)
+class Capsule:
+    """A capsule: the points within ``radius`` of the segment from ``a`` to ``b``."""
+
+    a: tuple
+    b: tuple
+    radius: float
+
+    def expression(self) -> str:
+        """Signed distance to the capsule in muparser syntax (negative inside)."""
+        ax, ay, az = (float(c) for c in self.a)
+        dx, dy, dz = (float(q) - float(p) for p, q in zip(self.a, self.b, strict=True))
+        L2 = dx * dx + dy * dy + dz * dz
+        px, py, pz = f"(x-({ax:.9g}))", f"(y-({ay:.9g}))", f"(z-({az:.9g}))"
+        if L2 < 1e-18:
+            return f"sqrt({px}^2+{py}^2+{pz}^2)-{self.radius:.9g}"
+        t = f"min(max(({px}*({dx:.9g})+{py}*({dy:.9g})+{pz}*({dz:.9g}))/{L2:.9g},0),1)"
+        return (
+            f"sqrt(({px}-{t}*({dx:.9g}))^2+({py}-{t}*({dy:.9g}))^2+({pz}-{t}*({dz:.9g}))^2)"
+            f"-{self.radius:.9g}"
+        )
+
+
+def capsules_expression(capsules) -> str:
+    """Implicit function of the union of capsules: the minimum of their signed distances."""
+    capsules = list(capsules)
+    if not capsules:
+        raise ValueError("capsules is empty: a figure needs at least one capsule")
+    expr = capsules[0].expression()
+    for c in capsules[1:]:
+        expr = f"min({expr},{c.expression()})"
+    return expr
+
+
+def _dir(azimuth, elevation):
+    """Unit vector from azimuth (about z, from +x) and elevation (from the xy-plane), degrees."""
+    az, el = np.radians(azimuth), np.radians(elevation)
+    return np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+
+
+def _limb(start, dirs, lengths, radius):
+    out, p = [], np.asarray(start, dtype=float)
+    for d, length in zip(dirs, lengths, strict=True):
+        q = p + length * np.asarray(d)
+        out.append(Capsule(tuple(p), tuple(q), radius))
+        p = q
+    return out
+
+
+def figure_capsules(kind: str, random_state=None) -> list[Capsule]:
+    """The capsules of an articulated figure in a pose drawn from ``random_state``.
+
+    Every class has fixed bone lengths and radii; a pose only changes joint angles, drawn
+    uniformly from ranges chosen so limbs never touch each other or the body.  Different
+    poses of one class are therefore near-isometric (exactly so away from the joints).
+
+    Parameters
+    ----------
+    kind : {'human', 'quadruped', 'spider', 'snake'}
+    random_state : int, numpy.random.Generator or None
+        Seed of the pose.  ``None`` gives a fresh, unseeded pose.
+
+    Returns
+    -------
+    list of Capsule
+    """
+    if kind not in ARTICULATED_KINDS:
+        raise ValueError(f"kind must be one of {ARTICULATED_KINDS}, got {kind!r}")
+    rng = np.random.default_rng(random_state)
+    u = rng.uniform
+    caps: list[Capsule] = []
+    if kind == "human":
+        caps.append(Capsule((0, 0, 0), (0, 0, 0.55), 0.16))  # torso
+        caps.append(Capsule((0, 0, 0.78), (0, 0, 0.86), 0.13))  # head
+        caps.append(Capsule((0, 0, 0.55), (0, 0, 0.72), 0.06))  # neck
+        for s in (-1, 1):
+            shoulder = (0.2 * s, 0, 0.5)
+            abduct, flex, fwd = u(25, 85), u(0, 80), u(-30, 30)
+            upper = np.array([s * np.sin(np.radians(abduct)), 0, -np.cos(np.radians(abduct))])
+            upper = _rot_z(upper, s * fwd)
+            fore = _bend(upper, flex, np.array([0, 1.0, 0]))
+            caps += _limb(shoulder, [upper, fore], [0.3, 0.28], 0.055)
+            hip = (0.09 * s, 0, 0.0)
+            spread, swing, knee = u(5, 25), u(-30, 30), u(0, 70)
+            thigh = np.array([s * np.sin(np.radians(spread)), 0, -np.cos(np.radians(spread))])
+            thigh = _bend(thigh, swing, np.array([0, 1.0, 0]))
+            shin = _bend(thigh, knee, np.array([0, -1.0, 0]))
+            caps += _limb(hip, [thigh, shin], [0.4, 0.4], 0.07)
+    elif kind == "quadruped":
+        caps.append(Capsule((-0.45, 0, 0), (0.45, 0, 0), 0.17))  # body
+        neck_el = u(20, 70)
+        neck = _limb((0.45, 0, 0.05), [_dir(0, neck_el)], [0.3], 0.08)
+        head_el = u(-40, 10)
+        head = _limb(neck[-1].b, [_dir(0, head_el)], [0.22], 0.09)
+        caps += neck + head
+        for sx in (-1, 1):
+            for sy in (-1, 1):
+                swing, knee = u(-30, 30), u(0, 60)
+                upper = _dir(0, -90 + swing)
+                lower = _dir(0, -90 + swing - sx * knee)
+                caps += _limb((0.34 * sx, 0.09 * sy, -0.05), [upper, lower], [0.28, 0.26], 0.055)
+        tail_az, tail_el = u(150, 210), u(-40, 40)
+        caps += _limb((-0.45, 0, 0.05), [_dir(tail_az, tail_el)], [0.32], 0.045)
+    elif kind == "spider":
+        caps.append(Capsule((0, 0, 0), (0, 0, 0.08), 0.22))  # body
+        for k in range(6):
+            az = 60 * k + u(-12, 12)
+            up, down = u(0, 35), u(-75, -25)
+            start = 0.18 * _dir(az, 0) + np.array([0, 0, 0.04])
+            caps += _limb(start, [_dir(az, up), _dir(az, down)], [0.32, 0.38], 0.05)
+    else:  # snake
+        p, heading, pitch = np.zeros(3), 0.0, 0.0
+        for _ in range(7):
+            heading += u(-25, 25)
+            pitch = float(np.clip(pitch + u(-12, 12), -20, 20))
+            q = p + 0.25 * _dir(heading, pitch)
+            caps.append(Capsule(tuple(p), tuple(q), 0.08))
+            p = q
+    return caps
+
+
+def _rot_z(v, deg):
+    c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]])
+
+
+def _bend(v, deg, towards):
+    """Rotate unit vector ``v`` by ``deg`` degrees in the plane spanned by ``v`` and ``towards``."""
+    w = towards - np.dot(towards, v) * v
+    nw = np.linalg.norm(w)
+    if nw < 1e-12:
+        return v
+    w = w / nw
+    t = np.radians(deg)
+    return np.cos(t) * v + np.sin(t) * w
+
+
+def articulated_figure(
+    kind="human", random_state=0, *, voxelsize=0.02, target_vertices=3000
+) -> Mesh:
+    """A pose of an articulated figure: union of capsules, marching cubes, isotropic remesh.
+
+    Parameters
+    ----------
+    kind : {'human', 'quadruped', 'spider', 'snake'}, default='human'
+        The class (see :func:`figure_capsules`).
+    random_state : int, numpy.random.Generator or None, default=0
+        Seed of the pose (joint angles); same seed, same mesh.
+    voxelsize : float, default=0.02
+        Marching-cubes voxel size; keep it below half the thinnest radius (0.045).
+    target_vertices : int or None, default=3000
+        Approximate vertex count after remeshing; ``None`` returns the raw marching-cubes
+        mesh (with its needle and zero-area triangles).
+
+    Returns
+    -------
+    Mesh
+        Closed, connected, genus 0.
+    """
+    caps = figure_capsules(kind, random_state)
+    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
+    rmax = max(c.radius for c in caps)
+    margin = rmax + 2 * voxelsize + 0.02
+    lo, hi = pts.min(0) - margin, pts.max(0) + margin
+    mesh = marching_cubes(capsules_expression(caps), (*lo, *hi), voxelsize)
+    if target_vertices is None:
+        return mesh
+    return remesh(mesh, target_vertices=target_vertices)
+
+
+# ---------------------------------------------------------------------- noise (Section 3.3)
+def vertex_normals(mesh) -> np.ndarray:
+    """Outward unit vertex normals, shape (n, 3): area-weighted means of the face normals.
+
+    The faces' orientation is taken as given; for a closed mesh with negative signed volume
+    (faces ordered clockwise seen from outside) the normals are flipped so they point
+    outward.  A vertex in no triangle (or whose face normals cancel) gets the zero vector.
+    """
+    mesh = as_mesh(mesh)
+    V, F = mesh.vertices, mesh.faces
+    fn = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])  # 2 * area * unit normal
+    N = np.zeros_like(V)
+    for k in range(3):
+        np.add.at(N, F[:, k], fn)
+    if mesh.is_closed:
+        volume = np.einsum("ij,ij->i", V[F[:, 0]], np.cross(V[F[:, 1]], V[F[:, 2]])).sum() / 6
+        if volume < 0:
+            N = -N
+    norm = np.linalg.norm(N, axis=1, keepdims=True)
+    return np.divide(N, norm, out=np.zeros_like(N), where=norm > 0)
+
+
+def add_normal_noise(mesh, lam=1.0, random_state=None, *, signed=False, length=None) -> Mesh:
+    """Section 3.3's noise: move every vertex along its outward normal by up to ``lam * L``.
+
+    Vertex ``i`` moves to ``v_i + d_i n_i`` with ``n_i`` its outward unit normal
+    (:func:`vertex_normals`) and ``d_i`` drawn independently and uniformly from
+    ``[0, lam * L]``, where ``L`` is the mean edge length of the *original* mesh.  The paper
+    says "a random noise up to a maximum distance of lam x L along the outward normal
+    direction"; cshape reads this as a magnitude in ``[0, lam L]`` along the outward normal
+    (``signed=False``, the default).  ``signed=True`` draws from ``[-lam L, lam L]`` instead.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+    lam : float, default=1.0
+        Noise level ``lam >= 0``; the paper uses 0.5, 1, 2, 4 and 10 (:data:`NOISE_LEVELS`).
+    random_state : int, numpy.random.Generator or None
+        Seed; the same seed gives the same noisy mesh.
+    signed : bool, default=False
+        Draw from ``[-lam L, lam L]`` (in and out) instead of ``[0, lam L]`` (out only).
+    length : float, optional
+        Use this ``L`` instead of the mesh's mean edge length.
+
+    Returns
+    -------
+    Mesh
+        Same faces, displaced vertices.
+    """
+    mesh = as_mesh(mesh)
+    if isinstance(lam, bool) or not isinstance(lam, numbers.Real) or not lam >= 0:
+        raise ValueError(f"lam must be a number >= 0 (the paper uses {NOISE_LEVELS}), got {lam!r}")
+    L = mesh.mean_edge_length if length is None else _check_pos("length", length)
+    rng = np.random.default_rng(random_state)
+    lo = -lam * L if signed else 0.0
+    d = rng.uniform(lo, lam * L, size=mesh.n_vertices)
+    V = mesh.vertices + d[:, None] * vertex_normals(mesh)
+    return Mesh(V, mesh.faces)
+
+
+# ---------------------------------------------------------------------- mesh quality
+def triangle_angles(mesh) -> np.ndarray:
+    """Interior angles of every triangle in degrees, shape (m, 3), angle ``k`` at corner ``k``.
+
+    A zero-area triangle has angles 0, 0, 180 (or 0 where two vertices coincide).
+    """
+    mesh = as_mesh(mesh)
+    V, F = mesh.vertices, mesh.faces
+    out = np.empty(F.shape, dtype=np.float64)
+    for k in range(3):
+        u = V[F[:, (k + 1) % 3]] - V[F[:, k]]
+        w = V[F[:, (k + 2) % 3]] - V[F[:, k]]
+        nu, nw = np.linalg.norm(u, axis=1), np.linalg.norm(w, axis=1)
+        cos = np.einsum("ij,ij->i", u, w) / np.maximum(nu * nw, np.finfo(float).tiny)
+        sin = np.linalg.norm(np.cross(u, w), axis=1) / np.maximum(nu * nw, np.finfo(float).tiny)
+        out[:, k] = np.degrees(np.arctan2(sin, cos))
+    return out
+
+
+def mesh_quality(mesh) -> dict:
+    """Triangle-quality figures of a mesh (e.g. the paper's "CM" versus "CS").
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+
+    Returns
+    -------
+    dict
+        ``min_angle``, ``mean_min_angle``, ``max_angle`` (degrees); ``pct_below_10`` (share of
+        triangles with an angle under 10 degrees, in percent); ``aspect_max``,
+        ``aspect_mean`` (aspect ratio ``R / (2 r)``, circumradius over twice the inradius:
+        1 for an equilateral triangle, ``inf`` for a degenerate one); ``n_degenerate``
+        (triangles of area below ``1e-12`` times the mean); ``n_vertices``, ``n_faces``,
+        ``mean_edge_length``.
+
+    Examples
+    --------
+    >>> from cshape import variants
+    >>> q = variants.mesh_quality(variants.sphere(2))
+    >>> round(q["aspect_max"], 2) < 1.3
+    True
+    """
+    mesh = as_mesh(mesh)
+    ang = triangle_angles(mesh)
+    V, F = mesh.vertices, mesh.faces
+    e = np.stack([np.linalg.norm(V[F[:, (k + 1) % 3]] - V[F[:, k]], axis=1) for k in range(3)], 1)
+    A = mesh.face_areas
+    s = e.sum(1) / 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        aspect = np.where(A > 0, e.prod(1) * s / (8 * A**2), np.inf)
+    min_ang = ang.min(1)
+    return {
+        "n_vertices": mesh.n_vertices,
+        "n_faces": mesh.n_faces,
+        "mean_edge_length": mesh.mean_edge_length,
+        "min_angle": float(min_ang.min()),
+        "mean_min_angle": float(min_ang.mean()),
+        "max_angle": float(ang.max()),
+        "pct_below_10": float(100 * np.mean(min_ang < 10)),
+        "aspect_max": float(aspect.max()),
+        "aspect_mean": float(np.mean(aspect[np.isfinite(aspect)])) if np.isfinite(aspect).any()
+        else float("inf"),
+        "n_degenerate": int(np.sum(A < 1e-12 * A.mean())),
+    }
