@@ -114,7 +114,7 @@ def _mollify(lengths, mean_edge):
     l0, l1, l2 = lengths[:, 0], lengths[:, 1], lengths[:, 2]
     margin = np.minimum(np.minimum(l1 + l2 - l0, l2 + l0 - l1), l0 + l1 - l2)
     eps = float(max(0.0, np.max(delta - margin)))
-    return eps
+    return eps, int(np.count_nonzero(margin < delta))
 
 
 def assemble(mesh, mass="consistent"):
@@ -133,13 +133,15 @@ def assemble(mesh, mass="consistent"):
         Eq. (5) / (7), or the row-sum lumped diagonal ``sum_t |t| / 3``.
     eps : float
         The mollification length added to all edges (0 for meshes without degenerate triangles).
+    n_degenerate : int
+        Number of triangles whose triangle-inequality margin was below the threshold.
     """
     mesh = as_mesh(mesh)
     mass = _check_choice("mass", mass, MASS_TYPES)
     V, F = mesh.vertices, mesh.faces
     n = mesh.n_vertices
     L = _edge_lengths(V, F)
-    eps = _mollify(L, mesh.mean_edge_length)
+    eps, n_degenerate = _mollify(L, mesh.mean_edge_length)
     if eps > 0:
         L = L + eps
     area = _heron(L)  # (m,)
@@ -167,7 +169,7 @@ def assemble(mesh, mass="consistent"):
         B = sp.diags(d).tocsr()
     A.sum_duplicates()
     B.sum_duplicates()
-    return A, B, eps
+    return A, B, eps, n_degenerate
 
 
 def fem(mesh, bc="neumann", mass="consistent", *, repair=True) -> FEM:
@@ -179,11 +181,10 @@ def fem(mesh, bc="neumann", mass="consistent", *, repair=True) -> FEM:
     bc = _check_choice("bc", bc, BOUNDARY_CONDITIONS)
     if repair:
         mesh = repair_mesh(mesh)
-    A, B, eps = assemble(mesh, mass=mass)
+    A, B, eps, nbad = assemble(mesh, mass=mass)
     if eps > 0:
-        nbad = int(np.sum(mesh.face_areas <= MOLLIFY_DELTA * mesh.mean_edge_length**2))
         warnings.warn(
-            f"mesh has degenerate (near zero-area) triangles ({nbad} found): edge lengths were "
+            f"mesh has {nbad} degenerate (near zero-area) triangles: edge lengths were "
             f"mollified by {eps:.3g} (intrinsic mollification, Sharp & Crane 2020) so that all "
             "cotangents are finite",
             CShapeWarning,
