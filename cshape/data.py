@@ -1,0 +1,1167 @@
+"""Shape collections: the data manifest, generated and cached shapes, packaged, local and
+downloadable meshes, and loaders for the classic benchmarks' folder layouts.
+
+Every collection is an entry of ``data_manifest.yaml`` (next to the package, or the file named
+by ``CSHAPE_MANIFEST``), of one of four kinds:
+
+==========  ===================================================================================
+generated   built by a recipe of :mod:`cshape.variants` (PyMeshLab), seeded, cached on disk
+package     meshes shipped inside an installed Python package (PyMeshLab's samples)
+download    public files fetched *only on request* (:func:`fetch`, ``cshape data build NAME``)
+            into the cache and checked against their sha256; benchmarks whose terms forbid
+            redistribution (McGill, TOSCA, SHREC'07) are fetched by hand and read by a layout
+            loader (:func:`read_mcgill`, :func:`read_tosca`, :func:`read_shrec07`)
+local       any folder of meshes, class labels from sub-folder names or a CSV
+            (:func:`load_folder`)
+==========  ===================================================================================
+
+One call gets a shape or a whole collection, offline and reproducibly::
+
+    import cshape.data
+    cshape.data.list_collections()              # ['paper-models', 'articulated', ...]
+    S1 = cshape.data.load("paper-models", "S1")  # a cshape.Mesh
+    poses = cshape.data.load_collection("articulated")
+    poses.names, poses.labels, poses[0].mesh
+
+Cache
+-----
+Generated meshes live in ``<cache>/generated/<collection>/<item>-<key>.npz`` (arrays
+``vertices``, ``faces`` and the recipe as JSON; read with ``allow_pickle=False``), where
+``<cache>`` is ``cache_dir=`` if given, else ``$CSHAPE_CACHE``, else the user cache folder
+(``~/.cache/cshape`` on Linux) and ``<key>`` hashes the recipe, its parameters, the seed, the
+base item's key, :data:`RECIPES_VERSION` and the PyMeshLab version.  Files are written to a
+temporary name and moved into place (``os.replace``), so an interrupted build never leaves a
+partial file.  Downloads go to ``<cache>/downloads/<collection>/``.
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import inspect
+import json
+import os
+import re
+import shutil
+import tarfile
+import tempfile
+import time
+import warnings
+import zipfile
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path, PurePosixPath
+
+import numpy as np
+
+from .mesh import Mesh, load_mesh
+
+__all__ = [
+    "KINDS",
+    "LAYOUTS",
+    "MANIFEST_SCHEMA",
+    "RECIPES",
+    "RECIPES_VERSION",
+    "Collection",
+    "Item",
+    "add_data",
+    "build",
+    "cache_dir",
+    "collection_path",
+    "extract_archive",
+    "fetch",
+    "info",
+    "list_collections",
+    "load",
+    "load_collection",
+    "load_folder",
+    "load_manifest",
+    "read_mcgill",
+    "read_shrec07",
+    "read_tosca",
+    "read_vert_tri",
+    "validate_manifest",
+]
+
+KINDS = ("generated", "package", "download", "local")
+LAYOUTS = ("mcgill", "tosca", "shrec07")
+MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
+
+#: Bumped whenever a recipe's output changes, so stale cache files are not reused.
+RECIPES_VERSION = 1
+
+_HERE = Path(__file__).resolve().parent
+_DEFAULT_MANIFEST = _HERE.parent / "data_manifest.yaml"
+
+
+# ====================================================================== records
+@dataclass(eq=False)
+class Item:
+    """One mesh of a collection: its name, class label and (lazily loaded) mesh.
+
+    Attributes
+    ----------
+    name : str
+        Unique within the collection.
+    label : str
+        Class label (for classification and MDS colouring).
+    collection : str
+        Name of the collection.
+    meta : dict
+        The manifest entry of the item (recipe, params, seed, file, license, ...).
+    mesh : Mesh
+        Loaded on first access and kept.
+    """
+
+    name: str
+    label: str
+    collection: str = ""
+    meta: dict = field(default_factory=dict, repr=False)
+    _load: Callable[[], Mesh] | None = field(default=None, repr=False)
+
+    @cached_property
+    def mesh(self) -> Mesh:
+        if self._load is None:  # pragma: no cover - every constructor passes a loader
+            raise ValueError(f"item {self.name!r} has no loader")
+        return self._load()
+
+
+@dataclass(eq=False)
+class Collection:
+    """A named list of :class:`Item`, indexable by position or item name.
+
+    Attributes
+    ----------
+    name : str
+    items : list of Item
+    info : dict
+        The manifest entry (description, license, citation, ...).
+    """
+
+    name: str
+    items: list
+    info: dict = field(default_factory=dict, repr=False)
+
+    def __len__(self) -> int:
+        return len(self.items)
+
+    def __iter__(self):
+        return iter(self.items)
+
+    def __getitem__(self, key) -> Item:
+        if isinstance(key, str):
+            for it in self.items:
+                if it.name == key:
+                    return it
+            raise KeyError(
+                f"collection {self.name!r} has no item {key!r}; items are {self.names[:20]}"
+            )
+        return self.items[key]
+
+    @property
+    def names(self) -> list[str]:
+        """Item names, in order."""
+        return [it.name for it in self.items]
+
+    @property
+    def labels(self) -> list[str]:
+        """Class labels, in order."""
+        return [it.label for it in self.items]
+
+    @property
+    def meshes(self) -> list[Mesh]:
+        """All meshes (loads those not loaded yet)."""
+        return [it.mesh for it in self.items]
+
+    def __repr__(self) -> str:
+        classes = sorted(set(self.labels))
+        return f"Collection({self.name!r}, {len(self)} items, {len(classes)} classes)"
+
+
+# ====================================================================== recipes
+def _recipes() -> dict:
+    from . import variants as v
+
+    return {
+        # name: (function, takes a base mesh, takes a seed)
+        "sphere": (v.sphere, False, False),
+        "torus": (v.torus, False, False),
+        "cube": (v.cube, False, False),
+        "eight": (v.eight, False, False),
+        "figure": (v.articulated_figure, False, True),
+        "remesh": (v.remesh, True, False),
+        "subdivide": (v.subdivide, True, False),
+        "noise": (v.add_normal_noise, True, True),
+    }
+
+
+#: Recipe names a ``generated`` item may use, with the :mod:`cshape.variants` function each
+#: calls (``base`` items pass the base mesh first; ``seed`` is passed as ``random_state``).
+RECIPES = {
+    "sphere": "cshape.variants.sphere",
+    "torus": "cshape.variants.torus",
+    "cube": "cshape.variants.cube",
+    "eight": "cshape.variants.eight",
+    "figure": "cshape.variants.articulated_figure (seed -> random_state)",
+    "remesh": "cshape.variants.remesh (base mesh)",
+    "subdivide": "cshape.variants.subdivide (base mesh)",
+    "noise": "cshape.variants.add_normal_noise (base mesh, seed -> random_state)",
+}
+
+
+# ====================================================================== manifest schema
+_STR, _INT, _DICT, _LIST = "str", "int", "dict", "list"
+
+#: The manifest schema: fields every collection needs, and per kind the required and optional
+#: collection fields and item fields (``type`` names: str, int, dict, list, "int|null", ...).
+MANIFEST_SCHEMA = {
+    "top": {"required": {"version": _INT, "collections": _LIST}},
+    "collection": {
+        "required": {
+            "name": _STR, "kind": _STR, "description": _STR, "license": _STR, "citation": _STR,
+        },
+    },
+    "kinds": {
+        "generated": {
+            "required": {"items": _LIST},
+            "optional": {},
+            "item_required": {"name": _STR, "label": _STR, "recipe": _STR},
+            "item_optional": {"params": _DICT, "seed": _INT, "base": _STR, "description": _STR},
+        },
+        "package": {
+            "required": {"package": _STR, "path": _STR, "items": _LIST},
+            "optional": {},
+            "item_required": {"name": _STR, "label": _STR, "file": _STR},
+            "item_optional": {"description": _STR},
+        },
+        "download": {
+            "required": {"page": _STR, "format": _STR},
+            "optional": {"items": _LIST, "layout": _STR, "path_env": _STR},
+            "item_required": {
+                "name": _STR, "label": _STR, "file": _STR, "url": _STR, "sha256": _STR,
+                "size": _INT,
+            },
+            "item_optional": {"license": _STR, "author": _STR, "citation": _STR},
+        },
+        "local": {
+            "required": {"path": _STR, "labels": _STR},
+            "optional": {"path_env": _STR, "items": _LIST},
+            "item_required": {"name": _STR, "label": _STR, "file": _STR},
+            "item_optional": {},
+        },
+    },
+}
+
+_TYPES = {_STR: str, _INT: int, _DICT: dict, _LIST: list}
+
+
+def _check_fields(obj, required, optional, where):
+    if not isinstance(obj, dict):
+        raise ValueError(f"{where}: expected a mapping of fields, got {type(obj).__name__}")
+    for key, typ in required.items():
+        if key not in obj or obj[key] is None:
+            raise ValueError(f"{where}: missing required field {key!r} ({typ})")
+    allowed = {**required, **optional}
+    for key, value in obj.items():
+        if key not in allowed:
+            raise ValueError(
+                f"{where}: unknown field {key!r}; allowed fields are {sorted(allowed)}"
+            )
+        typ = allowed[key]
+        ok = isinstance(value, _TYPES[typ]) and not isinstance(value, bool)
+        if not ok and not (value is None and key in optional):
+            raise ValueError(
+                f"{where}: field {key!r} must be a {typ}, got {type(value).__name__} {value!r}"
+            )
+
+
+def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
+    """Check a parsed manifest against :data:`MANIFEST_SCHEMA`; return it keyed by name.
+
+    Besides the fields and their types, checks that names are unique, kinds and layouts
+    known, recipes and their parameter names exist in :mod:`cshape.variants`, ``base``
+    references name an *earlier* generated item, and sha256 / url / size look right.
+
+    Parameters
+    ----------
+    doc : dict
+        As returned by ``yaml.safe_load``.
+    source : str
+        Shown in error messages.
+
+    Returns
+    -------
+    dict
+        ``{collection name: entry}``, in manifest order.
+
+    Raises
+    ------
+    ValueError
+        Naming the collection (and item) and the field at fault.
+    """
+    _check_fields(doc, MANIFEST_SCHEMA["top"]["required"], {}, source)
+    recipes = _recipes()
+    out: dict = {}
+    for i, entry in enumerate(doc["collections"]):
+        name = entry.get("name") if isinstance(entry, dict) else None
+        where = f"{source}: collection {name!r} (entry {i})" if name else f"{source}: entry {i}"
+        if not isinstance(entry, dict):
+            raise ValueError(f"{where}: expected a mapping of fields")
+        kind = entry.get("kind")
+        if kind is not None and kind not in KINDS:
+            raise ValueError(f"{where}: unknown kind {kind!r}; kind must be one of {KINDS}")
+        base_required = MANIFEST_SCHEMA["collection"]["required"]
+        spec = MANIFEST_SCHEMA["kinds"].get(kind, {"required": {}, "optional": {}})
+        _check_fields(
+            entry, {**base_required, **spec["required"]}, spec["optional"], where
+        )
+        if name in out:
+            raise ValueError(f"{where}: duplicate collection name {name!r}")
+        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", name):
+            raise ValueError(
+                f"{where}: name must be letters, digits, '-', '_' or '.', got {name!r}"
+            )
+        if kind == "download":
+            if ("items" in entry) == ("layout" in entry):
+                raise ValueError(
+                    f"{where}: a download collection needs either 'items' (files with url, "
+                    "sha256, size) or 'layout' (a benchmark fetched by hand), not both or none"
+                )
+            if "layout" in entry and entry["layout"] not in LAYOUTS:
+                raise ValueError(
+                    f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
+                )
+        if kind == "local" and entry["labels"] != "subfolder" and not entry["labels"].endswith(
+            ".csv"
+        ):
+            raise ValueError(
+                f"{where}: field 'labels' must be 'subfolder' or the name of a CSV file, "
+                f"got {entry['labels']!r}"
+            )
+        seen = set()
+        for j, item in enumerate(entry.get("items") or []):
+            iname = item.get("name") if isinstance(item, dict) else None
+            iwhere = f"{where}, item {iname!r}" if iname else f"{where}, item {j}"
+            _check_fields(item, spec["item_required"], spec["item_optional"], iwhere)
+            if iname in seen:
+                raise ValueError(f"{iwhere}: duplicate item name {iname!r}")
+            seen.add(iname)
+            if kind == "generated":
+                _check_recipe(item, recipes, out, entry, iwhere)
+            if kind == "download":
+                if not re.fullmatch(r"[0-9a-f]{64}", item["sha256"]):
+                    raise ValueError(
+                        f"{iwhere}: field 'sha256' must be 64 lowercase hex digits, "
+                        f"got {item['sha256']!r}"
+                    )
+                if not item["url"].startswith("https://"):
+                    raise ValueError(f"{iwhere}: field 'url' must be an https URL")
+                if item["size"] <= 0:
+                    raise ValueError(f"{iwhere}: field 'size' must be a positive byte count")
+            if "file" in item:
+                p = PurePosixPath(item["file"])
+                if p.is_absolute() or ".." in p.parts:
+                    raise ValueError(
+                        f"{iwhere}: field 'file' must be a relative path inside the "
+                        f"collection, got {item['file']!r}"
+                    )
+        out[name] = entry
+    return out
+
+
+def _check_recipe(item, recipes, done, entry, where):
+    recipe = item["recipe"]
+    if recipe not in recipes:
+        raise ValueError(
+            f"{where}: unknown recipe {recipe!r}; recipe must be one of {sorted(recipes)}"
+        )
+    fn, takes_base, takes_seed = recipes[recipe]
+    sig = inspect.signature(fn)
+    names = list(sig.parameters)
+    allowed = set(names[1:] if takes_base else names) - {"random_state"}
+    for key in item.get("params") or {}:
+        if key not in allowed:
+            raise ValueError(
+                f"{where}: recipe {recipe!r} has no parameter {key!r}; "
+                f"its parameters are {sorted(allowed)}"
+            )
+    if takes_base != ("base" in item):
+        need = "needs a 'base' (collection/item)" if takes_base else "takes no 'base'"
+        raise ValueError(f"{where}: recipe {recipe!r} {need}")
+    if "seed" in item and not takes_seed:
+        raise ValueError(f"{where}: recipe {recipe!r} is deterministic and takes no 'seed'")
+    if takes_base:
+        coll, _, iname = item["base"].partition("/")
+        pool = {it["name"] for it in entry["items"][: entry["items"].index(item)]}
+        known = pool if coll == entry["name"] else (
+            {it["name"] for it in done[coll]["items"]}
+            if coll in done and done[coll]["kind"] == "generated" else None
+        )
+        if known is None or iname not in known:
+            raise ValueError(
+                f"{where}: field 'base' must name an earlier generated item as "
+                f"'collection/item', got {item['base']!r}"
+            )
+
+
+def load_manifest(path=None) -> dict:
+    """Read and validate a manifest; return ``{collection name: entry}``.
+
+    Parameters
+    ----------
+    path : str, os.PathLike or dict, optional
+        The YAML file; default ``$CSHAPE_MANIFEST`` or the ``data_manifest.yaml`` shipped
+        next to the package.  A dict is taken as an already parsed manifest.
+        The file's folder is recorded (key ``_root`` of each entry) to resolve relative
+        ``local`` paths.
+    """
+    if isinstance(path, dict):
+        if "collections" in path:
+            return _with_root(validate_manifest(path, source="manifest"), Path.cwd())
+        return path  # already validated
+    import yaml
+
+    p = Path(path or os.environ.get("CSHAPE_MANIFEST") or _DEFAULT_MANIFEST)
+    if not p.is_file():
+        raise FileNotFoundError(
+            f"no data manifest at {str(p)!r}; pass manifest=PATH or set CSHAPE_MANIFEST"
+        )
+    with open(p, encoding="utf-8") as fh:
+        try:
+            doc = yaml.safe_load(fh)
+        except yaml.YAMLError as exc:
+            raise ValueError(f"{p.name}: not valid YAML ({exc})") from None
+    return _with_root(validate_manifest(doc, source=p.name), p.resolve().parent)
+
+
+def _with_root(entries, root):
+    for e in entries.values():
+        e.setdefault("_root", str(root))
+    return entries
+
+
+def _entry(name, manifest) -> dict:
+    entries = load_manifest(manifest)
+    if name not in entries:
+        raise ValueError(
+            f"unknown collection {name!r}; known collections are {list(entries)} "
+            "(see `cshape data list`)"
+        )
+    return entries[name]
+
+
+def list_collections(manifest=None) -> list[str]:
+    """Names of the collections in the manifest, in manifest order.
+
+    Examples
+    --------
+    >>> import cshape.data
+    >>> "paper-models" in cshape.data.list_collections()
+    True
+    """
+    return list(load_manifest(manifest))
+
+
+def info(name, manifest=None) -> dict:
+    """The manifest entry of collection ``name`` (description, kind, license, items, ...)."""
+    return {k: v for k, v in _entry(name, manifest).items() if not k.startswith("_")}
+
+
+# ====================================================================== cache
+def cache_dir(path=None) -> Path:
+    """The cache folder: ``path``, else ``$CSHAPE_CACHE``, else the user cache folder.
+
+    The user cache folder is ``platformdirs.user_cache_dir('cshape')`` when platformdirs is
+    installed, else ``$XDG_CACHE_HOME/cshape`` or ``~/.cache/cshape``.  Not created here.
+    """
+    if path is not None:
+        return Path(path).expanduser()
+    env = os.environ.get("CSHAPE_CACHE")
+    if env:
+        return Path(env).expanduser()
+    try:
+        import platformdirs
+
+        return Path(platformdirs.user_cache_dir("cshape", appauthor=False))
+    except ImportError:  # pragma: no cover - platformdirs comes with pooch
+        base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+        return Path(base) / "cshape"
+
+
+def _pymeshlab_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("pymeshlab")
+    except PackageNotFoundError:  # pragma: no cover
+        return "unknown"
+
+
+def _recipe_record(entries, coll, item) -> dict:
+    rec = {
+        "recipe": item["recipe"],
+        "params": item.get("params") or {},
+        "seed": item.get("seed"),
+        "recipes_version": RECIPES_VERSION,
+        "pymeshlab": _pymeshlab_version(),
+    }
+    if "base" in item:
+        bcoll, _, bname = item["base"].partition("/")
+        bitem = _find_item(entries[bcoll], bname)
+        rec["base"] = {"item": item["base"], "key": _key(_recipe_record(entries, bcoll, bitem))}
+    return rec
+
+
+def _key(record) -> str:
+    blob = json.dumps(record, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+
+def _find_item(entry, name):
+    for it in entry.get("items") or []:
+        if it["name"] == name:
+            return it
+    names = [it["name"] for it in entry.get("items") or []]
+    raise ValueError(f"collection {entry['name']!r} has no item {name!r}; items are {names}")
+
+
+def _atomic_save_npz(path: Path, **arrays) -> None:
+    """Write ``arrays`` to ``path`` as .npz via a temporary file and ``os.replace``."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **arrays)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; use the usual permissions
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _read_npz(path: Path) -> Mesh:
+    with np.load(path, allow_pickle=False) as z:
+        return Mesh(z["vertices"], z["faces"])
+
+
+def _cache_file(entries, coll, item, root: Path) -> Path:
+    key = _key(_recipe_record(entries, coll, item))
+    return root / "generated" / coll / f"{item['name']}-{key}.npz"
+
+
+def _generated_mesh(entries, coll, item, root: Path) -> tuple[Mesh, bool]:
+    """Return (mesh, built) for a generated item, from the cache or by building it."""
+    path = _cache_file(entries, coll, item, root)
+    if path.is_file():
+        try:
+            return _read_npz(path), False
+        except (OSError, ValueError, KeyError) as exc:
+            warnings.warn(f"rebuilding unreadable cache file {path} ({exc})", stacklevel=3)
+    fn, takes_base, takes_seed = _recipes()[item["recipe"]]
+    args, kwargs = [], dict(item.get("params") or {})
+    if takes_base:
+        bcoll, _, bname = item["base"].partition("/")
+        args.append(_generated_mesh(entries, bcoll, _find_item(entries[bcoll], bname), root)[0])
+    if takes_seed:
+        kwargs["random_state"] = item.get("seed")
+    mesh = fn(*args, **kwargs)
+    record = _recipe_record(entries, coll, item)
+    _atomic_save_npz(
+        path, vertices=mesh.vertices, faces=mesh.faces, recipe=np.array(json.dumps(record))
+    )
+    return mesh, True
+
+
+# ====================================================================== paths
+def _env_path(entry) -> Path | None:
+    env = entry.get("path_env")
+    if env and os.environ.get(env):
+        return Path(os.environ[env]).expanduser()
+    return None
+
+
+def collection_path(name, *, cache_dir=None, manifest=None) -> Path:
+    """Where collection ``name`` lives on disk (it may not exist yet).
+
+    generated: ``<cache>/generated/<name>``; download: ``$<path_env>`` if set, else
+    ``<cache>/downloads/<name>``; package: the folder inside the installed package;
+    local: ``$<path_env>`` if set, else ``path`` relative to the manifest's folder.
+    """
+    entry = _entry(name, manifest)
+    kind = entry["kind"]
+    root = _cache_root(cache_dir)
+    if kind == "generated":
+        return root / "generated" / name
+    if kind == "download":
+        return _env_path(entry) or root / "downloads" / name
+    if kind == "package":
+        import importlib.util
+
+        spec = importlib.util.find_spec(entry["package"])
+        if spec is None or not spec.submodule_search_locations:
+            raise FileNotFoundError(
+                f"collection {name!r} reads package {entry['package']!r}, which is not "
+                f"installed; pip install {entry['package']}"
+            )
+        return Path(list(spec.submodule_search_locations)[0]) / entry["path"]
+    env = _env_path(entry)
+    if env is not None:
+        return env
+    p = Path(entry["path"]).expanduser()
+    return p if p.is_absolute() else (Path(entry.get("_root", ".")) / p).resolve()
+
+
+def _cache_root(path) -> Path:
+    return cache_dir(path)
+
+
+# ====================================================================== loading
+def load_collection(
+    name, *, cache_dir=None, download=False, progress=None, manifest=None
+) -> Collection:
+    """Load a collection: its meshes with names and class labels.
+
+    Parameters
+    ----------
+    name : str
+        A collection of the manifest (:func:`list_collections`).
+    cache_dir : str or os.PathLike, optional
+        Cache folder (default :func:`cache_dir`).
+    download : bool, default=False
+        For a ``download`` collection whose files are not in the cache yet, fetch them
+        (:func:`fetch`).  Without it a missing file is an error saying how to fetch it;
+        nothing is ever downloaded unless asked.
+    progress : bool or None, default=None
+        Progress bar while building generated meshes: ``None`` shows it on a terminal when
+        the build takes more than half a second.
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
+
+    Returns
+    -------
+    Collection
+        ``.names``, ``.labels``, ``.meshes``; items by position or name.  Generated meshes are
+        built (or read from the cache) now; files of the other kinds load on first access.
+    """
+    entries = load_manifest(manifest)
+    entry = _entry(name, entries)
+    kind = entry["kind"]
+    meta = {k: v for k, v in entry.items() if not k.startswith("_")}
+    if kind == "generated":
+        root = _cache_root(cache_dir)
+        items = []
+        with _progress(len(entry["items"]), f"cshape: {name}", progress) as bar:
+            for it in entry["items"]:
+                mesh, _ = _generated_mesh(entries, name, it, root)
+                rec = Item(it["name"], it["label"], name, dict(it), _load=None)
+                rec.__dict__["mesh"] = mesh
+                items.append(rec)
+                bar.update(1)
+        return Collection(name, items, meta)
+    folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
+    if kind == "download" and "layout" in entry:
+        if not folder.is_dir():
+            raise FileNotFoundError(_manual_message(entry, folder))
+        coll = _LAYOUT_READERS[entry["layout"]](folder)
+        return Collection(name, coll.items, meta)
+    if kind == "local" and not entry.get("items"):
+        coll = load_folder(folder, labels=entry["labels"], name=name)
+        return Collection(name, coll.items, meta)
+    if kind == "download":
+        missing = [it for it in entry["items"] if not (folder / it["file"]).is_file()]
+        if missing and not download:
+            total = sum(it["size"] for it in missing) / 1e6
+            raise FileNotFoundError(
+                f"collection {name!r}: {len(missing)} of {len(entry['items'])} files are not "
+                f"downloaded yet ({total:.1f} MB) into {str(folder)!r}; run `cshape data "
+                f"build {name}` or pass download=True"
+            )
+        if missing:
+            fetch(name, cache_dir=cache_dir, manifest=entries)
+    if kind == "package" and not folder.is_dir():
+        raise FileNotFoundError(
+            f"collection {name!r}: folder {str(folder)!r} is not in the installed "
+            f"{entry['package']!r} package (a different version?)"
+        )
+    items = [
+        Item(it["name"], it["label"], name, dict(it), _load=_file_loader(folder / it["file"]))
+        for it in entry["items"]
+    ]
+    return Collection(name, items, meta)
+
+
+def load(name, item, *, cache_dir=None, download=False, manifest=None) -> Mesh:
+    """One mesh of a collection, e.g. ``load("paper-models", "CM")``.
+
+    Parameters
+    ----------
+    name : str
+        The collection.
+    item : str
+        The item's name (``load_collection(name).names``).
+    cache_dir, download, manifest
+        As for :func:`load_collection`.
+
+    Returns
+    -------
+    Mesh
+    """
+    entries = load_manifest(manifest)
+    entry = _entry(name, entries)
+    if entry["kind"] == "generated":
+        return _generated_mesh(entries, name, _find_item(entry, item), _cache_root(cache_dir))[0]
+    if entry["kind"] == "download" and "items" in entry:
+        it = _find_item(entry, item)
+        folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
+        if not (folder / it["file"]).is_file():
+            if not download:
+                raise FileNotFoundError(
+                    f"{name}/{item} is not downloaded yet; run `cshape data build {name}` "
+                    "or pass download=True"
+                )
+            fetch(name, items=[item], cache_dir=cache_dir, manifest=entries)
+        return _file_loader(folder / it["file"])()
+    return load_collection(name, cache_dir=cache_dir, manifest=entries)[item].mesh
+
+
+def _file_loader(path: Path):
+    def _load():
+        if path.suffix.lower() == ".vert":
+            return read_vert_tri(path)
+        return load_mesh(path)
+
+    return _load
+
+
+class _NoBar:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def update(self, n=1):
+        pass
+
+
+def _progress(total, desc, progress):
+    if progress is False:
+        return _NoBar()
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:  # pragma: no cover - tqdm is a dependency
+        return _NoBar()
+    return tqdm(total=total, desc=desc, unit="mesh", delay=0.5, disable=None if progress is None
+                else not progress, leave=False)
+
+
+# ====================================================================== local folders
+def _mesh_files(folder: Path) -> list[Path]:
+    return sorted(
+        p for p in folder.rglob("*")
+        if p.is_file() and p.suffix.lower() in MESH_SUFFIXES + (".vert",)
+        and not any(part.startswith(".") for part in p.relative_to(folder).parts)
+    )
+
+
+def _item_names(rels: list[PurePosixPath]) -> list[str]:
+    stems = [r.stem for r in rels]
+    unique = len(set(stems)) == len(stems)
+    return stems if unique else [str(r.with_suffix("")) for r in rels]
+
+
+def load_folder(folder, labels="subfolder", *, name=None) -> Collection:
+    """Read a folder of meshes as a collection with class labels.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        Searched recursively for ``.obj``, ``.off``, ``.ply``, ``.stl`` (and TOSCA ``.vert``)
+        files; hidden files and folders are skipped.
+    labels : str, default='subfolder'
+        ``'subfolder'``: the label of a file is the first sub-folder it is in (files directly
+        in ``folder`` get the folder's own name).  Otherwise the name of a CSV file (relative
+        to ``folder``, or absolute) with a header and the columns ``file`` (path relative to
+        ``folder``) and ``label``, and optionally ``name``; only the files it lists are read.
+    name : str, optional
+        Collection name (default: the folder's name).
+
+    Returns
+    -------
+    Collection
+        Items named by file stem (by relative path when stems repeat), meshes loaded lazily
+        with :func:`cshape.load_mesh`.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the folder, the CSV or a file it lists does not exist.
+    ValueError
+        If the folder holds no mesh or the CSV lacks a ``file`` or ``label`` column.
+    """
+    folder = Path(folder).expanduser()
+    if not folder.is_dir():
+        raise FileNotFoundError(f"no folder {str(folder)!r} to read meshes from")
+    cname = name or folder.name
+    if labels == "subfolder":
+        files = [p for p in _mesh_files(folder) if p.suffix.lower() != ".vert"]
+        if not files:
+            raise ValueError(
+                f"folder {str(folder)!r} holds no mesh file ({', '.join(MESH_SUFFIXES)})"
+            )
+        rels = [PurePosixPath(p.relative_to(folder).as_posix()) for p in files]
+        labs = [r.parts[0] if len(r.parts) > 1 else folder.name for r in rels]
+        names = _item_names(rels)
+    else:
+        csv_path = Path(labels)
+        csv_path = csv_path if csv_path.is_absolute() else folder / csv_path
+        if not csv_path.is_file():
+            raise FileNotFoundError(
+                f"labels CSV {str(csv_path)!r} not found; pass labels='subfolder' or a CSV "
+                "with columns file,label"
+            )
+        with open(csv_path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+        cols = set(rows[0]) if rows else set()
+        if not {"file", "label"} <= cols:
+            raise ValueError(
+                f"labels CSV {str(csv_path)!r} must have a header with columns 'file' and "
+                f"'label' (and optionally 'name'), got {sorted(cols)}"
+            )
+        files, labs = [], []
+        for r in rows:
+            p = folder / r["file"]
+            if not p.is_file():
+                raise FileNotFoundError(
+                    f"labels CSV {csv_path.name!r} lists {r['file']!r}, not found in "
+                    f"{str(folder)!r}"
+                )
+            files.append(p)
+            labs.append(r["label"])
+        rels = [PurePosixPath(p.relative_to(folder).as_posix()) for p in files]
+        names = [r.get("name") or n for r, n in zip(rows, _item_names(rels), strict=True)]
+    items = [
+        Item(n, lab, cname, {"file": str(r)}, _load=_file_loader(p))
+        for n, lab, r, p in zip(names, labs, rels, files, strict=True)
+    ]
+    return Collection(cname, items, {"name": cname, "kind": "local", "path": str(folder)})
+
+
+# ====================================================================== benchmark layouts
+_MCGILL_GROUPS = {"articulated", "nonarticulated", "non-articulated", "non_articulated"}
+_MCGILL_SKIP = {"ply", "off", "obj", "im", "models", "mesh", "meshes"}
+
+
+def read_mcgill(folder) -> Collection:
+    """Read the McGill 3D Shape Benchmark as unpacked from its per-class archives.
+
+    Layout: one folder per class (``ants/``, ``crabs/``, ``teddy-bears/``, ...), possibly
+    under ``articulated/`` and ``nonarticulated/`` group folders, with the meshes (``.ply``;
+    ``.off`` and ``.obj`` also read) at any depth below, e.g. ``ants/Ply/b1.ply``.  The label
+    is the class folder's name; medial-surface files (``.im``) are ignored.
+    """
+    folder = Path(folder)
+    files = [p for p in _mesh_files(folder) if p.suffix.lower() in (".ply", ".off", ".obj")]
+    if not files:
+        raise ValueError(f"no McGill .ply meshes under {str(folder)!r} (one folder per class)")
+    rels, labs = [], []
+    for p in files:
+        rel = PurePosixPath(p.relative_to(folder).as_posix())
+        parts = [q for q in rel.parts[:-1] if q.lower() not in _MCGILL_GROUPS]
+        parts = [q for q in parts if q.lower() not in _MCGILL_SKIP] or [folder.name]
+        rels.append(rel)
+        labs.append(parts[0])
+    names = [f"{lab}/{r.stem}" for lab, r in zip(labs, rels, strict=True)]
+    if len(set(names)) < len(names):
+        names = [str(r.with_suffix("")) for r in rels]
+    items = [Item(n, lab, "mcgill-3dsb", {"file": str(r)}, _load=_file_loader(p))
+             for n, lab, r, p in zip(names, labs, rels, files, strict=True)]
+    return Collection("mcgill-3dsb", items, {"layout": "mcgill", "path": str(folder)})
+
+
+def read_vert_tri(vert_path) -> Mesh:
+    """Read a TOSCA mesh: ``NAME.vert`` (x y z per line) and ``NAME.tri`` (1-based triangles)."""
+    vert_path = Path(vert_path)
+    tri_path = vert_path.with_suffix(".tri")
+    if not tri_path.is_file():
+        raise FileNotFoundError(f"{vert_path.name} has no matching {tri_path.name}")
+    V = np.loadtxt(vert_path, dtype=np.float64, ndmin=2)
+    F = np.loadtxt(tri_path, dtype=np.float64, ndmin=2)
+    if F.size and F.min() < 1:
+        raise ValueError(f"{tri_path.name}: TOSCA triangles are 1-based, found index {F.min():g}")
+    return Mesh(V, F.astype(np.int64) - 1)
+
+
+def read_tosca(folder) -> Collection:
+    """Read TOSCA (high-resolution) as unpacked from ``toscahires-asci.zip``.
+
+    Layout: ``cat0.vert`` + ``cat0.tri``, ``centaur1.vert`` + ..., at any depth (``.off``
+    copies are read too when there is no ``.vert``).  Label: the name without its trailing
+    pose number (``cat``, ``centaur``, ``david``, ``dog``, ``gorilla``, ``horse``,
+    ``michael``, ``victoria``, ``wolf``).
+    """
+    folder = Path(folder)
+    files = _mesh_files(folder)
+    verts = {p.stem: p for p in files if p.suffix.lower() == ".vert"}
+    offs = {p.stem: p for p in files if p.suffix.lower() == ".off" and p.stem not in verts}
+    chosen = {**offs, **verts}
+    if not chosen:
+        raise ValueError(f"no TOSCA .vert/.tri (or .off) meshes under {str(folder)!r}")
+    items = []
+    for stem in sorted(chosen, key=_natural_key):
+        label = re.sub(r"\d+$", "", stem) or stem
+        p = chosen[stem]
+        items.append(Item(stem, label, "tosca", {"file": p.name}, _load=_file_loader(p)))
+    return Collection("tosca", items, {"layout": "tosca", "path": str(folder)})
+
+
+#: SHREC'07 watertight classes, in order: models 20k+1 ... 20k+20 belong to class k.
+SHREC07_CLASSES = (
+    "human", "cup", "glasses", "airplane", "ant", "chair", "octopus", "table", "teddy", "hand",
+    "plier", "fish", "bird", "spring", "armadillo", "bust", "mech", "bearing", "vase", "fourleg",
+)
+
+
+def read_shrec07(folder) -> Collection:
+    """Read the SHREC'07 watertight track: ``1.off`` ... ``400.off`` at any depth.
+
+    Model ``n`` belongs to class ``SHREC07_CLASSES[(n - 1) // 20]``; files not named by a
+    number from 1 to 400 are ignored.
+    """
+    folder = Path(folder)
+    found = {}
+    for p in _mesh_files(folder):
+        if p.suffix.lower() == ".off" and p.stem.isdigit() and 1 <= int(p.stem) <= 400:
+            found[int(p.stem)] = p
+    if not found:
+        raise ValueError(f"no SHREC'07 meshes 1.off ... 400.off under {str(folder)!r}")
+    items = [
+        Item(str(n), SHREC07_CLASSES[(n - 1) // 20], "shrec07-watertight",
+             {"file": found[n].name}, _load=_file_loader(found[n]))
+        for n in sorted(found)
+    ]
+    return Collection("shrec07-watertight", items, {"layout": "shrec07", "path": str(folder)})
+
+
+def _natural_key(s):
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", s)]
+
+
+_LAYOUT_READERS = {"mcgill": read_mcgill, "tosca": read_tosca, "shrec07": read_shrec07}
+
+
+def _manual_message(entry, folder) -> str:
+    env = entry.get("path_env")
+    return (
+        f"collection {entry['name']!r} is not on this machine: its terms ({entry['license']}) "
+        f"mean cshape does not download it.  Get it from {entry['page']} ({entry['format']}), "
+        f"then unpack it into {str(folder)!r}"
+        + (f" or set {env} to its folder" if env else "")
+        + f", or run `cshape data build {entry['name']} --archive FILE`."
+    )
+
+
+# ====================================================================== downloads
+def extract_archive(archive, target) -> Path:
+    """Unpack a .zip or .tar(.gz/.bz2/.xz) archive into ``target``, refusing to escape it.
+
+    Members with absolute paths, ``..`` components, or (for tar) links and device files are
+    rejected before anything is written; the archive is unpacked into a temporary folder
+    beside ``target`` and moved into place, so a failure leaves ``target`` as it was.
+
+    Returns
+    -------
+    Path
+        ``target``.
+
+    Raises
+    ------
+    ValueError
+        If a member would land outside ``target`` or the file is not a known archive.
+    """
+    archive, target = Path(archive), Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.extract."))
+    try:
+        if zipfile.is_zipfile(archive):
+            with zipfile.ZipFile(archive) as zf:
+                for n in zf.namelist():
+                    _check_member(n, archive)
+                zf.extractall(tmp)
+        elif tarfile.is_tarfile(archive):
+            with tarfile.open(archive) as tf:
+                members = tf.getmembers()
+                for m in members:
+                    _check_member(m.name, archive)
+                    if not (m.isfile() or m.isdir()):
+                        raise ValueError(
+                            f"archive {archive.name!r}: member {m.name!r} is a link or special "
+                            "file; refusing to extract it"
+                        )
+                tf.extractall(tmp, members=members)
+        else:
+            raise ValueError(f"{archive.name!r} is not a .zip or .tar archive")
+        target.mkdir(parents=True, exist_ok=True)
+        for child in tmp.iterdir():
+            dest = target / child.name
+            if dest.exists():
+                shutil.rmtree(dest) if dest.is_dir() else dest.unlink()
+            os.replace(child, dest)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return target
+
+
+def _check_member(name: str, archive: Path) -> None:
+    p = PurePosixPath(name.replace("\\", "/"))
+    if p.is_absolute() or ".." in p.parts or re.match(r"^[A-Za-z]:", name):
+        raise ValueError(
+            f"archive {archive.name!r}: member {name!r} would be written outside the target "
+            "folder; refusing to extract"
+        )
+
+
+def fetch(name, *, items=None, cache_dir=None, progress=True, manifest=None) -> list[Path]:
+    """Download the files of a ``download`` collection into the cache (only when called).
+
+    Uses pooch: each file is downloaded to a temporary name, checked against the manifest's
+    sha256 and moved into place; files already present with the right hash are not fetched
+    again.
+
+    Parameters
+    ----------
+    name : str
+        A ``download`` collection with pinned ``items``.
+    items : list of str, optional
+        Only these items (default: all).
+    cache_dir : optional
+        Cache folder (default :func:`cache_dir`).
+    progress : bool, default=True
+        pooch's progress bar per file.
+
+    Returns
+    -------
+    list of Path
+        The local files.
+
+    Raises
+    ------
+    ImportError
+        If pooch is not installed (``pip install cshape[download]``).
+    ValueError
+        If the collection is not downloadable (a benchmark fetched by hand, or another kind).
+    """
+    entries = load_manifest(manifest)
+    entry = _entry(name, entries)
+    if entry["kind"] != "download":
+        raise ValueError(
+            f"collection {name!r} is of kind {entry['kind']!r}; only 'download' collections "
+            "are fetched (generated ones are built: `cshape data build`)"
+        )
+    folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
+    if "layout" in entry:
+        raise ValueError(_manual_message(entry, folder))
+    try:
+        import pooch
+    except ImportError:
+        raise ImportError(
+            "downloading needs pooch; install it with `pip install cshape[download]`"
+        ) from None
+    wanted = entry["items"] if items is None else [_find_item(entry, i) for i in items]
+    out = []
+    for it in wanted:
+        dest = folder / it["file"]
+        got = pooch.retrieve(
+            url=it["url"], known_hash=f"sha256:{it['sha256']}", fname=dest.name,
+            path=dest.parent, progressbar=progress,
+        )
+        out.append(Path(got))
+    return out
+
+
+def build(name, *, cache_dir=None, progress=None, archive=None, manifest=None) -> Path:
+    """Make a collection available offline and return its folder.
+
+    generated: build every missing item into the cache; download (pinned files): fetch them;
+    download (benchmark): unpack ``archive`` (a file you downloaded by hand) into place with
+    :func:`extract_archive`, then check it reads; package / local: check every file reads.
+    """
+    entries = load_manifest(manifest)
+    entry = _entry(name, entries)
+    folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
+    if archive is not None:
+        if entry["kind"] != "download":
+            raise ValueError(f"archive= is only for download collections, not {entry['kind']!r}")
+        extract_archive(archive, folder)
+    if entry["kind"] == "download" and "items" in entry:
+        fetch(name, cache_dir=cache_dir, progress=bool(progress is not False), manifest=entries)
+    coll = load_collection(name, cache_dir=cache_dir, progress=progress, manifest=entries)
+    if entry["kind"] != "generated":
+        for it in coll:
+            it.mesh  # noqa: B018 - read every file once, so a broken one shows now
+    return folder
+
+
+# ====================================================================== command line
+def _cmd_list(args) -> int:
+    entries = load_manifest(args.manifest)
+    rows = []
+    for name, e in entries.items():
+        n = len(e.get("items") or [])
+        rows.append((name, e["kind"], str(n) if n else "-", " ".join(e["description"].split())))
+    w0 = max(len(r[0]) for r in rows)
+    print(f"{'name':<{w0}}  {'kind':<9}  {'items':>5}  description")
+    for r in rows:
+        desc = r[3] if len(r[3]) <= 70 else r[3][:67] + "..."
+        print(f"{r[0]:<{w0}}  {r[1]:<9}  {r[2]:>5}  {desc}")
+    return 0
+
+
+def _cmd_build(args) -> int:
+    t0 = time.perf_counter()
+    folder = build(args.name, cache_dir=args.cache_dir, archive=args.archive,
+                   manifest=args.manifest, progress=None)
+    n = len(load_collection(args.name, cache_dir=args.cache_dir, manifest=args.manifest,
+                            progress=False))
+    print(f"{args.name}: {n} meshes ready in {time.perf_counter() - t0:.1f} s at {folder}")
+    return 0
+
+
+def _cmd_path(args) -> int:
+    print(collection_path(args.name, cache_dir=args.cache_dir, manifest=args.manifest))
+    return 0
+
+
+def add_data(sub) -> None:
+    """Register ``cshape data {list, build NAME, path NAME}`` on an argparse sub-parser set."""
+    import argparse
+
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--manifest", default=None, help="manifest file (default: the shipped one)")
+    common.add_argument("--cache-dir", default=None,
+                        help="cache folder (default: $CSHAPE_CACHE or ~/.cache/cshape)")
+    p = sub.add_parser("data", help="list, build and locate shape collections")
+    dsub = p.add_subparsers(dest="data_command", required=True)
+    pl = dsub.add_parser("list", parents=[common], help="list the collections of the manifest")
+    pl.set_defaults(func=_cmd_list)
+    pb = dsub.add_parser(
+        "build", parents=[common],
+        help="build (generated), download (download) or check (package, local) a collection",
+    )
+    pb.add_argument("name", help="collection name (see `cshape data list`)")
+    pb.add_argument("--archive", default=None,
+                    help="a benchmark archive you downloaded by hand, to unpack into place")
+    pb.set_defaults(func=_cmd_build)
+    pp = dsub.add_parser("path", parents=[common], help="print the folder of a collection")
+    pp.add_argument("name", help="collection name")
+    pp.set_defaults(func=_cmd_path)
