@@ -443,11 +443,14 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
     if p.stat().st_size == 0:
         raise ValueError(f"cannot read mesh {str(p)!r}: the file is empty")
     ext = p.suffix.lower().lstrip(".")
+    expected = _prescan(p, ext)
     ms = pymeshlab.MeshSet()
     try:
         ms.load_new_mesh(str(p))
     except pymeshlab.PyMeshLabException as exc:
-        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        text = str(exc).strip()
+        details = text.split("Error details:", 1)[-1].strip() if "Error details:" in text else ""
+        msg = details or (text.splitlines()[0] if text else type(exc).__name__)
         if "Unknown format" in str(exc) or "unknown format" in str(exc).lower():
             raise ValueError(
                 f"cannot read mesh {str(p)!r}: the extension '.{ext}' is not a mesh format "
@@ -465,6 +468,7 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         )
     V = np.array(m.vertex_matrix(), dtype=np.float64)
     F = np.array(m.face_matrix(), dtype=np.int64)
+    _check_against_expected(p, expected, len(V), len(F))
     mesh = Mesh(V, F)
     if repair:
         with warnings.catch_warnings(record=True) as caught:
@@ -473,3 +477,203 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         for w in caught:
             warnings.warn(f"{p.name}: {w.message}", CShapeWarning, stacklevel=2)
     return mesh
+
+
+# ------------------------------------------------------------------ file checks
+# PyMeshLab silently drops faces with out-of-range indices and vertices with NaN
+# coordinates.  These checks read what the file declares, so that such a file gives
+# a clear error instead of a quietly different mesh.
+
+
+class _Expected:
+    def __init__(self, n_vertices=None, min_faces=None, exact_vertices=True):
+        self.n_vertices = n_vertices
+        self.min_faces = min_faces
+        self.exact_vertices = exact_vertices
+
+
+def _bad_file(p, what):
+    return ValueError(f"cannot read mesh {str(p)!r}: {what}")
+
+
+def _parse_floats(p, tokens, lineno, kind):
+    try:
+        xyz = [float(t) for t in tokens[:3]]
+    except ValueError:
+        raise _bad_file(
+            p, f"line {lineno}: {kind} coordinates {tokens[:3]} are not numbers"
+        ) from None
+    if len(xyz) < 3:
+        raise _bad_file(p, f"line {lineno}: a vertex needs 3 coordinates, got {len(xyz)}")
+    if not all(np.isfinite(xyz)):
+        raise _bad_file(
+            p, f"line {lineno}: vertex coordinates {xyz} are NaN or infinite; fix or remove them"
+        )
+
+
+def _scan_obj(p):
+    nv = ntri = max_idx = 0
+    with open(p, "rb") as fh:
+        for lineno, raw in enumerate(fh, 1):
+            if raw[:2] == b"v " or raw[:2] == b"v\t":
+                _parse_floats(p, raw.split()[1:], lineno, "vertex")
+                nv += 1
+            elif raw[:2] == b"f " or raw[:2] == b"f\t":
+                toks = raw.split()[1:]
+                if len(toks) < 3:
+                    raise _bad_file(p, f"line {lineno}: a face needs at least 3 vertices")
+                for t in toks:
+                    try:
+                        idx = int(t.split(b"/")[0])
+                    except ValueError:
+                        raise _bad_file(
+                            p, f"line {lineno}: face index {t.decode(errors='replace')!r} "
+                            "is not an integer"
+                        ) from None
+                    if idx == 0 or idx < -nv:
+                        raise _bad_file(
+                            p, f"line {lineno}: face index {idx} is invalid (OBJ indices start "
+                            f"at 1; negative ones count back from the {nv} vertices read so far)"
+                        )
+                    max_idx = max(max_idx, idx)
+                ntri += len(toks) - 2
+    return nv, ntri, max_idx
+
+
+def _prescan(p, ext):
+    """What the file declares (vertex count, minimum triangle count), or None if unknown."""
+    try:
+        if ext == "obj":
+            nv, ntri, max_idx = _scan_obj(p)
+            if nv == 0 or ntri == 0:
+                raise _bad_file(
+                    p, f"found {nv} vertex ('v x y z') and {ntri} face ('f i j k') records: "
+                    "it is not an OBJ triangle mesh"
+                )
+            if max_idx > nv:
+                raise _bad_file(
+                    p, f"a face references vertex {max_idx} but the file has only "
+                    f"{nv} vertices; the file is truncated or its faces are wrong"
+                )
+            return _Expected(nv, ntri)
+        if ext == "off":
+            return _scan_off(p)
+        if ext == "ply":
+            return _scan_ply_header(p)
+        if ext == "stl":
+            return _scan_stl(p)
+    except UnicodeDecodeError:
+        raise _bad_file(p, "it is not a text file, as this format requires") from None
+    return None
+
+
+def _scan_off(p):
+    with open(p, encoding="utf-8", errors="strict") as fh:
+        tokens_lines = (
+            (i, line.split("#", 1)[0].split()) for i, line in enumerate(fh, 1)
+        )
+        lines = ((i, t) for i, t in tokens_lines if t)
+        try:
+            i, head = next(lines)
+        except StopIteration:
+            raise _bad_file(p, "the file has no OFF header") from None
+        if not head[0].upper().endswith("OFF"):
+            raise _bad_file(p, f"line {i}: expected the OFF header, got {head[0]!r}")
+        counts = head[1:]
+        if not counts:
+            try:
+                i, counts = next(lines)
+            except StopIteration:
+                raise _bad_file(p, "the file ends after the OFF header (no counts)") from None
+        try:
+            nv, nf = int(counts[0]), int(counts[1])
+        except (ValueError, IndexError):
+            raise _bad_file(p, f"line {i}: expected 'n_vertices n_faces n_edges'") from None
+        if nv < 0 or nf < 0:
+            raise _bad_file(p, f"line {i}: negative counts {nv}, {nf}")
+        for k in range(nv):
+            try:
+                i, t = next(lines)
+            except StopIteration:
+                raise _bad_file(
+                    p, f"the header declares {nv} vertices but the file ends after {k}: "
+                    "it is truncated"
+                ) from None
+            _parse_floats(p, t, i, "vertex")
+        ntri = 0
+        for k in range(nf):
+            try:
+                i, t = next(lines)
+            except StopIteration:
+                raise _bad_file(
+                    p, f"the header declares {nf} faces but the file ends after {k}: "
+                    "it is truncated"
+                ) from None
+            try:
+                deg = int(t[0])
+                idx = [int(x) for x in t[1 : 1 + deg]]
+            except ValueError:
+                raise _bad_file(p, f"line {i}: face record {t} is not integers") from None
+            if deg < 3 or len(idx) < deg:
+                raise _bad_file(p, f"line {i}: face record {t} is incomplete")
+            bad = [x for x in idx if x < 0 or x >= nv]
+            if bad:
+                raise _bad_file(
+                    p, f"line {i}: face references vertex {bad[0]} but the file has only {nv} "
+                    f"vertices (OFF indices are 0-based, in [0, {nv - 1}])"
+                )
+            ntri += deg - 2
+    return _Expected(nv, ntri)
+
+
+def _scan_ply_header(p):
+    nv = nf = None
+    with open(p, "rb") as fh:
+        first = fh.readline()
+        if first.strip() != b"ply":
+            raise _bad_file(p, "it does not start with the 'ply' magic line")
+        for _ in range(10000):
+            line = fh.readline()
+            if not line:
+                raise _bad_file(p, "the PLY header has no end_header line: it is truncated")
+            parts = line.split()
+            if parts[:2] == [b"element", b"vertex"] and len(parts) > 2:
+                nv = int(parts[2])
+            elif parts[:2] == [b"element", b"face"] and len(parts) > 2:
+                nf = int(parts[2])
+            elif parts[:1] == [b"end_header"]:
+                break
+    return _Expected(nv, nf)
+
+
+def _scan_stl(p):
+    size = p.stat().st_size
+    with open(p, "rb") as fh:
+        head = fh.read(84)
+    if head[:5].lower() == b"solid" and b"facet" in open(p, "rb").read(1024).lower():
+        return None  # ASCII STL: PyMeshLab reports broken records itself
+    if size < 84:
+        raise _bad_file(p, f"a binary STL needs at least 84 bytes, the file has {size}")
+    n = int.from_bytes(head[80:84], "little")
+    if size != 84 + 50 * n:
+        raise _bad_file(
+            p, f"the binary STL header declares {n} triangles ({84 + 50 * n} bytes) but the file "
+            f"has {size} bytes: it is truncated or not an STL file"
+        )
+    return _Expected(None, n, exact_vertices=False)
+
+
+def _check_against_expected(p, expected, nv, nf):
+    if expected is None:
+        return
+    if expected.n_vertices is not None and nv != expected.n_vertices:
+        raise _bad_file(
+            p, f"the file declares {expected.n_vertices} vertices but {nv} could be read "
+            "(NaN coordinates or corrupt vertex records?)"
+        )
+    if expected.min_faces is not None and nf < expected.min_faces:
+        raise _bad_file(
+            p, f"the file declares {expected.min_faces} triangles (after triangulating "
+            f"polygons) but only {nf} could be read: some faces reference missing vertices "
+            "or are corrupt"
+        )

@@ -178,3 +178,53 @@ def test_load_errors_name_the_file(tmp_path):
         cshape.load_mesh(unknown)
     with pytest.raises(ValueError, match="is a folder"):
         cshape.load_mesh(tmp_path)
+
+
+OFF_TET = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+PLY_HEAD = (
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+)
+
+
+@pytest.mark.parametrize(
+    "name, content, match",
+    [
+        ("oor.off", OFF_TET.replace("3 1 2 3\n", "3 1 2 9\n"), "references vertex 9.*only 4"),
+        ("trunc_faces.off", OFF_TET.rsplit("3 0 3 2", 1)[0], "declares 4 faces.*truncated"),
+        ("trunc_verts.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n", "declares 4 vertices.*truncated"),
+        ("nan.off", OFF_TET.replace("0 0 1\n", "0 0 nan\n"), "NaN or infinite"),
+        ("words.off", "hello\n", "expected the OFF header"),
+        ("oor.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n", "vertex 7.*only 3"),
+        ("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "index 0 is invalid"),
+        ("inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n", "NaN or infinite"),
+        ("text.obj", "this is not a mesh\n", "not an OBJ triangle mesh"),
+        ("oor.ply", PLY_HEAD + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 5\n", "Bad vertex index"),
+        ("noheader.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no end_header"),
+        ("short.stl", "x" * 40, "at least 84 bytes"),
+        ("trunc.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n", "oor|Malformed|trunc"),
+    ],
+)
+def test_malformed_files_give_clear_errors(tmp_path, name, content, match):
+    p = tmp_path / name
+    p.write_text(content)
+    with pytest.raises(ValueError, match=match) as info:
+        cshape.load_mesh(p)
+    assert name in str(info.value)
+
+
+def test_binary_stl_truncated(tmp_path):
+    import struct
+
+    p = tmp_path / "bin.stl"
+    body = b"\0" * 80 + struct.pack("<I", 4) + b"\0" * (50 * 3)  # declares 4, holds 3
+    p.write_bytes(body)
+    with pytest.raises(ValueError, match="declares 4 triangles"):
+        cshape.load_mesh(p)
+
+
+def test_obj_negative_relative_indices_are_valid(tmp_path):
+    p = tmp_path / "rel.obj"
+    p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n")
+    m = cshape.load_mesh(p)
+    assert m.n_faces == 1 and m.area == pytest.approx(0.5)
