@@ -21,11 +21,12 @@ random choices take a ``random_state``.  Cached, named collections of these shap
 from __future__ import annotations
 
 import numbers
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from .mesh import Mesh, as_mesh, repair_mesh
+from .mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
 
 __all__ = [
     "ARTICULATED_KINDS",
@@ -196,7 +197,7 @@ def eight(voxelsize=0.02, target_vertices=4000, *, R=0.6, r=0.22, separation=1.1
     a = separation / 2
     t1 = f"sqrt((sqrt((x+{a})^2+y^2)-{R})^2+z^2)-{r}"
     t2 = f"sqrt((sqrt((x-{a})^2+y^2)-{R})^2+z^2)-{r}"
-    m = 2 * voxelsize + 0.05
+    m = 4 * voxelsize + 0.05  # PyMeshLab's grid may stop ~2 voxels short of the max corner
     bx, by, bz = a + R + r + m, R + r + m, r + m
     mesh = marching_cubes(_smooth_min(t1, t2, 0.1), (-bx, -by, -bz, bx, by, bz), voxelsize)
     if target_vertices is None:
@@ -219,7 +220,9 @@ def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
         The implicit function of ``x, y, z`` in muparser syntax (``sqrt``, ``min``, ``max``,
         ``abs``, ``^``, ...), negative inside.
     bbox : sequence of 6 floats
-        ``(xmin, ymin, zmin, xmax, ymax, zmax)``, the sampled box; keep the surface inside it.
+        ``(xmin, ymin, zmin, xmax, ymax, zmax)``, the sampled box.  Keep the surface a few
+        voxels inside it: PyMeshLab's grid can stop up to about two voxels short of the max
+        corner, and a surface reaching past the grid comes out cut open (with a warning).
     voxelsize : float, default=0.02
         Edge of the sampling voxels; the edge length of the output is about this.
 
@@ -250,7 +253,15 @@ def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
         expr=expr, voxelsize=voxelsize,
         minx=box[0], miny=box[1], minz=box[2], maxx=box[3], maxy=box[4], maxz=box[5],
     )
-    return _from_meshset(ms, what=f"marching cubes of {expr[:60]!r}")
+    mesh = _from_meshset(ms, what=f"marching cubes of {expr[:60]!r}")
+    if len(mesh.boundary_edges):
+        warnings.warn(
+            f"marching cubes: the surface is cut open by the sampling box "
+            f"({len(mesh.boundary_edges)} boundary edges); enlarge bbox by a few voxels",
+            CShapeWarning,
+            stacklevel=2,
+        )
+    return mesh
 
 
 # ---------------------------------------------------------------------- remeshing
@@ -500,7 +511,7 @@ def articulated_figure(
     caps = figure_capsules(kind, random_state)
     pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
     rmax = max(c.radius for c in caps)
-    margin = rmax + 2 * voxelsize + 0.02
+    margin = rmax + 4 * voxelsize + 0.05  # PyMeshLab's grid may stop short of the max corner
     lo, hi = pts.min(0) - margin, pts.max(0) + margin
     mesh = marching_cubes(capsules_expression(caps), (*lo, *hi), voxelsize)
     if target_vertices is None:
