@@ -1,0 +1,309 @@
+"""cshape.batch.describe: cache, resume after a kill, failures, process pool, Dask, save/load."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+import types
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cshape import CShapeWarning, Mesh, shape_dna, shapes
+from cshape.batch import DescriptorTable, describe, mesh_key
+
+N = 20
+
+
+def small_collection():
+    """Six cheap meshes in two classes, as (name, label, mesh) records."""
+    return [
+        ("s1", "sphere", shapes.icosphere(2)),
+        ("s2", "sphere", shapes.icosphere(2, radius=2.0)),
+        ("s3", "sphere", shapes.icosphere(2, radius=0.5)),
+        ("t1", "torus", shapes.torus(24, 12)),
+        ("t2", "torus", shapes.torus(24, 12, r=0.3)),
+        ("t3", "torus", shapes.torus(20, 10)),
+    ]
+
+
+def entries(cache: Path):
+    return sorted(cache.glob("*.npz"))
+
+
+def run(collection, **kw):
+    kw.setdefault("progress", False)
+    kw.setdefault("N", N)
+    kw.setdefault("M", 4)
+    return describe(collection, **kw)
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """The serial, uncached table of small_collection()."""
+    return run(small_collection(), cache_dir=False)
+
+
+# ------------------------------------------------------------------ basics and the cache
+def test_describe_matches_shape_dna(reference):
+    col = small_collection()
+    assert reference.names == [r[0] for r in col]
+    assert reference.labels == [r[1] for r in col]
+    assert reference.lam.shape == (6, N)
+    for i, (_, _, mesh) in enumerate(col):
+        np.testing.assert_allclose(reference.lam[i], shape_dna(mesh, N=N), rtol=1e-12, atol=1e-12)
+        assert reference.areas[i] == pytest.approx(mesh.area)
+    assert not reference.cached.any()
+    assert reference.failures == []
+    assert reference.cshape.shape == (6, 9)
+    assert reference.descriptors("cshape", M=2).shape == (6, 5)
+    assert reference.distance_matrix("shape_dna").shape == (6, 6)
+
+
+def test_cache_is_reused_for_other_M_and_smaller_N(tmp_path, reference):
+    first = run(small_collection(), cache_dir=tmp_path)
+    assert not first.cached.any()
+    assert len(entries(tmp_path)) == 6
+    np.testing.assert_array_equal(first.lam, reference.lam)
+    again = run(small_collection(), cache_dir=tmp_path, M=2)
+    assert again.cached.all()
+    np.testing.assert_array_equal(again.lam, first.lam)
+    shorter = run(small_collection(), cache_dir=tmp_path, N=10)
+    assert shorter.cached.all()
+    np.testing.assert_array_equal(shorter.lam, first.lam[:, :10])
+    longer = run(small_collection(), cache_dir=tmp_path, N=24)  # needs more eigenvalues
+    assert not longer.cached.any()
+    assert run(small_collection(), cache_dir=tmp_path, N=24).cached.all()
+    # entries are plain arrays, readable without pickle, keyed by content + parameters
+    with np.load(entries(tmp_path)[0], allow_pickle=False) as z:
+        assert z["lam"].shape == (24,)
+    # a different boundary condition or mass matrix is a different key
+    m = shapes.icosphere(2)
+    assert mesh_key(m) == mesh_key(Mesh(m.vertices.copy(), m.faces.copy()))
+    assert mesh_key(m) != mesh_key(m, mass="lumped")
+
+
+def test_corrupt_cache_entry_is_detected_and_recomputed(tmp_path, reference):
+    run(small_collection(), cache_dir=tmp_path)
+    paths = entries(tmp_path)
+    paths[0].write_bytes(b"not a zip file")
+    data = paths[1].read_bytes()
+    paths[1].write_bytes(data[: len(data) // 2])  # truncated write
+    with pytest.warns(CShapeWarning, match=r"corrupt cache entry"):
+        table = run(small_collection(), cache_dir=tmp_path)
+    assert int((~table.cached).sum()) == 2
+    np.testing.assert_array_equal(table.lam, reference.lam)
+    for p in paths:  # rewritten, valid entries
+        with np.load(p, allow_pickle=False) as z:
+            assert np.all(np.isfinite(z["lam"]))
+
+
+def test_failing_mesh_is_skipped_and_reported(tmp_path):
+    col = small_collection()[:2] + [("tiny", "x", shapes.icosphere(0))]  # 12 vertices < N
+    col.append(("missing", "x", tmp_path / "nope.off"))
+    with pytest.warns(CShapeWarning, match=r"2 of 4 meshes failed and were skipped"):
+        table = run(col, cache_dir=tmp_path)
+    assert table.names == ["s1", "s2"]
+    assert [f[0] for f in table.failures] == ["tiny", "missing"]
+    assert "N=20 eigenvalues requested" in table.failures[0][1]
+    assert "FileNotFoundError" in table.failures[1][1]
+    with pytest.raises(RuntimeError, match=r"mesh 'tiny' failed"):
+        run(col, cache_dir=False, on_error="raise")
+
+
+def write_off(path, mesh):
+    lines = ["OFF", f"{mesh.n_vertices} {mesh.n_faces} 0"]
+    lines += [" ".join(repr(float(x)) for x in v) for v in mesh.vertices]
+    lines += ["3 " + " ".join(str(int(i)) for i in f) for f in mesh.faces]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_collection_forms(tmp_path):
+    m1, m2 = shapes.icosphere(2), shapes.torus(24, 12)
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    p1 = write_off(tmp_path / "a" / "x.off", m1)
+    p2 = write_off(tmp_path / "b" / "x.off", m2)
+    rec = types.SimpleNamespace(name="rec", label="torus", mesh=m2)
+    rec_path = types.SimpleNamespace(name="recp", label="sphere", path=p1)
+    table = run([p1, p2, m1, (m2.vertices, m2.faces), ("named", m1), rec, rec_path],
+                cache_dir=False)
+    # colliding stems fall back to the whole path
+    assert table.names == [str(p1), str(p2), "mesh2", "mesh3", "named", "rec", "recp"]
+    assert table.labels == ["", "", "", "", "", "torus", "sphere"]
+    np.testing.assert_allclose(table.lam[0], table.lam[2], rtol=1e-9, atol=1e-9)
+    assert run({"one": m1}, cache_dir=False).names == ["one"]
+    with pytest.raises(ValueError, match=r"repeated names \['a'\]"):
+        run([("a", m1), ("a", m2)], cache_dir=False)
+    with pytest.raises(TypeError, match=r"collection item 0 is a int"):
+        run([3], cache_dir=False)
+    with pytest.raises(TypeError, match=r"wrap it in a list"):
+        run(m1, cache_dir=False)
+
+
+def test_invalid_parameters():
+    col = small_collection()[:1]
+    with pytest.raises(ValueError, match=r"n_jobs must be a positive integer or -1"):
+        run(col, cache_dir=False, n_jobs=0)
+    with pytest.raises(ValueError, match=r"M=10 needs 2M\+1 = 21 <= N = 20"):
+        run(col, cache_dir=False, M=10)
+    with pytest.raises(ValueError, match=r"bc must be one of"):
+        run(col, cache_dir=False, bc="robin")
+
+
+# ------------------------------------------------------------------ save / load
+@pytest.mark.parametrize("suffix", [".npz", ".csv"])
+def test_table_round_trip(tmp_path, reference, suffix):
+    t = reference.select([0, 3, 5])
+    t.names[0] = 'sphère, "one"'  # commas, quotes and non-ASCII survive
+    t.failures = [("bad mesh", "ValueError: too small, sorry")]
+    path = t.save(tmp_path / f"table{suffix}")
+    back = DescriptorTable.load(path)
+    assert back.names == t.names
+    assert back.labels == t.labels
+    np.testing.assert_array_equal(back.lam, t.lam)
+    np.testing.assert_array_equal(back.areas, t.areas)
+    np.testing.assert_array_equal(back.seconds, t.seconds)
+    np.testing.assert_array_equal(back.cached, t.cached)
+    assert (back.M, back.bc, back.mass, back.failures) == (t.M, t.bc, t.mass, t.failures)
+    np.testing.assert_array_equal(back.cshape, t.cshape)
+    assert [p.name for p in tmp_path.iterdir()] == [f"table{suffix}"]  # no temp file left
+
+
+def test_table_load_rejects(tmp_path):
+    with pytest.raises(ValueError, match=r"must end in .npz or .csv"):
+        DescriptorTable(["a"], np.zeros((1, 3)), [1.0]).save(tmp_path / "t.txt")
+    bad = tmp_path / "t.csv"
+    bad.write_text("name,label\n")
+    with pytest.raises(ValueError, match=r"not a cshape descriptor table"):
+        DescriptorTable.load(bad)
+    with pytest.raises(FileNotFoundError, match=r"no descriptor table"):
+        DescriptorTable.load(tmp_path / "none.npz")
+
+
+# ------------------------------------------------------------------ parallel runs
+def test_process_pool_equals_serial(tmp_path, reference):
+    table = run(small_collection(), cache_dir=tmp_path, n_jobs=2)
+    assert table.names == reference.names
+    np.testing.assert_array_equal(table.lam, reference.lam)
+    np.testing.assert_array_equal(table.areas, reference.areas)
+
+
+def test_dask_local_cluster_equals_serial(tmp_path, reference):
+    distributed = pytest.importorskip("distributed")
+    col = small_collection() + [("tiny", "x", shapes.icosphere(0))]
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  protocol="tcp://", host="127.0.0.1",
+                                  dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client, warnings.catch_warnings():
+            warnings.simplefilter("ignore", CShapeWarning)
+            table = run(col, cache_dir=tmp_path, client=client)
+        # a scheduler address also works (a client is opened and closed for the run)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", CShapeWarning)
+            again = run(col, cache_dir=False, client=cluster.scheduler_address)
+    for t in (table, again):
+        assert t.names == reference.names
+        # same computation; the in-process workers' BLAS may use 2 threads (the serial
+        # reference uses 1), which changes the last bits of a few eigenvalues
+        np.testing.assert_allclose(t.lam, reference.lam, rtol=1e-12, atol=1e-12)
+        np.testing.assert_array_equal(t.areas, reference.areas)
+        assert [f[0] for f in t.failures] == ["tiny"]
+    assert len(entries(tmp_path)) == 6
+
+
+@pytest.mark.slow
+def test_dask_process_cluster_equals_serial(reference):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  host="127.0.0.1", dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            table = run(small_collection(), cache_dir=False, client=client)
+    np.testing.assert_array_equal(table.lam, reference.lam)
+
+
+# ------------------------------------------------------------------ interruption
+SCRIPT = """
+import json, sys
+from cshape import shapes
+from cshape.batch import describe
+
+if __name__ == "__main__":
+    col = [(f"s{{i}}", "sphere", shapes.icosphere(3, radius=1.0 + 0.1 * i)) for i in range({n})]
+    t = describe(col, N=30, M=4, cache_dir=sys.argv[1], n_jobs={n_jobs}, progress=False)
+    print(json.dumps({{"ok": t.names, "failures": t.failures}}))
+"""
+
+N_KILL = 16
+
+
+def start_describe(tmp_path, n_jobs):
+    script = tmp_path / "run.py"
+    script.write_text(SCRIPT.format(n=N_KILL, n_jobs=n_jobs))
+    cache = tmp_path / "cache"
+    proc = subprocess.Popen([sys.executable, str(script), str(cache)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not (cache.is_dir() and entries(cache)):
+        if proc.poll() is not None or time.monotonic() > deadline:
+            proc.kill()
+            out, err = proc.communicate()
+            pytest.fail(f"describe subprocess wrote no cache entry: {err[-2000:]}")
+        time.sleep(0.005)
+    return proc, cache
+
+
+def collection_for_resume():
+    return [(f"s{i}", "sphere", shapes.icosphere(3, radius=1.0 + 0.1 * i)) for i in range(N_KILL)]
+
+
+def check_resume(cache):
+    """Entries left by the killed run are valid, are not recomputed, and the rest is."""
+    done = entries(cache)
+    stamps = {p: p.stat().st_mtime_ns for p in done}
+    for p in done:
+        with np.load(p, allow_pickle=False) as z:
+            assert z["lam"].shape == (30,) and np.all(np.isfinite(z["lam"]))
+    table = describe(collection_for_resume(), N=30, M=4, cache_dir=cache, progress=False)
+    assert len(table) == N_KILL and table.failures == []
+    assert int(table.cached.sum()) == len(done)
+    assert {p: p.stat().st_mtime_ns for p in done} == stamps  # not rewritten
+    assert len(entries(cache)) == N_KILL
+    fresh = describe(collection_for_resume()[:3], N=30, M=4, cache_dir=False, progress=False)
+    np.testing.assert_array_equal(table.lam[:3], fresh.lam)
+
+
+def test_resume_after_the_run_is_killed(tmp_path):
+    proc, cache = start_describe(tmp_path, n_jobs=1)
+    proc.send_signal(signal.SIGKILL)
+    proc.communicate()
+    n_done = len(entries(cache))
+    assert 1 <= n_done < N_KILL, "the run finished before it could be killed"
+    check_resume(cache)
+
+
+def test_resume_after_a_worker_is_killed(tmp_path):
+    psutil = pytest.importorskip("psutil")
+    proc, cache = start_describe(tmp_path, n_jobs=2)
+    # the pool workers are the leaves of the process tree (below the forkserver, if any),
+    # apart from multiprocessing's resource tracker
+    workers = [c for c in psutil.Process(proc.pid).children(recursive=True)
+               if not c.children() and "resource_tracker" not in " ".join(c.cmdline())]
+    assert workers, "no worker process found"
+    os.kill(workers[0].pid, signal.SIGKILL)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 0, err[-2000:]
+    summary = json.loads(out.strip().splitlines()[-1])
+    if not summary["failures"]:
+        pytest.skip("the pool finished before the worker was killed")
+    assert all("worker process died" in msg for _, msg in summary["failures"])
+    assert len(summary["ok"]) + len(summary["failures"]) == N_KILL
+    assert len(entries(cache)) == len(summary["ok"])
+    check_resume(cache)
