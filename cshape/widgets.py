@@ -1,0 +1,492 @@
+"""The M sweep: how the crop half-width ``M`` changes the cShape-DNA (Section 3.2, Fig. 6).
+
+The logic is a chain of pure functions on eigenvalues, which the tests call directly:
+
+* :class:`MSweep` holds the eigenvalues of a collection (computed **once**, e.g. by
+  :func:`cshape.batch.describe`) and caches the stages that depend only on ``N`` and the
+  normalisation: the normalised and Weyl-subtracted Shape-DNA (Eq. 8), its full shifted DFT
+  (Eq. 9), the scaled Shape-DNA distance matrix (Fig. 3a) and its MDS embedding.  A new ``M``
+  reruns only the cheap stages: crop (Eq. 10), reconstruction, distances, difference
+  statistics and MDS.
+* :func:`sweep_state` is the one-call form: ``MSweep(...).state(M, N)``.
+* :func:`m_sweep_widget` is a thin ipywidgets shell over :class:`MSweep` and
+  :func:`cshape.plots.plot_m_sweep`; it returns the widget and never displays it.
+
+Example
+-------
+>>> import cshape, numpy as np
+>>> from cshape import shapes, widgets
+>>> meshes = {"sphere": shapes.icosphere(2), "cube": shapes.cube(4)}
+>>> lams = [cshape.shape_dna(m, N=30) for m in meshes.values()]
+>>> st = widgets.sweep_state(lams, [m.area for m in meshes.values()], ["s", "c"], M=4, N=30)
+>>> st.coefficients.shape, st.D.shape
+((2, 9), (2, 2))
+"""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
+from .descriptors import NORMALIZATIONS, normalize, weyl_subtract
+
+__all__ = ["MSweep", "MSweepWidget", "SweepState", "clamp_M", "m_sweep_widget", "sweep_state"]
+
+
+@dataclass
+class SweepState:
+    """Everything the M-sweep shows for one ``(M, N, normalization)``.
+
+    Attributes
+    ----------
+    M, N : int
+        Crop half-width and Shape-DNA length (``2M+1 <= N``).
+    normalization : str
+        See :func:`cshape.normalize`.
+    names, labels : list of str, length p
+    lam_norm : ndarray, shape (p, N)
+        Normalised Shape-DNAs.
+    lam_prime : ndarray, shape (p, N)
+        Minus the Weyl line, Eq. (8).
+    spectra : ndarray of complex, shape (p, N)
+        Shifted DFT of ``lam_prime`` (Eq. 9), zero frequency at column ``N // 2``.
+    coefficients : ndarray of complex, shape (p, 2M+1)
+        The cShape-DNAs (Eq. 10), frequencies ``-M..M``.
+    reconstruction : ndarray, shape (p, N)
+        ``lam_prime`` rebuilt from the ``2M+1`` coefficients (the others set to 0).
+    reconstruction_error : ndarray, shape (p,)
+        ``||reconstruction - lam_prime|| / ||lam_prime||`` of each shape.
+    D_ref : ndarray, shape (p, p)
+        Scaled (``[0, 255]``) distances of the normalised Shape-DNAs (Fig. 3a).
+    D : ndarray, shape (p, p)
+        Scaled distances of the cShape-DNAs (Fig. 6 a-d).
+    difference : ndarray, shape (p, p)
+        ``|D_ref - D|`` (Fig. 6 e-h).
+    mean, std : float
+        Mean and (population) standard deviation of ``difference``, as the paper quotes.
+    mds : ndarray, shape (p, 2) or None
+        MDS coordinates of ``D``, rotated onto the MDS of ``D_ref`` (orthogonal Procrustes)
+        so that the picture does not flip from one ``M`` to the next; None for ``p < 3``.
+    retrieval : dict or None
+        Nearest-neighbour and first-tier rates of the cShape-DNA (``nn``, ``ft``) and of the
+        Shape-DNA (``nn_ref``, ``ft_ref``); None without at least one class of two shapes.
+    """
+
+    M: int
+    N: int
+    normalization: str
+    names: list
+    labels: list
+    lam_norm: np.ndarray
+    lam_prime: np.ndarray
+    spectra: np.ndarray
+    coefficients: np.ndarray
+    reconstruction: np.ndarray
+    reconstruction_error: np.ndarray
+    D_ref: np.ndarray
+    D: np.ndarray
+    difference: np.ndarray
+    mean: float
+    std: float
+    mds: np.ndarray | None = None
+    retrieval: dict | None = field(default=None)
+
+    @property
+    def size(self) -> int:
+        """Descriptor size ``2M+1``."""
+        return 2 * self.M + 1
+
+    def summary(self) -> str:
+        """One line of statistics, as the widget prints it."""
+        s = (f"M = {self.M}: 2M+1 = {self.size} values instead of N = {self.N}; difference "
+             f"from Shape-DNA: mean {self.mean:.2f}, std {self.std:.2f} (scaled to [0, 255])")
+        if self.retrieval:
+            r = self.retrieval
+            s += (f"; nearest neighbour {r['nn']:.2f} (Shape-DNA {r['nn_ref']:.2f}), "
+                  f"first tier {r['ft']:.2f} (Shape-DNA {r['ft_ref']:.2f})")
+        return s
+
+
+def clamp_M(M, N) -> int:
+    """``M`` clamped to the valid range ``[0, (N-1)//2]`` for a Shape-DNA of length ``N``."""
+    return int(min(max(int(M), 0), (int(N) - 1) // 2))
+
+
+def _procrustes(Y, Y_ref):
+    """Rotate / reflect centred ``Y`` onto centred ``Y_ref`` (orthogonal Procrustes)."""
+    A = Y - Y.mean(axis=0)
+    B = Y_ref - Y_ref.mean(axis=0)
+    U, _, Vt = np.linalg.svd(A.T @ B)
+    return A @ (U @ Vt)
+
+
+class MSweep:
+    """Eigenvalues of a collection, with the stages of the M sweep cached.
+
+    Parameters
+    ----------
+    lams : array_like, shape (p, n) or sequence of p 1-D arrays
+        Ascending eigenvalues of each shape (computed once); every row needs at least
+        ``N`` values for the ``N`` asked later.
+    areas : array_like, shape (p,)
+        Surface areas (for ``normalization='area'``).
+    names : sequence of str, optional
+        Default ``'0', '1', ...``.
+    labels : sequence of str, optional
+        Class labels (colours of the MDS plot, retrieval rates); default: all different.
+    normalization : {'area', 'fiedler', 'weyl'}, default='area'
+    mds : bool, default=True
+        Compute the MDS embedding (the slowest of the cheap stages).
+    random_state : int, default=0
+        Seed of the MDS iterations.
+
+    Attributes
+    ----------
+    N_max : int
+        The largest ``N`` available (the shortest row of ``lams``).
+    """
+
+    def __init__(self, lams, areas, names=None, labels=None, *, normalization="area",
+                 mds=True, random_state=0):
+        rows = list(lams)
+        if len(rows) == 0:
+            raise ValueError("lams is empty; pass the eigenvalues of at least two shapes")
+        rows = [np.asarray(r, dtype=np.float64).reshape(-1) for r in rows]
+        p = len(rows)
+        if p < 2:
+            raise ValueError(f"lams has {p} shape; the sweep compares at least two shapes")
+        self.N_max = min(len(r) for r in rows)
+        if self.N_max < 3:
+            raise ValueError(
+                f"every shape needs at least 3 eigenvalues, the shortest row has {self.N_max}"
+            )
+        self.lams = np.vstack([r[: self.N_max] for r in rows])
+        self.areas = np.asarray(areas, dtype=np.float64).reshape(-1)
+        if len(self.areas) != p:
+            raise ValueError(f"areas has {len(self.areas)} entries but lams has {p} rows")
+        self.names = [str(i) for i in range(p)] if names is None else [str(n) for n in names]
+        if len(self.names) != p:
+            raise ValueError(f"names has {len(self.names)} entries but lams has {p} rows")
+        self.labels = list(self.names) if labels is None else [str(x) for x in labels]
+        if len(self.labels) != p:
+            raise ValueError(f"labels has {len(self.labels)} entries but lams has {p} rows")
+        self.normalization = self._check_norm(normalization)
+        self.mds = bool(mds)
+        self.random_state = random_state
+        self._base = {}
+        self._states = {}
+
+    @classmethod
+    def from_table(cls, table, **kwargs):
+        """An :class:`MSweep` over a :class:`cshape.batch.DescriptorTable`."""
+        labels = table.labels if any(table.labels) else None
+        return cls(table.lam, table.areas, table.names, labels, **kwargs)
+
+    @staticmethod
+    def _check_norm(normalization):
+        if not isinstance(normalization, str) or normalization.lower() not in NORMALIZATIONS:
+            raise ValueError(
+                f"normalization must be one of {{'area', 'fiedler', 'weyl'}}, got "
+                f"{normalization!r}"
+            )
+        return normalization.lower()
+
+    def _check_N(self, N):
+        if N is None:
+            return self.N_max
+        if isinstance(N, bool) or not isinstance(N, numbers.Integral):
+            raise TypeError(f"N must be an integer, got {type(N).__name__} {N!r}")
+        if not 3 <= N <= self.N_max:
+            raise ValueError(
+                f"N must be in [3, {self.N_max}] (the eigenvalues computed per shape), got {N}; "
+                "compute more eigenvalues for a larger N"
+            )
+        return int(N)
+
+    def base(self, N=None, normalization=None) -> dict:
+        """The stages that do not depend on ``M`` (cached per ``N`` and normalisation)."""
+        N = self._check_N(N)
+        norm = self.normalization if normalization is None else self._check_norm(normalization)
+        key = (N, norm)
+        if key not in self._base:
+            lam_norm = np.vstack([normalize(r[:N], a, method=norm)
+                                  for r, a in zip(self.lams, self.areas, strict=True)])
+            lam_prime = np.vstack([weyl_subtract(r) for r in lam_norm])  # Eq. (8)
+            spectra = np.fft.fftshift(np.fft.fft(lam_prime, axis=1), axes=1)  # Eq. (9)
+            D_ref = scale_255(distance_matrix(lam_norm))
+            Y_ref = self._embed(D_ref)
+            self._base[key] = {"lam_norm": lam_norm, "lam_prime": lam_prime,
+                               "spectra": spectra, "D_ref": D_ref, "Y_ref": Y_ref}
+        return self._base[key]
+
+    def _embed(self, D):
+        if not self.mds or len(D) < 3:
+            return None
+        return mds_embedding(D, random_state=self.random_state)
+
+    def _retrieval(self, D, D_ref):
+        counts = {lab: self.labels.count(lab) for lab in self.labels}
+        if max(counts.values()) < 2:
+            return None
+        r, r_ref = retrieval_scores(D, self.labels), retrieval_scores(D_ref, self.labels)
+        return {"nn": r["nn"], "ft": r["ft"], "nn_ref": r_ref["nn"], "ft_ref": r_ref["ft"]}
+
+    def state(self, M, N=None, normalization=None) -> SweepState:
+        """The sweep at one ``M`` (cached); raises ``ValueError`` unless ``0 <= M <= (N-1)//2``.
+
+        Parameters
+        ----------
+        M : int
+            Crop half-width (use :func:`clamp_M` to clamp a slider value).
+        N : int, optional
+            Shape-DNA length, default :attr:`N_max`.
+        normalization : {'area', 'fiedler', 'weyl'}, optional
+            Default: the sweep's.
+
+        Returns
+        -------
+        SweepState
+        """
+        N = self._check_N(N)
+        norm = self.normalization if normalization is None else self._check_norm(normalization)
+        if isinstance(M, bool) or not isinstance(M, numbers.Integral):
+            raise TypeError(f"M must be an integer, got {type(M).__name__} {M!r}")
+        if not 0 <= M <= (N - 1) // 2:
+            raise ValueError(
+                f"M must be in [0, {(N - 1) // 2}] for N = {N} (2M+1 <= N), got {M}; "
+                "clamp it with cshape.widgets.clamp_M(M, N)"
+            )
+        M = int(M)
+        key = (M, N, norm)
+        if key in self._states:
+            return self._states[key]
+        b = self.base(N, norm)
+        c = N // 2
+        coeffs = b["spectra"][:, c - M: c + M + 1].copy()  # Eq. (10)
+        kept = np.zeros_like(b["spectra"])
+        kept[:, c - M: c + M + 1] = coeffs
+        rec = np.fft.ifft(np.fft.ifftshift(kept, axes=1), axis=1).real
+        lp = b["lam_prime"]
+        err = np.linalg.norm(rec - lp, axis=1) / np.maximum(np.linalg.norm(lp, axis=1), 1e-300)
+        D = scale_255(distance_matrix(coeffs))
+        diff = np.abs(b["D_ref"] - D)
+        Y = self._embed(D)
+        if Y is not None and b["Y_ref"] is not None:
+            Y = _procrustes(Y, b["Y_ref"])
+        st = SweepState(
+            M=M, N=N, normalization=norm, names=list(self.names), labels=list(self.labels),
+            lam_norm=b["lam_norm"], lam_prime=lp, spectra=b["spectra"], coefficients=coeffs,
+            reconstruction=rec, reconstruction_error=err, D_ref=b["D_ref"], D=D,
+            difference=diff, mean=float(diff.mean()), std=float(diff.std()), mds=Y,
+            retrieval=self._retrieval(D, b["D_ref"]),
+        )
+        if len(self._states) > 256:
+            self._states.clear()
+        self._states[key] = st
+        return st
+
+
+def sweep_state(lams, areas, labels=None, M=16, N=None, normalization="area", *, names=None,
+                mds=True, random_state=0) -> SweepState:
+    """The M sweep at one ``M`` in one call: crop, reconstruction, distances, statistics, MDS.
+
+    Parameters
+    ----------
+    lams : array_like, shape (p, n) or sequence of p 1-D arrays
+        Ascending eigenvalues of each shape.
+    areas : array_like, shape (p,)
+    labels : sequence of str, optional
+        Class labels.
+    M : int, default=16
+        Crop half-width, ``0 <= M <= (N-1)//2``.
+    N : int, optional
+        Shape-DNA length (default: the shortest row of ``lams``).
+    normalization : {'area', 'fiedler', 'weyl'}, default='area'
+    names : sequence of str, optional
+    mds : bool, default=True
+    random_state : int, default=0
+
+    Returns
+    -------
+    SweepState
+
+    See Also
+    --------
+    MSweep : the same with the ``M``-independent stages cached, for many ``M``.
+    """
+    sweep = MSweep(lams, areas, names, labels, normalization=normalization, mds=mds,
+                   random_state=random_state)
+    return sweep.state(M, N)
+
+
+# ------------------------------------------------------------------------------ widget
+def _png(fig, dpi) -> bytes:
+    import io
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    return buf.getvalue()
+
+
+def _as_sweeps(data, normalization):
+    """{collection name: MSweep} from a table, a mapping of tables, or an MSweep."""
+    from .batch import DescriptorTable
+
+    def one(x):
+        if isinstance(x, MSweep):
+            return x
+        if isinstance(x, DescriptorTable):
+            return MSweep.from_table(x, normalization=normalization)
+        raise TypeError(
+            "data must be a cshape.batch.DescriptorTable (from cshape.batch.describe), an "
+            f"MSweep, or a dict {{name: DescriptorTable}}; got {type(x).__name__}"
+        )
+
+    if isinstance(data, dict):
+        if not data:
+            raise ValueError("data is an empty dict; pass at least one collection")
+        return {str(k): one(v) for k, v in data.items()}
+    return {"collection": one(data)}
+
+
+try:  # the widget class needs ipywidgets (a core dependency); the pure functions do not
+    import ipywidgets as _w
+
+    _VBox = _w.VBox
+except ImportError:  # pragma: no cover
+    _w = None
+    _VBox = object
+
+
+class MSweepWidget(_VBox):
+    """The M-sweep widget (an ``ipywidgets.VBox``); build it with :func:`m_sweep_widget`.
+
+    Attributes
+    ----------
+    sweeps : dict of str to MSweep
+        One cached sweep per collection.
+    controls : dict of str to ipywidgets.Widget
+        ``'collection'``, ``'N'``, ``'M'``, ``'normalization'``, ``'shape'``.
+    image : ipywidgets.Image
+        The figure of :func:`cshape.plots.plot_m_sweep` as PNG.
+    stats : ipywidgets.HTML
+        :meth:`SweepState.summary` of the current state.
+    state : SweepState
+        The state on screen.
+    """
+
+    def __init__(self, sweeps, *, M=16, N=None, normalization="area", figsize=(12.0, 7.0),
+                 dpi=72):
+        self.sweeps = sweeps
+        self._figsize = figsize
+        self._dpi = dpi
+        self._busy = False
+        first = next(iter(sweeps.values()))
+        N0 = first.N_max if N is None else min(max(int(N), 3), first.N_max)
+        style = {"description_width": "initial"}
+        coll = _w.Dropdown(options=list(sweeps), value=next(iter(sweeps)),
+                           description="collection", style=style,
+                           layout=_w.Layout(display="" if len(sweeps) > 1 else "none"))
+        wN = _w.IntSlider(value=N0, min=3, max=first.N_max, description="N",
+                          continuous_update=False, style=style)
+        wM = _w.IntSlider(value=clamp_M(M, N0), min=0, max=(N0 - 1) // 2, description="M",
+                          continuous_update=False, style=style)
+        wn = _w.Dropdown(options=list(NORMALIZATIONS),
+                         value=MSweep._check_norm(normalization), description="normalisation",
+                         style=style)
+        ws = _w.Dropdown(options=[(n, i) for i, n in enumerate(first.names)], value=0,
+                         description="shape", style=style)
+        self.controls = {"collection": coll, "N": wN, "M": wM, "normalization": wn, "shape": ws}
+        self.image = _w.Image(format="png", layout=_w.Layout(max_width="100%"))
+        self.stats = _w.HTML()
+        self.stats.add_class("cshape-msweep-stats")
+        self.image.add_class("cshape-msweep-plot")
+        box = _w.HBox([coll, wN, wM]), _w.HBox([wn, ws])
+        super().__init__([*box, self.stats, self.image])
+        self.add_class("cshape-msweep")
+        coll.observe(self._on_collection, names="value")
+        for w in (wN, wM, wn, ws):
+            w.observe(self._on_change, names="value")
+        self.refresh()
+
+    @property
+    def sweep(self) -> MSweep:
+        """The sweep of the selected collection."""
+        return self.sweeps[self.controls["collection"].value]
+
+    def _on_collection(self, change):
+        sw = self.sweep
+        c = self.controls
+        self._busy = True
+        try:
+            c["N"].max = sw.N_max
+            c["N"].value = min(c["N"].value, sw.N_max)
+            c["M"].max = (c["N"].value - 1) // 2
+            c["shape"].options = [(n, i) for i, n in enumerate(sw.names)]
+            c["shape"].value = 0
+        finally:
+            self._busy = False
+        self.refresh()
+
+    def _on_change(self, change):
+        if self._busy:
+            return
+        c = self.controls
+        if change["owner"] is c["N"]:
+            self._busy = True
+            try:  # clamp M to [0, (N-1)//2]
+                top = (c["N"].value - 1) // 2
+                c["M"].value = clamp_M(c["M"].value, c["N"].value)
+                c["M"].max = top
+            finally:
+                self._busy = False
+        self.refresh()
+
+    def refresh(self):
+        """Recompute the state for the current controls (cheap stages only) and redraw."""
+        from .plots import plot_m_sweep
+
+        c = self.controls
+        N = int(c["N"].value)
+        M = clamp_M(c["M"].value, N)
+        self.state = self.sweep.state(M, N, c["normalization"].value)
+        fig = plot_m_sweep(self.state, shape=int(c["shape"].value or 0), figsize=self._figsize)
+        self.image.value = _png(fig, self._dpi)
+        self.stats.value = f"<b>{self.state.summary()}</b>"
+
+
+def m_sweep_widget(data, *, M=16, N=None, normalization="area", figsize=(12.0, 7.0), dpi=72):
+    """An ipywidgets M sweep: slide ``M`` (and pick ``N``, collection, normalisation, shape).
+
+    Eigenvalues are given once (``data``); moving a control reruns only the cheap stages of
+    :class:`MSweep` and redraws :func:`cshape.plots.plot_m_sweep`.  ``M`` is clamped to
+    ``[0, (N-1)//2]``, also when ``N`` is lowered.
+
+    Parameters
+    ----------
+    data : DescriptorTable, MSweep, or dict of str to DescriptorTable / MSweep
+        One collection, or several to choose from (the ``collection`` drop-down).  A table
+        comes from :func:`cshape.batch.describe` or ``DescriptorTable(names, lam, areas,
+        labels)``.
+    M : int, default=16
+        Initial crop half-width (clamped).
+    N : int, optional
+        Initial Shape-DNA length (default: all eigenvalues of the first collection).
+    normalization : {'area', 'fiedler', 'weyl'}, default='area'
+    figsize : (float, float), default=(12.0, 7.0)
+    dpi : int, default=72
+        Resolution of the PNG image.
+
+    Returns
+    -------
+    MSweepWidget
+        An ``ipywidgets.VBox``; show it by making it the last expression of a cell (or with
+        ``IPython.display.display``).  This function never displays anything itself.
+    """
+    if _w is None:  # pragma: no cover
+        raise ImportError("m_sweep_widget needs ipywidgets: pip install ipywidgets")
+    sweeps = _as_sweeps(data, normalization)
+    return MSweepWidget(sweeps, M=M, N=N, normalization=normalization, figsize=figsize, dpi=dpi)
