@@ -122,6 +122,7 @@ class Item:
 
     @cached_property
     def mesh(self) -> Mesh:
+        """The item's mesh, loaded (or read from the cache) on first access."""
         if self._load is None:  # pragma: no cover - every constructor passes a loader
             raise ValueError(f"item {self.name!r} has no loader")
         return self._load()

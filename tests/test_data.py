@@ -291,11 +291,13 @@ def test_cache_dir_resolution(tmp_path, monkeypatch):
     assert data.cache_dir().name == "cshape"
 
 
-def test_import_does_not_download_or_build():
-    code = "import sys, cshape.data; print('pooch' in sys.modules, 'pymeshlab' in sys.modules)"
+def test_import_does_not_download_or_build(tmp_path):
+    code = "import sys, cshape.data; print('pooch' in sys.modules)"
+    env = {**os.environ, "CSHAPE_CACHE": str(tmp_path / "fresh-cache")}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout.split()
-    assert out == ["False", "False"]
+                         check=True, env=env).stdout.split()
+    assert out == ["False"]  # the download library is only imported by fetch()
+    assert not (tmp_path / "fresh-cache").exists()  # nothing built or written on import
 
 
 # ====================================================================== local
