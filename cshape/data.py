@@ -112,6 +112,8 @@ class Item:
         The manifest entry of the item (recipe, params, seed, file, license, ...).
     mesh : Mesh
         Loaded on first access and kept.
+    path : Path or None
+        The file it is read from (a generated item's cache file).
     """
 
     name: str
@@ -119,6 +121,11 @@ class Item:
     collection: str = ""
     meta: dict = field(default_factory=dict, repr=False)
     _load: Callable[[], Mesh] | None = field(default=None, repr=False)
+
+    @property
+    def path(self) -> Path | None:
+        """The file the mesh is read from (for generated items, its cache file)."""
+        return getattr(self._load, "path", None)
 
     @cached_property
     def mesh(self) -> Mesh:
@@ -664,7 +671,8 @@ def load_collection(
         with _progress(len(entry["items"]), f"cshape: {name}", progress) as bar:
             for it in entry["items"]:
                 mesh, _ = _generated_mesh(entries, name, it, root)
-                rec = Item(it["name"], it["label"], name, dict(it), _load=None)
+                cached = _cache_file(entries, name, it, root)
+                rec = Item(it["name"], it["label"], name, dict(it), _load=_FileLoader(cached))
                 rec.__dict__["mesh"] = mesh
                 items.append(rec)
                 bar.update(1)
@@ -735,13 +743,21 @@ def load(name, item, *, cache_dir=None, download=False, manifest=None) -> Mesh:
     return load_collection(name, cache_dir=cache_dir, manifest=entries)[item].mesh
 
 
-def _file_loader(path: Path):
-    def _load():
-        if path.suffix.lower() == ".vert":
-            return read_vert_tri(path)
-        return load_mesh(path)
+class _FileLoader:
+    """Callable reading one mesh file (``.path`` tells which)."""
 
-    return _load
+    def __init__(self, path: Path):
+        self.path = Path(path)
+
+    def __call__(self) -> Mesh:
+        if self.path.suffix.lower() == ".vert":
+            return read_vert_tri(self.path)
+        if self.path.suffix.lower() == ".npz":
+            return _read_npz(self.path)
+        return load_mesh(self.path)
+
+
+_file_loader = _FileLoader
 
 
 class _NoBar:

@@ -238,6 +238,7 @@ def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
     assert [f.stat().st_mtime_ns for f in files] == mtimes
     np.testing.assert_array_equal(c1["n"].mesh.vertices, c2["n"].mesh.vertices)
     assert c1.names == ["s", "n"] and c1.labels == ["sphere", "sphere"]
+    assert c1["s"].path in files and c1["s"].path.suffix == ".npz"
     with np.load(files[0], allow_pickle=False) as z:
         assert set(z.files) == {"vertices", "faces", "recipe"}
 
@@ -318,6 +319,7 @@ def test_load_folder_labels_from_subfolders(mesh_folder):
     assert coll.names == ["a", "b", "c"]
     assert coll.labels == ["spheres", "spheres", "tori"]
     assert coll["c"].mesh.genus == 1 and coll[0].mesh.n_vertices == 42
+    assert coll["b"].path == mesh_folder / "spheres" / "b.off"
 
 
 def test_load_folder_labels_from_csv(mesh_folder):
