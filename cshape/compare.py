@@ -395,7 +395,7 @@ def _ranking(D, i):
     return order[order != i]
 
 
-def retrieval_per_query(D, labels):
+def retrieval_per_query(D, labels, *, min_class_size=2):
     """Per-query retrieval measures; see :func:`retrieval_scores` for the definitions.
 
     Parameters
@@ -404,22 +404,25 @@ def retrieval_per_query(D, labels):
         ``D[i, j]`` is the distance from query ``i`` to model ``j`` (need not be symmetric).
     labels : sequence, length p
         Class label of each model.
+    min_class_size : int, default=2
+        Queries from smaller classes are not scored (NaN).
 
     Returns
     -------
     dict of str to ndarray, shape (p,)
         Keys ``nn``, ``ft``, ``st``, ``e``, ``dcg``, ``map`` (average precision of each
-        query); NaN for queries whose class has a single model.
+        query); NaN for queries whose class has fewer than ``min_class_size`` models.
     """
     A = _check_square(D, "D")
     codes = _check_labels(labels, len(A))
+    min_class_size = _check_int(min_class_size, "min_class_size", 2)
     p = len(A)
     sizes = np.bincount(codes)
     keys = ("nn", "ft", "st", "e", "dcg", "map")
     out = {k: np.full(p, np.nan) for k in keys}
     for i in range(p):
         R = int(sizes[codes[i]]) - 1  # relevant models: the class minus the query
-        if R == 0:
+        if R + 1 < min_class_size:
             continue
         G = (codes[_ranking(A, i)] == codes[i]).astype(np.float64)  # length p - 1
         ranks = np.flatnonzero(G) + 1  # 1-based positions of the R relevant results
@@ -437,7 +440,7 @@ def retrieval_per_query(D, labels):
     return out
 
 
-def retrieval_scores(D, labels):
+def retrieval_scores(D, labels, *, min_class_size=2):
     """Retrieval measures of the Princeton Shape Benchmark, averaged over all queries.
 
     Every model is used once as the query; the remaining ``p - 1`` models are ranked by
@@ -457,9 +460,11 @@ def retrieval_scores(D, labels):
       results, of the precision at their rank.
 
     All measures lie in ``[0, 1]``; the scores are micro-averages (every query weighs the
-    same).  **Classes of size 1**: such a query has no relevant result and every measure is
-    undefined; it is left out of the averages (its model still appears in the other
-    queries' results, where it is never relevant).
+    same).  The definitions, the tie rule and the exclusion of the query follow the PSB's
+    ``psbTable`` program.  **Small classes**: a query whose class has a single model has no
+    relevant result and every measure is undefined; it is left out of the averages (its
+    model still appears in the other queries' results, where it is never relevant).
+    ``psbTable`` also leaves out classes of two models; ``min_class_size=3`` does the same.
 
     Parameters
     ----------
@@ -467,6 +472,8 @@ def retrieval_scores(D, labels):
         Distance matrix, ``D[i, j]`` from query ``i`` to model ``j``.
     labels : sequence, length p
         Class label of each model (str or int).
+    min_class_size : int, default=2
+        Queries from classes with fewer models are left out of the averages.
 
     Returns
     -------
@@ -477,17 +484,17 @@ def retrieval_scores(D, labels):
     ------
     ValueError
         If ``D`` is not square or holds negative / NaN values, if ``labels`` has the wrong
-        length, or if every class has a single model (no query can be scored).
+        length, or if no class has ``min_class_size`` models (no query can be scored).
 
     See Also
     --------
     retrieval_per_query : the same measures for each query.
     """
-    per = retrieval_per_query(D, labels)
+    per = retrieval_per_query(D, labels, min_class_size=min_class_size)
     if np.all(np.isnan(per["nn"])):
         raise ValueError(
-            "labels puts every model in a class of its own; retrieval measures need at "
-            "least one class with two or more models"
+            f"labels has no class of {min_class_size} or more models (every model in a class "
+            "of its own?); retrieval measures need at least one such class"
         )
     return {k: float(np.nanmean(v)) for k, v in per.items()}
 
@@ -658,7 +665,11 @@ class DescriptorIndex:
         The database, one descriptor per row; real or complex (complex rows are stored as
         ``[Re, Im]``, which keeps the Euclidean distances).
     algorithm : {'auto', 'brute', 'kd_tree', 'ball_tree'}, default='auto'
-        Passed to :class:`sklearn.neighbors.NearestNeighbors`; all are exact.
+        Passed to :class:`sklearn.neighbors.NearestNeighbors`; all are exact.  Measured on
+        this project's 2-core machine (100 000 descriptors, 1000 queries, k=10): 'auto'
+        picks a k-d tree up to 15 values (3 values: 0.01 s, 9: 0.2 s) and a brute-force
+        scan above (33 values: 0.5 s, 100 values: 1.3 s; trees took 2-24 s there), so the
+        default is the right choice for every descriptor size of the paper.
     n_jobs : int, optional
         Parallel queries (scikit-learn convention, -1 for all cores).
 

@@ -199,6 +199,17 @@ def test_retrieval_singletons_left_out_of_the_mean():
     assert s["map"] == pytest.approx(1.0)
 
 
+def test_retrieval_min_class_size_like_psbtable():
+    # psbTable skips classes of <= 2 models: only the class-b queries B, D, E remain
+    s = retrieval_scores(distance_matrix(LINE_X[:, None]), LINE_LABELS, min_class_size=3)
+    l3 = 1 / np.log2(3)
+    assert s["nn"] == pytest.approx(1 / 3)
+    assert s["ft"] == pytest.approx(1 / 3)
+    assert s["dcg"] == pytest.approx(((l3 + 0.5) / 2 + 0.75 + (1 + l3) / 2) / 3)
+    with pytest.raises(ValueError, match=r"min_class_size must be an integer >= 2"):
+        retrieval_scores(distance_matrix(LINE_X[:, None]), LINE_LABELS, min_class_size=1)
+
+
 def test_retrieval_rejects():
     D = distance_matrix(LINE_X[:, None])
     with pytest.raises(ValueError, match=r"labels has 4 entries but the distance matrix has 5"):
@@ -209,7 +220,7 @@ def test_retrieval_rejects():
     bad[0, 1] = np.nan
     with pytest.raises(ValueError, match=r"D contains NaN"):
         retrieval_scores(bad, LINE_LABELS)
-    with pytest.raises(ValueError, match=r"every model in a class of its own"):
+    with pytest.raises(ValueError, match=r"labels has no class of 2 or more models"):
         retrieval_scores(D, list("abcde"))
     with pytest.raises(ValueError, match=r"labels must be a sequence"):
         retrieval_scores(D, "ababa")
