@@ -442,6 +442,24 @@ def _init_worker(blas_threads):
 
 
 # =========================================================================== records
+class _Failed:
+    """Stands for a mesh whose record could not produce it; describe reports the message."""
+
+    def __init__(self, message):
+        self.message = message
+
+
+def _has_attr(cls, obj, name) -> bool:
+    """``hasattr`` without running a property (which may load a mesh)."""
+    import inspect
+
+    try:
+        inspect.getattr_static(obj, name)
+        return True
+    except AttributeError:
+        return False
+
+
 def _records(collection):
     """[(name, label, source)] from the accepted collection forms (see :func:`describe`)."""
     if isinstance(collection, (str, os.PathLike, Mesh)):
@@ -463,8 +481,11 @@ def _records(collection):
             out.append([name, label, src])
         elif isinstance(item, (tuple, list)) and len(item) == 2 and np.ndim(item[0]) == 2:
             out.append([f"mesh{i}", "", item])
-        elif hasattr(item, "mesh") or hasattr(item, "path"):
-            src = getattr(item, "mesh", None)
+        elif _has_attr(type(item), item, "mesh") or _has_attr(type(item), item, "path"):
+            try:  # one access: a record may load its mesh lazily (and fail doing so)
+                src = getattr(item, "mesh", None)
+            except Exception as exc:  # noqa: BLE001 - reported as this mesh's failure
+                src = _Failed(f"{type(exc).__name__}: {exc}")
             if src is None:
                 src = item.path
             out.append([getattr(item, "name", None) or f"mesh{i}",
@@ -557,6 +578,18 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         For failed meshes, corrupt cache entries (recomputed), and the warnings of the
         mesh stage (repairs, several components) prefixed by the mesh name.
 
+    Examples
+    --------
+    >>> from cshape import shapes
+    >>> from cshape.batch import describe
+    >>> meshes = [("s1", "sphere", shapes.icosphere(2)), ("s2", "sphere", shapes.icosphere(3)),
+    ...           ("t1", "torus", shapes.torus(24, 12))]
+    >>> table = describe(meshes, N=30, M=4, cache_dir=False, progress=False)
+    >>> table
+    DescriptorTable(3 shapes, N=30, M=4, 2 classes)
+    >>> table.cshape.shape, table.distance_matrix("shape_dna").shape
+    ((3, 9), (3, 3))
+
     Notes
     -----
     If a local worker process dies (killed, out of memory), the meshes it had not finished
@@ -609,6 +642,9 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         tasks = []
         for i, (_name, _label, src) in enumerate(records):
             key = None
+            if isinstance(src, _Failed):
+                finish(i, {"ok": False, "error": src.message})
+                continue
             if not isinstance(src, (str, os.PathLike)):
                 try:
                     key = mesh_key(src, bc, mass)

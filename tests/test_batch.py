@@ -117,6 +117,30 @@ def test_failing_mesh_is_skipped_and_reported(tmp_path):
         run(col, cache_dir=False, on_error="raise")
 
 
+class LazyRecord:
+    """A record that loads its mesh on access, like cshape.data items."""
+
+    def __init__(self, name, loader):
+        self.name, self.label, self._loader, self.loads = name, "lazy", loader, 0
+
+    @property
+    def mesh(self):
+        self.loads += 1
+        return self._loader()
+
+
+def test_lazy_records_load_once_and_a_failing_load_is_reported():
+    def broken():
+        raise OSError("disk on fire")
+
+    good = LazyRecord("good", lambda: shapes.icosphere(2))
+    bad = LazyRecord("bad", broken)
+    with pytest.warns(CShapeWarning, match=r"bad \(OSError: disk on fire\)"):
+        table = run([good, bad], cache_dir=False)
+    assert table.names == ["good"]
+    assert good.loads == 1
+
+
 def write_off(path, mesh):
     lines = ["OFF", f"{mesh.n_vertices} {mesh.n_faces} 0"]
     lines += [" ".join(repr(float(x)) for x in v) for v in mesh.vertices]
