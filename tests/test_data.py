@@ -25,10 +25,6 @@ from cshape import variants as v
 from cshape.cli import main
 
 REPO = Path(__file__).resolve().parents[1]
-SHARED = Path(os.environ.get("CSHAPE_SHARED_MESHES", REPO.parent / "shared" / "meshes"))
-needs_shared = pytest.mark.skipif(
-    not SHARED.is_dir(), reason=f"real meshes folder {SHARED} is absent"
-)
 
 
 @pytest.fixture(autouse=True)
@@ -358,19 +354,17 @@ def test_local_collection_from_manifest(mesh_folder, tmp_path, monkeypatch):
 
 
 @pytest.mark.realdata
-@needs_shared
-def test_shared_meshes_local_collection(monkeypatch):
-    monkeypatch.setenv("CSHAPE_SHARED_MESHES", str(SHARED))
+def test_shared_meshes_local_collection(shared_meshes, monkeypatch):
+    monkeypatch.setenv("CSHAPE_SHARED_MESHES", str(shared_meshes))
     coll = data.load_collection("shared-meshes")
     assert len(coll) >= 10 and "spot" in coll.labels
     assert coll["torus"].label == "torus" and coll["torus"].mesh.genus == 1
 
 
 @pytest.mark.realdata
-@needs_shared
-def test_download_manifest_checksums_match_the_shared_copies():
+def test_download_manifest_checksums_match_the_shared_copies(shared_meshes):
     for it in data.info("odedstein-meshes")["items"]:
-        p = SHARED / it["file"]
+        p = shared_meshes / it["file"]
         assert p.stat().st_size == it["size"], it["name"]
         assert hashlib.sha256(p.read_bytes()).hexdigest() == it["sha256"], it["name"]
         assert it["url"].endswith("/objects/" + it["file"])
