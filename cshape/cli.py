@@ -59,7 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 #: (module, function) pairs that add sub-commands; each module imports lazily.
-_EXTRA: list[tuple[str, str]] = [("data", "add_data")]
+_EXTRA: list[tuple[str, str]] = [("data", "add_data"), ("notebooks_run", "add_run_notebooks")]
 
 
 def main(argv=None) -> int:

@@ -57,7 +57,8 @@ def _axes(ax, figsize, projection=None):
 
 # ------------------------------------------------------------------------------ meshes
 def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, edges=None,
-              shade=True, symmetric=None, colorbar=False, title=None, figsize=(4.0, 4.0)):
+              shade=True, symmetric=None, colorbar=False, title=None, figsize=(4.0, 4.0),
+              vertical_axis="z"):
     """Draw a triangle mesh in 3-D, optionally coloured by a function on its vertices.
 
     Parameters
@@ -83,6 +84,8 @@ def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, ed
     colorbar : bool, default=False
     title : str, optional
     figsize : (float, float), default=(4.0, 4.0)
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+        The axis drawn upwards (``'y'`` for the many models stored y-up, e.g. Spot).
 
     Returns
     -------
@@ -136,7 +139,7 @@ def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, ed
     ax.set_ylim(ctr[1] - half, ctr[1] + half)
     ax.set_zlim(ctr[2] - half, ctr[2] + half)
     ax.set_box_aspect((1, 1, 1))
-    ax.view_init(elev=elev, azim=azim)
+    ax.view_init(elev=elev, azim=azim, vertical_axis=vertical_axis)
     ax.set_axis_off()
     if title:
         ax.set_title(title, fontsize="medium")
@@ -147,7 +150,7 @@ def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, ed
 
 
 def plot_eigenfunctions(mesh, phi, indices=None, lam=None, *, ncols=4, cmap="RdBu_r",
-                        elev=20.0, azim=-60.0, size=2.6):
+                        elev=20.0, azim=-60.0, size=2.6, vertical_axis="z"):
     """A grid of copies of the mesh, each coloured by one eigenfunction.
 
     Parameters
@@ -164,6 +167,7 @@ def plot_eigenfunctions(mesh, phi, indices=None, lam=None, *, ncols=4, cmap="RdB
     elev, azim : float
     size : float, default=2.6
         Size of one panel in inches.
+    vertical_axis : {'z', 'y', 'x'}, default='z'
 
     Returns
     -------
@@ -186,7 +190,7 @@ def plot_eigenfunctions(mesh, phi, indices=None, lam=None, *, ncols=4, cmap="RdB
         ax = fig.add_subplot(nrows, ncols, k + 1, projection="3d")
         title = f"phi_{i}" + (f", lam = {float(lam[i]):.3g}" if lam is not None else "")
         plot_mesh(mesh, phi[:, i], ax=ax, cmap=cmap, elev=elev, azim=azim, title=title,
-                  edges=False)
+                  edges=False, vertical_axis=vertical_axis)
     return fig
 
 

@@ -1,0 +1,309 @@
+"""Execute the walkthrough notebooks into an output folder: executed ``.ipynb`` + HTML.
+
+This is the README's main job (``make demo`` runs ``python -m cshape notebooks``)::
+
+    python -m cshape notebooks                    # all notebooks/NN_*.ipynb -> out/notebooks/
+    python -m cshape notebooks --small 01 03      # small sizes (CSHAPE_SMALL=1), two notebooks
+    python -m cshape notebooks --student          # the student versions, each up to its first stub
+
+Every notebook runs top to bottom on a fresh kernel of **this** Python interpreter (the
+kernel is started as ``sys.executable -m ipykernel_launcher``, whatever kernelspecs the user
+has installed), with the notebook's folder as working directory.  A cell error stops that
+notebook and is reported; the others still run.  ``out/notebooks/index.html`` links the
+results.
+"""
+
+from __future__ import annotations
+
+import html
+import os
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = [
+    "RunResult",
+    "default_notebook_dir",
+    "find_notebooks",
+    "kernel_manager",
+    "run_notebook",
+    "run_notebooks",
+    "add_run_notebooks",
+]
+
+#: Notebooks are named ``NN_topic.ipynb``.
+PATTERN = "[0-9][0-9]_*.ipynb"
+
+
+@dataclass
+class RunResult:
+    """Outcome of executing one notebook.
+
+    Attributes
+    ----------
+    name : str
+        File name of the notebook.
+    ok : bool
+        True when every cell ran (or, with ``stop_at_stub``, when the first error was an
+        exercise stub's ``NotImplementedError``).
+    seconds : float
+        Wall time, kernel start included.
+    error : str
+        Empty when ``ok``; else the error name and message of the failing cell.
+    stopped_at_stub : bool
+        Execution stopped at an exercise stub.
+    ipynb, html : pathlib.Path or None
+        The executed notebook and its HTML rendering (None when not written).
+    """
+
+    name: str
+    ok: bool
+    seconds: float
+    error: str = ""
+    stopped_at_stub: bool = False
+    ipynb: Path | None = None
+    html: Path | None = None
+
+
+def default_notebook_dir() -> Path:
+    """``notebooks/`` of the source checkout (next to the ``cshape`` package)."""
+    return Path(__file__).resolve().parent.parent / "notebooks"
+
+
+def find_notebooks(src=None, names=None) -> list[Path]:
+    """The notebooks ``NN_*.ipynb`` in ``src``, sorted; ``names`` picks some by number or name.
+
+    Parameters
+    ----------
+    src : str or os.PathLike, optional
+        Folder (default :func:`default_notebook_dir`).
+    names : sequence of str, optional
+        ``'01'``, ``'01_fem_assembly'`` or ``'01_fem_assembly.ipynb'``.
+
+    Returns
+    -------
+    list of pathlib.Path
+    """
+    folder = Path(default_notebook_dir() if src is None else src)
+    if not folder.is_dir():
+        raise FileNotFoundError(
+            f"notebook folder {str(folder)!r} does not exist; pass src= (or --src) pointing to "
+            "the repository's notebooks/ folder"
+        )
+    paths = sorted(folder.glob(PATTERN))
+    if names:
+        chosen = []
+        for n in names:
+            n = str(n)
+            hit = [p for p in paths if p.name == n or p.stem == n or p.name.startswith(f"{n}_")]
+            if not hit:
+                raise ValueError(
+                    f"no notebook {n!r} in {str(folder)!r}; choose from "
+                    f"{[p.name for p in paths]}"
+                )
+            chosen += [p for p in hit if p not in chosen]
+        paths = chosen
+    return paths
+
+
+def kernel_manager():
+    """A Jupyter ``KernelManager`` whose kernel is ``sys.executable -m ipykernel_launcher``.
+
+    The kernel therefore sees exactly the packages of the running interpreter (the project's
+    ``.venv``), even when a user-wide ``python3`` kernelspec points elsewhere.
+    """
+    from jupyter_client.kernelspec import KernelSpec, KernelSpecManager
+    from jupyter_client.manager import KernelManager
+
+    class _ThisPython(KernelSpecManager):
+        def get_kernel_spec(self, kernel_name):
+            return KernelSpec(
+                argv=[sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+                display_name="Python 3 (cshape)",
+                language="python",
+                metadata={"debugger": False},
+            )
+
+    return KernelManager(kernel_name="python3", kernel_spec_manager=_ThisPython())
+
+
+def _html(nb) -> str:
+    from nbconvert import HTMLExporter
+
+    body, _ = HTMLExporter(template_name="lab").from_notebook_node(nb)
+    return body
+
+
+def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
+                 stop_at_stub=False, env=None) -> RunResult:
+    """Execute one notebook top to bottom on a fresh kernel.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.ipynb`` file; it is not modified.
+    out_dir : str or os.PathLike, optional
+        Where to write the executed notebook (same name) and, with ``html``, ``<stem>.html``.
+        None writes nothing.
+    small : bool, default=False
+        Set ``CSHAPE_SMALL=1`` in the kernel's environment (small meshes and ``N``).
+    timeout : int, default=1200
+        Seconds allowed for one cell.
+    html : bool, default=True
+    stop_at_stub : bool, default=False
+        For student versions: an exercise stub raising ``NotImplementedError`` ends the run
+        successfully (the cells after it are not run).
+    env : dict, optional
+        Extra environment variables for the kernel.
+
+    Returns
+    -------
+    RunResult
+    """
+    import nbformat
+    from nbclient import NotebookClient
+    from nbclient.exceptions import CellExecutionError
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"notebook {str(path)!r} does not exist")
+    nb = nbformat.read(path, as_version=4)
+    kernel_env = dict(os.environ)
+    kernel_env.pop("CSHAPE_SMALL", None)
+    if small:
+        kernel_env["CSHAPE_SMALL"] = "1"
+    kernel_env.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
+    kernel_env.update(env or {})
+    km = kernel_manager()
+    client = NotebookClient(
+        nb, km=km, timeout=int(timeout), allow_errors=False,
+        resources={"metadata": {"path": str(path.parent.resolve())}},
+    )
+    t0 = time.perf_counter()
+    ok, err, stub = True, "", False
+    try:
+        client.execute(env=kernel_env, cwd=str(path.parent.resolve()))
+    except CellExecutionError as exc:
+        if stop_at_stub and exc.ename == "NotImplementedError":
+            stub = True
+        else:
+            ok, err = False, f"{exc.ename}: {exc.evalue}"
+    except Exception as exc:  # kernel died, timeout, ...
+        ok, err = False, f"{type(exc).__name__}: {exc}"
+    finally:  # we own the kernel manager: nbclient does not shut its kernel down
+        if client.kc is not None:
+            client.kc.stop_channels()
+        if km.has_kernel:
+            km.shutdown_kernel(now=True)
+    seconds = time.perf_counter() - t0
+    res = RunResult(path.name, ok, seconds, err, stub)
+    if out_dir is not None:
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        res.ipynb = out / path.name
+        nbformat.write(nb, res.ipynb)
+        if html:
+            res.html = out / f"{path.stem}.html"
+            res.html.write_text(_html(nb), encoding="utf-8")
+    return res
+
+
+def _index(results, out: Path, small: bool) -> Path:
+    rows = []
+    for r in results:
+        link = (f'<a href="{html.escape(r.html.name)}">{html.escape(r.name)}</a>'
+                if r.html else html.escape(r.name))
+        if not r.ok:
+            status = f"FAILED: {html.escape(r.error)}"
+        else:
+            status = "ok (stopped at the first exercise stub)" if r.stopped_at_stub else "ok"
+
+        rows.append(f"<tr><td>{link}</td><td>{r.seconds:.1f} s</td><td>{status}</td></tr>")
+    page = (
+        "<!doctype html><meta charset='utf-8'><title>cshape notebooks</title>"
+        "<h1>cshape walkthrough notebooks, executed</h1>"
+        f"<p>{'Small sizes (CSHAPE_SMALL=1).' if small else 'Full sizes.'} "
+        "Open a notebook's HTML, or the executed <code>.ipynb</code> next to it in Jupyter.</p>"
+        "<table border=1 cellpadding=4><tr><th>notebook</th><th>time</th><th>status</th></tr>"
+        + "".join(rows) + "</table>"
+    )
+    path = out / "index.html"
+    path.write_text(page, encoding="utf-8")
+    return path
+
+
+def run_notebooks(src=None, out="out/notebooks", *, names=None, small=False, timeout=1200,
+                  html=True, stop_at_stub=False, progress=print) -> list[RunResult]:
+    """Execute every notebook of ``src`` into ``out`` (executed ``.ipynb``, HTML, index.html).
+
+    Parameters
+    ----------
+    src : str or os.PathLike, optional
+        Folder of ``NN_*.ipynb`` (default: the checkout's ``notebooks/``).
+    out : str or os.PathLike, default='out/notebooks'
+    names : sequence of str, optional
+        Run only these (see :func:`find_notebooks`).
+    small, timeout, html, stop_at_stub
+        See :func:`run_notebook`.
+    progress : callable or None, default=print
+        Called with one line per notebook.
+
+    Returns
+    -------
+    list of RunResult
+    """
+    paths = find_notebooks(src, names)
+    if not paths:
+        raise FileNotFoundError(f"no notebooks named NN_*.ipynb in {str(src)!r}")
+    out = Path(out)
+    results = []
+    for p in paths:
+        if progress:
+            progress(f"running {p.name} ...")
+        r = run_notebook(p, out, small=small, timeout=timeout, html=html,
+                         stop_at_stub=stop_at_stub)
+        results.append(r)
+        if progress:
+            state = "ok" if r.ok else f"FAILED ({r.error.splitlines()[0] if r.error else ''})"
+            if r.stopped_at_stub:
+                state += ", stopped at the first exercise stub"
+            progress(f"  {p.name}: {state} in {r.seconds:.1f} s")
+    index = _index(results, out, small)
+    if progress:
+        progress(f"executed notebooks and HTML in {out}/ ; open {index}")
+    return results
+
+
+def _cmd(args) -> int:
+    src = args.src
+    if args.student:
+        src = Path(default_notebook_dir() if src is None else src) / "student"
+    out = args.out or ("out/notebooks/student" if args.student else "out/notebooks")
+    results = run_notebooks(src, out, names=args.names or None, small=args.small,
+                            timeout=args.timeout, html=not args.no_html,
+                            stop_at_stub=args.student)
+    return 0 if all(r.ok for r in results) else 1
+
+
+def add_run_notebooks(sub) -> None:
+    """Register ``cshape notebooks`` (and ``cshape assignments``) on the CLI's sub-parsers."""
+    p = sub.add_parser(
+        "notebooks",
+        help="execute the walkthrough notebooks into an output folder (executed .ipynb + HTML)",
+    )
+    p.add_argument("names", nargs="*", help="notebooks to run, e.g. 01 03 (default: all)")
+    p.add_argument("--src", default=None, help="notebook folder (default: the checkout's)")
+    p.add_argument("--out", default=None, help="output folder (default: out/notebooks)")
+    p.add_argument("--small", action="store_true",
+                   help="small meshes and N (sets CSHAPE_SMALL=1 in the kernels)")
+    p.add_argument("--student", action="store_true",
+                   help="run notebooks/student/ instead, each up to its first exercise stub")
+    p.add_argument("--no-html", action="store_true", help="write the executed .ipynb only")
+    p.add_argument("--timeout", type=int, default=1200, help="seconds per cell (default 1200)")
+    p.set_defaults(func=_cmd)
+    try:
+        from .assignments import add_assignments
+    except ImportError:  # pragma: no cover
+        return
+    add_assignments(sub)
