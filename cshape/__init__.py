@@ -12,7 +12,7 @@ The pipeline, one module per stage (data flows one way):
 :mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, hemisphere, ...).
 """
 
-from . import shapes
+from . import data, shapes, variants
 from .descriptors import (
     compact_shape_dna,
     compact_shape_dna_real,
@@ -30,6 +30,8 @@ __version__ = "0.1.0"
 
 __all__ = [
     "CShapeWarning",
+    "data",
+    "variants",
     "Mesh",
     "as_mesh",
     "compact_shape_dna",
