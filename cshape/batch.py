@@ -293,13 +293,23 @@ def _atomic_write(path: Path, write, *, binary: bool):
 
 # =========================================================================== cache
 def default_cache_dir() -> Path:
-    """``$CSHAPE_CACHE_DIR``, else ``$XDG_CACHE_HOME/cshape/eigenvalues``, else
-    ``~/.cache/cshape/eigenvalues``."""
-    env = os.environ.get("CSHAPE_CACHE_DIR")
+    """``<cache>/eigenvalues``, with ``<cache>`` the cache folder shared by cshape.
+
+    ``<cache>`` is ``$CSHAPE_CACHE``, else ``platformdirs.user_cache_dir('cshape')`` when
+    platformdirs is installed, else ``$XDG_CACHE_HOME/cshape`` or ``~/.cache/cshape`` (the
+    same folder as :func:`cshape.data.cache_dir`).  Not created here.
+    """
+    env = os.environ.get("CSHAPE_CACHE")
     if env:
-        return Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "cshape" / "eigenvalues"
+        return Path(env).expanduser() / "eigenvalues"
+    try:
+        import platformdirs
+
+        base = Path(platformdirs.user_cache_dir("cshape"))
+    except ImportError:
+        xdg = os.environ.get("XDG_CACHE_HOME")
+        base = (Path(xdg) if xdg else Path.home() / ".cache") / "cshape"
+    return base / "eigenvalues"
 
 
 def mesh_key(mesh, bc="neumann", mass="consistent") -> str:

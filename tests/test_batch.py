@@ -172,6 +172,13 @@ def test_collection_forms(tmp_path):
         run(m1, cache_dir=False)
 
 
+def test_default_cache_dir_follows_cshape_cache(monkeypatch, tmp_path):
+    monkeypatch.setenv("CSHAPE_CACHE", str(tmp_path))
+    table = run(small_collection()[:1], cache_dir=None)
+    assert len(entries(tmp_path / "eigenvalues")) == 1
+    assert len(table) == 1
+
+
 def test_invalid_parameters():
     col = small_collection()[:1]
     with pytest.raises(ValueError, match=r"n_jobs must be a positive integer or -1"):
