@@ -1,0 +1,92 @@
+"""Every notebook runs top to bottom on a fresh kernel (small sizes), and so does every
+student version up to its first exercise stub.  A cell error fails the test."""
+
+from __future__ import annotations
+
+import sys
+
+import nbformat
+import pytest
+
+from cshape.cli import main
+from cshape.notebooks_run import default_notebook_dir, find_notebooks, run_notebook
+
+NB_DIR = default_notebook_dir()
+NOTEBOOKS = find_notebooks(NB_DIR)
+STUDENT = find_notebooks(NB_DIR / "student") if (NB_DIR / "student").is_dir() else []
+
+
+def test_notebooks_are_there_numbered_and_stored_without_outputs():
+    assert len(NOTEBOOKS) >= 6, [p.name for p in NOTEBOOKS]
+    for path in NOTEBOOKS + STUDENT:
+        nb = nbformat.read(path, as_version=4)
+        nbformat.validate(nb)
+        assert nb.metadata["kernelspec"]["name"] == "python3", path.name
+        for k, cell in enumerate(nb.cells):
+            if cell.cell_type == "code":
+                assert cell.outputs == [] and cell.execution_count is None, (
+                    f"{path.name} cell {k} has outputs; notebooks are committed without them")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_notebook_is_a_lesson(path):
+    nb = nbformat.read(path, as_version=4)
+    md = [c.source for c in nb.cells if c.cell_type == "markdown"]
+    assert "Learning goals" in md[0], f"{path.name} must open with its learning goals"
+    assert "Eq." in md[0] or "Section" in md[0], f"{path.name}: name the paper's equations"
+    assert md[-1].lstrip().startswith("## Exercises"), f"{path.name} must end with exercises"
+    code = "\n".join(c.source for c in nb.cells if c.cell_type == "code")
+    assert "CSHAPE_SMALL" in code, f"{path.name} must honour the small-size switch"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_notebook_runs(path):
+    res = run_notebook(path, small=True, html=False, timeout=600)
+    assert res.ok, f"{path.name} failed after {res.seconds:.1f} s: {res.error}"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", STUDENT, ids=lambda p: f"student-{p.stem}")
+def test_student_notebook_runs_up_to_its_first_stub(path):
+    res = run_notebook(path, small=True, html=False, timeout=600, stop_at_stub=True)
+    assert res.ok, f"student {path.name} failed before its first stub: {res.error}"
+    assert res.stopped_at_stub, f"student {path.name} has no exercise stub that raises"
+
+
+def _tiny(folder, source):
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    cell = nbformat.v4.new_code_cell(source)
+    cell["id"] = "c0"
+    nb.cells.append(cell)
+    folder.mkdir(parents=True, exist_ok=True)
+    nbformat.write(nb, folder / "01_tiny.ipynb")
+    return folder / "01_tiny.ipynb"
+
+
+def test_kernel_is_this_interpreter_and_cli_writes_html(tmp_path, capsys):
+    src = tmp_path / "src"
+    _tiny(src, "import os, sys\nprint(sys.executable)\nprint(os.environ.get('CSHAPE_SMALL'))")
+    out = tmp_path / "out"
+    assert main(["notebooks", "--small", "--src", str(src), "--out", str(out)]) == 0
+    nb = nbformat.read(out / "01_tiny.ipynb", as_version=4)
+    printed = nb.cells[0].outputs[0]["text"].split()
+    assert printed == [sys.executable, "1"]
+    assert (out / "01_tiny.html").stat().st_size > 1000
+    assert "01_tiny.html" in (out / "index.html").read_text()
+    assert "01_tiny.ipynb: ok" in capsys.readouterr().out
+
+
+def test_failing_cell_is_reported(tmp_path):
+    path = _tiny(tmp_path, "raise RuntimeError('boom')")
+    res = run_notebook(path, html=False)
+    assert not res.ok and "RuntimeError: boom" in res.error
+    assert main(["notebooks", "--src", str(tmp_path), "--out", str(tmp_path / "o"),
+                 "--no-html"]) == 1
+
+
+def test_unknown_notebook_name():
+    with pytest.raises(ValueError, match="no notebook '99'"):
+        find_notebooks(NB_DIR, ["99"])
