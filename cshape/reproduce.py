@@ -258,8 +258,12 @@ def _mds_figure(table, panels, random_state):
         Y = mds_embedding(table.distance_matrix(kind, **kw), random_state=random_state)
         plot_mds(Y, names=table.names if len(table) <= 60 else None,
                  labels=table.labels, ax=ax, title=title)
-        if ax.get_legend() is not None and ax is not axs[0]:
+    handles, labels = axs[0].get_legend_handles_labels()
+    for ax in axs:
+        if ax.get_legend() is not None:
             ax.get_legend().remove()
+    if handles:
+        fig.legend(handles, labels, loc="outside right upper", fontsize="small")
     return fig
 
 
