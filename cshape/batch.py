@@ -30,6 +30,7 @@ import tempfile
 import threading
 import time
 import warnings
+from collections import Counter
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -92,7 +93,7 @@ class DescriptorTable:
         if len(self.areas) != p:
             raise ValueError(f"areas has {len(self.areas)} entries for {p} names")
         if len(set(self.names)) != p:
-            dup = sorted({n for n in self.names if self.names.count(n) > 1})
+            dup = sorted(n for n, c in Counter(self.names).items() if c > 1)
             raise ValueError(f"names must be unique; repeated: {dup[:5]}")
         self.labels = [""] * p if labels is None else ["" if x is None else str(x) for x in labels]
         if len(self.labels) != p:
@@ -507,13 +508,13 @@ def _records(collection):
                 "a record with .name, .label and .mesh (or .path)"
             )
     # paths given bare: the file stem, or the whole path where stems collide
-    stems = [out[r][0] for r in path_rows]
+    stems = Counter(out[r][0] for r in path_rows)
     for r in path_rows:
-        if stems.count(out[r][0]) > 1:
+        if stems[out[r][0]] > 1:
             out[r][0] = str(out[r][2])
     names = [str(r[0]) for r in out]
     if len(set(names)) != len(names):
-        dup = sorted({n for n in names if names.count(n) > 1})
+        dup = sorted(n for n, c in Counter(names).items() if c > 1)
         raise ValueError(
             f"collection has repeated names {dup[:5]}; give each mesh a unique name, e.g. "
             "as (name, mesh) pairs"
@@ -661,17 +662,10 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
                 except (TypeError, ValueError) as exc:
                     finish(i, {"ok": False, "error": f"{type(exc).__name__}: {exc}"})
                     continue
-                if cache is not None:
-                    with warnings.catch_warnings(record=True) as caught:
-                        warnings.simplefilter("always")
-                        hit = _read_entry(cache, key, N)
-                    if hit is not None:
-                        hit.update(ok=True)
-                    for w in caught:
-                        warnings.warn(str(w.message), w.category, stacklevel=2)
-                    if hit is not None:
-                        finish(i, hit)
-                        continue
+                hit = None if cache is None else _read_entry(cache, key, N)
+                if hit is not None:
+                    finish(i, {**hit, "ok": True})
+                    continue
             tasks.append((i, src, N, bc, mass, None if cache is None else str(cache), key))
 
         if client is not None:
