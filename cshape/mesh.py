@@ -230,12 +230,19 @@ class Mesh:
 # ---------------------------------------------------------------------- validation
 def _check_vertices(vertices) -> np.ndarray:
     try:
-        v = np.asarray(vertices, dtype=np.float64)
+        is_complex = np.iscomplexobj(vertices)
+        # a copy: the Mesh freezes its arrays, which must not freeze the caller's
+        v = None if is_complex else np.array(vertices, dtype=np.float64, copy=True)
     except (TypeError, ValueError) as exc:
         raise TypeError(
             "vertices must be a real array of shape (n, 3); "
             f"could not convert it to float64 ({exc})"
         ) from None
+    if is_complex:
+        raise TypeError(
+            "vertices must be real coordinates, got a complex array; pass vertices.real if "
+            "the imaginary parts are zero"
+        )
     if v.ndim != 2 or v.shape[1] != 3:
         raise ValueError(
             f"vertices must have shape (n, 3), got {v.shape}; pass one row of x, y, z per vertex"
@@ -253,13 +260,28 @@ def _check_vertices(vertices) -> np.ndarray:
 
 
 def _check_faces(faces, n_vertices: int) -> np.ndarray:
-    f0 = np.asarray(faces)
+    try:
+        f0 = np.asarray(faces)
+    except (TypeError, ValueError):
+        raise TypeError(
+            "faces must be an integer array of shape (m, 3); got a ragged sequence (rows of "
+            "different lengths?); triangulate polygons first"
+        ) from None
     if f0.dtype.kind == "f":
         if f0.size and not np.all(np.isfinite(f0) & (f0 == np.round(f0))):
             raise TypeError("faces must hold integer vertex indices; got non-integer floats")
     elif f0.dtype.kind not in "iu" and f0.size:
         raise TypeError(f"faces must be an integer array of shape (m, 3), got dtype {f0.dtype}")
-    f = f0.astype(np.int64) if f0.size else np.zeros((0, 3), np.int64)
+    if f0.size and f0.dtype.kind in "fu" and (
+        float(f0.max()) >= n_vertices or float(f0.min()) < 0
+    ):
+        # check before the cast to int64, which would wrap huge indices
+        bad = (f0.max() if float(f0.max()) >= n_vertices else f0.min()).item()
+        raise ValueError(
+            f"faces reference vertex index {bad!r}, outside [0, {n_vertices - 1}]; "
+            "indices are zero-based and must be smaller than the number of vertices"
+        )
+    f = np.array(f0, dtype=np.int64, copy=True) if f0.size else np.zeros((0, 3), np.int64)
     if f.ndim != 2 or f.shape[1] != 3:
         raise ValueError(
             f"faces must have shape (m, 3) (triangles), got {f0.shape}; triangulate polygons "
