@@ -482,6 +482,12 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
             f"cannot read mesh {str(p)!r}: PyMeshLab reports {msg!r}; the file is probably "
             "truncated, corrupt or not a mesh of that format"
         ) from None
+    except (MemoryError, ValueError, RuntimeError, OverflowError) as exc:
+        # C++ exceptions of the reader (std::bad_alloc, std::length_error, ...)
+        raise ValueError(
+            f"cannot read mesh {str(p)!r}: PyMeshLab failed with {type(exc).__name__} "
+            f"({str(exc)[:200]!r}); the file is probably corrupt (declared counts too large?)"
+        ) from None
     m = ms.current_mesh()
     if m.face_number() == 0:
         raise ValueError(
@@ -491,7 +497,10 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
     V = np.array(m.vertex_matrix(), dtype=np.float64)
     F = np.array(m.face_matrix(), dtype=np.int64)
     _check_against_expected(p, expected, len(V), len(F))
-    mesh = Mesh(V, F)
+    try:
+        mesh = Mesh(V, F)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"cannot read mesh {str(p)!r}: {exc}") from None
     if repair:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CShapeWarning)
@@ -590,7 +599,8 @@ def _prescan(p, ext):
 
 
 def _scan_off(p):
-    with open(p, encoding="utf-8", errors="strict") as fh:
+    # latin-1 decodes any byte: numbers are ASCII, comments may be in any 8-bit encoding
+    with open(p, encoding="latin-1") as fh:
         tokens_lines = (
             (i, line.split("#", 1)[0].split()) for i, line in enumerate(fh, 1)
         )
@@ -600,7 +610,7 @@ def _scan_off(p):
         except StopIteration:
             raise _bad_file(p, "the file has no OFF header") from None
         if not head[0].upper().endswith("OFF"):
-            raise _bad_file(p, f"line {i}: expected the OFF header, got {head[0]!r}")
+            raise _bad_file(p, f"line {i}: expected the OFF header, got {head[0][:20]!r}")
         counts = head[1:]
         if not counts:
             try:
@@ -648,8 +658,25 @@ def _scan_off(p):
     return _Expected(nv, ntri)
 
 
+#: Bytes of each PLY scalar type.
+_PLY_SIZES = {
+    "char": 1, "int8": 1, "uchar": 1, "uint8": 1, "short": 2, "int16": 2, "ushort": 2,
+    "uint16": 2, "int": 4, "int32": 4, "uint": 4, "uint32": 4, "float": 4, "float32": 4,
+    "double": 8, "float64": 8,
+}
+
+
 def _scan_ply_header(p):
+    """Declared counts of a PLY file, checked against its size.
+
+    PyMeshLab allocates the declared number of vertices and faces before reading them, so
+    a corrupt count (a few bytes claiming 10^12 vertices) would exhaust the memory; every
+    record takes at least one byte (binary: the size of its properties), which bounds the
+    counts by the file size.
+    """
     nv = nf = None
+    fmt = None
+    elements = []  # [name, count, min bytes per record in binary, values per record]
     with open(p, "rb") as fh:
         first = fh.readline()
         if first.strip() != b"ply":
@@ -658,13 +685,46 @@ def _scan_ply_header(p):
             line = fh.readline()
             if not line:
                 raise _bad_file(p, "the PLY header has no end_header line: it is truncated")
-            parts = line.split()
-            if parts[:2] == [b"element", b"vertex"] and len(parts) > 2:
-                nv = int(parts[2])
-            elif parts[:2] == [b"element", b"face"] and len(parts) > 2:
-                nf = int(parts[2])
-            elif parts[:1] == [b"end_header"]:
+            parts = line.decode("latin-1").split()
+            if parts[:1] == ["format"] and len(parts) > 1:
+                fmt = parts[1]
+            elif parts[:1] == ["element"]:
+                try:
+                    count = int(parts[2])
+                except (IndexError, ValueError):
+                    raise _bad_file(
+                        p, f"PLY header line {line.strip()[:60]!r}: expected 'element NAME COUNT' "
+                        "with an integer count"
+                    ) from None
+                if count < 0:
+                    raise _bad_file(p, f"the PLY header declares a negative count {count}")
+                elements.append([parts[1], count, 0, 0])
+                if parts[1] == "vertex":
+                    nv = count
+                elif parts[1] == "face":
+                    nf = count
+            elif parts[:1] == ["property"] and elements:
+                el = elements[-1]
+                el[3] += 1
+                if parts[1:2] == ["list"] and len(parts) > 2:
+                    el[2] += _PLY_SIZES.get(parts[2], 1)  # the list length; items may be 0
+                elif len(parts) > 1:
+                    el[2] += _PLY_SIZES.get(parts[1], 1)
+            elif parts[:1] == ["end_header"]:
                 break
+        body = p.stat().st_size - fh.tell()
+    if fmt == "ascii":
+        # each value takes at least one character and one separator
+        need = sum(2 * count * max(nval, 1) for _, count, _, nval in elements) - 1
+    else:
+        need = sum(count * max(nbytes, 1) for _, count, nbytes, _ in elements)
+    if need > body:
+        declared = ", ".join(f"{count} {name}" for name, count, _, _ in elements)
+        raise _bad_file(
+            p, f"the PLY header declares {declared} records, which need at least {need} bytes, "
+            f"but the file has {body} bytes after the header: it is truncated or its counts "
+            "are wrong"
+        )
     return _Expected(nv, nf)
 
 
@@ -672,8 +732,10 @@ def _scan_stl(p):
     size = p.stat().st_size
     with open(p, "rb") as fh:
         head = fh.read(84)
-    if head[:5].lower() == b"solid" and b"facet" in open(p, "rb").read(1024).lower():
-        return None  # ASCII STL: PyMeshLab reports broken records itself
+    with open(p, "rb") as fh:
+        start = fh.read(1024).lower()
+    if head[:5].lower() == b"solid" and b"facet" in start:
+        return _scan_ascii_stl(p)
     if size < 84:
         raise _bad_file(p, f"a binary STL needs at least 84 bytes, the file has {size}")
     n = int.from_bytes(head[80:84], "little")
@@ -683,6 +745,23 @@ def _scan_stl(p):
             f"has {size} bytes: it is truncated or not an STL file"
         )
     return _Expected(None, n, exact_vertices=False)
+
+
+def _scan_ascii_stl(p):
+    """Facet count of an ASCII STL, checking its vertex coordinates (PyMeshLab silently
+    drops a triangle with a NaN vertex); broken records are reported by PyMeshLab."""
+    nfacets = 0
+    with open(p, "rb") as fh:
+        for lineno, raw in enumerate(fh, 1):
+            toks = raw.split()
+            if not toks:
+                continue
+            key = toks[0].lower()
+            if key == b"facet":
+                nfacets += 1
+            elif key == b"vertex":
+                _parse_floats(p, [t.decode("latin-1") for t in toks[1:]], lineno, "vertex")
+    return _Expected(None, nfacets, exact_vertices=False)
 
 
 def _check_against_expected(p, expected, nv, nf):
