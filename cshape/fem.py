@@ -35,6 +35,10 @@ MASS_TYPES = ("consistent", "lumped")
 #: margin counts as degenerate and intrinsic mollification switches on.
 MOLLIFY_DELTA = 1e-6
 
+#: A mesh whose area is below this fraction of ``n_faces * mean_edge**2`` has zero area (all
+#: triangles degenerate): it is refused rather than mollified into an invented surface.
+ZERO_AREA_RTOL = 1e-10
+
 
 class FEM:
     """Assembled FEM matrices of a mesh, with the bookkeeping of the unknowns.
@@ -117,6 +121,18 @@ def _mollify(lengths, mean_edge):
     return eps, int(np.count_nonzero(margin < delta))
 
 
+def _check_positive_area(mesh):
+    """Raise if the surface has (numerically) zero area: mollification would invent one."""
+    L = mesh.mean_edge_length
+    if not mesh.area > ZERO_AREA_RTOL * mesh.n_faces * L * L:
+        raise ValueError(
+            f"the mesh has zero surface area (area={mesh.area:.3g}, {mesh.n_faces} triangles, "
+            f"mean edge length {L:.3g}): its vertices are coincident or collinear, so it has "
+            "no Laplace-Beltrami spectrum; check the vertex coordinates (all zero? one axis "
+            "only?)"
+        )
+
+
 def assemble(mesh, mass="consistent"):
     """Assemble the full (Neumann) matrices ``A`` and ``B`` over all vertices.
 
@@ -124,6 +140,11 @@ def assemble(mesh, mass="consistent"):
     ----------
     mesh : Mesh or (vertices, faces)
     mass : {'consistent', 'lumped'}, default='consistent'
+
+    Raises
+    ------
+    ValueError
+        If the mesh has zero total area (all vertices coincident or collinear).
 
     Returns
     -------
@@ -138,6 +159,7 @@ def assemble(mesh, mass="consistent"):
     """
     mesh = as_mesh(mesh)
     mass = _check_choice("mass", mass, MASS_TYPES)
+    _check_positive_area(mesh)
     V, F = mesh.vertices, mesh.faces
     n = mesh.n_vertices
     L = _edge_lengths(V, F)
@@ -227,6 +249,13 @@ def fem_matrices(mesh, bc="neumann", mass="consistent"):
         only the inner manifold vertices ``V_I`` (Section 2.2).
     mass : {'consistent', 'lumped'}, default='consistent'
         Consistent mass matrix of Eq. (5) / (7), or the lumped diagonal ``sum_t |t|/3``.
+
+    Raises
+    ------
+    ValueError
+        If ``bc`` or ``mass`` is unknown, the mesh has zero total area (every triangle
+        degenerate: vertices coincident or collinear), or ``bc='dirichlet'`` leaves no
+        unknowns.
 
     Returns
     -------
