@@ -30,7 +30,7 @@ import tempfile
 import threading
 import time
 import warnings
-from collections import Counter
+from collections import Counter, deque
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -640,7 +640,12 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
             warnings.warn(f"{name}: {msg}", CShapeWarning, stacklevel=3)
         if res["ok"]:
             if cache is not None and not res["cached"]:
-                _write_entry(cache, res)
+                try:
+                    _write_entry(cache, res)
+                except OSError as exc:  # a full or read-only disk must not lose the result
+                    warnings.warn(f"{name}: could not write its cache entry ({exc}); the "
+                                  "result is kept but will be recomputed next time",
+                                  CShapeWarning, stacklevel=3)
             results[i] = res
         else:
             if on_error == "raise":
@@ -718,7 +723,7 @@ def _run_processes(tasks, n_jobs, finish, failures, blas_threads):
 
     methods = mp.get_all_start_methods()
     ctx = mp.get_context("forkserver" if "forkserver" in methods else "spawn")
-    todo = list(tasks)
+    todo = deque(tasks)
     window = 4 * n_jobs  # tasks in flight: bounded memory for large collections
     with ProcessPoolExecutor(max_workers=min(n_jobs, len(tasks)), mp_context=ctx,
                              initializer=_init_worker, initargs=(blas_threads,)) as ex:
@@ -726,8 +731,8 @@ def _run_processes(tasks, n_jobs, finish, failures, blas_threads):
         try:
             while todo or pending:
                 while todo and len(pending) < window:
-                    t = todo.pop(0)
-                    pending[ex.submit(_work, t)] = t
+                    fut = ex.submit(_work, todo[0])  # raises if the pool is broken
+                    pending[fut] = todo.popleft()
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
                     t = pending[fut]
@@ -740,7 +745,7 @@ def _run_processes(tasks, n_jobs, finish, failures, blas_threads):
                     del pending[fut]
                     finish(t[0], res)
         except BrokenProcessPool:
-            lost = [t for t in pending.values()] + todo
+            lost = list(pending.values()) + list(todo)
             for t in lost:
                 failures[t[0]] = ("worker process died (killed or crashed) before finishing "
                                   "this mesh; run describe again to resume")
@@ -761,7 +766,7 @@ def _run_dask(tasks, client, finish):
             f"got {type(client).__name__}"
         )
     try:
-        todo = list(tasks)
+        todo = deque(tasks)
         nthreads = sum(client.nthreads().values()) or 1
         window = 4 * nthreads
         ac = as_completed()
@@ -769,7 +774,7 @@ def _run_dask(tasks, client, finish):
         index = {}
 
         def submit():
-            t = todo.pop(0)
+            t = todo.popleft()
             fut = client.submit(_work, t, pure=False)
             index[fut.key] = t[0]
             ac.add(fut)
