@@ -37,9 +37,15 @@ FOUR_PI = 4.0 * np.pi
 
 def _as_lam(lam, name="lam", min_len=1) -> np.ndarray:
     try:
-        x = np.asarray(lam, dtype=np.float64)
+        is_complex = np.iscomplexobj(lam)
+        x = None if is_complex else np.asarray(lam, dtype=np.float64)
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be a 1-D array of real eigenvalues") from None
+    if is_complex:
+        raise TypeError(
+            f"{name} must be real eigenvalues, got a complex array (a cShape-DNA?); pass the "
+            "Shape-DNA from cshape.shape_dna"
+        )
     if x.ndim != 1:
         raise ValueError(f"{name} must be 1-D (one spectrum), got shape {x.shape}")
     if len(x) < min_len:
@@ -89,8 +95,13 @@ def normalize(lam, area=None, method="area"):
                 "method='area' needs the surface area: pass area=mesh.area "
                 "(or use method='weyl', which needs no area)"
             )
-        a = float(area)
-        if not np.isfinite(a) or a <= 0:
+        try:
+            a = float(area)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"area must be a positive finite number, got {type(area).__name__} {area!r}"
+            ) from None
+        if isinstance(area, bool) or not np.isfinite(a) or a <= 0:
             raise ValueError(f"area must be a positive finite number, got {area!r}")
         return x * a
     if method == "fiedler":
@@ -134,8 +145,26 @@ def _check_M(M, N):
     return M
 
 
+def _check_N(N):
+    if isinstance(N, bool) or not isinstance(N, (int, np.integer)):
+        raise TypeError(f"N must be an integer, got {type(N).__name__} {N!r}")
+    if N < 1:
+        raise ValueError(f"N must be at least 1 (the number of eigenvalues), got {N}")
+    return int(N)
+
+
+def _check_option(name, value, allowed):
+    if not isinstance(value, str) or value.lower() not in allowed:
+        opts = ", ".join(repr(a) for a in allowed)
+        raise ValueError(f"{name} must be one of {{{opts}}}, got {value!r}")
+    return value.lower()
+
+
 def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization):
     """Return the normalised Shape-DNA (N,) from a mesh or from eigenvalues."""
+    N = _check_N(N)
+    normalization = _check_option("normalization", normalization, NORMALIZATIONS)
+    _check_option("bc", bc, ("neumann", "dirichlet"))
     if isinstance(mesh_or_lam, Mesh) or (
         isinstance(mesh_or_lam, (tuple, list))
         and len(mesh_or_lam) == 2
@@ -148,8 +177,6 @@ def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization):
         lam = shape_dna(mesh, N=N, bc=bc)
         return normalize(lam, area=mesh.area if area is None else area, method=normalization)
     lam = _as_lam(mesh_or_lam, "mesh_or_lam")
-    if isinstance(N, bool) or not isinstance(N, (int, np.integer)) or N < 1:
-        raise ValueError(f"N must be a positive integer, got {N!r}")
     if len(lam) < N:
         raise ValueError(
             f"got {len(lam)} eigenvalues but N={N}; pass N={len(lam)} or compute more eigenvalues"
@@ -192,14 +219,23 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann", norm
         of frequencies ``-M, ..., M`` in that order; ``S_c[M]`` is the zero frequency.
         Conjugate-symmetric (``S_c[M+k] == conj(S_c[M-k])``) because the input is real.
 
+    Raises
+    ------
+    TypeError
+        If ``N`` or ``M`` is not an integer (bools are refused), or the eigenvalues are
+        complex.
+    ValueError
+        If ``N < 1``, ``M < 0``, ``2M+1 > N``, ``bc`` or ``normalization`` is unknown, or
+        fewer than ``N`` eigenvalues are given; checked before any eigensolve.
+
     See Also
     --------
     real_form : the same descriptor as 2M+1 real numbers with equal distances.
     inverse_compact_shape_dna : what the 2M+1 coefficients keep of the Shape-DNA.
     """
+    M = _check_M(M, _check_N(N))  # before the eigensolve
     lam_norm = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
     N = len(lam_norm)
-    M = _check_M(M, N)
     lam_prime = weyl_subtract(lam_norm)  # Eq. (8)
     Lam = np.fft.fft(lam_prime)  # Eq. (9)
     shifted = np.fft.fftshift(Lam)  # zero frequency at index N // 2
