@@ -36,7 +36,9 @@ partial file.  Downloads go to ``<cache>/downloads/<collection>/``.
 
 from __future__ import annotations
 
+import copy
 import csv
+import errno
 import hashlib
 import inspect
 import json
@@ -426,7 +428,9 @@ def load_manifest(path=None) -> dict:
     """
     if isinstance(path, dict):
         if "collections" in path:
-            return _with_root(validate_manifest(path, source="manifest"), Path.cwd())
+            # a copy: the entries get a '_root' key, which must not change the caller's dict
+            doc = copy.deepcopy(path)
+            return _with_root(validate_manifest(doc, source="manifest"), Path.cwd())
         return path  # already validated
     import yaml
 
