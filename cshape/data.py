@@ -538,20 +538,56 @@ def _find_item(entry, name):
     raise ValueError(f"collection {entry['name']!r} has no item {name!r}; items are {names}")
 
 
+def _make_cache_folder(folder: Path) -> None:
+    """Create a cache folder, or raise an OSError that says which folder and what to do."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        blocker = next((q for q in [folder, *folder.parents] if q.exists()), None)
+        why = (
+            f"{str(blocker)!r} is a file, not a folder"
+            if blocker is not None and not blocker.is_dir()
+            else exc.strerror or str(exc)
+        )
+        raise type(exc)(
+            exc.errno,
+            f"cannot create the cache folder {str(folder)!r}: {why}; pass cache_dir= or set "
+            "CSHAPE_CACHE to a writable folder",
+        ) from None
+
+
 def _atomic_save_npz(path: Path, **arrays) -> None:
-    """Write ``arrays`` to ``path`` as .npz via a temporary file and ``os.replace``."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    """Write ``arrays`` to ``path`` as .npz via a temporary file and ``os.replace``.
+
+    On any failure (disk full, read-only folder, interrupt) the temporary file is removed
+    and ``path`` is left as it was; an ``OSError`` names the file and says what to do.
+    """
+    _make_cache_folder(path.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise type(exc)(
+            exc.errno,
+            f"cannot write to the cache folder {str(path.parent)!r} ({exc.strerror}); pass "
+            "cache_dir= or set CSHAPE_CACHE to a writable folder",
+        ) from None
     try:
         with os.fdopen(fd, "wb") as fh:
             np.savez(fh, **arrays)
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; use the usual permissions
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
+            raise OSError(
+                exc.errno,
+                f"no space left to write the cache file {str(path)!r} ({exc.strerror}); "
+                "nothing was written. Free disk space, or pass cache_dir= / set CSHAPE_CACHE "
+                "to a folder on another disk",
+            ) from None
         raise
 
 
@@ -562,8 +598,14 @@ def _umask() -> int:
 
 
 def _read_npz(path: Path) -> Mesh:
-    with np.load(path, allow_pickle=False) as z:
-        return Mesh(z["vertices"], z["faces"])
+    """Read a cached mesh (arrays only: pickled objects are refused, never executed)."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            return Mesh(z["vertices"], z["faces"])
+    except (ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile) as exc:
+        raise ValueError(
+            f"cannot read cached mesh {str(path)!r}: {exc}; delete the file to rebuild it"
+        ) from None
 
 
 def _cache_file(entries, coll, item, root: Path) -> Path:
