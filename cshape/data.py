@@ -31,7 +31,10 @@ Generated meshes live in ``<cache>/generated/<collection>/<item>-<key>.npz`` (ar
 (``~/.cache/cshape`` on Linux) and ``<key>`` hashes the recipe, its parameters, the seed, the
 base item's key, :data:`RECIPES_VERSION` and the PyMeshLab version.  Files are written to a
 temporary name and moved into place (``os.replace``), so an interrupted build never leaves a
-partial file.  Downloads go to ``<cache>/downloads/<collection>/``.
+partial file; a cache folder that cannot be written (a file in its place, a full disk) gives an
+``OSError`` naming it.  Downloads go to ``<cache>/downloads/<collection>/``; a downloaded file is
+checked against the manifest's size and sha256 before each read, so a corrupt or replaced file
+is an error, never a silently different mesh.
 """
 
 from __future__ import annotations
@@ -749,7 +752,9 @@ def load_collection(
             f"{entry['package']!r} package (a different version?)"
         )
     items = [
-        Item(it["name"], it["label"], name, dict(it), _load=_file_loader(folder / it["file"]))
+        Item(it["name"], it["label"], name, dict(it), _load=(
+            _VerifiedLoader(folder / it["file"], it, name) if kind == "download"
+            else _file_loader(folder / it["file"])))
         for it in entry["items"]
     ]
     return Collection(name, items, meta)
@@ -785,7 +790,8 @@ def load(name, item, *, cache_dir=None, download=False, manifest=None) -> Mesh:
                     "or pass download=True"
                 )
             fetch(name, items=[item], cache_dir=cache_dir, manifest=entries)
-        return _file_loader(folder / it["file"])()
+            return _file_loader(folder / it["file"])()  # pooch checked its sha256
+        return _VerifiedLoader(folder / it["file"], it, name)()
     return load_collection(name, cache_dir=cache_dir, manifest=entries)[item].mesh
 
 
@@ -804,6 +810,43 @@ class _FileLoader:
 
 
 _file_loader = _FileLoader
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _verify_download(path: Path, item: dict, collection: str) -> None:
+    """Check a downloaded file against the manifest's size and sha256 before it is read."""
+    size = path.stat().st_size
+    bad = None
+    if size != item["size"]:
+        bad = f"its size is {size} bytes, the manifest says {item['size']}"
+    elif _sha256(path) != item["sha256"]:
+        bad = f"its sha256 differs from the manifest's {item['sha256'][:12]}..."
+    if bad:
+        raise ValueError(
+            f"downloaded file {str(path)!r} of {collection}/{item['name']} fails its check: "
+            f"{bad}; it is corrupt or was replaced. Delete it and run `cshape data build "
+            f"{collection}` to fetch it again"
+        )
+
+
+class _VerifiedLoader(_FileLoader):
+    """A :class:`_FileLoader` for a pinned download: checks size and sha256 first."""
+
+    def __init__(self, path: Path, item: dict, collection: str):
+        super().__init__(path)
+        self.item = item
+        self.collection = collection
+
+    def __call__(self) -> Mesh:
+        _verify_download(self.path, self.item, self.collection)
+        return super().__call__()
 
 
 class _NoBar:
