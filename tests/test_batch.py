@@ -45,7 +45,7 @@ def run(collection, **kw):
 
 
 @pytest.fixture(scope="module")
-def reference(tmp_path_factory):
+def reference():
     """The serial, uncached table of small_collection()."""
     return run(small_collection(), cache_dir=False)
 
