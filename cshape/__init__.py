@@ -8,11 +8,30 @@ The pipeline, one module per stage (data flows one way):
 4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
    :func:`compact_shape_dna` (Eq. 9-10), :func:`real_form`, :func:`inverse_compact_shape_dna`,
    :func:`f1_feature`
+5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
+   :func:`scaled_difference`,
+   :func:`retrieval_scores`, :func:`mds_embedding`, :class:`DescriptorIndex`
+6. :mod:`cshape.variants`    - marching cubes, remeshing, Section 3.3 noise (PyMeshLab)
+7. :mod:`cshape.data`        - the data manifest and shape collections
+
+:mod:`cshape.batch` runs many meshes (cached, parallel, Dask); :mod:`cshape.reproduce` the
+paper's Section 3.
 
 :mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, hemisphere, ...).
 """
 
 from . import data, shapes, variants
+from .batch import DescriptorTable, describe
+from .compare import (
+    DescriptorIndex,
+    descriptor_matrix,
+    difference_matrix,
+    distance_matrix,
+    mds_embedding,
+    retrieval_scores,
+    scale_255,
+    scaled_difference,
+)
 from .descriptors import (
     compact_shape_dna,
     compact_shape_dna_real,
@@ -30,6 +49,16 @@ __version__ = "0.1.0"
 
 __all__ = [
     "CShapeWarning",
+    "DescriptorIndex",
+    "DescriptorTable",
+    "describe",
+    "descriptor_matrix",
+    "difference_matrix",
+    "distance_matrix",
+    "mds_embedding",
+    "retrieval_scores",
+    "scale_255",
+    "scaled_difference",
     "data",
     "variants",
     "Mesh",
