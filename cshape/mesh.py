@@ -496,11 +496,13 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         )
     V = np.array(m.vertex_matrix(), dtype=np.float64)
     F = np.array(m.face_matrix(), dtype=np.int64)
-    _check_against_expected(p, expected, len(V), len(F))
+    dropped = _check_against_expected(p, expected, len(V), len(F))
     try:
         mesh = Mesh(V, F)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"cannot read mesh {str(p)!r}: {exc}") from None
+    for note in dropped:  # faces the reader left out, which repair_mesh would remove
+        warnings.warn(f"{p.name}: repaired mesh: {note}", CShapeWarning, stacklevel=2)
     if repair:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CShapeWarning)
@@ -517,10 +519,17 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
 
 
 class _Expected:
-    def __init__(self, n_vertices=None, min_faces=None, exact_vertices=True):
+    """What a file declares: vertex count, minimum triangle count (after triangulating
+    polygons and leaving out the faces that repeat a vertex, which the reader drops), and
+    how many such collapsed faces were seen (None when the scan does not read the faces)."""
+
+    def __init__(self, n_vertices=None, min_faces=None, exact_vertices=True, collapsed=0,
+                 faces_read=True):
         self.n_vertices = n_vertices
         self.min_faces = min_faces
         self.exact_vertices = exact_vertices
+        self.collapsed = collapsed
+        self.faces_read = faces_read
 
 
 def _bad_file(p, what):
@@ -543,7 +552,7 @@ def _parse_floats(p, tokens, lineno, kind):
 
 
 def _scan_obj(p):
-    nv = ntri = max_idx = 0
+    nv = ntri = max_idx = nrec = collapsed = 0
     with open(p, "rb") as fh:
         for lineno, raw in enumerate(fh, 1):
             if raw[:2] == b"v " or raw[:2] == b"v\t":
@@ -553,6 +562,8 @@ def _scan_obj(p):
                 toks = raw.split()[1:]
                 if len(toks) < 3:
                     raise _bad_file(p, f"line {lineno}: a face needs at least 3 vertices")
+                nrec += 1
+                corners = set()
                 for t in toks:
                     try:
                         idx = int(t.split(b"/")[0])
@@ -567,18 +578,20 @@ def _scan_obj(p):
                             f"at 1; negative ones count back from the {nv} vertices read so far)"
                         )
                     max_idx = max(max_idx, idx)
-                ntri += len(toks) - 2
-    return nv, ntri, max_idx
+                    corners.add(idx if idx > 0 else nv + idx + 1)
+                ntri += max(len(corners) - 2, 0)
+                collapsed += len(corners) < 3
+    return nv, ntri, max_idx, nrec, collapsed
 
 
 def _prescan(p, ext):
     """What the file declares (vertex count, minimum triangle count), or None if unknown."""
     try:
         if ext == "obj":
-            nv, ntri, max_idx = _scan_obj(p)
-            if nv == 0 or ntri == 0:
+            nv, ntri, max_idx, nrec, collapsed = _scan_obj(p)
+            if nv == 0 or nrec == 0:
                 raise _bad_file(
-                    p, f"found {nv} vertex ('v x y z') and {ntri} face ('f i j k') records: "
+                    p, f"found {nv} vertex ('v x y z') and {nrec} face ('f i j k') records: "
                     "it is not an OBJ triangle mesh"
                 )
             if max_idx > nv:
@@ -586,7 +599,7 @@ def _prescan(p, ext):
                     p, f"a face references vertex {max_idx} but the file has only "
                     f"{nv} vertices; the file is truncated or its faces are wrong"
                 )
-            return _Expected(nv, ntri)
+            return _Expected(nv, ntri, collapsed=collapsed)
         if ext == "off":
             return _scan_off(p)
         if ext == "ply":
@@ -632,7 +645,7 @@ def _scan_off(p):
                     "it is truncated"
                 ) from None
             _parse_floats(p, t, i, "vertex")
-        ntri = 0
+        ntri = collapsed = 0
         for k in range(nf):
             try:
                 i, t = next(lines)
@@ -654,8 +667,10 @@ def _scan_off(p):
                     p, f"line {i}: face references vertex {bad[0]} but the file has only {nv} "
                     f"vertices (OFF indices are 0-based, in [0, {nv - 1}])"
                 )
-            ntri += deg - 2
-    return _Expected(nv, ntri)
+            # the reader drops faces that repeat a vertex (collapsed to a segment or point)
+            ntri += max(len(set(idx)) - 2, 0)
+            collapsed += len(set(idx)) < 3
+    return _Expected(nv, ntri, collapsed=collapsed)
 
 
 #: Bytes of each PLY scalar type.
@@ -725,7 +740,7 @@ def _scan_ply_header(p):
             f"but the file has {body} bytes after the header: it is truncated or its counts "
             "are wrong"
         )
-    return _Expected(nv, nf)
+    return _Expected(nv, nf, faces_read=False)
 
 
 def _scan_stl(p):
@@ -764,17 +779,28 @@ def _scan_ascii_stl(p):
     return _Expected(None, nfacets, exact_vertices=False)
 
 
-def _check_against_expected(p, expected, nv, nf):
+def _check_against_expected(p, expected, nv, nf) -> list[str]:
+    """Raise if the reader silently lost vertices or faces; return notes on dropped faces."""
     if expected is None:
-        return
+        return []
     if expected.n_vertices is not None and nv != expected.n_vertices:
         raise _bad_file(
             p, f"the file declares {expected.n_vertices} vertices but {nv} could be read "
             "(NaN coordinates or corrupt vertex records?)"
         )
+    if expected.min_faces is not None and nf < expected.min_faces and not expected.faces_read:
+        # PLY: only the header was read; out-of-range indices make the reader fail, so the
+        # faces it drops silently are those that repeat a vertex or have fewer than three
+        return [
+            f"removed {expected.min_faces - nf} faces with a repeated vertex (or fewer than "
+            f"3), of the {expected.min_faces} the file declares"
+        ]
     if expected.min_faces is not None and nf < expected.min_faces:
         raise _bad_file(
             p, f"the file declares {expected.min_faces} triangles (after triangulating "
             f"polygons) but only {nf} could be read: some faces reference missing vertices "
             "or are corrupt"
         )
+    if expected.collapsed:
+        return [f"removed {expected.collapsed} faces with a repeated vertex"]
+    return []
