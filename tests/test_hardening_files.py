@@ -1,0 +1,277 @@
+"""Hardening: malformed and hostile mesh files beyond those of test_mesh.py.
+
+Every bad file must give a ``ValueError`` (or ``FileNotFoundError``) naming the file, and
+never crash or exhaust the Python process: the native reader (PyMeshLab) allocates what a
+file *declares*, so loads of hostile files also run in a memory-limited subprocess here.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import struct
+import subprocess
+import sys
+import textwrap
+import zipfile
+
+import numpy as np
+import pytest
+
+import cshape
+
+TET_V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
+TET_F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+OFF_TET = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+PNG_HEAD = b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR" + bytes(range(256)) * 2
+
+
+def _ply_binary(V=TET_V, F=TET_F, *, nv=None, nf=None, endian="<", count_type="B"):
+    """A binary PLY (float32 x y z; uchar-int face lists), with optionally lying counts."""
+    fmt = "binary_little_endian" if endian == "<" else "binary_big_endian"
+    nv = len(V) if nv is None else nv
+    nf = len(F) if nf is None else nf
+    head = (
+        f"ply\nformat {fmt} 1.0\nelement vertex {nv}\nproperty float x\nproperty float y\n"
+        f"property float z\nelement face {nf}\nproperty list uchar int vertex_indices\n"
+        "end_header\n"
+    ).encode()
+    body = b"".join(struct.pack(endian + "3f", *v) for v in np.asarray(V, np.float32))
+    body += b"".join(struct.pack(endian + count_type + "3i", 3, *f) for f in F)
+    return head + body
+
+
+def _zip_bytes():
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    return buf.getvalue()
+
+
+def _binary_stl(V, F, nan_at=None):
+    tris = np.asarray(V, np.float32)[F].copy()
+    if nan_at is not None:
+        tris[nan_at] = np.nan
+    recs = b"".join(struct.pack("<12fH", 0, 0, 0, *t.reshape(-1), 0) for t in tris)
+    return b"\0" * 80 + struct.pack("<I", len(F)) + recs
+
+
+def _ascii_stl(V, F, replace=None):
+    out = ["solid t"]
+    for t in np.asarray(V)[F]:
+        out += ["facet normal 0 0 0", "outer loop"]
+        out += [f"vertex {x} {y} {z}" for x, y, z in t]
+        out += ["endloop", "endfacet"]
+    text = "\n".join(out + ["endsolid t"]) + "\n"
+    return text.replace(*replace, 1) if replace else text
+
+
+_FULL = _ply_binary()
+_HEADER_END = _FULL.index(b"end_header\n") + len(b"end_header\n")
+_F_OOR = TET_F.copy()
+_F_OOR[3, 2] = 99
+_F_NEG = TET_F.copy()
+_F_NEG[3, 2] = -5
+_V_NAN = TET_V.copy()
+_V_NAN[3, 2] = np.nan
+_V_INF = TET_V.copy()
+_V_INF[1, 0] = np.inf
+
+#: (file name, content, expected message): every one must raise ValueError naming the file.
+MALFORMED = [
+    # binary PLY
+    ("trunc_in_vertices.ply", _FULL[: _HEADER_END + 20], "need at least 52 bytes.*truncated"),
+    ("trunc_in_faces.ply", _FULL[:-20], "Unexpected EOF"),
+    ("oor_index.ply", _ply_binary(F=_F_OOR), "Bad vertex index"),
+    ("negative_index.ply", _ply_binary(F=_F_NEG), "Bad vertex index"),
+    ("nan_vertex.ply", _ply_binary(V=_V_NAN), "declares 4 vertices but 3 could be read"),
+    ("inf_vertex.ply", _ply_binary(V=_V_INF), "declares 4 vertices but 3 could be read"),
+    ("oor_big_endian.ply", _ply_binary(F=_F_OOR, endian=">"), "Bad vertex index"),
+    ("list_runs_past_eof.ply", _FULL.replace(struct.pack("<B3i", 3, 0, 2, 1),
+                                             struct.pack("<B3i", 255, 0, 2, 1)), "EOF"),
+    ("huge_counts.ply", _ply_binary(nv=10**12, nf=10**12), "declares 1000000000000 vertex"),
+    ("int32_overflow.ply", _ply_binary(nv=2**31 + 10), "need at least"),
+    ("huge_faces_ascii.ply", b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+     b"property float y\nproperty float z\nelement face 300000000\n"
+     b"property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "300000000 face records"),
+    ("negative_count.ply", _ply_binary(nv=-4), "negative count -4"),
+    ("word_count.ply", _FULL.replace(b"element vertex 4", b"element vertex four"),
+     "integer count"),
+    ("unknown_format.ply", _FULL.replace(b"binary_little_endian", b"binary_middle_endian"),
+     "Format not found"),
+    # counts far beyond the file in the text formats
+    ("huge_counts.off", b"OFF\n1000000000000 1000000000000 0\n0 0 0\n", "truncated"),
+    # NaN vertices in STL: PyMeshLab alone silently drops their triangles
+    ("nan_vertex_ascii.stl", _ascii_stl(TET_V, TET_F, ("vertex 0.0 0.0 1.0",
+                                                      "vertex nan 0.0 1.0")).encode(),
+     "line .*NaN or infinite"),
+    ("nan_vertex_binary.stl", _binary_stl(TET_V, TET_F, nan_at=(2, 1)),
+     "declares 4 triangles.*only 3"),
+    # non-mesh content behind a mesh extension
+    *[(f"png_image.{ext}", PNG_HEAD, why) for ext, why in [
+        ("obj", "not an OBJ triangle mesh"), ("off", "expected the OFF header"),
+        ("ply", "'ply' magic line"), ("stl", "binary STL header declares")]],
+    *[(f"zip_archive.{ext}", _zip_bytes(), why) for ext, why in [
+        ("obj", "not an OBJ triangle mesh"), ("off", "expected the OFF header"),
+        ("ply", "'ply' magic line"), ("stl", "binary STL header declares")]],
+    # binary junk inside a text format
+    ("junk_coordinate.off", OFF_TET.encode().replace(b"0 0 1\n", b"0 0 \xff\xfe\n"),
+     "line 6: vertex coordinates .* are not numbers"),
+    ("huge_index.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n",
+     "references vertex 99999999999999999999"),
+]
+
+
+@pytest.mark.parametrize("name, content, match", MALFORMED, ids=[m[0] for m in MALFORMED])
+def test_malformed_file_gives_clear_error(tmp_path, name, content, match):
+    p = tmp_path / name
+    p.write_bytes(content)
+    with pytest.raises(ValueError, match=match) as info:
+        cshape.load_mesh(p)
+    assert name in str(info.value)  # the message names the file
+
+
+def test_valid_binary_ply_reads_in_both_byte_orders(tmp_path):
+    for endian in "<>":
+        p = tmp_path / f"tet{'le' if endian == '<' else 'be'}.ply"
+        p.write_bytes(_ply_binary(endian=endian))
+        m = cshape.load_mesh(p)
+        assert (m.n_vertices, m.n_faces) == (4, 4) and m.is_closed
+
+
+def test_hostile_files_do_not_kill_or_exhaust_the_interpreter(tmp_path):
+    """Load every malformed file in a child process limited to 3 GB of address space.
+
+    Without the pre-checks PyMeshLab would allocate the declared counts (10^12 vertices)
+    before reading; here the child must survive every file and report a ValueError.
+    """
+    names = []
+    for name, content, _ in MALFORMED:
+        (tmp_path / name).write_bytes(content)
+        names.append(str(tmp_path / name))
+    code = textwrap.dedent(
+        """
+        import json, resource, sys, warnings
+        resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+        warnings.simplefilter("ignore")
+        import cshape
+        out = {}
+        for path in json.loads(sys.argv[1]):
+            try:
+                cshape.load_mesh(path)
+                out[path] = "loaded"
+            except Exception as exc:
+                out[path] = type(exc).__name__
+        print(json.dumps(out))
+        """
+    )
+    res = subprocess.run([sys.executable, "-c", code, json.dumps(names)], capture_output=True,
+                         text=True, timeout=240)
+    assert res.returncode == 0, f"the interpreter died (rc={res.returncode}): {res.stderr[-2000:]}"
+    outcome = json.loads(res.stdout.strip().splitlines()[-1])
+    assert outcome == {n: "ValueError" for n in names}
+
+
+def test_directory_named_like_a_mesh(tmp_path):
+    d = tmp_path / "x.obj"
+    d.mkdir()
+    with pytest.raises(ValueError, match=r"x\.obj.*is a folder, not a mesh file"):
+        cshape.load_mesh(d)
+
+
+def test_fifo_named_like_a_mesh_does_not_hang(tmp_path):
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no named pipes on this platform")
+    p = tmp_path / "pipe.off"
+    os.mkfifo(p)  # opening it for reading would block forever without a writer
+    with pytest.raises(ValueError, match=r"pipe\.off.*empty"):
+        cshape.load_mesh(p)
+
+
+def test_unreadable_file_permissions(tmp_path):
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        pytest.skip("running as root: chmod 000 does not stop root from reading the file")
+    p = tmp_path / "locked.off"
+    p.write_text(OFF_TET)
+    p.chmod(0)
+    try:
+        with pytest.raises((PermissionError, ValueError), match="locked.off"):
+            cshape.load_mesh(p)
+    finally:
+        p.chmod(0o644)
+
+
+def test_read_error_during_the_scan_names_the_file(tmp_path, monkeypatch):
+    """The unreadable-file case simulated for any user (root included): open() fails."""
+    import cshape.mesh as mesh_mod
+
+    p = tmp_path / "locked.obj"
+    p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+
+    def denied(path, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(mesh_mod, "open", denied, raising=False)
+    with pytest.raises(PermissionError, match="locked.obj"):
+        cshape.load_mesh(p)
+
+
+def test_non_utf8_comment_in_off_is_accepted(tmp_path):
+    p = tmp_path / "latin1.off"
+    p.write_bytes(OFF_TET.replace("OFF\n", "OFF\n# auteur: Jos\xe9 \xa9 2024\n").encode("latin-1"))
+    m = cshape.load_mesh(p)
+    assert (m.n_vertices, m.n_faces) == (4, 4)
+
+
+@pytest.mark.parametrize(
+    "name, content",
+    [
+        ("crlf.off", OFF_TET.replace("\n", "\r\n").encode()),
+        ("bom.off", b"\xef\xbb\xbf" + OFF_TET.encode()),
+        ("UPPER.OFF", OFF_TET.encode()),
+        ("trailing_nuls.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n\x00\x00\x00"),
+    ],
+)
+def test_harmless_oddities_still_load(tmp_path, name, content):
+    p = tmp_path / name
+    p.write_bytes(content)
+    m = cshape.load_mesh(p)
+    assert m.n_faces >= 1 and np.isfinite(m.vertices).all()
+
+
+def test_point_cloud_ply_is_refused(tmp_path):
+    p = tmp_path / "cloud.ply"
+    p.write_bytes(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                  b"property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n")
+    with pytest.raises(ValueError, match=r"cloud\.ply.*no triangles"):
+        cshape.load_mesh(p)
+
+
+TET_WITH_JUNK = {
+    # 4 tetrahedron faces + a reversed duplicate + a collapsed face; vertex 4 unreferenced
+    "off": "OFF\n5 6 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n9 9 9\n"
+           "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n3 3 2 1\n3 0 0 1\n",
+    "obj": "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 9 9 9\n"
+           "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 4 3 2\nf 1 1 2\n",
+    "ply": "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+           "property float z\nelement face 6\nproperty list uchar int vertex_indices\n"
+           "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n9 9 9\n"
+           "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n3 3 2 1\n3 0 0 1\n",
+}
+
+
+@pytest.mark.parametrize("ext", sorted(TET_WITH_JUNK))
+def test_loaded_files_are_repaired_with_a_warning_naming_the_file(tmp_path, ext):
+    """README: faces repeating a vertex, duplicate faces and unreferenced vertices are
+    repaired with a warning.  (PyMeshLab drops collapsed faces itself; that used to be
+    reported as a corrupt file.)"""
+    p = tmp_path / f"messy.{ext}"
+    p.write_text(TET_WITH_JUNK[ext])
+    with pytest.warns(cshape.CShapeWarning, match=rf"messy\.{ext}: repaired mesh") as rec:
+        m = cshape.load_mesh(p)
+    msg = " ".join(str(w.message) for w in rec)
+    for what in ("duplicate faces", "faces with a repeated vertex", "unreferenced vertices"):
+        assert what in msg
+    assert (m.n_vertices, m.n_faces) == (4, 4) and m.is_closed
