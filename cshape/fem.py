@@ -24,7 +24,7 @@ import warnings
 import numpy as np
 import scipy.sparse as sp
 
-from .mesh import CShapeWarning, as_mesh, repair_mesh
+from .mesh import CShapeWarning, _row_norms, as_mesh, repair_mesh
 
 __all__ = ["fem_matrices", "FEM", "assemble"]
 
@@ -95,9 +95,9 @@ def _edge_lengths(V, F):
     """Lengths (m, 3): column c is the length of the edge opposite corner c."""
     return np.stack(
         [
-            np.linalg.norm(V[F[:, 1]] - V[F[:, 2]], axis=1),
-            np.linalg.norm(V[F[:, 2]] - V[F[:, 0]], axis=1),
-            np.linalg.norm(V[F[:, 0]] - V[F[:, 1]], axis=1),
+            _row_norms(V[F[:, 1]] - V[F[:, 2]]),
+            _row_norms(V[F[:, 2]] - V[F[:, 0]]),
+            _row_norms(V[F[:, 0]] - V[F[:, 1]]),
         ],
         axis=1,
     )
@@ -124,12 +124,18 @@ def _mollify(lengths, mean_edge):
 def _check_positive_area(mesh):
     """Raise if the surface has (numerically) zero area: mollification would invent one."""
     L = mesh.mean_edge_length
+    if not np.isfinite(mesh.area):
+        raise ValueError(
+            f"the surface area overflows (mean edge length {L:.3g}): the coordinates are too "
+            "large for float64; rescale the mesh (the area normalisation makes the "
+            "descriptor scale invariant)"
+        )
     if not mesh.area > ZERO_AREA_RTOL * mesh.n_faces * L * L:
         raise ValueError(
             f"the mesh has zero surface area (area={mesh.area:.3g}, {mesh.n_faces} triangles, "
-            f"mean edge length {L:.3g}): its vertices are coincident or collinear, so it has "
-            "no Laplace-Beltrami spectrum; check the vertex coordinates (all zero? one axis "
-            "only?)"
+            f"mean edge length {L:.3g}): its vertices are coincident or collinear (or too "
+            "close together for float64), so it has no Laplace-Beltrami spectrum; check the "
+            "vertex coordinates (all zero? one axis only?)"
         )
 
 
@@ -162,14 +168,25 @@ def assemble(mesh, mass="consistent"):
     _check_positive_area(mesh)
     V, F = mesh.vertices, mesh.faces
     n = mesh.n_vertices
-    L = _edge_lengths(V, F)
-    eps, n_degenerate = _mollify(L, mesh.mean_edge_length)
+    # lengths in units of the mean edge: Heron's product of four lengths and the squares
+    # below stay finite for any coordinate scale; cotangents do not depend on the unit
+    unit = mesh.mean_edge_length
+    L = _edge_lengths(V, F) / unit
+    eps, n_degenerate = _mollify(L, 1.0)
     if eps > 0:
         L = L + eps
-    area = _heron(L)  # (m,)
+    area_u = _heron(L)  # (m,), in units of unit**2
     sq = L * L
     # cot of the angle at corner c: (l_a^2 + l_b^2 - l_c^2) / (4 |t|)
-    cot = (sq.sum(axis=1, keepdims=True) - 2.0 * sq) / (4.0 * area[:, None])
+    cot = (sq.sum(axis=1, keepdims=True) - 2.0 * sq) / (4.0 * area_u[:, None])
+    eps *= unit
+    area = area_u * unit * unit
+    if not np.all(np.isfinite(area)):
+        raise ValueError(
+            f"the triangle areas overflow (mean edge length {unit:.3g}): the coordinates are "
+            "too large for float64; rescale the mesh (the area normalisation makes the "
+            "descriptor scale invariant)"
+        )
     # edge opposite corner c joins the two other corners
     i = np.concatenate([F[:, 1], F[:, 2], F[:, 0]])
     j = np.concatenate([F[:, 2], F[:, 0], F[:, 1]])

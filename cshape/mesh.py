@@ -100,7 +100,7 @@ class Mesh:
         v = self.vertices
         f = self.faces
         cross = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-        return 0.5 * np.linalg.norm(cross, axis=1)
+        return 0.5 * _row_norms(cross)
 
     @cached_property
     def area(self) -> float:
@@ -113,7 +113,7 @@ class Mesh:
         e = self.edges
         if len(e) == 0:
             return 0.0
-        return float(np.linalg.norm(self.vertices[e[:, 0]] - self.vertices[e[:, 1]], axis=1).mean())
+        return float(_row_norms(self.vertices[e[:, 0]] - self.vertices[e[:, 1]]).mean())
 
     # --------------------------------------------------------------- topology
     @cached_property
@@ -225,6 +225,12 @@ class Mesh:
         if not self.is_closed or self.n_components != 1 or len(self.nonmanifold_vertices):
             return None
         return int((2 - self.euler_characteristic) // 2)
+
+
+def _row_norms(x: np.ndarray) -> np.ndarray:
+    """Euclidean norms of the rows of an (k, 3) array, without the overflow or underflow of
+    squaring (meshes in units of 1e-100 or 1e100 keep finite, non-zero lengths and areas)."""
+    return np.hypot(np.hypot(x[:, 0], x[:, 1]), x[:, 2])
 
 
 # ---------------------------------------------------------------------- validation
