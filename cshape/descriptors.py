@@ -56,7 +56,9 @@ def _as_lam(lam, name="lam", min_len=1) -> np.ndarray:
 
 
 def _first_nonzero(lam: np.ndarray) -> int:
-    tol = 1e-8 * max(1.0, float(np.abs(lam).max()))
+    # relative to the spectrum: eigenvalues scale as 1/length^2, so a large mesh (in mm or
+    # um) has all of them far below any absolute threshold
+    tol = 1e-8 * float(np.abs(lam).max())
     nz = np.flatnonzero(np.abs(lam) > tol)
     if len(nz) == 0:
         raise ValueError("lam has no non-zero eigenvalue to normalise by")
