@@ -1,0 +1,263 @@
+"""Property-based tests (Hypothesis) over random valid meshes: convex hulls of random point
+clouds and random perturbations of the shapes of :mod:`cshape.shapes`.
+
+For every such mesh: the Shape-DNA is finite, ascending and non-negative with lam_0 = 0
+(closed or Neumann); it does not change under rigid motions, vertex permutations and face
+orientation flips; the normalised descriptors do not change under uniform scaling; the
+distance of a shape to itself is 0 and distance matrices are symmetric metrics.  Meshes are
+small (at most 20 unknowns used), so the whole file runs in well under a minute.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+from scipy.spatial import ConvexHull, QhullError
+
+import cshape
+from cshape import CShapeWarning, Mesh, shapes
+from cshape.compare import distance_matrix
+
+SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+coord = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False, allow_subnormal=False)
+
+
+def hull_mesh(points) -> Mesh:
+    """Closed genus-0 mesh of the convex hull, faces oriented outward, hull vertices only."""
+    P = np.asarray(points, dtype=np.float64)
+    hull = ConvexHull(P)
+    F = hull.simplices.copy()
+    # orient each triangle along the outward facet normal stored in hull.equations
+    n = np.cross(P[F[:, 1]] - P[F[:, 0]], P[F[:, 2]] - P[F[:, 0]])
+    inward = np.einsum("ij,ij->i", n, hull.equations[:, :3]) < 0
+    F[inward] = F[inward][:, ::-1]
+    used = np.unique(F)
+    remap = np.full(len(P), -1)
+    remap[used] = np.arange(len(used))
+    return Mesh(P[used], remap[F])
+
+
+@st.composite
+def convex_hulls(draw, min_points=6, max_points=20, slivers=False):
+    """A random point cloud's convex hull, with a solid volume (no flat hulls); without
+    ``slivers``, hulls with needle or zero-area triangles (coplanar points) are skipped."""
+    n = draw(st.integers(min_points, max_points))
+    pts = draw(st.lists(st.tuples(coord, coord, coord), min_size=n, max_size=n, unique=True))
+    try:
+        mesh = hull_mesh(pts)
+        volume = ConvexHull(np.asarray(pts)).volume
+    except QhullError:
+        assume(False)
+    assume(volume > 0.02 and mesh.n_vertices >= 5)
+    # skip hulls with needle triangles far below the mesh scale (mollification territory)
+    if not slivers:
+        assume(mesh.face_areas.min() > 1e-6 * mesh.mean_edge_length**2)
+    return mesh
+
+
+SHAPES = {
+    "icosphere": lambda: shapes.icosphere(1),  # 42 vertices, closed
+    "torus": lambda: shapes.torus(6, 4),  # 24, closed, genus 1
+    "cube": lambda: shapes.cube(2),  # 26, closed
+    "square": lambda: shapes.square(3),  # 16, boundary
+    "hemisphere": lambda: shapes.hemisphere(2),  # 19, boundary
+}
+
+
+@st.composite
+def perturbed_shapes(draw):
+    """A shape of cshape.shapes with every vertex moved by up to 20% of the mean edge."""
+    name = draw(st.sampled_from(sorted(SHAPES)))
+    base = SHAPES[name]()
+    seed = draw(st.integers(0, 2**32 - 1))
+    amount = draw(st.floats(0.0, 0.2))
+    rng = np.random.default_rng(seed)
+    dV = rng.uniform(-1, 1, base.vertices.shape) * amount * base.mean_edge_length
+    return name, Mesh(base.vertices + dV, base.faces)
+
+
+def rotation(draw):
+    q = np.array(draw(st.tuples(coord, coord, coord, coord)))
+    assume(np.linalg.norm(q) > 0.1)
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def n_eigen(mesh, cap=20):
+    return min(mesh.n_vertices, cap)
+
+
+def spectrum(mesh, N, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CShapeWarning)  # valid meshes need no repair
+        return cshape.shape_dna(mesh, N=N, **kw)
+
+
+def assert_same_spectrum(lam, ref):
+    np.testing.assert_allclose(lam, ref, rtol=1e-8, atol=1e-9 * max(1.0, ref.max()))
+
+
+def assert_valid_shape_dna(lam, N):
+    assert lam.shape == (N,) and lam.dtype == np.float64
+    assert np.all(np.isfinite(lam))
+    assert np.all(lam >= 0) and np.all(np.diff(lam) >= 0)
+
+
+# ------------------------------------------------------------------ convex hulls
+@settings(max_examples=60, **SETTINGS)
+@given(mesh=convex_hulls())
+def test_hull_shape_dna_is_finite_ascending_with_one_zero(mesh):
+    assert mesh.is_closed and mesh.genus == 0 and mesh.n_components == 1
+    N = n_eigen(mesh)
+    lam = spectrum(mesh, N)
+    assert_valid_shape_dna(lam, N)
+    assert lam[0] == 0.0  # constants: round-off is clipped to exactly 0
+    assert lam[1] > 1e-6 * lam[-1]  # connected: one zero only
+    M = (N - 1) // 2
+    S = cshape.compact_shape_dna(lam, M=M, N=N, area=mesh.area)
+    assert S.shape == (2 * M + 1,) and np.all(np.isfinite(S))
+    np.testing.assert_allclose(S[M + 1:], np.conj(S[:M][::-1]), atol=1e-9 * np.abs(S).max())
+
+
+@settings(max_examples=40, **SETTINGS)
+@given(mesh=convex_hulls(slivers=True))
+def test_hulls_with_slivers_still_give_finite_descriptors(mesh):
+    """Coplanar points make qhull emit needle or zero-area triangles: they are mollified
+    (with a warning), never NaN."""
+    N = n_eigen(mesh)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CShapeWarning)
+        lam = cshape.shape_dna(mesh, N=N)
+        S = cshape.compact_shape_dna(mesh, M=(N - 1) // 2, N=N)
+    assert_valid_shape_dna(lam, N)
+    assert lam[0] == 0.0 and np.all(np.isfinite(S))
+
+
+@settings(max_examples=40, **SETTINGS)
+@given(mesh=convex_hulls(), data=st.data())
+def test_hull_invariances(mesh, data):
+    N = n_eigen(mesh)
+    ref = spectrum(mesh, N)
+    R = rotation(data.draw)
+    if data.draw(st.booleans()):
+        R = R @ np.diag([1.0, 1.0, -1.0])  # a reflection reverses every orientation
+    t = np.array(data.draw(st.tuples(*[st.floats(-50, 50)] * 3)))
+    perm = np.array(data.draw(st.permutations(range(mesh.n_vertices))))
+    flips = np.array(data.draw(st.lists(st.booleans(), min_size=mesh.n_faces,
+                                        max_size=mesh.n_faces)))
+    inv = np.argsort(perm)
+    V = (mesh.vertices @ R.T + t)[perm]  # new vertex k is old vertex perm[k]
+    F = inv[mesh.faces]
+    F[flips] = F[flips][:, ::-1]
+    moved = Mesh(V, F)
+    assert_same_spectrum(spectrum(moved, N), ref)
+    # and the descriptors agree: the distance of the shape to its moved copy is 0
+    M = (N - 1) // 2
+    S = [cshape.compact_shape_dna(m, M=M, N=N) for m in (mesh, moved)]
+    D = distance_matrix(np.array(S))
+    assert D[0, 1] <= 1e-6 * max(1.0, np.abs(S[0]).max())
+
+
+@settings(max_examples=30, **SETTINGS)
+@given(mesh=convex_hulls(), log_s=st.floats(-3, 3))
+def test_hull_area_normalised_descriptor_is_scale_invariant(mesh, log_s):
+    s = 10.0**log_s
+    N = n_eigen(mesh)
+    M = (N - 1) // 2
+    big = Mesh(mesh.vertices * s, mesh.faces)
+    lam, lam_s = spectrum(mesh, N), spectrum(big, N)
+    assert_same_spectrum(lam_s * s * s, lam)  # lam scales as 1 / length^2
+    for norm in ("area", "weyl", "fiedler"):
+        a = cshape.compact_shape_dna(mesh, M=M, N=N, normalization=norm)
+        b = cshape.compact_shape_dna(big, M=M, N=N, normalization=norm)
+        np.testing.assert_allclose(b, a, rtol=1e-7, atol=1e-7 * max(1.0, np.abs(a).max()))
+
+
+@settings(max_examples=20, **SETTINGS)
+@given(meshes=st.lists(convex_hulls(min_points=10), min_size=2, max_size=5))
+def test_distance_matrices_are_symmetric_metrics(meshes):
+    N = min(min(m.n_vertices for m in meshes), 12)
+    M = (N - 1) // 2
+    X = np.array([cshape.compact_shape_dna(m, M=M, N=N) for m in meshes])
+    D = distance_matrix(X)
+    p = len(meshes)
+    assert D.shape == (p, p)
+    np.testing.assert_array_equal(D, D.T)
+    np.testing.assert_array_equal(np.diag(D), 0.0)
+    assert np.all(D >= 0)
+    tol = 1e-9 * max(1.0, D.max())
+    for k in range(p):  # triangle inequality through every k
+        assert np.all(D <= D[:, [k]] + D[[k], :] + tol)
+    # real form: the same distances
+    np.testing.assert_allclose(distance_matrix(cshape.real_form(X)), D, rtol=1e-10,
+                               atol=tol)
+
+
+# ------------------------------------------------------------------ perturbed shapes
+@settings(max_examples=50, **SETTINGS)
+@given(shape=perturbed_shapes(), bc=st.sampled_from(["neumann", "dirichlet"]),
+       mass=st.sampled_from(["consistent", "lumped"]))
+def test_perturbed_shapes_give_valid_spectra(shape, bc, mass):
+    name, mesh = shape
+    closed = mesh.is_closed
+    N = min(n_eigen(mesh), 12) if closed or bc == "neumann" else 4
+    lam = spectrum(mesh, N, bc=bc, mass=mass)
+    assert_valid_shape_dna(lam, N)
+    if closed or bc == "neumann":
+        assert lam[0] == 0.0 and lam[1] > 0  # one component: one zero eigenvalue
+    else:
+        assert lam[0] > 0  # Dirichlet on a surface with boundary: no zero eigenvalue
+    A, B = cshape.fem_matrices(mesh, bc=bc, mass=mass)
+    assert abs(A - A.T).max() <= 1e-12 * abs(A).max()
+    assert np.all(np.isfinite(A.data)) and np.all(np.isfinite(B.data))
+    if bc == "neumann":
+        np.testing.assert_allclose(np.asarray(A.sum(axis=1)).ravel(), 0,
+                                   atol=1e-10 * abs(A).max())
+        assert B.sum() == pytest.approx(mesh.area, rel=1e-12)
+
+
+@settings(max_examples=30, **SETTINGS)
+@given(shape=perturbed_shapes(), data=st.data())
+def test_perturbed_shapes_invariances(shape, data):
+    _, mesh = shape
+    N = min(n_eigen(mesh), 12)
+    ref = spectrum(mesh, N)
+    R = rotation(data.draw)
+    perm = np.random.default_rng(data.draw(st.integers(0, 2**32 - 1))).permutation(
+        mesh.n_vertices)
+    inv = np.argsort(perm)
+    F = inv[mesh.faces][:, ::-1]  # every face flipped, too
+    moved = Mesh((mesh.vertices @ R.T)[perm], F)
+    assert_same_spectrum(spectrum(moved, N), ref)
+
+
+@settings(max_examples=15, **SETTINGS)
+@given(shape=perturbed_shapes())
+def test_repair_of_a_valid_mesh_changes_nothing(shape):
+    _, mesh = shape
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CShapeWarning)
+        assert cshape.repair_mesh(mesh) is mesh
+
+
+@settings(max_examples=20, **SETTINGS)
+@given(shape=perturbed_shapes(), seed=st.integers(0, 2**16))
+def test_soup_of_a_valid_mesh_welds_back_to_the_same_spectrum(shape, seed):
+    _, mesh = shape
+    N = min(n_eigen(mesh), 8)
+    order = np.random.default_rng(seed).permutation(mesh.n_faces)
+    V = mesh.vertices[mesh.faces[order].reshape(-1)]
+    F = np.arange(len(V)).reshape(-1, 3)
+    with pytest.warns(CShapeWarning, match="welded"):
+        welded = cshape.repair_mesh((V, F))
+    assert welded.n_vertices == mesh.n_vertices and welded.n_faces == mesh.n_faces
+    assert_same_spectrum(spectrum(welded, N), spectrum(mesh, N))
