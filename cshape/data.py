@@ -1120,8 +1120,10 @@ def extract_archive(archive, target) -> Path:
         target.mkdir(parents=True, exist_ok=True)
         for child in tmp.iterdir():
             dest = target / child.name
-            if dest.exists():
-                shutil.rmtree(dest) if dest.is_dir() else dest.unlink()
+            if dest.is_symlink() or dest.is_file():
+                dest.unlink()  # a link is replaced, never followed
+            elif dest.exists():
+                shutil.rmtree(dest)
             os.replace(child, dest)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
