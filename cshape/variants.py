@@ -54,6 +54,10 @@ NOISE_LEVELS = (0.5, 1.0, 2.0, 4.0, 10.0)
 #: The classes of :func:`articulated_figure`.
 ARTICULATED_KINDS = ("human", "quadruped", "spider", "snake")
 
+#: Largest mesh :func:`remesh` and :func:`subdivide` may produce (triangles): PyMeshLab
+#: allocates it natively, and a mistyped parameter would otherwise exhaust the memory.
+MAX_OUTPUT_FACES = 20_000_000
+
 
 # ---------------------------------------------------------------------- PyMeshLab glue
 def _meshset(mesh=None):
@@ -302,6 +306,14 @@ def remesh(
         target_vertices = _check_int("target_vertices", target_vertices, 4)
         target_length = float(np.sqrt(mesh.area / (0.866 * target_vertices)))
     target_length = _check_pos("target_length", target_length)
+    expected_faces = 2.0 * mesh.area / (0.866 * target_length**2)
+    if expected_faces > MAX_OUTPUT_FACES:
+        shortest = float(np.sqrt(2.0 * mesh.area / (0.866 * MAX_OUTPUT_FACES)))
+        raise ValueError(
+            f"target_length={target_length:.3g} would make about {expected_faces:.3g} triangles "
+            f"on this surface of area {mesh.area:.3g} (more than {MAX_OUTPUT_FACES:.0e}); use "
+            f"target_length >= {shortest:.3g} (in the mesh's units)"
+        )
     iterations = _check_int("iterations", iterations, 1, 1000)
     feature_angle = _check_pos("feature_angle", feature_angle)
     import pymeshlab
@@ -333,6 +345,13 @@ def subdivide(mesh, iterations=1, method="loop") -> Mesh:
     """
     mesh = as_mesh(mesh)
     iterations = _check_int("iterations", iterations, 0, 8)
+    if mesh.n_faces * 4**iterations > MAX_OUTPUT_FACES:
+        most = int(np.floor(np.log(MAX_OUTPUT_FACES / mesh.n_faces) / np.log(4)))
+        raise ValueError(
+            f"iterations={iterations} would make {mesh.n_faces * 4**iterations:.3g} triangles "
+            f"from {mesh.n_faces} (more than {MAX_OUTPUT_FACES:.0e}); use iterations <= "
+            f"{max(most, 0)}"
+        )
     if method not in ("loop", "midpoint"):
         raise ValueError(f"method must be one of {{'loop', 'midpoint'}}, got {method!r}")
     if iterations == 0:
@@ -569,7 +588,8 @@ def add_normal_noise(mesh, lam=1.0, random_state=None, *, signed=False, length=N
         Same faces, displaced vertices.
     """
     mesh = as_mesh(mesh)
-    if isinstance(lam, bool) or not isinstance(lam, numbers.Real) or not lam >= 0:
+    if (isinstance(lam, bool) or not isinstance(lam, numbers.Real) or not lam >= 0
+            or not np.isfinite(lam)):
         raise ValueError(f"lam must be a number >= 0 (the paper uses {NOISE_LEVELS}), got {lam!r}")
     L = mesh.mean_edge_length if length is None else _check_pos("length", length)
     rng = np.random.default_rng(random_state)
