@@ -257,3 +257,27 @@ def test_real_form_shapes():
     with pytest.raises(ValueError, match="odd last dimension"):
         cshape.real_form(np.ones((2, 2, 3), complex))
     assert cshape.real_form(np.ones((2, 3), complex)).shape == (2, 3)
+
+
+# ------------------------------------------------------------------ variants: memory guards
+def test_remesh_and_subdivide_refuse_outputs_that_would_exhaust_memory():
+    from cshape import variants
+
+    s = shapes.icosphere(2)  # 320 faces, area ~12.5
+    with pytest.raises(ValueError, match=r"target_length=0.0001 would make about .* use "
+                                         r"target_length >= 0\.00\d+"):
+        variants.remesh(s, target_length=1e-4)
+    with pytest.raises(ValueError, match=r"iterations=8 would make .* use iterations <= 7"):
+        variants.subdivide(s, iterations=8)
+    with pytest.raises(ValueError, match=r"iterations must be an integer in \[0, 8\]"):
+        variants.subdivide(s, iterations=9)
+    with pytest.raises(TypeError, match="iterations must be an integer"):
+        variants.subdivide(s, iterations=True)
+
+
+@pytest.mark.parametrize("lam", [np.inf, np.nan, -1.0, True, "1"])
+def test_noise_level_must_be_finite_and_non_negative(lam):
+    from cshape import variants
+
+    with pytest.raises(ValueError, match=r"lam must be a number >= 0"):
+        variants.add_normal_noise(shapes.icosphere(1), lam=lam)
