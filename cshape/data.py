@@ -945,7 +945,13 @@ def load_folder(folder, labels="subfolder", *, name=None) -> Collection:
                 f"'label' (and optionally 'name'), got {sorted(cols)}"
             )
         files, labs = [], []
-        for r in rows:
+        for i, r in enumerate(rows, 2):
+            rel = PurePosixPath((r["file"] or "").replace("\\", "/"))
+            if not r["file"] or rel.is_absolute() or ".." in rel.parts:
+                raise ValueError(
+                    f"labels CSV {csv_path.name!r}, line {i}: file {r['file']!r} must be a "
+                    f"relative path inside {str(folder)!r}"
+                )
             p = folder / r["file"]
             if not p.is_file():
                 raise FileNotFoundError(
@@ -1001,11 +1007,18 @@ def read_vert_tri(vert_path) -> Mesh:
     tri_path = vert_path.with_suffix(".tri")
     if not tri_path.is_file():
         raise FileNotFoundError(f"{vert_path.name} has no matching {tri_path.name}")
-    V = np.loadtxt(vert_path, dtype=np.float64, ndmin=2)
-    F = np.loadtxt(tri_path, dtype=np.float64, ndmin=2)
+    try:
+        V = np.loadtxt(vert_path, dtype=np.float64, ndmin=2)
+        F = np.loadtxt(tri_path, dtype=np.float64, ndmin=2)
+    except ValueError as exc:
+        raise ValueError(f"cannot read TOSCA mesh {str(vert_path)!r}: {exc}") from None
     if F.size and F.min() < 1:
         raise ValueError(f"{tri_path.name}: TOSCA triangles are 1-based, found index {F.min():g}")
-    return Mesh(V, F.astype(np.int64) - 1)
+    try:
+        # as floats: Mesh refuses non-integer indices (a cast would truncate them silently)
+        return Mesh(V, F - 1)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"cannot read TOSCA mesh {str(vert_path)!r}: {exc}") from None
 
 
 def read_tosca(folder) -> Collection:
