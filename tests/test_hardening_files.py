@@ -99,6 +99,9 @@ MALFORMED = [
     ("negative_count.ply", _ply_binary(nv=-4), "negative count -4"),
     ("word_count.ply", _FULL.replace(b"element vertex 4", b"element vertex four"),
      "integer count"),
+    ("no_xyz.ply", _FULL.replace(b"property float x\nproperty float y\nproperty float z",
+                                 b"property float a\nproperty float b\nproperty float c"),
+     "No vertex field found"),
     ("unknown_format.ply", _FULL.replace(b"binary_little_endian", b"binary_middle_endian"),
      "Format not found"),
     # counts far beyond the file in the text formats
@@ -275,3 +278,25 @@ def test_loaded_files_are_repaired_with_a_warning_naming_the_file(tmp_path, ext)
     for what in ("duplicate faces", "faces with a repeated vertex", "unreferenced vertices"):
         assert what in msg
     assert (m.n_vertices, m.n_faces) == (4, 4) and m.is_closed
+
+
+@pytest.mark.parametrize(
+    "vert, tri, match",
+    [
+        ("0 0 0\n1 0 0\n0 1 0\n", "1 2 3.5\n", "non-integer floats"),
+        ("0 0 0\n1 0 0\n0 1 0\n", "1 2 nan\n", "non-integer floats"),
+        ("0 0 0\n1 0 0\n0 1 0\n", "1 2 4\n", r"outside \[0, 2\]"),
+        ("0 0 0\n1 0\n0 1 0\n", "1 2 3\n", "cannot read TOSCA mesh"),
+        ("0 0 0\n1 0 0\n0 1 nan\n", "1 2 3\n", "NaN or infinite"),
+        ("0 0\n1 0\n0 1\n", "1 2 3\n", r"vertices must have shape \(n, 3\)"),
+    ],
+    ids=["fractional", "nan_index", "out_of_range", "ragged", "nan_vertex", "2d"],
+)
+def test_bad_tosca_vert_tri_files(tmp_path, vert, tri, match):
+    from cshape.data import read_vert_tri
+
+    (tmp_path / "cat0.vert").write_text(vert)
+    (tmp_path / "cat0.tri").write_text(tri)
+    with pytest.raises(ValueError, match=match) as info:
+        read_vert_tri(tmp_path / "cat0.vert")
+    assert "cat0" in str(info.value)

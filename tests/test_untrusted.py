@@ -528,3 +528,17 @@ def test_descriptor_table_save_on_a_full_disk_leaves_nothing(tmp_path, monkeypat
         with pytest.raises(OSError, match="No space left"):
             table.save(tmp_path / "tables" / name)
     assert list((tmp_path / "tables").iterdir()) == []
+
+
+# ====================================================================== local folders
+@pytest.mark.parametrize("bad", ["../outside.off", "/etc/passwd", "a/../../outside.off",
+                                 "..\\outside.off", ""])
+def test_labels_csv_cannot_point_outside_its_folder(tmp_path, bad):
+    folder = tmp_path / "meshes"
+    folder.mkdir()
+    (folder / "ok.off").write_bytes(TET_OFF)
+    (tmp_path / "outside.off").write_bytes(TET_OFF)
+    (folder / "labels.csv").write_text(f"file,label\nok.off,tet\n{bad},x\n")
+    with pytest.raises(ValueError, match=r"labels CSV 'labels.csv', line 3: file .* must be a "
+                                         "relative path inside"):
+        data.load_folder(folder, labels="labels.csv")
