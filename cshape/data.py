@@ -359,6 +359,12 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
             _check_fields(item, spec["item_required"], spec["item_optional"], iwhere)
             if iname in seen:
                 raise ValueError(f"{iwhere}: duplicate item name {iname!r}")
+            if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", iname):
+                # names become cache file names: no '/', '..' or hidden files
+                raise ValueError(
+                    f"{iwhere}: item name must be letters, digits, '-', '_' or '.' (starting "
+                    f"with a letter or digit), got {iname!r}"
+                )
             seen.add(iname)
             if kind == "generated":
                 _check_recipe(item, recipes, out, entry, iwhere)
