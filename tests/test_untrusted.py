@@ -542,3 +542,13 @@ def test_labels_csv_cannot_point_outside_its_folder(tmp_path, bad):
     with pytest.raises(ValueError, match=r"labels CSV 'labels.csv', line 3: file .* must be a "
                                          "relative path inside"):
         data.load_folder(folder, labels="labels.csv")
+
+
+@pytest.mark.parametrize("name", ["../../../escaped", "/tmp/abs", "sub/dir", ".hidden", "..",
+                                  "a\\..\\b", ""])
+def test_generated_item_names_cannot_escape_the_cache(tmp_path, name):
+    """Item names become cache file names (<cache>/generated/<coll>/<item>-<key>.npz)."""
+    entry = {**TINY, "items": [{**TINY["items"][0], "name": name}]}
+    with pytest.raises(ValueError, match="item name must be letters, digits|missing required"):
+        data.load_manifest(_manifest(tmp_path, [entry]))
+    assert not list(tmp_path.rglob("*.npz"))
