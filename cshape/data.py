@@ -1133,7 +1133,10 @@ def extract_archive(archive, target) -> Path:
                             f"archive {archive.name!r}: member {m.name!r} is a link or special "
                             "file; refusing to extract it"
                         )
-                tf.extractall(tmp, members=members)
+                if hasattr(tarfile, "data_filter"):  # Python >= 3.11.4: also drops setuid
+                    tf.extractall(tmp, members=members, filter="data")  # bits, owners, ...
+                else:  # pragma: no cover
+                    tf.extractall(tmp, members=members)
         else:
             raise ValueError(f"{archive.name!r} is not a .zip or .tar archive")
         target.mkdir(parents=True, exist_ok=True)
