@@ -552,3 +552,11 @@ def test_generated_item_names_cannot_escape_the_cache(tmp_path, name):
     with pytest.raises(ValueError, match="item name must be letters, digits|missing required"):
         data.load_manifest(_manifest(tmp_path, [entry]))
     assert not list(tmp_path.rglob("*.npz"))
+
+
+def test_tar_extraction_drops_setuid_and_world_writable_bits(tmp_path):
+    info = _tinfo("run.sh")
+    info.mode = 0o6777  # setuid, setgid, writable by everyone
+    out = data.extract_archive(_tar(tmp_path / "suid.tar", [info]), tmp_path / "target")
+    mode = (out / "run.sh").stat().st_mode
+    assert not mode & (stat.S_ISUID | stat.S_ISGID | stat.S_IWOTH)
