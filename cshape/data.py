@@ -1113,6 +1113,8 @@ def extract_archive(archive, target) -> Path:
     ------
     ValueError
         If a member would land outside ``target`` or the file is not a known archive.
+    OSError
+        If the unpacked members would not fit on the disk (checked before writing).
     """
     archive, target = Path(archive), Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -1122,6 +1124,7 @@ def extract_archive(archive, target) -> Path:
             with zipfile.ZipFile(archive) as zf:
                 for n in zf.namelist():
                     _check_member(n, archive)
+                _check_space(sum(i.file_size for i in zf.infolist()), tmp, archive)
                 zf.extractall(tmp)
         elif tarfile.is_tarfile(archive):
             with tarfile.open(archive) as tf:
@@ -1133,6 +1136,7 @@ def extract_archive(archive, target) -> Path:
                             f"archive {archive.name!r}: member {m.name!r} is a link or special "
                             "file; refusing to extract it"
                         )
+                _check_space(sum(m.size for m in members), tmp, archive)
                 if hasattr(tarfile, "data_filter"):  # Python >= 3.11.4: also drops setuid
                     tf.extractall(tmp, members=members, filter="data")  # bits, owners, ...
                 else:  # pragma: no cover
@@ -1150,6 +1154,18 @@ def extract_archive(archive, target) -> Path:
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return target
+
+
+def _check_space(total: int, folder: Path, archive: Path) -> None:
+    """Refuse to start unpacking what the disk cannot hold (or a zip bomb)."""
+    free = shutil.disk_usage(folder).free
+    if total > free:
+        raise OSError(
+            errno.ENOSPC,
+            f"archive {archive.name!r} unpacks to {total / 1e6:.1f} MB but only "
+            f"{free / 1e6:.1f} MB are free in {str(folder.parent)!r}; free disk space or "
+            "unpack it elsewhere (cache_dir= / CSHAPE_CACHE)",
+        )
 
 
 def _check_member(name: str, archive: Path) -> None:
