@@ -560,3 +560,17 @@ def test_tar_extraction_drops_setuid_and_world_writable_bits(tmp_path):
     out = data.extract_archive(_tar(tmp_path / "suid.tar", [info]), tmp_path / "target")
     mode = (out / "run.sh").stat().st_mode
     assert not mode & (stat.S_ISUID | stat.S_ISGID | stat.S_IWOTH)
+
+
+def test_archive_larger_than_the_free_space_is_refused_before_writing(tmp_path, monkeypatch):
+    import shutil
+    from collections import namedtuple
+
+    z = _zip(tmp_path / "big.zip", [("a.off", "x" * 5000), ("b.off", "y" * 5000)])
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(10**6, 10**6 - 4000, 4000))
+    with pytest.raises(OSError, match=r"big\.zip' unpacks to 0\.0 MB but only 0\.0 MB are "
+                                      r"free .*free disk space") as info:
+        data.extract_archive(z, tmp_path / "target")
+    assert info.value.errno == errno.ENOSPC
+    assert _files_under(tmp_path) == ["big.zip"]
