@@ -45,6 +45,7 @@ import warnings
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
 from .fem import fem
@@ -60,7 +61,7 @@ BLOCK_SIZE = 8
 
 #: A Ritz pair ``(theta, x)`` of ``OP`` counts as converged when
 #: ``||OP x - theta x||_B <= RESIDUAL_TOL * theta``.
-RESIDUAL_TOL = 1e-7
+RESIDUAL_TOL = 1e-6
 
 #: Largest loss of B-orthogonality (``|V_i^T B q|`` for a new Lanczos vector ``q`` against
 #: the older basis) tolerated between two full re-orthogonalisation passes.
@@ -152,43 +153,71 @@ def _default_sigma(B, N):
     return -0.01 * 4.0 * np.pi * max(N, 1) / area
 
 
-def _b_orthonormalize(W, B):
-    """B-orthonormalise the columns of ``W`` (Cholesky-QR, twice).
+def _b_orthonormalize(W, B, scale):
+    """B-orthonormalise the columns of ``W`` (Cholesky-QR, repeated if ill-conditioned).
 
-    Returns ``Q, BQ, R, ok`` with ``W = Q R`` and ``Q.T @ B @ Q = I``; ``ok`` is False
-    when ``W`` is (numerically) rank deficient, in which case ``Q`` is unusable.
+    Parameters
+    ----------
+    W : ndarray, shape (k, b)
+    B : sparse matrix, shape (k, k)
+    scale : float
+        B-norm of the vectors ``W`` was computed from; directions of ``W`` shorter than
+        ``1e-10 * scale`` count as numerically zero (rank deficiency).
+
+    Returns
+    -------
+    Q, BQ : ndarray, shape (k, r)
+        ``Q.T @ B @ Q = I`` and ``BQ = B @ Q``.
+    R : ndarray, shape (r, b)
+        ``W = Q R`` up to the dropped directions; ``r < b`` if ``W`` is rank deficient.
     """
     b = W.shape[1]
-    R = np.eye(b)
     BW = B @ W
-    for _ in range(2):
-        G = W.T @ BW
-        G = 0.5 * (G + G.T)
-        d = np.sqrt(np.maximum(np.diag(G), 0.0))
-        if d.min() <= 1e-12 * max(d.max(), 1e-300):
-            return W, BW, R, False
-        try:
-            Rk = la.cholesky(G, lower=False)
-        except la.LinAlgError:
-            return W, BW, R, False
-        if np.abs(np.diag(Rk)).min() <= 1e-7 * np.abs(np.diag(Rk)).max():
-            return W, BW, R, False
-        Rinv = la.solve_triangular(Rk, np.eye(b), lower=False)
-        W = W @ Rinv
-        BW = BW @ Rinv
-        R = Rk @ R
-    return W, BW, R, True
+    G = W.T @ BW
+    G = 0.5 * (G + G.T)
+    try:
+        R = la.cholesky(G, lower=False)
+        diag = np.abs(np.diag(R))
+        if diag.min() <= 1e-10 * max(scale, diag.max()) or np.linalg.cond(R) > 1e6:
+            raise la.LinAlgError("ill-conditioned block")
+    except la.LinAlgError:
+        # rank revealing: keep the directions of W that are not numerically zero
+        D, U = la.eigh(G)
+        keep = D > (1e-10 * max(scale, np.sqrt(max(D.max(), 0.0)))) ** 2
+        U, D = U[:, keep], D[keep]
+        T = U / np.sqrt(D)
+        Q, BQ = W @ T, BW @ T
+        R = np.sqrt(D)[:, None] * U.T
+        if Q.shape[1] == 0:
+            return Q, BQ, R
+        Q, BQ, R2 = _b_orthonormalize(Q, B, 1.0)
+        return Q, BQ, R2 @ R
+    Rinv = la.solve_triangular(R, np.eye(b), lower=False)
+    Q, BQ = W @ Rinv, BW @ Rinv
+    if np.linalg.cond(R) > 1e2:  # Cholesky-QR loses eps * cond^2 of orthogonality: repeat
+        G = Q.T @ BQ
+        R2 = la.cholesky(0.5 * (G + G.T), lower=False)
+        R2inv = la.solve_triangular(R2, np.eye(b), lower=False)
+        Q, BQ, R = Q @ R2inv, BQ @ R2inv, R2 @ R
+    return Q, BQ, R
 
 
-def _random_block(rng, n, b, V, BV, B):
-    """A random block B-orthonormal to ``V`` (used at a breakdown of the Krylov space)."""
+def _complete_block(rng, Q, BQ, R, b, V, BV, B):
+    """Fill a rank-deficient block ``Q`` (r < b columns) with random directions.
+
+    The new columns are B-orthonormal to ``V`` and ``Q``; ``R`` gets zero rows for them,
+    so the Lanczos relation stays exact (the Krylov space had become invariant there).
+    """
+    r = Q.shape[1]
     for _ in range(3):
-        W = rng.standard_normal((n, b))
+        Z = rng.standard_normal((V.shape[0], b - r))
         for _ in range(2):
-            W -= V @ (BV.T @ W)
-        Q, BQ, _, ok = _b_orthonormalize(W, B)
-        if ok:
-            return Q, BQ
+            Z -= V @ (BV.T @ Z)
+            Z -= Q @ (BQ.T @ Z)
+        Qz, BQz, _ = _b_orthonormalize(Z, B, float(np.sqrt(np.abs(Z.T @ (B @ Z)).max())))
+        if Qz.shape[1] == b - r:
+            return (np.hstack([Q, Qz]), np.hstack([BQ, BQz]),
+                    np.vstack([R, np.zeros((b - r, b))]))
     raise _NoConvergence("could not extend the Krylov basis")
 
 
@@ -243,8 +272,8 @@ def _block_lanczos(
     # Block tridiagonal projection of OP, in LAPACK upper banded storage (bandwidth b).
     band = np.zeros((b + 1, cap))
     rng = np.random.default_rng(seed)
-    Q, BQ, _, ok = _b_orthonormalize(rng.standard_normal((n, b)), B)
-    if not ok:  # pragma: no cover - a random block is full rank
+    Q, BQ, _ = _b_orthonormalize(rng.standard_normal((n, b)), B, 1.0)
+    if Q.shape[1] < b:  # pragma: no cover - a random block is full rank
         raise _NoConvergence("random start block is rank deficient")
     V[:, :b] = Q
     BV[:, :b] = BQ
@@ -254,17 +283,22 @@ def _block_lanczos(
     # converged Ritz vectors, about 100x per step here).  The pass over the older blocks
     # runs after every ``skip`` local-only steps; its coefficients measure the loss
     # ``omega`` accumulated since the last pass, and ``skip`` adapts so that omega stays
-    # below OMEGA_MAX, far below sqrt(eps) (semi-orthogonality keeps the Ritz values
-    # accurate to rounding, Simon 1984).
+    # below _OMEGA_MAX, below sqrt(eps) (semi-orthogonality keeps the Ritz values accurate
+    # to rounding, Simon 1984).
     skip, since = 0, 0
     next_check = N
+    segment = 0  # start of the current Krylov sequence (0, or the last breakdown)
+    R = None
     for j in range(nblocks):
         m0, m = j * b, (j + 1) * b
         lo = max(0, m0 - b)
         W = solve(np.ascontiguousarray(BV[:, m0:m]))
-        # local classical Gram-Schmidt pass over the two newest blocks (B-inner product)
-        C = BV[:, lo:m].T @ W
-        W -= V[:, lo:m] @ C
+        # local pass: the coupling to the previous block is known (R_j^T, by symmetry)
+        if R is not None:
+            W -= V[:, lo:m0] @ R.T
+        A = BV[:, m0:m].T @ W
+        W -= V[:, m0:m] @ A
+        scale = max(float(np.abs(A).max()), float(np.abs(R).max()) if R is not None else 0.0)
         omega = None
         if lo > 0 and since >= skip:
             Cg = BV[:, :lo].T @ W
@@ -273,15 +307,21 @@ def _block_lanczos(
             since = 0
         else:
             since += 1
+        # second local pass (classical Gram-Schmidt twice)
         C2 = BV[:, lo:m].T @ W
         W -= V[:, lo:m] @ C2
-        C += C2
-        C = np.vstack([np.zeros((lo, b)), C])
-        Q, BQ, R, ok = _b_orthonormalize(W, B)
-        if not ok:  # invariant subspace (or nearly): continue with a fresh random block
-            Q, BQ = _random_block(rng, n, b, V[:, :m], BV[:, :m], B)
-            R = np.zeros((b, b))
+        A += C2[m0 - lo :]
+        Q, BQ, R = _b_orthonormalize(W, B, scale)
+        due = m >= next_check
+        if Q.shape[1] < b:  # Krylov space (nearly) invariant: continue with random vectors
+            Q, BQ, R = _complete_block(rng, Q, BQ, R, b, V[:, :m], BV[:, :m], B)
             skip, since = 0, 0
+            # The Ritz pairs of an invariant subspace are exact but may lack copies of
+            # eigenvalues repeated more than b times: let the new directions grow as far
+            # as the previous ones did before judging convergence again.
+            due = due and segment > 0  # never right at the first breakdown
+            next_check = max(next_check, 2 * m - segment)
+            segment = m
         elif omega is not None:  # adapt the re-orthogonalisation interval
             omega /= max(float(np.abs(np.diag(R)).min()), 1e-300)
             if omega > _OMEGA_MAX:
@@ -291,14 +331,14 @@ def _block_lanczos(
         V[:, m : m + b] = Q
         BV[:, m : m + b] = BQ
         # diagonal block (symmetrised) and sub-diagonal block R into the band
-        A = 0.5 * (C[m0:m] + C[m0:m].T)
+        A = 0.5 * (A + A.T)
         for d in range(b):
             band[b - d, m0 + d : m] = np.diag(A, d)
         # R (upper triangular) couples block j+1 to block j: T[m + r, m0 + c] = R[r, c]
         # for r <= c, kept in the upper storage as band[c - r, m + r] = T[m0 + c, m + r].
         for d in range(b):
             band[d, m : m + b - d] = np.diag(R, d)
-        if m < next_check:
+        if not due:
             continue
         theta, Y = la.eig_banded(
             band[:, :m], lower=False, select="i", select_range=(m - N, m - 1)
@@ -311,12 +351,20 @@ def _block_lanczos(
             break
         # about one pair converges per 3 Krylov dimensions: look again when about half
         # of the missing ones may have converged
-        next_check = m + b * max(1, (3 * (N - nconv)) // (2 * b))
+        next_check = max(next_check, m + b * max(1, (3 * (N - nconv)) // (2 * b)))
     else:
         raise _NoConvergence(f"no convergence within a Krylov dimension of {nblocks * b}")
     lam = sigma + 1.0 / theta
-    phi = V[:, :m] @ Y if return_vectors else None
-    return lam, phi
+    if not return_vectors:
+        return lam, None
+    # Ritz vectors, then a final Rayleigh-Ritz with the pencil (K, B) on their span: it
+    # makes them B-orthonormal to rounding (the basis is only semi-orthogonal) and gives
+    # the Rayleigh quotients as eigenvalues.
+    X = V[:, :m] @ Y
+    GB = X.T @ (B @ X)
+    GK = X.T @ (K @ X)
+    lam, Z = la.eigh(0.5 * (GK + GK.T), 0.5 * (GB + GB.T))
+    return lam, X @ Z
 
 
 def _arpack(K, B, N, op, sigma, return_vectors):
@@ -331,6 +379,50 @@ def _arpack(K, B, N, op, sigma, return_vectors):
     if return_vectors:
         return res
     return res, None
+
+
+def _solve_sparse(K, B, N, sigma, return_vectors):
+    """Sparse path of :func:`solve_eigenproblem`, one connected component at a time.
+
+    The problem of a mesh with several connected components is block diagonal.  Each
+    block is solved on its own (dense if small) and the N smallest eigenvalues of the
+    union are kept: identical components would otherwise make every eigenvalue exactly
+    repeated once per component, beyond what the block size of the Krylov method can
+    resolve.
+    """
+    k = K.shape[0]
+    ncomp, labels = csgraph.connected_components(abs(K) + abs(B), directed=False)
+    if ncomp > 1:
+        lams, vecs = [], []
+        for c in range(ncomp):
+            idx = np.flatnonzero(labels == c)
+            Kc = K[idx][:, idx]
+            Bc = B[idx][:, idx]
+            Nc = min(N, len(idx))
+            if len(idx) <= DENSE_LIMIT or 3 * Nc >= len(idx):
+                out = la.eigh(Kc.toarray(), Bc.toarray(), subset_by_index=[0, Nc - 1],
+                              eigvals_only=not return_vectors)
+                lc, pc = out if return_vectors else (out, None)
+            else:
+                lc, pc = _solve_sparse(Kc, Bc, Nc, sigma, return_vectors)
+            lams.append(lc)
+            if return_vectors:
+                full = np.zeros((k, Nc))
+                full[idx] = pc
+                vecs.append(full)
+        lam = np.concatenate(lams)
+        order = np.argsort(lam, kind="stable")[:N]
+        return lam[order], (np.hstack(vecs)[:, order] if return_vectors else None)
+    if sigma is None:
+        sigma = _default_sigma(B, N)
+    op = _CholeskyOperator(K - sigma * B)
+    try:
+        with _one_blas_thread():
+            lam, phi = _block_lanczos(K, B, N, op.matmat, sigma, return_vectors=return_vectors)
+    except _NoConvergence:
+        lam, phi = _arpack(K, B, N, op, sigma, return_vectors)
+    order = np.argsort(lam, kind="stable")
+    return lam[order], (phi[:, order] if phi is not None else None)
 
 
 def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
@@ -367,7 +459,7 @@ def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
     B = sp.csr_matrix(B)
     k = K.shape[0]
     N = _check_N(N, k, "")
-    if k <= DENSE_LIMIT:
+    if k <= DENSE_LIMIT or 3 * N >= k:  # a Krylov space would need about 3 N dimensions
         if return_vectors:
             lam, phi = la.eigh(K.toarray(), B.toarray(), subset_by_index=[0, N - 1])
         else:
@@ -376,20 +468,7 @@ def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
             )
             phi = None
     else:
-        if sigma is None:
-            sigma = _default_sigma(B, N)
-        op = _CholeskyOperator(K - sigma * B)
-        try:
-            with _one_blas_thread():
-                lam, phi = _block_lanczos(
-                    K, B, N, op.matmat, sigma, return_vectors=return_vectors
-                )
-        except _NoConvergence:
-            lam, phi = _arpack(K, B, N, op, sigma, return_vectors)
-        order = np.argsort(lam, kind="stable")
-        lam = lam[order]
-        if phi is not None:
-            phi = phi[:, order]
+        lam, phi = _solve_sparse(K, B, N, sigma, return_vectors)
     lam = np.asarray(lam, dtype=np.float64)
     scale = max(1.0, float(np.abs(lam).max()))
     lam[np.abs(lam) < 1e-10 * scale] = 0.0

@@ -1,0 +1,167 @@
+"""Benchmark: ``cshape.shape_dna(mesh, N=100)`` against LaPy on icospheres, in the same run.
+
+Run from the repository root::
+
+    .venv/bin/python benchmarks/bench_spectrum.py                 # 10k, 40k, 160k vertices
+    .venv/bin/python benchmarks/bench_spectrum.py --sizes 10k,40k --repeats 5
+
+For each sphere (``cshape.shapes.icosphere``: 10242, 40962, 163842 vertices) it times
+
+* cshape: ``cshape.shape_dna(mesh, N)`` (FEM assembly and eigensolve, everything a user
+  pays for), and
+* LaPy: ``lapy.Solver(TriaMesh(v, f), use_cholmod=True).eigs(k=N)`` (assembly and
+  eigensolve), LaPy's fastest setting (CHOLMOD through ``cholespy``).  It is timed both
+  with the default BLAS threads and with BLAS limited to one thread, because on a busy
+  2-core machine OpenBLAS's spinning threads can slow ARPACK down severalfold; the faster
+  of the two counts as LaPy's time.
+
+Each timing is the best of ``--repeats`` runs, the runs of the two libraries interleaved so
+that both see the same machine load.  It then checks that both give the same eigenvalues
+(relative difference at most ``--rtol``, 1e-8 by default; a zero eigenvalue is compared on
+the scale of the largest one) and prints a table with the ratio LaPy time / cshape time.
+The exit status is 1 if an accuracy check fails, 2 if LaPy is not installed (it is in the
+``bench`` dependency group: ``pip install --group bench``).  Nothing here asserts a time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import platform
+import sys
+import time
+
+import numpy as np
+
+import cshape
+from cshape import shapes
+
+#: Accepted size labels and the icosphere subdivision level that gives them.
+SIZES = {"10k": 5, "40k": 6, "160k": 7}
+
+
+def _parse_sizes(text):
+    labels = [t.strip().lower() for t in text.split(",") if t.strip()]
+    bad = [t for t in labels if t not in SIZES]
+    if bad or not labels:
+        raise argparse.ArgumentTypeError(
+            f"--sizes must be a comma-separated subset of {','.join(SIZES)}, got {text!r}"
+        )
+    return labels
+
+
+def _one_blas_thread():
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+def run_cshape(mesh, N):
+    """Eigenvalues and seconds of ``cshape.shape_dna(mesh, N)``."""
+    t = time.perf_counter()
+    lam = cshape.shape_dna(mesh, N=N)
+    return lam, time.perf_counter() - t
+
+
+def run_lapy(mesh, N, one_thread):
+    """Eigenvalues and seconds of LaPy's CHOLMOD eigensolve (assembly included)."""
+    from lapy import Solver, TriaMesh
+
+    def go():
+        t = time.perf_counter()
+        solver = Solver(TriaMesh(mesh.vertices, mesh.faces), use_cholmod=True)
+        lam, _ = solver.eigs(k=N)
+        return np.sort(lam), time.perf_counter() - t
+
+    if one_thread:
+        with _one_blas_thread():
+            return go()
+    return go()
+
+
+def relative_difference(lam, ref):
+    """``|lam - ref| / |ref|`` elementwise, with ``max |ref|`` as the scale of zeros."""
+    lam = np.asarray(lam, dtype=float)
+    ref = np.asarray(ref, dtype=float)
+    big = float(np.abs(ref).max())
+    scale = np.where(np.abs(ref) > 1e-9 * big, np.abs(ref), big)
+    return np.abs(lam - ref) / scale
+
+
+def bench_size(label, N, repeats):
+    mesh = shapes.icosphere(SIZES[label])
+    t_cs, t_lapy = [], {False: [], True: []}
+    lam_cs = lam_lapy = None
+    for _ in range(repeats):
+        lam_cs, t = run_cshape(mesh, N)
+        t_cs.append(t)
+        for one_thread in (False, True):
+            lam_lapy, t = run_lapy(mesh, N, one_thread)
+            t_lapy[one_thread].append(t)
+    best_lapy = {k: min(v) for k, v in t_lapy.items()}
+    lapy_setting = min(best_lapy, key=best_lapy.get)
+    rel = relative_difference(lam_cs, lam_lapy)
+    return {
+        "label": label,
+        "n": mesh.n_vertices,
+        "cshape": min(t_cs),
+        "lapy": best_lapy[lapy_setting],
+        "lapy_default": best_lapy[False],
+        "lapy_1thread": best_lapy[True],
+        "lapy_setting": "1 BLAS thread" if lapy_setting else "default BLAS",
+        "maxrel": float(rel.max()),
+    }
+
+
+def machine_summary():
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
+    import lapy
+    import scipy
+
+    return (
+        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
+        f"{platform.machine()} {os.cpu_count()} cores, Python {platform.python_version()}, "
+        f"numpy {np.__version__}, scipy {scipy.__version__}, lapy {lapy.__version__}, "
+        f"cshape {cshape.__version__ if hasattr(cshape, '__version__') else '?'}; "
+        f"load average {load[0]:.1f} {load[1]:.1f} {load[2]:.1f}"
+    )
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=_parse_sizes, default=list(SIZES),
+                        help="comma-separated subset of 10k,40k,160k (default: all)")
+    parser.add_argument("--repeats", type=int, default=3, help="runs per timing (best counts)")
+    parser.add_argument("-N", type=int, default=100, help="number of eigenvalues (default 100)")
+    parser.add_argument("--rtol", type=float, default=1e-8,
+                        help="largest accepted relative eigenvalue difference (default 1e-8)")
+    args = parser.parse_args(argv)
+    try:
+        import lapy  # noqa: F401
+    except ImportError:
+        print("LaPy is not installed: .venv/bin/pip install --group bench  (or pip install lapy)")
+        return 2
+
+    print(machine_summary())
+    print(f"N={args.N}, best of {args.repeats} runs each, runs interleaved\n")
+    header = (f"{'size':>5} {'vertices':>9} {'cshape [s]':>11} {'LaPy [s]':>9} "
+              f"{'LaPy/cshape':>12} {'max rel diff':>13}  check   LaPy default / 1-thread [s]")
+    print(header)
+    print("-" * len(header))
+    failed = False
+    for label in args.sizes:
+        r = bench_size(label, args.N, args.repeats)
+        ok = r["maxrel"] <= args.rtol
+        failed |= not ok
+        print(f"{r['label']:>5} {r['n']:>9d} {r['cshape']:>11.2f} {r['lapy']:>9.2f} "
+              f"{r['lapy'] / r['cshape']:>12.2f} {r['maxrel']:>13.1e}  {'ok' if ok else 'FAIL':<6}"
+              f"  {r['lapy_default']:.2f} / {r['lapy_1thread']:.2f}", flush=True)
+    if failed:
+        print(f"\nFAIL: eigenvalues differ from LaPy's by more than rtol={args.rtol:g}")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,162 @@
+"""The sparse eigensolver of cshape/spectrum.py: block shift-invert Lanczos and its fallback.
+
+Known answers (dense LAPACK, ARPACK with ``tol=0``, exact sphere multiplicities) and
+properties (B-orthonormal vectors, determinism, several components).  No timings here:
+speed is measured by benchmarks/bench_spectrum.py.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.linalg as la
+import scipy.sparse as sp
+
+import cshape
+from cshape import shapes, spectrum
+from cshape.mesh import CShapeWarning
+
+
+def _KB(mesh, **kw):
+    A, B = cshape.fem_matrices(mesh, **kw)
+    return (-A).tocsr(), B.tocsr()
+
+
+def _dense(mesh, N, **kw):
+    K, B = _KB(mesh, **kw)
+    return la.eigh(K.toarray(), B.toarray(), subset_by_index=[0, N - 1])
+
+
+def _clusters(lam, rel_gap=0.05):
+    """Sizes of the groups of ascending ``lam`` separated by relative jumps > rel_gap."""
+    jumps = np.flatnonzero(np.diff(lam) > rel_gap * np.maximum(lam[1:], 1.0))
+    return np.diff(np.concatenate([[0], jumps + 1, [len(lam)]])).tolist()
+
+
+@pytest.fixture
+def sparse_path(monkeypatch):
+    """Force every problem through the sparse (block Lanczos) path."""
+    monkeypatch.setattr(spectrum, "DENSE_LIMIT", 0)
+
+
+@pytest.mark.parametrize(
+    "mesh, kw",
+    [
+        (lambda: shapes.icosphere(3), {}),
+        (lambda: shapes.icosphere(3), {"mass": "lumped"}),
+        (lambda: shapes.hemisphere(12), {"bc": "dirichlet"}),
+        (lambda: shapes.square(24), {}),
+    ],
+    ids=["sphere", "sphere-lumped", "hemisphere-dirichlet", "square"],
+)
+def test_sparse_path_agrees_with_dense_lapack(sparse_path, mesh, kw):
+    mesh = mesh()
+    N = 60
+    lam_ref, phi_ref = _dense(mesh, N, **kw)
+    lam, phi = cshape.eigenpairs(mesh, N=N, **kw)
+    scale = np.where(np.abs(lam_ref) > 1e-9 * lam_ref[-1], np.abs(lam_ref), lam_ref[-1])
+    assert np.max(np.abs(lam - lam_ref) / scale) < 1e-9
+    # same invariant subspace: the projection of the dense vectors on ours is complete
+    K, B = _KB(mesh, **kw)
+    free = cshape.fem.fem(mesh, **kw).free
+    overlap = phi[free].T @ B @ phi_ref
+    # the last cluster may be cut by N: compare the first 50 directions only
+    np.testing.assert_allclose(np.linalg.svd(overlap[:, :50], compute_uv=False), 1.0, atol=1e-7)
+
+
+def test_block_lanczos_agrees_with_arpack_tol0():
+    mesh = shapes.icosphere(4)  # 2562 vertices: sparse path
+    K, B = _KB(mesh)
+    sigma = spectrum._default_sigma(B, 100)
+    op = spectrum._CholeskyOperator(K - sigma * B)
+    lam_b, _ = spectrum._block_lanczos(K, B, 100, op.matmat, sigma, return_vectors=False)
+    lam_a, _ = spectrum._arpack(K, B, 100, op, sigma, return_vectors=False)
+    lam_b, lam_a = np.sort(lam_b), np.sort(lam_a)
+    np.testing.assert_allclose(lam_b[1:], lam_a[1:], rtol=1e-10)
+    assert abs(lam_b[0]) < 1e-10 and abs(lam_a[0]) < 1e-10
+
+
+def test_exact_sphere_multiplicities_at_10k_vertices():
+    lam = cshape.shape_dna(shapes.icosphere(5), N=100)  # 10242 vertices, l = 0..9
+    assert lam[0] == 0.0
+    assert _clusters(lam) == [2 * ell + 1 for ell in range(10)]
+    exact = shapes.sphere_spectrum(100)
+    np.testing.assert_allclose(lam[1:], exact[1:], rtol=1e-2)  # linear FEM, h ~ 0.03
+
+
+def test_eigenvectors_are_b_orthonormal_eigenvectors():
+    mesh = shapes.icosphere(4)
+    lam, phi = cshape.eigenpairs(mesh, N=100)
+    K, B = _KB(mesh)
+    np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(100), atol=1e-10)
+    res = K @ phi - (B @ phi) * lam
+    # residual in the B^-1 norm ~ |Kx - lam Bx| / sqrt(mass per vertex)
+    assert np.max(np.linalg.norm(res, axis=0) / np.maximum(lam, 1.0)) < 1e-6
+    assert np.all(np.diff(lam) >= 0)
+
+
+def test_results_are_deterministic():
+    mesh = shapes.icosphere(4)
+    lam1, phi1 = cshape.eigenpairs(mesh, N=50)
+    lam2, phi2 = cshape.eigenpairs(mesh, N=50)
+    np.testing.assert_array_equal(lam1, lam2)
+    np.testing.assert_array_equal(phi1, phi2)
+    np.testing.assert_array_equal(cshape.shape_dna(mesh, N=50), cshape.shape_dna(mesh, N=50))
+
+
+def test_two_disjoint_spheres_give_two_zero_eigenvalues():
+    one = shapes.icosphere(4)
+    V = np.vstack([one.vertices, one.vertices + [3.0, 0.0, 0.0]])
+    F = np.vstack([one.faces, one.faces + one.n_vertices])
+    with pytest.warns(CShapeWarning, match="2 connected components"):
+        lam, phi = cshape.eigenpairs((V, F), N=100)
+    assert lam[0] == 0.0 and lam[1] == 0.0 and lam[2] > 1.0
+    # the union of two identical spectra: every eigenvalue twice, exactly as many copies
+    single = cshape.shape_dna(one, N=50)
+    np.testing.assert_allclose(lam, np.repeat(single, 2), rtol=1e-9, atol=1e-12)
+    assert _clusters(lam) == [2 * (2 * ell + 1) for ell in range(7)] + [2]
+    _, B = _KB((V, F))
+    np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(100), atol=1e-10)
+
+
+def test_fallback_to_arpack_when_block_lanczos_fails(monkeypatch):
+    mesh = shapes.icosphere(4)
+    lam_block = cshape.shape_dna(mesh, N=40)
+
+    def fail(*args, **kwargs):
+        raise spectrum._NoConvergence("forced by the test")
+
+    monkeypatch.setattr(spectrum, "_block_lanczos", fail)
+    lam_arpack, phi = cshape.eigenpairs(mesh, N=40)
+    np.testing.assert_allclose(lam_arpack[1:], lam_block[1:], rtol=1e-10)
+    _, B = _KB(mesh)
+    np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(40), atol=1e-10)
+
+
+def test_block_lanczos_gives_up_beyond_its_dimension_budget():
+    K, B = _KB(shapes.icosphere(4))
+    sigma = spectrum._default_sigma(B, 100)
+    op = spectrum._CholeskyOperator(K - sigma * B)
+    with pytest.raises(spectrum._NoConvergence):
+        spectrum._block_lanczos(K, B, 100, op.matmat, sigma, max_dim=120)
+
+
+def test_invariant_krylov_space_and_multiplicity_above_block_size():
+    # eigenvalues 1, 2, 3 with multiplicities 12, 12, 176: the Krylov space of one block
+    # of 8 is invariant after 3 steps and misses copies; random completion finds them.
+    d = np.repeat([1.0, 2.0, 3.0], [12, 12, 176])
+    perm = np.random.default_rng(1).permutation(len(d))
+    K = sp.diags(d[perm]).tocsr()
+    B = sp.identity(len(d), format="csr")
+    sigma = -0.5
+    op = spectrum._CholeskyOperator(K - sigma * B)
+    lam, phi = spectrum._block_lanczos(K, B, 20, op.matmat, sigma, block_size=8)
+    np.testing.assert_allclose(np.sort(lam), [1.0] * 12 + [2.0] * 8, atol=1e-10)
+    np.testing.assert_allclose(phi.T @ phi, np.eye(20), atol=1e-10)
+
+
+def test_default_shift_is_below_the_spectrum_on_its_scale():
+    _, B = _KB(shapes.icosphere(3))
+    sigma = spectrum._default_sigma(B, 100)
+    # Weyl: lam_100 ~ 4 pi 100 / area = 100 on the unit sphere
+    assert -2.0 < sigma < -0.5
