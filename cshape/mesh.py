@@ -338,8 +338,9 @@ def repair_mesh(mesh, *, merge_tol: float = 0.0, warn: bool = True) -> Mesh:
 
     The repairs, in order:
 
-    1. vertices at identical positions (within ``merge_tol`` times the bounding-box
-       diagonal) are welded into one, as in STL triangle soup;
+    1. vertices at identical positions (or, with ``merge_tol > 0``, chained by distances of
+       at most ``merge_tol`` times the bounding-box diagonal) are welded into one, at the
+       position of the first, as in STL triangle soup;
     2. faces that repeat a vertex index (collapsed to a segment or point) are removed;
     3. duplicate faces (the same three vertices, in any order) are reduced to one;
     4. unreferenced vertices are removed and the faces re-indexed.
@@ -369,11 +370,18 @@ def repair_mesh(mesh, *, merge_tol: float = 0.0, warn: bool = True) -> Mesh:
     if merge_tol < 0:
         raise ValueError(f"merge_tol must be >= 0, got {merge_tol}")
     if merge_tol > 0:
-        diag = float(np.linalg.norm(V.max(0) - V.min(0))) or 1.0
-        key = np.round(V / (merge_tol * diag)).astype(np.int64)
+        # clusters of vertices chained by distances <= tol (a grid snap would miss close
+        # pairs on either side of a cell boundary)
+        from scipy.spatial import cKDTree
+
+        diag = float(_row_norms((V.max(0) - V.min(0))[None])[0]) or 1.0
+        pairs = cKDTree(V).query_pairs(merge_tol * diag, output_type="ndarray")
+        n = len(V)
+        g = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+        _, key = connected_components(g, directed=False)
+        _, first, inv = np.unique(key, return_index=True, return_inverse=True)
     else:
-        key = V
-    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        _, first, inv = np.unique(V, axis=0, return_index=True, return_inverse=True)
     inv = inv.reshape(-1)
     if len(first) < len(V):
         notes.append(f"welded {len(V) - len(first)} duplicate vertices")
