@@ -322,3 +322,19 @@ def test_single_triangle():
     assert lam[0] == 0 and np.all(lam[1:] > 0)
     with pytest.raises(ValueError, match="leaves no unknowns"):
         cshape.shape_dna((V, [[0, 1, 2]]), N=1, bc="dirichlet")
+
+
+def test_merge_tol_welds_close_pairs_on_both_sides_of_any_grid_cell():
+    """A square as two loose triangles whose copies of the shared corners are 0.61 tol
+    apart, across a cell boundary of a grid of size tol (1 / tol = 707.1 cells, the copy at
+    706.49): the soup must still weld into one connected square."""
+    h = 1e-3 * np.sqrt(2)  # merge_tol x the bounding-box diagonal
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0],  # triangle 1
+                  [1 - 0.61 * h, 0, 0], [1, 1, 0], [0, 1 - 0.61 * h, 0]])  # triangle 2
+    F = np.array([[0, 1, 2], [3, 4, 5]])
+    with pytest.warns(CShapeWarning, match="welded 2 duplicate vertices"):
+        m = cshape.repair_mesh((V, F), merge_tol=1e-3)
+    assert m.n_vertices == 4 and m.n_components == 1 and len(m.boundary_edges) == 4
+    # beyond the tolerance nothing is welded
+    far = cshape.repair_mesh((V, F), merge_tol=0.5e-3)
+    assert far.n_vertices == 6 and far.n_components == 2
