@@ -49,7 +49,7 @@ import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
 from .fem import fem
-from .mesh import CShapeWarning, as_mesh
+from .mesh import CShapeWarning, as_mesh, repair_mesh
 
 __all__ = ["eigenpairs", "shape_dna", "solve_eigenproblem"]
 
@@ -202,7 +202,7 @@ def _b_orthonormalize(W, B, scale):
     return Q, BQ, R
 
 
-def _complete_block(rng, Q, BQ, R, b, V, BV, B):
+def _complete_block(rng, Q, BQ, R, b, V, B):
     """Fill a rank-deficient block ``Q`` (r < b columns) with random directions.
 
     The new columns are B-orthonormal to ``V`` and ``Q``; ``R`` gets zero rows for them,
@@ -212,7 +212,7 @@ def _complete_block(rng, Q, BQ, R, b, V, BV, B):
     for _ in range(3):
         Z = rng.standard_normal((V.shape[0], b - r))
         for _ in range(2):
-            Z -= V @ (BV.T @ Z)
+            Z -= V @ (V.T @ (B @ Z))
             Z -= Q @ (BQ.T @ Z)
         Qz, BQz, _ = _b_orthonormalize(Z, B, float(np.sqrt(np.abs(Z.T @ (B @ Z)).max())))
         if Qz.shape[1] == b - r:
@@ -267,8 +267,10 @@ def _block_lanczos(
     if nblocks * b < N:
         raise _NoConvergence("Krylov dimension budget below N")
     cap = (nblocks + 1) * b
+    # The basis only; the B-images of the two newest blocks are kept aside (BVprev, BVcur)
+    # and B @ W is recomputed (sparse, cheap) where an inner product with older blocks is
+    # needed: half the memory traffic of storing B @ V.
     V = np.empty((n, cap), order="F")
-    BV = np.empty((n, cap), order="F")
     # Block tridiagonal projection of OP, in LAPACK upper banded storage (bandwidth b).
     band = np.zeros((b + 1, cap))
     rng = np.random.default_rng(seed)
@@ -276,7 +278,7 @@ def _block_lanczos(
     if Q.shape[1] < b:  # pragma: no cover - a random block is full rank
         raise _NoConvergence("random start block is rank deficient")
     V[:, :b] = Q
-    BV[:, :b] = BQ
+    BVprev, BVcur = None, BQ
     theta = Y = None
     # Partial re-orthogonalisation: the Lanczos recurrence only needs the two newest blocks;
     # orthogonality to the older ones is lost gradually (rounding errors, amplified along
@@ -292,29 +294,33 @@ def _block_lanczos(
     for j in range(nblocks):
         m0, m = j * b, (j + 1) * b
         lo = max(0, m0 - b)
-        W = solve(np.ascontiguousarray(BV[:, m0:m]))
+        W = solve(np.ascontiguousarray(BVcur))
         # local pass: the coupling to the previous block is known (R_j^T, by symmetry)
         if R is not None:
             W -= V[:, lo:m0] @ R.T
-        A = BV[:, m0:m].T @ W
+        A = BVcur.T @ W
         W -= V[:, m0:m] @ A
         scale = max(float(np.abs(A).max()), float(np.abs(R).max()) if R is not None else 0.0)
         omega = None
         if lo > 0 and since >= skip:
-            Cg = BV[:, :lo].T @ W
+            Cg = V[:, :lo].T @ (B @ W)
             W -= V[:, :lo] @ Cg
             omega = float(np.abs(Cg).max())
             since = 0
         else:
             since += 1
         # second local pass (classical Gram-Schmidt twice)
-        C2 = BV[:, lo:m].T @ W
-        W -= V[:, lo:m] @ C2
-        A += C2[m0 - lo :]
+        C2 = BVcur.T @ W
+        if BVprev is not None:
+            C2p = BVprev.T @ W
+            W -= V[:, lo:m0] @ C2p + V[:, m0:m] @ C2
+        else:
+            W -= V[:, m0:m] @ C2
+        A += C2
         Q, BQ, R = _b_orthonormalize(W, B, scale)
         due = m >= next_check
         if Q.shape[1] < b:  # Krylov space (nearly) invariant: continue with random vectors
-            Q, BQ, R = _complete_block(rng, Q, BQ, R, b, V[:, :m], BV[:, :m], B)
+            Q, BQ, R = _complete_block(rng, Q, BQ, R, b, V[:, :m], B)
             skip, since = 0, 0
             # The Ritz pairs of an invariant subspace are exact but may lack copies of
             # eigenvalues repeated more than b times: let the new directions grow as far
@@ -329,7 +335,7 @@ def _block_lanczos(
             elif omega < 1e-3 * _OMEGA_MAX:
                 skip = min(skip + 1, 4)
         V[:, m : m + b] = Q
-        BV[:, m : m + b] = BQ
+        BVprev, BVcur = BVcur, BQ
         # diagonal block (symmetrised) and sub-diagonal block R into the band
         A = 0.5 * (A + A.T)
         for d in range(b):
@@ -391,7 +397,8 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     resolve.
     """
     k = K.shape[0]
-    ncomp, labels = csgraph.connected_components(abs(K) + abs(B), directed=False)
+    pattern = (K != 0) + (B != 0)  # explicit zeros are no edges
+    ncomp, labels = csgraph.connected_components(pattern, directed=False)
     if ncomp > 1:
         lams, vecs = [], []
         for c in range(ncomp):
@@ -470,7 +477,11 @@ def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
     else:
         lam, phi = _solve_sparse(K, B, N, sigma, return_vectors)
     lam = np.asarray(lam, dtype=np.float64)
-    scale = max(1.0, float(np.abs(lam).max()))
+    # round-off of zero eigenvalues -> 0, relative to the scale of the spectrum (the
+    # largest eigenvalue, or Weyl's 4 pi / area for lam_1 when N is tiny), so that meshes
+    # in any unit keep their small eigenvalues
+    area = float(B.sum())
+    scale = max(float(np.abs(lam).max()), 4.0 * np.pi / area if area > 0 else 0.0)
     lam[np.abs(lam) < 1e-10 * scale] = 0.0
     lam = np.maximum(lam, 0.0)
     if return_vectors:
@@ -536,8 +547,10 @@ def shape_dna(mesh, N=100, bc="neumann", mass="consistent"):
 
 
 def _prepare(mesh, N, bc, mass):
-    mesh = as_mesh(mesh)
-    problem = fem(mesh, bc=bc, mass=mass)
+    # repair first, so that the components counted are those of the mesh that is solved
+    # (a welded STL triangle soup is one piece, not one per triangle)
+    mesh = repair_mesh(as_mesh(mesh))
+    problem = fem(mesh, bc=bc, mass=mass, repair=False)
     _check_N(N, problem.n_unknowns, problem.bc)
     ncomp = mesh.n_components
     if ncomp > 1:
