@@ -1,0 +1,159 @@
+"""End to end in a real browser: JupyterLab on loopback, the M-sweep notebook in headless
+Chromium (Debian's package, driven by Playwright), run all cells, move the M slider, check that
+the plot and the statistics change, keep a screenshot in ``test-artifacts/``.
+
+Needs ``/usr/bin/chromium`` (``tools/ensure_browser.sh`` installs it) and the ``playwright``
+Python package (test dependency group); the browser itself is never downloaded.  Skipped with
+a reason when either is missing.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from cshape.notebooks_run import default_notebook_dir
+
+pytestmark = pytest.mark.browser
+
+CHROMIUM = Path("/usr/bin/chromium")
+REPO = Path(__file__).resolve().parents[1]
+ARTIFACTS = REPO / "test-artifacts"
+NOTEBOOK = "07_m_sweep.ipynb"
+FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]
+
+
+def _free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _wait_for_server(url, proc, timeout=90.0):
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout:
+        if proc.poll() is not None:
+            raise RuntimeError(f"JupyterLab exited with code {proc.returncode}")
+        try:
+            with urllib.request.urlopen(url, timeout=2) as r:  # loopback only
+                if r.status == 200:
+                    return
+        except OSError:
+            time.sleep(0.5)
+    raise TimeoutError(f"JupyterLab did not answer at {url} within {timeout:.0f} s")
+
+
+@pytest.fixture
+def jupyterlab(tmp_path):
+    """A JupyterLab server on 127.0.0.1 with a random port and token, serving a copy of the
+    M-sweep notebook; the kernels see CSHAPE_SMALL=1."""
+    pytest.importorskip("jupyterlab", reason="jupyterlab is not installed")
+    root = tmp_path / "root"
+    root.mkdir()
+    shutil.copy(default_notebook_dir() / NOTEBOOK, root / NOTEBOOK)
+    port, token = _free_port(), secrets.token_hex(16)
+    env = dict(os.environ, CSHAPE_SMALL="1",
+               JUPYTER_CONFIG_DIR=str(tmp_path / "config"),
+               JUPYTER_DATA_DIR=str(tmp_path / "data"),
+               JUPYTER_RUNTIME_DIR=str(tmp_path / "runtime"),
+               JUPYTERLAB_SETTINGS_DIR=str(tmp_path / "settings"),
+               JUPYTERLAB_WORKSPACES_DIR=str(tmp_path / "workspaces"))
+    cmd = [sys.executable, "-m", "jupyterlab", "--no-browser",
+           "--ServerApp.ip=127.0.0.1", f"--ServerApp.port={port}",
+           "--ServerApp.port_retries=0", f"--IdentityProvider.token={token}",
+           f"--ServerApp.root_dir={root}", "--LabApp.news_url=None",
+           "--LabApp.extension_manager=readonly", "--ServerApp.terminals_enabled=False",
+           "--LabApp.expose_app_in_browser=True"]
+    if hasattr(os, "geteuid") and os.geteuid() == 0:  # CI machines run as root
+        cmd.append("--allow-root")
+    log = open(tmp_path / "jupyterlab.log", "w")  # noqa: SIM115 - closed below
+    proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT, cwd=root)
+    try:
+        try:
+            _wait_for_server(f"http://127.0.0.1:{port}/api/status?token={token}", proc)
+        except (RuntimeError, TimeoutError) as exc:
+            log.flush()
+            tail = (tmp_path / "jupyterlab.log").read_text()[-3000:]
+            raise RuntimeError(f"{exc}; JupyterLab's log ends with:\n{tail}") from None
+        yield f"http://127.0.0.1:{port}", token, tmp_path
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(timeout=10)
+        log.close()
+
+
+def test_m_sweep_in_chromium(jupyterlab):
+    if not CHROMIUM.exists():
+        pytest.skip(f"{CHROMIUM} not found: install Debian's chromium (tools/ensure_browser.sh)")
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="the playwright Python package is not installed")
+    base, token, tmp = jupyterlab
+    ARTIFACTS.mkdir(exist_ok=True)
+    with sync_api.sync_playwright() as p:
+        ctx = p.chromium.launch_persistent_context(
+            str(tmp / "chromium-profile"), executable_path=str(CHROMIUM), headless=True,
+            args=FLAGS, viewport={"width": 1400, "height": 1000},
+        )
+        try:
+            page = ctx.new_page()
+            page.goto(f"{base}/lab/tree/{NOTEBOOK}?token={token}", timeout=90_000)
+            page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
+            # wait for the kernel, then Run > Run All Cells (the menu's command)
+            page.wait_for_function("() => window.jupyterapp !== undefined", timeout=90_000)
+            page.wait_for_selector(".jp-Notebook-ExecutionIndicator[data-status='idle']",
+                                   timeout=90_000)
+            # (not awaiting the command's promise: it settles only when every cell has run)
+            page.evaluate("() => { window.jupyterapp.commands.execute('notebook:run-all-cells'); }")
+            stats = page.locator(".cshape-msweep-stats")
+            try:
+                stats.wait_for(timeout=180_000)
+            except sync_api.TimeoutError:
+                page.screenshot(path=str(ARTIFACTS / "m_sweep_browser_failed.png"))
+                errors = page.locator(".jp-OutputArea-output[data-mime-type*='stderr']")
+                raise AssertionError(
+                    "the M-sweep widget did not appear; stderr outputs: "
+                    f"{[errors.nth(i).inner_text()[:500] for i in range(errors.count())]}"
+                ) from None
+            plot = page.locator("img.cshape-msweep-plot")
+            plot.wait_for(timeout=60_000)
+            plot.scroll_into_view_if_needed()
+            text0 = stats.inner_text()
+            src0 = plot.get_attribute("src")
+            png0 = plot.screenshot()
+            assert "M = 8" in text0, text0
+            # move the M slider one step down: focus its handle, press the left arrow
+            slider = page.locator(".cshape-msweep .widget-slider").filter(
+                has=page.locator("label", has_text="M"))
+            handle = slider.locator(".noUi-handle").first
+            handle.focus()
+            handle.press("ArrowLeft")
+            t0 = time.monotonic()
+            while "M = 7" not in stats.inner_text() and time.monotonic() - t0 < 60:
+                time.sleep(0.25)
+            text1 = stats.inner_text()
+            t0 = time.monotonic()
+            while plot.get_attribute("src") == src0 and time.monotonic() - t0 < 30:
+                time.sleep(0.25)
+            page.screenshot(path=str(ARTIFACTS / "m_sweep_browser.png"), full_page=False)
+            plot.screenshot(path=str(ARTIFACTS / "m_sweep_plot.png"))
+            assert text1 != text0 and "M = 7:" in text1, (text0, text1)
+            assert plot.get_attribute("src") != src0
+            assert plot.screenshot() != png0, "the plot image did not change"
+        finally:
+            ctx.close()
