@@ -468,9 +468,14 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
     ValueError
         If the file cannot be read as a mesh (unknown extension, empty, truncated or
         corrupt file, no triangles); the message names the file.
-    """
-    import pymeshlab
 
+    Notes
+    -----
+    Before PyMeshLab reads a file, cshape checks what it declares (counts, indices,
+    coordinates; OFF, OBJ, PLY, STL): PyMeshLab silently drops NaN vertices and some
+    faces, and allocates declared counts before reading them.  Big-endian binary PLY files
+    with double coordinates, which PyMeshLab misreads, are read by cshape itself.
+    """
     p = Path(path)
     if not p.exists():
         raise FileNotFoundError(f"no mesh file at {str(p)!r}")
@@ -480,6 +485,30 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         raise ValueError(f"cannot read mesh {str(p)!r}: the file is empty")
     ext = p.suffix.lower().lstrip(".")
     expected = _prescan(p, ext)
+    if expected is not None and expected.arrays is not None:
+        V, F = expected.arrays  # a file PyMeshLab misreads, read by cshape
+        dropped = []
+    else:
+        V, F, dropped = _load_with_pymeshlab(p, ext, expected)
+    try:
+        mesh = Mesh(V, F)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"cannot read mesh {str(p)!r}: {exc}") from None
+    for note in dropped:  # faces the reader left out, which repair_mesh would remove
+        warnings.warn(f"{p.name}: repaired mesh: {note}", CShapeWarning, stacklevel=2)
+    if repair:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", CShapeWarning)
+            mesh = repair_mesh(mesh)
+        for w in caught:
+            warnings.warn(f"{p.name}: {w.message}", CShapeWarning, stacklevel=2)
+    return mesh
+
+
+def _load_with_pymeshlab(p, ext, expected):
+    """``(V, F, notes)`` read by PyMeshLab and checked against what the file declares."""
+    import pymeshlab
+
     ms = pymeshlab.MeshSet()
     try:
         ms.load_new_mesh(str(p))
@@ -510,20 +539,7 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         )
     V = np.array(m.vertex_matrix(), dtype=np.float64)
     F = np.array(m.face_matrix(), dtype=np.int64)
-    dropped = _check_against_expected(p, expected, len(V), len(F))
-    try:
-        mesh = Mesh(V, F)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"cannot read mesh {str(p)!r}: {exc}") from None
-    for note in dropped:  # faces the reader left out, which repair_mesh would remove
-        warnings.warn(f"{p.name}: repaired mesh: {note}", CShapeWarning, stacklevel=2)
-    if repair:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", CShapeWarning)
-            mesh = repair_mesh(mesh)
-        for w in caught:
-            warnings.warn(f"{p.name}: {w.message}", CShapeWarning, stacklevel=2)
-    return mesh
+    return V, F, _check_against_expected(p, expected, len(V), len(F))
 
 
 # ------------------------------------------------------------------ file checks
@@ -544,6 +560,7 @@ class _Expected:
         self.exact_vertices = exact_vertices
         self.collapsed = collapsed
         self.faces_read = faces_read
+        self.arrays = None  # (V, F) read by cshape itself, where PyMeshLab misreads the file
 
 
 def _bad_file(p, what):
@@ -727,7 +744,7 @@ def _scan_ply_header(p):
                     ) from None
                 if count < 0:
                     raise _bad_file(p, f"the PLY header declares a negative count {count}")
-                elements.append([parts[1], count, 0, 0])
+                elements.append([parts[1], count, 0, 0, []])
                 if parts[1] == "vertex":
                     nv = count
                 elif parts[1] == "face":
@@ -737,24 +754,98 @@ def _scan_ply_header(p):
                 el[3] += 1
                 if parts[1:2] == ["list"] and len(parts) > 2:
                     el[2] += _PLY_SIZES.get(parts[2], 1)  # the list length; items may be 0
+                    el[4].append((parts[-1], "list", *parts[2:4]))
                 elif len(parts) > 1:
                     el[2] += _PLY_SIZES.get(parts[1], 1)
+                    el[4].append((parts[-1], parts[1], None, None))
             elif parts[:1] == ["end_header"]:
                 break
-        body = p.stat().st_size - fh.tell()
+        header_end = fh.tell()
+        body = p.stat().st_size - header_end
     if fmt == "ascii":
         # each value takes at least one character and one separator
-        need = sum(2 * count * max(nval, 1) for _, count, _, nval in elements) - 1
+        need = sum(2 * count * max(nval, 1) for _, count, _, nval, _ in elements) - 1
     else:
-        need = sum(count * max(nbytes, 1) for _, count, nbytes, _ in elements)
+        need = sum(count * max(nbytes, 1) for _, count, nbytes, _, _ in elements)
     if need > body:
-        declared = ", ".join(f"{count} {name}" for name, count, _, _ in elements)
+        declared = ", ".join(f"{count} {name}" for name, count, *_ in elements)
         raise _bad_file(
             p, f"the PLY header declares {declared} records, which need at least {need} bytes, "
             f"but the file has {body} bytes after the header: it is truncated or its counts "
             "are wrong"
         )
-    return _Expected(nv, nf, faces_read=False)
+    expected = _Expected(nv, nf, faces_read=False)
+    if fmt == "binary_big_endian":
+        expected.arrays = _big_endian_double_ply(p, elements, header_end)
+    return expected
+
+
+#: NumPy codes of the PLY scalar types.
+_PLY_NUMPY = {
+    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
+    "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
+    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
+}
+
+
+def _big_endian_double_ply(p, elements, header_end):
+    """``(V, F)`` of a big-endian PLY with double x, y, z, read with NumPy; else None.
+
+    PyMeshLab byte-swaps big-endian doubles wrongly: it returns finite garbage coordinates
+    (or drops vertices it reads as NaN) without any error.  cshape therefore reads such
+    files itself: a vertex element of scalar properties and a face element of triangles.
+    Big-endian files with float coordinates are left to PyMeshLab, which reads them right.
+    """
+    types = {n: t for name, _, _, _, props in elements if name == "vertex"
+             for n, t, _, _ in props}
+    if not any(types.get(a) in ("double", "float64") for a in "xyz"):
+        return None
+
+    def unsupported(what):
+        return _bad_file(
+            p, f"it is a big-endian PLY with double coordinates and {what}; PyMeshLab "
+            "misreads such files and cshape reads only plain triangle meshes of this kind: "
+            "save it as little-endian or ASCII PLY"
+        )
+
+    offset = header_end
+    V = F = None
+    for name, count, nbytes, _, props in elements:
+        if name == "vertex":
+            if not all(a in types for a in "xyz") or any(
+                t == "list" or t not in _PLY_NUMPY for _, t, _, _ in props
+            ):
+                raise unsupported("list or unknown vertex properties")
+            dtype = np.dtype([(n, ">" + _PLY_NUMPY[t]) for n, t, _, _ in props])
+            rec = np.fromfile(p, dtype=dtype, count=count, offset=offset)
+            if len(rec) < count:
+                raise _bad_file(p, f"the vertex block ends after {len(rec)} of {count} vertices")
+            V = np.stack([rec[a].astype(np.float64) for a in "xyz"], axis=1)
+            offset += count * dtype.itemsize
+        elif name == "face":
+            if len(props) != 1 or props[0][1] != "list" or not (
+                props[0][2] in _PLY_NUMPY and props[0][3] in _PLY_NUMPY
+            ):
+                raise unsupported("face properties other than one list of indices")
+            _, _, count_t, index_t = props[0]
+            dtype = np.dtype(
+                [("n", ">" + _PLY_NUMPY[count_t]), ("i", ">" + _PLY_NUMPY[index_t], 3)]
+            )
+            rec = np.fromfile(p, dtype=dtype, count=count, offset=offset)
+            if len(rec) < count or np.any(rec["n"] != 3):
+                raise unsupported("faces that are not all triangles (or a truncated face block)")
+            F = rec["i"].astype(np.int64)
+            break
+        elif any(t == "list" for _, t, _, _ in props):
+            raise unsupported(f"a list property in element {name!r} before the faces")
+        else:
+            offset += count * nbytes
+    if V is None or F is None:
+        raise unsupported("no vertex or face element")
+    if F.size and (F.min() < 0 or F.max() >= len(V)):
+        raise _bad_file(p, f"a face references vertex {int(F.max())} but the file has only "
+                        f"{len(V)} vertices")
+    return V, F
 
 
 def _scan_stl(p):
