@@ -300,3 +300,43 @@ def test_bad_tosca_vert_tri_files(tmp_path, vert, tri, match):
     with pytest.raises(ValueError, match=match) as info:
         read_vert_tri(tmp_path / "cat0.vert")
     assert "cat0" in str(info.value)
+
+
+def _ply_be_double(V=TET_V, F=TET_F, *, counts=None, nv=None):
+    head = (f"ply\nformat binary_big_endian 1.0\nelement vertex {len(V) if nv is None else nv}\n"
+            "property double x\nproperty double y\nproperty double z\nproperty uchar red\n"
+            f"element face {len(F)}\nproperty list uchar int vertex_indices\nend_header\n")
+    body = b"".join(struct.pack(">3dB", *v, 7) for v in V)
+    counts = [len(f) for f in F] if counts is None else counts
+    body += b"".join(struct.pack(f">B{len(f)}i", c, *f) for c, f in zip(counts, F, strict=True))
+    return head.encode() + body
+
+
+def test_big_endian_double_ply_is_read_exactly(tmp_path):
+    """PyMeshLab turns big-endian double coordinates into finite garbage without an error;
+    cshape reads such files itself."""
+    rng = np.random.default_rng(3)
+    V = TET_V + rng.normal(scale=0.1, size=TET_V.shape)
+    p = tmp_path / "be_double.ply"
+    p.write_bytes(_ply_be_double(V))
+    m = cshape.load_mesh(p)
+    np.testing.assert_array_equal(m.vertices, V)  # exactly: doubles, no float32 rounding
+    np.testing.assert_array_equal(m.faces, TET_F)
+
+
+@pytest.mark.parametrize(
+    "content, match",
+    [
+        (_ply_be_double(F=[[0, 2, 1, 3], [0, 1, 3], [0, 3, 2], [1, 2, 3]]),
+         "big-endian PLY with double coordinates and faces that are not all triangles"),
+        (_ply_be_double(F=_F_OOR), "references vertex 99 but the file has only 4"),
+        (_ply_be_double(nv=5)[:-40], "declares 5 vertex, 4 face records"),
+    ],
+    ids=["quads", "out_of_range", "truncated"],
+)
+def test_big_endian_double_ply_errors(tmp_path, content, match):
+    p = tmp_path / "be_double.ply"
+    p.write_bytes(content)
+    with pytest.raises(ValueError, match=match) as info:
+        cshape.load_mesh(p)
+    assert "be_double.ply" in str(info.value)
