@@ -1,40 +1,56 @@
 """Stage 3 of the pipeline: the eigensolve ``A f = -lam B f`` (Eq. 3) for the N smallest lam.
 
 With ``K = -A`` (positive semidefinite) the problem is ``K f = lam B f``.  Small problems
-(at most :data:`DENSE_LIMIT` unknowns) are solved densely with LAPACK.  Larger ones use a
-**block shift-invert Lanczos** method written here on top of one sparse Cholesky
-factorisation:
+(at most :data:`DENSE_LIMIT` unknowns, or ``N`` above a third of them) are solved densely
+with LAPACK.  Larger ones use a **block shift-invert Lanczos** method written here on top
+of one sparse Cholesky factorisation:
 
 1. Factorise ``S = K - sigma B`` once (CHOLMOD through the ``cholespy`` wheel; SciPy's
    SuperLU if it is missing) with a shift ``sigma < 0`` below the whole spectrum, so ``S``
-   is positive definite.
+   is positive definite.  Default ``sigma = -0.01 * 4 pi N / area``: one hundredth of
+   Weyl's estimate ``lam_N ~ 4 pi N / area`` (-1 for the unit sphere and N = 100).
 2. The operator ``OP = S^{-1} B`` is self-adjoint in the B-inner product and has the
    eigenvalues ``theta = 1 / (lam - sigma)``: the N smallest ``lam`` are its N largest
    ``theta``.  A block Krylov space of ``OP`` is grown from a fixed random block of
-   ``b`` (default 8) vectors.  Each step applies ``S^{-1}`` to ``b`` right-hand sides at
-   once (one multi-right-hand-side triangular solve, about twice as fast per column as
-   single solves) and B-orthogonalises the new block against the whole basis with dense
-   matrix-matrix products (one classical Gram-Schmidt pass over the old basis, a second
-   pass over the two newest blocks, Cholesky-QR twice inside the block).
+   ``b = BLOCK_SIZE = 8`` vectors.  Each step applies ``S^{-1}`` to ``b`` right-hand sides
+   at once (one multi-right-hand-side CHOLMOD solve, about twice as fast per column as
+   ``b`` single solves) and B-orthonormalises the new block with dense matrix products:
+   classical Gram-Schmidt twice against the two newest blocks (the block Lanczos
+   recurrence), Cholesky-QR inside the block, and *partial re-orthogonalisation* against
+   the older blocks.  In exact arithmetic the recurrence alone keeps the basis
+   orthogonal; in floating point orthogonality is lost gradually along the converged
+   Ritz vectors.  The pass over the older blocks therefore runs only every one to few
+   steps: its coefficients measure the loss accumulated since the previous pass, and the
+   interval adapts to keep it below 1e-9, under ``sqrt(eps)`` (semi-orthogonality, which
+   keeps the Ritz values accurate to rounding; Simon 1984).
 3. The projection of ``OP`` onto the basis is block tridiagonal (bandwidth ``b``); its
-   eigenpairs (Rayleigh-Ritz, LAPACK's banded solver) give Ritz values ``theta_i`` and,
-   from the Lanczos relation, the residual norms ``||OP x_i - theta_i x_i||_B`` for free.
-   The iteration stops when all N wanted pairs have a residual below
-   ``RESIDUAL_TOL * theta_i``; since Ritz values of a self-adjoint operator are accurate
-   to the *square* of the residual over the spectral gap, the eigenvalues are then
-   accurate to about 1e-12 relative.
+   top eigenpairs (Rayleigh-Ritz, LAPACK's banded solver) give Ritz values ``theta_i``
+   and, from the Lanczos relation, the residual norms ``||OP x_i - theta_i x_i||_B`` at no
+   cost.  The iteration stops when all N wanted pairs have a residual at most
+   ``RESIDUAL_TOL * theta_i`` (1e-6).  Ritz values of a self-adjoint operator are accurate
+   to the *square* of the residual over the spectral gap, so the eigenvalues agree with
+   ARPACK's full-accuracy ones to about 1e-12 relative.  Eigenvectors, when asked for,
+   get a last Rayleigh-Ritz step with ``(K, B)`` that makes them B-orthonormal to rounding.
 
-Compared with ARPACK's implicitly restarted Lanczos (``scipy.sparse.linalg.eigsh``, as in
-LaPy) the method needs about as many solves (roughly ``3 N``) but does them in blocks and
-replaces ARPACK's vector-at-a-time re-orthogonalisation and restarts, which dominate for
-N = 100 on large meshes, by a few large matrix-matrix products.
+Why it is faster than ARPACK's implicitly restarted Lanczos (``scipy.sparse.linalg.eigsh``
+in shift-invert mode, as used by LaPy): for N = 100 both need about 3.5 N solves, but
+here they come in blocks, and ARPACK's vector-at-a-time re-orthogonalisation against its
+whole basis plus its restarts, which dominate on large meshes, become a few memory-bound
+matrix products over a basis that is re-orthogonalised only when needed.  See
+``benchmarks/bench_spectrum.py`` and ``benchmarks/README.md`` for measurements.
 
-Repeated eigenvalues (e.g. ``l(l+1)`` with multiplicity ``2l + 1`` on a sphere) are found
-with all their copies as long as the exact multiplicity does not exceed the block size;
-meshes usually split such multiplets slightly, and rounding lets further copies enter
-the Krylov space.  If the block method does not converge within its dimension budget it
-falls back to ARPACK with ``tol=0`` (full accuracy) on the same factorisation.  Both paths
-are deterministic (fixed seeds).
+Completeness.  A Krylov method cannot see a copy of an eigenvalue that its start vectors
+miss.  A block of ``b`` random vectors resolves multiplicities up to ``b``; the symmetry of
+a connected surface in space gives at most 5 (the icosahedral group), e.g. an icosphere
+splits the ``2l + 1`` copies of the sphere's ``l(l+1)`` into groups of at most 5.  Larger
+multiplicities come from identical connected components, so a mesh with several
+components is solved one component at a time and the spectra are merged.  If the Krylov
+space becomes invariant (a breakdown), it is continued with fresh random vectors and the
+convergence test waits until they have been developed as far as the first ones.  The
+solver is checked against dense LAPACK, ARPACK with ``tol=0`` and the exact sphere
+multiplicities in ``tests/test_spectrum_solver.py``.  If the block method does not
+converge within its dimension budget (``max(6 N, N + 40 b)``) it falls back to ARPACK with
+``tol=0`` on the same factorisation.  Both paths are deterministic (fixed seeds).
 """
 
 from __future__ import annotations
