@@ -582,15 +582,44 @@ def _parse_floats(p, tokens, lineno, kind):
         )
 
 
+def _obj_records(fh):
+    """``(line number, record)`` of an OBJ file, joining lines continued by a backslash."""
+    pending, start = b"", 0
+    for lineno, raw in enumerate(fh, 1):
+        line = raw.rstrip(b"\r\n")
+        if not pending:
+            start = lineno
+        if line.endswith(b"\\"):
+            pending += line[:-1] + b" "
+            continue
+        yield start, pending + line
+        pending = b""
+    if pending:
+        yield start, pending
+
+
 def _scan_obj(p):
+    """Check the records PyMeshLab's OBJ reader will use.
+
+    The checks mirror that reader: it skips indented ``v`` lines but reads indented ``f``
+    lines, and returns (memory-unsafe) faces with out-of-range indices, so every face index
+    is checked here against the vertices it will read.
+    """
     nv = ntri = max_idx = nrec = collapsed = 0
     with open(p, "rb") as fh:
-        for lineno, raw in enumerate(fh, 1):
-            if raw[:2] == b"v " or raw[:2] == b"v\t":
-                _parse_floats(p, raw.split()[1:], lineno, "vertex")
+        for lineno, raw in _obj_records(fh):
+            rec = raw.lstrip()
+            if rec[:2] in (b"v ", b"v\t"):
+                if len(rec) != len(raw):
+                    raise _bad_file(
+                        p, f"line {lineno}: the vertex record is indented; PyMeshLab's OBJ "
+                        "reader skips indented 'v' lines, so the faces would point at the "
+                        "wrong vertices: remove the leading whitespace"
+                    )
+                _parse_floats(p, rec.split()[1:], lineno, "vertex")
                 nv += 1
-            elif raw[:2] == b"f " or raw[:2] == b"f\t":
-                toks = raw.split()[1:]
+            elif rec[:2] in (b"f ", b"f\t"):
+                toks = rec.split()[1:]
                 if len(toks) < 3:
                     raise _bad_file(p, f"line {lineno}: a face needs at least 3 vertices")
                 nrec += 1
