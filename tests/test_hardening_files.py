@@ -124,6 +124,13 @@ MALFORMED = [
      "line 6: vertex coordinates .* are not numbers"),
     ("huge_index.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n",
      "references vertex 99999999999999999999"),
+    # PyMeshLab's OBJ reader skips indented 'v' lines but not 'f' lines, and hands back faces
+    # with out-of-range indices (heap corruption, "munmap_chunk(): invalid pointer", seen)
+    ("indented_vertex.obj", b"  v 0 0 0\n v 1 0 0\nv 0 1 0\nv 0 0 1\n f 1 3 2\nf 1 2 4\n",
+     "line 1: the vertex record is indented"),
+    ("indented_face_oor.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\tf 1 2 9\n", "vertex 9"),
+    ("face_comment.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 # c\n",
+     "line 5: face index '#' is not an integer"),
 ]
 
 
@@ -235,6 +242,8 @@ def test_non_utf8_comment_in_off_is_accepted(tmp_path):
         ("bom.off", b"\xef\xbb\xbf" + OFF_TET.encode()),
         ("UPPER.OFF", OFF_TET.encode()),
         ("trailing_nuls.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n\x00\x00\x00"),
+        ("continued_lines.obj", b"v 0 0 0\nv 1 0 \\\n0\nv 0 1 0\nf 1 \\\n 2 3\n"),
+        ("uppercase_V_ignored.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nV 5 5 5\nf 1 2 3\n"),
     ],
 )
 def test_harmless_oddities_still_load(tmp_path, name, content):
