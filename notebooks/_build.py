@@ -52,6 +52,33 @@ def real_mesh(small=SMALL):
         print(f"PyMeshLab samples not available ({exc}); using a built-in torus")
         return shapes.torus(64, 32), "torus (built-in)"'''
 
+DEMO_COLLECTION = '''\
+from cshape import batch, variants
+
+
+def demo_collection(small=SMALL):
+    """(name, label, mesh) triples: a few classes of shapes, all made in code.
+
+    Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a snake
+    figure.  Full: cshape's "paper-models" (spheres S1-S3, cube, torus, eight, the
+    marching-cubes quadruped CM and its remesh CS, the human D1 and its refinement D2) and
+    "articulated" (four classes x five poses), built with PyMeshLab once and then cached.
+    """
+    if not small:
+        import cshape.data
+
+        return [(it.name, it.label, it.mesh)
+                for coll in ("paper-models", "articulated")
+                for it in cshape.data.load_collection(coll)]
+    items = [(f"sphere-{s}", "sphere", shapes.icosphere(s)) for s in (2, 3)]
+    items += [(f"cube-{n}", "cube", shapes.cube(n)) for n in (5, 7)]
+    items += [(f"torus-{k}", "torus", shapes.torus(8 * k + 24, 4 * k + 12)) for k in (0, 1)]
+    for kind in ("human", "snake"):
+        for seed in (0, 1):
+            fig = variants.articulated_figure(kind, seed, voxelsize=0.05, target_vertices=500)
+            items.append((f"{kind}-{seed}", kind, fig))
+    return items'''
+
 
 def md(text):
     return ("markdown", text)
@@ -588,6 +615,457 @@ print("sizes: Shape-DNA", N, "values, cShape-DNA", len(cshape.real_form(S_a)), "
    two spheres of different resolution)? Notebook 4 does this for a whole collection."""),
 ]
 
+# =============================================================================== 04
+NB04 = [
+    md(r"""# 4 · Comparing and classifying shapes: distance matrices, MDS, retrieval
+
+**Paper:** Section 3.1, Fig. 3 (scaled distance matrices and their difference), Fig. 4 (MDS of the
+cShape-DNA for $M = 16, 8, 4, 2, 1$), Fig. 5 (MDS of the truncated Shape-DNA and of the F1 feature).
+
+**Learning goals.** After this notebook you can
+
+1. turn a collection of meshes into descriptors once (`cshape.batch.describe`) and derive every descriptor
+   of the paper from the same eigenvalues;
+2. compare two distance matrices that live on different scales by scaling both to $[0, 255]$ and reading
+   the mean and standard deviation of their difference (Fig. 3);
+3. draw and read 2-D MDS plots (Fig. 4-5): what "the clustering gets worse" looks like;
+4. score a descriptor with the retrieval measures of the Princeton Shape Benchmark (nearest neighbour,
+   first and second tier, E-measure, DCG, mean average precision).
+
+**The measures.** With descriptors $x_p$ (one per shape), $D_{pq} = \lVert x_p - x_q\rVert$ (Euclidean),
+
+$$D^{255} = 255\,\frac{D}{\max D}, \qquad \text{difference} = \left|D^{255}_{\text{Shape-DNA}} - D^{255}_{\text{cShape-DNA}}\right|,$$
+
+and the paper reports mean 0.68 and standard deviation 0.69 for the McGill database with $N = 100$, $M = 16$."""),
+    code(SETUP),
+    code(DEMO_COLLECTION + '''
+
+
+collection = demo_collection()
+N = 40 if SMALL else 100
+table = batch.describe(collection, N=N, progress=not SMALL)
+print(table)
+print("classes:", sorted(set(table.labels)))'''),
+    md(r"""## The collection
+
+One shape of each class. The full-size run uses cshape's generated "paper-models" and "articulated"
+collections: the paper's simple models, a marching-cubes animal and its remesh, a figure at two resolutions,
+and four classes of articulated figures in five poses each (the counterpart of the armadillo poses A1-A5)."""),
+    code('''\
+first = {}
+for name, label, mesh in collection:
+    first.setdefault(label, (name, mesh))
+fig = plots.new_figure((2.6 * len(first), 2.8))
+for k, (label, (name, mesh)) in enumerate(first.items()):
+    plots.plot_mesh(mesh, ax=fig.add_subplot(1, len(first), k + 1, projection="3d"),
+                    title=f"{label}: {name}", edges=False)
+fig'''),
+    md(r"""## Fig. 3: scaled distance matrices and their difference
+
+`table.distance_matrix(kind, M=...)` builds the descriptors from the stored eigenvalues (no new eigensolve)
+and their Euclidean distances. Shapes are in collection order, so each class is a block on the diagonal."""),
+    code('''\
+from cshape import compare
+
+M = 16 if 2 * 16 + 1 <= N else (N - 1) // 2
+D_sdna = table.distance_matrix("shape_dna")
+D_cs = table.distance_matrix("cshape", M=M)
+mean, std = compare.scaled_difference(D_sdna, D_cs)
+plots.plot_matrices(
+    [compare.scale_255(D_sdna), compare.scale_255(D_cs), compare.difference_matrix(D_sdna, D_cs)],
+    [f"(a) Shape-DNA, N={N}", f"(b) cShape-DNA, M={M}",
+     f"(c) |a - b|: mean {mean:.2f}, std {std:.2f}"],
+    vmax=255,
+)'''),
+    md(r"""The difference image is nearly black on the $[0, 255]$ scale: the two descriptors rank the shapes almost
+identically, although the cShape-DNA has $2M+1$ values instead of $N$. (In the small-size run the meshes are
+coarse, e.g. spheres of 162 and 642 vertices, whose higher eigenvalues differ visibly: resolution matters
+when a mesh has few vertices per eigenfunction oscillation.)
+
+## Fig. 4: MDS of the cShape-DNA as $M$ shrinks
+
+Multidimensional scaling places one point per shape in the plane so that the planar distances approximate
+$D$. A good descriptor gives tight, separated clusters."""),
+    code('''\
+Ms = [m for m in (16, 8, 4, 2, 1) if 2 * m + 1 <= N]
+nrows = -(-(len(Ms) + 1) // 3)
+fig = plots.new_figure((11, 3.6 * nrows))
+axs = fig.subplots(nrows, 3).ravel()
+compare.plot_mds(compare.mds_embedding(D_sdna), labels=table.labels, ax=axs[0],
+                 title=f"(a) Shape-DNA, N={N}")
+for ax, m in zip(axs[1:], Ms, strict=False):
+    Y = compare.mds_embedding(table.distance_matrix("cshape", M=m))
+    compare.plot_mds(Y, labels=table.labels, ax=ax, title=f"cShape-DNA M={m} ({2 * m + 1} values)")
+for ax in axs[1:]:  # one legend is enough
+    if ax.get_legend() is not None:
+        ax.get_legend().remove()
+for ax in axs[len(Ms) + 1:]:
+    ax.set_axis_off()
+fig'''),
+    md(r"""## Fig. 5: the truncated Shape-DNA with the same budget, and F1
+
+The fair comparison: keep the *first* $2M+1$ normalised eigenvalues instead (Fig. 5 a-e), or use the F1 feature
+$\left(\lambda_1/\lambda_2, \dots, \lambda_1/\lambda_N\right)$ (Fig. 5f)."""),
+    code('''\
+fig = plots.new_figure((11, 3.6 * nrows))
+axs = fig.subplots(nrows, 3).ravel()
+for ax, m in zip(axs, Ms, strict=False):
+    Y = compare.mds_embedding(table.distance_matrix("truncated", M=m))
+    compare.plot_mds(Y, labels=table.labels, ax=ax, title=f"first {2 * m + 1} eigenvalues")
+Y = compare.mds_embedding(table.distance_matrix("f1"))
+compare.plot_mds(Y, labels=table.labels, ax=axs[len(Ms)], title=f"(f) F1, N={N}")
+for ax in axs[1:]:  # one legend is enough
+    if ax.get_legend() is not None:
+        ax.get_legend().remove()
+for ax in axs[len(Ms) + 1:]:
+    ax.set_axis_off()
+fig'''),
+    md(r"""## Retrieval measures
+
+Every shape is used once as a query against all the others; the measures (in $[0, 1]$, higher is better)
+tell how often and how early shapes of the same class come back. See `cshape.compare.retrieval_scores`
+for the exact definitions."""),
+    code('''\
+rows = [("Shape-DNA", N, compare.retrieval_scores(D_sdna, table.labels))]
+for m in Ms:
+    rows.append((f"cShape-DNA M={m}", 2 * m + 1,
+                 compare.retrieval_scores(table.distance_matrix("cshape", M=m), table.labels)))
+    rows.append((f"truncated, first {2 * m + 1}", 2 * m + 1,
+                 compare.retrieval_scores(table.distance_matrix("truncated", M=m), table.labels)))
+rows.append(("F1", N - 2, compare.retrieval_scores(table.distance_matrix("f1"), table.labels)))
+keys = ["nn", "ft", "st", "e", "dcg", "map"]
+print(f"{'descriptor':24s} {'size':>4s} " + " ".join(f"{k:>6s}" for k in keys))
+for name, size, sc in rows:
+    print(f"{name:24s} {size:4d} " + " ".join(f"{sc[k]:6.3f}" for k in keys))'''),
+    code('''\
+fig = plots.new_figure((6, 3.6))
+ax = fig.add_subplot()
+sizes = [2 * m + 1 for m in Ms]
+for kind, marker in (("cshape", "o-"), ("truncated", "s--")):
+    ft = [compare.retrieval_scores(table.distance_matrix(kind, M=m), table.labels)["ft"]
+          for m in Ms]
+    ax.plot(sizes, ft, marker, label=kind)
+ax.axhline(rows[0][2]["ft"], color="k", lw=0.8, label=f"Shape-DNA, N={N}")
+ax.set(xlabel="descriptor size (values)", ylabel="first tier", xscale="log",
+       title="same budget, different descriptors")
+ax.legend(fontsize="small")
+fig'''),
+    md(r"""## Exercises
+
+1. Which pair of shapes does the cShape-DNA with $M = 1$ confuse most? Find it in the distance matrix
+   (`np.argsort`) and draw both meshes.
+2. The spheres S1-S3 (full size) differ only in resolution. How large is their mutual distance relative to
+   the distance from the sphere to the cube, for the Shape-DNA and for the cShape-DNA?
+3. Compute the difference statistics of Fig. 3 for `normalization="weyl"` (pass it to
+   `table.distance_matrix`). Does the choice of normalisation matter here?
+4. Replace the MDS by a nearest-neighbour classifier (`compare.DescriptorIndex`): leave one shape out, predict
+   its class from its nearest neighbour, and count the errors for each descriptor."""),
+]
+
+# =============================================================================== 05
+NB05 = [
+    md(r"""# 5 · Sensitivity to noise and to mesh quality
+
+**Paper:** Section 3.3, Fig. 7 (difference matrices under noise), Fig. 8 (descriptor differences per model),
+Fig. 9 (cShape-DNA of a marching-cubes mesh and of its remesh).
+
+**Learning goals.** After this notebook you can
+
+1. add the paper's noise: move every vertex along its outward normal by a random distance up to
+   $\lambda \times L$ ($L$ the mean edge length, $\lambda \in \{0.5, 1, 2, 4, 10\}$);
+2. measure how noise changes the distance matrices of the Shape-DNA and of the cShape-DNA (Fig. 7) and each
+   model's descriptor (Fig. 8);
+3. measure triangle quality (angles, aspect ratios) and see that the spectrum depends on the shape, not on the
+   triangulation (Fig. 9).
+
+**Why noise matters.** Noise adds area (a rough surface is larger) and small-scale wiggles that the higher
+eigenfunctions feel: the normalised eigenvalues shift, the more so the larger $\lambda$."""),
+    code(SETUP),
+    code(DEMO_COLLECTION + '''
+
+
+collection = demo_collection()
+if not SMALL:  # leave out the largest meshes: every model is solved once per noise level
+    collection = [c for c in collection if c[0] not in ("S2", "S3", "D2")]
+N = 30 if SMALL else 100
+M = 8 if SMALL else 16
+levels = [0.5, 2.0, 10.0] if SMALL else [0.5, 1.0, 2.0, 4.0, 10.0]
+print(len(collection), "models, noise levels", levels)'''),
+    md(r"""## What the noise looks like"""),
+    code('''\
+name, label, mesh = collection[-1]
+fig = plots.new_figure((3 * (len(levels) + 1), 3))
+for k, lev in enumerate([0.0, *levels]):
+    noisy = variants.add_normal_noise(mesh, lev, random_state=0)
+    plots.plot_mesh(noisy, ax=fig.add_subplot(1, len(levels) + 1, k + 1, projection="3d"),
+                    title=f"{name}, lambda = {lev}", edges=False)
+fig'''),
+    md(r"""## Descriptors of the clean and the noisy collections
+
+`batch.describe` caches eigenvalues by mesh content, so rerunning this notebook only computes what is new."""),
+    code('''\
+clean = batch.describe(collection, N=N, M=M, progress=not SMALL)
+noisy = {}
+for lev in levels:
+    noisy_items = [(n, lab, variants.add_normal_noise(m, lev, random_state=0))
+                   for n, lab, m in collection]
+    noisy[lev] = batch.describe(noisy_items, N=N, M=M, progress=not SMALL)
+print(clean)'''),
+    md(r"""## Fig. 7: difference matrices against the noise-free collection
+
+For each noise level, the scaled distance matrix of the noisy models is compared with that of the clean
+ones, for the normalised Shape-DNA (top) and the cShape-DNA (bottom)."""),
+    code('''\
+from cshape import compare
+
+diffs, titles, stats = {"shape_dna": [], "cshape": []}, {"shape_dna": [], "cshape": []}, []
+for lev in levels:
+    for kind in ("shape_dna", "cshape"):
+        D0, D1 = clean.distance_matrix(kind), noisy[lev].distance_matrix(kind)
+        mean, std = compare.scaled_difference(D0, D1)
+        diffs[kind].append(compare.difference_matrix(D0, D1))
+        titles[kind].append(f"lambda={lev}: {mean:.1f} / {std:.1f}")
+        stats.append((lev, kind, mean, std))
+vmax = max(d.max() for v in diffs.values() for d in v)
+print("mean / std of each difference image")
+plots.plot_matrices(diffs["shape_dna"], [f"Shape-DNA {t}" for t in titles["shape_dna"]], vmax=vmax)'''),
+    code('''\
+plots.plot_matrices(diffs["cshape"], [f"cShape-DNA {t}" for t in titles["cshape"]], vmax=vmax)'''),
+    code('''\
+print(f"{'lambda':>7s} {'Shape-DNA mean/std':>20s} {'cShape-DNA mean/std':>20s}")
+for lev in levels:
+    s = {k: (m, sd) for lv, k, m, sd in stats if lv == lev}
+    print(f"{lev:7.1f} {s['shape_dna'][0]:12.2f} / {s['shape_dna'][1]:5.2f} "
+          f"{s['cshape'][0]:12.2f} / {s['cshape'][1]:5.2f}")'''),
+    md(r"""As in the paper, the two descriptors react to noise almost identically: the cShape-DNA inherits the
+Shape-DNA's sensitivity, no more and no less.
+
+## Fig. 8: how far each model's descriptor moves
+
+For three noise levels, the distance between each model's noisy and clean descriptor, scaled to $[0, 1]$
+over all models and levels."""),
+    code('''\
+show = [levels[0], levels[len(levels) // 2], levels[-1]]
+fig = plots.new_figure((11, 3.5))
+axs = fig.subplots(1, 2, sharey=True)
+for ax, kind, title in ((axs[0], "shape_dna", "(a) normalised Shape-DNA"),
+                        (axs[1], "cshape", "(b) cShape-DNA")):
+    d = {lev: np.linalg.norm(noisy[lev].descriptors(kind) - clean.descriptors(kind), axis=1)
+         for lev in show}
+    top = max(v.max() for v in d.values())
+    for lev in show:
+        ax.plot(d[lev] / top, "o-", ms=3, label=f"lambda = {lev}")
+    ax.set(title=title, xlabel="model", xticks=range(len(clean)))
+    ax.set_xticklabels(clean.names, rotation=90, fontsize="x-small")
+    ax.legend(fontsize="small")
+axs[0].set_ylabel("scaled difference")
+fig'''),
+    md(r"""## Fig. 9: mesh quality does not matter
+
+Marching cubes produces needles and nearly flat triangles ("CM"); isotropic remeshing makes them nearly
+equilateral ("CS"). The spectrum belongs to the surface, not to its triangles, so the two cShape-DNAs should
+agree."""),
+    code('''\
+if SMALL:
+    CM = variants.articulated_figure("quadruped", 0, voxelsize=0.04, target_vertices=None)
+    CS = variants.remesh(CM, target_vertices=1200)
+else:
+    import cshape.data
+
+    CM, CS = cshape.data.load("paper-models", "CM"), cshape.data.load("paper-models", "CS")
+for name, m in (("CM (marching cubes)", CM), ("CS (remeshed)", CS)):
+    q = variants.mesh_quality(m)
+    print(f"{name:20s} {q['n_vertices']:6d} vertices, smallest angle {q['min_angle']:5.2f} deg, "
+          f"{q['pct_below_10']:5.1f}% of triangles below 10 deg, "
+          f"worst aspect {q['aspect_max']:.3g}")'''),
+    code('''\
+fig = plots.new_figure((11, 3.4))
+ax0 = fig.add_subplot(1, 3, 1, projection="3d")
+ax1 = fig.add_subplot(1, 3, 2, projection="3d")
+ax2 = fig.add_subplot(1, 3, 3)
+for ax, (name, m) in ((ax0, ("CM", CM)), (ax1, ("CS", CS))):
+    plots.plot_mesh(m, ax=ax, edges=True, title=name, elev=30, azim=-40)
+for name, m in (("CM", CM), ("CS", CS)):
+    ax2.hist(variants.triangle_angles(m).min(axis=1), bins=40, range=(0, 60), alpha=0.6,
+             label=name)
+ax2.set(xlabel="smallest angle of a triangle (degrees)", ylabel="triangles",
+        title="triangle quality")
+ax2.legend()
+fig'''),
+    code('''\
+import warnings
+
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore", cshape.CShapeWarning)  # CM has near-degenerate triangles
+    S = {name: cshape.compact_shape_dna(m, M=M, N=N) for name, m in (("CM", CM), ("CS", CS))}
+print("relative difference of the two cShape-DNAs:",
+      np.linalg.norm(S["CM"] - S["CS"]) / np.linalg.norm(S["CS"]))
+plots.plot_cshape_dna(S, title="Fig. 9: cShape-DNA of CM and CS")'''),
+    md(r"""## Exercises
+
+1. Use `signed=True` in `variants.add_normal_noise` (noise in both directions). Does the area still grow?
+   How do the statistics of Fig. 7 change?
+2. Noise adds area. Normalise with `normalization="weyl"` instead of the area and repeat Fig. 7. Which
+   normalisation is more robust to noise, and why?
+3. Smooth a noisy mesh back (PyMeshLab's Laplacian smoothing, `pymeshlab.MeshSet.apply_coord_laplacian_smoothing`)
+   and measure how much of the clean descriptor comes back.
+4. Fig. 9 with the Shape-DNA itself: plot the normalised Shape-DNAs of CM and CS. Where do they differ most,
+   at low or at high eigenvalues?"""),
+]
+
+# =============================================================================== 06
+NB06 = [
+    md(r"""# 6 · Working with your own collection
+
+**Paper:** the whole pipeline of Section 2 (Eq. 3-10), applied the way Section 3 does it to a database.
+
+**Learning goals.** After this notebook you can
+
+1. point cshape at a folder of meshes (one sub-folder per class) and get names and labels;
+2. compute every shape's eigenvalues once, with a cache that makes the next run (or an interrupted one) fast,
+   in parallel processes or on a Dask cluster;
+3. query the nearest neighbours of a new shape with `DescriptorIndex`;
+4. save the table (CSV or NPZ) and load it back;
+5. find the downloadable benchmarks cshape knows about."""),
+    code(SETUP),
+    md(r"""## A folder of meshes
+
+Your own collection is a folder such as
+
+```
+my_meshes/
+    chairs/  chair1.obj  chair2.ply ...
+    cups/    cup1.off ...
+```
+
+Here we write one from built-in shapes (and PyMeshLab's sample meshes) into a temporary folder, so the
+notebook runs anywhere. Replace `folder` by your own."""),
+    code('''\
+import tempfile
+from pathlib import Path
+
+from cshape import variants
+
+
+def write_obj(mesh, path):
+    """A minimal Wavefront OBJ writer (vertices and triangles)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w") as f:
+        f.writelines(f"v {x:.9g} {y:.9g} {z:.9g}\\n" for x, y, z in mesh.vertices)
+        f.writelines(f"f {a + 1} {b + 1} {c + 1}\\n" for a, b, c in mesh.faces)
+
+
+work = Path(tempfile.mkdtemp(prefix="cshape-own-"))
+folder = work / "my_meshes"
+s = 2 if SMALL else 4
+for k in range(3):
+    write_obj(shapes.icosphere(s, radius=1 + 0.5 * k), folder / "spheres" / f"sphere{k}.obj")
+    write_obj(shapes.torus(16 * (k + 2), 8 * (k + 2)), folder / "tori" / f"torus{k}.obj")
+    write_obj(shapes.cube(4 + 2 * k + (0 if SMALL else 6)), folder / "cubes" / f"cube{k}.obj")
+    human = variants.articulated_figure("human", k, voxelsize=0.05 if SMALL else 0.03,
+                                        target_vertices=500 if SMALL else 2000)
+    write_obj(human, folder / "humans" / f"human{k}.obj")
+print(sorted(str(p.relative_to(folder)) for p in folder.rglob("*.obj")))'''),
+    code('''\
+import cshape.data
+
+coll = cshape.data.load_folder(folder, labels="subfolder")
+print(coll)
+print(list(zip(coll.names, coll.labels, strict=True)))'''),
+    md(r"""## Descriptors, cached
+
+`batch.describe` stores each mesh's eigenvalues in the cache folder under a key made from the mesh's
+*content* (and the boundary condition): renaming or moving a file does not invalidate it, changing a vertex
+does. Only `N` eigenvalues per mesh are kept; every descriptor (any `M`) is derived from them."""),
+    code('''\
+import time
+
+from cshape import batch
+
+N, M = (30, 8) if SMALL else (100, 16)
+cache = work / "cache"
+t0 = time.perf_counter()
+table = batch.describe(coll, N=N, M=M, cache_dir=cache, progress=False)
+print(f"first run:  {time.perf_counter() - t0:5.2f} s, "
+      f"from cache: {table.cached.sum()} of {len(table)}")
+t0 = time.perf_counter()
+table = batch.describe(coll, N=N, M=M, cache_dir=cache, progress=False)
+print(f"second run: {time.perf_counter() - t0:5.2f} s, "
+      f"from cache: {table.cached.sum()} of {len(table)}")
+table'''),
+    md(r"""### In parallel
+
+`n_jobs=2` computes in two worker processes (each with one BLAS thread). In a script, guard the entry
+point with `if __name__ == "__main__":`. For a cluster, pass a Dask client (or a scheduler address) as
+`client=`; the cache stays on this machine."""),
+    code('''\
+t0 = time.perf_counter()
+par = batch.describe(coll, N=N, M=M, cache_dir=work / "cache-parallel", n_jobs=2,
+                     progress=False)
+print(f"2 processes: {time.perf_counter() - t0:5.2f} s;",
+      "same eigenvalues:", np.allclose(par.lam, table.lam))'''),
+    code('''\
+try:
+    from dask.distributed import Client
+except ImportError:
+    print("Dask is not installed: pip install 'cshape[distributed]'")
+else:
+    with Client(processes=False, n_workers=1, threads_per_worker=2,
+                dashboard_address=None) as client:
+        t0 = time.perf_counter()
+        dsk = batch.describe(coll, N=N, M=M, cache_dir=False, client=client, progress=False)
+        print(f"Dask (in-process cluster): {time.perf_counter() - t0:5.2f} s;",
+              "same eigenvalues:", np.allclose(dsk.lam, table.lam))'''),
+    md(r"""## Which stored shape is this?
+
+`compare.DescriptorIndex` answers nearest-neighbour queries against a database of descriptors. We query a
+shape the collection has never seen: a noisy, rotated, larger copy of one of the tori (rotation and scale do
+not change the normalised spectrum; the noise does, a little)."""),
+    code('''\
+from cshape import compare
+
+index = compare.DescriptorIndex(table.descriptors("cshape", M=M))
+base = coll["torus1"].mesh
+c, s_ = np.cos(0.7), np.sin(0.7)
+R = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])
+query = cshape.Mesh(1.7 * base.vertices @ R.T, base.faces)
+query = variants.add_normal_noise(query, 0.3, random_state=1)
+q = cshape.compact_shape_dna_real(query, M=M, N=N)
+dist, ind = index.query(q, k=3)
+for d, i in zip(dist[0], ind[0], strict=True):
+    print(f"{table.names[i]:10s} ({table.labels[i]:7s}) distance {d:8.3f}")
+plots.plot_mesh(query, title="the query: a noisy, rotated, scaled torus", edges=False)'''),
+    md(r"""## Save the table, load it back
+
+CSV (a metadata line, then one row per shape: name, label, area, eigenvalues) is easy to read anywhere; NPZ is
+compact. Both round-trip exactly."""),
+    code('''\
+csv_path = table.save(work / "descriptors.csv")
+npz_path = table.save(work / "descriptors.npz")
+back = batch.DescriptorTable.load(csv_path)
+print(back, "| identical:", np.array_equal(back.lam, table.lam) and back.names == table.names)
+print("".join(csv_path.read_text().splitlines(keepends=True)[:3])[:400], "...")'''),
+    md(r"""## Benchmarks
+
+`cshape data list` (or `cshape.data.list_collections()`) shows every collection cshape knows: generated ones
+(built on your machine), PyMeshLab's samples, downloadable ones (fetched only when you ask:
+`cshape data build NAME`), and benchmarks whose terms ask you to download them by hand (McGill, the paper's
+database; TOSCA; SHREC'07): the description says where they go."""),
+    code('''\
+for name in cshape.data.list_collections():
+    info = cshape.data.info(name)
+    print(f"{name:20s} {info['kind']:9s} {info['description'][:90]}...")'''),
+    md(r"""## Exercises
+
+1. Point `folder` at your own meshes (or at the project's `../shared/meshes` if you have it: labels come from the
+   sub-folders) and draw the MDS plot of notebook 4 for them.
+2. Interrupt a `describe` run on a large collection (Kernel > Interrupt) and run it again: how many meshes
+   come from the cache?
+3. Measure the time of `describe` for `n_jobs=1` and `n_jobs=2` on 20 meshes of 5000 vertices. Where is the
+   time spent: FEM assembly or the eigensolve? (`cshape.fem_matrices` vs `cshape.shape_dna`.)
+4. Build a `DescriptorIndex` of the F1 features and of the cShape-DNA with $M = 2$. Which one finds the torus?"""),
+]
+
 # =============================================================================== 07
 NB07 = [
     md(r"""# 7 · The parameter $M$, interactively
@@ -605,33 +1083,7 @@ NB07 = [
 The paper reports, for the McGill database and $N = 100$, difference means 1.3, 2.3, 4.8 and 6.0 for
 $M = 8, 4, 2, 1$. Our collection is smaller and made in code, so the numbers differ; the trend should not."""),
     code(SETUP),
-    code('''\
-from cshape import batch, widgets
-
-
-def demo_collection(small=SMALL):
-    """(name, label, mesh) triples: classes of shapes made in code."""
-    from cshape import variants
-
-    items = []
-    if small:
-        for s in (2, 3):
-            items.append((f"sphere-{s}", "sphere", shapes.icosphere(s)))
-        for n in (5, 7):
-            items.append((f"cube-{n}", "cube", shapes.cube(n)))
-        for k, (a, b) in enumerate([(24, 12), (32, 16)]):
-            items.append((f"torus-{k}", "torus", shapes.torus(a, b)))
-        for kind in ("human", "snake"):
-            for seed in (0, 1):
-                items.append((f"{kind}-{seed}", kind, variants.articulated_figure(
-                    kind, seed, voxelsize=0.05, target_vertices=500)))
-        return items
-    import cshape.data
-
-    for coll in ("paper-models", "articulated"):
-        for it in cshape.data.load_collection(coll):
-            items.append((it.name, it.label, it.mesh))
-    return items
+    code(DEMO_COLLECTION + '''
 
 
 N = 40 if SMALL else 100
@@ -643,6 +1095,8 @@ table'''),
 `sweep.state(M)` returns a `SweepState` with the cropped coefficients, the reconstruction, the scaled distance
 matrices, their difference, its mean and standard deviation, and the MDS coordinates."""),
     code('''\
+from cshape import widgets
+
 sweep = widgets.MSweep.from_table(table)
 for M in [16, 8, 4, 2, 1]:
     if 2 * M + 1 <= N:
@@ -680,6 +1134,9 @@ NOTEBOOKS = {
     "01_fem_assembly.ipynb": NB01,
     "02_shape_dna_weyl.ipynb": NB02,
     "03_dft_compression.ipynb": NB03,
+    "04_mds_classification.ipynb": NB04,
+    "05_noise_quality.ipynb": NB05,
+    "06_own_collection.ipynb": NB06,
     "07_m_sweep.ipynb": NB07,
 }
 
