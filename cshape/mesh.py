@@ -511,7 +511,13 @@ def _load_with_pymeshlab(p, ext, expected):
 
     ms = pymeshlab.MeshSet()
     try:
-        ms.load_new_mesh(str(p))
+        cwd = os.getcwd()
+    except OSError:  # the working folder was deleted: nothing to restore
+        cwd = None
+    try:
+        # an absolute path; and the working folder is restored below, because PyMeshLab
+        # changes into the file's folder and stays there when the load fails
+        ms.load_new_mesh(str(p.resolve()))
     except pymeshlab.PyMeshLabException as exc:
         text = str(exc).strip()
         details = text.split("Error details:", 1)[-1].strip() if "Error details:" in text else ""
@@ -531,6 +537,9 @@ def _load_with_pymeshlab(p, ext, expected):
             f"cannot read mesh {str(p)!r}: PyMeshLab failed with {type(exc).__name__} "
             f"({str(exc)[:200]!r}); the file is probably corrupt (declared counts too large?)"
         ) from None
+    finally:
+        if cwd is not None and os.getcwd() != cwd:
+            os.chdir(cwd)
     m = ms.current_mesh()
     if m.face_number() == 0:
         raise ValueError(
