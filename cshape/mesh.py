@@ -815,7 +815,131 @@ def _scan_ply_header(p):
     expected = _Expected(nv, nf, faces_read=False)
     if fmt == "binary_big_endian":
         expected.arrays = _big_endian_double_ply(p, elements, header_end)
+    if expected.arrays is None:
+        _check_ply_face_indices(p, fmt, elements, header_end, nv or 0)
     return expected
+
+
+#: Largest list (in bytes) PyMeshLab's binary PLY reader copies safely, except the face
+#: index lists: a longer one (e.g. 129 ints in an extra element) overflows a fixed buffer
+#: and aborts the process ("*** buffer overflow detected ***").
+PLY_MAX_LIST_BYTES = 512
+
+_PLY_FACE_LISTS = ("vertex_indices", "vertex_index")
+
+
+def _check_ply_face_indices(p, fmt, elements, header_end, nv):
+    """Walk the PLY records that could crash PyMeshLab, before it reads the file.
+
+    * every face index must lie in ``[0, nv)``: PyMeshLab reports an out-of-range index
+      in a triangle, but *segfaults* on one in a polygon of four or more vertices;
+    * (binary) no other list may exceed :data:`PLY_MAX_LIST_BYTES`: PyMeshLab overflows a
+      buffer on such a list (in an extra element or property) and aborts.
+
+    Triangle faces take a vectorised path; anything else is walked record by record.
+    """
+    with open(p, "rb") as fh:
+        fh.seek(header_end)
+        body = fh.read()
+    ascii_ = fmt == "ascii"
+    order = ">" if fmt == "binary_big_endian" else "<"
+    tokens = body.split() if ascii_ else None
+    pos = 0  # token index (ascii) or byte offset (binary)
+
+    def truncated():
+        return _bad_file(p, "the PLY element records end early: the file is truncated")
+
+    def check(idx, k=None):
+        """Raise if an index is out of range; ``idx`` is one face (face number ``k``) or
+        an (m, 3) block of all the faces."""
+        idx = np.asarray(idx)
+        bad = (idx < 0) | (idx >= nv)
+        if bad.any():
+            if k is None:
+                k = int(np.flatnonzero(bad.any(axis=1))[0])
+                bad = bad[k]
+                idx = idx[k]
+            raise _bad_file(
+                p, f"Bad vertex index in face {k}: {int(idx[bad][0])}, but the file has {nv} "
+                f"vertices (PLY indices are 0-based, in [0, {nv - 1}])"
+            )
+
+    def ints(toks, k):
+        try:
+            return np.array(toks).astype(np.int64)
+        except ValueError:
+            raise _bad_file(p, f"record {k}: {toks[:8]} are not integers") from None
+
+    def has_lists(props):
+        return any(q[1] == "list" for q in props)
+
+    for e, (name, count, nbytes, _, props) in enumerate(elements):
+        if not any(has_lists(el[4]) for el in elements[e:]):
+            return  # nothing left that could crash the reader
+        if not has_lists(props):
+            pos += count * (len(props) if ascii_ else nbytes)
+            continue
+        if any(q[1] != "list" and q[1] not in _PLY_NUMPY for q in props) or any(
+            q[1] == "list" and (q[2] not in _PLY_NUMPY or q[3] not in _PLY_NUMPY) for q in props
+        ):
+            return  # unknown types: PyMeshLab refuses the file itself
+        faces = name == "face"
+        if faces and len(props) == 1 and props[0][0] in _PLY_FACE_LISTS:
+            # the usual layout, one index list per face: vectorised when all are triangles
+            _, _, c_t, i_t = props[0]
+            if ascii_:
+                rec = tokens[pos : pos + 4 * count]
+                if len(rec) == 4 * count and all(t == b"3" for t in rec[::4]):
+                    check(ints(rec, 0).reshape(count, 4)[:, 1:])
+                    pos += 4 * count
+                    continue
+            else:
+                dt = np.dtype(
+                    [("n", order + _PLY_NUMPY[c_t]), ("i", order + _PLY_NUMPY[i_t], 3)]
+                )
+                if len(body) - pos >= count * dt.itemsize:
+                    rec = np.frombuffer(body, dtype=dt, count=count, offset=pos)
+                    if np.all(rec["n"] == 3):
+                        check(rec["i"])
+                        pos += count * dt.itemsize
+                        continue
+        for k in range(count):  # record by record
+            for pname, t, c_t, i_t in props:
+                is_index = faces and pname in _PLY_FACE_LISTS
+                if ascii_:
+                    if t != "list":
+                        pos += 1
+                        continue
+                    if pos >= len(tokens):
+                        raise truncated()
+                    n = int(ints(tokens[pos : pos + 1], k)[0])
+                    vals = tokens[pos + 1 : pos + 1 + n]
+                    if n < 0 or len(vals) < n:
+                        raise truncated()
+                    if is_index:
+                        check(ints(vals, k), k)
+                    pos += 1 + n
+                    continue
+                if t != "list":
+                    pos += _PLY_SIZES[t]
+                    continue
+                cdt, idt = np.dtype(order + _PLY_NUMPY[c_t]), np.dtype(order + _PLY_NUMPY[i_t])
+                if pos + cdt.itemsize > len(body):
+                    raise truncated()
+                n = int(np.frombuffer(body, cdt, 1, pos)[0])
+                pos += cdt.itemsize
+                if n < 0 or pos + n * idt.itemsize > len(body):
+                    raise truncated()
+                if is_index:
+                    check(np.frombuffer(body, idt, n, pos), k)
+                elif n * idt.itemsize > PLY_MAX_LIST_BYTES:
+                    raise _bad_file(
+                        p, f"record {k} of element {name!r} has a list property {pname!r} of "
+                        f"{n * idt.itemsize} bytes; PyMeshLab's PLY reader overflows a buffer "
+                        f"on lists over {PLY_MAX_LIST_BYTES} bytes (it would abort Python): "
+                        "remove that property or element, or save the file as ASCII PLY"
+                    )
+                pos += n * idt.itemsize
 
 
 #: NumPy codes of the PLY scalar types.
