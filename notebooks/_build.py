@@ -1113,10 +1113,11 @@ plots.plot_matrices([s.difference for s in states],
                     [f"M = {s.M}: mean {s.mean:.1f}, std {s.std:.1f}" for s in states])'''),
     md(r"""## The widget
 
-Move **M** (and try **N**, the normalisation and the shape whose DFT is drawn). Each change reruns only the
+Move **M** (and try **N**, the collection, the normalisation and the shape whose DFT is drawn). Each change reruns only the
 cheap stages; the eigenvalues above are not recomputed. $M$ is clamped to $[0, (N-1)/2]$."""),
     code('''\
-w = widgets.m_sweep_widget(table, M=8, N=N)
+no_spheres = table.select([i for i, lab in enumerate(table.labels) if lab != "sphere"])
+w = widgets.m_sweep_widget({"all shapes": table, "without spheres": no_spheres}, M=8, N=N)
 w'''),
     md(r"""## Exercises
 
@@ -1125,8 +1126,8 @@ w'''),
 2. With the normalisation set to `'fiedler'`, does the difference from Shape-DNA grow or shrink? Why might the
    Weyl-line subtraction of Eq. (8) suit the area normalisation best?
 3. Lower $N$ to 20: how do the difference statistics for $M = 4$ change, and why?
-4. Build the widget for two collections at once: `widgets.m_sweep_widget({"all": table, "no spheres":
-   table.select([i for i, l in enumerate(table.labels) if l != "sphere"])})`."""),
+4. Add a third collection to the widget's drop-down: the table of your own meshes from notebook 6
+   (`batch.DescriptorTable.load("descriptors.csv")`), or only the articulated figures of this one."""),
 ]
 
 

@@ -150,3 +150,43 @@ def test_plot_m_sweep_returns_a_figure(collection):
     assert isinstance(fig, Figure) and len(fig.axes) >= 6
     with pytest.raises(ValueError, match="shape must be a row index"):
         plots.plot_m_sweep(st, shape=6)
+
+
+# ------------------------------------------------------------------------------ plots
+def test_plots_return_figures_without_pyplot():
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    from cshape import plots
+
+    mesh = shapes.icosphere(1)
+    lam, phi = cshape.eigenpairs(mesh, 12)
+    before = plt.get_fignums()
+    figs = [
+        plots.plot_mesh(mesh, phi[:, 1], colorbar=True),
+        plots.plot_mesh(mesh, vertical_axis="y"),
+        plots.plot_eigenfunctions(mesh, phi, [1, 2], lam),
+        plots.plot_weyl({"s": lam}, {"s": mesh.area}),
+        plots.plot_shape_dna_stages(lam, mesh.area),
+        plots.plot_dft(lam, mesh.area, 2),
+        plots.plot_reconstruction_error([1, 2], [0.5, 0.1]),
+        plots.plot_convergence([0.2, 0.1], [[1e-2, 2.5e-3]]),
+        plots.plot_cshape_dna({"s": cshape.compact_shape_dna(lam, 2, 12, mesh.area)}),
+        plots.plot_matrices([np.eye(3), np.ones((3, 3))], ["a", "b"]),
+    ]
+    assert all(isinstance(f, Figure) for f in figs)
+    assert plt.get_fignums() == before  # nothing registered with pyplot, nothing shown
+
+
+def test_plot_validation():
+    from cshape import plots
+
+    mesh = shapes.icosphere(1)
+    with pytest.raises(ValueError, match="f has 3 values but the mesh has 42 vertices"):
+        plots.plot_mesh(mesh, np.ones(3))
+    with pytest.raises(ValueError, match=r"phi must have shape \(n_vertices, k\)"):
+        plots.plot_eigenfunctions(mesh, np.ones((5, 2)))
+    with pytest.raises(ValueError, match="areas has no entry"):
+        plots.plot_weyl({"s": np.arange(5.0)}, {})
+    with pytest.raises(TypeError, match="spectra must be a dict"):
+        plots.plot_weyl([np.arange(5.0)], {})
