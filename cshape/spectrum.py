@@ -416,11 +416,17 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     pattern = (K != 0) + (B != 0)  # explicit zeros are no edges
     ncomp, labels = csgraph.connected_components(pattern, directed=False)
     if ncomp > 1:
+        # permute once so that every component is a contiguous diagonal block
+        perm = np.argsort(labels, kind="stable")
+        bounds = np.concatenate([[0], np.cumsum(np.bincount(labels, minlength=ncomp))])
+        Kp = K[perm][:, perm].tocsr()
+        Bp = B[perm][:, perm].tocsr()
         lams, vecs = [], []
         for c in range(ncomp):
-            idx = np.flatnonzero(labels == c)
-            Kc = K[idx][:, idx]
-            Bc = B[idx][:, idx]
+            lo, hi = int(bounds[c]), int(bounds[c + 1])
+            idx = perm[lo:hi]
+            Kc = Kp[lo:hi, lo:hi]
+            Bc = Bp[lo:hi, lo:hi]
             Nc = min(N, len(idx))
             if len(idx) <= DENSE_LIMIT or 3 * Nc >= len(idx):
                 out = la.eigh(Kc.toarray(), Bc.toarray(), subset_by_index=[0, Nc - 1],
