@@ -15,6 +15,7 @@ import subprocess
 import sys
 import textwrap
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -38,7 +39,7 @@ def _ply_binary(V=TET_V, F=TET_F, *, nv=None, nf=None, endian="<", count_type="B
         "end_header\n"
     ).encode()
     body = b"".join(struct.pack(endian + "3f", *v) for v in np.asarray(V, np.float32))
-    body += b"".join(struct.pack(endian + count_type + "3i", 3, *f) for f in F)
+    body += b"".join(struct.pack(f"{endian}{count_type}{len(f)}i", len(f), *f) for f in F)
     return head + body
 
 
@@ -67,6 +68,24 @@ def _ascii_stl(V, F, replace=None):
     return text.replace(*replace, 1) if replace else text
 
 
+PLY_ASCII_HEAD = (
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+    "property float z\nelement face {nf}\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+)
+def _ply_with_extra_list(n, fmt="binary_little_endian"):
+    """The tetrahedron plus an element 'foo' holding one list of ``n`` ints."""
+    head = (f"ply\nformat {fmt} 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+            "element foo 1\nproperty list uchar int bar\nend_header\n")
+    if fmt == "ascii":
+        body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + "".join(f"3 {a} {b} {c}\n" for a, b, c in TET_F)
+        return (head + body + f"{n} " + " ".join(["0"] * n) + "\n").encode()
+    body = b"".join(struct.pack("<3f", *v) for v in TET_V)
+    body += b"".join(struct.pack("<B3i", 3, *f) for f in TET_F)
+    return head.encode() + body + struct.pack(f"<B{n}i", n, *([0] * n))
+
+
 _FULL = _ply_binary()
 _HEADER_END = _FULL.index(b"end_header\n") + len(b"end_header\n")
 _F_OOR = TET_F.copy()
@@ -82,14 +101,23 @@ _V_INF[1, 0] = np.inf
 MALFORMED = [
     # binary PLY
     ("trunc_in_vertices.ply", _FULL[: _HEADER_END + 20], "need at least 52 bytes.*truncated"),
-    ("trunc_in_faces.ply", _FULL[:-20], "Unexpected EOF"),
-    ("oor_index.ply", _ply_binary(F=_F_OOR), "Bad vertex index"),
-    ("negative_index.ply", _ply_binary(F=_F_NEG), "Bad vertex index"),
+    ("trunc_in_faces.ply", _FULL[:-20], "records end early: the file is truncated"),
+    ("oor_index.ply", _ply_binary(F=_F_OOR), "Bad vertex index in face 3: 99, .* 4 vertices"),
+    ("negative_index.ply", _ply_binary(F=_F_NEG), "Bad vertex index in face 3: -5"),
     ("nan_vertex.ply", _ply_binary(V=_V_NAN), "declares 4 vertices but 3 could be read"),
     ("inf_vertex.ply", _ply_binary(V=_V_INF), "declares 4 vertices but 3 could be read"),
     ("oor_big_endian.ply", _ply_binary(F=_F_OOR, endian=">"), "Bad vertex index"),
+    # an out-of-range index in a polygon made PyMeshLab segfault (the Python process died)
+    ("oor_in_quad.ply", _ply_binary(F=[[0, 2, 1, 3], [0, 1, 3, 99]]), "face 1: 99"),
+    ("oor_in_quad_ascii.ply", (PLY_ASCII_HEAD.format(nf=2) + "4 0 2 1 3\n5 0 1 3 2 -5\n").encode(),
+     "face 1: -5"),
+    # a binary list over 512 bytes outside the face indices aborted it (buffer overflow)
+    ("long_list_extra_element.ply", _ply_with_extra_list(129), "list property 'bar' of 516 bytes"),
+    ("renamed_face_element.ply", _FULL.replace(b"element face", b"element f\x8dce"),
+     "4 vertices but no triangles"),
     ("list_runs_past_eof.ply", _FULL.replace(struct.pack("<B3i", 3, 0, 2, 1),
-                                             struct.pack("<B3i", 255, 0, 2, 1)), "EOF"),
+                                             struct.pack("<B3i", 255, 0, 2, 1)),
+     "records end early"),
     ("huge_counts.ply", _ply_binary(nv=10**12, nf=10**12), "declares 1000000000000 vertex"),
     ("int32_overflow.ply", _ply_binary(nv=2**31 + 10), "need at least"),
     ("huge_faces_ascii.ply", b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
@@ -349,3 +377,94 @@ def test_big_endian_double_ply_errors(tmp_path, content, match):
     with pytest.raises(ValueError, match=match) as info:
         cshape.load_mesh(p)
     assert "be_double.ply" in str(info.value)
+
+
+@pytest.mark.parametrize("n, fmt", [(128, "binary_little_endian"), (255, "ascii")])
+def test_lists_PyMeshLab_handles_still_load(tmp_path, n, fmt):
+    """512 bytes is the binary limit; ASCII lists of any length are read safely."""
+    p = tmp_path / "extra.ply"
+    p.write_bytes(_ply_with_extra_list(n, fmt))
+    assert cshape.load_mesh(p).n_faces == 4
+
+
+def test_failed_load_restores_the_working_folder(tmp_path, monkeypatch):
+    """PyMeshLab changes into the file's folder and stayed there when a load failed."""
+    sub = tmp_path / "meshes"
+    sub.mkdir()
+    (sub / "bad.ply").write_bytes(_FULL[:-20])
+    (sub / "good.off").write_text(OFF_TET)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match="bad.ply"):
+        cshape.load_mesh("meshes/bad.ply")
+    assert Path.cwd() == tmp_path
+    assert cshape.load_mesh("meshes/good.off").n_faces == 4  # relative paths still work
+
+
+def _mutants(seed, n):
+    """``n`` valid mesh files (every format), each corrupted by 1-5 random byte edits."""
+    rng = np.random.default_rng(seed)
+    s = cshape.shapes.icosphere(1)
+    V, F = s.vertices, s.faces
+    off = (f"OFF\n{len(V)} {len(F)} 0\n" + "".join(f"{x!r} {y!r} {z!r}\n" for x, y, z in V.tolist())
+           + "".join(f"3 {a} {b} {c}\n" for a, b, c in F)).encode()
+    obj = ("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V.tolist())
+           + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F)).encode()
+    quads = np.c_[F[0::2], F[1::2, :1]]  # 4-gons, to reach the polygon code paths
+    seeds = [("off", off), ("obj", obj), ("ply", _ply_binary(V, F)),
+             ("ply", _ply_binary(V, quads)), ("ply", _ply_be_double(V, F)),
+             ("ply", _ply_with_extra_list(100)), ("stl", _binary_stl(V, F)),
+             ("stl", _ascii_stl(V, F).encode())]
+    for i in range(n):
+        ext, b = seeds[i % len(seeds)]
+        b = bytearray(b)
+        for _ in range(rng.integers(1, 6)):
+            if not b:
+                break
+            op, pos = rng.integers(0, 5), int(rng.integers(0, len(b)))
+            if op == 0:
+                b[pos] = int(rng.integers(0, 256))
+            elif op == 1:
+                del b[pos : pos + int(rng.integers(1, 50))]
+            elif op == 2:
+                b[pos:pos] = rng.integers(0, 256, int(rng.integers(1, 20)), np.uint8).tobytes()
+            elif op == 3:
+                del b[pos:]
+            else:  # a digit changed, or turned into a large number
+                digits = [j for j, c in enumerate(b) if 48 <= c <= 57]
+                if digits:
+                    j = digits[int(rng.integers(0, len(digits)))]
+                    b[j : j + 1] = b"9999999" if rng.random() < 0.3 else b"7"
+        yield f"{i:04d}.{ext}", bytes(b)
+
+
+def test_fuzzed_files_never_crash_the_interpreter(tmp_path):
+    """600 corrupted files loaded in one memory-limited child process: each one loads or
+    raises ValueError.  (Found this way: PyMeshLab segfaults on an out-of-range index in a
+    polygon and aborts on a long binary list; both are now refused before it reads.)"""
+    for name, content in _mutants(seed=20261122, n=600):
+        (tmp_path / name).write_bytes(content)
+    code = textwrap.dedent(
+        """
+        import collections, json, resource, sys, warnings
+        from pathlib import Path
+        resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+        warnings.simplefilter("ignore")
+        import cshape
+        out = collections.Counter()
+        for p in sorted(Path(sys.argv[1]).iterdir()):
+            try:
+                cshape.load_mesh(p)
+                out["loaded"] += 1
+            except ValueError:
+                out["ValueError"] += 1
+            except Exception as exc:
+                out[f"{p.name}: {type(exc).__name__}: {exc}"] += 1
+        print(json.dumps(out))
+        """
+    )
+    res = subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True,
+                         text=True, timeout=300)
+    assert res.returncode == 0, f"the interpreter died (rc={res.returncode}): {res.stderr[-2000:]}"
+    outcome = json.loads(res.stdout.strip().splitlines()[-1])
+    assert set(outcome) <= {"loaded", "ValueError"}, outcome
+    assert sum(outcome.values()) == 600 and outcome["ValueError"] > 300
