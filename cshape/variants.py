@@ -356,6 +356,13 @@ def subdivide(mesh, iterations=1, method="loop") -> Mesh:
         raise ValueError(f"method must be one of {{'loop', 'midpoint'}}, got {method!r}")
     if iterations == 0:
         return mesh
+    if len(mesh.nonmanifold_edges):
+        # PyMeshLab's subdivision filters refuse these with an opaque PyMeshLabException
+        raise ValueError(
+            f"subdivide needs edge-manifold input, but the mesh has "
+            f"{len(mesh.nonmanifold_edges)} edges shared by three or more triangles; split "
+            "them first (or refine with remesh, which accepts them)"
+        )
     import pymeshlab
 
     ms = _meshset(mesh)
