@@ -98,6 +98,25 @@ def jupyterlab(tmp_path):
         log.close()
 
 
+def _start_kernel(page, timeout=90.0):
+    """Accept JupyterLab's "Select Kernel" dialog if it comes up, then wait for an idle kernel."""
+    accept = page.locator(".jp-Dialog .jp-mod-accept")
+    idle = page.locator(".jp-Notebook-ExecutionIndicator[data-status='idle']")
+    t0 = time.monotonic()
+    quiet_since = None
+    while time.monotonic() - t0 < timeout:
+        if accept.count() and accept.first.is_visible():
+            accept.first.click()
+            quiet_since = None
+        elif idle.count():
+            # idle and no dialog for a second: the kernel is up
+            quiet_since = quiet_since or time.monotonic()
+            if time.monotonic() - quiet_since > 1.0:
+                return
+        time.sleep(0.2)
+    raise TimeoutError(f"the notebook's kernel was not idle within {timeout:.0f} s")
+
+
 def test_m_sweep_in_chromium(jupyterlab):
     if not CHROMIUM.exists():
         pytest.skip(f"{CHROMIUM} not found: install Debian's chromium (tools/ensure_browser.sh)")
@@ -116,8 +135,7 @@ def test_m_sweep_in_chromium(jupyterlab):
             page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
             # wait for the kernel, then Run > Run All Cells (the menu's command)
             page.wait_for_function("() => window.jupyterapp !== undefined", timeout=90_000)
-            page.wait_for_selector(".jp-Notebook-ExecutionIndicator[data-status='idle']",
-                                   timeout=90_000)
+            _start_kernel(page)
             # (not awaiting the command's promise: it settles only when every cell has run)
             page.evaluate("() => { window.jupyterapp.commands.execute('notebook:run-all-cells'); }")
             stats = page.locator(".cshape-msweep-stats")
