@@ -235,6 +235,12 @@ def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
     Mesh
         With duplicate vertices welded and collapsed faces removed (zero-area faces with three
         distinct vertices are kept).
+
+    Raises
+    ------
+    ValueError
+        If ``expr`` does not parse, ``bbox`` or ``voxelsize`` is invalid (too many voxels),
+        or the level set has no triangle in the box.
     """
     if not isinstance(expr, str) or not expr.strip():
         raise TypeError(f"expr must be a non-empty muparser expression string, got {expr!r}")
@@ -252,11 +258,19 @@ def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
         raise ValueError(
             f"voxelsize={voxelsize} samples {n_vox:.3g} voxels in this bbox; use a larger voxelsize"
         )
+    import pymeshlab
+
     ms = _meshset()
-    ms.create_implicit_surface(
-        expr=expr, voxelsize=voxelsize,
-        minx=box[0], miny=box[1], minz=box[2], maxx=box[3], maxy=box[4], maxz=box[5],
-    )
+    try:
+        ms.create_implicit_surface(
+            expr=expr, voxelsize=voxelsize,
+            minx=box[0], miny=box[1], minz=box[2], maxx=box[3], maxy=box[4], maxz=box[5],
+        )
+    except pymeshlab.PyMeshLabException as exc:
+        details = str(exc).split("Details:", 1)[-1].strip().splitlines()[0]
+        raise ValueError(
+            f"expr {expr[:80]!r} is not a valid muparser expression of x, y, z ({details})"
+        ) from None
     mesh = _from_meshset(ms, what=f"marching cubes of {expr[:60]!r}")
     if len(mesh.boundary_edges):
         warnings.warn(
