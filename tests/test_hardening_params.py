@@ -281,3 +281,23 @@ def test_noise_level_must_be_finite_and_non_negative(lam):
 
     with pytest.raises(ValueError, match=r"lam must be a number >= 0"):
         variants.add_normal_noise(shapes.icosphere(1), lam=lam)
+
+
+@pytest.mark.parametrize("expr, match", [
+    ("x+", "Unexpected end of expression"),
+    ("foo(x)", 'Unexpected token "foo"'),
+    ("((((", "Unexpected end of expression"),
+])
+def test_marching_cubes_bad_expression(expr, match):
+    from cshape import variants
+
+    with pytest.raises(ValueError, match=rf"expr .* is not a valid muparser expression.*{match}"):
+        variants.marching_cubes(expr, (-1, -1, -1, 1, 1, 1), 0.1)
+
+
+@pytest.mark.parametrize("expr", ["sqrt(-1)", "1/0", "x^2+y^2+z^2+1"])
+def test_marching_cubes_without_a_surface(expr):
+    from cshape import variants
+
+    with pytest.raises(ValueError, match="produced no triangles"):
+        variants.marching_cubes(expr, (-1, -1, -1, 1, 1, 1), 0.1)
