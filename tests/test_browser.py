@@ -63,6 +63,10 @@ def jupyterlab(tmp_path):
     root = tmp_path / "root"
     root.mkdir()
     shutil.copy(default_notebook_dir() / NOTEBOOK, root / NOTEBOOK)
+    # no "get notified about Jupyter news?" toast over the plot
+    notif = tmp_path / "settings" / "@jupyterlab" / "apputils-extension"
+    notif.mkdir(parents=True)
+    (notif / "notification.jupyterlab-settings").write_text('{"fetchNews": "false"}')
     port, token = _free_port(), secrets.token_hex(16)
     env = dict(os.environ, CSHAPE_SMALL="1",
                JUPYTER_CONFIG_DIR=str(tmp_path / "config"),
