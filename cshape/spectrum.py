@@ -212,7 +212,7 @@ def _b_orthonormalize(W, B, scale):
     Q, BQ = W @ Rinv, BW @ Rinv
     if np.linalg.cond(R) > 1e2:  # Cholesky-QR loses eps * cond^2 of orthogonality: repeat
         G = Q.T @ BQ
-        R2 = la.cholesky(0.5 * (G + G.T), lower=False)
+        R2 = la.cholesky(0.5 * (G + G.T), lower=False)  # G ~ I: well conditioned
         R2inv = la.solve_triangular(R2, np.eye(b), lower=False)
         Q, BQ, R = Q @ R2inv, BQ @ R2inv, R2 @ R
     return Q, BQ, R
@@ -448,7 +448,7 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     try:
         with _one_blas_thread():
             lam, phi = _block_lanczos(K, B, N, op.matmat, sigma, return_vectors=return_vectors)
-    except _NoConvergence:
+    except (_NoConvergence, la.LinAlgError):
         lam, phi = _arpack(K, B, N, op, sigma, return_vectors)
     order = np.argsort(lam, kind="stable")
     return lam[order], (phi[:, order] if phi is not None else None)

@@ -160,3 +160,18 @@ def test_default_shift_is_below_the_spectrum_on_its_scale():
     sigma = spectrum._default_sigma(B, 100)
     # Weyl: lam_100 ~ 4 pi 100 / area = 100 on the unit sphere
     assert -2.0 < sigma < -0.5
+
+
+@pytest.mark.realdata
+def test_block_lanczos_agrees_with_arpack_on_a_real_mesh(shared_meshes):
+    path = shared_meshes / "spot" / "spot.obj"
+    if not path.is_file():
+        pytest.skip(f"{path} not found")
+    K, B = _KB(cshape.load_mesh(path))
+    lam = spectrum.solve_eigenproblem(-K, B, 100, return_vectors=False)
+    sigma = spectrum._default_sigma(B, 100)
+    op = spectrum._CholeskyOperator(K - sigma * B)
+    with spectrum._one_blas_thread():
+        ref, _ = spectrum._arpack(K, B, 100, op, sigma, return_vectors=False)
+    ref = np.sort(ref)
+    np.testing.assert_allclose(lam[1:], ref[1:], rtol=1e-10)
