@@ -480,13 +480,16 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
     matplotlib.figure.Figure
     """
     import matplotlib as mpl
+    from matplotlib.figure import Figure
 
     p = len(state.names)
     if isinstance(shape, bool) or not isinstance(shape, (int, np.integer)) or not 0 <= shape < p:
         raise ValueError(f"shape must be a row index in [0, {p - 1}], got {shape!r}")
     M, N = state.M, state.N
-    fig = new_figure(figsize)
+    # a fixed layout: constrained layout would double the drawing time of every slider move
+    fig = Figure(figsize=figsize)
     axs = fig.subplots(2, 3)
+    fig.subplots_adjust(left=0.06, right=0.96, bottom=0.07, top=0.95, wspace=0.4, hspace=0.3)
     c = N // 2
     full = np.abs(state.spectra[shape])
     ax = axs[0, 0]
