@@ -13,8 +13,9 @@ noise so that no two are alike:
 * tori of revolution (``cshape.shapes.torus``) with tube radius 0.2-0.6 and 10K-30K vertices;
 * ellipsoids: the 10 242-vertex icosphere stretched along its axes;
 * boxes: ``cshape.shapes.cube(n)`` (41 <= n <= 70, 10K-29K vertices), stretched;
-* real meshes from ``/work/shared/meshes`` (spot 11.5K vertices as read, penguin_hr 13K, fish 11K),
-  stretched (skipped if the folder is absent; ``CSHAPE_MESHES`` overrides its path).
+* real meshes from ``../shared/meshes`` (spot 11.5K vertices as read, penguin_hr 13K,
+  fish 11K), stretched (skipped if the folder is absent; ``CSHAPE_SHARED_MESHES`` overrides
+  its path).
 
 Every mode computes the Shape-DNA (N=100) and descriptors of the whole collection with
 ``cshape.describe`` into a fresh, empty temporary cache folder (nothing is cached
@@ -59,8 +60,10 @@ REAL_MESHES = {
 
 
 def shared_meshes():
-    """Folder of the project's real meshes (``$CSHAPE_MESHES`` or ``/work/shared/meshes``)."""
-    return Path(os.environ.get("CSHAPE_MESHES", "/work/shared/meshes"))
+    """The real-mesh folder: ``$CSHAPE_SHARED_MESHES``, else ``../shared/meshes`` beside the
+    repository (as in ``tests/conftest.py``)."""
+    env = os.environ.get("CSHAPE_SHARED_MESHES")
+    return Path(env) if env else Path(__file__).resolve().parents[2] / "shared" / "meshes"
 
 
 def load_average():

@@ -1,0 +1,112 @@
+"""Smoke tests of the scale benchmarks in ``benchmarks/`` (issue 7): they import and their core
+functions run on tiny inputs, so that the scripts cannot rot.  No timing is asserted; speed is
+measured by running the scripts themselves (see ``benchmarks/SCALE.md``)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+
+
+def _load(name):
+    """Import ``benchmarks/<name>.py`` as a module (benchmarks/ is not a package)."""
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, BENCH / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.fixture
+def results(tmp_path, monkeypatch):
+    """Point every benchmark's results folder at a temporary one."""
+    for name in ("bench_bigmesh", "bench_throughput", "bench_queries", "bench_floor"):
+        monkeypatch.setattr(_load(name), "RESULTS", tmp_path)
+    return tmp_path
+
+
+def test_bigmesh_measure_and_report(results):
+    bm = _load("bench_bigmesh")
+    r = bm.measure("cshape", 50, 30, N=10)  # 1500 vertices: the sparse (Lanczos) path
+    assert r["n_vertices"] == 1500 and len(r["lam"]) == 10
+    assert r["seconds"] > 0 and r["peak_mib"] >= r["baseline_mib"] > 0
+    assert r["lam"][0] == 0.0
+    rows = [{"label": "a", "n": 1500, "cshape_s": r["seconds"], "cshape_peak": r["peak_mib"],
+             "cshape_solve": max(r["solve_mib"], 1.0), "lapy_s": float("nan"),
+             "lapy_peak": float("nan"), "lapy_solve": float("nan"), "lapy_note": "skipped",
+             "maxrel": float("nan"), "load1": 1.0}]
+    rows.append({**rows[0], "label": "b", "n": 6000, "cshape_s": 4 * r["seconds"]})
+    exps = bm.write_results(rows, "bigmesh_test", "summary", 10, 1)
+    assert exps["cshape time"] == pytest.approx(1.0)
+    assert (results / "bigmesh_test.md").read_text().count("\n| ") == 3
+    assert bm.growth_exponent([1, 10, 100], [2, 20, 200]) == pytest.approx(1.0)
+    assert bm.relative_difference([0, 2.0], [1e-15, 2.0 + 2e-12]) < 1e-11
+
+
+def test_bigmesh_lapy_agrees():
+    pytest.importorskip("lapy")
+    bm = _load("bench_bigmesh")
+    a = bm.measure("cshape", 50, 30, N=10)
+    b = bm.measure("lapy", 50, 30, N=10)
+    assert bm.relative_difference(a["lam"], b["lam"]) < 1e-8
+
+
+def test_throughput_collection_and_serial_mode(results):
+    tp = _load("bench_throughput")
+    col = tp.make_collection(4, "tiny", seed=1)
+    assert len({name for name, _, _ in col}) == 4
+    assert all(100 < m.n_vertices < 500 for _, _, m in col)
+    r = tp.run_mode(col, "serial", N=20, M=4)
+    assert r["meshes"] == 4 and r["failed"] == 0 and r["per_minute"] > 0
+    assert r["table"].lam.shape == (4, 20)
+    with pytest.raises(ValueError, match="mode"):
+        tp.run_mode(col, "threads")
+
+
+def test_queries_descriptors_and_exact_search(results):
+    q = _load("bench_queries")
+    from cshape.compare import descriptor_matrix
+
+    rng = np.random.default_rng(0)
+    base = np.sort(rng.uniform(0, 4 * np.pi * 100, (5, 100)), axis=1)
+    base[:, 0] = 0.0
+    lam = q.perturb(base, 300, rng)
+    assert lam.shape == (300, 100) and np.all(lam[:, 0] == 0)
+    for M in (1, 16):
+        np.testing.assert_allclose(q.cshape_rows(lam[:20], M),
+                                   descriptor_matrix(lam[:20], np.ones(20), "cshape", M=M),
+                                   rtol=1e-12, atol=1e-9)
+    X = q.descriptors(lam, "cShape-DNA M=16")
+    Q = q.descriptors(q.perturb(base, 7, rng), "cShape-DNA M=16")
+    d_np, i_np = q.NumpyBruteForce(X, block=64).query(Q, k=5)
+    d_one, _ = q.NumpyBruteForce(X).query(Q[:1], k=5)
+    d_ix, i_ix = q.build("DescriptorIndex", X).query(Q, k=5)
+    np.testing.assert_allclose(d_np, d_ix, rtol=1e-10)
+    np.testing.assert_allclose(d_one, d_ix[:1], rtol=1e-10)
+    res, dist = q.measure("numpy", X, Q, k=3, n_single=2)
+    assert dist.shape == (7, 3) and res["single_ms"] > 0 and res["db_mib"] > 0
+
+
+def test_floor_stages_and_profile(results):
+    fl = _load("bench_floor")
+    mesh = fl.make_mesh("tiny")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = fl.stages(mesh, N=20, block_sizes=(16,))
+    assert r["solve_columns"] >= 20 and r["floor_method"] >= r["floor_ideal"] > 0
+    assert [v["block_size"] for v in r["variants"]] == [8, 16]
+    assert all(v["maxrel"] <= 1e-8 for v in r["variants"])
+    groups, top = fl.profile(mesh, N=20)
+    assert groups[-1][0] == "total" and groups[-1][1] > 0
+    assert sum(s for _, s in groups[:-1]) == pytest.approx(groups[-1][1])
+    lines = fl.report("tiny", r, groups, top)
+    assert any("floor of the method" in line for line in lines)
