@@ -90,3 +90,19 @@ def test_failing_cell_is_reported(tmp_path):
 def test_unknown_notebook_name():
     with pytest.raises(ValueError, match="no notebook '99'"):
         find_notebooks(NB_DIR, ["99"])
+
+
+@pytest.mark.filterwarnings("ignore:cow.obj. repaired mesh")
+def test_real_mesh_falls_back_without_the_shared_folder(tmp_path, monkeypatch, capsys):
+    """Notebooks 2-3 work for a user without ../shared/meshes: PyMeshLab's sample cow."""
+    import cshape
+    from cshape import shapes
+
+    nb = nbformat.read(NB_DIR / "02_shape_dna_weyl.ipynb", as_version=4)
+    src = next(c.source for c in nb.cells if c.source.startswith("def real_mesh"))
+    ns = {"SMALL": True, "cshape": cshape, "shapes": shapes}
+    exec(src, ns)
+    monkeypatch.setenv("CSHAPE_SHARED_MESHES", str(tmp_path / "no-such-folder"))
+    mesh, name = ns["real_mesh"]()
+    assert "cow" in name and mesh.n_vertices > 1000
+    assert "shared meshes not available" in capsys.readouterr().out
