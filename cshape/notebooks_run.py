@@ -271,7 +271,8 @@ def run_notebooks(src=None, out="out/notebooks", *, names=None, small=False, tim
             progress(f"  {p.name}: {state} in {r.seconds:.1f} s")
     index = _index(results, out, small)
     if progress:
-        progress(f"executed notebooks and HTML in {out}/ ; open {index}")
+        what = "executed notebooks and HTML" if html else "executed notebooks"
+        progress(f"{what} in {out}/ ; open {index}")
     return results
 
 
