@@ -32,12 +32,22 @@ def _check_level(name, value, lo, hi):
     return int(value)
 
 
+def _check_length(name, value):
+    """A positive finite real number (not a bool), as float."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name} must be a positive number, got {type(value).__name__} {value!r}")
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return float(value)
+
+
 def icosphere(subdivisions=4, radius=1.0) -> Mesh:
     """Icosphere: an icosahedron subdivided ``subdivisions`` times, projected to the sphere.
 
     Vertex counts ``10 * 4**s + 2``: 642 (s=3), 2562 (4), 10242 (5), 40962 (6), 163842 (7).
     """
     s = _check_level("subdivisions", subdivisions, 0, 8)
+    radius = _check_length("radius", radius)
     t = (1.0 + 5**0.5) / 2.0
     V = np.array(
         [
@@ -60,7 +70,7 @@ def icosphere(subdivisions=4, radius=1.0) -> Mesh:
     for _ in range(s):
         V, F = _midpoint_subdivide(V, F)
         V /= np.linalg.norm(V, axis=1, keepdims=True)
-    return Mesh(V * float(radius), F)
+    return Mesh(V * radius, F)
 
 
 def _midpoint_subdivide(V, F):
@@ -81,7 +91,8 @@ def square(n=32, size=1.0) -> Mesh:
     """Flat square ``[0, size]^2`` in the z=0 plane, an ``n x n`` grid of cells, each cut
     into two triangles along alternating diagonals.  ``(n+1)^2`` vertices."""
     n = _check_level("n", n, 1, 4096)
-    x = np.linspace(0.0, float(size), n + 1)
+    size = _check_length("size", size)
+    x = np.linspace(0.0, size, n + 1)
     X, Y = np.meshgrid(x, x, indexing="ij")
     V = np.stack([X.ravel(), Y.ravel(), np.zeros(X.size)], 1)
     idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
@@ -137,8 +148,9 @@ def _disk_param(rings):
 def disk(rings=24, radius=1.0) -> Mesh:
     """Flat disk of the given radius: ``1 + 3 rings (rings + 1)`` vertices on concentric rings."""
     rings = _check_level("rings", rings, 1, 2048)
+    radius = _check_length("radius", radius)
     r, th, F = _disk_param(rings)
-    V = np.stack([r * np.cos(th), r * np.sin(th), np.zeros_like(r)], 1) * float(radius)
+    V = np.stack([r * np.cos(th), r * np.sin(th), np.zeros_like(r)], 1) * radius
     return _orient_up(Mesh(V, F))
 
 
@@ -146,10 +158,11 @@ def hemisphere(rings=24, radius=1.0) -> Mesh:
     """Upper unit hemisphere ``z >= 0``, the disk triangulation mapped by polar angle
     ``phi = r pi / 2``; its boundary is the equator."""
     rings = _check_level("rings", rings, 1, 2048)
+    radius = _check_length("radius", radius)
     r, th, F = _disk_param(rings)
     phi = r * (np.pi / 2)
     V = np.stack([np.sin(phi) * np.cos(th), np.sin(phi) * np.sin(th), np.cos(phi)], 1)
-    return _orient_up(Mesh(V * float(radius), F))
+    return _orient_up(Mesh(V * radius, F))
 
 
 def _orient_up(mesh):
@@ -165,6 +178,7 @@ def torus(n_major=64, n_minor=32, R=1.0, r=0.4) -> Mesh:
     """Torus of revolution with major radius ``R`` and tube radius ``r`` (genus 1)."""
     n_major = _check_level("n_major", n_major, 3, 8192)
     n_minor = _check_level("n_minor", n_minor, 3, 8192)
+    R, r = _check_length("R", R), _check_length("r", r)
     if not 0 < r < R:
         raise ValueError(f"torus needs 0 < r < R, got R={R}, r={r}")
     u = 2 * np.pi * np.arange(n_major) / n_major
@@ -185,6 +199,7 @@ def torus(n_major=64, n_minor=32, R=1.0, r=0.4) -> Mesh:
 def cube(n=16, size=1.0) -> Mesh:
     """Surface of the cube ``[0, size]^3``, each face an ``n x n`` grid (closed, welded)."""
     n = _check_level("n", n, 1, 1024)
+    size = _check_length("size", size)
     sq = square(n, size)
     V0, F0 = sq.vertices, sq.faces
     parts_v, parts_f = [], []
@@ -206,6 +221,8 @@ def cube(n=16, size=1.0) -> Mesh:
 
 def sphere_spectrum(N, radius=1.0) -> np.ndarray:
     """The first ``N`` exact eigenvalues of the sphere: ``l(l+1)/radius^2``, each ``2l+1`` times."""
+    N = _check_level("N", N, 0, 10**8)
+    radius = _check_length("radius", radius)
     out = []
     ell = 0
     while len(out) < N:
