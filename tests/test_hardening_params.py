@@ -301,3 +301,33 @@ def test_marching_cubes_without_a_surface(expr):
 
     with pytest.raises(ValueError, match="produced no triangles"):
         variants.marching_cubes(expr, (-1, -1, -1, 1, 1, 1), 0.1)
+
+
+# ------------------------------------------------------------------ shapes
+@pytest.mark.parametrize("make, arg", [
+    (lambda v: shapes.icosphere(1, radius=v), "radius"),
+    (lambda v: shapes.square(2, size=v), "size"),
+    (lambda v: shapes.disk(2, radius=v), "radius"),
+    (lambda v: shapes.hemisphere(2, radius=v), "radius"),
+    (lambda v: shapes.cube(1, size=v), "size"),
+    (lambda v: shapes.torus(4, 3, R=v, r=0.1), "R"),
+    (lambda v: shapes.sphere_spectrum(5, radius=v), "radius"),
+])
+def test_shape_lengths_must_be_positive_finite_numbers(make, arg):
+    for bad in (0, -1.0, np.nan, np.inf):
+        with pytest.raises(ValueError, match=rf"{arg} must be a positive finite number"):
+            make(bad)
+    for bad in ("1", True, None, [1.0]):
+        with pytest.raises(TypeError, match=rf"{arg} must be a positive number"):
+            make(bad)
+    make(np.float32(2.0))  # NumPy scalars are fine
+
+
+def test_shape_levels_refuse_bools_and_floats():
+    with pytest.raises(ValueError, match=r"subdivisions must be an integer in \[0, 8\]"):
+        shapes.icosphere(True)
+    with pytest.raises(ValueError, match=r"n must be an integer in \[1, 4096\]"):
+        shapes.square(2.0)
+    with pytest.raises(ValueError, match=r"N must be an integer in \[0, 100000000\]"):
+        shapes.sphere_spectrum(True)
+    assert shapes.icosphere(np.int64(0)).n_vertices == 12
