@@ -1123,6 +1123,10 @@ cheap stages; the eigenvalues above are not recomputed. $M$ is clamped to $[0, (
 no_spheres = table.select([i for i, lab in enumerate(table.labels) if lab != "sphere"])
 w = widgets.m_sweep_widget({"all shapes": table, "without spheres": no_spheres}, M=8, N=N)
 w'''),
+    md(r"""A widget needs a live kernel; in a static copy of this notebook (an HTML export, a viewer on the web)
+it shows as text. Its current picture, as a plain figure:"""),
+    code('''\
+plots.plot_m_sweep(w.state, shape=int(w.controls["shape"].value))'''),
     md(r"""## Exercises
 
 1. Find the smallest $M$ for which every shape's nearest neighbour is still in its own class (the statistics
