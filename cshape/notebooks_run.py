@@ -119,7 +119,10 @@ def kernel_manager():
     class _ThisPython(KernelSpecManager):
         def get_kernel_spec(self, kernel_name):
             return KernelSpec(
-                argv=[sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+                # log level ERROR: no "running over TCP without encryption" line per
+                # notebook (the kernel listens on loopback only); errors still show
+                argv=[sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}",
+                      "--IPKernelApp.log_level=ERROR"],
                 display_name="Python 3 (cshape)",
                 language="python",
                 metadata={"debugger": False},
