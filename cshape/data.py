@@ -606,11 +606,18 @@ def _umask() -> int:
     return mask
 
 
-def _read_npz(path: Path) -> Mesh:
-    """Read a cached mesh (arrays only: pickled objects are refused, never executed)."""
+def _read_npz(path: Path, record=None) -> Mesh:
+    """Read a cached mesh (arrays only: pickled objects are refused, never executed).
+
+    With ``record``, the recipe stored in the file must be that record: a file copied or
+    written over from another item is not taken for this one.
+    """
     try:
         with np.load(path, allow_pickle=False) as z:
-            return Mesh(z["vertices"], z["faces"])
+            V, F = z["vertices"], z["faces"]
+            if record is not None and json.loads(str(z["recipe"])) != record:
+                raise ValueError("it holds the mesh of another recipe")
+            return Mesh(V, F)
     except (ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile) as exc:
         raise ValueError(
             f"cannot read cached mesh {str(path)!r}: {exc}; delete the file to rebuild it"
@@ -625,9 +632,10 @@ def _cache_file(entries, coll, item, root: Path) -> Path:
 def _generated_mesh(entries, coll, item, root: Path) -> tuple[Mesh, bool]:
     """Return (mesh, built) for a generated item, from the cache or by building it."""
     path = _cache_file(entries, coll, item, root)
+    record = _recipe_record(entries, coll, item)
     if path.is_file():
         try:
-            return _read_npz(path), False
+            return _read_npz(path, record), False
         except (OSError, ValueError, KeyError) as exc:
             warnings.warn(f"rebuilding unreadable cache file {path} ({exc})", stacklevel=3)
     fn, takes_base, takes_seed = _recipes()[item["recipe"]]
@@ -638,7 +646,6 @@ def _generated_mesh(entries, coll, item, root: Path) -> tuple[Mesh, bool]:
     if takes_seed:
         kwargs["random_state"] = item.get("seed")
     mesh = fn(*args, **kwargs)
-    record = _recipe_record(entries, coll, item)
     _atomic_save_npz(
         path, vertices=mesh.vertices, faces=mesh.faces, recipe=np.array(json.dumps(record))
     )
