@@ -574,3 +574,18 @@ def test_archive_larger_than_the_free_space_is_refused_before_writing(tmp_path, 
         data.extract_archive(z, tmp_path / "target")
     assert info.value.errno == errno.ENOSPC
     assert _files_under(tmp_path) == ["big.zip"]
+
+
+def test_cache_file_of_another_recipe_is_not_taken_for_this_item(tmp_path):
+    """A cache file copied over (or written) from another item is detected and rebuilt."""
+    other = {**TINY["items"][0], "name": "t", "params": {"subdiv": 1}}
+    man = data.load_manifest(_manifest(tmp_path, [{**TINY, "items": [TINY["items"][0], other]}]))
+    data.load_collection("tiny", manifest=man, progress=False)
+    root = tmp_path / "cache"
+    s_path = data._cache_file(man, "tiny", man["tiny"]["items"][0], root)
+    t_path = data._cache_file(man, "tiny", man["tiny"]["items"][1], root)
+    s_path.write_bytes(t_path.read_bytes())  # 's' now holds the 42-vertex sphere of 't'
+    with pytest.warns(UserWarning, match="rebuilding .* another recipe"):
+        m = data.load("tiny", "s", manifest=man)
+    assert m.n_vertices == 162
+    assert data.load("tiny", "s", manifest=man).n_vertices == 162  # repaired on disk
