@@ -880,12 +880,21 @@ for name, m in (("CM (marching cubes)", CM), ("CS (remeshed)", CS)):
           f"{q['pct_below_10']:5.1f}% of triangles below 10 deg, "
           f"worst aspect {q['aspect_max']:.3g}")'''),
     code('''\
-fig = plots.new_figure((11, 3.4))
+def close_up(mesh, frac=0.15):
+    """The triangles near the mesh's highest point (the head), to see their shapes."""
+    V, F = mesh.vertices, mesh.faces
+    c = V[np.argmax(V[:, 2])]
+    keep = np.linalg.norm(V[F].mean(axis=1) - c, axis=1) < frac * np.ptp(V, axis=0).max()
+    used, F_new = np.unique(F[keep], return_inverse=True)
+    return cshape.Mesh(V[used], F_new.reshape(-1, 3))
+
+
+fig = plots.new_figure((11, 3.6))
 ax0 = fig.add_subplot(1, 3, 1, projection="3d")
 ax1 = fig.add_subplot(1, 3, 2, projection="3d")
 ax2 = fig.add_subplot(1, 3, 3)
 for ax, (name, m) in ((ax0, ("CM", CM)), (ax1, ("CS", CS))):
-    plots.plot_mesh(m, ax=ax, edges=True, title=name, elev=30, azim=-40)
+    plots.plot_mesh(close_up(m), ax=ax, edges=True, title=f"{name}, close up", elev=50, azim=-40)
 for name, m in (("CM", CM), ("CS", CS)):
     ax2.hist(variants.triangle_angles(m).min(axis=1), bins=40, range=(0, 60), alpha=0.6,
              label=name)
