@@ -843,6 +843,8 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
         body = fh.read()
     ascii_ = fmt == "ascii"
     order = ">" if fmt == "binary_big_endian" else "<"
+    if ascii_ and _ascii_triangles_ok(p, body, elements, nv):
+        return  # ASCII lists cannot overflow the reader; the faces were checked
     tokens = body.split() if ascii_ else None
     pos = 0  # token index (ascii) or byte offset (binary)
 
@@ -940,6 +942,56 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
                         "remove that property or element, or save the file as ASCII PLY"
                     )
                 pos += n * idt.itemsize
+
+
+def _ascii_triangles_ok(p, body, elements, nv):
+    """Fast check of an ASCII PLY whose face element is one index list of triangles after
+    elements of scalar properties, one record per line (how every writer lays them out).
+
+    Returns True when every face was checked (raising on an out-of-range index), False when
+    the file is laid out otherwise: the caller then walks it token by token.
+    """
+    skip = 0
+    for name, count, _, _, props in elements:
+        if name == "face":
+            break
+        if any(q[1] == "list" for q in props):
+            return False
+        skip += count
+    else:
+        return True  # no face element
+    if len(props) != 1 or props[0][1] != "list" or props[0][0] not in _PLY_FACE_LISTS:
+        return False
+    pos = 0
+    for _ in range(skip):
+        pos = body.find(b"\n", pos) + 1
+        if pos == 0:
+            return False
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:  # parses up to the first token that is not an integer
+            vals = np.fromstring(body[pos:], dtype=np.int64, sep=" ")
+        except (ValueError, DeprecationWarning):
+            end = pos
+            for _ in range(count):
+                end = body.find(b"\n", end) + 1
+                if end == 0:
+                    return False
+            try:
+                vals = np.fromstring(body[pos:end], dtype=np.int64, sep=" ")
+            except (ValueError, DeprecationWarning):
+                return False
+    if len(vals) < 4 * count or np.any(vals[: 4 * count : 4] != 3):
+        return False
+    idx = vals[: 4 * count].reshape(count, 4)[:, 1:]
+    bad = (idx < 0) | (idx >= nv)
+    if bad.any():
+        k = int(np.flatnonzero(bad.any(axis=1))[0])
+        raise _bad_file(
+            p, f"Bad vertex index in face {k}: {int(idx[k][bad[k]][0])}, but the file has {nv} "
+            f"vertices (PLY indices are 0-based, in [0, {nv - 1}])"
+        )
+    return True
 
 
 #: NumPy codes of the PLY scalar types.
