@@ -197,23 +197,28 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     with spectrum._one_blas_thread():
         variants = []
         for b in [b0] + [int(x) for x in block_sizes if int(x) != b0]:
-            counter = CountingSolve(op.matmat)
-            t0 = time.perf_counter()
-            try:
-                lam, _ = spectrum._block_lanczos(K, B, N, counter, sigma, block_size=b,
-                                                 return_vectors=False)
-            except spectrum._NoConvergence as exc:
-                variants.append({"block_size": b, "seconds": float("nan"),
-                                 "columns": counter.columns, "maxrel": float("nan"),
-                                 "solve_seconds": counter.seconds, "note": str(exc)})
-                continue
-            sec = time.perf_counter() - t0
-            lam = np.sort(lam)
-            lam[np.abs(lam) < 1e-10 * np.abs(lam).max()] = 0.0
-            variants.append({"block_size": b, "seconds": sec, "columns": counter.columns,
+            runs = []
+            for _ in range(repeats):
+                counter = CountingSolve(op.matmat)
+                t0 = time.perf_counter()
+                try:
+                    lam, _ = spectrum._block_lanczos(K, B, N, counter, sigma, block_size=b,
+                                                     return_vectors=False)
+                except spectrum._NoConvergence as exc:
+                    runs.append({"block_size": b, "seconds": float("nan"),
+                                 "columns": counter.columns, "calls": counter.calls,
+                                 "maxrel": float("nan"), "solve_seconds": counter.seconds,
+                                 "note": str(exc)})
+                    break
+                sec = time.perf_counter() - t0
+                lam = np.sort(lam)
+                lam[np.abs(lam) < 1e-10 * np.abs(lam).max()] = 0.0
+                maxrel = relative_difference(np.maximum(lam, 0), lam_ref)
+                runs.append({"block_size": b, "seconds": sec, "columns": counter.columns,
                              "calls": counter.calls, "solve_seconds": counter.seconds,
-                             "maxrel": relative_difference(np.maximum(lam, 0), lam_ref),
-                             "note": ""})
+                             "maxrel": maxrel,
+                             "note": "" if maxrel <= 1e-8 else "WRONG eigenvalues"})
+            variants.append(min(runs, key=lambda v: (np.isnan(v["seconds"]), v["seconds"])))
     base = variants[0]
     out["lanczos"] = base["seconds"]
     out["lanczos_solves"] = base["solve_seconds"]
@@ -272,17 +277,22 @@ def profile(mesh, N=100):
     # self time of every function, attributed to the nearest grouped caller chain
     memo = {}
 
+    fem_label, sparse_label = GROUPS[0][0], GROUPS[6][0]
+
     def owner(key, depth=0):
         if key in memo:
             return memo[key]
         g = group_of(key)
-        if g is None and depth < 40:
+        if g in (None, sparse_label) and depth < 40:
             callers = stats[key][4]
             if callers:
-                # the caller with the largest cumulative share decides
+                # the caller with the largest cumulative share decides; sparse work done
+                # for the FEM assembly (COO -> CSR) counts as FEM
                 parent = max(callers, key=lambda c: callers[c][3])
                 if parent in stats and parent != key:
-                    g = owner(parent, depth + 1)
+                    up = owner(parent, depth + 1)
+                    if g is None or up == fem_label:
+                        g = up
         memo[key] = g
         return g
 
