@@ -68,7 +68,7 @@ def jupyterlab(tmp_path):
     notif.mkdir(parents=True)
     (notif / "notification.jupyterlab-settings").write_text('{"fetchNews": "false"}')
     port, token = _free_port(), secrets.token_hex(16)
-    env = dict(os.environ, CSHAPE_SMALL="1",
+    env = dict(os.environ, CSHAPE_SMALL="1", CSHAPE_CACHE=str(tmp_path / "cshape-cache"),
                JUPYTER_CONFIG_DIR=str(tmp_path / "config"),
                JUPYTER_DATA_DIR=str(tmp_path / "data"),
                JUPYTER_RUNTIME_DIR=str(tmp_path / "runtime"),

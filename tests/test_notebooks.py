@@ -39,17 +39,24 @@ def test_notebook_is_a_lesson(path):
     assert "CSHAPE_SMALL" in code, f"{path.name} must honour the small-size switch"
 
 
+@pytest.fixture(scope="module")
+def kernel_env(tmp_path_factory):
+    """The kernels' cshape cache lives in a temporary folder, not in the user's cache."""
+    return {"CSHAPE_CACHE": str(tmp_path_factory.mktemp("cshape-cache"))}
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
-def test_notebook_runs(path):
-    res = run_notebook(path, small=True, html=False, timeout=600)
+def test_notebook_runs(path, kernel_env):
+    res = run_notebook(path, small=True, html=False, timeout=600, env=kernel_env)
     assert res.ok, f"{path.name} failed after {res.seconds:.1f} s: {res.error}"
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("path", STUDENT, ids=lambda p: f"student-{p.stem}")
-def test_student_notebook_runs_up_to_its_first_stub(path):
-    res = run_notebook(path, small=True, html=False, timeout=600, stop_at_stub=True)
+def test_student_notebook_runs_up_to_its_first_stub(path, kernel_env):
+    res = run_notebook(path, small=True, html=False, timeout=600, stop_at_stub=True,
+                       env=kernel_env)
     assert res.ok, f"student {path.name} failed before its first stub: {res.error}"
     assert res.stopped_at_stub, f"student {path.name} has no exercise stub that raises"
 
