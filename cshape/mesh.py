@@ -13,6 +13,7 @@ connected components).  Every public function of cshape also accepts the pair
 from __future__ import annotations
 
 import os
+import re
 import warnings
 from functools import cached_property
 from pathlib import Path
@@ -656,6 +657,9 @@ def _scan_obj(p):
 def _prescan(p, ext):
     """What the file declares (vertex count, minimum triangle count), or None if unknown."""
     try:
+        fast = _fast_obj(p) if ext == "obj" else _fast_off(p) if ext == "off" else None
+        if fast is not None:
+            return fast
         if ext == "obj":
             nv, ntri, max_idx, nrec, collapsed = _scan_obj(p)
             if nv == 0 or nrec == 0:
@@ -678,6 +682,80 @@ def _prescan(p, ext):
     except UnicodeDecodeError:
         raise _bad_file(p, "it is not a text file, as this format requires") from None
     return None
+
+
+def _ints_or_none(block: bytes, dtype=np.int64):
+    """All whitespace-separated numbers of ``block``, or None if one does not parse."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            return np.fromstring(block, dtype=dtype, sep=" ")
+        except (ValueError, DeprecationWarning):
+            return None
+
+
+def _triangle_stats(F, nv):
+    """``(ok, n_triangles, n_collapsed)`` of (m, 3) zero-based indices."""
+    if F.size and (F.min() < 0 or F.max() >= nv):
+        return False, 0, 0
+    collapsed = int(np.count_nonzero((F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2])
+                                     | (F[:, 2] == F[:, 0])))
+    return True, len(F) - collapsed, collapsed
+
+
+def _fast_off(p):
+    """The OFF check for the plain layout (``OFF``, counts, ``x y z`` lines, ``3 i j k``
+    lines, no comments), vectorised; None when the file is laid out otherwise or has any
+    problem, which the line-by-line :func:`_scan_off` then reports with its line."""
+    data = p.read_bytes()
+    head, _, body = data.partition(b"\n")
+    if head.strip() != b"OFF" or b"#" in body:
+        return None
+    vals = _ints_or_none(body, np.float64)
+    if vals is None or len(vals) < 3:
+        return None
+    nv, nf = vals[0], vals[1]
+    if not (nv == int(nv) and nf == int(nf) and nv > 0 and nf > 0):
+        return None
+    nv, nf = int(nv), int(nf)
+    if len(vals) != 3 + 3 * nv + 4 * nf:
+        return None  # colours, polygons, extra values: the exact scan decides
+    V = vals[3 : 3 + 3 * nv]
+    faces = vals[3 + 3 * nv :].reshape(nf, 4)
+    if not np.isfinite(V).all() or np.any(faces[:, 0] != 3):
+        return None
+    F = faces[:, 1:]
+    if np.any(F != np.round(F)):
+        return None
+    ok, ntri, collapsed = _triangle_stats(F.astype(np.int64), nv)
+    return _Expected(nv, ntri, collapsed=collapsed) if ok else None
+
+
+_OBJ_INDENTED = re.compile(rb"(?m)^[ \t]+[vf][ \t]")
+_OBJ_V = re.compile(rb"(?m)^v[ \t]([^\n]*)")
+_OBJ_F = re.compile(rb"(?m)^f[ \t]([^\n]*)")
+_OBJ_SLASH = re.compile(rb"/[^\s]*")
+
+
+def _fast_obj(p):
+    """The OBJ check for triangles with positive indices and ``v x y z`` vertices,
+    vectorised; None when the file is laid out otherwise or has any problem, which the
+    line-by-line :func:`_scan_obj` then reports with its line."""
+    data = p.read_bytes()
+    if b"\\" in data or _OBJ_INDENTED.search(data):
+        return None
+    vlines, flines = _OBJ_V.findall(data), _OBJ_F.findall(data)
+    nv, nf = len(vlines), len(flines)
+    if nv == 0 or nf == 0:
+        return None
+    V = _ints_or_none(b"\n".join(vlines), np.float64)
+    if V is None or len(V) != 3 * nv or not np.isfinite(V).all():
+        return None
+    F = _ints_or_none(_OBJ_SLASH.sub(b"", b"\n".join(flines)))
+    if F is None or len(F) != 3 * nf or F.min() < 1:
+        return None  # polygons, relative (negative) or zero indices: the exact scan
+    ok, ntri, collapsed = _triangle_stats(F.reshape(nf, 3) - 1, nv)
+    return _Expected(nv, ntri, collapsed=collapsed) if ok else None
 
 
 def _scan_off(p):
