@@ -252,6 +252,7 @@ def test_read_error_during_the_scan_names_the_file(tmp_path, monkeypatch):
         raise PermissionError(13, "Permission denied", str(path))
 
     monkeypatch.setattr(mesh_mod, "open", denied, raising=False)
+    monkeypatch.setattr(Path, "read_bytes", denied)
     with pytest.raises(PermissionError, match="locked.obj"):
         cshape.load_mesh(p)
 

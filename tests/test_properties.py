@@ -348,3 +348,39 @@ def test_valid_off_obj_stl_load_to_the_same_surface(tmp_path_factory, mesh):
         lam = cshape.shape_dna(m, N=N)
     assert m.n_vertices == mesh.n_vertices and m.is_closed  # float32 soup welds back
     np.testing.assert_allclose(lam, ref, rtol=1e-4, atol=1e-5 * ref.max())
+
+
+@settings(max_examples=25, **SETTINGS)
+@given(mesh=convex_hulls(), junk=st.lists(st.tuples(st.integers(0, 19), st.integers(0, 19)),
+                                          max_size=4))
+def test_fast_and_exact_file_checks_agree(tmp_path_factory, mesh, junk):
+    """load_mesh checks plain OFF / OBJ files vectorised and others line by line; both
+    must report the same counts (vertices, triangles, collapsed faces) for the same mesh."""
+    from cshape.mesh import _prescan
+
+    F = mesh.faces.tolist() + [[a % mesh.n_vertices, a % mesh.n_vertices,
+                                 b % mesh.n_vertices] for a, b in junk]  # collapsed faces
+    V = mesh.vertices.tolist()
+    folder = tmp_path_factory.mktemp("agree")
+    body_off = (f"{len(V)} {len(F)} 0\n" + "".join(f"{x!r} {y!r} {z!r}\n" for x, y, z in V)
+                + "".join(f"3 {a} {b} {c}\n" for a, b, c in F))
+    body_obj = ("".join(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V)
+                + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F))
+    variants = {
+        "plain.off": "OFF\n" + body_off,  # vectorised
+        "comment.off": "OFF\n# made by hand\n" + body_off,  # line by line
+        "plain.obj": body_obj,
+        "backslash.obj": "# C:\\meshes\\hull.obj\n" + body_obj,
+    }
+    seen = {}
+    for name, text in variants.items():
+        (folder / name).write_text(text)
+        e = _prescan(folder / name, name[-3:])
+        seen[name] = (e.n_vertices, e.min_faces, e.collapsed)
+    from cshape.mesh import _fast_obj, _fast_off
+
+    # both code paths really ran
+    assert _fast_off(folder / "plain.off") and _fast_off(folder / "comment.off") is None
+    assert _fast_obj(folder / "plain.obj") and _fast_obj(folder / "backslash.obj") is None
+    assert seen["plain.off"] == seen["comment.off"] == seen["plain.obj"] == seen["backslash.obj"]
+    assert seen["plain.off"][2] == sum(1 for f in F if len(set(f)) < 3)
