@@ -345,6 +345,13 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
                 raise ValueError(
                     f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
                 )
+        if kind == "package":
+            rel = PurePosixPath(entry["path"])
+            if rel.is_absolute() or ".." in rel.parts:
+                raise ValueError(
+                    f"{where}: field 'path' must be a folder inside package "
+                    f"{entry['package']!r}, got {entry['path']!r}"
+                )
         if kind == "local" and entry["labels"] != "subfolder" and not entry["labels"].endswith(
             ".csv"
         ):
