@@ -589,3 +589,12 @@ def test_cache_file_of_another_recipe_is_not_taken_for_this_item(tmp_path):
         m = data.load("tiny", "s", manifest=man)
     assert m.n_vertices == 162
     assert data.load("tiny", "s", manifest=man).n_vertices == 162  # repaired on disk
+
+
+@pytest.mark.parametrize("bad", ["../../etc", "/etc", "meshes/../../.."])
+def test_package_collection_path_stays_inside_the_package(tmp_path, bad):
+    entry = {"name": "pkg", "kind": "package", "description": "t", "license": "x",
+             "citation": "n", "package": "pymeshlab", "path": bad,
+             "items": [{"name": "a", "label": "a", "file": "a.ply"}]}
+    with pytest.raises(ValueError, match="field 'path' must be a folder inside package"):
+        data.load_manifest(_manifest(tmp_path, [entry]))
