@@ -179,3 +179,12 @@ def test_m_sweep_in_chromium(jupyterlab):
             assert plot.screenshot() != png0, "the plot image did not change"
         finally:
             ctx.close()
+
+
+def test_ensure_browser_is_idempotent():
+    """With the browser installed, tools/ensure_browser.sh changes nothing and exits 0."""
+    if not (CHROMIUM.exists() and Path("/usr/bin/chromedriver").exists()):
+        pytest.skip("chromium / chromedriver not installed; the script would install them")
+    res = subprocess.run(["bash", str(REPO / "tools" / "ensure_browser.sh")],
+                         capture_output=True, text=True, timeout=60)
+    assert res.returncode == 0 and "present" in res.stdout, res.stdout + res.stderr
