@@ -15,8 +15,9 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 from scipy.spatial import ConvexHull, QhullError
 
 import cshape
@@ -384,3 +385,53 @@ def test_fast_and_exact_file_checks_agree(tmp_path_factory, mesh, junk):
     assert _fast_obj(folder / "plain.obj") and _fast_obj(folder / "backslash.obj") is None
     assert seen["plain.off"] == seen["comment.off"] == seen["plain.obj"] == seen["backslash.obj"]
     assert seen["plain.off"][2] == sum(1 for f in F if len(set(f)) < 3)
+
+
+# ------------------------------------------------------------------ arbitrary arrays
+_dtypes = st.sampled_from([np.float64, np.float32, np.int64, np.int8, np.uint16, np.complex128,
+                           np.bool_, np.float16])
+_any_array = _dtypes.flatmap(lambda dt: hnp.arrays(
+    dt, hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=6),
+    elements={"allow_nan": True, "allow_infinity": True} if np.dtype(dt).kind in "fc" else None))
+
+
+@st.composite
+def _near_valid_pairs(draw):
+    """(n, 3) coordinates and (m, 3) indices; sometimes one NaN / inf / huge / tiny
+    coordinate or one out-of-range index."""
+    n, m = draw(st.integers(3, 8)), draw(st.integers(1, 10))
+    V = draw(hnp.arrays(np.float64, (n, 3), elements=st.floats(-2, 2), fill=st.nothing()))
+    F = draw(hnp.arrays(np.int64, (m, 3), elements=st.integers(0, n - 1), fill=st.nothing()))
+    if draw(st.booleans()):
+        V[draw(st.integers(0, n - 1)), draw(st.integers(0, 2))] = draw(
+            st.sampled_from([np.nan, np.inf, -np.inf, 1e300, 1e-300, 0.0]))
+    if draw(st.integers(0, 3)) == 0:
+        F[draw(st.integers(0, m - 1)), draw(st.integers(0, 2))] = draw(
+            st.sampled_from([-1, n, n + 5, -(2**40)]))
+    return V, F
+
+
+@settings(max_examples=200, **SETTINGS)
+@given(VF=st.one_of(st.tuples(_any_array, _any_array), _near_valid_pairs()))
+def test_arbitrary_arrays_give_a_mesh_or_a_clear_error(VF):
+    """Any array pair: a valid Mesh, or TypeError / ValueError; then the pipeline either
+    works or raises ValueError (zero area, nothing left after repair, N too large)."""
+    V, F = VF
+    try:
+        mesh = Mesh(V, F)
+    except (TypeError, ValueError) as exc:
+        assert "vertices" in str(exc) or "faces" in str(exc)  # names the argument
+        event(f"refused: {type(exc).__name__}")
+        return
+    event("a mesh")
+    assert np.isfinite(mesh.vertices).all()
+    assert mesh.faces.min() >= 0 and mesh.faces.max() < mesh.n_vertices
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CShapeWarning)
+        try:
+            lam = cshape.shape_dna(mesh, N=2)
+        except ValueError as exc:
+            event(f"pipeline refused: {str(exc)[:30]}")
+            return
+    event("a spectrum")
+    assert np.isfinite(lam).all() and lam[0] == 0
