@@ -474,15 +474,18 @@ def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
     Returns
     -------
     lam : ndarray, shape (N,)
-        Ascending eigenvalues (tiny negative round-off clipped to 0).
+        Ascending eigenvalues; round-off below ``1e-10`` times the largest (zero
+        eigenvalues) is set to 0 and tiny negative values are clipped to 0.
     phi : ndarray, shape (k, N)
         B-orthonormal eigenvectors (``phi.T @ B @ phi = I``), only if ``return_vectors``.
 
     Notes
     -----
-    ``k <= DENSE_LIMIT``: dense LAPACK (``scipy.linalg.eigh``).  Otherwise block
-    shift-invert Lanczos on one sparse Cholesky factorisation (see the module docstring),
-    falling back to ARPACK (``eigsh``, ``tol=0``) if it does not converge.
+    ``k <= DENSE_LIMIT`` or ``3 N >= k``: dense LAPACK (``scipy.linalg.eigh``).
+    Otherwise each connected component of the matrix graph is solved on its own (dense
+    if small) by block shift-invert Lanczos on one sparse Cholesky factorisation (see the
+    module docstring), falling back to ARPACK (``eigsh``, ``tol=0``) if it does not
+    converge.  The result is deterministic: fixed random seeds.
     """
     K = (-sp.csr_matrix(A)).tocsr()
     B = sp.csr_matrix(B)
