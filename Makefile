@@ -1,12 +1,13 @@
 # cshape: two commands on a fresh machine (Python >= 3.10 and the package index only).
-#   make demo   - the main job (sets up .venv first)
-#   make test   - the test suite (sets up .venv first)
+#   make demo   - the main job: runs every walkthrough notebook into out/notebooks/
+#   make test   - the test suite (what CI runs); installs Debian's Chromium for the
+#                 browser test when it is missing and we are root (else that test skips)
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench lint setup clean
+.PHONY: demo test bench reproduce assignments lint setup clean
 
 setup: $(STAMP)
 
@@ -17,10 +18,17 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(PY) -m cshape demo
+	$(PY) -m cshape notebooks --out out/notebooks
 
 test: $(STAMP)
+	bash tools/ensure_browser.sh
 	$(PY) -m pytest $(PYTEST_ARGS)
+
+reproduce: $(STAMP)
+	$(PY) -m cshape reproduce --out out/reproduce
+
+assignments: $(STAMP)
+	$(PY) -m cshape assignments
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench_spectrum.py
@@ -29,4 +37,4 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff check .
 
 clean:
-	rm -rf $(VENV) .pytest_cache build *.egg-info
+	rm -rf $(VENV) .pytest_cache build *.egg-info out test-artifacts

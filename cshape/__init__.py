@@ -15,7 +15,8 @@ The pipeline, one module per stage (data flows one way):
 7. :mod:`cshape.data`        - the data manifest and shape collections
 
 :mod:`cshape.batch` runs many meshes (cached, parallel, Dask); :mod:`cshape.reproduce` the
-paper's Section 3.
+paper's Section 3; :mod:`cshape.plots` and :mod:`cshape.widgets` draw the notebooks' figures
+and the M-sweep widget (import them on demand).
 
 :mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, hemisphere, ...).
 """
