@@ -30,6 +30,7 @@ import tempfile
 import threading
 import time
 import warnings
+import zipfile
 from collections import Counter, deque
 from collections.abc import Mapping
 from pathlib import Path
@@ -229,10 +230,38 @@ class DescriptorTable:
 
     @classmethod
     def load(cls, path) -> DescriptorTable:
-        """Read a table written by :meth:`save` (``.npz`` or ``.csv``)."""
+        """Read a table written by :meth:`save` (``.npz`` or ``.csv``).
+
+        Raises
+        ------
+        FileNotFoundError
+            If there is no file at ``path``.
+        ValueError
+            If the file is not a readable cshape descriptor table (wrong format or version,
+            truncated, corrupt); the message names the file.
+        """
         path = Path(path)
         if not path.is_file():
             raise FileNotFoundError(f"no descriptor table at {str(path)!r}")
+        if path.suffix.lower() not in (".npz", ".csv"):
+            raise ValueError(f"path must end in .npz or .csv, got {str(path)!r}")
+        try:
+            return cls._load(path)
+        except ValueError as exc:
+            if str(path) in str(exc):
+                raise
+            raise ValueError(
+                f"{str(path)!r} is not a readable cshape descriptor table: {exc}"
+            ) from None
+        except (KeyError, IndexError, TypeError, OSError, EOFError, zipfile.BadZipFile) as exc:
+            raise ValueError(
+                f"{str(path)!r} is not a readable cshape descriptor table "
+                f"({type(exc).__name__}: {exc}); it is truncated or corrupt: write it again "
+                "with DescriptorTable.save"
+            ) from None
+
+    @classmethod
+    def _load(cls, path: Path) -> DescriptorTable:
         if path.suffix.lower() == ".npz":
             with np.load(path, allow_pickle=False) as z:
                 meta = json.loads(str(z["meta"]))
@@ -242,8 +271,6 @@ class DescriptorTable:
                            M=meta["M"], bc=meta["bc"], mass=meta["mass"],
                            seconds=z["seconds"], cached=z["cached"],
                            failures=meta["failures"])
-        if path.suffix.lower() != ".csv":
-            raise ValueError(f"path must end in .npz or .csv, got {str(path)!r}")
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
             prefix = f"# {_FORMAT} "

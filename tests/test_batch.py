@@ -338,3 +338,29 @@ def test_resume_after_a_worker_is_killed(tmp_path):
     assert len(summary["ok"]) + len(summary["failures"]) == N_KILL
     assert len(entries(cache)) == len(summary["ok"])
     check_resume(cache)
+
+
+@pytest.mark.parametrize(
+    "name, content",
+    [
+        ("bad_json.csv", "# cshape-descriptor-table {not json\nname,label\n"),
+        ("not_a_table.csv", "a,b,c\n1,2,3\n"),
+        ("truncated.npz", b"PK\x03\x04 truncated zip"),
+        ("garbage.npz", b"\x00" * 64),
+    ],
+)
+def test_corrupt_tables_give_a_clear_error_naming_the_file(tmp_path, name, content):
+    p = tmp_path / name
+    if isinstance(content, bytes):
+        p.write_bytes(content)
+    else:
+        p.write_text(content)
+    with pytest.raises(ValueError, match=name):
+        DescriptorTable.load(p)
+
+
+def test_table_missing_an_array_names_the_file(tmp_path):
+    p = tmp_path / "partial.npz"
+    np.savez(p, lam=np.zeros((1, 3)))
+    with pytest.raises(ValueError, match="partial.npz.*corrupt"):
+        DescriptorTable.load(p)
