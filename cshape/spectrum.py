@@ -169,6 +169,15 @@ def _default_sigma(B, N):
     return -0.01 * 4.0 * np.pi * max(N, 1) / area
 
 
+def _times(V, C):
+    """``V @ C`` for a column-major basis ``V`` (k, m) and a small ``C`` (m, b).
+
+    Computed as ``(C.T @ V.T).T``: the same product, but OpenBLAS streams the basis about
+    1.7x faster in this orientation (measured: 57 vs 102 ms for k = 163842, m = 300, b = 8).
+    """
+    return (C.T @ V.T).T
+
+
 def _b_orthonormalize(W, B, scale):
     """B-orthonormalise the columns of ``W`` (Cholesky-QR, repeated if ill-conditioned).
 
@@ -313,14 +322,14 @@ def _block_lanczos(
         W = solve(np.ascontiguousarray(BVcur))
         # local pass: the coupling to the previous block is known (R_j^T, by symmetry)
         if R is not None:
-            W -= V[:, lo:m0] @ R.T
+            W -= _times(V[:, lo:m0], R.T)
         A = BVcur.T @ W
-        W -= V[:, m0:m] @ A
+        W -= _times(V[:, m0:m], A)
         scale = max(float(np.abs(A).max()), float(np.abs(R).max()) if R is not None else 0.0)
         omega = None
         if lo > 0 and since >= skip:
             Cg = V[:, :lo].T @ (B @ W)
-            W -= V[:, :lo] @ Cg
+            W -= _times(V[:, :lo], Cg)
             omega = float(np.abs(Cg).max())
             since = 0
         else:
@@ -329,9 +338,9 @@ def _block_lanczos(
         C2 = BVcur.T @ W
         if BVprev is not None:
             C2p = BVprev.T @ W
-            W -= V[:, lo:m0] @ C2p + V[:, m0:m] @ C2
+            W -= _times(V[:, lo:m], np.vstack([C2p, C2]))
         else:
-            W -= V[:, m0:m] @ C2
+            W -= _times(V[:, m0:m], C2)
         A += C2
         Q, BQ, R = _b_orthonormalize(W, B, scale)
         due = m >= next_check
