@@ -87,7 +87,7 @@ def test_queries_descriptors_and_exact_search(results):
                                    rtol=1e-12, atol=1e-9)
     X = q.descriptors(lam, "cShape-DNA M=16")
     Q = q.descriptors(q.perturb(base, 7, rng), "cShape-DNA M=16")
-    d_np, i_np = q.NumpyBruteForce(X, block=64).query(Q, k=5)
+    d_np, i_np = q.NumpyBruteForce(X, group=3).query(Q, k=5)
     d_one, _ = q.NumpyBruteForce(X).query(Q[:1], k=5)
     d_ix, i_ix = q.build("DescriptorIndex", X).query(Q, k=5)
     np.testing.assert_allclose(d_np, d_ix, rtol=1e-10)
