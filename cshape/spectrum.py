@@ -187,7 +187,7 @@ def _b_orthonormalize(W, B, scale):
     B : sparse matrix, shape (k, k)
     scale : float
         B-norm of the vectors ``W`` was computed from; directions of ``W`` shorter than
-        ``1e-10 * scale`` count as numerically zero (rank deficiency).
+        ``1e-12 * scale`` count as numerically zero (rank deficiency).
 
     Returns
     -------
@@ -203,12 +203,12 @@ def _b_orthonormalize(W, B, scale):
     try:
         R = la.cholesky(G, lower=False)
         diag = np.abs(np.diag(R))
-        if diag.min() <= 1e-10 * max(scale, diag.max()) or np.linalg.cond(R) > 1e6:
+        if diag.min() <= 1e-12 * max(scale, diag.max()) or np.linalg.cond(R) > 1e6:
             raise la.LinAlgError("ill-conditioned block")
     except la.LinAlgError:
         # rank revealing: keep the directions of W that are not numerically zero
         D, U = la.eigh(G)
-        keep = D > (1e-10 * max(scale, np.sqrt(max(D.max(), 0.0)))) ** 2
+        keep = D > (1e-12 * max(scale, np.sqrt(max(D.max(), 0.0)))) ** 2
         U, D = U[:, keep], D[keep]
         T = U / np.sqrt(D)
         Q, BQ = W @ T, BW @ T
