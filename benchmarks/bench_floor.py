@@ -349,9 +349,14 @@ def report(label, r, groups, top):
     for v in r["variants"]:
         lines.append(f"| {v['block_size']} | {v['seconds']:.2f} | {v['columns']} | "
                      f"{v['solve_seconds']:.2f} | {v['maxrel']:.1e} | {v['note']} |")
-    lines += ["", "Profile of shape_dna (cProfile, self time grouped by stage):", "",
-              "| group | seconds |", "|---|---|"]
-    lines += [f"| {g} | {s:.2f} |" for g, s in groups]
+    g = dict(groups)
+    floor_prof = g["factorisation (CHOLMOD)"] + g["triangular solves (CHOLMOD)"]
+    lines += ["", "Profile of shape_dna (cProfile, one run, self time grouped by stage; the "
+              "share is immune to load changes between the separately timed stages above):",
+              "", "| group | seconds | share |", "|---|---|---|"]
+    lines += [f"| {name} | {sec:.2f} | {100 * sec / g['total']:.0f} % |" for name, sec in groups]
+    lines += ["", f"- in the profiled run, factorisation + solves = {floor_prof:.2f} s of "
+              f"{g['total']:.2f} s: shape_dna is **{g['total'] / floor_prof:.2f}x** its floor"]
     lines += ["", "Largest self times:", "", "| function | self [s] | cumulative [s] | calls |",
               "|---|---|---|---|"]
     lines += [f"| `{f}` | {t:.2f} | {c:.2f} | {n} |" for f, t, c, n in top[:10]]
