@@ -30,7 +30,8 @@ beforehand; writing the cache is part of the work):
 It prints meshes per minute and the speed-up over ``serial`` (2 would be perfectly linear
 on 2 cores; other processes running on the machine take their share, hence the load
 average next to the figures), and writes ``benchmarks/results/throughput.{csv,md}``
-(``throughput_quick.*`` with ``--quick``).  Nothing here asserts a time.
+(``throughput_quick.*`` with ``--quick``, ``throughput_<count>.*`` for another
+``--count``).  Nothing here asserts a time.
 """
 
 from __future__ import annotations
@@ -288,7 +289,8 @@ def main(argv=None):
     print(f"\nat the end: {summary_end}")
 
     RESULTS.mkdir(parents=True, exist_ok=True)
-    stem = "throughput_quick" if args.quick else "throughput"
+    stem = ("throughput_quick" if args.quick else
+            f"throughput_{count}" if args.count and count != 300 else "throughput")
     keys = ["mode", "label", "meshes", "failed", "seconds", "per_minute", "speedup", "startup",
             "solve_seconds", "load1"]
     with open(RESULTS / f"{stem}.csv", "w", newline="") as fh:
