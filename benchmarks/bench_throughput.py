@@ -29,7 +29,8 @@ beforehand; writing the cache is part of the work):
 
 It prints meshes per minute and the speed-up over ``serial`` (2 would be perfectly linear
 on 2 cores; other processes running on the machine take their share, hence the load
-average next to the figures), and writes ``benchmarks/results/throughput.{csv,md}``
+average next to the figures and the *free cores* probe of :func:`free_cores` before and
+after), and writes ``benchmarks/results/throughput.{csv,md}``
 (``throughput_quick.*`` with ``--quick``, ``throughput_<count>.*`` for another
 ``--count``).  Nothing here asserts a time.
 """
@@ -90,6 +91,30 @@ def machine_summary():
         f"Python {platform.python_version()}, numpy {np.__version__}, "
         f"cshape {cshape.__version__}; load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}"
     )
+
+
+_SPIN = ("import time\nt = time.perf_counter()\ns = 0\nfor i in range({n}):\n    s += i\n"
+         "print(time.perf_counter() - t)")
+
+
+def free_cores(workers=2, n=10_000_000):
+    """How many cores ``workers`` processes actually get right now.
+
+    Times a pure-Python busy loop in one process alone and then in ``workers`` processes
+    at once: ``workers * t_alone / t_together``, about ``workers`` on an idle machine and
+    about 1 if other processes hold all but one core.  It puts the speed-ups in context.
+    """
+    import subprocess
+
+    cmd = [sys.executable, "-c", _SPIN.format(n=int(n))]
+
+    def run(k):
+        procs = [subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) for _ in range(k)]
+        return [float(p.communicate()[0]) for p in procs]
+
+    alone = run(1)[0]
+    together = run(workers)
+    return workers * alone / float(np.mean(together))
 
 
 # ----------------------------------------------------------------------------- meshes
@@ -263,7 +288,9 @@ def main(argv=None):
     print(f"collection: {count} meshes, {nv.min():,}-{nv.max():,} vertices "
           f"(mean {nv.mean():,.0f}), families {', '.join(labels)}; made in "
           f"{time.perf_counter() - t0:.1f} s")
-    print(f"N={args.N}, fresh temporary cache per mode, {args.workers} workers\n")
+    cores_before = free_cores(args.workers)
+    print(f"N={args.N}, fresh temporary cache per mode, {args.workers} workers; free cores "
+          f"(busy-loop probe, {args.workers} processes): {cores_before:.2f}\n")
     header = (f"{'mode':<26} {'meshes':>6} {'wall [s]':>9} {'meshes/min':>11} "
               f"{'speed-up':>9} {'start-up [s]':>13} {'load':>5}")
     print(header)
@@ -285,8 +312,9 @@ def main(argv=None):
         rows.append(r)
         print(f"{r['label']:<26} {r['meshes']:>6d} {r['seconds']:>9.1f} {r['per_minute']:>11.1f} "
               f"{r['speedup']:>9.2f} {r['startup']:>13.1f} {r['load1']:>5.2f}", flush=True)
+    cores_after = free_cores(args.workers)
     summary_end = machine_summary()
-    print(f"\nat the end: {summary_end}")
+    print(f"\nfree cores at the end: {cores_after:.2f}; at the end: {summary_end}")
 
     RESULTS.mkdir(parents=True, exist_ok=True)
     stem = ("throughput_quick" if args.quick else
@@ -301,7 +329,9 @@ def main(argv=None):
     md = [f"# Throughput of cshape.describe (N={args.N})", "", summary, "",
           f"At the end: {summary_end}", "",
           f"{count} meshes, {nv.min():,}-{nv.max():,} vertices (mean {nv.mean():,.0f}), "
-          f"fresh temporary cache per mode.", "",
+          f"fresh temporary cache per mode.  Free cores for {args.workers} worker processes "
+          f"(busy-loop probe, {args.workers} * t_alone / t_together): {cores_before:.2f} "
+          f"before, {cores_after:.2f} after; a speed-up cannot exceed it.", "",
           "| mode | meshes | wall [s] | meshes/min | speed-up | cluster start-up [s] | load |",
           "|---|---|---|---|---|---|---|"]
     md += [f"| {r['label']} | {r['meshes']} | {r['seconds']:.1f} | {r['per_minute']:.1f} | "

@@ -70,6 +70,7 @@ def test_throughput_collection_and_serial_mode(results):
     assert r["table"].lam.shape == (4, 20)
     with pytest.raises(ValueError, match="mode"):
         tp.run_mode(col, "threads")
+    assert 0 < tp.free_cores(2, n=10_000) < 10
 
 
 def test_queries_descriptors_and_exact_search(results):
