@@ -232,7 +232,7 @@ def test_dask_local_cluster_equals_serial(tmp_path, reference):
     col = small_collection() + [("tiny", "x", shapes.icosphere(0))]
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
                                   protocol="tcp://", host="127.0.0.1",
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=":0") as cluster:
         with distributed.Client(cluster) as client, warnings.catch_warnings():
             warnings.simplefilter("ignore", CShapeWarning)
             table = run(col, cache_dir=tmp_path, client=client)
@@ -254,7 +254,7 @@ def test_dask_local_cluster_equals_serial(tmp_path, reference):
 def test_dask_process_cluster_equals_serial(reference):
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  host="127.0.0.1", dashboard_address=None) as cluster:
+                                  host="127.0.0.1", dashboard_address=":0") as cluster:
         with distributed.Client(cluster) as client:
             table = run(small_collection(), cache_dir=False, client=client)
     np.testing.assert_array_equal(table.lam, reference.lam)
