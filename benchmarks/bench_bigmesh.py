@@ -37,16 +37,23 @@ from __future__ import annotations
 
 import argparse
 import csv
-import datetime
 import json
 import os
-import platform
 import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import load_average, max_relative_difference, proc_status_kib, reset_peak  # noqa: E402
+from _common import machine_summary as _machine_summary
+
+
+def machine_summary():
+    """One line: date, machine, memory, library versions and the load average."""
+    return _machine_summary(libs=('scipy',))
 
 #: Size label -> (n_major, n_minor) of the torus; vertices = n_major * n_minor.
 SIZES = {
@@ -62,61 +69,6 @@ ENGINES = ("cshape", "lapy")
 
 
 # ----------------------------------------------------------------------------- memory
-def proc_status_kib(field):
-    """A ``/proc/self/status`` field in KiB (``'VmHWM'``, ``'VmRSS'``), NaN if unavailable."""
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith(field + ":"):
-                    return float(line.split()[1])
-    except OSError:  # pragma: no cover - not Linux
-        pass
-    return float("nan")
-
-
-def reset_peak():
-    """Reset the peak resident size ``VmHWM`` to the current one (Linux >= 4.0).
-
-    Returns
-    -------
-    bool
-        False if the kernel refused (then the peak includes what came before).
-    """
-    try:
-        with open("/proc/self/clear_refs", "w") as fh:
-            fh.write("5")
-        return True
-    except OSError:  # pragma: no cover - not Linux or too old
-        return False
-
-
-def load_average():
-    """The 1, 5 and 15 minute load averages (NaN where unavailable)."""
-    try:
-        return os.getloadavg()
-    except OSError:  # pragma: no cover
-        return (float("nan"),) * 3
-
-
-def machine_summary():
-    """One line: date, machine, memory, library versions and the load average."""
-    import scipy
-
-    import cshape
-
-    try:
-        mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    except (ValueError, OSError):  # pragma: no cover
-        mem = float("nan")
-    la = load_average()
-    return (
-        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.machine()}, {os.cpu_count()} cores, {mem:.0f} GiB, "
-        f"Python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
-        f"cshape {cshape.__version__}; load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}"
-    )
-
-
 # ----------------------------------------------------------------------------- one run
 def make_mesh(n_major, n_minor):
     """The benchmark torus with ``n_major * n_minor`` vertices."""
@@ -205,15 +157,6 @@ def run_child(engine, dims, N, threads, timeout):
 
 
 # ----------------------------------------------------------------------------- analysis
-def relative_difference(lam, ref):
-    """``max |lam - ref| / |ref|``, with ``max |ref|`` as the scale of zero eigenvalues."""
-    lam = np.asarray(lam, dtype=float)
-    ref = np.asarray(ref, dtype=float)
-    big = float(np.abs(ref).max())
-    scale = np.where(np.abs(ref) > 1e-9 * big, np.abs(ref), big)
-    return float((np.abs(lam - ref) / scale).max())
-
-
 def growth_exponent(n, y):
     """Slope ``p`` of the least-squares line through ``(log n, log y)`` (NaN if < 2 points)."""
     n = np.asarray(n, dtype=float)
@@ -397,7 +340,7 @@ def main(argv=None):
                 else:
                     row.update(lapy_s=lp["seconds"], lapy_peak=lp["peak_mib"],
                                lapy_solve=lp["solve_mib"],
-                               maxrel=relative_difference(cs["lam"], lp["lam"]))
+                               maxrel=max_relative_difference(cs["lam"], lp["lam"]))
                     lapy_last = (n, lp["seconds"])
                     failed |= not row["maxrel"] <= args.rtol
         rows.append(row)

@@ -38,9 +38,6 @@ from __future__ import annotations
 import argparse
 import cProfile
 import csv
-import datetime
-import os
-import platform
 import pstats
 import sys
 import time
@@ -48,6 +45,15 @@ from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import load_average, max_relative_difference  # noqa: E402
+from _common import machine_summary as _machine_summary
+
+
+def machine_summary():
+    """One line: date, machine, memory, library versions and the load average."""
+    return _machine_summary(libs=('scipy',))
 
 RESULTS = Path(__file__).resolve().parent / "results"
 #: Mesh label -> (constructor name, arguments).
@@ -58,33 +64,6 @@ MESHES = {
     "torus640k": ("torus", (1280, 512)),
     "tiny": ("icosphere", (4,)),
 }
-
-
-def load_average():
-    """The 1, 5 and 15 minute load averages (NaN where unavailable)."""
-    try:
-        return os.getloadavg()
-    except OSError:  # pragma: no cover
-        return (float("nan"),) * 3
-
-
-def machine_summary():
-    """One line: date, machine, memory, library versions and the load average."""
-    import scipy
-
-    import cshape
-
-    try:
-        mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    except (ValueError, OSError):  # pragma: no cover
-        mem = float("nan")
-    la = load_average()
-    return (
-        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.machine()}, {os.cpu_count()} cores, {mem:.0f} GiB, "
-        f"Python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
-        f"cshape {cshape.__version__}; load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}"
-    )
 
 
 def make_mesh(label):
@@ -141,15 +120,6 @@ class CountingMatrix:
     def __matmul__(self, X):
         self.products += 1
         return self.M @ X
-
-
-def relative_difference(lam, ref):
-    """``max |lam - ref| / |ref|``, with ``max |ref|`` as the scale of zero eigenvalues."""
-    lam = np.asarray(lam, dtype=float)
-    ref = np.asarray(ref, dtype=float)
-    big = float(np.abs(ref).max())
-    scale = np.where(np.abs(ref) > 1e-9 * big, np.abs(ref), big)
-    return float((np.abs(lam - ref) / scale).max())
 
 
 # ----------------------------------------------------------------------------- analysis
@@ -233,7 +203,7 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
                 sec = time.perf_counter() - t0
                 lam = np.sort(lam)
                 lam[np.abs(lam) < 1e-10 * np.abs(lam).max()] = 0.0
-                maxrel = relative_difference(np.maximum(lam, 0), lam_ref)
+                maxrel = max_relative_difference(np.maximum(lam, 0), lam_ref)
                 runs.append({"block_size": b, "seconds": sec, "columns": counter.columns,
                              "calls": counter.calls, "solve_seconds": counter.seconds,
                              "full_passes": Bc.products - counter.calls - 1,

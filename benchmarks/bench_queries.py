@@ -41,11 +41,9 @@ from __future__ import annotations
 
 import argparse
 import csv
-import datetime
 import importlib.util
 import json
 import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -54,6 +52,15 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import load_average, proc_status_kib, reset_peak  # noqa: E402
+from _common import machine_summary as _machine_summary
+
+
+def machine_summary():
+    """One line: date, machine, memory, library versions and the load average."""
+    return _machine_summary(libs=('sklearn',))
 
 RESULTS = Path(__file__).resolve().parent / "results"
 FOUR_PI = 4.0 * np.pi
@@ -67,56 +74,6 @@ METHODS = ("DescriptorIndex", "numpy")
 
 
 # ----------------------------------------------------------------------------- helpers
-def proc_status_kib(field):
-    """A ``/proc/self/status`` field in KiB (``'VmHWM'``, ``'VmRSS'``), NaN if unavailable."""
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith(field + ":"):
-                    return float(line.split()[1])
-    except OSError:  # pragma: no cover - not Linux
-        pass
-    return float("nan")
-
-
-def reset_peak():
-    """Reset ``VmHWM`` to the current resident size; False if the kernel refused."""
-    try:
-        with open("/proc/self/clear_refs", "w") as fh:
-            fh.write("5")
-        return True
-    except OSError:  # pragma: no cover
-        return False
-
-
-def load_average():
-    """The 1, 5 and 15 minute load averages (NaN where unavailable)."""
-    try:
-        return os.getloadavg()
-    except OSError:  # pragma: no cover
-        return (float("nan"),) * 3
-
-
-def machine_summary():
-    """One line: date, machine, memory, library versions and the load average."""
-    import sklearn
-
-    import cshape
-
-    try:
-        mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    except (ValueError, OSError):  # pragma: no cover
-        mem = float("nan")
-    la = load_average()
-    return (
-        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.machine()}, {os.cpu_count()} cores, {mem:.0f} GiB, "
-        f"Python {platform.python_version()}, numpy {np.__version__}, "
-        f"scikit-learn {sklearn.__version__}, cshape {cshape.__version__}; "
-        f"load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}"
-    )
-
-
 def _sibling(name):
     """Import ``benchmarks/<name>.py`` (works whether or not benchmarks/ is on sys.path)."""
     if name in sys.modules:

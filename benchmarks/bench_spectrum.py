@@ -26,16 +26,23 @@ The exit status is 1 if an accuracy check fails, 2 if LaPy is not installed (it 
 from __future__ import annotations
 
 import argparse
-import datetime
-import os
-import platform
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
 import cshape
 from cshape import shapes
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import machine_summary as _machine_summary
+from _common import relative_difference  # noqa: E402
+
+
+def machine_summary():
+    """One line: date, machine, memory, library versions and the load average."""
+    return _machine_summary(libs=('scipy', 'lapy'))
 
 #: Accepted size labels and the icosphere subdivision level that gives them.
 SIZES = {"10k": 5, "40k": 6, "160k": 7}
@@ -78,15 +85,6 @@ def run_lapy(mesh, N, one_thread):
         with _one_blas_thread():
             return go()
     return go()
-
-
-def relative_difference(lam, ref):
-    """``|lam - ref| / |ref|`` elementwise, with ``max |ref|`` as the scale of zeros."""
-    lam = np.asarray(lam, dtype=float)
-    ref = np.asarray(ref, dtype=float)
-    big = float(np.abs(ref).max())
-    scale = np.where(np.abs(ref) > 1e-9 * big, np.abs(ref), big)
-    return np.abs(lam - ref) / scale
 
 
 def missed_copies(lam):
@@ -135,20 +133,6 @@ def bench_size(label, N, repeats):
         "lapy_missed": lapy_missed,
         "lapy_runs": len(runs_lapy),
     }
-
-
-def machine_summary():
-    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
-    import lapy
-    import scipy
-
-    return (
-        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.machine()} {os.cpu_count()} cores, Python {platform.python_version()}, "
-        f"numpy {np.__version__}, scipy {scipy.__version__}, lapy {lapy.__version__}, "
-        f"cshape {cshape.__version__ if hasattr(cshape, '__version__') else '?'}; "
-        f"load average {load[0]:.1f} {load[1]:.1f} {load[2]:.1f}"
-    )
 
 
 def main(argv=None):

@@ -39,9 +39,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-import datetime
 import os
-import platform
 import sys
 import tempfile
 import time
@@ -49,6 +47,15 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import load_average  # noqa: E402
+from _common import machine_summary as _machine_summary
+
+
+def machine_summary():
+    """One line: date, machine, memory, library versions and the load average."""
+    return _machine_summary(libs=())
 
 RESULTS = Path(__file__).resolve().parent / "results"
 MODES = ("serial", "processes", "dask")
@@ -66,31 +73,6 @@ def shared_meshes():
     repository (as in ``tests/conftest.py``)."""
     env = os.environ.get("CSHAPE_SHARED_MESHES")
     return Path(env) if env else Path(__file__).resolve().parents[2] / "shared" / "meshes"
-
-
-def load_average():
-    """The 1, 5 and 15 minute load averages (NaN where unavailable)."""
-    try:
-        return os.getloadavg()
-    except OSError:  # pragma: no cover
-        return (float("nan"),) * 3
-
-
-def machine_summary():
-    """One line: date, machine, memory, library versions and the load average."""
-    import cshape
-
-    try:
-        mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    except (ValueError, OSError):  # pragma: no cover
-        mem = float("nan")
-    la = load_average()
-    return (
-        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.machine()}, {os.cpu_count()} cores, {mem:.0f} GiB, "
-        f"Python {platform.python_version()}, numpy {np.__version__}, "
-        f"cshape {cshape.__version__}; load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}"
-    )
 
 
 _SPIN = ("import time\nt = time.perf_counter()\ns = 0\nfor i in range({n}):\n    s += i\n"

@@ -1,0 +1,87 @@
+"""Helpers shared by the benchmark scripts: machine summary, load, peak memory, differences."""
+
+from __future__ import annotations
+
+import datetime
+import importlib
+import os
+import platform
+
+import numpy as np
+
+__all__ = [
+    "load_average",
+    "max_relative_difference",
+    "machine_summary",
+    "proc_status_kib",
+    "relative_difference",
+    "reset_peak",
+]
+
+
+def load_average():
+    """The 1, 5 and 15 minute load averages (NaN where unavailable)."""
+    try:
+        return os.getloadavg()
+    except OSError:  # pragma: no cover
+        return (float("nan"),) * 3
+
+
+def machine_summary(libs=("scipy",)):
+    """One line: date, machine, memory, versions of numpy, ``libs`` and cshape, and the load."""
+    import cshape
+
+    try:
+        mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
+    except (ValueError, OSError):  # pragma: no cover
+        mem = float("nan")
+    versions = [f"numpy {np.__version__}"]
+    for name in libs:
+        try:
+            mod = importlib.import_module(name)
+            versions.append(f"{name} {getattr(mod, '__version__', '?')}")
+        except ImportError:
+            versions.append(f"{name} (not installed)")
+    la = load_average()
+    return (
+        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
+        f"{platform.machine()}, {os.cpu_count()} cores, {mem:.0f} GiB, "
+        f"Python {platform.python_version()}, {', '.join(versions)}, "
+        f"cshape {cshape.__version__}; load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}"
+    )
+
+
+def proc_status_kib(field):
+    """A ``/proc/self/status`` field in KiB (e.g. ``'VmHWM'``, ``'VmRSS'``); NaN elsewhere."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith(field + ":"):
+                    return float(line.split()[1])
+    except OSError:  # pragma: no cover - not Linux
+        pass
+    return float("nan")
+
+
+def reset_peak():
+    """Reset the peak resident size (``VmHWM``) of this process; False where unsupported."""
+    try:
+        with open("/proc/self/clear_refs", "w") as fh:
+            fh.write("5")
+        return True
+    except OSError:  # pragma: no cover - not Linux or too old
+        return False
+
+
+def relative_difference(lam, ref):
+    """``|lam - ref| / |ref|`` elementwise, with ``max |ref|`` as the scale of zeros."""
+    lam = np.asarray(lam, dtype=float)
+    ref = np.asarray(ref, dtype=float)
+    big = float(np.abs(ref).max())
+    scale = np.where(np.abs(ref) > 1e-9 * big, np.abs(ref), big)
+    return np.abs(lam - ref) / scale
+
+
+def max_relative_difference(lam, ref):
+    """The largest entry of :func:`relative_difference`, a float."""
+    return float(relative_difference(lam, ref).max())
