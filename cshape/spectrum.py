@@ -75,6 +75,11 @@ DENSE_LIMIT = 1200
 #: Block size ``b`` of the block Lanczos method (number of simultaneous right-hand sides).
 BLOCK_SIZE = 8
 
+#: Smallest block size accepted: a block Krylov method resolves at most ``b`` copies of an
+#: exactly repeated eigenvalue, and a connected surface's symmetry group can make up to 5
+#: (icosahedral symmetry; with ``b = 4`` the 10K icosphere came out wrong by 22 %).
+MIN_BLOCK_SIZE = 6
+
 #: A Ritz pair ``(theta, x)`` of ``OP`` counts as converged when
 #: ``||OP x - theta x||_B <= RESIDUAL_TOL * theta``.
 RESIDUAL_TOL = 1e-6
@@ -286,6 +291,11 @@ def _block_lanczos(
     """
     n = K.shape[0]
     b = int(block_size)
+    if b < MIN_BLOCK_SIZE:
+        raise ValueError(
+            f"block_size must be at least {MIN_BLOCK_SIZE} (the largest multiplicity a connected "
+            f"surface's symmetry can give is 5), got {block_size}"
+        )
     if max_dim is None:
         max_dim = max(6 * N, N + 40 * b)
     nblocks = max(1, min(max_dim, n - b) // b)

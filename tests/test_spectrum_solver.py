@@ -175,3 +175,11 @@ def test_block_lanczos_agrees_with_arpack_on_a_real_mesh(shared_meshes):
         ref, _ = spectrum._arpack(K, B, 100, op, sigma, return_vectors=False)
     ref = np.sort(ref)
     np.testing.assert_allclose(lam[1:], ref[1:], rtol=1e-10)
+
+
+def test_block_size_below_the_largest_symmetry_multiplicity_is_refused():
+    mesh = shapes.icosphere(2)
+    K = -cshape.fem_matrices(mesh)[0]
+    B = cshape.fem_matrices(mesh)[1]
+    with pytest.raises(ValueError, match="block_size must be at least 6"):
+        spectrum._block_lanczos(K, B, 20, lambda X: X, -0.1, block_size=4)
