@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._checks import check_choice
 from .compare import descriptor_matrix, distance_matrix
 from .mesh import CShapeWarning, Mesh, as_mesh, load_mesh, repair_mesh
 from .spectrum import shape_dna
@@ -638,15 +639,12 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
     M = _check_pos_int(M, "M", lo=0)
     if 2 * M + 1 > N:
         raise ValueError(f"M={M} needs 2M+1 = {2 * M + 1} <= N = {N}; use M <= {(N - 1) // 2}")
-    if bc not in ("neumann", "dirichlet"):
-        raise ValueError(f"bc must be one of {{'neumann', 'dirichlet'}}, got {bc!r}")
-    if mass not in ("consistent", "lumped"):
-        raise ValueError(f"mass must be one of {{'consistent', 'lumped'}}, got {mass!r}")
+    bc = check_choice("bc", bc, ("neumann", "dirichlet"))
+    mass = check_choice("mass", mass, ("consistent", "lumped"))
     n_jobs = _check_n_jobs(n_jobs)
     if blas_threads is not None:
         blas_threads = _check_pos_int(blas_threads, "blas_threads")
-    if on_error not in ("warn", "raise"):
-        raise ValueError(f"on_error must be one of {{'warn', 'raise'}}, got {on_error!r}")
+    on_error = check_choice("on_error", on_error, ("warn", "raise"))
     if cache_dir is False:
         cache = None
     else:

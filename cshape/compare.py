@@ -23,6 +23,7 @@ import numbers
 
 import numpy as np
 
+from ._checks import check_choice
 from .descriptors import compact_shape_dna, f1_feature, normalize, real_form
 
 __all__ = [
@@ -146,12 +147,7 @@ def descriptor_size(kind, M=16, N=100) -> int:
 
 
 def _check_kind(kind):
-    if not isinstance(kind, str) or kind.lower() not in DESCRIPTOR_KINDS:
-        raise ValueError(
-            f"kind must be one of {{{', '.join(repr(k) for k in DESCRIPTOR_KINDS)}}}, "
-            f"got {kind!r}"
-        )
-    return kind.lower()
+    return check_choice("kind", kind, DESCRIPTOR_KINDS)
 
 
 def _check_int(value, name, lo):

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._checks import check_choice
 from .mesh import Mesh
 
 __all__ = [
@@ -86,11 +87,7 @@ def normalize(lam, area=None, method="area"):
     lam_norm : ndarray, shape (N,)
     """
     x = _as_lam(lam)
-    if not isinstance(method, str) or method.lower() not in NORMALIZATIONS:
-        raise ValueError(
-            f"method must be one of {{'area', 'fiedler', 'weyl'}}, got {method!r}"
-        )
-    method = method.lower()
+    method = check_choice("method", method, NORMALIZATIONS)
     if method == "area":
         if area is None:
             raise ValueError(
@@ -155,18 +152,11 @@ def _check_N(N):
     return int(N)
 
 
-def _check_option(name, value, allowed):
-    if not isinstance(value, str) or value.lower() not in allowed:
-        opts = ", ".join(repr(a) for a in allowed)
-        raise ValueError(f"{name} must be one of {{{opts}}}, got {value!r}")
-    return value.lower()
-
-
 def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization):
     """Return the normalised Shape-DNA (N,) from a mesh or from eigenvalues."""
     N = _check_N(N)
-    normalization = _check_option("normalization", normalization, NORMALIZATIONS)
-    _check_option("bc", bc, ("neumann", "dirichlet"))
+    normalization = check_choice("normalization", normalization, NORMALIZATIONS)
+    check_choice("bc", bc, ("neumann", "dirichlet"))
     if isinstance(mesh_or_lam, Mesh) or (
         isinstance(mesh_or_lam, (tuple, list))
         and len(mesh_or_lam) == 2

@@ -24,6 +24,7 @@ import warnings
 import numpy as np
 import scipy.sparse as sp
 
+from ._checks import check_choice
 from .mesh import CShapeWarning, _row_norms, as_mesh, repair_mesh
 
 __all__ = ["fem_matrices", "FEM", "assemble"]
@@ -82,13 +83,6 @@ class FEM:
         out = np.zeros((self.n_vertices,) + f.shape[1:], dtype=f.dtype)
         out[self.free] = f
         return out
-
-
-def _check_choice(name, value, allowed):
-    if not isinstance(value, str) or value.lower() not in allowed:
-        opts = ", ".join(repr(a) for a in allowed)
-        raise ValueError(f"{name} must be one of {{{opts}}}, got {value!r}")
-    return value.lower()
 
 
 def _edge_lengths(V, F):
@@ -164,7 +158,7 @@ def assemble(mesh, mass="consistent"):
         Number of triangles whose triangle-inequality margin was below the threshold.
     """
     mesh = as_mesh(mesh)
-    mass = _check_choice("mass", mass, MASS_TYPES)
+    mass = check_choice("mass", mass, MASS_TYPES)
     _check_positive_area(mesh)
     V, F = mesh.vertices, mesh.faces
     n = mesh.n_vertices
@@ -217,7 +211,7 @@ def fem(mesh, bc="neumann", mass="consistent", *, repair=True) -> FEM:
     See :func:`fem_matrices` for the parameters.
     """
     mesh = as_mesh(mesh)
-    bc = _check_choice("bc", bc, BOUNDARY_CONDITIONS)
+    bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
     if repair:
         mesh = repair_mesh(mesh)
     A, B, eps, nbad = assemble(mesh, mass=mass)

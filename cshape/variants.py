@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._checks import check_choice
 from .mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
 
 __all__ = [
@@ -366,8 +367,7 @@ def subdivide(mesh, iterations=1, method="loop") -> Mesh:
             f"from {mesh.n_faces} (more than {MAX_OUTPUT_FACES:.0e}); use iterations <= "
             f"{max(most, 0)}"
         )
-    if method not in ("loop", "midpoint"):
-        raise ValueError(f"method must be one of {{'loop', 'midpoint'}}, got {method!r}")
+    method = check_choice("method", method, ("loop", "midpoint"))
     if iterations == 0:
         return mesh
     if len(mesh.nonmanifold_edges):
@@ -455,8 +455,7 @@ def figure_capsules(kind: str, random_state=None) -> list[Capsule]:
     -------
     list of Capsule
     """
-    if kind not in ARTICULATED_KINDS:
-        raise ValueError(f"kind must be one of {ARTICULATED_KINDS}, got {kind!r}")
+    kind = check_choice("kind", kind, ARTICULATED_KINDS)
     rng = np.random.default_rng(random_state)
     u = rng.uniform
     caps: list[Capsule] = []

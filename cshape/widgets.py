@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._checks import check_choice
 from .compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
 from .descriptors import NORMALIZATIONS, normalize, weyl_subtract
 
@@ -187,12 +188,7 @@ class MSweep:
 
     @staticmethod
     def _check_norm(normalization):
-        if not isinstance(normalization, str) or normalization.lower() not in NORMALIZATIONS:
-            raise ValueError(
-                f"normalization must be one of {{'area', 'fiedler', 'weyl'}}, got "
-                f"{normalization!r}"
-            )
-        return normalization.lower()
+        return check_choice("normalization", normalization, NORMALIZATIONS)
 
     def _check_N(self, N):
         if N is None:
