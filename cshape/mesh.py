@@ -758,6 +758,17 @@ def _fast_obj(p):
     return _Expected(nv, ntri, collapsed=collapsed) if ok else None
 
 
+def _next_record(p, lines, declared, k, what):
+    """The next ``(line number, tokens)`` of an OFF body, or a "truncated" error."""
+    try:
+        return next(lines)
+    except StopIteration:
+        raise _bad_file(
+            p, f"the header declares {declared} {what} but the file ends after {k}: "
+            "it is truncated"
+        ) from None
+
+
 def _scan_off(p):
     # latin-1 decodes any byte: numbers are ASCII, comments may be in any 8-bit encoding
     with open(p, encoding="latin-1") as fh:
@@ -784,23 +795,11 @@ def _scan_off(p):
         if nv < 0 or nf < 0:
             raise _bad_file(p, f"line {i}: negative counts {nv}, {nf}")
         for k in range(nv):
-            try:
-                i, t = next(lines)
-            except StopIteration:
-                raise _bad_file(
-                    p, f"the header declares {nv} vertices but the file ends after {k}: "
-                    "it is truncated"
-                ) from None
+            i, t = _next_record(p, lines, nv, k, "vertices")
             _parse_floats(p, t, i, "vertex")
         ntri = collapsed = 0
         for k in range(nf):
-            try:
-                i, t = next(lines)
-            except StopIteration:
-                raise _bad_file(
-                    p, f"the header declares {nf} faces but the file ends after {k}: "
-                    "it is truncated"
-                ) from None
+            i, t = _next_record(p, lines, nf, k, "faces")
             try:
                 deg = int(t[0])
                 idx = [int(x) for x in t[1 : 1 + deg]]
