@@ -16,6 +16,7 @@ __all__ = [
     "proc_status_kib",
     "relative_difference",
     "reset_peak",
+    "run_child",
 ]
 
 
@@ -85,3 +86,40 @@ def relative_difference(lam, ref):
 def max_relative_difference(lam, ref):
     """The largest entry of :func:`relative_difference`, a float."""
     return float(relative_difference(lam, ref).max())
+
+
+def run_child(script, args, *, threads=None, timeout=None):
+    """Run ``python script *args`` in a fresh process and return the JSON of its last line.
+
+    Parameters
+    ----------
+    script : path of the benchmark script (it handles its own ``--child`` mode).
+    args : list of str, the arguments after the script.
+    threads : int, optional
+        BLAS / OpenMP threads of the child (``OMP_NUM_THREADS`` and friends).
+    timeout : float, optional
+        Seconds before the child is killed.
+
+    Returns
+    -------
+    dict
+        The child's result, or ``{'error': message}`` on a time-out or a non-zero exit.
+    """
+    import json
+    import subprocess
+    import sys
+
+    env = dict(os.environ)
+    if threads:
+        for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+            env[var] = str(threads)
+    cmd = [sys.executable, str(script), *map(str, args)]
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env,
+                             check=False)
+    except subprocess.TimeoutExpired:
+        return {"error": f"timed out after {timeout:.0f} s"}
+    if out.returncode != 0:
+        tail = (out.stderr.strip().splitlines() or ["?"])[-1]
+        return {"error": f"exit {out.returncode}: {tail}"}
+    return json.loads(out.stdout.strip().splitlines()[-1])

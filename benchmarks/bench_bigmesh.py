@@ -38,8 +38,6 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import os
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -49,6 +47,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import load_average, max_relative_difference, proc_status_kib, reset_peak  # noqa: E402
 from _common import machine_summary as _machine_summary
+from _common import run_child as _run_child  # noqa: E402
 
 
 def machine_summary():
@@ -139,21 +138,9 @@ def run_child(engine, dims, N, threads, timeout):
     dict or None
         The result of :func:`measure`, or ``{'error': message}``.
     """
-    env = dict(os.environ)
-    if threads is not None:
-        for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-            env[var] = str(threads)
-    cmd = [sys.executable, str(Path(__file__).resolve()), "--child", engine,
-           f"{dims[0]}x{dims[1]}", "-N", str(N)]
-    try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env,
-                             check=False)
-    except subprocess.TimeoutExpired:
-        return {"error": f"timed out after {timeout:.0f} s"}
-    if out.returncode != 0:
-        tail = (out.stderr.strip().splitlines() or ["?"])[-1]
-        return {"error": f"exit {out.returncode}: {tail}"}
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return _run_child(Path(__file__).resolve(),
+                      ["--child", engine, f"{dims[0]}x{dims[1]}", "-N", N],
+                      threads=threads, timeout=timeout)
 
 
 # ----------------------------------------------------------------------------- analysis

@@ -43,8 +43,6 @@ import argparse
 import csv
 import importlib.util
 import json
-import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -56,6 +54,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import load_average, proc_status_kib, reset_peak  # noqa: E402
 from _common import machine_summary as _machine_summary
+from _common import run_child as _run_child  # noqa: E402
 
 
 def machine_summary():
@@ -275,21 +274,10 @@ def measure(method, X, Q, k=10, n_single=20):
 
 def run_child(method, db_path, q_path, out_path, k, n_single, threads, timeout=3600):
     """:func:`measure` in a fresh process on saved arrays; the result dict or an error."""
-    env = dict(os.environ)
-    if threads:
-        for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-            env[var] = str(threads)
-    cmd = [sys.executable, str(Path(__file__).resolve()), "--child", method, str(db_path),
-           str(q_path), str(out_path), "-k", str(k), "--single", str(n_single)]
-    try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env,
-                             check=False)
-    except subprocess.TimeoutExpired:
-        return {"error": f"timed out after {timeout} s"}
-    if out.returncode != 0:
-        tail = (out.stderr.strip().splitlines() or ["?"])[-1]
-        return {"error": f"exit {out.returncode}: {tail}"}
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return _run_child(Path(__file__).resolve(),
+                      ["--child", method, db_path, q_path, out_path, "-k", k,
+                       "--single", n_single],
+                      threads=threads, timeout=timeout)
 
 
 # ----------------------------------------------------------------------------- main
