@@ -162,10 +162,12 @@ def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization):
         and len(mesh_or_lam) == 2
         and np.ndim(mesh_or_lam[0]) == 2
     ):
-        from .mesh import as_mesh
+        from .mesh import as_mesh, repair_mesh
         from .spectrum import shape_dna
 
-        mesh = as_mesh(mesh_or_lam)
+        # repair here, once, so that the area is that of the surface whose spectrum is
+        # computed (a duplicated face would otherwise count twice in the area only)
+        mesh = repair_mesh(as_mesh(mesh_or_lam))
         lam = shape_dna(mesh, N=N, bc=bc)
         return normalize(lam, area=mesh.area if area is None else area, method=normalization)
     lam = _as_lam(mesh_or_lam, "mesh_or_lam")

@@ -137,3 +137,12 @@ def test_f1_feature():
     lam = cshape.shape_dna(shapes.torus(24, 12), N=20)
     f = cshape.f1_feature(lam)
     assert f.shape == (18,) and np.all((f > 0) & (f <= 1 + 1e-12))
+
+
+def test_compact_from_a_mesh_uses_the_area_of_the_repaired_surface():
+    mesh = shapes.icosphere(2)
+    dup = cshape.Mesh(mesh.vertices, np.vstack([mesh.faces, mesh.faces[:5]]))
+    with pytest.warns(cshape.CShapeWarning, match="duplicate faces") as rec:
+        S = cshape.compact_shape_dna(dup, M=3, N=30)
+    assert len(rec) == 1  # repaired once
+    np.testing.assert_allclose(S, cshape.compact_shape_dna(mesh, M=3, N=30), atol=1e-9)
