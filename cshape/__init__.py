@@ -2,7 +2,8 @@
 
 The pipeline, one module per stage (data flows one way):
 
-1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`load_mesh`, :func:`repair_mesh`
+1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`repair_mesh`; :mod:`cshape.readers` -
+   :func:`load_mesh` (OBJ, OFF, PLY, STL, ...)
 2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
 3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
 4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
@@ -43,7 +44,8 @@ from .descriptors import (
     weyl_subtract,
 )
 from .fem import fem_matrices
-from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, load_mesh, repair_mesh
+from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
+from .readers import load_mesh
 from .spectrum import eigenpairs, shape_dna
 
 __version__ = "0.1.0"

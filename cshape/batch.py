@@ -39,7 +39,8 @@ import numpy as np
 
 from ._checks import check_choice
 from .compare import descriptor_matrix, distance_matrix
-from .mesh import CShapeWarning, Mesh, as_mesh, load_mesh, repair_mesh
+from .mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
+from .readers import load_mesh
 from .spectrum import shape_dna
 
 __all__ = ["CACHE_VERSION", "DescriptorTable", "default_cache_dir", "describe", "mesh_key"]

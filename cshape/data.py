@@ -60,7 +60,8 @@ from pathlib import Path, PurePosixPath
 
 import numpy as np
 
-from .mesh import Mesh, load_mesh
+from .mesh import Mesh
+from .readers import load_mesh
 
 __all__ = [
     "KINDS",

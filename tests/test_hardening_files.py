@@ -243,7 +243,7 @@ def test_unreadable_file_permissions(tmp_path):
 
 def test_read_error_during_the_scan_names_the_file(tmp_path, monkeypatch):
     """The unreadable-file case simulated for any user (root included): open() fails."""
-    import cshape.mesh as mesh_mod
+    import cshape.readers as readers
 
     p = tmp_path / "locked.obj"
     p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
@@ -251,7 +251,7 @@ def test_read_error_during_the_scan_names_the_file(tmp_path, monkeypatch):
     def denied(path, *args, **kwargs):
         raise PermissionError(13, "Permission denied", str(path))
 
-    monkeypatch.setattr(mesh_mod, "open", denied, raising=False)
+    monkeypatch.setattr(readers, "open", denied, raising=False)
     monkeypatch.setattr(Path, "read_bytes", denied)
     with pytest.raises(PermissionError, match="locked.obj"):
         cshape.load_mesh(p)

@@ -120,6 +120,17 @@ def _write_off(path, V, F):
     path.write_text("\n".join(lines) + "\n")
 
 
+def test_load_mesh_lives_in_readers_and_is_re_exported():
+    """File reading moved to cshape.readers; the old import paths give the same function."""
+    import cshape.mesh
+    import cshape.readers
+    from cshape.mesh import load_mesh
+
+    assert cshape.load_mesh is cshape.readers.load_mesh is cshape.mesh.load_mesh is load_mesh
+    with pytest.raises(AttributeError, match="no_such_name"):
+        cshape.mesh.no_such_name  # noqa: B018
+
+
 def test_load_off_roundtrip(tmp_path):
     p = tmp_path / "tet.off"
     _write_off(p, TET_V, TET_F)
