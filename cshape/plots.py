@@ -14,6 +14,11 @@
 * :func:`plot_matrices`          - a row of distance / difference images (Fig. 3, 6, 7);
 * :func:`plot_m_sweep`           - the panels of the M-sweep widget (Section 3.2, Fig. 6).
 
+The interactive 3-D views (plotly) live in :mod:`cshape.viewer` and are re-exported here:
+:func:`view_mesh`, :func:`view_meshes` and :func:`eigenfunction_explorer` (a slider over the
+eigenfunctions).  :func:`plot_mesh` and :func:`plot_eigenfunctions` are their static
+counterparts, for PDF export and print.
+
 Every function returns a :class:`matplotlib.figure.Figure` made without pyplot (nothing is
 registered globally, nothing is shown); in a notebook the figure displays as a cell's last
 expression.  Figures never call ``show``.
@@ -25,6 +30,7 @@ import numpy as np
 
 from .descriptors import FOUR_PI, inverse_compact_shape_dna, normalize, weyl_subtract
 from .mesh import as_mesh
+from .viewer import eigenfunction_explorer, view_mesh, view_meshes
 
 __all__ = [
     "new_figure",
@@ -38,6 +44,9 @@ __all__ = [
     "plot_reconstruction_error",
     "plot_shape_dna_stages",
     "plot_weyl",
+    "eigenfunction_explorer",
+    "view_mesh",
+    "view_meshes",
 ]
 
 

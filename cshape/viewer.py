@@ -1,0 +1,367 @@
+"""Interactive 3-D mesh views (plotly): turn a mesh by hand, slide over its eigenfunctions.
+
+* :func:`view_mesh`              - one mesh, optionally coloured by a function on its vertices;
+* :func:`view_meshes`            - several meshes side by side (a noisy mesh beside the clean one);
+* :func:`eigenfunction_explorer` - a mesh coloured by ``phi_i``, with a slider over ``i`` and
+                                   ``lam_i`` in the title (Eq. 3); the eigenpairs are computed once.
+
+Both return a :class:`plotly.graph_objects.Figure` and never display it: in a notebook the
+figure shows as a cell's last expression.  Drag to rotate, scroll to zoom.
+
+Why plotly: a ``Mesh3d`` figure is rendered by plotly.js in the browser, from JSON alone.  The
+slider is plotly's own (``layout.sliders`` stepping through ``frames``), so moving it needs
+no kernel: the same figure works in JupyterLab (plotly's lab extension, offline) and in the
+HTML that ``cshape notebooks`` exports, where plotly.js is embedded in the page (see
+:mod:`cshape.notebooks_run`).  Widget libraries (pythreejs, k3d, ipyvolume) need a live
+kernel or saved widget state plus their JavaScript from a CDN to show anything in static HTML.
+
+The pure functions behind the figures are tested directly: :func:`symmetric_limits` (colour
+range centred on 0, because an eigenfunction's sign is arbitrary), :func:`mode_data` (the
+values, colour range and title of each mode) and :func:`mesh3d_arrays` (the arrays plotly
+draws).
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ._checks import check_choice
+from .mesh import as_mesh, repair_mesh
+
+__all__ = [
+    "eigenfunction_explorer",
+    "mesh3d_arrays",
+    "mode_data",
+    "symmetric_limits",
+    "view_mesh",
+    "view_meshes",
+]
+
+#: Diverging colour map (blue < 0 < red) for signed functions, plotly's name.
+DIVERGING = "RdBu_r"
+#: Sequential colour map for functions of one sign.
+SEQUENTIAL = "Viridis"
+_UP = {"z": (0, 0, 1), "y": (0, 1, 0), "x": (1, 0, 0)}
+_GREY = "rgb(190, 199, 209)"
+
+
+# ------------------------------------------------------------------------------ pure parts
+def symmetric_limits(f):
+    """Colour limits ``(-m, m)`` centred on 0 that cover every value of ``f``.
+
+    Parameters
+    ----------
+    f : array_like, shape (n,) or (n, k)
+        Values on the vertices; with two dimensions, one range per column (mode).
+
+    Returns
+    -------
+    float or ndarray, shape (k,)
+        ``m = max |f|`` (per column); 1.0 where ``f`` is identically 0, so that the range
+        is never empty.  The colour range is ``[-m, m]``.
+    """
+    a = np.asarray(f, dtype=np.float64)
+    if a.ndim not in (1, 2) or a.shape[0] == 0:
+        raise ValueError(f"f must have shape (n,) or (n, k) with n >= 1, got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError("f has NaN or infinite values; pass finite values on the vertices")
+    m = np.abs(a).max(axis=0)
+    m = np.where(m > 0, m, 1.0)
+    return float(m) if a.ndim == 1 else m
+
+
+def mode_data(lam, phi, indices=None):
+    """What the eigenfunction explorer shows for each mode ``i``.
+
+    Parameters
+    ----------
+    lam : array_like, shape (k,)
+        Eigenvalues (``cshape.eigenpairs``).
+    phi : array_like, shape (n, k)
+        Eigenfunctions on the vertices, ``phi[:, i]`` for ``lam[i]``.
+    indices : sequence of int, optional
+        The modes to show (default: all ``k``).
+
+    Returns
+    -------
+    list of dict
+        One per mode, with ``i`` (int), ``lam`` (float), ``values`` (ndarray, shape (n,),
+        float32: the colours), ``cmin`` and ``cmax`` (``-m`` and ``m`` of
+        :func:`symmetric_limits`) and ``title`` (str, with ``lam_i``).
+    """
+    lam = np.asarray(lam, dtype=np.float64).reshape(-1)
+    phi = np.asarray(phi, dtype=np.float64)
+    if phi.ndim != 2 or phi.shape[1] != len(lam):
+        raise ValueError(
+            f"phi must have shape (n_vertices, k) with k = len(lam) = {len(lam)}, got "
+            f"{phi.shape}; pass the lam, phi returned together by cshape.eigenpairs"
+        )
+    k = len(lam)
+    if indices is None:
+        indices = range(k)
+    out = []
+    for i in indices:
+        if isinstance(i, bool) or not isinstance(i, numbers.Integral) or not 0 <= i < k:
+            raise ValueError(f"indices must be integers in [0, {k - 1}], got {i!r}")
+        i = int(i)
+        m = symmetric_limits(phi[:, i])
+        out.append({
+            "i": i, "lam": float(lam[i]), "values": phi[:, i].astype(np.float32),
+            "cmin": -m, "cmax": m,
+            "title": f"eigenfunction φ<sub>{i}</sub>:  λ<sub>{i}</sub> = {lam[i]:.5g}",
+        })
+    return out
+
+
+def mesh3d_arrays(mesh):
+    """The arrays of a plotly ``Mesh3d`` trace: coordinates and triangle corners.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+
+    Returns
+    -------
+    dict
+        ``x, y, z`` (ndarray, shape (n,), float32) and ``i, j, k`` (ndarray, shape (m,),
+        int32): the vertex coordinates and the three corners of each face.
+    """
+    mesh = as_mesh(mesh)
+    V = mesh.vertices.astype(np.float32)
+    F = mesh.faces.astype(np.int32)
+    return {"x": V[:, 0], "y": V[:, 1], "z": V[:, 2], "i": F[:, 0], "j": F[:, 1], "k": F[:, 2]}
+
+
+def _edge_lines(mesh):
+    """Unique edges as one polyline with None breaks (a ``Scatter3d`` wireframe)."""
+    F = mesh.faces
+    e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    e = np.unique(e, axis=0)
+    P = np.full((len(e) * 3, 3), np.nan)
+    P[0::3] = mesh.vertices[e[:, 0]]
+    P[1::3] = mesh.vertices[e[:, 1]]
+    return P
+
+
+def _scalars(mesh, scalars, name="scalars"):
+    if scalars is None:
+        return None
+    f = np.asarray(scalars, dtype=np.float64).reshape(-1)
+    if len(f) != mesh.n_vertices:
+        raise ValueError(
+            f"{name} has {len(f)} values but the mesh has {mesh.n_vertices} vertices; pass one "
+            "value per vertex (e.g. phi[:, i] from cshape.eigenpairs on the same mesh)"
+        )
+    if not np.all(np.isfinite(f)):
+        raise ValueError(f"{name} has NaN or infinite values; pass finite values on the vertices")
+    return f
+
+
+def _check_height(height):
+    if isinstance(height, bool) or not isinstance(height, numbers.Real) or not height >= 100:
+        raise ValueError(f"height must be a number of pixels >= 100, got {height!r}")
+    return int(height)
+
+
+# ------------------------------------------------------------------------------ figures
+def _trace(go, mesh, f, *, cmap, symmetric, showscale, scene, colorbar_x=None):
+    kw = mesh3d_arrays(mesh)
+    common = dict(flatshading=False, hoverinfo="skip", scene=scene,
+                  lighting=dict(ambient=0.55, diffuse=0.7, specular=0.1, roughness=0.8),
+                  lightposition=dict(x=1e5, y=-1e5, z=1e5))
+    if f is None:
+        return go.Mesh3d(**kw, color=_GREY, **common)
+    if symmetric is None:
+        symmetric = f.min() < 0 < f.max()
+    if symmetric:
+        m = symmetric_limits(f)
+        lo, hi = -m, m
+    else:
+        lo, hi = float(f.min()), float(f.max())
+        hi = hi if hi > lo else lo + 1.0
+    cb = dict(thickness=14, len=0.75)
+    if colorbar_x is not None:
+        cb["x"] = colorbar_x
+    return go.Mesh3d(**kw, intensity=f.astype(np.float32), intensitymode="vertex",
+                     colorscale=cmap or (DIVERGING if symmetric else SEQUENTIAL),
+                     cmin=lo, cmax=hi, showscale=showscale, colorbar=cb, **common)
+
+
+def _scene(vertical_axis):
+    up = dict(zip("xyz", _UP[vertical_axis], strict=True))
+    eye = {"z": dict(x=1.2, y=-1.2, z=0.7), "y": dict(x=1.2, y=0.7, z=1.2),
+           "x": dict(x=0.7, y=1.2, z=1.2)}[vertical_axis]
+    axis = dict(visible=False, showbackground=False)
+    return dict(aspectmode="data", xaxis=axis, yaxis=axis, zaxis=axis,
+                camera=dict(up=up, eye=eye), dragmode="turntable")
+
+
+def view_meshes(meshes, scalars=None, *, cmap=None, symmetric=None, edges=None,
+                vertical_axis="z", title=None, height=420):
+    """Several meshes side by side, each in its own rotatable 3-D scene.
+
+    Parameters
+    ----------
+    meshes : dict of str to (Mesh or (vertices, faces))
+        Panel title -> mesh, left to right.
+    scalars : dict of str to array_like, shape (n,), optional
+        Values on the vertices of some of the meshes (same keys); the others are grey.
+    cmap : str, optional
+        A plotly colour scale; default ``'RdBu_r'`` for values of both signs, else ``'Viridis'``.
+    symmetric : bool, optional
+        Centre each colour range on 0 (:func:`symmetric_limits`); default: when the values
+        take both signs.
+    edges : bool, optional
+        Draw the triangle edges; default: for meshes of at most 2000 triangles.
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+        The axis that points up (``'y'`` for the many models stored y-up, e.g. Spot).
+    title : str, optional
+    height : int, default=420
+        Pixels.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Drag to rotate, scroll to zoom; never displayed here.
+    """
+    import plotly.graph_objects as go
+    from plotly.subplots import make_subplots
+
+    if not isinstance(meshes, dict) or not meshes:
+        raise TypeError(
+            "meshes must be a non-empty dict {title: mesh}, got "
+            f"{type(meshes).__name__ if not isinstance(meshes, dict) else 'an empty dict'}"
+        )
+    vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
+    height = _check_height(height)
+    scalars = {} if scalars is None else scalars
+    unknown = [k for k in scalars if k not in meshes]
+    if unknown:
+        raise ValueError(f"scalars has keys {unknown} that are not in meshes {list(meshes)}")
+    names = [str(k) for k in meshes]
+    n = len(names)
+    fig = make_subplots(rows=1, cols=n, specs=[[{"type": "scene"}] * n],
+                        subplot_titles=names if n > 1 else None, horizontal_spacing=0.02)
+    for c, (key, m) in enumerate(meshes.items()):
+        mesh = as_mesh(m)
+        f = _scalars(mesh, scalars.get(key), name=f"scalars[{key!r}]")
+        scene = "scene" if c == 0 else f"scene{c + 1}"
+        fig.add_trace(_trace(go, mesh, f, cmap=cmap, symmetric=symmetric,
+                             showscale=f is not None, scene=scene,
+                             colorbar_x=(c + 1) / n - 0.01 if n > 1 else None))
+        if edges if edges is not None else mesh.n_faces <= 2000:
+            P = _edge_lines(mesh)
+            fig.add_trace(go.Scatter3d(x=P[:, 0], y=P[:, 1], z=P[:, 2], mode="lines",
+                                       line=dict(color="rgba(0,0,0,0.45)", width=1.5),
+                                       hoverinfo="skip", showlegend=False, scene=scene))
+        fig.update_layout({scene: _scene(vertical_axis)})
+    fig.update_layout(height=height, margin=dict(l=0, r=0, t=40 if (title or n > 1) else 10, b=0),
+                      title=dict(text=title) if title else None, showlegend=False)
+    return fig
+
+
+def view_mesh(mesh, scalars=None, *, cmap=None, symmetric=None, edges=None, vertical_axis="z",
+              title=None, height=420):
+    """One mesh in a rotatable, zoomable 3-D view, optionally coloured by values on its vertices.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+    scalars : array_like, shape (n,), optional
+        One value per vertex (an eigenfunction ``phi[:, i]``, a displacement, ...),
+        interpolated linearly over each triangle (the FEM's hat functions, Eq. 3).
+    cmap, symmetric, edges, vertical_axis, title, height
+        See :func:`view_meshes`.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Drag to rotate, scroll to zoom; never displayed here.
+    """
+    return view_meshes({"": mesh}, None if scalars is None else {"": scalars}, cmap=cmap,
+                       symmetric=symmetric, edges=edges, vertical_axis=vertical_axis,
+                       title=title, height=height)
+
+
+def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=DIVERGING,
+                           vertical_axis="z", height=520):
+    """A mesh coloured by its eigenfunction ``phi_i``, with a slider over ``i``.
+
+    The eigenpairs of Eq. (3) are computed once (:func:`cshape.eigenpairs`); every mode's
+    colours travel with the figure as one plotly frame, so the slider works without a
+    kernel, also in exported HTML.  The colour range of each mode is symmetric about 0
+    (:func:`symmetric_limits`): red and blue are the two signs, white the nodal lines.
+    Drag to rotate, scroll to zoom.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+        Repaired first (:func:`cshape.repair_mesh`, with its warning) when it needs it.
+    n_modes : int, default=12
+        Number of eigenpairs ``lam_0 .. lam_{n_modes-1}`` on the slider.
+    eigenpairs : (lam, phi), optional
+        Already computed ``cshape.eigenpairs(mesh, N)`` with ``N >= n_modes`` (on the
+        repaired mesh); skips the eigensolve.
+    start : int, default=1
+        The mode shown first (``phi_0`` is constant under Neumann conditions).
+    cmap : str, default='RdBu_r'
+        A diverging plotly colour scale.
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+    height : int, default=520
+        Pixels.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        The explorer; never displayed here.
+    """
+    import plotly.graph_objects as go
+
+    from .spectrum import eigenpairs as _eigenpairs
+
+    if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
+        raise ValueError(f"n_modes must be an integer >= 1, got {n_modes!r}")
+    n_modes = int(n_modes)
+    if isinstance(start, bool) or not isinstance(start, numbers.Integral) \
+            or not 0 <= start < n_modes:
+        raise ValueError(f"start must be an integer in [0, n_modes - 1 = {n_modes - 1}], "
+                         f"got {start!r}")
+    vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
+    height = _check_height(height)
+    mesh = repair_mesh(as_mesh(mesh))
+    if eigenpairs is None:
+        lam, phi = _eigenpairs(mesh, n_modes)
+    else:
+        lam, phi = (np.asarray(a, dtype=np.float64) for a in eigenpairs)
+        if phi.ndim != 2 or phi.shape[0] != mesh.n_vertices or len(lam) < n_modes \
+                or phi.shape[1] != len(lam):
+            raise ValueError(
+                f"eigenpairs must be (lam, phi) with phi of shape (n_vertices, N) = "
+                f"({mesh.n_vertices}, N >= n_modes = {n_modes}), got lam {np.shape(lam)}, phi "
+                f"{phi.shape}; pass cshape.eigenpairs(mesh, N) of the same (repaired) mesh"
+            )
+    modes = mode_data(lam[:n_modes], phi[:, :n_modes])
+    first = modes[int(start)]
+    trace = go.Mesh3d(**mesh3d_arrays(mesh), intensity=first["values"], intensitymode="vertex",
+                      colorscale=cmap, cmin=first["cmin"], cmax=first["cmax"],
+                      colorbar=dict(thickness=14, len=0.75, title=dict(text="φ")),
+                      flatshading=False, hoverinfo="skip",
+                      lighting=dict(ambient=0.55, diffuse=0.7, specular=0.1, roughness=0.8),
+                      lightposition=dict(x=1e5, y=-1e5, z=1e5))
+    frames = [go.Frame(name=str(md["i"]), traces=[0],
+                       data=[go.Mesh3d(intensity=md["values"], cmin=md["cmin"],
+                                       cmax=md["cmax"])],
+                       layout=dict(title=dict(text=md["title"])))
+              for md in modes]
+    steps = [dict(method="animate", label=str(md["i"]),
+                  args=[[str(md["i"])], dict(mode="immediate", frame=dict(duration=0, redraw=True),
+                                             transition=dict(duration=0))])
+             for md in modes]
+    slider = dict(active=int(start), steps=steps, currentvalue=dict(prefix="i = "),
+                  pad=dict(t=10, b=10), len=0.9, x=0.05)
+    fig = go.Figure(data=[trace], frames=frames)
+    fig.update_layout(title=dict(text=first["title"]), sliders=[slider], height=height,
+                      scene=_scene(vertical_axis), margin=dict(l=0, r=0, t=40, b=0))
+    return fig

@@ -1,0 +1,158 @@
+"""The interactive 3-D views (cshape.viewer, re-exported by cshape.plots): the pure functions
+behind them (symmetric colour limits, per-mode data, plotly arrays) and their validation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import cshape
+from cshape import plots, shapes
+from cshape.viewer import mesh3d_arrays, mode_data, symmetric_limits
+
+go = pytest.importorskip("plotly.graph_objects")
+
+
+@pytest.fixture(scope="module")
+def sphere():
+    return shapes.icosphere(2)
+
+
+@pytest.fixture(scope="module")
+def pairs(sphere):
+    return cshape.eigenpairs(sphere, 12)
+
+
+# ------------------------------------------------------------------------------ pure parts
+def test_symmetric_limits_cover_values_and_are_centred_on_zero():
+    assert symmetric_limits([-0.2, 0.5, 0.1]) == 0.5
+    assert symmetric_limits([-3.0, 1.0]) == 3.0
+    assert symmetric_limits(np.zeros(4)) == 1.0  # never an empty range
+    cols = symmetric_limits(np.array([[1.0, -4.0, 0.0], [-2.0, 3.0, 0.0]]))
+    np.testing.assert_array_equal(cols, [2.0, 4.0, 1.0])
+
+
+@pytest.mark.parametrize("bad, match", [
+    (np.array([]), "shape"), (np.ones((2, 2, 2)), "shape"), ([0.0, np.nan], "NaN"),
+])
+def test_symmetric_limits_rejects_bad_values(bad, match):
+    with pytest.raises(ValueError, match=match):
+        symmetric_limits(bad)
+
+
+def test_mode_data_per_mode(pairs):
+    lam, phi = pairs
+    modes = mode_data(lam, phi)
+    assert [m["i"] for m in modes] == list(range(12))
+    for m in modes:
+        i = m["i"]
+        assert m["cmin"] == -m["cmax"] and m["cmax"] == pytest.approx(np.abs(phi[:, i]).max())
+        assert np.all(m["values"] >= m["cmin"]) and np.all(m["values"] <= m["cmax"])
+        np.testing.assert_allclose(m["values"], phi[:, i], rtol=1e-6, atol=1e-7)
+        assert m["lam"] == lam[i] and f"{lam[i]:.5g}" in m["title"] and f">{i}<" in m["title"]
+    # the sphere's first non-constant eigenvalue 2 repeats 3 times (l = 1)
+    assert [m["i"] for m in mode_data(lam, phi, [3, 1])] == [3, 1]
+
+
+@pytest.mark.parametrize("indices, match", [([12], r"\[0, 11\]"), ([-1], "indices"),
+                                            ([True], "indices"), ([1.5], "indices")])
+def test_mode_data_rejects_bad_indices(pairs, indices, match):
+    with pytest.raises(ValueError, match=match):
+        mode_data(*pairs, indices)
+
+
+def test_mode_data_rejects_mismatched_shapes(pairs):
+    lam, phi = pairs
+    with pytest.raises(ValueError, match="phi must have shape"):
+        mode_data(lam[:5], phi)
+
+
+def test_mesh3d_arrays(sphere):
+    a = mesh3d_arrays(sphere)
+    np.testing.assert_allclose(np.c_[a["x"], a["y"], a["z"]], sphere.vertices, rtol=1e-6)
+    np.testing.assert_array_equal(np.c_[a["i"], a["j"], a["k"]], sphere.faces)
+    # plain (vertices, faces) works the same
+    b = mesh3d_arrays((sphere.vertices, sphere.faces))
+    assert all(np.array_equal(a[k], b[k]) for k in "xyzijk")
+
+
+# ------------------------------------------------------------------------------ figures
+def test_explorer_has_one_frame_per_mode_and_a_slider(sphere, pairs):
+    fig = plots.eigenfunction_explorer(sphere, 12, start=3)
+    assert isinstance(fig, go.Figure)
+    assert len(fig.frames) == 12 and [f.name for f in fig.frames] == [str(i) for i in range(12)]
+    (slider,) = fig.layout.sliders
+    assert slider.active == 3 and [s.label for s in slider.steps] == [str(i) for i in range(12)]
+    assert [list(s.args[0]) for s in slider.steps] == [[str(i)] for i in range(12)]
+    lam, phi = pairs
+    for i, fr in enumerate(fig.frames):
+        (tr,) = fr.data
+        assert tr.cmin == -tr.cmax  # symmetric about 0
+        # the same eigenfunction up to sign (a repeated eigenvalue would allow any rotation,
+        # but the solver is deterministic: same mesh, same basis)
+        np.testing.assert_allclose(np.abs(tr.intensity), np.abs(phi[:, i]), atol=1e-5)
+        assert f"{lam[i]:.5g}" in fr.layout.title.text
+    (trace,) = fig.data
+    np.testing.assert_array_equal(trace.intensity, fig.frames[3].data[0].intensity)
+    assert fig.layout.title.text == fig.frames[3].layout.title.text
+    # given eigenpairs are used as they are
+    fig2 = plots.eigenfunction_explorer(sphere, 5, eigenpairs=pairs)
+    np.testing.assert_array_equal(fig2.frames[4].data[0].intensity, phi[:, 4].astype(np.float32))
+
+
+def test_explorer_repairs_the_mesh_once(sphere):
+    V = np.vstack([sphere.vertices, sphere.vertices[:1]])  # a duplicate of vertex 0
+    F = sphere.faces.copy()
+    F[F == 0] = len(V) - 1
+    F[0, 0] = 0
+    with pytest.warns(cshape.CShapeWarning, match="welded 1 duplicate"):
+        fig = plots.eigenfunction_explorer((V, F), 4)
+    assert len(fig.data[0].x) == sphere.n_vertices == len(fig.frames[1].data[0].intensity)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(n_modes=0), "n_modes must be an integer >= 1"),
+    (dict(n_modes=2.5), "n_modes"),
+    (dict(n_modes=True), "n_modes"),
+    (dict(n_modes=4, start=4), r"start must be an integer in \[0, n_modes - 1 = 3\]"),
+    (dict(n_modes=4, vertical_axis="up"), "vertical_axis must be one of"),
+    (dict(n_modes=4, height=10), "height must be a number of pixels"),
+    (dict(n_modes=20, eigenpairs=(np.zeros(5), np.zeros((162, 5)))), "N >= n_modes = 20"),
+])
+def test_explorer_rejects_bad_arguments(sphere, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        plots.eigenfunction_explorer(sphere, **kwargs)
+
+
+def test_view_mesh_colours_and_grey(sphere):
+    f = sphere.vertices[:, 2] - 0.1
+    fig = plots.view_mesh(sphere, f)
+    (tr, *_) = fig.data
+    assert tr.cmin == -tr.cmax == -np.abs(f).max()
+    assert tr.colorscale[0][1] != tr.colorscale[-1][1]
+    pos = plots.view_mesh(sphere, f - f.min())  # one sign: the range is the data's
+    assert pos.data[0].cmin == pytest.approx(0.0, abs=1e-6)
+    grey = plots.view_mesh(sphere, edges=True)
+    assert grey.data[0].intensity is None and grey.data[1].mode == "lines"
+    assert len(plots.view_mesh(sphere, edges=False).data) == 1
+
+
+def test_view_meshes_side_by_side(sphere):
+    cube = shapes.cube(3)
+    fig = plots.view_meshes({"clean": sphere, "cube": cube}, {"cube": cube.vertices[:, 0]},
+                            edges=False)
+    assert [t.scene for t in fig.data] == ["scene", "scene2"]
+    assert fig.data[0].intensity is None and fig.data[1].intensity is not None
+    assert [a.text for a in fig.layout.annotations] == ["clean", "cube"]
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda m: plots.view_mesh(m, np.ones(3)), r"scalars\[''\] has 3 values"),
+    (lambda m: plots.view_mesh(m, np.full(m.n_vertices, np.inf)), "NaN or infinite"),
+    (lambda m: plots.view_meshes([m]), "meshes must be a non-empty dict"),
+    (lambda m: plots.view_meshes({}), "meshes must be a non-empty dict"),
+    (lambda m: plots.view_meshes({"a": m}, {"b": np.ones(3)}), r"keys \['b'\]"),
+])
+def test_view_rejects_bad_arguments(sphere, call, match):
+    with pytest.raises((ValueError, TypeError), match=match):
+        call(sphere)
