@@ -7,7 +7,8 @@ The pipeline, one module per stage (data flows one way):
 2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
 3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
 4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
-   :func:`compact_shape_dna` (Eq. 9-10), :func:`real_form`, :func:`inverse_compact_shape_dna`,
+   :func:`compact_shape_dna` (Eq. 9-10; ``transform='log-weyl'``, ``'log-weyl-dct'``),
+   :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
    :func:`f1_feature`
 5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
    :func:`scaled_difference`,
@@ -39,6 +40,7 @@ from .descriptors import (
     compact_shape_dna_real,
     f1_feature,
     inverse_compact_shape_dna,
+    log_weyl_ratio,
     normalize,
     real_form,
     weyl_subtract,
@@ -74,6 +76,7 @@ __all__ = [
     "inverse_compact_shape_dna",
     "largest_component",
     "load_mesh",
+    "log_weyl_ratio",
     "normalize",
     "real_form",
     "repair_mesh",

@@ -250,7 +250,7 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
             out.append(normalize(r[: 2 * M + 1], area=area, method=normalization))
         elif kind in ("cshape", "cshape_complex"):
             lam_norm = normalize(r[:N], area=area, method=normalization)
-            S = compact_shape_dna(lam_norm, M=M, N=N)  # already normalised: no area
+            S = compact_shape_dna(lam_norm, M=M, N=N, normalized=True)
             out.append(S if kind == "cshape_complex" else real_form(S))
         else:
             out.append(f1_feature(r[:N]))

@@ -4,7 +4,10 @@
                                   eigenvalue, or fitted Weyl slope;
 * :func:`weyl_subtract`         - Eq. (8): ``lam'_i = lam_i^norm - 4 pi i``;
 * :func:`compact_shape_dna`     - Eq. (9)-(10): DFT, shift, keep the ``2M+1`` values
-                                  around the zero frequency;
+                                  around the zero frequency; ``transform=`` also offers two
+                                  extensions beyond the paper (the log-Weyl ratio below);
+* :func:`log_weyl_ratio`        - ``r_i = log(lam_i^norm / (4 pi i))``, ``i = 1..N-1``: every
+                                  index on the same relative footing (not in the paper);
 * :func:`real_form`             - the same descriptor as ``2M+1`` real numbers with the
                                   same Euclidean distances;
 * :func:`inverse_compact_shape_dna` - rebuild the smoothed normalised Shape-DNA from the
@@ -12,6 +15,26 @@
 * :func:`f1_feature`            - the F1 feature ``lam_1 / lam_i`` of the paper's Fig. 5f.
 
 All functions take and return plain NumPy arrays.
+
+Transforms (``transform=`` of :func:`compact_shape_dna`)
+--------------------------------------------------------
+After area normalisation ``lam_i^norm ~ 4 pi i`` (Weyl's law), and shapes differ by a few
+per cent at *every* index.  The paper's ``lam'`` (Eq. 8) keeps those differences in
+absolute terms, so the Euclidean distance is dominated by the highest eigenvalues, which
+carry mesh detail more than shape class.  The log-Weyl ratio measures them relatively:
+
+============== ====================================================== ==================
+transform      sequence, then crop                                    values
+============== ====================================================== ==================
+'weyl'         ``lam'_i``, i = 0..N-1 (Eq. 8); DFT, 2M+1 low          2M+1 complex
+               frequencies (Eq. 9-10): **the paper, bit for bit**
+'log-weyl'     ``r_i``, i = 1..N-1; the same DFT crop on the          2M+1 complex
+               N-1 values
+'log-weyl-dct' ``r_i``, i = 1..N-1; orthonormal DCT-II (the even      2M+1 real
+               extension), first 2M+1 coefficients
+============== ====================================================== ==================
+
+All three give ``2M+1`` real numbers in :func:`real_form`, so sizes compare one to one.
 """
 
 from __future__ import annotations
@@ -26,13 +49,17 @@ __all__ = [
     "weyl_subtract",
     "compact_shape_dna",
     "compact_shape_dna_real",
+    "log_weyl_ratio",
     "real_form",
     "inverse_compact_shape_dna",
     "f1_feature",
     "NORMALIZATIONS",
+    "TRANSFORMS",
 ]
 
 NORMALIZATIONS = ("area", "fiedler", "weyl")
+#: The ``transform=`` options of :func:`compact_shape_dna`; ``'weyl'`` is the paper's.
+TRANSFORMS = ("weyl", "log-weyl", "log-weyl-dct")
 FOUR_PI = 4.0 * np.pi
 
 
@@ -130,16 +157,76 @@ def weyl_subtract(lam_norm):
     return x - FOUR_PI * np.arange(len(x))
 
 
-def _check_M(M, N):
+def log_weyl_ratio(lam_norm):
+    """The log-Weyl ratio of a normalised Shape-DNA (an extension beyond the paper).
+
+    ``r_i = log(lam_i^norm / (4 pi i))`` for ``i = 1, ..., N-1``: the relative deviation
+    from the Weyl line ``4 pi i`` (``r_i ~ (lam_i^norm - 4 pi i) / (4 pi i)`` when small),
+    so that every index weighs alike, where Eq. (8) lets the largest eigenvalues dominate.
+
+    ``lam_0`` is never used: it is 0 for a closed mesh or a Neumann spectrum and has no
+    logarithm.  A Dirichlet spectrum (open mesh, ``bc='dirichlet'``) has ``lam_0 > 0``; it
+    is dropped as well, so that the sequence, its length ``N-1`` and the index ``i`` in
+    ``4 pi i`` are the same for every spectrum (and equal to those of Eq. 8 for ``i >= 1``).
+
+    Parameters
+    ----------
+    lam_norm : array_like, shape (N,)
+        Area-normalised eigenvalues, ``N >= 2`` (see :func:`normalize`).
+
+    Returns
+    -------
+    r : ndarray, shape (N-1,)
+        ``r[i-1] = log(lam_norm[i] / (4 pi i))``.
+
+    Raises
+    ------
+    ValueError
+        If some ``lam_i``, ``i >= 1``, is not positive (below ``1e-8`` times the largest
+        eigenvalue): a mesh of several components has several zero eigenvalues (keep one
+        with :func:`cshape.largest_component`, or use ``transform='weyl'``).
+    """
+    x = _as_lam(lam_norm, "lam_norm", min_len=2)
+    tail = x[1:]
+    tol = 1e-8 * float(np.abs(x).max())
+    bad = np.flatnonzero(~(tail > tol))
+    if len(bad):
+        i = int(bad[0]) + 1
+        raise ValueError(
+            f"the log-Weyl ratio needs lam_i > 0 for every i >= 1, but lam_{i} = "
+            f"{tail[i - 1]:.3g}: a mesh of several components has several zero eigenvalues "
+            "(keep one with cshape.largest_component) and lam must be ascending; "
+            "transform='weyl' takes any spectrum"
+        )
+    return np.log(tail / (FOUR_PI * np.arange(1, len(x))))
+
+
+def _check_transform(transform):
+    return check_choice("transform", transform, TRANSFORMS)
+
+
+def _sequence_length(N, transform):
+    """Length of the sequence that is transformed: N (Eq. 8) or N-1 (log-Weyl)."""
+    return N if transform == "weyl" else N - 1
+
+
+def _check_M(M, N, transform="weyl"):
     if isinstance(M, bool) or not isinstance(M, (int, np.integer)):
         raise TypeError(f"M must be an integer, got {type(M).__name__} {M!r}")
     M = int(M)
     if M < 0:
         raise ValueError(f"M must be >= 0 (the descriptor has 2M+1 values), got {M}")
-    if 2 * M + 1 > N:
+    L = _sequence_length(N, transform)
+    if 2 * M + 1 > L:
+        if transform == "weyl":
+            raise ValueError(
+                f"2M+1 = {2 * M + 1} values cannot be kept from N = {N} eigenvalues; "
+                f"use M <= {(N - 1) // 2} or a larger N"
+            )
         raise ValueError(
-            f"2M+1 = {2 * M + 1} values cannot be kept from N = {N} eigenvalues; "
-            f"use M <= {(N - 1) // 2} or a larger N"
+            f"2M+1 = {2 * M + 1} values cannot be kept from the N-1 = {L} log-Weyl ratios "
+            f"of transform={transform!r} (lam_0 has no logarithm); use M <= "
+            f"{max((L - 1) // 2, 0) if L >= 1 else 'nothing'} or N >= {2 * M + 2}"
         )
     return M
 
@@ -152,16 +239,30 @@ def _check_N(N):
     return int(N)
 
 
-def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization):
+def _is_mesh(x) -> bool:
+    return isinstance(x, Mesh) or (
+        isinstance(x, (tuple, list)) and len(x) == 2 and np.ndim(x[0]) == 2
+    )
+
+
+def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized=False):
     """Return the normalised Shape-DNA (N,) from a mesh or from eigenvalues."""
     N = _check_N(N)
     normalization = check_choice("normalization", normalization, NORMALIZATIONS)
     check_choice("bc", bc, ("neumann", "dirichlet"))
-    if isinstance(mesh_or_lam, Mesh) or (
-        isinstance(mesh_or_lam, (tuple, list))
-        and len(mesh_or_lam) == 2
-        and np.ndim(mesh_or_lam[0]) == 2
-    ):
+    if not isinstance(normalized, (bool, np.bool_)):
+        raise TypeError(f"normalized must be True or False, got {normalized!r}")
+    if normalized and area is not None:
+        raise ValueError(
+            "pass either area=... (raw eigenvalues, multiplied by it) or normalized=True "
+            "(eigenvalues already normalised), not both"
+        )
+    if _is_mesh(mesh_or_lam):
+        if normalized:
+            raise ValueError(
+                "normalized=True is for eigenvalues that are already normalised; a mesh is "
+                "normalised by its own area: drop normalized=True"
+            )
         from .mesh import as_mesh, repair_mesh
         from .spectrum import shape_dna
 
@@ -176,42 +277,94 @@ def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization):
             f"got {len(lam)} eigenvalues but N={N}; pass N={len(lam)} or compute more eigenvalues"
         )
     lam = lam[:N]
+    if normalized:
+        return lam
     if normalization == "area" and area is None:
-        return lam  # documented: eigenvalues without an area are taken as already normalised
+        import warnings
+
+        from .mesh import CShapeWarning
+
+        warnings.warn(
+            "compact_shape_dna got eigenvalues without area=: they are taken as already "
+            "normalised. Pass area=mesh.area for raw eigenvalues (Section 2.1 multiplies "
+            "them by the area; without it the descriptor is off by that factor), or "
+            "normalized=True to say they are normalised already",
+            CShapeWarning, stacklevel=3,
+        )
+        return lam
     return normalize(lam, area=area, method=normalization)
 
 
-def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann", normalization="area"):
-    """Compact Shape-DNA (cShape-DNA), Eq. (8)-(10).
+def _dft_crop(x, M):
+    """Eq. (9)-(10) on any real sequence: DFT, shift, the 2M+1 values around the centre."""
+    Lam = np.fft.fft(x)  # Eq. (9)
+    shifted = np.fft.fftshift(Lam)  # zero frequency at index len(x) // 2
+    c = len(x) // 2
+    return shifted[c - M : c + M + 1].copy()  # Eq. (10)
 
-    Steps: normalise (multiply by the area), subtract the Weyl line ``4 pi i`` (Eq. 8),
-    take the DFT ``Lambda_i = sum_k lam'_k exp(-j 2 pi i k / N)`` (Eq. 9), shift the zero
-    frequency to the centre ``<N/2>`` and keep the ``2M+1`` values around it (Eq. 10).
+
+def _dct(x):
+    from scipy.fft import dct
+
+    return dct(x, type=2, norm="ortho")
+
+
+def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
+                      normalization="area", transform="weyl", normalized=False):
+    """Compact Shape-DNA (cShape-DNA), Eq. (8)-(10), and its log-Weyl extensions.
+
+    ``transform='weyl'`` (the default) is the paper, bit for bit: normalise (multiply by
+    the area), subtract the Weyl line (Eq. 8) ``lam'_i = lam_i^norm - 4 pi i``,
+    ``i = 0..N-1``, take the DFT ``Lambda_k = sum_{i=0}^{N-1} lam'_i exp(-j 2 pi k i / N)``
+    (Eq. 9), shift the zero frequency to the centre ``<N/2>`` and keep the ``2M+1`` values
+    around it (Eq. 10): frequencies ``k = -M, ..., M``.
+
+    ``transform='log-weyl'`` replaces Eq. (8) by the log-Weyl ratio (:func:`log_weyl_ratio`)
+    ``r_i = log(lam_i^norm / (4 pi i))``, ``i = 1..N-1`` (``lam_0`` is not used), and crops
+    its DFT the same way: with ``L = N-1`` and ``n = i-1``,
+    ``R_k = sum_{n=0}^{L-1} r_{n+1} exp(-j 2 pi k n / L)``, frequencies ``k = -M..M`` taken
+    from ``fftshift`` around index ``L // 2``.  ``2M+1 <= L``, so for an even ``L`` the
+    unpaired Nyquist frequency ``-L/2`` is never kept and the crop is conjugate-symmetric
+    for odd and even ``L`` alike.
+
+    ``transform='log-weyl-dct'`` takes the orthonormal DCT-II of ``r`` (the DFT of its even
+    extension ``r_1..r_{N-1}, r_{N-1}..r_1``, which has no jump between ``r_{N-1}`` and
+    ``r_1`` for the periodic DFT to smear into every frequency) and keeps the first
+    ``2M+1`` coefficients ``C_k = w_k sum_{n=0}^{L-1} r_{n+1} cos(pi k (2n+1) / (2L))``,
+    ``k = 0..2M``, with ``w_0 = sqrt(1/L)`` and ``w_k = sqrt(2/L)``.  They are real: the
+    same ``2M+1`` numbers as the real form of the DFT crops, so sizes compare one to one.
 
     Parameters
     ----------
     mesh_or_lam : Mesh, (vertices, faces) or array_like of shape (>= N,)
         A mesh (everything is computed: Shape-DNA with ``N`` eigenvalues, its area), or
-        eigenvalues.  Raw eigenvalues need ``area`` (they are multiplied by it); given
-        without ``area`` they are taken as **already normalised**.  Only the first ``N``
-        are used.
+        eigenvalues.  Raw eigenvalues need ``area`` (they are multiplied by it); already
+        normalised ones need ``normalized=True``.  Eigenvalues with neither are taken as
+        normalised, with a :class:`cshape.CShapeWarning` (a raw spectrum would silently be
+        off by the area factor).  Only the first ``N`` are used.
     M : int, default=16
-        Crop half-width; the descriptor has ``2M+1`` values.  ``0 <= M <= (N-1)//2``.
+        Crop half-width; the descriptor has ``2M+1`` values.  ``0 <= M <= (N-1)//2`` for
+        ``'weyl'``, ``0 <= M <= (N-2)//2`` for the log-Weyl transforms (``2M+1 <= N-1``).
     N : int, default=100
-        Length of the Shape-DNA.
+        Length of the Shape-DNA (``lam_0 .. lam_{N-1}``).
     area : float, optional
         Surface area used for the normalisation (default for a mesh: ``mesh.area``).
     bc : {'neumann', 'dirichlet'}, default='neumann'
         Boundary condition, when a mesh is given.
     normalization : {'area', 'fiedler', 'weyl'}, default='area'
         See :func:`normalize`.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        The sequence and transform, as above.
+    normalized : bool, default=False
+        ``True``: the eigenvalues are already normalised (``lam^norm``); no ``area``.
 
     Returns
     -------
-    S_c : ndarray of complex128, shape (2M+1,)
-        ``(Lambda^shift_{<N/2>-M}, ..., Lambda^shift_{<N/2>+M})``: the DFT coefficients
-        of frequencies ``-M, ..., M`` in that order; ``S_c[M]`` is the zero frequency.
-        Conjugate-symmetric (``S_c[M+k] == conj(S_c[M-k])``) because the input is real.
+    S_c : ndarray, shape (2M+1,)
+        complex128 for ``'weyl'`` and ``'log-weyl'``: the DFT coefficients of frequencies
+        ``-M, ..., M`` in that order, ``S_c[M]`` the zero frequency, conjugate-symmetric
+        (``S_c[M+k] == conj(S_c[M-k])``) because the sequence is real.  float64 for
+        ``'log-weyl-dct'``: ``(C_0, ..., C_{2M})``.
 
     Raises
     ------
@@ -219,22 +372,37 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann", norm
         If ``N`` or ``M`` is not an integer (bools are refused), or the eigenvalues are
         complex.
     ValueError
-        If ``N < 1``, ``M < 0``, ``2M+1 > N``, ``bc`` or ``normalization`` is unknown, or
-        fewer than ``N`` eigenvalues are given; checked before any eigensolve.
+        If ``N < 1``, ``M < 0``, ``2M+1`` exceeds the sequence length, ``bc``,
+        ``normalization`` or ``transform`` is unknown, fewer than ``N`` eigenvalues are
+        given, both ``area`` and ``normalized=True`` are given (checked before any
+        eigensolve), or, for the log-Weyl transforms, some ``lam_i <= 0`` with ``i >= 1``.
+
+    Warns
+    -----
+    CShapeWarning
+        Eigenvalues without ``area`` or ``normalized=True`` (``normalization='area'``).
 
     See Also
     --------
     real_form : the same descriptor as 2M+1 real numbers with equal distances.
     inverse_compact_shape_dna : what the 2M+1 coefficients keep of the Shape-DNA.
+    log_weyl_ratio : the sequence of the log-Weyl transforms.
+
+    Notes
+    -----
+    The log-Weyl transforms are extensions beyond the paper; their retrieval scores
+    against the paper's and truncated Shape-DNA are measured by
+    ``benchmarks/bench_descriptors.py``.
     """
-    M = _check_M(M, _check_N(N))  # before the eigensolve
-    lam_norm = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
-    N = len(lam_norm)
-    lam_prime = weyl_subtract(lam_norm)  # Eq. (8)
-    Lam = np.fft.fft(lam_prime)  # Eq. (9)
-    shifted = np.fft.fftshift(Lam)  # zero frequency at index N // 2
-    c = N // 2
-    return shifted[c - M : c + M + 1].copy()  # Eq. (10)
+    transform = _check_transform(transform)
+    M = _check_M(M, _check_N(N), transform)  # before the eigensolve
+    lam_norm = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized)
+    if transform == "weyl":
+        return _dft_crop(weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
+    r = log_weyl_ratio(lam_norm)
+    if transform == "log-weyl":
+        return _dft_crop(r, M)
+    return _dct(r)[: 2 * M + 1].copy()
 
 
 def real_form(S_c):
@@ -245,12 +413,14 @@ def real_form(S_c):
     ``||S_c - T_c||^2 = |dLambda_0|^2 + 2 sum_{k=1..M} |dLambda_k|^2``.
 
     The real form is ``(Re Lambda_0, sqrt2 Re Lambda_1, sqrt2 Im Lambda_1, ...,
-    sqrt2 Re Lambda_M, sqrt2 Im Lambda_M)``.
+    sqrt2 Re Lambda_M, sqrt2 Im Lambda_M)``.  This holds for both DFT transforms
+    (``'weyl'`` and ``'log-weyl'``).  A real descriptor (``'log-weyl-dct'``) is its own
+    real form: it is returned unchanged (as a float64 copy).
 
     Parameters
     ----------
-    S_c : array_like of complex, shape (2M+1,) or (p, 2M+1)
-        One descriptor or a stack of them (rows).
+    S_c : array_like, shape (2M+1,) or (p, 2M+1)
+        One descriptor or a stack of them (rows): complex (DFT crops) or real (DCT).
 
     Returns
     -------
@@ -261,6 +431,8 @@ def real_form(S_c):
         raise ValueError(
             f"S_c must have shape (2M+1,) or (p, 2M+1) with an odd last dimension, got {S.shape}"
         )
+    if not np.iscomplexobj(S):
+        return np.array(S, dtype=np.float64)  # 'log-weyl-dct': already real
     M = (S.shape[-1] - 1) // 2
     pos = S[..., M + 1 :]  # frequencies 1..M
     out = np.empty(S.shape, dtype=np.float64)
@@ -271,45 +443,76 @@ def real_form(S_c):
 
 
 def compact_shape_dna_real(mesh_or_lam, M=16, N=100, area=None, **kwargs):
-    """:func:`compact_shape_dna` in its :func:`real_form`: shape (2M+1,), float64."""
+    """:func:`compact_shape_dna` in its :func:`real_form`: shape (2M+1,), float64.
+
+    Takes the same keywords (``bc``, ``normalization``, ``transform``, ``normalized``).
+    """
     return real_form(compact_shape_dna(mesh_or_lam, M=M, N=N, area=area, **kwargs))
 
 
-def inverse_compact_shape_dna(S_c, N, *, add_weyl=True):
-    """Rebuild the smoothed normalised Shape-DNA from the cropped DFT coefficients.
+def inverse_compact_shape_dna(S_c, N, *, add_weyl=True, transform="weyl"):
+    """Rebuild the smoothed normalised Shape-DNA from the cropped coefficients.
 
-    The ``2M+1`` coefficients are put back around the centre of a zero vector of length
-    ``N`` (the other frequencies are 0, as in Eq. 10), un-shifted and inverse-transformed.
+    The ``2M+1`` coefficients are put back into a zero vector of the sequence's length
+    (the other frequencies are 0, as in Eq. 10) and inverse-transformed.
 
     Parameters
     ----------
-    S_c : array_like of complex, shape (2M+1,)
-        A cShape-DNA from :func:`compact_shape_dna`.
+    S_c : array_like, shape (2M+1,)
+        A cShape-DNA from :func:`compact_shape_dna` with the same ``transform``.
     N : int
-        Length of the original Shape-DNA (``2M+1 <= N``).
+        Length of the original Shape-DNA (``2M+1 <= N``, or ``<= N-1`` for the log-Weyl
+        transforms).
     add_weyl : bool, default=True
-        Add the Weyl line ``4 pi i`` back (undo Eq. 8), returning the smoothed
-        normalised Shape-DNA; otherwise return the smoothed ``lam'``.
+        Undo the transform's subtraction: return the smoothed normalised Shape-DNA
+        ``lam^norm`` (shape ``(N,)``).  ``'weyl'`` adds ``4 pi i`` back (undoes Eq. 8); the
+        log-Weyl transforms return ``lam_i^norm = 4 pi i exp(r_i)`` for ``i >= 1`` and
+        ``lam_0 = 0`` (not encoded: its value for a closed or Neumann spectrum).  With
+        ``False`` return the smoothed sequence itself: ``lam'`` (shape ``(N,)``) or ``r``
+        (shape ``(N-1,)``).
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
 
     Returns
     -------
-    ndarray of float64, shape (N,)
-        Equal to the input of :func:`compact_shape_dna` when ``2M+1 = N`` (N odd).
+    ndarray of float64, shape (N,) (or (N-1,) for a log-Weyl ``r``)
+        Equal to the input of :func:`compact_shape_dna` when nothing is cropped:
+        ``2M+1 = N`` for ``'weyl'`` (N odd), ``2M+1 = N-1`` for the log-Weyl transforms
+        (N even; ``lam_0`` excepted).
     """
-    S = np.asarray(S_c, dtype=np.complex128)
+    transform = _check_transform(transform)
+    if isinstance(N, bool) or not isinstance(N, (int, np.integer)):
+        raise TypeError(f"N must be an integer, got {N!r}")
+    N = int(N)
+    if transform == "log-weyl-dct":
+        if np.iscomplexobj(S_c):
+            raise ValueError(
+                "transform='log-weyl-dct' descriptors are real, got a complex S_c (a DFT "
+                "crop?); pass the transform it was computed with"
+            )
+        S = np.asarray(S_c, dtype=np.float64)
+    else:
+        S = np.asarray(S_c, dtype=np.complex128)
     if S.ndim != 1 or len(S) % 2 != 1:
         raise ValueError(f"S_c must be 1-D with an odd length 2M+1, got shape {S.shape}")
     M = (len(S) - 1) // 2
-    if isinstance(N, bool) or not isinstance(N, (int, np.integer)):
-        raise TypeError(f"N must be an integer, got {N!r}")
-    _check_M(M, int(N))
-    shifted = np.zeros(int(N), dtype=np.complex128)
-    c = int(N) // 2
-    shifted[c - M : c + M + 1] = S
-    lam_prime = np.fft.ifft(np.fft.ifftshift(shifted)).real
-    if add_weyl:
-        return lam_prime + FOUR_PI * np.arange(int(N))
-    return lam_prime
+    _check_M(M, N, transform)
+    L = _sequence_length(N, transform)
+    if transform == "log-weyl-dct":
+        from scipy.fft import idct
+
+        full = np.zeros(L)
+        full[: len(S)] = S
+        seq = idct(full, type=2, norm="ortho")
+    else:
+        shifted = np.zeros(L, dtype=np.complex128)
+        c = L // 2
+        shifted[c - M : c + M + 1] = S
+        seq = np.fft.ifft(np.fft.ifftshift(shifted)).real
+    if not add_weyl:
+        return seq
+    if transform == "weyl":
+        return seq + FOUR_PI * np.arange(N)
+    return np.concatenate([[0.0], FOUR_PI * np.arange(1, N) * np.exp(seq)])
 
 
 def f1_feature(lam):

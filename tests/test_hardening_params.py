@@ -79,7 +79,8 @@ def test_N_from_eigenvalues(no_eigensolve):
         cshape.compact_shape_dna(LAM, M=2, N=20)
     with pytest.raises(TypeError, match="N must be an integer"):
         cshape.compact_shape_dna(LAM, M=2, N=np.float64(5))
-    assert cshape.compact_shape_dna(LAM, M=2, N=5).shape == (5,)  # uses the first 5
+    S = cshape.compact_shape_dna(LAM, M=2, N=5, normalized=True)
+    assert S.shape == (5,)  # uses the first 5
 
 
 # ------------------------------------------------------------------ M
@@ -106,13 +107,13 @@ def test_bad_M_is_refused_before_the_eigensolve(sphere, no_eigensolve, M, N, exc
 @pytest.mark.parametrize("N", [9, 10])
 def test_largest_legal_M(N):
     M = (N - 1) // 2
-    S = cshape.compact_shape_dna(LAM, M=M, N=N)
+    S = cshape.compact_shape_dna(LAM, M=M, N=N, normalized=True)
     assert S.shape == (2 * M + 1,)
     np.testing.assert_allclose(S[M + 1:], np.conj(S[:M][::-1]))  # conjugate symmetric
 
 
 def test_inverse_compact_checks_N_and_M():
-    S = cshape.compact_shape_dna(LAM, M=2, N=9)
+    S = cshape.compact_shape_dna(LAM, M=2, N=9, normalized=True)
     with pytest.raises(TypeError, match="N must be an integer"):
         cshape.inverse_compact_shape_dna(S, N=True)
     with pytest.raises(ValueError, match=r"use M <= 1"):

@@ -1,5 +1,6 @@
 """Property tests: descriptors are invariant to rigid motions, vertex permutation, face
-orientation flips and (after area normalisation) uniform scaling."""
+orientation flips and (after area normalisation) uniform scaling, for every transform of
+``compact_shape_dna`` (the paper's and the log-Weyl extensions)."""
 
 from __future__ import annotations
 
@@ -13,14 +14,16 @@ import cshape
 from cshape import shapes
 
 N, M = 24, 5
+TRANSFORMS = cshape.descriptors.TRANSFORMS
 
 
 @lru_cache(maxsize=1)
 def reference():
-    """The base torus and its descriptors, computed once, on first use."""
+    """The base torus and its descriptors (one per transform), computed once, on first use."""
     base = shapes.torus(16, 8, R=1.0, r=0.35)
     lam = cshape.shape_dna(base, N=N)
-    return base, lam, cshape.compact_shape_dna(lam, M=M, N=N, area=base.area)
+    return base, lam, {t: cshape.compact_shape_dna(lam, M=M, N=N, area=base.area, transform=t)
+                       for t in TRANSFORMS}
 
 
 def rotation(q):
@@ -40,8 +43,12 @@ def check(mesh, scale=1.0):
     _, LAM0, S0 = reference()
     lam = cshape.shape_dna(mesh, N=N)
     np.testing.assert_allclose(lam * scale**2, LAM0, rtol=1e-8, atol=1e-8)
-    S = cshape.compact_shape_dna(lam, M=M, N=N, area=mesh.area)
-    np.testing.assert_allclose(S, S0, rtol=1e-7, atol=1e-6)
+    assert set(S0) == {"weyl", "log-weyl", "log-weyl-dct"}
+    for transform, ref in S0.items():
+        S = cshape.compact_shape_dna(lam, M=M, N=N, area=mesh.area, transform=transform)
+        # the log-Weyl values are O(1) where the paper's are O(100): same relative tolerance
+        atol = 1e-6 if transform == "weyl" else 1e-8
+        np.testing.assert_allclose(S, ref, rtol=1e-7, atol=atol, err_msg=transform)
 
 
 unit = st.floats(-1, 1, allow_nan=False)
