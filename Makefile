@@ -2,12 +2,13 @@
 #   make demo   - the main job: runs every walkthrough notebook into out/notebooks/
 #   make test   - the test suite (what CI runs); installs Debian's Chromium for the
 #                 browser test when it is missing and we are root (else that test skips)
+#   make notebooks - after editing a lesson's source notebooks/NN_topic.py: rewrite its .ipynb
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench reproduce assignments lint setup clean
+.PHONY: demo test bench reproduce notebooks assignments lint setup clean
 
 setup: $(STAMP)
 
@@ -26,6 +27,9 @@ test: $(STAMP)
 
 reproduce: $(STAMP)
 	$(PY) -m cshape reproduce --out out/reproduce
+
+notebooks: $(STAMP)
+	$(PY) tools/sync_notebooks.py
 
 assignments: $(STAMP)
 	$(PY) -m cshape assignments

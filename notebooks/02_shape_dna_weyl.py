@@ -1,0 +1,176 @@
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # 2 · Shape-DNA and the Weyl line
+#
+# **Paper:** Section 2.1 and 2.3, Fig. 1 and Fig. 2 (a)-(d), Eq. (8).
+#
+# **Learning goals.** After this notebook you can
+#
+# 1. compute the Shape-DNA, the $N$ smallest eigenvalues $0 = \lambda_0 \le \lambda_1 \le \dots \le \lambda_{N-1}$;
+# 2. explain why every Shape-DNA lies along a straight line (Weyl's law) whose slope depends on the area only;
+# 3. normalise a Shape-DNA so that it is scale invariant (by the area, the first non-zero eigenvalue, or the
+#    fitted Weyl slope) and see all shapes gather around the common line $L(i) = 4\pi i$;
+# 4. subtract that line (Eq. 8) and look at what remains: the part of the spectrum that tells shapes apart.
+#
+# **Weyl's law.** For a closed surface of area $|\mathcal M|$, $\lambda_i \sim \dfrac{4\pi}{|\mathcal M|}\, i$
+# as $i \to \infty$. So $|\mathcal M| \lambda_i \approx 4\pi i$ for every shape, and
+#
+# $$\lambda'_i = \lambda_i^{norm} - 4\pi i, \qquad i = 0, \dots, N-1. \qquad (8)$$
+
+# %%
+# %matplotlib inline
+import os
+
+import numpy as np
+
+import cshape
+from cshape import plots, shapes
+
+SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
+np.set_printoptions(precision=4, suppress=True, linewidth=100)
+print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
+
+
+# %%
+def real_mesh(small=SMALL):
+    """A real scanned-style mesh: Spot the cow (Keenan Crane, public domain) from the project's
+    shared meshes when that folder is there, else PyMeshLab's sample cow, else a torus."""
+    import cshape.data
+
+    try:
+        name = "spot_low_resolution" if small else "spot"
+        credit = f"{name} (Spot by Keenan Crane, public domain)"
+        return cshape.data.load("shared-meshes", name), credit
+    except (FileNotFoundError, KeyError, ValueError) as exc:
+        print(f"shared meshes not available ({exc}); using PyMeshLab's sample cow instead")
+    try:
+        return cshape.data.load("pymeshlab-samples", "cow"), "cow (PyMeshLab sample)"
+    except (FileNotFoundError, KeyError, ValueError) as exc:
+        print(f"PyMeshLab samples not available ({exc}); using a built-in torus")
+        return shapes.torus(64, 32), "torus (built-in)"
+
+
+# %% [markdown]
+# ## Three shapes, three lines (Fig. 1)
+#
+# The paper's Fig. 1 uses the *bimba* statue, a cube and a sphere. We use a real mesh (Spot the cow when the
+# project's shared meshes are there), a cube and a sphere.
+
+# %%
+N = 50 if SMALL else 100
+real, real_name = real_mesh()
+models = {
+    real_name.split(" ")[0]: real,
+    "cube": shapes.cube(8 if SMALL else 16),
+    "sphere": shapes.icosphere(3 if SMALL else 4),
+}
+spectra = {name: cshape.shape_dna(m, N) for name, m in models.items()}
+areas = {name: m.area for name, m in models.items()}
+for name, m in models.items():
+    print(f"{name:20s} {m.n_vertices:6d} vertices, area {m.area:8.4f}, "
+          f"lam_1..3 = {spectra[name][1:4]}")
+
+# %%
+fig = plots.new_figure((9, 3))
+for k, (name, m) in enumerate(models.items()):
+    plots.plot_mesh(m, ax=fig.add_subplot(1, 3, k + 1, projection="3d"), title=name, elev=15,
+                    vertical_axis="y" if m is real else "z")
+fig
+
+# %%
+plots.plot_weyl(spectra, areas)
+
+# %% [markdown]
+# Left: each raw Shape-DNA lies along its own line; a larger shape has smaller eigenvalues (a bigger drum sounds
+# lower). Right: multiplied by the area, all three lie around the dashed line $4\pi i$.
+#
+# ## Scale invariance
+#
+# Scaling a surface by $s$ multiplies its area by $s^2$ and divides its eigenvalues by $s^2$: the raw Shape-DNA
+# changes, the normalised one does not.
+
+# %%
+mesh = models["cube"]
+big = cshape.Mesh(2.0 * mesh.vertices, mesh.faces)
+lam_small, lam_big = spectra["cube"][:6], cshape.shape_dna(big, 6)
+print("raw:              ", lam_small, "\n                  ", lam_big)
+print("area-normalised:  ", cshape.normalize(lam_small, mesh.area), "\n                  ",
+      cshape.normalize(lam_big, big.area))
+
+# %% [markdown]
+# ### Three normalisations
+#
+# `cshape.normalize(lam, area, method=...)` offers the paper's choice `'area'` and two others from the Shape-DNA
+# literature: `'fiedler'` divides by the first non-zero eigenvalue, `'weyl'` rescales so that the least-squares
+# slope of $\lambda_i$ against $i$ becomes $4\pi$ (no area needed, handy for point clouds or damaged meshes).
+
+# %%
+fig = plots.new_figure((11, 3.2))
+axs = fig.subplots(1, 3)
+for ax, method in zip(axs, ["area", "fiedler", "weyl"], strict=True):
+    for name, lam in spectra.items():
+        ax.plot(cshape.normalize(lam, areas[name], method=method), ".", ms=3, label=name)
+    ax.set(title=f"method='{method}'", xlabel="i")
+axs[0].plot(4 * np.pi * np.arange(N), "k--", lw=1, label="4 pi i")
+axs[0].legend(fontsize="small")
+fig
+
+# %% [markdown]
+# ## One shape through the pipeline (Fig. 2 a-d)
+#
+# (a) the model, here coloured by one of its eigenfunctions; (b) its Shape-DNA; (c) multiplied by the area, around
+# the Weyl line; (d) the Weyl line subtracted, Eq. (8).
+
+# %%
+lam, phi = cshape.eigenpairs(real, N)
+plots.plot_mesh(real, phi[:, 6], title=f"(a) {real_name.split(' (')[0]}: phi_6", elev=15, azim=30,
+                vertical_axis="y", figsize=(5, 5))
+
+# %%
+plots.plot_shape_dna_stages(lam, real.area, name=real_name.split(" ")[0])
+
+# %% [markdown]
+# Low eigenfunctions vary slowly over the whole shape (they "see" its global layout: legs, head, body); higher
+# ones oscillate faster. That is why the first eigenvalues already describe the shape.
+
+# %%
+plots.plot_eigenfunctions(real, phi, [1, 2, 3, 5, 10, 20, 30, N - 1], lam, elev=15, azim=30,
+                          vertical_axis="y")
+
+# %% [markdown]
+# ## What is left after Eq. (8)
+#
+# $\lambda'_i$ wiggles around zero with a slow trend that differs from shape to shape. The next notebook compresses
+# exactly this signal with a discrete Fourier transform.
+
+# %%
+fig = plots.new_figure((6, 3.5))
+ax = fig.add_subplot()
+for name, lam_i in spectra.items():
+    lam_prime = cshape.weyl_subtract(cshape.normalize(lam_i, areas[name]))
+    ax.plot(lam_prime, ".-", ms=3, lw=0.7, label=name)
+ax.axhline(0, color="k", lw=0.6)
+ax.set(xlabel="i", ylabel="lam'_i", title="Eq. (8) for the three models")
+ax.legend(fontsize="small")
+fig
+
+# %% [markdown]
+# ## Exercises
+#
+# 1. **Isometry.** Bend a mesh without stretching it (e.g. `cshape.variants.articulated_figure("human", seed)` for
+#    two seeds gives two poses with the same bone lengths). Compare their normalised Shape-DNAs with those of two
+#    different classes.
+# 2. **How many eigenvalues?** Plot $\lambda'_i$ of the sphere for $N = 100$. Why does it look like a staircase?
+#    (Hint: multiplicities $2\ell+1$.)
+# 3. **Without the area.** Compute the `'weyl'` normalisation of the real mesh and compare it with the `'area'` one.
+#    When would you prefer it?
+# 4. **Resolution.** If the shared meshes are available, compare `spot_low_resolution` and `spot` (same shape,
+#    different triangulations): how far apart are their normalised Shape-DNAs, relative to the distance to the
+#    cube?
