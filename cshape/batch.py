@@ -17,6 +17,12 @@ the calling process only, as each result arrives, so an interrupted run (Ctrl-C,
 process or worker) leaves only complete entries and the next run resumes where it stopped.
 An unreadable entry is reported, recomputed and overwritten.  Leftover ``.*.tmp`` files of
 a killed run are ignored and safe to delete.
+
+Meshes given as file paths are also remembered by file: ``cache_dir/files/<h>.key`` holds
+the content key of the file whose resolved path, size and modification time (ns) hash to
+``h`` (with ``bc``, ``mass`` and :data:`CACHE_VERSION`).  A second run over unchanged files
+finds their eigenvalues without reading the meshes; a changed file has a new ``h`` and is
+read (and its content key looked up) again.
 """
 
 from __future__ import annotations
@@ -396,6 +402,28 @@ def _read_entry(cache_dir, key, N):
     return {"lam": lam[:N], "area": area, "seconds": seconds, "key": key, "cached": True}
 
 
+def _file_alias(cache_dir, path, bc, mass) -> Path | None:
+    """``cache_dir/files/<h>.key`` for a mesh file (see the module notes), None if unreadable."""
+    try:
+        p = Path(path).resolve()
+        st = p.stat()
+    except OSError:
+        return None
+    h = hashlib.sha256(
+        f"cshape-file-v{CACHE_VERSION}|bc={bc}|mass={mass}|{p}|{st.st_size}|"
+        f"{st.st_mtime_ns}".encode()).hexdigest()
+    return Path(cache_dir) / "files" / f"{h}.key"
+
+
+def _read_alias(alias) -> str | None:
+    """The content key an alias file names, or None (missing or not a key)."""
+    try:
+        key = alias.read_text(encoding="ascii").strip()
+    except (OSError, UnicodeError):
+        return None
+    return key if len(key) == 64 and all(c in "0123456789abcdef" for c in key) else None
+
+
 def _write_entry(cache_dir, result):
     path = _entry_path(cache_dir, result["key"])
 
@@ -659,6 +687,7 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
     from tqdm.auto import tqdm
 
     bar = tqdm(total=p, desc="describe", unit="mesh", disable=not progress)
+    aliases = {}  # row -> alias file of a mesh given by path (see the module notes)
 
     def finish(i, res):
         name = records[i][0]
@@ -672,6 +701,13 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
                     warnings.warn(f"{name}: could not write its cache entry ({exc}); the "
                                   "result is kept but will be recomputed next time",
                                   CShapeWarning, stacklevel=3)
+            alias = aliases.get(i)
+            if alias is not None and _read_alias(alias) != res["key"]:
+                try:
+                    alias.parent.mkdir(exist_ok=True)
+                    _atomic_write(alias, lambda f: f.write(res["key"]), binary=False)
+                except OSError:
+                    pass  # only the shortcut is lost: the file is read again next time
             results[i] = res
         else:
             if on_error == "raise":
@@ -680,13 +716,21 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         bar.update(1)
 
     try:
-        # meshes in memory: look them up in the cache here, before any task is sent
+        # meshes in memory, and files seen before unchanged: look them up in the cache here,
+        # before any task is sent
         tasks = []
         for i, (_name, _label, src) in enumerate(records):
             key = None
             if isinstance(src, _Failed):
                 finish(i, {"ok": False, "error": src.message})
                 continue
+            if isinstance(src, (str, os.PathLike)) and cache is not None:
+                alias = aliases[i] = _file_alias(cache, src, bc, mass)
+                known = None if alias is None else _read_alias(alias)
+                hit = None if known is None else _read_entry(cache, known, N)
+                if hit is not None:
+                    finish(i, {**hit, "ok": True})
+                    continue
             if not isinstance(src, (str, os.PathLike)):
                 try:
                     key = mesh_key(src, bc, mass)

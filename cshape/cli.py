@@ -1,7 +1,15 @@
-"""Command line: ``cshape demo`` and the sub-commands other modules register.
+"""Command line: ``cshape demo``, ``cshape reproduce`` and the sub-commands other modules
+register (:mod:`cshape.commands`: ``describe``, ``info``, ``query``; :mod:`cshape.data`:
+``data``; ...).
 
 Sub-commands are small functions ``add_<name>(subparsers)`` that define their parser and
 set ``func``; :func:`main` wires them up.  Heavy imports happen inside the commands.
+
+The one error path: every expected failure (bad input, a missing or unreadable file, an
+offline or failed download, a missing optional dependency) ends in one line on stderr,
+``cshape <command>: error: <message>``, and exit status 2, without a traceback; Ctrl-C ends
+in ``cshape <command>: interrupted`` and exit status 130.  Anything else is a bug and keeps
+its traceback.
 """
 
 from __future__ import annotations
@@ -9,7 +17,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-__all__ = ["main"]
+__all__ = ["EXPECTED_ERRORS", "CommandError", "main", "one_line"]
 
 
 def _demo(args) -> int:
@@ -103,16 +111,41 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 #: (module, function) pairs that add sub-commands; each module imports lazily.
-_EXTRA: list[tuple[str, str]] = [("data", "add_data"), ("notebooks_run", "add_run_notebooks")]
+_EXTRA: list[tuple[str, str]] = [
+    ("commands", "add_commands"),
+    ("data", "add_data"),
+    ("notebooks_run", "add_run_notebooks"),
+]
+
+
+class CommandError(Exception):
+    """An expected failure of a command; :func:`main` prints its message on one line."""
+
+
+#: Expected failures: bad values, files (OSError covers FileNotFoundError, PermissionError,
+#: a full disk and network errors, requests' and pooch's included), a missing optional
+#: dependency, a failed batch run.  KeyError: a name not found (its message is args[0]).
+EXPECTED_ERRORS = (CommandError, ValueError, OSError, ImportError, KeyError, RuntimeError)
+
+
+def one_line(exc: BaseException) -> str:
+    """The message of ``exc`` on one line (whitespace runs collapsed), never empty."""
+    msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+    text = " ".join(str(msg).split())
+    return text or type(exc).__name__
 
 
 def main(argv=None) -> int:
+    """Run the ``cshape`` command line; returns the exit status (0, 2 on an expected error)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError) as exc:
-        print(f"cshape {args.command}: error: {exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print(f"cshape {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except EXPECTED_ERRORS as exc:
+        print(f"cshape {args.command}: error: {one_line(exc)}", file=sys.stderr)
         return 2
 
 

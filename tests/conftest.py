@@ -23,3 +23,17 @@ def shared_meshes() -> Path:
     if not d.is_dir():
         pytest.skip(f"real meshes not found at {d} (set CSHAPE_SHARED_MESHES to their folder)")
     return d
+
+
+def write_off(path, mesh):
+    """Write a Mesh or (vertices, faces) as an ASCII OFF file (17 digits: exact round trip)."""
+    import cshape
+
+    mesh = cshape.as_mesh(mesh)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = ["OFF", f"{mesh.n_vertices} {mesh.n_faces} 0"]
+    lines += [f"{x:.17g} {y:.17g} {z:.17g}" for x, y, z in mesh.vertices]
+    lines += [f"3 {a} {b} {c}" for a, b, c in mesh.faces]
+    path.write_text("\n".join(lines) + "\n")
+    return path

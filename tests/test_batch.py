@@ -364,3 +364,30 @@ def test_table_missing_an_array_names_the_file(tmp_path):
     np.savez(p, lam=np.zeros((1, 3)))
     with pytest.raises(ValueError, match="partial.npz.*corrupt"):
         DescriptorTable.load(p)
+
+
+def test_unchanged_files_are_found_in_the_cache_without_reading_them(tmp_path):
+    ico = shapes.icosphere(1)
+
+    def write(path, scale):  # "%+.6f": the same file size for both scales
+        lines = ["OFF", f"{ico.n_vertices} {ico.n_faces} 0"]
+        lines += [" ".join(f"{scale * x:+.6f}" for x in v) for v in ico.vertices]
+        lines += ["3 " + " ".join(str(int(i)) for i in f) for f in ico.faces]
+        path.write_text("\n".join(lines) + "\n")
+
+    p = tmp_path / "m.off"
+    write(p, 1.0)
+    first = run([p], cache_dir=tmp_path / "c")
+    assert not first.cached.any() and len(list((tmp_path / "c" / "files").iterdir())) == 1
+    # new content, same size and modification time: the file is not read again
+    st = p.stat()
+    write(p, 0.5)
+    os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns))
+    assert p.stat().st_size == st.st_size
+    same = run([p], cache_dir=tmp_path / "c")
+    assert same.cached.all() and same.areas[0] == first.areas[0]
+    # a new modification time: read, recomputed, a quarter of the area
+    os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
+    new = run([p], cache_dir=tmp_path / "c")
+    assert not new.cached.any()
+    assert new.areas[0] == pytest.approx(first.areas[0] / 4, rel=1e-5)

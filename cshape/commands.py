@@ -1,0 +1,484 @@
+"""The mesh commands of the command line: ``cshape describe``, ``cshape info``, ``cshape query``.
+
+* ``cshape describe PATH... [--out table.csv|table.npz]`` - Shape-DNA / cShape-DNA of every
+  mesh under the paths (files, folders searched recursively, globs; class labels from
+  sub-folders), through :func:`cshape.describe` (cached, parallel, Dask) into a
+  :class:`cshape.DescriptorTable`;
+* ``cshape info MESH`` - size, area, topology, triangle quality and what the repair would
+  change, from :mod:`cshape.mesh` (:class:`cshape.Mesh`, :func:`cshape.repair_mesh`) and
+  :func:`cshape.variants.mesh_quality`;
+* ``cshape query TABLE MESH_OR_NAME -k 5`` - the nearest shapes of a table, with their
+  distances (:class:`cshape.DescriptorIndex`).
+
+Only argument handling and printing live here; the work is done by the pipeline's
+functions.  Expected failures raise :class:`cshape.cli.CommandError` (or the pipeline's
+``ValueError`` / ``OSError``), which :func:`cshape.cli.main` prints on one line with exit
+status 2.
+"""
+
+from __future__ import annotations
+
+import glob
+import json
+import os
+import sys
+import time
+import warnings
+from collections import Counter
+from pathlib import Path
+
+from .cli import CommandError
+
+__all__ = ["add_commands", "collect_mesh_files", "mesh_report"]
+
+#: Warnings listed one by one before ``describe`` summarises the rest (``-v``: all).
+MAX_WARNINGS = 10
+
+
+# ============================================================================ inputs
+def _mesh_suffixes() -> tuple[str, ...]:
+    from .data import MESH_SUFFIXES
+
+    return tuple(MESH_SUFFIXES)
+
+
+def _is_mesh_name(path: Path) -> bool:
+    """True for a file name ending in a mesh suffix (also under ``.gz``)."""
+    name = path.name.lower()
+    if name.endswith(".gz"):
+        name = name[:-3]
+    return name.endswith(_mesh_suffixes())
+
+
+def _stem(path: Path) -> str:
+    name = path.name
+    if name.lower().endswith(".gz"):
+        name = name[:-3]
+    return Path(name).stem
+
+
+def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
+    """The meshes named by command-line paths, as ``(name, label, path)`` records.
+
+    Parameters
+    ----------
+    paths : sequence of str
+        Each a mesh file (read whatever its suffix), a folder (searched recursively for
+        mesh files by :func:`cshape.data.load_folder`; hidden files skipped) or a glob
+        pattern (``*``, ``?``, ``[...]``; ``**`` crosses folders) whose matching mesh files
+        and folders are taken.
+
+    Returns
+    -------
+    list of (str, str, Path)
+        In the order of ``paths`` (a folder's files sorted), each file once.  ``name`` is the
+        file stem, or the path relative to the folder it was found in (without the suffix)
+        where stems repeat; ``label`` is the first sub-folder below the folder given (the
+        folder's own name for files directly in it) and, for a file or glob match, the name
+        of the folder holding the file.
+
+    Raises
+    ------
+    FileNotFoundError
+        If a path is neither a file, a folder, nor a pattern matching anything.
+    ValueError
+        If a folder or a pattern holds no mesh file, or no path was given.
+    """
+    from .data import load_folder
+
+    found: list[tuple[Path, str, Path]] = []  # (file, label, base for relative names)
+
+    def add_folder(folder: Path):
+        for item in load_folder(folder):
+            found.append((Path(item.path), item.label, folder))
+
+    def add_file(path: Path):
+        found.append((path, path.resolve().parent.name, path.parent))
+
+    if not paths:
+        raise ValueError("no mesh path given; pass mesh files, folders or glob patterns")
+    for arg in paths:
+        p = Path(arg).expanduser()
+        if p.is_dir():
+            add_folder(p)
+        elif p.is_file():
+            add_file(p)
+        elif glob.has_magic(str(arg)):
+            matches = sorted(glob.glob(os.path.expanduser(str(arg)), recursive=True))
+            n_before = len(found)
+            for m in map(Path, matches):
+                if m.is_dir():
+                    add_folder(m)
+                elif m.is_file() and _is_mesh_name(m):
+                    add_file(m)
+            if len(found) == n_before:
+                raise ValueError(
+                    f"pattern {arg!r} matches no mesh file ({', '.join(_mesh_suffixes())}); "
+                    "quote it if your shell expanded it, or check the path"
+                )
+        else:
+            raise FileNotFoundError(f"no file or folder {str(arg)!r}")
+    # each file once, first occurrence kept
+    seen, unique = set(), []
+    for rec in found:
+        key = rec[0].resolve()
+        if key not in seen:
+            seen.add(key)
+            unique.append(rec)
+    names = [_stem(f) for f, _, _ in unique]
+    repeated = {n for n, c in Counter(names).items() if c > 1}
+    if repeated:
+        for i, (f, _, base) in enumerate(unique):
+            if names[i] in repeated:
+                rel = f.relative_to(base) if f.is_relative_to(base) else f
+                names[i] = str(rel.parent / _stem(rel)) if rel.parent != Path() else _stem(rel)
+        repeated = {n for n, c in Counter(names).items() if c > 1}
+        for i, (f, _, _) in enumerate(unique):  # still equal: the whole path
+            if names[i] in repeated:
+                names[i] = str(f.parent / _stem(f))
+    return [(n, lab, f) for n, (f, lab, _) in zip(names, unique, strict=True)]
+
+
+def _print_warnings(caught, command, verbose, skip=()):
+    msgs = [" ".join(str(w.message).split()) for w in caught]
+    msgs = [m for m in dict.fromkeys(msgs) if not m.startswith(skip)]
+    shown = msgs if verbose else msgs[:MAX_WARNINGS]
+    for m in shown:
+        print(f"cshape {command}: warning: {m}", file=sys.stderr)
+    if len(msgs) > len(shown):
+        print(f"cshape {command}: {len(msgs) - len(shown)} more warnings (-v lists them all)",
+              file=sys.stderr)
+
+
+def _progress(args) -> bool:
+    return not args.quiet and sys.stderr.isatty()
+
+
+# ============================================================================ describe
+def _cmd_describe(args) -> int:
+    from .batch import describe
+
+    out = Path(args.out) if args.out else None
+    if out is not None and out.suffix.lower() not in (".csv", ".npz"):
+        raise ValueError(f"--out must end in .csv or .npz (the DescriptorTable formats), "
+                         f"got {args.out!r}")
+    if out is not None and out.is_dir():
+        raise ValueError(f"--out {args.out!r} is a folder; give a file name such as "
+                         f"{str(out / 'table.csv')!r}")
+    if args.dask:
+        try:
+            import distributed  # noqa: F401
+        except ImportError:
+            raise ImportError("--dask needs dask.distributed; install it with "
+                              "`pip install cshape[distributed]`") from None
+    records = collect_mesh_files(args.paths)
+    t0 = time.perf_counter()
+    kwargs = {}
+    if args.transform is not None:
+        kwargs["transform"] = args.transform
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        table = describe(
+            records, N=args.N, M=args.M, bc=args.bc, n_jobs=args.jobs, client=args.dask,
+            cache_dir=False if args.no_cache else args.cache_dir, progress=_progress(args),
+            on_error="warn", **kwargs,
+        )
+    seconds = time.perf_counter() - t0
+    # describe's own summary of the failures is replaced by the list below
+    _print_warnings(caught, "describe", args.verbose, skip=("describe: ",))
+    for name, msg in table.failures:
+        print(f"cshape describe: failed: {name}: {' '.join(msg.split())}", file=sys.stderr)
+    n_fail, p = len(table.failures), len(records)
+    if n_fail and (not args.keep_going or len(table) == 0):
+        what = "the table was not written" if out is not None else "nothing was printed"
+        hint = ("; fix or remove them, or pass --keep-going to keep the others"
+                if len(table) else "")
+        raise CommandError(f"{n_fail} of {p} meshes failed (listed above); {what}{hint}")
+    n_cached = int(table.cached.sum())
+    if out is not None:
+        table.save(out)
+        where = f"; wrote {out}"
+    else:
+        where = ""
+        _print_table(table)
+    if not args.quiet:
+        print(f"cshape describe: {len(table)} meshes ({n_cached} from the cache"
+              f"{f', {n_fail} failed' if n_fail else ''}) in {seconds:.1f} s, "
+              f"N={table.N}, M={table.M}{where}", file=sys.stderr)
+    return 0
+
+
+def _print_table(table, width=4):
+    """One line per shape on stdout: name, label, area and the first cShape-DNA values."""
+    S = table.descriptors("cshape")
+    w = max([len(n) for n in table.names] + [4])
+    wl = max([len(x) for x in table.labels] + [5])
+    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  cShape-DNA (first {width} of "
+          f"{S.shape[1]} values, real form)")
+    for i, name in enumerate(table.names):
+        vals = " ".join(f"{x: .4e}" for x in S[i, :width])
+        print(f"{name:<{w}}  {table.labels[i]:<{wl}}  {table.areas[i]:>10.4g}  {vals}")
+
+
+def _add_describe(sub):
+    p = sub.add_parser(
+        "describe",
+        help="Shape-DNA and cShape-DNA of mesh files and folders, into a descriptor table",
+        description="Compute the Shape-DNA (N smallest Laplace-Beltrami eigenvalues) of every "
+        "mesh under PATH (mesh files, folders searched recursively, glob patterns; class "
+        "labels from sub-folder names) and write a descriptor table, from which every "
+        "descriptor (cShape-DNA for any M, Shape-DNA, F1) is derived.  Eigenvalues are "
+        "cached: a second run over the same meshes reads them back.",
+        epilog="example: cshape describe meshes/ --out table.csv",
+    )
+    p.add_argument("paths", nargs="+", metavar="PATH", help="mesh files, folders or globs")
+    p.add_argument("-N", type=int, default=100, help="Shape-DNA length N (default 100)")
+    p.add_argument("-M", type=int, default=16,
+                   help="cShape-DNA half-width M: 2M+1 values (default 16)")
+    p.add_argument("--transform", default=None,
+                   help="transform of the descriptors (see cshape.describe's transform=)")
+    p.add_argument("--bc", default="neumann", choices=("neumann", "dirichlet"),
+                   help="boundary condition on open surfaces (default neumann)")
+    p.add_argument("--jobs", type=int, default=1,
+                   help="local worker processes (default 1; -1: all cores)")
+    p.add_argument("--dask", metavar="ADDRESS", default=None,
+                   help="run on a Dask cluster, e.g. tcp://10.0.0.5:8786")
+    p.add_argument("--out", metavar="TABLE", default=None,
+                   help="write the table to TABLE (.csv or .npz); default: print a summary")
+    p.add_argument("--cache-dir", default=None,
+                   help="eigenvalue cache (default: $CSHAPE_CACHE/eigenvalues or "
+                   "~/.cache/cshape/eigenvalues)")
+    p.add_argument("--no-cache", action="store_true", help="neither read nor write the cache")
+    p.add_argument("--keep-going", action="store_true",
+                   help="write the table of the meshes that worked and exit 0 when some fail")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="no progress bar and no summary line")
+    p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
+    p.set_defaults(func=_cmd_describe)
+
+
+# ============================================================================ info
+def mesh_report(path) -> dict:
+    """Size, area, topology, triangle quality and repairs of a mesh file (``cshape info``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    dict
+        ``file``; ``vertices``, ``faces`` (as read, before any repair); ``reader`` (notes of
+        the reader: faces it dropped); ``repair`` (what :func:`cshape.repair_mesh` changes,
+        empty when nothing); after the repair (the mesh every cshape computation uses):
+        ``repaired_vertices``, ``repaired_faces``, ``area``, ``components``,
+        ``boundary_edges``, ``nonmanifold_edges``, ``nonmanifold_vertices``,
+        ``euler_characteristic``, ``closed``, ``genus`` (None unless closed, connected and
+        manifold) and ``genus_note`` (why not), ``bbox`` (extent along x, y, z),
+        ``mean_edge_length``, ``min_angle`` and ``mean_min_angle`` (degrees),
+        ``pct_below_10`` (share of triangles with an angle under 10 degrees, percent),
+        ``degenerate_faces``.
+    """
+    from .mesh import CShapeWarning, load_mesh, repair_mesh
+    from .variants import mesh_quality
+
+    path = Path(path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CShapeWarning)
+        raw = load_mesh(path, repair=False)
+    reader = [str(w.message) for w in caught if issubclass(w.category, CShapeWarning)]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CShapeWarning)
+        mesh = repair_mesh(raw)
+    repair = []
+    for w in caught:
+        msg = str(w.message)
+        msg = msg.split("repaired mesh: ", 1)[-1]
+        repair += [x.strip() for x in msg.split(";") if x.strip()]
+    q = mesh_quality(mesh)
+    genus, note = mesh.genus, ""
+    if genus is None:
+        nb, nn = len(mesh.boundary_edges), len(mesh.nonmanifold_edges)
+        if nb:
+            note = f"open surface, {nb} boundary edges"
+        elif nn or len(mesh.nonmanifold_vertices):
+            note = "non-manifold surface"
+        else:
+            note = f"{mesh.n_components} components"
+    ext = mesh.vertices.max(axis=0) - mesh.vertices.min(axis=0)
+    return {
+        "file": str(path),
+        "vertices": raw.n_vertices,
+        "faces": raw.n_faces,
+        "reader": reader,
+        "repair": repair,
+        "repaired_vertices": mesh.n_vertices,
+        "repaired_faces": mesh.n_faces,
+        "area": mesh.area,
+        "components": mesh.n_components,
+        "boundary_edges": int(len(mesh.boundary_edges)),
+        "nonmanifold_edges": int(len(mesh.nonmanifold_edges)),
+        "nonmanifold_vertices": int(len(mesh.nonmanifold_vertices)),
+        "euler_characteristic": mesh.euler_characteristic,
+        "closed": mesh.is_closed,
+        "genus": genus,
+        "genus_note": note,
+        "bbox": [float(x) for x in ext],
+        "mean_edge_length": mesh.mean_edge_length,
+        "min_angle": q["min_angle"],
+        "mean_min_angle": q["mean_min_angle"],
+        "pct_below_10": q["pct_below_10"],
+        "degenerate_faces": q["n_degenerate"],
+    }
+
+
+def _cmd_info(args) -> int:
+    for k, path in enumerate(args.meshes):
+        r = mesh_report(path)
+        if args.json:
+            print(json.dumps(r))
+            continue
+        if k:
+            print()
+        repair = "; ".join(r["repair"]) if r["repair"] else "nothing to change"
+        rows = [
+            ("file", r["file"]),
+            ("vertices", r["vertices"]),
+            ("faces", r["faces"]),
+        ]
+        rows += [("reader", note) for note in r["reader"]]
+        rows += [("repair", repair)]
+        if r["repair"]:
+            rows += [("after repair", f"{r['repaired_vertices']} vertices, "
+                                      f"{r['repaired_faces']} faces")]
+        g = r["genus"] if r["genus"] is not None else f"- ({r['genus_note']})"
+        bbox = " x ".join(f"{x:.4g}" for x in r["bbox"])
+        rows += [
+            ("area", f"{r['area']:.6g}"),
+            ("bounding box", bbox),
+            ("mean edge length", f"{r['mean_edge_length']:.4g}"),
+            ("components", r["components"]),
+            ("boundary edges", r["boundary_edges"]),
+            ("non-manifold edges", r["nonmanifold_edges"]),
+            ("non-manifold vertices", r["nonmanifold_vertices"]),
+            ("Euler characteristic", r["euler_characteristic"]),
+            ("genus", g),
+            ("minimum angle", f"{r['min_angle']:.3g} deg (mean of the triangles' smallest "
+                              f"{r['mean_min_angle']:.3g}; {r['pct_below_10']:.1f} % of "
+                              "triangles have an angle below 10 deg)"),
+            ("zero-area faces", r["degenerate_faces"]),
+        ]
+        w = max(len(a) for a, _ in rows)
+        for a, b in rows:
+            print(f"{a:<{w}}  {b}")
+    return 0
+
+
+def _add_info(sub):
+    p = sub.add_parser(
+        "info",
+        help="size, area, topology, minimum angle and needed repairs of mesh files",
+        description="Read a mesh file and print its vertices and faces, what the repair "
+        "(cshape.repair_mesh, applied by every cshape computation) would change, then the "
+        "repaired mesh's area, components, boundary and non-manifold edges, Euler "
+        "characteristic, genus and minimum triangle angle.",
+    )
+    p.add_argument("meshes", nargs="+", metavar="MESH", help="mesh file(s)")
+    p.add_argument("--json", action="store_true", help="one JSON object per mesh")
+    p.set_defaults(func=_cmd_info)
+
+
+# ============================================================================ query
+_KINDS = ("cshape", "shape_dna", "truncated", "f1")
+
+
+def _cmd_query(args) -> int:
+    from .batch import DescriptorTable, describe
+    from .compare import DescriptorIndex
+
+    table = DescriptorTable.load(args.table)
+    if len(table) == 0:
+        raise ValueError(f"table {args.table!r} holds no shape")
+    M = table.M if args.M is None else args.M
+    N = table.N if args.N is None else args.N
+    if N > table.N:
+        raise ValueError(f"-N {N} is more than the table's N = {table.N} eigenvalues; use "
+                         f"-N {table.N} or less")
+    X = table.descriptors(args.kind, M=M, N=N)
+    target = args.target
+    if target in table.names:
+        row = table.index(target)
+        y, exclude, what = X[row], row, f"{target!r} (in the table)"
+    elif Path(target).is_file():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N, M=table.M,
+                           bc=table.bc, mass=table.mass,
+                           cache_dir=False if args.no_cache else args.cache_dir,
+                           progress=False, on_error="warn")
+        _print_warnings(caught, "query", False, skip=("describe: ",))
+        if one.failures:
+            raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
+        y, exclude, what = one.descriptors(args.kind, M=M, N=N)[0], None, repr(target)
+    else:
+        close = [n for n in table.names if target.lower() in n.lower()][:5]
+        hint = f"; names containing it: {close}" if close else ""
+        raise ValueError(f"{target!r} is neither a shape of the table ({len(table)} shapes)"
+                         f" nor a mesh file{hint}")
+    available = len(table) - (exclude is not None)
+    if available == 0:
+        raise ValueError(f"table {args.table!r} holds no other shape than {target!r}")
+    if args.k < 1:
+        raise ValueError(f"-k must be at least 1, got {args.k}")
+    k = min(args.k, available)
+    dist, ind = DescriptorIndex(X).query(y[None, :], k=min(k + 1, len(table)))
+    hits = [(float(d), int(i)) for d, i in zip(dist[0], ind[0], strict=True) if i != exclude]
+    hits = hits[:k]
+    size = X.shape[1]
+    desc = {"cshape": f"cShape-DNA M={M}", "shape_dna": f"Shape-DNA N={N}",
+            "truncated": f"truncated Shape-DNA, first {2 * M + 1}", "f1": f"F1 N={N}"}
+    if k < args.k:
+        print(f"cshape query: only {k} other shapes in the table", file=sys.stderr)
+    if args.json:
+        print(json.dumps({"query": target, "kind": args.kind, "M": M, "N": N,
+                          "neighbours": [{"rank": r + 1, "name": table.names[i],
+                                          "label": table.labels[i], "distance": d}
+                                         for r, (d, i) in enumerate(hits)]}))
+        return 0
+    print(f"nearest to {what} by {desc[args.kind]} ({size} values, Euclidean distance), "
+          f"among {len(table)} shapes of {args.table}:")
+    w = max([len(table.names[i]) for _, i in hits] + [4])
+    print(f"{'rank':>4}  {'distance':>11}  {'name':<{w}}  label")
+    for r, (d, i) in enumerate(hits, 1):
+        print(f"{r:>4}  {d:>11.5g}  {table.names[i]:<{w}}  {table.labels[i]}")
+    return 0
+
+
+def _add_query(sub):
+    p = sub.add_parser(
+        "query",
+        help="the nearest shapes of a descriptor table to a mesh file or a shape of the table",
+        description="Load a table written by `cshape describe --out` and list the k shapes "
+        "nearest to MESH_OR_NAME (a shape of the table, or a mesh file, described with the "
+        "table's N, boundary condition and mass matrix), with their distances.",
+        epilog="example: cshape query table.csv spot -k 5",
+    )
+    p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")
+    p.add_argument("target", metavar="MESH_OR_NAME", help="a shape name of TABLE or a mesh file")
+    p.add_argument("-k", type=int, default=5, help="number of neighbours (default 5)")
+    p.add_argument("--kind", default="cshape", choices=_KINDS,
+                   help="descriptor compared (default cshape)")
+    p.add_argument("-M", type=int, default=None, help="cShape-DNA M (default: the table's)")
+    p.add_argument("-N", type=int, default=None,
+                   help="use the first N eigenvalues (default: the table's N)")
+    p.add_argument("--cache-dir", default=None, help="eigenvalue cache for a mesh file query")
+    p.add_argument("--no-cache", action="store_true", help="do not use the eigenvalue cache")
+    p.add_argument("--json", action="store_true", help="print the neighbours as JSON")
+    p.set_defaults(func=_cmd_query)
+
+
+def add_commands(sub) -> None:
+    """Register ``describe``, ``info`` and ``query`` on the CLI's sub-parsers."""
+    _add_describe(sub)
+    _add_info(sub)
+    _add_query(sub)

@@ -1,0 +1,169 @@
+"""`cshape describe`, `cshape info`, `cshape query` run as subprocesses on meshes built in code.
+
+Every expected failure must end in one line on stderr, exit status 2, no traceback and no
+file written.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import write_off
+
+import cshape
+from cshape import shapes
+from cshape.batch import DescriptorTable
+
+N, M = 20, 4
+
+
+def cli(*args, cache=None, check=False):
+    env = dict(os.environ)
+    if cache is not None:
+        env["CSHAPE_CACHE"] = str(cache)
+    res = subprocess.run([sys.executable, "-m", "cshape", *map(str, args)],
+                         capture_output=True, text=True, timeout=600, env=env)
+    if check:
+        assert res.returncode == 0, res.stderr
+    return res
+
+
+def assert_one_line_error(res, match):
+    assert res.returncode == 2, (res.returncode, res.stderr)
+    assert "Traceback" not in res.stderr
+    last = res.stderr.strip().splitlines()[-1]
+    assert last.startswith("cshape ") and ": error: " in last, res.stderr
+    assert match in last, res.stderr
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    """sphere/{small, big} (the same sphere at two scales) and torus/ring, as OFF files."""
+    root = tmp_path_factory.mktemp("meshes")
+    ico = shapes.icosphere(2)
+    write_off(root / "sphere" / "small.off", ico)
+    write_off(root / "sphere" / "big.off", (2.0 * ico.vertices, ico.faces))
+    write_off(root / "torus" / "ring.off", shapes.torus(24, 12))
+    return root
+
+
+def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
+    out = tmp_path / "table.csv"
+    res = cli("describe", folder, "--out", out, "-N", N, "-M", M, cache=tmp_path / "c",
+              check=True)
+    table = DescriptorTable.load(out)
+    assert sorted(zip(table.names, table.labels, strict=True)) == [
+        ("big", "sphere"), ("ring", "torus"), ("small", "sphere")]
+    assert (table.N, table.M) == (N, M) and not table.cached.any()
+    assert "3 meshes (0 from the cache)" in res.stderr
+    # the eigenvalues are the library's
+    lam = cshape.shape_dna(cshape.load_mesh(folder / "torus" / "ring.off"), N=N)
+    np.testing.assert_allclose(table.lam[table.index("ring")], lam, rtol=1e-12, atol=1e-12)
+    # cShape-DNA is scale invariant: the two spheres have the same descriptor
+    S = table.descriptors("cshape")
+    assert np.abs(S[table.index("big")] - S[table.index("small")]).max() < 1e-8
+
+    # a glob over the same files, to .npz: every mesh from the cache, labels = parent folder
+    out2 = tmp_path / "again.npz"
+    res = cli("describe", f"{folder}/*/*.off", "--out", out2, "-N", N, "-M", M,
+              cache=tmp_path / "c", check=True)
+    again = DescriptorTable.load(out2)
+    assert again.cached.all() and "3 from the cache" in res.stderr
+    assert sorted(again.names) == sorted(table.names)
+    assert again.labels[again.index("ring")] == "torus"
+    np.testing.assert_array_equal(again.lam[again.index("ring")], table.lam[table.index("ring")])
+
+
+def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
+    bad = tmp_path / "in" / "bad.off"
+    bad.parent.mkdir()
+    bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")  # truncated: one vertex and the face missing
+    out = tmp_path / "t.csv"
+    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M,
+              cache=tmp_path / "c")
+    assert_one_line_error(res, "1 of 2 meshes failed")
+    assert "failed: bad:" in res.stderr
+    assert not out.exists()
+    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M,
+              "--keep-going", cache=tmp_path / "c", check=True)
+    table = DescriptorTable.load(out)
+    assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
+    assert table.cached.all()  # the first, failed run cached the good mesh
+
+
+@pytest.mark.parametrize("args, match", [
+    (["describe", "no/such/folder"], "no file or folder 'no/such/folder'"),
+    (["describe", "MESHES", "--out", "table.txt"], "--out must end in .csv or .npz"),
+    (["describe", "MESHES/*.stl"], "matches no mesh file"),
+    (["describe", "MESHES", "-N", "20", "-M", "10"], "use M <= 9"),
+    (["info", "no_such.obj"], "no mesh file at 'no_such.obj'"),
+    (["query", "no_such.csv", "x"], "no descriptor table at 'no_such.csv'"),
+])
+def test_expected_failures_end_in_one_line(folder, tmp_path, args, match):
+    args = [str(folder) + a[6:] if a.startswith("MESHES") else a for a in args]
+    res = cli(*args, cache=tmp_path / "c")
+    assert_one_line_error(res, match)
+    assert list(tmp_path.iterdir()) == []  # nothing written, not even the cache folder
+
+
+def test_info_topology_angles_and_repair(tmp_path):
+    torus = write_off(tmp_path / "torus.off", shapes.torus(24, 12))
+    sq = shapes.square(6)
+    square = write_off(tmp_path / "square.off", sq)
+    # the square with one face repeated and one unused vertex at the end
+    V = np.vstack([sq.vertices, [[5.0, 5.0, 5.0]]])
+    F = np.vstack([sq.faces, sq.faces[:1]])
+    dirty = write_off(tmp_path / "dirty.off", (V, F))
+    res = cli("info", torus, square, dirty, "--json", check=True)
+    t, s, d = (json.loads(line) for line in res.stdout.splitlines())
+    assert (t["vertices"], t["faces"], t["components"]) == (288, 576, 1)
+    assert t["closed"] and t["genus"] == 1 and t["euler_characteristic"] == 0
+    assert t["boundary_edges"] == t["nonmanifold_edges"] == 0 and t["repair"] == []
+    assert s["genus"] is None and s["boundary_edges"] == 4 * 6
+    assert s["genus_note"] == "open surface, 24 boundary edges"
+    assert s["min_angle"] == pytest.approx(45.0)  # a grid of right isosceles triangles
+    assert s["area"] == pytest.approx(1.0)
+    assert d["vertices"] == sq.n_vertices + 1 and d["faces"] == sq.n_faces + 1
+    assert sorted(d["repair"]) == ["removed 1 duplicate faces", "removed 1 unreferenced vertices"]
+    assert (d["repaired_vertices"], d["repaired_faces"]) == (sq.n_vertices, sq.n_faces)
+    # the text form names the same facts
+    res = cli("info", torus, check=True)
+    rows = dict(line.split(None, 1) for line in res.stdout.splitlines()
+                if line.split(None, 1)[0] in ("vertices", "faces", "components", "genus"))
+    assert rows == {"vertices": "288", "faces": "576", "components": "1", "genus": "1"}
+
+
+@pytest.fixture(scope="module")
+def table_file(folder, tmp_path_factory):
+    out = tmp_path_factory.mktemp("table") / "table.npz"
+    recs = [(p.stem, p.parent.name, p) for p in sorted(folder.glob("*/*.off"))]
+    cshape.describe(recs, N=N, M=M, cache_dir=False, progress=False).save(out)
+    return out
+
+
+def test_query_by_name_and_by_mesh_file(table_file, folder, tmp_path):
+    res = cli("query", table_file, "small", "-k", "5", "--json", check=True)
+    got = json.loads(res.stdout)
+    # only the 2 other shapes; the same sphere at twice the size is at distance ~0
+    assert [n["name"] for n in got["neighbours"]] == ["big", "ring"]
+    assert got["neighbours"][0]["distance"] < 1e-8 < got["neighbours"][1]["distance"]
+    assert "only 2 other shapes" in res.stderr
+
+    # a mesh file not in the table: a sphere at a third scale matches both spheres
+    ico = shapes.icosphere(2)
+    q = write_off(tmp_path / "q.off", (0.5 * ico.vertices, ico.faces))
+    res = cli("query", table_file, q, "-k", "3", cache=tmp_path / "c", check=True)
+    lines = res.stdout.splitlines()
+    assert lines[0].startswith("nearest to") and "cShape-DNA M=4" in lines[0]
+    ranked = [line.split() for line in lines[2:]]
+    assert [r[0] for r in ranked] == ["1", "2", "3"]
+    assert {ranked[0][2], ranked[1][2]} == {"small", "big"} and ranked[2][2] == "ring"
+    assert float(ranked[0][1]) < 1e-8 and float(ranked[1][1]) < 1e-8
+
+    res = cli("query", table_file, "smal")
+    assert_one_line_error(res, "names containing it: ['small']")
