@@ -1,8 +1,8 @@
 """Shape collections: the data manifest, generated and cached shapes, packaged, local and
 downloadable meshes, and loaders for the classic benchmarks' folder layouts.
 
-Every collection is an entry of ``data_manifest.yaml`` (next to the package, or the file named
-by ``CSHAPE_MANIFEST``), of one of four kinds:
+Every collection is an entry of ``data_manifest.yaml`` (shipped inside the package, or the file
+named by ``CSHAPE_MANIFEST``), of one of four kinds:
 
 ==========  ===================================================================================
 generated   built by a recipe of :mod:`cshape.variants` (PyMeshLab), seeded, cached on disk
@@ -97,8 +97,10 @@ MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
 #: Bumped whenever a recipe's output changes, so stale cache files are not reused.
 RECIPES_VERSION = 1
 
-_HERE = Path(__file__).resolve().parent
-_DEFAULT_MANIFEST = _HERE.parent / "data_manifest.yaml"
+#: The manifest shipped inside the package.  In a source checkout ``cshape/data_manifest.yaml``
+#: is a symbolic link to the top-level ``data_manifest.yaml`` (the one file to edit); the
+#: wheel stores the file itself (``[tool.setuptools.package-data]`` in pyproject.toml).
+_DEFAULT_MANIFEST = Path(__file__).resolve().parent / "data_manifest.yaml"
 
 
 # ====================================================================== records
@@ -439,7 +441,7 @@ def load_manifest(path=None) -> dict:
     ----------
     path : str, os.PathLike or dict, optional
         The YAML file; default ``$CSHAPE_MANIFEST`` or the ``data_manifest.yaml`` shipped
-        next to the package.  A dict is taken as an already parsed manifest.
+        inside the package.  A dict is taken as an already parsed manifest.
         The file's folder is recorded (key ``_root`` of each entry) to resolve relative
         ``local`` paths.
     """

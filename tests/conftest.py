@@ -3,8 +3,14 @@
 from __future__ import annotations
 
 import os
+import shutil
+import subprocess
+import sys
+import sysconfig
+from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
@@ -14,6 +20,26 @@ def shared_meshes_dir() -> Path:
     """The real-mesh folder: $CSHAPE_SHARED_MESHES, else ../shared/meshes beside the repo."""
     env = os.environ.get("CSHAPE_SHARED_MESHES")
     return Path(env) if env else REPO.parent / "shared" / "meshes"
+
+
+def save_mesh(path, mesh, *, binary=False) -> Path:
+    """Write ``mesh`` to ``path`` with PyMeshLab (format from the extension, e.g. ``.off``,
+    ``.ply``, ``.stl``, ``.obj``); ``name.off.gz`` writes ``name.off`` gzip-compressed."""
+    import gzip
+
+    import pymeshlab
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    plain = path.with_suffix("") if path.suffix.lower() == ".gz" else path
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces, np.int32)))
+    kw = {} if plain.suffix.lower() == ".obj" else {"binary": binary}
+    ms.save_current_mesh(str(plain), save_vertex_color=False, save_face_color=False, **kw)
+    if plain != path:
+        path.write_bytes(gzip.compress(plain.read_bytes()))
+        plain.unlink()
+    return path
 
 
 @pytest.fixture
@@ -37,3 +63,100 @@ def write_off(path, mesh):
     lines += [f"3 {a} {b} {c}" for a, b, c in mesh.faces]
     path.write_text("\n".join(lines) + "\n")
     return path
+
+
+# ------------------------------------------------------------------ the installed wheel
+_BUILD_IGNORE = shutil.ignore_patterns(
+    ".git", ".venv", "build", "dist", "out", "test-artifacts", "*.egg-info", "__pycache__",
+    ".pytest_cache", ".ruff_cache", ".hypothesis", ".ipynb_checkpoints", "benchmarks",
+)
+
+
+@dataclass
+class InstalledWheel:
+    """cshape built as a wheel and installed (not editable) into a fresh virtualenv.
+
+    Attributes
+    ----------
+    wheel : Path
+        The built ``cshape-*.whl``.
+    venv : Path
+        The virtualenv; its ``site-packages`` holds cshape, and a ``.pth`` file there points
+        at the test interpreter's own ``site-packages`` for the dependencies (numpy, scipy,
+        PyMeshLab, ...), which are therefore not downloaded.
+    bin : Path
+        The venv's script folder (``python``, ``cshape``).
+    workdir : Path
+        An empty folder outside the checkout, the working folder of :meth:`run`.
+    env : dict
+        The environment of :meth:`run`: the test's, without ``PYTHONPATH`` and friends (so
+        the checkout's cshape cannot leak in), with ``CSHAPE_CACHE`` in a temporary folder.
+    """
+
+    wheel: Path
+    venv: Path
+    bin: Path
+    workdir: Path
+    env: dict
+
+    @property
+    def python(self) -> Path:
+        return self.bin / ("python.exe" if os.name == "nt" else "python")
+
+    def run(self, *args, cwd=None, timeout=600) -> subprocess.CompletedProcess:
+        """Run a command of the venv (``"python"``, ``"cshape"``, ...) from :attr:`workdir`;
+        returns the completed process (text output captured, no check)."""
+        exe = self.bin / args[0]
+        cmd = [str(exe if exe.exists() else args[0]), *map(str, args[1:])]
+        return subprocess.run(cmd, cwd=cwd or self.workdir, env=self.env, capture_output=True,
+                              text=True, timeout=timeout)
+
+
+@pytest.fixture(scope="session")
+def installed_wheel_env(tmp_path_factory) -> InstalledWheel:
+    """Build cshape's wheel from this checkout and install it into a fresh virtualenv, offline.
+
+    Session-scoped (built once, about 15 s): any test that must see cshape as a user who ran
+    ``pip install cshape`` sees it takes this fixture and calls ``env.run("cshape", ...)`` or
+    ``env.run("python", "-c", ...)``.  The build copies the source tree to a temporary
+    folder (the checkout stays clean) and runs ``pip wheel --no-deps --no-build-isolation``
+    with the test interpreter's setuptools; the install is ``pip install --no-deps
+    --no-index``.  Asserts that the installed ``cshape`` is the venv's, not the checkout's.
+    """
+    root = tmp_path_factory.mktemp("wheel")
+    src, dist, venv, work = root / "src", root / "dist", root / "venv", root / "work"
+    shutil.copytree(REPO, src, symlinks=True, ignore=_BUILD_IGNORE)
+    work.mkdir()
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONPATH", "PYTHONHOME", "PYTHONSTARTUP", "VIRTUAL_ENV",
+                        "PYTHONUSERBASE", "CSHAPE_MANIFEST")}
+    env["CSHAPE_CACHE"] = str(root / "cache")
+    env["PIP_NO_INDEX"] = "1"
+    env["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
+
+    def call(*cmd):
+        r = subprocess.run([str(c) for c in cmd], cwd=work, env=env, capture_output=True,
+                           text=True, timeout=600)
+        assert r.returncode == 0, f"{' '.join(map(str, cmd))} failed:\n{r.stdout}\n{r.stderr}"
+        return r
+
+    call(sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
+         "--no-index", "-q", "-w", dist, src)
+    (wheel,) = dist.glob("cshape-*.whl")
+    call(sys.executable, "-m", "venv", "--without-pip", venv)
+    bindir = venv / ("Scripts" if os.name == "nt" else "bin")
+    py = bindir / ("python.exe" if os.name == "nt" else "python")
+    # install first, then point the venv at our dependencies: pip then sees no other cshape
+    call(sys.executable, "-m", "pip", "--python", py, "install", "--no-deps", "--no-index",
+         "-q", wheel)
+    venv_site = Path(call(py, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])")
+                     .stdout.strip())
+    ours = {sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]}
+    (venv_site / "_cshape_test_deps.pth").write_text("\n".join(sorted(ours)) + "\n")
+    installed = InstalledWheel(wheel, venv, bindir, work, env)
+    where = installed.run("python", "-c", "import cshape; print(cshape.__file__)")
+    assert where.returncode == 0, where.stderr
+    assert Path(where.stdout.strip()).resolve().is_relative_to(venv.resolve()), (
+        f"the venv imports cshape from {where.stdout.strip()}, not from its own site-packages"
+    )
+    return installed

@@ -1,0 +1,72 @@
+"""cshape as a user installs it: a built wheel in a fresh virtualenv, run from another folder.
+
+The wheel is built and installed once per session by the ``installed_wheel_env`` fixture
+(tests/conftest.py); nothing is downloaded.
+"""
+
+from __future__ import annotations
+
+import zipfile
+
+import numpy as np
+import pytest
+from conftest import REPO, save_mesh
+
+import cshape
+from cshape import data, shapes
+
+pytestmark = pytest.mark.slow
+
+
+def test_the_packaged_manifest_is_the_top_level_file():
+    """One file to edit: cshape/data_manifest.yaml links to the top-level manifest, and
+    the package reads it by default."""
+    packaged = REPO / "cshape" / "data_manifest.yaml"
+    top = REPO / "data_manifest.yaml"
+    assert packaged.is_symlink() and packaged.resolve() == top.resolve(), (
+        "cshape/data_manifest.yaml must be a symbolic link to ../data_manifest.yaml; "
+        "recreate it with: ln -sf ../data_manifest.yaml cshape/data_manifest.yaml"
+    )
+    assert data._DEFAULT_MANIFEST.read_bytes() == top.read_bytes()
+    assert list(data.load_manifest(data._DEFAULT_MANIFEST)) == list(data.load_manifest(top))
+    # relative 'local' paths still resolve against the repository, as before the move
+    entry = data.load_manifest(data._DEFAULT_MANIFEST)["shared-meshes"]
+    assert entry["_root"] == str(REPO.resolve())
+
+
+def test_wheel_ships_the_manifest_and_every_module(installed_wheel_env):
+    with zipfile.ZipFile(installed_wheel_env.wheel) as zf:
+        names = set(zf.namelist())
+        shipped = zf.read("cshape/data_manifest.yaml")
+    assert shipped == (REPO / "data_manifest.yaml").read_bytes()
+    modules = {f"cshape/{p.name}" for p in (REPO / "cshape").glob("*.py")}
+    assert modules <= names, f"missing from the wheel: {sorted(modules - names)}"
+
+
+def test_installed_cshape_data_list(installed_wheel_env):
+    """The issue's first failure: `cshape data list` from a pip-installed copy."""
+    r = installed_wheel_env.run("cshape", "data", "list")
+    assert r.returncode == 0, r.stderr
+    listed = [line.split()[0] for line in r.stdout.splitlines()[1:] if line.strip()]
+    assert listed == data.list_collections(REPO / "data_manifest.yaml")
+
+
+def test_installed_cshape_reads_a_folder_and_computes_shape_dna(installed_wheel_env, tmp_path):
+    """import cshape, load a mesh file and compute its Shape-DNA with the installed copy:
+    the unit sphere's first eigenvalues are 0 and 2 (x3); the clone gives the same numbers."""
+    path = save_mesh(tmp_path / "meshes" / "spheres" / "sphere.ply", shapes.icosphere(3),
+                     binary=True)
+    code = (
+        "import sys, cshape\n"
+        "c = cshape.data.load_folder(sys.argv[1])\n"
+        "lam = cshape.shape_dna(c.items[0].mesh, N=8)\n"
+        "print(c.items[0].label, *map(repr, lam.tolist()))\n"
+    )
+    r = installed_wheel_env.run("python", "-c", code, tmp_path / "meshes")
+    assert r.returncode == 0, r.stderr
+    label, *vals = r.stdout.split()
+    lam = np.array([float(v) for v in vals])
+    assert label == "spheres"
+    np.testing.assert_allclose(lam[:4], [0, 2, 2, 2], atol=0.02)
+    np.testing.assert_allclose(lam, cshape.shape_dna(cshape.load_mesh(path),
+                                                     N=8), rtol=1e-8, atol=1e-10)
