@@ -34,8 +34,8 @@ def save_mesh(path, mesh, *, binary=False) -> Path:
     plain = path.with_suffix("") if path.suffix.lower() == ".gz" else path
     ms = pymeshlab.MeshSet()
     ms.add_mesh(pymeshlab.Mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces, np.int32)))
-    kw = {} if plain.suffix.lower() == ".obj" else {"binary": binary}
-    ms.save_current_mesh(str(plain), save_vertex_color=False, save_face_color=False, **kw)
+    kw = {"binary": binary} if plain.suffix.lower() in (".ply", ".stl") else {}
+    ms.save_current_mesh(str(plain), **kw)
     if plain != path:
         path.write_bytes(gzip.compress(plain.read_bytes()))
         plain.unlink()

@@ -70,3 +70,22 @@ def test_installed_cshape_reads_a_folder_and_computes_shape_dna(installed_wheel_
     np.testing.assert_allclose(lam[:4], [0, 2, 2, 2], atol=0.02)
     np.testing.assert_allclose(lam, cshape.shape_dna(cshape.load_mesh(path),
                                                      N=8), rtol=1e-8, atol=1e-10)
+
+
+def test_installed_cshape_describe_on_a_folder(installed_wheel_env, tmp_path):
+    """`cshape describe FOLDER --out table.csv` (the issue's contract) with the installed copy:
+    labels from the sub-folders, the eigenvalues of the clone."""
+    folder = tmp_path / "meshes"
+    paths = [save_mesh(folder / "round" / "sphere.off", shapes.icosphere(2)),
+             save_mesh(folder / "ring" / "torus.ply", shapes.torus(24, 12), binary=True)]
+    out = tmp_path / "table.csv"
+    r = installed_wheel_env.run("cshape", "describe", folder, "-N", 12, "-M", 3, "--out", out,
+                                "-q")
+    assert r.returncode == 0, r.stderr
+    table = cshape.DescriptorTable.load(out)
+    assert sorted(zip(table.labels, table.names, strict=True))[0][0] == "ring"
+    assert sorted(table.labels) == ["ring", "round"]
+    for path in paths:
+        i = table.labels.index(path.parent.name)
+        np.testing.assert_allclose(table.lam[i], cshape.shape_dna(cshape.load_mesh(path), N=12),
+                                   rtol=1e-8, atol=1e-10)
