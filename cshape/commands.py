@@ -173,15 +173,12 @@ def _cmd_describe(args) -> int:
                               "`pip install cshape[distributed]`") from None
     records = collect_mesh_files(args.paths)
     t0 = time.perf_counter()
-    kwargs = {}
-    if args.transform is not None:
-        kwargs["transform"] = args.transform
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         table = describe(
             records, N=args.N, M=args.M, bc=args.bc, n_jobs=args.jobs, client=args.dask,
             cache_dir=False if args.no_cache else args.cache_dir, progress=_progress(args),
-            on_error="warn", **kwargs,
+            on_error="warn",
         )
     seconds = time.perf_counter() - t0
     # describe's own summary of the failures is replaced by the list below
@@ -235,8 +232,6 @@ def _add_describe(sub):
     p.add_argument("-N", type=int, default=100, help="Shape-DNA length N (default 100)")
     p.add_argument("-M", type=int, default=16,
                    help="cShape-DNA half-width M: 2M+1 values (default 16)")
-    p.add_argument("--transform", default=None,
-                   help="transform of the descriptors (see cshape.describe's transform=)")
     p.add_argument("--bc", default="neumann", choices=("neumann", "dirichlet"),
                    help="boundary condition on open surfaces (default neumann)")
     p.add_argument("--jobs", type=int, default=1,

@@ -39,6 +39,7 @@ is an error, never a silently different mesh.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import csv
 import errno
@@ -1222,7 +1223,18 @@ def fetch(name, *, items=None, cache_dir=None, progress=True, manifest=None) -> 
     ImportError
         If pooch is not installed (``pip install cshape[download]``).
     ValueError
-        If the collection is not downloadable (a benchmark fetched by hand, or another kind).
+        If the collection is not downloadable (a benchmark fetched by hand, or another
+        kind), or a downloaded file differs from the manifest's sha256.
+    ConnectionError
+        If the server cannot be reached (offline, refused, name not resolved, timeout).
+    OSError
+        If the server answers with an HTTP error, or the file cannot be written.
+
+    Notes
+    -----
+    A failed download keeps the files fetched and checked before it, removes its temporary
+    file and the folders it created and left empty; the message names the item, the URL
+    and the cause on one line.
     """
     entries = load_manifest(manifest)
     entry = _entry(name, entries)
@@ -1242,14 +1254,71 @@ def fetch(name, *, items=None, cache_dir=None, progress=True, manifest=None) -> 
         ) from None
     wanted = entry["items"] if items is None else [_find_item(entry, i) for i in items]
     out = []
-    for it in wanted:
-        dest = folder / it["file"]
-        got = pooch.retrieve(
-            url=it["url"], known_hash=f"sha256:{it['sha256']}", fname=dest.name,
-            path=dest.parent, progressbar=progress,
-        )
-        out.append(Path(got))
+    logger = pooch.get_logger()
+    level = logger.level
+    logger.setLevel("WARNING")  # the progress bar says what is downloaded
+    try:
+        with _removing_new_folders(folder):
+            for it in wanted:
+                dest = folder / it["file"]
+                try:
+                    got = pooch.retrieve(
+                        url=it["url"], known_hash=f"sha256:{it['sha256']}", fname=dest.name,
+                        path=dest.parent, progressbar=progress,
+                    )
+                except Exception as exc:  # noqa: BLE001 - requests', pooch's and OS errors
+                    raise _download_error(exc, name, it) from None
+                out.append(Path(got))
+    finally:
+        logger.setLevel(level)
     return out
+
+
+def _download_error(exc, collection, item) -> Exception:
+    """One clear error for a failed download: ConnectionError, ValueError or OSError."""
+    text = " ".join(str(exc).split())
+    where = f"cannot download {collection}/{item['name']} from {item['url']}"
+    again = f"run `cshape data build {collection}` again"
+    reason = re.search(r"\[Errno -?\d+\] ([^'\")\]]+)", text)
+    name = type(exc).__name__
+    module = type(exc).__module__.split(".")[0]
+    if "hash" in text.lower() and isinstance(exc, ValueError):
+        return ValueError(
+            f"{where}: the file received differs from the manifest's sha256 (the file on the "
+            f"server changed, or the download was altered); nothing was kept. {text}"
+        )
+    if module in ("requests", "urllib3", "socket", "ssl") or isinstance(exc, OSError):
+        status = getattr(getattr(exc, "response", None), "status_code", None)
+        if status is not None:
+            why = f"the server answered HTTP {status}"
+        elif reason:
+            why = f"{reason.group(1).strip()} ({name})"
+        else:
+            why = f"{name}: {text[:200]}"
+        cls = ConnectionError if status is None else OSError
+        return cls(f"{where}: {why}; check the network connection (or proxy) and {again}")
+    return OSError(f"{where}: {name}: {text[:300]}; {again}")
+
+
+@contextlib.contextmanager
+def _removing_new_folders(folder):
+    """On an error, remove the folders at and below ``folder`` this block created and left
+    empty (and the parents of ``folder`` it created), so a failed download or build leaves
+    the disk as it found it, apart from complete, checked files."""
+    folder = Path(folder)
+    parents = [q for q in [folder, *folder.parents] if not q.exists()]
+    before = {q for q in folder.rglob("*") if q.is_dir()} if folder.is_dir() else set()
+    try:
+        yield
+    except BaseException:
+        new = [q for q in folder.rglob("*") if q.is_dir() and q not in before] \
+            if folder.is_dir() else []
+        for q in sorted(new, key=lambda q: len(q.parts), reverse=True) + parents:
+            try:
+                q.rmdir()  # only empty folders go
+            except OSError:
+                pass
+        raise
 
 
 def build(name, *, cache_dir=None, progress=None, archive=None, manifest=None) -> Path:
@@ -1262,16 +1331,18 @@ def build(name, *, cache_dir=None, progress=None, archive=None, manifest=None) -
     entries = load_manifest(manifest)
     entry = _entry(name, entries)
     folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
-    if archive is not None:
-        if entry["kind"] != "download":
-            raise ValueError(f"archive= is only for download collections, not {entry['kind']!r}")
-        extract_archive(archive, folder)
-    if entry["kind"] == "download" and "items" in entry:
-        fetch(name, cache_dir=cache_dir, progress=bool(progress is not False), manifest=entries)
-    coll = load_collection(name, cache_dir=cache_dir, progress=progress, manifest=entries)
-    if entry["kind"] != "generated":
-        for it in coll:
-            it.mesh  # noqa: B018 - read every file once, so a broken one shows now
+    if archive is not None and entry["kind"] != "download":
+        raise ValueError(f"archive= is only for download collections, not {entry['kind']!r}")
+    with _removing_new_folders(folder):
+        if archive is not None:
+            extract_archive(archive, folder)
+        if entry["kind"] == "download" and "items" in entry:
+            fetch(name, cache_dir=cache_dir, progress=bool(progress is not False),
+                  manifest=entries)
+        coll = load_collection(name, cache_dir=cache_dir, progress=progress, manifest=entries)
+        if entry["kind"] != "generated":
+            for it in coll:
+                it.mesh  # noqa: B018 - read every file once, so a broken one shows now
     return folder
 
 

@@ -167,3 +167,25 @@ def test_query_by_name_and_by_mesh_file(table_file, folder, tmp_path):
 
     res = cli("query", table_file, "smal")
     assert_one_line_error(res, "names containing it: ['small']")
+
+
+def test_offline_download_ends_in_one_line_and_leaves_no_folder(tmp_path):
+    """`cshape data build` of a download collection whose server refuses the connection."""
+    import socket
+
+    import yaml
+
+    entry = cshape.data.info("odedstein-meshes")
+    with socket.socket() as s:  # a local port nobody listens on once closed
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    entry["items"] = [{**it, "url": f"https://127.0.0.1:{port}/{it['file']}"}
+                      for it in entry["items"][:2]]
+    manifest = tmp_path / "manifest.yaml"
+    manifest.write_text(yaml.safe_dump({"version": 1, "collections": [entry]}))
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    res = cli("data", "build", "odedstein-meshes", "--manifest", manifest, "--cache-dir", cache)
+    assert_one_line_error(res, "cannot download odedstein-meshes/cube from https://127.0.0.1")
+    assert "Connection refused" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+    assert list(cache.iterdir()) == []  # no empty downloads/odedstein-meshes/cube/ left
