@@ -45,6 +45,7 @@ import numpy as np
 
 from ._checks import check_choice
 from .compare import descriptor_matrix, distance_matrix
+from .descriptors import TRANSFORMS
 from .mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
 from .readers import load_mesh
 from .spectrum import shape_dna
@@ -74,6 +75,10 @@ class DescriptorTable:
         Class labels; ``''`` where unknown (the default).
     M : int, default=16
         Default crop half-width of the cShape-DNA for :meth:`descriptors`.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        Default transform of the cShape-DNA for :meth:`descriptors` (see
+        :func:`cshape.compact_shape_dna`; ``'weyl'`` is the paper's).  Saved with the table;
+        files written before it existed load as ``'weyl'``.
     bc, mass : str
         How the eigenvalues were computed (see :func:`cshape.shape_dna`).
     seconds : array_like, shape (p,), optional
@@ -91,7 +96,7 @@ class DescriptorTable:
     """
 
     def __init__(self, names, lam, areas, labels=None, *, M=16, bc="neumann",
-                 mass="consistent", seconds=None, cached=None, failures=()):
+                 mass="consistent", seconds=None, cached=None, failures=(), transform="weyl"):
         self.names = [str(n) for n in names]
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
@@ -108,6 +113,7 @@ class DescriptorTable:
         if len(self.labels) != p:
             raise ValueError(f"labels has {len(self.labels)} entries for {p} names")
         self.M = int(M)
+        self.transform = check_choice("transform", transform, TRANSFORMS)
         self.bc = str(bc)
         self.mass = str(mass)
         self.seconds = (np.full(p, np.nan) if seconds is None
@@ -127,7 +133,8 @@ class DescriptorTable:
     def __repr__(self) -> str:
         nlab = len({x for x in self.labels if x})
         fails = f", {len(self.failures)} failed" if self.failures else ""
-        return (f"DescriptorTable({len(self)} shapes, N={self.N}, M={self.M}, "
+        tr = "" if self.transform == "weyl" else f", transform={self.transform!r}"
+        return (f"DescriptorTable({len(self)} shapes, N={self.N}, M={self.M}{tr}, "
                 f"{nlab} classes{fails})")
 
     def index(self, name) -> int:
@@ -148,19 +155,24 @@ class DescriptorTable:
         return DescriptorTable(
             [self.names[i] for i in idx], self.lam[idx], self.areas[idx],
             [self.labels[i] for i in idx], M=self.M, bc=self.bc, mass=self.mass,
-            seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures)
+            seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures,
+            transform=self.transform)
 
     # ------------------------------------------------------------------ descriptors
-    def descriptors(self, kind="cshape", M=None, N=None, **kwargs) -> np.ndarray:
+    def descriptors(self, kind="cshape", M=None, N=None, *, transform=None,
+                    **kwargs) -> np.ndarray:
         """Descriptor matrix, one row per shape; see :func:`cshape.compare.descriptor_matrix`.
 
         Parameters
         ----------
-        kind : {'shape_dna', 'truncated', 'cshape', 'cshape_complex', 'f1'}, default='cshape'
+        kind : {'shape_dna', 'truncated', 'cshape', 'cshape_complex', 'f1', 'truncated_log'}
+            Default 'cshape'.
         M : int, optional
             Default: the table's ``M``.
         N : int, optional
             Default: the table's ``N``; a smaller ``N`` uses the first ``N`` eigenvalues.
+        transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
+            Default: the table's ``transform`` (used by the 'cshape' kinds).
 
         Returns
         -------
@@ -168,11 +180,14 @@ class DescriptorTable:
         """
         return descriptor_matrix(self.lam, self.areas, kind=kind,
                                  M=self.M if M is None else M,
-                                 N=self.N if N is None else N, **kwargs)
+                                 N=self.N if N is None else N,
+                                 transform=self.transform if transform is None else transform,
+                                 **kwargs)
 
-    def distance_matrix(self, kind="cshape", M=None, N=None, **kwargs) -> np.ndarray:
+    def distance_matrix(self, kind="cshape", M=None, N=None, *, transform=None,
+                        **kwargs) -> np.ndarray:
         """Euclidean distance matrix (p, p) of :meth:`descriptors`."""
-        return distance_matrix(self.descriptors(kind, M=M, N=N, **kwargs))
+        return distance_matrix(self.descriptors(kind, M=M, N=N, transform=transform, **kwargs))
 
     @property
     def shape_dna(self) -> np.ndarray:
@@ -181,7 +196,7 @@ class DescriptorTable:
 
     @property
     def cshape(self) -> np.ndarray:
-        """cShape-DNA with the table's ``M``, real form, shape (p, 2M+1)."""
+        """cShape-DNA with the table's ``M`` and ``transform``, real form, shape (p, 2M+1)."""
         return self.descriptors("cshape")
 
     @property
@@ -192,7 +207,7 @@ class DescriptorTable:
     # ------------------------------------------------------------------ persistence
     def _meta(self) -> dict:
         return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": self.N,
-                "M": self.M, "bc": self.bc, "mass": self.mass,
+                "M": self.M, "transform": self.transform, "bc": self.bc, "mass": self.mass,
                 "failures": [list(f) for f in self.failures]}
 
     def save(self, path) -> Path:
@@ -278,7 +293,8 @@ class DescriptorTable:
                 return cls(z["names"].tolist(), lam, z["areas"], z["labels"].tolist(),
                            M=meta["M"], bc=meta["bc"], mass=meta["mass"],
                            seconds=z["seconds"], cached=z["cached"],
-                           failures=meta["failures"])
+                           failures=meta["failures"],
+                           transform=meta.get("transform", "weyl"))
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
             prefix = f"# {_FORMAT} "
@@ -293,7 +309,7 @@ class DescriptorTable:
         return cls([r[0] for r in body], lam, [float(r[2]) for r in body],
                    [r[1] for r in body], M=meta["M"], bc=meta["bc"], mass=meta["mass"],
                    seconds=[float(r[3]) for r in body], cached=[r[4] == "1" for r in body],
-                   failures=meta["failures"])
+                   failures=meta["failures"], transform=meta.get("transform", "weyl"))
 
 
 def _fmt(x) -> str:
@@ -582,7 +598,7 @@ def _records(collection):
 # =========================================================================== describe
 def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_dir=None,
              n_jobs=1, client=None, blas_threads=1, progress=True,
-             on_error="warn") -> DescriptorTable:
+             on_error="warn", transform="weyl") -> DescriptorTable:
     """Eigenvalues and descriptors of every mesh of a collection: cached, resumable, parallel.
 
     Parameters
@@ -603,7 +619,8 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         Number of eigenvalues per shape (Shape-DNA length).
     M : int, default=16
         Default cShape-DNA half-width of the returned table (any ``M <= (N-1)//2`` can be
-        asked of it later without recomputing).
+        asked of it later without recomputing; ``M <= (N-2)//2`` for the log-Weyl
+        transforms).
     bc : {'neumann', 'dirichlet'}, default='neumann'
     mass : {'consistent', 'lumped'}, default='consistent'
     cache_dir : str, os.PathLike, None or False, default=None
@@ -632,6 +649,10 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         ``'warn'``: a mesh that fails (unreadable file, too few vertices for ``N``, ...) is
         skipped, listed in ``table.failures`` and reported in one warning at the end.
         ``'raise'``: stop at the first failure with a ``RuntimeError``.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        Default cShape-DNA transform of the returned table (see
+        :func:`cshape.compact_shape_dna`); like ``M`` it does not change the eigenvalues or
+        the cache, and any transform can be asked of the table later.
 
     Returns
     -------
@@ -666,8 +687,12 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
     """
     N = _check_pos_int(N, "N")
     M = _check_pos_int(M, "M", lo=0)
+    transform = check_choice("transform", transform, TRANSFORMS)
     if 2 * M + 1 > N:
         raise ValueError(f"M={M} needs 2M+1 = {2 * M + 1} <= N = {N}; use M <= {(N - 1) // 2}")
+    if transform != "weyl" and 2 * M + 1 > N - 1:
+        raise ValueError(f"M={M} with transform={transform!r} needs 2M+1 = {2 * M + 1} <= N-1 "
+                         f"= {N - 1} (lam_0 has no logarithm); use M <= {(N - 2) // 2}")
     bc = check_choice("bc", bc, ("neumann", "dirichlet"))
     mass = check_choice("mass", mass, ("consistent", "lumped"))
     n_jobs = _check_n_jobs(n_jobs)
@@ -768,7 +793,7 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         [results[i]["area"] for i in ok],
         [records[i][1] for i in ok], M=M, bc=bc, mass=mass,
         seconds=[results[i]["seconds"] for i in ok],
-        cached=[results[i]["cached"] for i in ok], failures=fail_list)
+        cached=[results[i]["cached"] for i in ok], failures=fail_list, transform=transform)
 
 
 def _check_pos_int(value, name, lo=1):

@@ -2,7 +2,9 @@
 
 * :func:`descriptor_matrix`  - one descriptor per row, for the four kinds the paper compares:
                                normalised Shape-DNA (``N`` values), truncated Shape-DNA
-                               (first ``2M+1`` values), cShape-DNA (``2M+1`` reals) and F1;
+                               (first ``2M+1`` values), cShape-DNA (``2M+1`` reals, with any
+                               ``transform`` of :func:`cshape.compact_shape_dna`) and F1, and
+                               the truncated log-Weyl ratio (beyond the paper);
 * :func:`distance_matrix`    - Euclidean distances between rows (Section 3.1);
 * :func:`scale_255`          - a distance matrix scaled to ``[0, 255]`` (Fig. 3 a-b);
 * :func:`difference_matrix`, :func:`scaled_difference` - the absolute difference of two scaled
@@ -24,7 +26,14 @@ import numbers
 import numpy as np
 
 from ._checks import check_choice
-from .descriptors import compact_shape_dna, f1_feature, normalize, real_form
+from .descriptors import (
+    TRANSFORMS,
+    compact_shape_dna,
+    f1_feature,
+    log_weyl_ratio,
+    normalize,
+    real_form,
+)
 
 __all__ = [
     "DESCRIPTOR_KINDS",
@@ -43,7 +52,7 @@ __all__ = [
 ]
 
 #: The descriptor kinds of :func:`descriptor_matrix`.
-DESCRIPTOR_KINDS = ("shape_dna", "truncated", "cshape", "cshape_complex", "f1")
+DESCRIPTOR_KINDS = ("shape_dna", "truncated", "cshape", "cshape_complex", "f1", "truncated_log")
 
 #: The E-measure of the Princeton Shape Benchmark looks at the first 32 results.
 E_MEASURE_DEPTH = 32
@@ -130,20 +139,20 @@ def descriptor_size(kind, M=16, N=100) -> int:
 
     Parameters
     ----------
-    kind : {'shape_dna', 'truncated', 'cshape', 'cshape_complex', 'f1'}
+    kind : {'shape_dna', 'truncated', 'cshape', 'cshape_complex', 'f1', 'truncated_log'}
     M, N : int
         See :func:`descriptor_matrix`.
 
     Returns
     -------
     int
-        ``N`` for 'shape_dna', ``2M+1`` for 'truncated', 'cshape' and 'cshape_complex'
-        (complex numbers counted once, as the paper does), ``N - 2`` for 'f1' (a connected
-        mesh, one zero eigenvalue).
+        ``N`` for 'shape_dna', ``2M+1`` for 'truncated', 'truncated_log', 'cshape' and
+        'cshape_complex' (complex numbers counted once, as the paper does; the same for
+        every transform), ``N - 2`` for 'f1' (a connected mesh, one zero eigenvalue).
     """
     kind = _check_kind(kind)
     return {"shape_dna": N, "truncated": 2 * M + 1, "cshape": 2 * M + 1,
-            "cshape_complex": 2 * M + 1, "f1": N - 2}[kind]
+            "cshape_complex": 2 * M + 1, "f1": N - 2, "truncated_log": 2 * M + 1}[kind]
 
 
 def _check_kind(kind):
@@ -156,10 +165,11 @@ def _check_int(value, name, lo):
     return int(value)
 
 
-def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area"):
+def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
+                      transform="weyl"):
     """Descriptors of many shapes from their eigenvalues, one row per shape.
 
-    The four descriptors of the paper's Section 3.1:
+    The four descriptors of the paper's Section 3.1, and one beyond it:
 
     ============== ============ =========================================================
     kind           row length   definition
@@ -167,10 +177,17 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
     'shape_dna'    N            normalised Shape-DNA: ``lam[:N] * area`` (Section 2.1)
     'truncated'    2M+1         the first ``2M+1`` values of the normalised Shape-DNA
                                 (Fig. 5 a-e: "the first 33, 17, 9, 5 and 3 eigenvalues")
-    'cshape'       2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10) in its real form
-                                (:func:`cshape.real_form`: same Euclidean distances)
-    'cshape_complex' 2M+1       the complex cShape-DNA of Eq. (10)
+    'cshape'       2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10, or the ``transform``
+                                given) in its real form (:func:`cshape.real_form`: same
+                                Euclidean distances)
+    'cshape_complex' 2M+1       the cShape-DNA as :func:`cshape.compact_shape_dna` returns
+                                it (complex for the DFT transforms, real for the DCT)
     'f1'           N-2          F1 feature ``lam_1 / lam_i`` of ``lam[:N]`` (Fig. 5f)
+    'truncated_log' 2M+1        the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
+                                (:func:`cshape.log_weyl_ratio`; needs ``2M+2`` eigenvalues).
+                                Its distances equal those of the truncated *log spectrum*
+                                ``log lam_1^norm .. log lam_{2M+1}^norm``: ``log 4 pi i``
+                                is the same for every shape
     ============== ============ =========================================================
 
     Parameters
@@ -189,11 +206,15 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
         Shape-DNA length for 'shape_dna', 'cshape' and 'f1'.
     normalization : {'area', 'fiedler', 'weyl'}, default='area'
         See :func:`cshape.normalize`.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        The transform of the 'cshape' and 'cshape_complex' kinds (see
+        :func:`cshape.compact_shape_dna`); the other kinds do not use it.
 
     Returns
     -------
     X : ndarray, shape (p, d)
-        float64, or complex128 for 'cshape_complex'; ``d`` as in the table.
+        float64, or complex128 for 'cshape_complex' with a DFT transform; ``d`` as in the
+        table.
 
     Raises
     ------
@@ -202,6 +223,7 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
         or F1 rows of different lengths (a mesh with several zero eigenvalues).
     """
     kind = _check_kind(kind)
+    transform = check_choice("transform", transform, TRANSFORMS)
     M = _check_int(M, "M", 0)
     N = _check_int(N, "N", 1)
     if isinstance(lams, np.ndarray) and lams.ndim == 2:
@@ -216,12 +238,16 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
     p = len(rows)
     if p == 0:
         raise ValueError("lams is empty; it needs the eigenvalues of at least one shape")
-    need = 2 * M + 1 if kind == "truncated" else N
-    if kind in ("cshape", "cshape_complex") and 2 * M + 1 > N:
-        raise ValueError(
-            f"2M+1 = {2 * M + 1} values cannot be kept from N = {N} eigenvalues; "
-            f"use M <= {(N - 1) // 2} or a larger N"
-        )
+    need = {"truncated": 2 * M + 1, "truncated_log": 2 * M + 2}.get(kind, N)
+    if kind in ("cshape", "cshape_complex"):
+        L = N if transform == "weyl" else N - 1  # lam_0 has no logarithm
+        if 2 * M + 1 > L:
+            raise ValueError(
+                f"2M+1 = {2 * M + 1} values cannot be kept from "
+                + (f"N = {N} eigenvalues" if transform == "weyl"
+                   else f"the N-1 = {L} log-Weyl ratios of transform={transform!r}")
+                + f"; use M <= {(L - 1) // 2} or a larger N"
+            )
     for i, r in enumerate(rows):
         if r.ndim != 1 or len(r) < need:
             raise ValueError(
@@ -248,9 +274,12 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
             out.append(normalize(r[:N], area=area, method=normalization))
         elif kind == "truncated":
             out.append(normalize(r[: 2 * M + 1], area=area, method=normalization))
+        elif kind == "truncated_log":
+            out.append(log_weyl_ratio(normalize(r[: 2 * M + 2], area=area,
+                                                method=normalization)))
         elif kind in ("cshape", "cshape_complex"):
             lam_norm = normalize(r[:N], area=area, method=normalization)
-            S = compact_shape_dna(lam_norm, M=M, N=N, normalized=True)
+            S = compact_shape_dna(lam_norm, M=M, N=N, normalized=True, transform=transform)
             out.append(S if kind == "cshape_complex" else real_form(S))
         else:
             out.append(f1_feature(r[:N]))
@@ -675,6 +704,10 @@ class DescriptorIndex:
         The stored (real) database.
     nn_ : sklearn.neighbors.NearestNeighbors
         The fitted index.
+    recipe_ : dict or None
+        How the rows were made from eigenvalues (``kind``, ``M``, ``N``, ``normalization``,
+        ``transform``), when built with :meth:`from_table`; :meth:`query_spectra` describes
+        queries with the same recipe, so a query can never use another transform.
 
     Examples
     --------
@@ -696,6 +729,70 @@ class DescriptorIndex:
         if len(self.X_) == 0:
             raise ValueError("X is empty; the index needs at least one descriptor")
         self.nn_ = NearestNeighbors(algorithm=algorithm, n_jobs=n_jobs).fit(self.X_)
+        self.recipe_ = None
+
+    @classmethod
+    def from_table(cls, table, kind="cshape", M=None, N=None, *, transform=None,
+                   normalization="area", algorithm="auto", n_jobs=None):
+        """An index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
+
+        Parameters
+        ----------
+        table : DescriptorTable
+        kind : str, default='cshape'
+            See :func:`descriptor_matrix`.
+        M, N : int, optional
+            Default: the table's.
+        transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
+            Default: the table's ``transform`` (see :func:`cshape.compact_shape_dna`).
+        normalization : {'area', 'fiedler', 'weyl'}, default='area'
+        algorithm, n_jobs
+            As for the constructor.
+
+        Returns
+        -------
+        DescriptorIndex
+            With :attr:`recipe_` set, for :meth:`query_spectra`.
+        """
+        recipe = {"kind": _check_kind(kind), "M": table.M if M is None else M,
+                  "N": table.N if N is None else N, "normalization": normalization,
+                  "transform": table.transform if transform is None else transform}
+        X = descriptor_matrix(table.lam, table.areas, **recipe)
+        index = cls(X, algorithm=algorithm, n_jobs=n_jobs)
+        index.recipe_ = recipe
+        return index
+
+    def query_spectra(self, lams, areas=None, k=1):
+        """Nearest database rows of shapes given by their eigenvalues.
+
+        The queries are described exactly as the database was (:attr:`recipe_`: kind,
+        ``M``, ``N``, normalisation and transform).
+
+        Parameters
+        ----------
+        lams : array_like, shape (q, n) or (n,)
+            Ascending eigenvalues of each query shape, ``n >= N``.
+        areas : array_like, shape (q,) or float, optional
+            Surface areas (needed by the area normalisation).
+        k : int, default=1
+
+        Returns
+        -------
+        dist, ind : ndarray, shape (q, k)
+            As for :meth:`query`.
+        """
+        if self.recipe_ is None:
+            raise ValueError(
+                "this index does not know how its descriptors were made; build it with "
+                "DescriptorIndex.from_table(table, ...) to query by eigenvalues, or pass "
+                "descriptors to query()"
+            )
+        L = np.asarray(lams, dtype=np.float64)
+        if L.ndim == 1:
+            L = L[None, :]
+        a = None if areas is None else np.atleast_1d(np.asarray(areas, dtype=np.float64))
+        Y = descriptor_matrix(L, a, **self.recipe_)
+        return self.query(Y, k=k)
 
     def __len__(self):
         return len(self.X_)

@@ -391,3 +391,45 @@ def test_unchanged_files_are_found_in_the_cache_without_reading_them(tmp_path):
     new = run([p], cache_dir=tmp_path / "c")
     assert not new.cached.any()
     assert new.areas[0] == pytest.approx(first.areas[0] / 4, rel=1e-5)
+# ------------------------------------------------------------------ the transform of the table
+@pytest.mark.parametrize("suffix", [".npz", ".csv"])
+def test_table_transform_is_saved_and_old_files_load_as_weyl(tmp_path, reference, suffix):
+    t = DescriptorTable(reference.names, reference.lam, reference.areas, reference.labels,
+                        M=3, transform="LOG-WEYL")
+    assert t.transform == "log-weyl" and "transform='log-weyl'" in repr(t)
+    np.testing.assert_array_equal(t.cshape, t.descriptors("cshape", transform="log-weyl"))
+    assert not np.allclose(t.cshape, t.descriptors("cshape", transform="weyl"))
+    np.testing.assert_array_equal(t.select([2, 0]).cshape, t.cshape[[2, 0]])
+    back = DescriptorTable.load(t.save(tmp_path / f"t{suffix}"))
+    assert back.transform == "log-weyl"
+    np.testing.assert_array_equal(back.distance_matrix(), t.distance_matrix())
+    # a file written before the field existed: same content, no "transform" in the metadata
+    old = tmp_path / f"old{suffix}"
+    reference.save(old)
+    if suffix == ".csv":
+        head, rest = old.read_text().split("\n", 1)
+        meta = json.loads(head.split(" ", 2)[2])
+        del meta["transform"]
+        old.write_text(f"# cshape-descriptor-table {json.dumps(meta)}\n{rest}")
+    else:
+        with np.load(old) as z:
+            arrays = dict(z)
+        meta = json.loads(str(arrays["meta"]))
+        del meta["transform"]
+        arrays["meta"] = np.array(json.dumps(meta))
+        np.savez(old, **arrays)
+    loaded = DescriptorTable.load(old)
+    assert loaded.transform == "weyl"
+    np.testing.assert_array_equal(loaded.cshape, reference.cshape)
+
+
+def test_describe_transform(reference):
+    t = run(small_collection()[:2], cache_dir=False, transform="log-weyl-dct", M=3)
+    assert t.transform == "log-weyl-dct" and t.cshape.shape == (2, 7)
+    np.testing.assert_array_equal(t.lam, reference.lam[:2])
+    with pytest.raises(ValueError, match=r"transform must be one of"):
+        run(small_collection()[:1], cache_dir=False, transform="log")
+    with pytest.raises(ValueError, match=r"needs 2M\+1 = 21 <= N-1 = 20.*use M <= 9"):
+        run(small_collection()[:1], cache_dir=False, transform="log-weyl", M=10, N=21)
+    with pytest.raises(ValueError, match="transform must be one of"):
+        DescriptorTable(["a"], np.ones((1, 3)), [1.0], transform="fft")

@@ -350,3 +350,59 @@ def test_descriptor_index_rejects():
         index.query(np.zeros((1, 2)), k=1)
     with pytest.raises(ValueError, match=r"Y contains NaN"):
         index.query(np.full((1, 3), np.nan), k=1)
+
+
+# ------------------------------------------------------------------ transforms beyond the paper
+@pytest.mark.parametrize("transform", ["weyl", "log-weyl", "log-weyl-dct"])
+def test_descriptor_matrix_transforms(spectra, transform):
+    lams, areas = spectra
+    X = descriptor_matrix(lams, areas, "cshape", M=4, N=30, transform=transform)
+    Xc = descriptor_matrix(lams, areas, "cshape_complex", M=4, N=30, transform=transform)
+    assert X.shape == Xc.shape == (3, 9) and X.dtype == np.float64
+    for i in range(3):
+        np.testing.assert_array_equal(
+            X[i], compact_shape_dna_real(lams[i], M=4, N=30, area=areas[i], transform=transform))
+    np.testing.assert_allclose(distance_matrix(X), distance_matrix(Xc), rtol=1e-12, atol=1e-12)
+    # the sequence kinds do not use the transform
+    np.testing.assert_array_equal(
+        descriptor_matrix(lams, areas, "truncated", M=4, N=30, transform=transform),
+        descriptor_matrix(lams, areas, "truncated", M=4, N=30))
+
+
+def test_truncated_log_is_the_truncated_log_spectrum(spectra):
+    lams, areas = spectra
+    X = descriptor_matrix(lams, areas, "truncated_log", M=4, N=30)
+    assert X.shape == (3, 9)
+    for i in range(3):  # r_1 .. r_9 = log(lam_i A / (4 pi i))
+        np.testing.assert_allclose(
+            X[i], np.log(lams[i, 1:10] * areas[i] / (4 * np.pi * np.arange(1, 10))), rtol=1e-13)
+    logs = np.log(lams[:, 1:10] * areas[:, None])
+    np.testing.assert_allclose(distance_matrix(X), distance_matrix(logs), atol=1e-12)
+    with pytest.raises(ValueError, match=r"needs at least 10 eigenvalues"):
+        descriptor_matrix(lams[:, :9], areas, "truncated_log", M=4, N=9)
+
+
+def test_descriptor_matrix_transform_errors(spectra):
+    lams, areas = spectra
+    with pytest.raises(ValueError, match=r"transform must be one of"):
+        descriptor_matrix(lams, areas, "cshape", M=4, N=30, transform="dct")
+    with pytest.raises(ValueError, match=r"N-1 = 29 log-Weyl ratios.*use M <= 14"):
+        descriptor_matrix(lams, areas, "cshape", M=15, N=30, transform="log-weyl")
+    assert descriptor_matrix(lams, areas, "cshape", M=14, N=30, transform="log-weyl").shape \
+        == (3, 29)
+
+
+def test_index_from_table_queries_spectra_with_the_tables_transform(spectra):
+    from cshape import DescriptorTable
+
+    lams, areas = spectra
+    table = DescriptorTable(["a", "b", "c"], lams, areas, M=4, transform="log-weyl-dct")
+    index = DescriptorIndex.from_table(table)
+    assert index.recipe_["transform"] == "log-weyl-dct" and index.recipe_["M"] == 4
+    np.testing.assert_array_equal(index.X_, table.descriptors("cshape"))
+    dist, ind = index.query_spectra(lams[2] * 2.0, areas[2] / 2.0, k=2)  # same normalised lam
+    assert ind[0, 0] == 2 and dist[0, 0] < 1e-12
+    other = DescriptorIndex.from_table(table, transform="weyl", M=2)
+    np.testing.assert_allclose(other.X_, descriptor_matrix(lams, areas, "cshape", M=2, N=30))
+    with pytest.raises(ValueError, match="build it with DescriptorIndex.from_table"):
+        DescriptorIndex(index.X_).query_spectra(lams, areas)
