@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ._checks import check_choice
-from .mesh import CShapeWarning, _row_norms, as_mesh, repair_mesh
+from .mesh import CShapeWarning, as_mesh, repair_mesh
 
 __all__ = ["fem_matrices", "FEM", "assemble"]
 
@@ -85,24 +85,65 @@ class FEM:
         return out
 
 
-def _edge_lengths(V, F):
-    """Lengths (m, 3): column c is the length of the edge opposite corner c."""
-    return np.stack(
-        [
-            _row_norms(V[F[:, 1]] - V[F[:, 2]]),
-            _row_norms(V[F[:, 2]] - V[F[:, 0]]),
-            _row_norms(V[F[:, 0]] - V[F[:, 1]]),
-        ],
-        axis=1,
-    )
+def _edge_lengths(mesh):
+    """Lengths (m, 3): column c is the length of the edge opposite corner c.
+
+    Read from the mesh's unique edge lengths (computed once for ``mean_edge_length``):
+    half-edge blocks ``(f0, f1), (f1, f2), (f2, f0)`` lie opposite corners 2, 0, 1.
+    """
+    m = mesh.n_faces
+    per_half = mesh._edge_lengths[mesh._edge_data[1]].reshape(3, m)
+    return np.stack([per_half[1], per_half[2], per_half[0]], axis=1)
 
 
 def _heron(lengths):
     """Triangle areas from edge lengths with Kahan's stable form of Heron's formula."""
-    s = np.sort(lengths, axis=1)[:, ::-1]  # a >= b >= c
-    a, b, c = s[:, 0], s[:, 1], s[:, 2]
+    l0, l1, l2 = lengths[:, 0], lengths[:, 1], lengths[:, 2]
+    a = np.maximum(np.maximum(l0, l1), l2)  # a >= b >= c, without a row-wise sort
+    c = np.minimum(np.minimum(l0, l1), l2)
+    b = np.maximum(np.minimum(l0, l1), np.minimum(np.maximum(l0, l1), l2))
     prod = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))
     return 0.25 * np.sqrt(np.maximum(prod, 0.0))
+
+
+def _edge_csr(edges, n):
+    """CSR structure of the symmetric matrices on a mesh's edges, for filling A and B.
+
+    Parameters
+    ----------
+    edges : ndarray of int, shape (e, 2)
+        Unique edges ``i < j`` sorted by ``(i, j)`` (:attr:`cshape.Mesh.edges`).
+    n : int
+
+    Returns
+    -------
+    indptr, indices : ndarray
+        Sorted CSR pattern of the ``2e + n`` entries (both triangles and the diagonal).
+    upper, lower, diag : ndarray of int, shapes (e,), (e,), (n,)
+        Position in ``indices`` of entry ``(i, j)`` and ``(j, i)`` of each edge and of
+        ``(v, v)``: ``data[upper] = w`` etc. fills a matrix without any sort.
+    """
+    i, j = edges[:, 0], edges[:, 1]
+    n_lower = np.bincount(j, minlength=n)  # entries left of the diagonal in each row
+    n_upper = np.bincount(i, minlength=n)
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(n_lower + n_upper + 1, out=indptr[1:])
+    diag = indptr[:-1] + n_lower
+    # upper entries come sorted by (row i, column j): rank within the row from its start
+    row_start = np.cumsum(n_upper) - n_upper
+    upper = diag[i] + 1 + (np.arange(len(i)) - row_start[i])
+    # lower entries (row j, column i): a stable sort by j keeps the columns i ascending
+    order = np.argsort(j, kind="stable")
+    row_start = np.cumsum(n_lower) - n_lower
+    lower = np.empty(len(j), dtype=np.int64)
+    lower[order] = indptr[j[order]] + (np.arange(len(j)) - row_start[j[order]])
+    indices = np.empty(indptr[-1], dtype=np.int64)
+    indices[upper] = j
+    indices[lower] = i
+    indices[diag] = np.arange(n)
+    if indptr[-1] < 2**31:
+        indptr, indices = indptr.astype(np.int32), indices.astype(np.int32)
+    return indptr, indices, upper, lower, diag
 
 
 def _mollify(lengths, mean_edge):
@@ -160,12 +201,12 @@ def assemble(mesh, mass="consistent"):
     mesh = as_mesh(mesh)
     mass = check_choice("mass", mass, MASS_TYPES)
     _check_positive_area(mesh)
-    V, F = mesh.vertices, mesh.faces
+    F = mesh.faces
     n = mesh.n_vertices
     # lengths in units of the mean edge: Heron's product of four lengths and the squares
     # below stay finite for any coordinate scale; cotangents do not depend on the unit
     unit = mesh.mean_edge_length
-    L = _edge_lengths(V, F) / unit
+    L = _edge_lengths(mesh) / unit
     eps, n_degenerate = _mollify(L, 1.0)
     if eps > 0:
         L = L + eps
@@ -181,27 +222,46 @@ def assemble(mesh, mass="consistent"):
             "too large for float64; rescale the mesh (the area normalisation makes the "
             "descriptor scale invariant)"
         )
-    # edge opposite corner c joins the two other corners
-    i = np.concatenate([F[:, 1], F[:, 2], F[:, 0]])
-    j = np.concatenate([F[:, 2], F[:, 0], F[:, 1]])
-    w = 0.5 * np.concatenate([cot[:, 0], cot[:, 1], cot[:, 2]])
-    # Eq. (4)/(6): off-diagonal sum of cot/2 over the opposite angles; zero row sums.
-    rows = np.concatenate([i, j, i, j])
-    cols = np.concatenate([j, i, i, j])
-    vals = np.concatenate([w, w, -w, -w])
-    A = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
-    # Eq. (5)/(7): off-diagonal sum |t|/12 over the triangles at the edge; diagonal sum |t|/6.
+    # Sum per unique edge over its triangles (half-edge blocks (f0, f1), (f1, f2), (f2, f0)
+    # lie opposite corners 2, 0, 1), then fill a CSR pattern built without sorting.
+    edges, half_to_edge, _ = mesh._edge_data
+    ne = len(edges)
+    w = 0.5 * np.concatenate([cot[:, 2], cot[:, 0], cot[:, 1]])
     a3 = np.concatenate([area, area, area])
+    w_edge = np.bincount(half_to_edge, weights=w, minlength=ne)
+    loop = edges[:, 0] == edges[:, 1]  # only in unrepaired meshes (a repeated index)
+    if loop.any():
+        b_loop = np.bincount(edges[loop, 0], weights=np.bincount(
+            half_to_edge, weights=a3, minlength=ne)[loop] / 6.0, minlength=n)
+        edges, w_edge = edges[~loop], w_edge[~loop]
+        half_to_edge = np.cumsum(~loop)[half_to_edge] - 1
+        keep_half = ~loop[mesh._edge_data[1]]
+    indptr, indices, upper, lower, diag = _edge_csr(edges, n)
+    # Eq. (4)/(6): off-diagonal sum of cot/2 over the opposite angles; zero row sums.
+    data = np.empty(len(indices))
+    data[upper] = w_edge
+    data[lower] = w_edge
+    data[diag] = -(np.bincount(edges[:, 0], weights=w_edge, minlength=n)
+                   + np.bincount(edges[:, 1], weights=w_edge, minlength=n))
+    A = sp.csr_matrix((data, indices, indptr), shape=(n, n))
     if mass == "consistent":
-        rows = np.concatenate([i, j, i, j])
-        cols = np.concatenate([j, i, i, j])
-        vals = np.concatenate([a3 / 12.0, a3 / 12.0, a3 / 12.0, a3 / 12.0])
-        B = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        # Eq. (5)/(7): off-diagonal sum |t|/12 over the triangles at the edge; diagonal
+        # sum |t|/6 over the triangles at the vertex.
+        if loop.any():
+            b_edge = np.bincount(half_to_edge[keep_half], weights=a3[keep_half] / 12.0,
+                                 minlength=len(edges))
+        else:
+            b_edge = np.bincount(half_to_edge, weights=a3 / 12.0, minlength=len(edges))
+        data = np.empty(len(indices))
+        data[upper] = b_edge
+        data[lower] = b_edge
+        data[diag] = np.bincount(F.reshape(-1), weights=np.repeat(area / 6.0, 3), minlength=n)
+        if loop.any():
+            data[diag] += b_loop
+        B = sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(n, n))
     else:
         d = np.bincount(F.reshape(-1), weights=np.repeat(area / 3.0, 3), minlength=n)
         B = sp.diags(d).tocsr()
-    A.sum_duplicates()
-    B.sum_duplicates()
     return A, B, eps, n_degenerate
 
 

@@ -422,6 +422,12 @@ def _arpack(K, B, N, op, sigma, return_vectors):
     return res, None
 
 
+def _same_pattern(K, B):
+    """Whether two CSR matrices store the same (canonical) pattern of entries."""
+    return (K.has_canonical_format and B.has_canonical_format and K.nnz == B.nnz
+            and np.array_equal(K.indptr, B.indptr) and np.array_equal(K.indices, B.indices))
+
+
 def _solve_sparse(K, B, N, sigma, return_vectors):
     """Sparse path of :func:`solve_eigenproblem`, one connected component at a time.
 
@@ -432,7 +438,11 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     resolve.
     """
     k = K.shape[0]
-    pattern = (K != 0) + (B != 0)  # explicit zeros are no edges
+    same = _same_pattern(K, B)
+    if same and bool((B.data > 0).all()):
+        pattern = B  # a consistent mass matrix: positive on every edge of the mesh
+    else:
+        pattern = (K != 0) + (B != 0)  # explicit zeros are no edges
     ncomp, labels = csgraph.connected_components(pattern, directed=False)
     if ncomp > 1:
         # permute once so that every component is a contiguous diagonal block
@@ -463,7 +473,11 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
         return lam[order], (np.hstack(vecs)[:, order] if return_vectors else None)
     if sigma is None:
         sigma = _default_sigma(B, N)
-    op = _CholeskyOperator(K - sigma * B)
+    if same:  # S = K - sigma B on the shared pattern, without a sparse addition
+        op = _CholeskyOperator(sp.csr_matrix((K.data - sigma * B.data, K.indices, K.indptr),
+                                             shape=K.shape))
+    else:
+        op = _CholeskyOperator(K - sigma * B)
     try:
         with _one_blas_thread():
             lam, phi = _block_lanczos(K, B, N, op.matmat, sigma, return_vectors=return_vectors)
@@ -599,7 +613,12 @@ def _prepare(mesh, N, bc, mass):
     mesh = repair_mesh(as_mesh(mesh))
     problem = fem(mesh, bc=bc, mass=mass, repair=False)
     _check_N(N, problem.n_unknowns, problem.bc)
-    ncomp = mesh.n_components
+    if problem.bc == "neumann" and problem.B.nnz > problem.n_unknowns:
+        # consistent mass: positive on every edge, so its graph is the mesh's (cheaper
+        # than building the vertex graph again)
+        ncomp = csgraph.connected_components(problem.B, directed=False)[0]
+    else:
+        ncomp = mesh.n_components
     if ncomp > 1:
         warnings.warn(
             f"mesh has {ncomp} connected components: its spectrum is the union of theirs, "

@@ -114,3 +114,58 @@ def test_good_mesh_is_not_mollified():
     with warnings.catch_warnings():
         warnings.simplefilter("error", cshape.CShapeWarning)
         fem_matrices(shapes.icosphere(3))
+
+
+def _reference_assembly(V, F):
+    """Eq. (4)-(5) triangle by triangle, entry by entry (the textbook loop), dense."""
+    n = len(V)
+    A, B = np.zeros((n, n)), np.zeros((n, n))
+    for t in F:
+        p = V[t]
+        area = 0.5 * np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0]))
+        for c in range(3):
+            i, j, k = t[c], t[(c + 1) % 3], t[(c + 2) % 3]  # angle at i, opposite edge (j, k)
+            u, v = V[j] - V[i], V[k] - V[i]
+            w = 0.5 * np.dot(u, v) / np.linalg.norm(np.cross(u, v))
+            A[j, k] += w
+            A[k, j] += w
+            A[j, j] -= w
+            A[k, k] -= w
+            B[j, k] += area / 12
+            B[k, j] += area / 12
+            B[i, i] += area / 6
+    return A, B
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_assembly_equals_the_textbook_loop_on_open_and_nonmanifold_meshes(seed):
+    # random triangles over few vertices: boundary edges, edges in 3-5 triangles, bow-ties,
+    # several components; the sort-free CSR fill must give the loop's matrices
+    rng = np.random.default_rng(seed)
+    V = rng.standard_normal((12, 3))
+    F = np.array([f for f in rng.integers(0, 12, (40, 3)) if len(set(f)) == 3])
+    F = F[np.unique(np.sort(F, axis=1), axis=0, return_index=True)[1]]
+    A, B = fem_matrices((V, F))
+    A_ref, B_ref = _reference_assembly(V, F)
+    scale = np.abs(A_ref).max()
+    np.testing.assert_allclose(A.toarray(), A_ref, atol=1e-12 * scale)
+    np.testing.assert_allclose(B.toarray(), B_ref, atol=1e-14)
+    assert A.has_sorted_indices and B.has_sorted_indices
+    assert A.nnz == B.nnz == len(V) + 2 * len(cshape.Mesh(V, F).edges)
+
+
+def test_assembly_of_an_unrepaired_mesh_with_a_collapsed_face():
+    # assemble() is public and skips repair: a face (0, 0, 5) and a duplicate face keep the
+    # old COO-sum result (A: zero row sums; B: the collapsed face's |t| = 0 after
+    # mollification is tiny, the duplicate counts twice)
+    m = shapes.icosphere(1)
+    F = np.vstack([m.faces, m.faces[:2], [[0, 0, 5]]])
+    with pytest.warns(cshape.CShapeWarning, match="mollified"):
+        pass_mesh = cshape.Mesh(m.vertices, F)
+        A, B, eps, nbad = cshape.fem.assemble(pass_mesh)
+        cshape.fem.fem(pass_mesh, repair=False)
+    assert eps > 0 and nbad == 1
+    np.testing.assert_allclose(np.asarray(A.sum(axis=1)).ravel(), 0, atol=1e-9 * abs(A).max())
+    assert B.sum() == pytest.approx(cshape.fem._heron(
+        cshape.fem._edge_lengths(pass_mesh) + eps).sum(), rel=1e-12)
+    assert (np.diff(A.indptr) > 0).all() and A.has_sorted_indices

@@ -239,3 +239,46 @@ def test_obj_negative_relative_indices_are_valid(tmp_path):
     p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n")
     m = cshape.load_mesh(p)
     assert m.n_faces == 1 and m.area == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_edge_topology_matches_unique_over_rows(seed):
+    # the integer-key sort must give np.unique's edges, counts and half-edge map exactly,
+    # also with boundary, non-manifold (3+ triangles) and duplicate faces
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(4, 40))
+    F = rng.integers(0, n, (int(rng.integers(1, 90)), 3))
+    m = Mesh(rng.standard_normal((n, 3)), F)
+    half = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    edges, inverse, counts = np.unique(np.sort(half, axis=1), axis=0, return_inverse=True,
+                                       return_counts=True)
+    np.testing.assert_array_equal(m.edges, edges)
+    np.testing.assert_array_equal(m.edge_face_counts, counts)
+    np.testing.assert_array_equal(m._edge_data[1], inverse.reshape(-1))
+    L = np.linalg.norm(m.vertices[edges[:, 0]] - m.vertices[edges[:, 1]], axis=1)
+    assert m.mean_edge_length == pytest.approx(L.mean(), rel=1e-14)
+
+
+def test_row_distinctness_check_is_exact():
+    from cshape.mesh import _all_rows_distinct
+
+    V = shapes.icosphere(4).vertices  # symmetric coordinates: a weak hash would collide
+    assert _all_rows_distinct(V)
+    W = V.copy()
+    W[7] = W[2000]
+    assert not _all_rows_distinct(W)
+    assert not _all_rows_distinct(np.array([[0.0, 1, 2], [-0.0, 1, 2]]))  # -0.0 == 0.0
+    assert _all_rows_distinct(np.array([[0.0, 1, 2], [0.0, 2, 1]]))
+    F = np.sort(shapes.icosphere(4).faces, axis=1)
+    assert _all_rows_distinct(F)
+    assert not _all_rows_distinct(np.vstack([F, F[5:6]]))
+    # welding still merges exact duplicates of a big mesh and keeps first occurrences
+    m = shapes.icosphere(4)
+    n = m.n_vertices
+    Vd = np.vstack([m.vertices, m.vertices[m.faces[0]]])  # copies of face 0's corners
+    Fd = m.faces.copy()
+    Fd[0] = [n, n + 1, n + 2]
+    with pytest.warns(cshape.CShapeWarning, match="welded 3 duplicate vertices"):
+        r = cshape.repair_mesh(Mesh(Vd, Fd))
+    np.testing.assert_array_equal(r.faces, m.faces)
+    np.testing.assert_array_equal(r.vertices, m.vertices)
