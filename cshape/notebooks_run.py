@@ -11,12 +11,20 @@ kernel is started as ``sys.executable -m ipykernel_launcher``, whatever kernelsp
 has installed), with the notebook's folder as working directory.  A cell error stops that
 notebook and is reported; the others still run.  ``out/notebooks/index.html`` links the
 results.
+
+The HTML pages work offline: equations are typeset by a copy of MathJax 2.7 next to them
+(``mathjax/``, from the ``jupyter-server-mathjax`` package, see :func:`offline_mathjax`), and
+the kernels draw plotly figures with plotly.js embedded in the page (``PLOTLY_RENDERER`` is
+``plotly_mimetype+notebook``: JupyterLab's renderer for the ``.ipynb``, embedded HTML for the
+page), so the 3-D viewers of :mod:`cshape.viewer` turn and slide without a network or kernel.
 """
 
 from __future__ import annotations
 
 import html
 import os
+import re
+import shutil
 import sys
 import time
 from dataclasses import dataclass
@@ -27,6 +35,7 @@ __all__ = [
     "default_notebook_dir",
     "find_notebooks",
     "kernel_manager",
+    "offline_mathjax",
     "run_notebook",
     "run_notebooks",
     "add_run_notebooks",
@@ -131,11 +140,69 @@ def kernel_manager():
     return KernelManager(kernel_name="python3", kernel_spec_manager=_ThisPython())
 
 
-def _html(nb) -> str:
+#: Folder of the MathJax copy, next to the HTML pages.
+MATHJAX_DIR = "mathjax"
+#: MathJax's own configuration files in the copy (jupyter-server-mathjax ships these two) and
+#: ours: the HTML-CSS output with the STIX-Web fonts, the only web fonts in the copy.
+_MATHJAX_CONFIG = "TeX-AMS-MML_HTMLorMML-full,Safe,local/cshape"
+_MATHJAX_LOCAL = """\
+MathJax.Hub.Config({
+  "HTML-CSS": {availableFonts: [], preferredFont: null, webFont: "STIX-Web", imageFont: null},
+  MathMenu: {showRenderer: false}
+});
+MathJax.Ajax.loadComplete("[MathJax]/config/local/cshape.js");
+"""
+
+
+def offline_mathjax(out_dir):
+    """Copy MathJax 2.7 next to exported HTML pages, so that their equations render offline.
+
+    The files come from the ``jupyter-server-mathjax`` package (the ``notebooks`` extra);
+    the copy (about 12 MB) is made once per output folder.
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        The folder of the HTML pages; the copy goes to ``out_dir/mathjax/``.
+
+    Returns
+    -------
+    str or None
+        The relative URL for nbconvert's ``HTMLExporter.mathjax_url``, or None when
+        ``jupyter-server-mathjax`` is not installed (the pages then load MathJax from the
+        internet, as nbconvert does by default).
+    """
+    try:
+        import jupyter_server_mathjax
+    except ImportError:
+        return None
+    src = Path(jupyter_server_mathjax.__file__).parent / "static"
+    if not (src / "MathJax.js").is_file():
+        return None
+    dest = Path(out_dir) / MATHJAX_DIR
+    local = dest / "config" / "local" / "cshape.js"
+    if not (local.is_file() and (dest / "MathJax.js").stat().st_size
+            == (src / "MathJax.js").stat().st_size):
+        shutil.copytree(src, dest, dirs_exist_ok=True)
+        local.parent.mkdir(parents=True, exist_ok=True)
+        local.write_text(_MATHJAX_LOCAL, encoding="utf-8")
+    return f"{MATHJAX_DIR}/MathJax.js?config={_MATHJAX_CONFIG}"
+
+
+#: plotly's notebook renderer adds MathJax 3 from a CDN to every figure; the page has MathJax
+#: already (plotly.js uses the page's), and a second MathJax would fight the first online.
+_PLOTLY_CDN_MATHJAX = re.compile(
+    r'<script src="https://cdnjs\.cloudflare\.com/ajax/libs/mathjax/[^"]*"></script>')
+
+
+def _html(nb, mathjax_url=None) -> str:
     from nbconvert import HTMLExporter
 
-    body, _ = HTMLExporter(template_name="lab").from_notebook_node(nb)
-    return body
+    exporter = HTMLExporter(template_name="lab")
+    if mathjax_url:
+        exporter.mathjax_url = mathjax_url
+    body, _ = exporter.from_notebook_node(nb)
+    return _PLOTLY_CDN_MATHJAX.sub("", body) if mathjax_url else body
 
 
 def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
@@ -177,6 +244,9 @@ def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
     if small:
         kernel_env["CSHAPE_SMALL"] = "1"
     kernel_env.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
+    # plotly figures: the lab extension's mime type for JupyterLab, plus HTML with plotly.js
+    # embedded once per notebook for the exported page (works offline, no kernel needed)
+    kernel_env.setdefault("PLOTLY_RENDERER", "plotly_mimetype+notebook")
     kernel_env.update(env or {})
     km = kernel_manager()
     client = NotebookClient(
@@ -208,7 +278,7 @@ def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
         nbformat.write(nb, res.ipynb)
         if html:
             res.html = out / f"{path.stem}.html"
-            res.html.write_text(_html(nb), encoding="utf-8")
+            res.html.write_text(_html(nb, offline_mathjax(out)), encoding="utf-8")
     return res
 
 

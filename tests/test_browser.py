@@ -19,6 +19,7 @@ import time
 import urllib.request
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from cshape.notebooks_run import default_notebook_dir
@@ -191,3 +192,98 @@ def test_ensure_browser_is_idempotent():
     res = subprocess.run(["bash", str(REPO / "tools" / "ensure_browser.sh")],
                          capture_output=True, text=True, timeout=60)
     assert res.returncode == 0 and "present" in res.stdout, res.stdout + res.stderr
+
+
+# ------------------------------------------------------------------------------ offline HTML
+def _canvas_pixels(png: bytes):
+    """RGB pixels of a screenshot, shape (h, w, 3)."""
+    import io
+
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(np.int16)
+
+
+def _not_blank(px) -> bool:
+    """More than 2 % of the pixels differ from the corner colour (the background)."""
+    return float(np.mean(np.abs(px - px[0, 0]).sum(axis=2) > 30)) > 0.02
+
+
+def test_exported_html_renders_math_and_3d_offline(tmp_path):
+    """An exported page (the markdown of every lesson, and an eigenfunction explorer) opens in
+    Chromium with every non-file request blocked: MathJax typesets the equations from the copy
+    next to the page (no raw $$ left), plotly draws the mesh, and its slider re-renders it."""
+    if not CHROMIUM.exists():
+        pytest.skip(f"{CHROMIUM} not found: install Debian's chromium (tools/ensure_browser.sh)")
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="the playwright Python package is not installed")
+    pytest.importorskip("jupyter_server_mathjax", reason="jupyter-server-mathjax not installed")
+    import nbformat
+
+    from cshape.notebooks_run import find_notebooks, run_notebook
+
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    for path in find_notebooks():
+        nb.cells += [c for c in nbformat.read(path, as_version=4).cells
+                     if c.cell_type == "markdown" and "$" in c.source]
+    n_math = len(nb.cells)
+    nb.cells.append(nbformat.v4.new_code_cell(
+        "from cshape import plots, shapes\nplots.eigenfunction_explorer(shapes.icosphere(2), 12)"))
+    for k, c in enumerate(nb.cells):
+        c["id"] = f"c{k}"
+    src = tmp_path / "src"
+    src.mkdir()
+    nbformat.write(nb, src / "01_offline.ipynb")
+    res = run_notebook(src / "01_offline.ipynb", tmp_path / "out", timeout=300)
+    assert res.ok, res.error
+    assert (tmp_path / "out" / "mathjax" / "MathJax.js").is_file()
+    ARTIFACTS.mkdir(exist_ok=True)
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
+        try:
+            page = browser.new_page(viewport={"width": 1200, "height": 900})
+            asked = []
+
+            def offline(route):
+                if route.request.url.startswith("file:"):
+                    route.continue_()
+                else:
+                    asked.append(route.request.url)
+                    route.abort("internetdisconnected")
+
+            page.route("**/*", offline)
+            page.goto(res.html.as_uri(), timeout=60_000)
+            page.wait_for_function(
+                "() => window.MathJax && MathJax.Hub && MathJax.Hub.queue.pending === 0"
+                " && document.querySelectorAll('.MathJax_Display').length > 0", timeout=90_000)
+            text = page.inner_text("body")
+            assert "$$" not in text, text[text.index("$$") - 200:text.index("$$") + 200]
+            assert "\\lambda" not in text and "\\frac" not in text
+            assert page.locator(".MathJax").count() >= n_math  # typeset, inline or display
+            assert page.locator(".MathJax .merror").count() == 0  # no TeX errors
+            # the only request for the network is nbconvert's require.js (for widget pages)
+            assert all("require" in u for u in asked), asked
+            canvas = page.locator(".js-plotly-plot .gl-container canvas").first
+            canvas.scroll_into_view_if_needed()
+            page.wait_for_timeout(1500)
+            px0 = _canvas_pixels(canvas.screenshot())
+            title0 = page.locator(".js-plotly-plot .gtitle").text_content()
+            rail = page.locator(".js-plotly-plot .slider-rail-rect").first
+            box = rail.bounding_box()
+            page.mouse.click(box["x"] + box["width"] * 10 / 11, box["y"] + box["height"] / 2)
+            page.wait_for_function(
+                "t => document.querySelector('.js-plotly-plot .gtitle').textContent !== t",
+                arg=title0, timeout=30_000)
+            page.wait_for_timeout(1500)
+            png1 = canvas.screenshot()
+            page.screenshot(path=str(ARTIFACTS / "offline_html.png"))
+            px1 = _canvas_pixels(png1)
+            title1 = page.locator(".js-plotly-plot .gtitle").text_content()
+        finally:
+            browser.close()
+    assert "φ" in title0 and "λ" in title0 and title1 != title0
+    assert "10" in title1, title1  # the 10th eigenfunction
+    assert _not_blank(px0) and _not_blank(px1)
+    assert float(np.mean(np.abs(px1 - px0).sum(axis=2) > 30)) > 0.01, "canvas unchanged"

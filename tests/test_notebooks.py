@@ -3,13 +3,19 @@ student version up to its first exercise stub.  A cell error fails the test."""
 
 from __future__ import annotations
 
+import importlib.util
 import sys
 
 import nbformat
 import pytest
 
 from cshape.cli import main
-from cshape.notebooks_run import default_notebook_dir, find_notebooks, run_notebook
+from cshape.notebooks_run import (
+    default_notebook_dir,
+    find_notebooks,
+    offline_mathjax,
+    run_notebook,
+)
 
 NB_DIR = default_notebook_dir()
 NOTEBOOKS = find_notebooks(NB_DIR)
@@ -75,13 +81,26 @@ def _tiny(folder, source):
 
 def test_kernel_is_this_interpreter_and_cli_writes_html(tmp_path, capsys):
     src = tmp_path / "src"
-    _tiny(src, "import os, sys\nprint(sys.executable)\nprint(os.environ.get('CSHAPE_SMALL'))")
+    _tiny(src, "import os, sys\nprint(sys.executable)\nprint(os.environ.get('CSHAPE_SMALL'))"
+               "\nprint(os.environ.get('PLOTLY_RENDERER'))")
     out = tmp_path / "out"
     assert main(["notebooks", "--small", "--src", str(src), "--out", str(out)]) == 0
     nb = nbformat.read(out / "01_tiny.ipynb", as_version=4)
     printed = nb.cells[0].outputs[0]["text"].split()
-    assert printed == [sys.executable, "1"]
-    assert (out / "01_tiny.html").stat().st_size > 1000
+    # plotly figures: lab extension mime type + embedded plotly.js for the HTML page
+    assert printed == [sys.executable, "1", "plotly_mimetype+notebook"]
+    page = (out / "01_tiny.html").read_text()
+    assert len(page) > 1000
+    if importlib.util.find_spec("jupyter_server_mathjax"):  # the notebooks extra
+        # MathJax from the copy next to the page, not from a CDN (offline exam rooms)
+        assert '<script src="mathjax/MathJax.js?config=' in page
+        assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in page
+        assert (out / "mathjax" / "MathJax.js").is_file()
+        assert (out / "mathjax" / "config" / "local" / "cshape.js").is_file()
+        local = out / "mathjax" / "config" / "local" / "cshape.js"
+        stamp = local.stat().st_mtime_ns
+        assert offline_mathjax(out) == offline_mathjax(out)  # copied once, not per page
+        assert local.stat().st_mtime_ns == stamp
     assert "01_tiny.html" in (out / "index.html").read_text()
     assert "01_tiny.ipynb: ok" in capsys.readouterr().out
 
