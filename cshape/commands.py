@@ -44,17 +44,15 @@ def _mesh_suffixes() -> tuple[str, ...]:
 
 def _is_mesh_name(path: Path) -> bool:
     """True for a file name ending in a mesh suffix (also under ``.gz``)."""
-    name = path.name.lower()
-    if name.endswith(".gz"):
-        name = name[:-3]
-    return name.endswith(_mesh_suffixes())
+    from .readers import split_mesh_name
+
+    return split_mesh_name(path)[1] in _mesh_suffixes()
 
 
 def _stem(path: Path) -> str:
-    name = path.name
-    if name.lower().endswith(".gz"):
-        name = name[:-3]
-    return Path(name).stem
+    from .readers import split_mesh_name
+
+    return split_mesh_name(path)[0]
 
 
 def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:

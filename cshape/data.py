@@ -62,7 +62,7 @@ from pathlib import Path, PurePosixPath
 import numpy as np
 
 from .mesh import Mesh
-from .readers import load_mesh
+from .readers import MESH_SUFFIXES, load_mesh, split_mesh_name
 
 __all__ = [
     "KINDS",
@@ -93,7 +93,6 @@ __all__ = [
 
 KINDS = ("generated", "package", "download", "local")
 LAYOUTS = ("mcgill", "tosca", "shrec07")
-MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
 
 #: Bumped whenever a recipe's output changes, so stale cache files are not reused.
 RECIPES_VERSION = 1
@@ -897,17 +896,28 @@ def _progress(total, desc, progress):
 
 # ====================================================================== local folders
 def _mesh_files(folder: Path) -> list[Path]:
+    """Mesh files under ``folder`` (also ``.gz``-compressed ones), sorted; hidden skipped."""
     return sorted(
         p for p in folder.rglob("*")
-        if p.is_file() and p.suffix.lower() in MESH_SUFFIXES + (".vert",)
+        if p.is_file() and _suffix(p) in MESH_SUFFIXES + (".vert",)
         and not any(part.startswith(".") for part in p.relative_to(folder).parts)
     )
 
 
+def _suffix(p) -> str:
+    """The format suffix of a mesh file, looking through ``.gz`` (``a.off.gz`` -> ``.off``)."""
+    return split_mesh_name(p)[1]
+
+
+def _stem(p) -> str:
+    """The name of a mesh file without ``.gz`` and its format suffix."""
+    return split_mesh_name(p)[0]
+
+
 def _item_names(rels: list[PurePosixPath]) -> list[str]:
-    stems = [r.stem for r in rels]
+    stems = [_stem(r) for r in rels]
     unique = len(set(stems)) == len(stems)
-    return stems if unique else [str(r.with_suffix("")) for r in rels]
+    return stems if unique else [str(r.parent / _stem(r)) for r in rels]
 
 
 def load_folder(folder, labels="subfolder", *, name=None) -> Collection:
@@ -916,8 +926,9 @@ def load_folder(folder, labels="subfolder", *, name=None) -> Collection:
     Parameters
     ----------
     folder : str or os.PathLike
-        Searched recursively for ``.obj``, ``.off``, ``.ply``, ``.stl`` (and TOSCA ``.vert``)
-        files; hidden files and folders are skipped.
+        Searched recursively for ``.obj``, ``.off``, ``.ply``, ``.stl`` files, also
+        gzip-compressed (``.off.gz``, ...), and TOSCA ``.vert`` files; hidden files and
+        folders are skipped.
     labels : str, default='subfolder'
         ``'subfolder'``: the label of a file is the first sub-folder it is in (files directly
         in ``folder`` get the folder's own name).  Otherwise the name of a CSV file (relative
@@ -944,10 +955,11 @@ def load_folder(folder, labels="subfolder", *, name=None) -> Collection:
         raise FileNotFoundError(f"no folder {str(folder)!r} to read meshes from")
     cname = name or folder.name
     if labels == "subfolder":
-        files = [p for p in _mesh_files(folder) if p.suffix.lower() != ".vert"]
+        files = [p for p in _mesh_files(folder) if _suffix(p) != ".vert"]
         if not files:
             raise ValueError(
-                f"folder {str(folder)!r} holds no mesh file ({', '.join(MESH_SUFFIXES)})"
+                f"folder {str(folder)!r} holds no mesh file ({', '.join(MESH_SUFFIXES)}, "
+                "each also .gz)"
             )
         rels = [PurePosixPath(p.relative_to(folder).as_posix()) for p in files]
         labs = [r.parts[0] if len(r.parts) > 1 else folder.name for r in rels]
@@ -1007,7 +1019,7 @@ def read_mcgill(folder) -> Collection:
     is the class folder's name; medial-surface files (``.im``) are ignored.
     """
     folder = Path(folder)
-    files = [p for p in _mesh_files(folder) if p.suffix.lower() in (".ply", ".off", ".obj")]
+    files = [p for p in _mesh_files(folder) if _suffix(p) in (".ply", ".off", ".obj")]
     if not files:
         raise ValueError(f"no McGill .ply meshes under {str(folder)!r} (one folder per class)")
     rels, labs = [], []
@@ -1017,9 +1029,9 @@ def read_mcgill(folder) -> Collection:
         parts = [q for q in parts if q.lower() not in _MCGILL_SKIP] or [folder.name]
         rels.append(rel)
         labs.append(parts[0])
-    names = [f"{lab}/{r.stem}" for lab, r in zip(labs, rels, strict=True)]
+    names = [f"{lab}/{_stem(r)}" for lab, r in zip(labs, rels, strict=True)]
     if len(set(names)) < len(names):
-        names = [str(r.with_suffix("")) for r in rels]
+        names = [str(r.parent / _stem(r)) for r in rels]
     items = [Item(n, lab, "mcgill-3dsb", {"file": str(r)}, _load=_file_loader(p))
              for n, lab, r, p in zip(names, labs, rels, files, strict=True)]
     return Collection("mcgill-3dsb", items, {"layout": "mcgill", "path": str(folder)})
@@ -1056,7 +1068,7 @@ def read_tosca(folder) -> Collection:
     folder = Path(folder)
     files = _mesh_files(folder)
     verts = {p.stem: p for p in files if p.suffix.lower() == ".vert"}
-    offs = {p.stem: p for p in files if p.suffix.lower() == ".off" and p.stem not in verts}
+    offs = {_stem(p): p for p in files if _suffix(p) == ".off" and _stem(p) not in verts}
     chosen = {**offs, **verts}
     if not chosen:
         raise ValueError(f"no TOSCA .vert/.tri (or .off) meshes under {str(folder)!r}")
@@ -1084,8 +1096,8 @@ def read_shrec07(folder) -> Collection:
     folder = Path(folder)
     found = {}
     for p in _mesh_files(folder):
-        if p.suffix.lower() == ".off" and p.stem.isdigit() and 1 <= int(p.stem) <= 400:
-            found[int(p.stem)] = p
+        if _suffix(p) == ".off" and _stem(p).isdigit() and 1 <= int(_stem(p)) <= 400:
+            found[int(_stem(p))] = p
     if not found:
         raise ValueError(f"no SHREC'07 meshes 1.off ... 400.off under {str(folder)!r}")
     items = [

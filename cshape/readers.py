@@ -10,16 +10,43 @@ reading them, and crashes on some malformed records.
 
 from __future__ import annotations
 
+import errno
+import gzip
 import os
 import re
+import tempfile
 import warnings
+import zlib
 from pathlib import Path
 
 import numpy as np
 
 from .mesh import CShapeWarning, Mesh, repair_mesh
 
-__all__ = ["load_mesh", "PLY_MAX_LIST_BYTES"]
+__all__ = ["load_mesh", "split_mesh_name", "MESH_SUFFIXES", "GZIP_MAX_BYTES", "PLY_MAX_LIST_BYTES"]
+
+
+#: Mesh file suffixes that folder collections pick up (:func:`cshape.data.load_folder`);
+#: each also gzip-compressed (``bunny.off.gz``), which :func:`load_mesh` reads.
+MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
+
+#: Largest size (bytes) a gzip-compressed mesh may decompress to: a few corrupt or hostile
+#: bytes can claim gigabytes ("zip bomb"), so decompression stops there with an error.
+#: 4 GiB holds an ASCII mesh of about 40 million triangles.
+GZIP_MAX_BYTES = 4 * 2**30
+
+
+def split_mesh_name(path) -> tuple[str, str]:
+    """``(stem, format suffix)`` of a mesh file name, looking through ``.gz``.
+
+    ``bunny.off`` and ``bunny.off.gz`` both give ``("bunny", ".off")``; the suffix is
+    lower-case (``""`` when there is none).
+    """
+    name = Path(path).name
+    if name.lower().endswith(".gz"):
+        name = name[:-3]
+    inner = Path(name)
+    return inner.stem, inner.suffix.lower()
 
 
 def load_mesh(path, *, repair: bool = True) -> Mesh:
@@ -27,12 +54,14 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
 
     Polygons are triangulated.  OBJ texture coordinates and normals are ignored, keeping
     one vertex per position (the surface is not cut at UV seams).  STL triangle soup is
-    welded into a connected mesh.
+    welded into a connected mesh.  Every format is also read gzip-compressed
+    (``bunny.off.gz``, ``scan.ply.gz``, ...).
 
     Parameters
     ----------
     path : str or os.PathLike
-        The mesh file.
+        The mesh file; a name ending in ``.gz`` is decompressed first (the format is the
+        suffix before ``.gz``).
     repair : bool, default=True
         Apply :func:`repair_mesh` (weld duplicate vertices, drop collapsed and duplicate
         faces, drop unreferenced vertices), with a warning if anything changed.
@@ -47,14 +76,17 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         If ``path`` does not exist.
     ValueError
         If the file cannot be read as a mesh (unknown extension, empty, truncated or
-        corrupt file, no triangles); the message names the file.
+        corrupt file, no triangles; corrupt or truncated gzip data, or more than
+        :data:`GZIP_MAX_BYTES` once decompressed); the message names the file.
 
     Notes
     -----
     Before PyMeshLab reads a file, cshape checks what it declares (counts, indices,
     coordinates; OFF, OBJ, PLY, STL): PyMeshLab silently drops NaN vertices and some
     faces, and allocates declared counts before reading them.  Big-endian binary PLY files
-    with double coordinates, which PyMeshLab misreads, are read by cshape itself.
+    with double coordinates, which PyMeshLab misreads, are read by cshape itself.  A
+    ``.gz`` file is decompressed, in bounded chunks, to a temporary file that goes through
+    the same checks.
     """
     p = Path(path)
     if not p.exists():
@@ -63,13 +95,11 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         raise ValueError(f"{str(p)!r} is a folder, not a mesh file")
     if p.stat().st_size == 0:
         raise ValueError(f"cannot read mesh {str(p)!r}: the file is empty")
-    ext = p.suffix.lower().lstrip(".")
-    expected = _prescan(p, ext)
-    if expected is not None and expected.arrays is not None:
-        V, F = expected.arrays  # a file PyMeshLab misreads, read by cshape
-        dropped = []
+    if p.name.lower().endswith(".gz"):
+        with tempfile.TemporaryDirectory(prefix="cshape-gunzip-") as tmp:
+            V, F, dropped = _read_arrays(_gunzip(p, Path(tmp)), shown=p)
     else:
-        V, F, dropped = _load_with_pymeshlab(p, ext, expected)
+        V, F, dropped = _read_arrays(p)
     try:
         mesh = Mesh(V, F)
     except (TypeError, ValueError) as exc:
@@ -83,6 +113,63 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
         for w in caught:
             warnings.warn(f"{p.name}: {w.message}", CShapeWarning, stacklevel=2)
     return mesh
+
+
+def _read_arrays(p, shown=None):
+    """``(V, F, notes)`` of the (uncompressed) file ``p``: pre-scan, then PyMeshLab.
+
+    ``shown`` is the path the user gave (the ``.gz`` file ``p`` was decompressed from);
+    error messages name it instead of the temporary file.
+    """
+    ext = p.suffix.lower().lstrip(".")
+    try:
+        expected = _prescan(p, ext)
+        if expected is not None and expected.arrays is not None:
+            return (*expected.arrays, [])  # a file PyMeshLab misreads, read by cshape
+        return _load_with_pymeshlab(p, ext, expected)
+    except ValueError as exc:
+        if shown is None:
+            raise
+        msg = str(exc).replace(repr(str(p)), repr(str(shown))).replace(str(p), str(shown))
+        raise ValueError(msg) from None
+
+
+def _gunzip(src: Path, folder: Path) -> Path:
+    """Decompress ``src`` (``NAME.EXT.gz``) to ``folder / NAME.EXT``, in chunks of 1 MiB,
+    stopping with an error beyond :data:`GZIP_MAX_BYTES`; returns the new file."""
+    if not split_mesh_name(src)[1]:
+        raise _bad_file(
+            src, "a compressed mesh must name its format before '.gz' (e.g. bunny.off.gz, "
+            "scan.ply.gz); rename the file"
+        )
+    dst = folder / src.name[:-3]
+    total = 0
+    try:
+        with gzip.open(src, "rb") as fin, open(dst, "wb") as fout:
+            while chunk := fin.read(2**20):
+                total += len(chunk)
+                if total > GZIP_MAX_BYTES:
+                    raise _bad_file(
+                        src, f"it decompresses to more than {GZIP_MAX_BYTES} bytes "
+                        "(cshape.readers.GZIP_MAX_BYTES), too large for a mesh or a "
+                        "corrupt file; decompress it yourself (gunzip) if it is genuine"
+                    )
+                fout.write(chunk)
+    except (gzip.BadGzipFile, EOFError, zlib.error) as exc:
+        raise _bad_file(
+            src, f"its gzip data is corrupt or truncated ({exc}); download it again, or drop "
+            "the '.gz' from its name if it is not compressed"
+        ) from None
+    except OSError as exc:
+        if exc.errno != errno.ENOSPC:
+            raise
+        raise _bad_file(
+            src, f"no space left to decompress it in {str(folder.parent)!r}; free some, "
+            "or set TMPDIR to a folder with room"
+        ) from None
+    if total == 0:
+        raise _bad_file(src, "it decompresses to an empty file")
+    return dst
 
 
 def _load_with_pymeshlab(p, ext, expected):

@@ -469,3 +469,127 @@ def test_fuzzed_files_never_crash_the_interpreter(tmp_path):
     outcome = json.loads(res.stdout.strip().splitlines()[-1])
     assert set(outcome) <= {"loaded", "ValueError"}, outcome
     assert sum(outcome.values()) == 600 and outcome["ValueError"] > 300
+
+
+# ------------------------------------------------------------------ gzip-compressed files
+@pytest.fixture
+def private_tmpdir(tmp_path, monkeypatch):
+    """A temporary folder of our own for load_mesh's decompressed copies (to see them go)."""
+    import tempfile
+
+    d = tmp_path / "tmpdir"
+    d.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(d))
+    return d
+
+
+@pytest.mark.parametrize("name, content, match", MALFORMED, ids=[m[0] for m in MALFORMED])
+def test_malformed_file_gives_the_same_error_gzip_compressed(tmp_path, private_tmpdir, name,
+                                                            content, match):
+    """The pre-scan guards every compressed file as it guards the plain one; the message
+    names the .gz file, never the temporary copy, which is removed."""
+    import gzip
+
+    p = tmp_path / (name + ".gz")
+    p.write_bytes(gzip.compress(content))
+    with pytest.raises(ValueError, match=match) as info:
+        cshape.load_mesh(p)
+    assert repr(str(p)) in str(info.value)
+    assert str(private_tmpdir) not in str(info.value)
+    assert list(private_tmpdir.iterdir()) == []
+
+
+@pytest.mark.parametrize("name, binary", [
+    ("m.off", False), ("m.obj", False), ("m.ply", False), ("m.ply", True), ("m.stl", False),
+    ("m.stl", True), ("M.OFF", False)])
+def test_every_format_reads_gzip_compressed(tmp_path, private_tmpdir, name, binary):
+    """x.EXT.gz gives exactly the mesh of x.EXT, with the same repair warnings, which name
+    the .gz file."""
+    import warnings
+
+    from conftest import save_mesh
+
+    mesh = cshape.shapes.torus(12, 6)
+    mesh = cshape.Mesh(np.vstack([mesh.vertices, [[9.0, 9, 9]]]), mesh.faces)  # unreferenced
+    plain = save_mesh(tmp_path / "plain" / name, mesh, binary=binary)
+    packed = save_mesh(tmp_path / "packed" / (name + ".gz"), mesh, binary=binary)
+    with warnings.catch_warnings(record=True) as wa:
+        warnings.simplefilter("always")
+        a = cshape.load_mesh(plain)
+    with warnings.catch_warnings(record=True) as wb:
+        warnings.simplefilter("always")
+        b = cshape.load_mesh(packed)
+    np.testing.assert_array_equal(a.vertices, b.vertices)
+    np.testing.assert_array_equal(a.faces, b.faces)
+    assert b.n_vertices == 72 and b.is_closed
+    assert [str(w.message).replace(name, name + ".gz") for w in wa] == [str(w.message) for w in wb]
+    assert list(private_tmpdir.iterdir()) == []
+
+
+def test_corrupt_gzip_gives_clear_errors(tmp_path, private_tmpdir):
+    import gzip
+
+    data = gzip.compress(OFF_TET.encode())
+    cases = {
+        "truncated.off.gz": (data[: len(data) // 2], "corrupt or truncated"),
+        "crc.off.gz": (data[:-8] + bytes([data[-8] ^ 0xFF]) + data[-7:], "corrupt or truncated"),
+        "not_compressed.off.gz": (OFF_TET.encode(), "drop the '.gz'"),
+        "empty_inside.off.gz": (gzip.compress(b""), "decompresses to an empty file"),
+        "no_format.gz": (data, "must name its format before '.gz'"),
+        "unknown_format.docx.gz": (data, r"extension '\.docx' is not a mesh format"),
+    }
+    for name, (content, match) in cases.items():
+        p = tmp_path / name
+        p.write_bytes(content)
+        with pytest.raises(ValueError, match=match) as info:
+            cshape.load_mesh(p)
+        assert repr(str(p)) in str(info.value), name
+    assert list(private_tmpdir.iterdir()) == []
+
+
+def test_gzip_decompression_is_bounded(tmp_path, private_tmpdir, monkeypatch):
+    """A small file that decompresses to far more than GZIP_MAX_BYTES (a "zip bomb") is
+    refused once the bound is passed, and the partial copy removed."""
+    import gzip
+
+    import cshape.readers
+
+    monkeypatch.setattr(cshape.readers, "GZIP_MAX_BYTES", 2**20)
+    p = tmp_path / "bomb.off.gz"
+    p.write_bytes(gzip.compress(b"OFF\n" + b" " * 2**24))  # 16 MiB of blanks in 16 KiB
+    assert p.stat().st_size < 2**15
+    with pytest.raises(ValueError, match=r"bomb\.off\.gz.*more than 1048576 bytes"):
+        cshape.load_mesh(p)
+    assert list(private_tmpdir.iterdir()) == []
+    # under the bound the same kind of file is read
+    ok = tmp_path / "ok.off.gz"
+    ok.write_bytes(gzip.compress(OFF_TET.encode() + b" " * 2**19))
+    assert cshape.load_mesh(ok).n_faces == 4
+
+
+def test_split_mesh_name_looks_through_gzip():
+    from cshape.readers import split_mesh_name
+
+    assert split_mesh_name("a/b/bunny.off.gz") == ("bunny", ".off")
+    assert split_mesh_name("Scan.PLY.GZ") == ("Scan", ".ply")
+    assert split_mesh_name("x.stl") == ("x", ".stl")
+    assert split_mesh_name("archive.gz") == ("archive", "")
+
+
+def test_load_folder_reads_compressed_meshes(tmp_path):
+    """Folder collections pick up .off.gz / .ply.gz / ... beside plain files; item names drop
+    both suffixes, labels come from the sub-folders as usual."""
+    from conftest import save_mesh
+
+    save_mesh(tmp_path / "round" / "s1.off.gz", cshape.shapes.icosphere(1))
+    save_mesh(tmp_path / "round" / "s2.ply", cshape.shapes.icosphere(2))
+    save_mesh(tmp_path / "ring" / "t1.stl.gz", cshape.shapes.torus(12, 6), binary=True)
+    save_mesh(tmp_path / "ring" / "sub" / "s1.obj.gz", cshape.shapes.torus(10, 5))
+    (tmp_path / "ring" / "notes.txt.gz").write_bytes(b"")
+    c = cshape.data.load_folder(tmp_path)
+    got = {(it.name, it.label) for it in c.items}
+    # s1 repeats: names become relative paths, without .off.gz / .obj.gz
+    assert got == {("round/s1", "round"), ("round/s2", "round"), ("ring/t1", "ring"),
+                   ("ring/sub/s1", "ring")}
+    sizes = {it.name: it.mesh.n_vertices for it in c.items}
+    assert sizes == {"round/s1": 42, "round/s2": 162, "ring/t1": 72, "ring/sub/s1": 50}
