@@ -152,6 +152,12 @@ def _progress(args) -> bool:
     return not args.quiet and sys.stderr.isatty()
 
 
+def _transforms() -> tuple[str, ...]:
+    from .descriptors import TRANSFORMS
+
+    return TRANSFORMS
+
+
 # ============================================================================ describe
 def _cmd_describe(args) -> int:
     from .batch import describe
@@ -176,7 +182,7 @@ def _cmd_describe(args) -> int:
         table = describe(
             records, N=args.N, M=args.M, bc=args.bc, n_jobs=args.jobs, client=args.dask,
             cache_dir=False if args.no_cache else args.cache_dir, progress=_progress(args),
-            on_error="warn",
+            on_error="warn", transform=args.transform,
         )
     seconds = time.perf_counter() - t0
     # describe's own summary of the failures is replaced by the list below
@@ -230,6 +236,9 @@ def _add_describe(sub):
     p.add_argument("-N", type=int, default=100, help="Shape-DNA length N (default 100)")
     p.add_argument("-M", type=int, default=16,
                    help="cShape-DNA half-width M: 2M+1 values (default 16)")
+    p.add_argument("--transform", default="weyl", choices=_transforms(),
+                   help="cShape-DNA transform: 'weyl' (the paper, default), 'log-weyl' or "
+                   "'log-weyl-dct' (see cshape.compact_shape_dna)")
     p.add_argument("--bc", default="neumann", choices=("neumann", "dirichlet"),
                    help="boundary condition on open surfaces (default neumann)")
     p.add_argument("--jobs", type=int, default=1,
@@ -382,7 +391,7 @@ def _add_info(sub):
 
 
 # ============================================================================ query
-_KINDS = ("cshape", "shape_dna", "truncated", "f1")
+_KINDS = ("cshape", "shape_dna", "truncated", "truncated_log", "f1")
 
 
 def _cmd_query(args) -> int:
@@ -392,27 +401,28 @@ def _cmd_query(args) -> int:
     table = DescriptorTable.load(args.table)
     if len(table) == 0:
         raise ValueError(f"table {args.table!r} holds no shape")
-    M = table.M if args.M is None else args.M
-    N = table.N if args.N is None else args.N
-    if N > table.N:
-        raise ValueError(f"-N {N} is more than the table's N = {table.N} eigenvalues; use "
-                         f"-N {table.N} or less")
-    X = table.descriptors(args.kind, M=M, N=N)
+    if args.N is not None and args.N > table.N:
+        raise ValueError(f"-N {args.N} is more than the table's N = {table.N} eigenvalues; "
+                         f"use -N {table.N} or less")
+    if args.k < 1:
+        raise ValueError(f"-k must be at least 1, got {args.k}")
+    index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
+                                       transform=args.transform)
     target = args.target
     if target in table.names:
         row = table.index(target)
-        y, exclude, what = X[row], row, f"{target!r} (in the table)"
+        lam, area, exclude, what = table.lam[row], table.areas[row], row, f"{target!r}"
     elif Path(target).is_file():
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             one = describe([(_stem(Path(target)), "", Path(target))], N=table.N, M=table.M,
-                           bc=table.bc, mass=table.mass,
+                           bc=table.bc, mass=table.mass, transform=table.transform,
                            cache_dir=False if args.no_cache else args.cache_dir,
                            progress=False, on_error="warn")
         _print_warnings(caught, "query", False, skip=("describe: ",))
         if one.failures:
             raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
-        y, exclude, what = one.descriptors(args.kind, M=M, N=N)[0], None, repr(target)
+        lam, area, exclude, what = one.lam[0], one.areas[0], None, repr(target)
     else:
         close = [n for n in table.names if target.lower() in n.lower()][:5]
         hint = f"; names containing it: {close}" if close else ""
@@ -421,29 +431,30 @@ def _cmd_query(args) -> int:
     available = len(table) - (exclude is not None)
     if available == 0:
         raise ValueError(f"table {args.table!r} holds no other shape than {target!r}")
-    if args.k < 1:
-        raise ValueError(f"-k must be at least 1, got {args.k}")
     k = min(args.k, available)
-    dist, ind = DescriptorIndex(X).query(y[None, :], k=min(k + 1, len(table)))
+    dist, ind = index.query_spectra(lam, area, k=min(k + 1, len(table)))
     hits = [(float(d), int(i)) for d, i in zip(dist[0], ind[0], strict=True) if i != exclude]
     hits = hits[:k]
-    size = X.shape[1]
-    desc = {"cshape": f"cShape-DNA M={M}", "shape_dna": f"Shape-DNA N={N}",
-            "truncated": f"truncated Shape-DNA, first {2 * M + 1}", "f1": f"F1 N={N}"}
+    r = index.recipe_
+    tr = "" if r["transform"] == "weyl" else f", {r['transform']}"
+    desc = {"cshape": f"cShape-DNA M={r['M']}{tr}", "shape_dna": f"Shape-DNA N={r['N']}",
+            "truncated": f"the first {2 * r['M'] + 1} eigenvalues",
+            "truncated_log": f"the first {2 * r['M'] + 1} log-Weyl ratios",
+            "f1": f"F1 N={r['N']}"}[args.kind]
     if k < args.k:
         print(f"cshape query: only {k} other shapes in the table", file=sys.stderr)
     if args.json:
-        print(json.dumps({"query": target, "kind": args.kind, "M": M, "N": N,
-                          "neighbours": [{"rank": r + 1, "name": table.names[i],
+        print(json.dumps({"query": target, **r,
+                          "neighbours": [{"rank": j + 1, "name": table.names[i],
                                           "label": table.labels[i], "distance": d}
-                                         for r, (d, i) in enumerate(hits)]}))
+                                         for j, (d, i) in enumerate(hits)]}))
         return 0
-    print(f"nearest to {what} by {desc[args.kind]} ({size} values, Euclidean distance), "
-          f"among {len(table)} shapes of {args.table}:")
+    print(f"nearest to {what} by {desc} ({index.X_.shape[1]} values, Euclidean distance), "
+          f"among the {len(table)} shapes of {args.table}:")
     w = max([len(table.names[i]) for _, i in hits] + [4])
     print(f"{'rank':>4}  {'distance':>11}  {'name':<{w}}  label")
-    for r, (d, i) in enumerate(hits, 1):
-        print(f"{r:>4}  {d:>11.5g}  {table.names[i]:<{w}}  {table.labels[i]}")
+    for j, (d, i) in enumerate(hits, 1):
+        print(f"{j:>4}  {d:>11.5g}  {table.names[i]:<{w}}  {table.labels[i]}")
     return 0
 
 
@@ -453,7 +464,7 @@ def _add_query(sub):
         help="the nearest shapes of a descriptor table to a mesh file or a shape of the table",
         description="Load a table written by `cshape describe --out` and list the k shapes "
         "nearest to MESH_OR_NAME (a shape of the table, or a mesh file, described with the "
-        "table's N, boundary condition and mass matrix), with their distances.",
+        "table's N, boundary condition, mass matrix and transform), with their distances.",
         epilog="example: cshape query table.csv spot -k 5",
     )
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")
@@ -464,6 +475,8 @@ def _add_query(sub):
     p.add_argument("-M", type=int, default=None, help="cShape-DNA M (default: the table's)")
     p.add_argument("-N", type=int, default=None,
                    help="use the first N eigenvalues (default: the table's N)")
+    p.add_argument("--transform", default=None, choices=_transforms(),
+                   help="cShape-DNA transform (default: the table's)")
     p.add_argument("--cache-dir", default=None, help="eigenvalue cache for a mesh file query")
     p.add_argument("--no-cache", action="store_true", help="do not use the eigenvalue cache")
     p.add_argument("--json", action="store_true", help="print the neighbours as JSON")

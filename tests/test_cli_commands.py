@@ -68,12 +68,18 @@ def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
     S = table.descriptors("cshape")
     assert np.abs(S[table.index("big")] - S[table.index("small")]).max() < 1e-8
 
-    # a glob over the same files, to .npz: every mesh from the cache, labels = parent folder
+    # a glob over the same files, another transform, to .npz: every mesh from the cache
+    # (the eigenvalues do not depend on the transform), labels = parent folder
     out2 = tmp_path / "again.npz"
     res = cli("describe", f"{folder}/*/*.off", "--out", out2, "-N", N, "-M", M,
-              cache=tmp_path / "c", check=True)
+              "--transform", "log-weyl", cache=tmp_path / "c", check=True)
     again = DescriptorTable.load(out2)
     assert again.cached.all() and "3 from the cache" in res.stderr
+    assert again.transform == "log-weyl"
+    np.testing.assert_array_equal(
+        again.descriptors("cshape"),
+        DescriptorTable.load(out).descriptors("cshape", transform="log-weyl")[
+            [table.index(n) for n in again.names]])
     assert sorted(again.names) == sorted(table.names)
     assert again.labels[again.index("ring")] == "torus"
     np.testing.assert_array_equal(again.lam[again.index("ring")], table.lam[table.index("ring")])
