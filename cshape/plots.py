@@ -499,18 +499,27 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
     fig = Figure(figsize=figsize)
     axs = fig.subplots(2, 3)
     fig.subplots_adjust(left=0.06, right=0.96, bottom=0.07, top=0.95, wspace=0.4, hspace=0.3)
-    c = N // 2
+    transform = getattr(state, "transform", "weyl")
+    L = state.spectra.shape[1]  # N, or N-1 for the log-Weyl ratio (no lam_0)
     full = np.abs(state.spectra[shape])
     ax = axs[0, 0]
-    ax.semilogy(np.arange(N) - c, full + 1e-300, ".", color="0.6", ms=3, label="all N")
-    k = np.arange(-M, M + 1)
+    if transform == "log-weyl-dct":
+        ax.semilogy(np.arange(L), full + 1e-300, ".", color="0.6", ms=3, label=f"all {L}")
+        k = np.arange(2 * M + 1)
+        name = "DCT"
+    else:
+        ax.semilogy(np.arange(L) - L // 2, full + 1e-300, ".", color="0.6", ms=3,
+                    label=f"all {L}")
+        k = np.arange(-M, M + 1)
+        name = "DFT"
     ax.semilogy(k, np.abs(state.coefficients[shape]) + 1e-300, "o", color="C3", ms=4,
                 label=f"kept 2M+1={2 * M + 1}")
-    ax.set(title=f"|DFT| of {state.names[shape]}", xlabel="frequency k")
+    ax.set(title=f"|{name}| of {state.names[shape]}", xlabel="frequency k")
     ax.legend(fontsize="small")
     ax = axs[0, 1]
-    i = np.arange(N)
-    ax.plot(i, state.lam_prime[shape], ".", color="C0", ms=3, label="lam' (Eq. 8)")
+    i = np.arange(N - L, N)  # the sequence starts at i = 1 for the log-Weyl ratio
+    seq = "lam' (Eq. 8)" if transform == "weyl" else "r = log(lam / 4 pi i)"
+    ax.plot(i, state.lam_prime[shape], ".", color="C0", ms=3, label=seq)
     ax.plot(i, state.reconstruction[shape], "-", color="C3", lw=1.2, label="reconstruction")
     ax.set(title=f"rel. error {state.reconstruction_error[shape]:.3g}", xlabel="i")
     ax.legend(fontsize="small")
@@ -525,10 +534,11 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
                 ax.annotate(name, (x, y), xytext=(2, 2), textcoords="offset points",
                             fontsize="x-small")
         ax.set_aspect("equal", adjustable="datalim")
-    ax.set(title=f"MDS of cShape-DNA (size {2 * M + 1})")
+    tr = "" if transform == "weyl" else f", {transform}"
+    ax.set(title=f"MDS of cShape-DNA (size {2 * M + 1}{tr})")
     for ax, img, title, vmax in (
         (axs[1, 0], state.D_ref, f"Shape-DNA N={N}, scaled", 255.0),
-        (axs[1, 1], state.D, f"cShape-DNA M={M}, scaled", 255.0),
+        (axs[1, 1], state.D, f"cShape-DNA M={M}{tr}, scaled", 255.0),
         (axs[1, 2], state.difference, f"|difference|: mean {state.mean:.2f}, std {state.std:.2f}",
          None),
     ):

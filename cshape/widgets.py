@@ -3,11 +3,13 @@
 The logic is a chain of pure functions on eigenvalues, which the tests call directly:
 
 * :class:`MSweep` holds the eigenvalues of a collection (computed **once**, e.g. by
-  :func:`cshape.batch.describe`) and caches the stages that depend only on ``N`` and the
-  normalisation: the normalised and Weyl-subtracted Shape-DNA (Eq. 8), its full shifted DFT
-  (Eq. 9), the scaled Shape-DNA distance matrix (Fig. 3a) and its MDS embedding.  A new ``M``
-  reruns only the cheap stages: crop (Eq. 10), reconstruction, distances, difference
-  statistics and MDS.
+  :func:`cshape.batch.describe`) and caches the stages that depend only on ``N``, the
+  normalisation and the transform: the normalised and Weyl-subtracted Shape-DNA (Eq. 8), its
+  full shifted DFT (Eq. 9), the scaled Shape-DNA distance matrix (Fig. 3a) and its MDS
+  embedding.  A new ``M`` reruns only the cheap stages: crop (Eq. 10), reconstruction,
+  distances, difference statistics and MDS.  ``transform='log-weyl'`` / ``'log-weyl-dct'``
+  sweep the extensions of :func:`cshape.compact_shape_dna` instead (the log-Weyl ratio, its
+  DFT or DCT) against the same Shape-DNA reference.
 * :func:`sweep_state` is the one-call form: ``MSweep(...).state(M, N)``.
 * :func:`m_sweep_widget` is a thin ipywidgets shell over :class:`MSweep` and
   :func:`cshape.plots.plot_m_sweep`; it returns the widget and never displays it.
@@ -32,31 +34,35 @@ import numpy as np
 
 from ._checks import check_choice
 from .compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
-from .descriptors import NORMALIZATIONS, normalize, weyl_subtract
+from .descriptors import NORMALIZATIONS, TRANSFORMS, log_weyl_ratio, normalize, weyl_subtract
 
-__all__ = ["MSweep", "MSweepWidget", "SweepState", "clamp_M", "m_sweep_widget", "sweep_state"]
+__all__ = ["MSweep", "MSweepWidget", "SweepState", "clamp_M", "m_sweep_widget", "max_M",
+           "sweep_state"]
 
 
 @dataclass
 class SweepState:
-    """Everything the M-sweep shows for one ``(M, N, normalization)``.
+    """Everything the M-sweep shows for one ``(M, N, normalization, transform)``.
 
     Attributes
     ----------
     M, N : int
-        Crop half-width and Shape-DNA length (``2M+1 <= N``).
+        Crop half-width and Shape-DNA length (``2M+1 <= L``, the sequence length below).
     normalization : str
         See :func:`cshape.normalize`.
     names, labels : list of str, length p
     lam_norm : ndarray, shape (p, N)
         Normalised Shape-DNAs.
-    lam_prime : ndarray, shape (p, N)
-        Minus the Weyl line, Eq. (8).
-    spectra : ndarray of complex, shape (p, N)
-        Shifted DFT of ``lam_prime`` (Eq. 9), zero frequency at column ``N // 2``.
-    coefficients : ndarray of complex, shape (p, 2M+1)
-        The cShape-DNAs (Eq. 10), frequencies ``-M..M``.
-    reconstruction : ndarray, shape (p, N)
+    lam_prime : ndarray, shape (p, L)
+        The sequence that is transformed: ``lam'`` minus the Weyl line, Eq. (8), ``L = N``
+        (``transform='weyl'``), or the log-Weyl ratio ``r_1..r_{N-1}``, ``L = N-1``.
+    spectra : ndarray, shape (p, L)
+        Shifted DFT of ``lam_prime`` (Eq. 9), zero frequency at column ``L // 2`` (complex),
+        or its orthonormal DCT-II (real, ``'log-weyl-dct'``).
+    coefficients : ndarray, shape (p, 2M+1)
+        The cShape-DNAs (Eq. 10), frequencies ``-M..M`` (complex), or the first ``2M+1``
+        DCT coefficients (real).
+    reconstruction : ndarray, shape (p, L)
         ``lam_prime`` rebuilt from the ``2M+1`` coefficients (the others set to 0).
     reconstruction_error : ndarray, shape (p,)
         ``||reconstruction - lam_prime|| / ||lam_prime||`` of each shape.
@@ -74,6 +80,8 @@ class SweepState:
     retrieval : dict or None
         Nearest-neighbour and first-tier rates of the cShape-DNA (``nn``, ``ft``) and of the
         Shape-DNA (``nn_ref``, ``ft_ref``); None without at least one class of two shapes.
+    transform : str
+        See :func:`cshape.compact_shape_dna`; ``'weyl'`` is the paper's.
     """
 
     M: int
@@ -94,6 +102,7 @@ class SweepState:
     std: float
     mds: np.ndarray | None = None
     retrieval: dict | None = field(default=None)
+    transform: str = "weyl"
 
     @property
     def size(self) -> int:
@@ -102,7 +111,8 @@ class SweepState:
 
     def summary(self) -> str:
         """One line of statistics, as the widget prints it."""
-        s = (f"M = {self.M}: 2M+1 = {self.size} values instead of N = {self.N}; difference "
+        tr = "" if self.transform == "weyl" else f" ({self.transform})"
+        s = (f"M = {self.M}{tr}: 2M+1 = {self.size} values instead of N = {self.N}; difference "
              f"from Shape-DNA: mean {self.mean:.2f}, std {self.std:.2f} (scaled to [0, 255])")
         if self.retrieval:
             r = self.retrieval
@@ -111,9 +121,16 @@ class SweepState:
         return s
 
 
-def clamp_M(M, N) -> int:
-    """``M`` clamped to the valid range ``[0, (N-1)//2]`` for a Shape-DNA of length ``N``."""
-    return int(min(max(int(M), 0), (int(N) - 1) // 2))
+def max_M(N, transform="weyl") -> int:
+    """The largest ``M`` for a Shape-DNA of length ``N``: ``(N-1)//2``, or ``(N-2)//2`` for
+    the log-Weyl transforms (their sequence has ``N-1`` values: ``lam_0`` has no logarithm)."""
+    transform = check_choice("transform", transform, TRANSFORMS)
+    return (int(N) - 1) // 2 if transform == "weyl" else (int(N) - 2) // 2
+
+
+def clamp_M(M, N, transform="weyl") -> int:
+    """``M`` clamped to the valid range ``[0, max_M(N, transform)]``."""
+    return int(min(max(int(M), 0), max_M(N, transform)))
 
 
 def _procrustes(Y, Y_ref):
@@ -143,6 +160,8 @@ class MSweep:
         Compute the MDS embedding (the slowest of the cheap stages).
     random_state : int, default=0
         Seed of the MDS iterations.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        Default transform of :meth:`state` (see :func:`cshape.compact_shape_dna`).
 
     Attributes
     ----------
@@ -151,7 +170,7 @@ class MSweep:
     """
 
     def __init__(self, lams, areas, names=None, labels=None, *, normalization="area",
-                 mds=True, random_state=0):
+                 mds=True, random_state=0, transform="weyl"):
         rows = list(lams)
         if len(rows) == 0:
             raise ValueError("lams is empty; pass the eigenvalues of at least two shapes")
@@ -175,8 +194,10 @@ class MSweep:
         if len(self.labels) != p:
             raise ValueError(f"labels has {len(self.labels)} entries but lams has {p} rows")
         self.normalization = self._check_norm(normalization)
+        self.transform = self._check_transform(transform)
         self.mds = bool(mds)
         self.random_state = random_state
+        self._ref = {}
         self._base = {}
         self._states = {}
 
@@ -190,6 +211,10 @@ class MSweep:
     def _check_norm(normalization):
         return check_choice("normalization", normalization, NORMALIZATIONS)
 
+    @staticmethod
+    def _check_transform(transform):
+        return check_choice("transform", transform, TRANSFORMS)
+
     def _check_N(self, N):
         if N is None:
             return self.N_max
@@ -202,20 +227,33 @@ class MSweep:
             )
         return int(N)
 
-    def base(self, N=None, normalization=None) -> dict:
-        """The stages that do not depend on ``M`` (cached per ``N`` and normalisation)."""
+    def base(self, N=None, normalization=None, transform=None) -> dict:
+        """The stages that do not depend on ``M`` (cached per ``N``, normalisation and
+        transform; the Shape-DNA reference and its MDS are shared by the transforms)."""
         N = self._check_N(N)
         norm = self.normalization if normalization is None else self._check_norm(normalization)
-        key = (N, norm)
-        if key not in self._base:
+        tr = self.transform if transform is None else self._check_transform(transform)
+        ref_key = (N, norm)
+        if ref_key not in self._ref:
             lam_norm = np.vstack([normalize(r[:N], a, method=norm)
                                   for r, a in zip(self.lams, self.areas, strict=True)])
-            lam_prime = np.vstack([weyl_subtract(r) for r in lam_norm])  # Eq. (8)
-            spectra = np.fft.fftshift(np.fft.fft(lam_prime, axis=1), axes=1)  # Eq. (9)
             D_ref = scale_255(distance_matrix(lam_norm))
-            Y_ref = self._embed(D_ref)
-            self._base[key] = {"lam_norm": lam_norm, "lam_prime": lam_prime,
-                               "spectra": spectra, "D_ref": D_ref, "Y_ref": Y_ref}
+            self._ref[ref_key] = {"lam_norm": lam_norm, "D_ref": D_ref,
+                                  "Y_ref": self._embed(D_ref)}
+        key = (N, norm, tr)
+        if key not in self._base:
+            b = self._ref[ref_key]
+            if tr == "weyl":
+                seq = np.vstack([weyl_subtract(r) for r in b["lam_norm"]])  # Eq. (8)
+            else:
+                seq = np.vstack([log_weyl_ratio(r) for r in b["lam_norm"]])
+            if tr == "log-weyl-dct":
+                from scipy.fft import dct
+
+                spectra = dct(seq, type=2, norm="ortho", axis=1)
+            else:
+                spectra = np.fft.fftshift(np.fft.fft(seq, axis=1), axes=1)  # Eq. (9)
+            self._base[key] = {**b, "lam_prime": seq, "spectra": spectra}
         return self._base[key]
 
     def _embed(self, D):
@@ -230,8 +268,9 @@ class MSweep:
         r, r_ref = retrieval_scores(D, self.labels), retrieval_scores(D_ref, self.labels)
         return {"nn": r["nn"], "ft": r["ft"], "nn_ref": r_ref["nn"], "ft_ref": r_ref["ft"]}
 
-    def state(self, M, N=None, normalization=None) -> SweepState:
-        """The sweep at one ``M`` (cached); raises ``ValueError`` unless ``0 <= M <= (N-1)//2``.
+    def state(self, M, N=None, normalization=None, transform=None) -> SweepState:
+        """The sweep at one ``M`` (cached); raises ``ValueError`` unless
+        ``0 <= M <= max_M(N, transform)``.
 
         Parameters
         ----------
@@ -241,6 +280,8 @@ class MSweep:
             Shape-DNA length, default :attr:`N_max`.
         normalization : {'area', 'fiedler', 'weyl'}, optional
             Default: the sweep's.
+        transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
+            Default: the sweep's.
 
         Returns
         -------
@@ -248,23 +289,33 @@ class MSweep:
         """
         N = self._check_N(N)
         norm = self.normalization if normalization is None else self._check_norm(normalization)
+        tr = self.transform if transform is None else self._check_transform(transform)
         if isinstance(M, bool) or not isinstance(M, numbers.Integral):
             raise TypeError(f"M must be an integer, got {type(M).__name__} {M!r}")
-        if not 0 <= M <= (N - 1) // 2:
+        top = max_M(N, tr)
+        if not 0 <= M <= top:
+            bound = "2M+1 <= N" if tr == "weyl" else "2M+1 <= N-1"
             raise ValueError(
-                f"M must be in [0, {(N - 1) // 2}] for N = {N} (2M+1 <= N), got {M}; "
-                "clamp it with cshape.widgets.clamp_M(M, N)"
+                f"M must be in [0, {top}] for N = {N} ({bound}), got {M}; "
+                "clamp it with cshape.widgets.clamp_M(M, N, transform)"
             )
         M = int(M)
-        key = (M, N, norm)
+        key = (M, N, norm, tr)
         if key in self._states:
             return self._states[key]
-        b = self.base(N, norm)
-        c = N // 2
-        coeffs = b["spectra"][:, c - M: c + M + 1].copy()  # Eq. (10)
+        b = self.base(N, norm, tr)
         kept = np.zeros_like(b["spectra"])
-        kept[:, c - M: c + M + 1] = coeffs
-        rec = np.fft.ifft(np.fft.ifftshift(kept, axes=1), axis=1).real
+        if tr == "log-weyl-dct":
+            from scipy.fft import idct
+
+            coeffs = b["spectra"][:, : 2 * M + 1].copy()
+            kept[:, : 2 * M + 1] = coeffs
+            rec = idct(kept, type=2, norm="ortho", axis=1)
+        else:
+            c = b["spectra"].shape[1] // 2
+            coeffs = b["spectra"][:, c - M: c + M + 1].copy()  # Eq. (10)
+            kept[:, c - M: c + M + 1] = coeffs
+            rec = np.fft.ifft(np.fft.ifftshift(kept, axes=1), axis=1).real
         lp = b["lam_prime"]
         err = np.linalg.norm(rec - lp, axis=1) / np.maximum(np.linalg.norm(lp, axis=1), 1e-300)
         D = scale_255(distance_matrix(coeffs))
@@ -277,7 +328,7 @@ class MSweep:
             lam_norm=b["lam_norm"], lam_prime=lp, spectra=b["spectra"], coefficients=coeffs,
             reconstruction=rec, reconstruction_error=err, D_ref=b["D_ref"], D=D,
             difference=diff, mean=float(diff.mean()), std=float(diff.std()), mds=Y,
-            retrieval=self._retrieval(D, b["D_ref"]),
+            retrieval=self._retrieval(D, b["D_ref"]), transform=tr,
         )
         if len(self._states) > 256:
             self._states.clear()
@@ -286,7 +337,7 @@ class MSweep:
 
 
 def sweep_state(lams, areas, labels=None, M=16, N=None, normalization="area", *, names=None,
-                mds=True, random_state=0) -> SweepState:
+                mds=True, random_state=0, transform="weyl") -> SweepState:
     """The M sweep at one ``M`` in one call: crop, reconstruction, distances, statistics, MDS.
 
     Parameters
@@ -304,6 +355,8 @@ def sweep_state(lams, areas, labels=None, M=16, N=None, normalization="area", *,
     names : sequence of str, optional
     mds : bool, default=True
     random_state : int, default=0
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        See :func:`cshape.compact_shape_dna`.
 
     Returns
     -------
@@ -314,7 +367,7 @@ def sweep_state(lams, areas, labels=None, M=16, N=None, normalization="area", *,
     MSweep : the same with the ``M``-independent stages cached, for many ``M``.
     """
     sweep = MSweep(lams, areas, names, labels, normalization=normalization, mds=mds,
-                   random_state=random_state)
+                   random_state=random_state, transform=transform)
     return sweep.state(M, N)
 
 
@@ -365,7 +418,8 @@ class MSweepWidget(_VBox):
     sweeps : dict of str to MSweep
         One cached sweep per collection.
     controls : dict of str to ipywidgets.Widget
-        ``'collection'``, ``'N'``, ``'M'``, ``'normalization'``, ``'shape'``.
+        ``'collection'``, ``'N'``, ``'M'``, ``'normalization'``, ``'transform'`` (a toggle:
+        the paper's ``'weyl'`` or the log-Weyl extensions), ``'shape'``.
     image : ipywidgets.Image
         The figure of :func:`cshape.plots.plot_m_sweep` as PNG.
     stats : ipywidgets.HTML
@@ -375,36 +429,43 @@ class MSweepWidget(_VBox):
     """
 
     def __init__(self, sweeps, *, M=16, N=None, normalization="area", figsize=(12.0, 7.0),
-                 dpi=72):
+                 dpi=72, transform="weyl"):
         self.sweeps = sweeps
         self._figsize = figsize
         self._dpi = dpi
         self._busy = False
         first = next(iter(sweeps.values()))
         N0 = first.N_max if N is None else min(max(int(N), 3), first.N_max)
+        tr = MSweep._check_transform(transform)
         style = {"description_width": "initial"}
         coll = _w.Dropdown(options=list(sweeps), value=next(iter(sweeps)),
                            description="collection", style=style,
                            layout=_w.Layout(display="" if len(sweeps) > 1 else "none"))
         wN = _w.IntSlider(value=N0, min=3, max=first.N_max, description="N",
                           continuous_update=False, style=style)
-        wM = _w.IntSlider(value=clamp_M(M, N0), min=0, max=(N0 - 1) // 2, description="M",
+        wM = _w.IntSlider(value=clamp_M(M, N0, tr), min=0, max=max_M(N0, tr), description="M",
                           continuous_update=False, style=style)
+        wt = _w.ToggleButtons(options=list(TRANSFORMS), value=tr, description="transform",
+                              style=style,
+                              tooltips=["the paper: DFT of lam' (Eq. 8-10)",
+                                        "DFT of the log-Weyl ratio r_i = log(lam_i / 4 pi i)",
+                                        "DCT of the log-Weyl ratio"])
         wn = _w.Dropdown(options=list(NORMALIZATIONS),
                          value=MSweep._check_norm(normalization), description="normalisation",
                          style=style)
         ws = _w.Dropdown(options=[(n, i) for i, n in enumerate(first.names)], value=0,
                          description="shape", style=style)
-        self.controls = {"collection": coll, "N": wN, "M": wM, "normalization": wn, "shape": ws}
+        self.controls = {"collection": coll, "N": wN, "M": wM, "normalization": wn,
+                         "transform": wt, "shape": ws}
         self.image = _w.Image(format="png", layout=_w.Layout(max_width="100%"))
         self.stats = _w.HTML()
         self.stats.add_class("cshape-msweep-stats")
         self.image.add_class("cshape-msweep-plot")
-        box = _w.HBox([coll, wN, wM]), _w.HBox([wn, ws])
+        box = _w.HBox([coll, wN, wM]), _w.HBox([wn, ws]), wt
         super().__init__([*box, self.stats, self.image])
         self.add_class("cshape-msweep")
         coll.observe(self._on_collection, names="value")
-        for w in (wN, wM, wn, ws):
+        for w in (wN, wM, wn, wt, ws):
             w.observe(self._on_change, names="value")
         self.refresh()
 
@@ -420,7 +481,7 @@ class MSweepWidget(_VBox):
         try:
             c["N"].max = sw.N_max
             c["N"].value = min(c["N"].value, sw.N_max)
-            c["M"].max = (c["N"].value - 1) // 2
+            c["M"].max = max_M(c["N"].value, c["transform"].value)
             c["shape"].options = [(n, i) for i, n in enumerate(sw.names)]
             c["shape"].value = 0
         finally:
@@ -431,11 +492,11 @@ class MSweepWidget(_VBox):
         if self._busy:
             return
         c = self.controls
-        if change["owner"] is c["N"]:
+        if change["owner"] is c["N"] or change["owner"] is c["transform"]:
             self._busy = True
-            try:  # clamp M to [0, (N-1)//2]
-                top = (c["N"].value - 1) // 2
-                c["M"].value = clamp_M(c["M"].value, c["N"].value)
+            try:  # clamp M to [0, (N-1)//2], or [0, (N-2)//2] for the log-Weyl transforms
+                top = max_M(c["N"].value, c["transform"].value)
+                c["M"].value = clamp_M(c["M"].value, c["N"].value, c["transform"].value)
                 c["M"].max = top
             finally:
                 self._busy = False
@@ -447,19 +508,23 @@ class MSweepWidget(_VBox):
 
         c = self.controls
         N = int(c["N"].value)
-        M = clamp_M(c["M"].value, N)
-        self.state = self.sweep.state(M, N, c["normalization"].value)
+        tr = c["transform"].value
+        M = clamp_M(c["M"].value, N, tr)
+        self.state = self.sweep.state(M, N, c["normalization"].value, tr)
         fig = plot_m_sweep(self.state, shape=int(c["shape"].value or 0), figsize=self._figsize)
         self.image.value = _png(fig, self._dpi)
         self.stats.value = f"<b>{self.state.summary()}</b>"
 
 
-def m_sweep_widget(data, *, M=16, N=None, normalization="area", figsize=(12.0, 7.0), dpi=72):
-    """An ipywidgets M sweep: slide ``M`` (and pick ``N``, collection, normalisation, shape).
+def m_sweep_widget(data, *, M=16, N=None, normalization="area", figsize=(12.0, 7.0), dpi=72,
+                   transform="weyl"):
+    """An ipywidgets M sweep: slide ``M`` (and pick ``N``, collection, normalisation,
+    transform, shape).
 
     Eigenvalues are given once (``data``); moving a control reruns only the cheap stages of
     :class:`MSweep` and redraws :func:`cshape.plots.plot_m_sweep`.  ``M`` is clamped to
-    ``[0, (N-1)//2]``, also when ``N`` is lowered.
+    ``[0, (N-1)//2]`` (``[0, (N-2)//2]`` for the log-Weyl transforms), also when ``N`` is
+    lowered or the transform changes.
 
     Parameters
     ----------
@@ -475,6 +540,8 @@ def m_sweep_widget(data, *, M=16, N=None, normalization="area", figsize=(12.0, 7
     figsize : (float, float), default=(12.0, 7.0)
     dpi : int, default=72
         Resolution of the PNG image.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        Initial position of the transform toggle (see :func:`cshape.compact_shape_dna`).
 
     Returns
     -------
@@ -485,4 +552,5 @@ def m_sweep_widget(data, *, M=16, N=None, normalization="area", figsize=(12.0, 7
     if _w is None:  # pragma: no cover
         raise ImportError("m_sweep_widget needs ipywidgets: pip install ipywidgets")
     sweeps = _as_sweeps(data, normalization)
-    return MSweepWidget(sweeps, M=M, N=N, normalization=normalization, figsize=figsize, dpi=dpi)
+    return MSweepWidget(sweeps, M=M, N=N, normalization=normalization, figsize=figsize, dpi=dpi,
+                        transform=transform)

@@ -111,3 +111,23 @@ def test_floor_stages_and_profile(results):
     assert sum(s for _, s in groups[:-1]) == pytest.approx(groups[-1][1])
     lines = fl.report("tiny", r, groups, top)
     assert any("floor of the method" in line for line in lines)
+
+
+def test_descriptors_benchmark_scores_every_row_at_equal_size():
+    from cshape import DescriptorTable, shape_dna, shapes
+
+    bd = _load("bench_descriptors")
+    meshes = [("s1", "sphere", shapes.icosphere(2)), ("s2", "sphere", shapes.icosphere(2, 2.0)),
+              ("t1", "torus", shapes.torus(20, 10)), ("t2", "torus", shapes.torus(24, 12))]
+    lam = np.array([shape_dna(m, N=12) for _, _, m in meshes])
+    table = DescriptorTable([n for n, _, _ in meshes], lam, [m.area for _, _, m in meshes],
+                            [c for _, c, _ in meshes])
+    rows = bd.score_table(table, [1, 2], 12)
+    assert len(rows) == 1 + 2 * len(bd.ROWS) and rows[0]["size"] == 12
+    assert {r["size"] for r in rows[1:]} == {3, 5}
+    assert all(0 <= r[k] <= 1 for r in rows for k in bd.MEASURES)
+    best = bd.winners(rows)
+    assert set(best) == {3, 5} and all(0 < s <= 1 for _, s in best.values())
+    assert "cShape-DNA (paper)" in best[3][0]  # spheres vs tori: every row is perfect, a tie
+    md = bd.markdown(rows, "tiny", 4, 2, 12, "header")
+    assert md.count("\n| ") >= 3

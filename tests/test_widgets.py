@@ -70,7 +70,7 @@ def test_M_independent_stages_are_computed_once(collection, monkeypatch):
     monkeypatch.setattr(widgets, "normalize", lambda *a, **k: calls.append(1))
     for M in range(0, 12):
         sweep.state(M)  # new M: only the cheap stages, no new normalisation
-    assert calls == [] and len(sweep._base) == 1
+    assert calls == [] and len(sweep._base) == len(sweep._ref) == 1
     assert sweep.state(5) is sweep.state(5)  # cached
 
 
@@ -190,3 +190,60 @@ def test_plot_validation():
         plots.plot_weyl({"s": np.arange(5.0)}, {})
     with pytest.raises(TypeError, match="spectra must be a dict"):
         plots.plot_weyl([np.arange(5.0)], {})
+
+
+# ------------------------------------------------------------------ the transform toggle
+@pytest.mark.parametrize("transform", ["weyl", "log-weyl", "log-weyl-dct"])
+def test_sweep_state_for_every_transform_matches_the_descriptors(collection, transform):
+    t = collection
+    sweep = widgets.MSweep.from_table(t, mds=False)
+    st = sweep.state(4, N, transform=transform)
+    assert st.transform == transform and st.coefficients.shape == (6, 9)
+    L = N if transform == "weyl" else N - 1
+    assert st.lam_prime.shape == st.reconstruction.shape == st.spectra.shape == (6, L)
+    for i in range(6):
+        S = cshape.compact_shape_dna(t.lam[i], M=4, N=N, area=t.areas[i], transform=transform)
+        np.testing.assert_allclose(st.coefficients[i], S, rtol=1e-12, atol=1e-12)
+        rec = cshape.inverse_compact_shape_dna(S, N, add_weyl=False, transform=transform)
+        np.testing.assert_allclose(st.reconstruction[i], rec, atol=1e-12)
+    X = compare.descriptor_matrix(t.lam, t.areas, "cshape", M=4, N=N, transform=transform)
+    np.testing.assert_allclose(st.D, compare.scale_255(compare.distance_matrix(X)), atol=1e-9)
+    # the Shape-DNA reference does not depend on the transform, and is computed once
+    np.testing.assert_array_equal(st.D_ref, sweep.state(4, N, transform="weyl").D_ref)
+    assert len(sweep._ref) == 1
+    if transform != "weyl":
+        assert "(" + transform + ")" in st.summary()
+        full = sweep.state(widgets.max_M(N, transform), N, transform=transform)  # 2M+1 = N-1
+        np.testing.assert_allclose(full.reconstruction, full.lam_prime, atol=1e-12)
+
+
+def test_max_M_and_clamp_for_the_transforms():
+    assert widgets.max_M(24) == 11 and widgets.max_M(24, "log-weyl") == 11
+    assert widgets.max_M(25) == 12 and widgets.max_M(25, "log-weyl-dct") == 11
+    assert widgets.clamp_M(20, 25, "log-weyl") == 11 and widgets.clamp_M(20, 25) == 12
+    with pytest.raises(ValueError, match="transform must be one of"):
+        widgets.max_M(25, "dft")
+
+
+def test_sweep_rejects_M_beyond_the_log_weyl_bound(collection):
+    sweep = widgets.MSweep.from_table(collection.select(range(4)), mds=False)
+    sweep.state(11, 23)  # fine for the paper's transform
+    with pytest.raises(ValueError, match=r"M must be in \[0, 10\] for N = 23 \(2M\+1 <= N-1\)"):
+        sweep.state(11, 23, transform="log-weyl")
+    with pytest.raises(ValueError, match="transform must be one of"):
+        widgets.MSweep.from_table(collection, transform="log")
+
+
+def test_widget_transform_toggle_clamps_M(collection):
+    w = widgets.m_sweep_widget(collection.select(range(4)), M=11, N=23, dpi=30,
+                               figsize=(6, 4))
+    assert w.state.M == 11 and w.state.transform == "weyl"
+    png = w.image.value
+    w.controls["transform"].value = "log-weyl-dct"  # M = 11 needs 2M+1 = 23 > N-1 = 22
+    assert w.state.transform == "log-weyl-dct" and w.state.M == 10
+    assert w.controls["M"].max == 10 and w.image.value != png
+    assert "(log-weyl-dct)" in w.stats.value
+    w.controls["transform"].value = "log-weyl"
+    assert w.state.transform == "log-weyl" and w.state.M == 10
+    w.controls["transform"].value = "weyl"
+    assert w.controls["M"].max == 11 and w.state.transform == "weyl"
