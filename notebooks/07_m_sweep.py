@@ -101,6 +101,12 @@ plots.plot_matrices([s.difference for s in states],
 #
 # Move **M** (and try **N**, the collection, the normalisation and the shape whose DFT is drawn). Each change reruns only the
 # cheap stages; the eigenvalues above are not recomputed. $M$ is clamped to $[0, (N-1)/2]$.
+#
+# The **transform** toggle goes beyond the paper: `weyl` is Eq. (8)-(10); `log-weyl` crops the DFT of the
+# log-Weyl ratio $r_i = \log(\lambda_i^{norm} / 4\pi i)$, $i = 1..N-1$, which weighs every eigenvalue by its
+# relative deviation from the Weyl line instead of its absolute one; `log-weyl-dct` keeps the first $2M+1$ DCT
+# coefficients of $r$ (no jump at the ends for the periodic DFT to smear). All three give $2M+1$ numbers; the
+# reference matrix stays the Shape-DNA's. Notebook 8 measures which one retrieves shapes best.
 
 # %%
 no_spheres = table.select([i for i, lab in enumerate(table.labels) if lab != "sphere"])
@@ -122,5 +128,7 @@ plots.plot_m_sweep(w.state, shape=int(w.controls["shape"].value))
 # 2. With the normalisation set to `'fiedler'`, does the difference from Shape-DNA grow or shrink? Why might the
 #    Weyl-line subtraction of Eq. (8) suit the area normalisation best?
 # 3. Lower $N$ to 20: how do the difference statistics for $M = 4$ change, and why?
-# 4. Add a third collection to the widget's drop-down: the table of your own meshes from notebook 6
+# 4. Switch the transform to `log-weyl`: at which $M$ does the difference from Shape-DNA get small? Is a small
+#    difference from Shape-DNA the same as a good retrieval (compare the nearest-neighbour rates)?
+# 5. Add a third collection to the widget's drop-down: the table of your own meshes from notebook 6
 #    (`batch.DescriptorTable.load("descriptors.csv")`), or only the articulated figures of this one.
