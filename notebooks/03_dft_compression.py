@@ -191,7 +191,8 @@ ax = fig.add_subplot()
 i = np.arange(N)
 ax.plot(i, cshape.weyl_subtract(lam_norm), "k.", ms=4, label="lam'")
 for m in [1, 2, 4, M]:
-    rec = cshape.inverse_compact_shape_dna(cshape.compact_shape_dna(lam_norm, M=m, N=N, normalized=True), N)
+    S_m = cshape.compact_shape_dna(lam_norm, M=m, N=N, normalized=True)
+    rec = cshape.inverse_compact_shape_dna(S_m, N)
     ax.plot(i, cshape.weyl_subtract(rec), lw=1.2, label=f"M={m} ({2 * m + 1} values)")
 ax.set(xlabel="i", ylabel="lam'_i", title=f"reconstructions, {real_name.split(' ')[0]}")
 ax.legend(fontsize="small")
@@ -211,8 +212,8 @@ errors = []
 for ln in models.values():
     lp = cshape.weyl_subtract(ln)
     errors.append([np.linalg.norm(cshape.inverse_compact_shape_dna(
-        cshape.compact_shape_dna(ln, M=int(m), N=N, normalized=True), N, add_weyl=False) - lp) / np.linalg.norm(lp)
-        for m in Ms])
+        cshape.compact_shape_dna(ln, M=int(m), N=N, normalized=True), N, add_weyl=False) - lp)
+        / np.linalg.norm(lp) for m in Ms])
 plots.plot_reconstruction_error(Ms, errors, labels=list(models), N=N)
 
 # %% [markdown]
