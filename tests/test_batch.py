@@ -257,7 +257,44 @@ def test_dask_process_cluster_equals_serial(reference):
                                   host="127.0.0.1", dashboard_address=":0") as cluster:
         with distributed.Client(cluster) as client:
             table = run(small_collection(), cache_dir=False, client=client)
+            # every worker was set up by its first task (allocator thresholds, issue 14)
+            ready = client.run(lambda: __import__("cshape.batch").batch._WORKER_READY)
     np.testing.assert_array_equal(table.lam, reference.lam)
+    assert ready and all(ready.values())
+
+
+MALLOC_PROBE = """
+import resource, sys
+import numpy as np
+from cshape.batch import _malloc_as_a_plain_process
+
+ok = _malloc_as_a_plain_process() if sys.argv[1] == "fix" else None
+np.ones(2**17)  # 1 MiB: warm up
+before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+for _ in range(50):
+    np.ones(2**17).sum()  # allocate, touch and free 1 MiB
+print(ok, resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's mallopt")
+def test_dask_nanny_malloc_variable_is_undone_in_the_worker():
+    # MALLOC_TRIM_THRESHOLD_ (set by the Dask nanny) freezes glibc's mmap threshold at
+    # 128 KiB: every 1 MiB temporary is mapped afresh and page-faulted in (256 faults each).
+    # After _malloc_as_a_plain_process the freed block is reused: almost no new faults.
+    def faults(mode, **extra):
+        env = dict(os.environ, MALLOC_TRIM_THRESHOLD_="65536", **extra)
+        out = subprocess.run([sys.executable, "-c", MALLOC_PROBE, mode], env=env, check=True,
+                             capture_output=True, text=True).stdout.split()
+        return out[0], int(out[1])
+
+    ok, frozen = faults("plain")
+    assert frozen > 50 * 200
+    ok, fixed = faults("fix")
+    assert ok == "True" and fixed < 50 * 20
+    # an explicit MALLOC_MMAP_THRESHOLD_ is the user's choice: left alone
+    ok, _ = faults("fix", MALLOC_MMAP_THRESHOLD_="131072")
+    assert ok == "False"
 
 
 # ------------------------------------------------------------------ interruption
