@@ -628,9 +628,9 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         :func:`default_cache_dir`, ``False`` disables caching.
     n_jobs : int, default=1
         Local worker processes (``-1``: all cores).  ``1`` computes in this process.
-        Each worker process uses one BLAS thread.  Scripts using ``n_jobs > 1`` must
-        guard their entry point with ``if __name__ == '__main__':`` (the workers are
-        started with the 'forkserver' or 'spawn' method).
+        Each worker process uses one BLAS thread.  The workers (joblib's loky pool) do
+        not re-run the calling script, so a plain script without an
+        ``if __name__ == '__main__':`` guard works.
     client : dask.distributed.Client or str, optional
         Run on a Dask cluster: a client, or a scheduler address such as
         ``'tcp://10.0.0.5:8786'`` (a client is opened and closed for the run).  The workers
@@ -815,15 +815,24 @@ def _check_n_jobs(n_jobs):
 
 
 def _run_processes(tasks, n_jobs, finish, failures, blas_threads):
-    import multiprocessing as mp
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-    from concurrent.futures.process import BrokenProcessPool
+    """Run ``tasks`` in ``n_jobs`` local worker processes, calling ``finish`` as they end.
 
-    methods = mp.get_all_start_methods()
-    ctx = mp.get_context("forkserver" if "forkserver" in methods else "spawn")
+    The pool is joblib's loky executor: its workers start a fresh interpreter that imports
+    cshape but not the caller's ``__main__``.  (multiprocessing's 'spawn' and 'forkserver'
+    re-run the calling script in every worker, so a script without an
+    ``if __name__ == "__main__":`` guard started describe again in each worker, whose death
+    failed every mesh; 'fork' is unsafe with the threads of BLAS and PyMeshLab.)  A worker
+    that dies (killed, out of memory) breaks the pool: its unfinished meshes are reported as
+    failures, and the finished ones are already cached.
+    """
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    from joblib.externals.loky import ProcessPoolExecutor
+    from joblib.externals.loky.process_executor import BrokenProcessPool
+
     todo = deque(tasks)
     window = 4 * n_jobs  # tasks in flight: bounded memory for large collections
-    with ProcessPoolExecutor(max_workers=min(n_jobs, len(tasks)), mp_context=ctx,
+    with ProcessPoolExecutor(max_workers=min(n_jobs, len(tasks)),
                              initializer=_init_worker, initargs=(blas_threads,)) as ex:
         pending = {}
         try:

@@ -108,9 +108,9 @@ table
 # %% [markdown]
 # ### In parallel
 #
-# `n_jobs=2` computes in two worker processes (each with one BLAS thread). In a script, guard the entry
-# point with `if __name__ == "__main__":`. For a cluster, pass a Dask client (or a scheduler address) as
-# `client=`; the cache stays on this machine.
+# `n_jobs=2` computes in two worker processes (each with one BLAS thread); they do not re-run your
+# script, so a plain script works as it is. For a cluster, pass a Dask client (or a scheduler address)
+# as `client=`; the cache stays on this machine.
 
 # %%
 t0 = time.perf_counter()

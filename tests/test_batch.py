@@ -377,6 +377,37 @@ def test_resume_after_a_worker_is_killed(tmp_path):
     check_resume(cache)
 
 
+NO_GUARD = """
+import json, sys
+from cshape import shapes
+from cshape.batch import describe
+
+print("script body ran")
+col = [(f"s{i}", "sphere", shapes.icosphere(2, radius=1.0 + 0.1 * i)) for i in range(4)]
+t = describe(col, N=20, M=4, cache_dir=sys.argv[1], n_jobs=2, progress=False)
+print(json.dumps({"ok": t.names, "failures": t.failures, "lam": t.lam.tolist()}))
+"""
+
+
+def test_parallel_describe_from_a_plain_script_without_main_guard(tmp_path):
+    """The usual script, no ``if __name__ == "__main__":``: the workers must not re-run it
+    (with multiprocessing's spawn/forkserver every mesh 'failed' as a dead worker)."""
+    script = tmp_path / "plain.py"
+    script.write_text(NO_GUARD)
+    res = subprocess.run([sys.executable, str(script), str(tmp_path / "cache")], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    lines = res.stdout.strip().splitlines()
+    assert lines.count("script body ran") == 1, res.stdout  # not re-run by any worker
+    summary = json.loads(lines[-1])
+    assert summary["failures"] == []
+    assert summary["ok"] == ["s0", "s1", "s2", "s3"]
+    assert len(entries(tmp_path / "cache")) == 4
+    col = [(f"s{i}", "sphere", shapes.icosphere(2, radius=1.0 + 0.1 * i)) for i in range(4)]
+    ref = describe(col, N=20, M=4, cache_dir=False, progress=False)
+    np.testing.assert_array_equal(np.array(summary["lam"]), ref.lam)
+
+
 @pytest.mark.parametrize(
     "name, content",
     [
