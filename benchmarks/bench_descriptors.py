@@ -35,6 +35,8 @@ import csv
 import sys
 from pathlib import Path
 
+import numpy as np
+
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import machine_summary  # noqa: E402
 
@@ -58,6 +60,19 @@ def descriptors(table, title, M, N):
     if kind == "f1":
         return table.descriptors("f1", N=2 * M + 3)  # lam_1 / lam_2 .. lam_1 / lam_{2M+2}
     return table.descriptors(kind, M=M, N=N, transform=transform)
+
+
+def connected_only(table):
+    """The table without shapes whose ``lam_1`` is zero (several components), and their names.
+
+    Such a spectrum has one zero eigenvalue per component; the log-Weyl ratio has no
+    logarithm for it (``cshape.log_weyl_ratio`` refuses it), and the paper's descriptors
+    would compare it with a shifted index.  It is left out of *every* row, so all rows
+    score the same shapes.
+    """
+    lam1 = table.lam[:, 1]
+    ok = lam1 > 1e-8 * table.lam.max(axis=1)
+    return table.select(ok), [n for n, k in zip(table.names, ok, strict=True) if not k]
 
 
 def score_table(table, Ms, N):
@@ -98,7 +113,46 @@ def winners(rows, measure="ft", tol=1e-12):
     return {k: (" = ".join(v[0]), v[1]) for k, v in best.items()}
 
 
-def markdown(rows, name, n_shapes, n_classes, N, header):
+def paired(table, M, N, a="log-weyl-dct", b="log-weyl", measures=("ft", "map")):
+    """Mean and standard error over queries of ``score(a) - score(b)``, per measure.
+
+    Both transforms rank the same queries, so the per-query differences are paired; the
+    standard error is ``std(diff, ddof=1) / sqrt(q)`` over the ``q`` scored queries.
+    """
+    from cshape.compare import retrieval_per_query
+
+    pa = retrieval_per_query(table.distance_matrix("cshape", M=M, N=N, transform=a),
+                             table.labels)
+    pb = retrieval_per_query(table.distance_matrix("cshape", M=M, N=N, transform=b),
+                             table.labels)
+    out = {}
+    for k in measures:
+        d = pa[k] - pb[k]
+        d = d[~np.isnan(d)]
+        out[k] = (float(d.mean()), float(d.std(ddof=1) / np.sqrt(len(d))))
+    return out
+
+
+def n_sweep(table, Ms=(8, 16), Ns=(40, 50, 67, 100)):
+    """First tier and mAP of the three transforms at sizes ``2M+1`` for several ``N``.
+
+    ``N = 2M+2`` is included: there every log-Weyl coefficient is kept, so both log-Weyl
+    transforms have the distances of the truncated log spectrum (an orthogonal DCT, a
+    scaled unitary DFT).  Returns a list of dicts ``M, N, transform, ft, map``.
+    """
+    from cshape.compare import retrieval_scores
+
+    out = []
+    for M in Ms:
+        for N in sorted({2 * M + 2, *[n for n in Ns if 2 * M + 2 <= n <= table.N]}):
+            for tr in ("weyl", "log-weyl", "log-weyl-dct"):
+                s = retrieval_scores(table.distance_matrix("cshape", M=M, N=N, transform=tr),
+                                     table.labels)
+                out.append({"M": M, "N": N, "transform": tr, "ft": s["ft"], "map": s["map"]})
+    return out
+
+
+def markdown(rows, name, n_shapes, n_classes, N, header, pairs=None, sweep=None):
     """The results page: the table at 17 and 33 numbers and the winner at every size."""
     lines = [f"# Compact descriptors on `{name}` ({n_shapes} shapes, {n_classes} classes, "
              f"N = {N})", "", header, "",
@@ -117,6 +171,23 @@ def markdown(rows, name, n_shapes, n_classes, N, header):
                      f"{by[('cShape-DNA (paper)', size)]['ft']:.3f} | "
                      f"{by[('log-Weyl DFT', size)]['ft']:.3f} | "
                      f"{by[('log-Weyl DCT', size)]['ft']:.3f} |")
+    if pairs:
+        lines += ["", f"log-Weyl DCT minus log-Weyl DFT, paired over the queries (N = {N}; "
+                  "mean +- standard error):", "",
+                  "| size | first tier | mAP |", "|---|---|---|"]
+        for size, d in sorted(pairs.items()):
+            lines.append(f"| {size} | {d['ft'][0]:+.3f} +- {d['ft'][1]:.3f} "
+                         f"| {d['map'][0]:+.3f} +- {d['map'][1]:.3f} |")
+    if sweep:
+        lines += ["", "The Shape-DNA length N at equal size (first tier / mAP); N = 2M+2 keeps "
+                  "every log-Weyl coefficient (= truncated log spectrum):", "",
+                  "| size | N | paper (weyl) | log-Weyl DFT | log-Weyl DCT |",
+                  "|---|---|---|---|---|"]
+        cell = {(r["M"], r["N"], r["transform"]): r for r in sweep}
+        for M, n in dict.fromkeys((r["M"], r["N"]) for r in sweep):
+            vals = [cell[(M, n, tr)] for tr in ("weyl", "log-weyl", "log-weyl-dct")]
+            lines.append(f"| {2 * M + 1} | {n} | "
+                         + " | ".join(f"{v['ft']:.3f} / {v['map']:.3f}" for v in vals) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -137,6 +208,10 @@ def main(argv=None):
     table = describe(coll, N=args.N, n_jobs=args.jobs, progress=False)
     if table.failures:
         print(f"{len(table.failures)} meshes failed: {table.failures[:3]}", file=sys.stderr)
+    table, dropped = connected_only(table)
+    if dropped:
+        print(f"left out of every row (several zero eigenvalues: a mesh of several "
+              f"components): {', '.join(dropped)}", file=sys.stderr)
     Ms = range(1, args.max_M + 1)
     rows = score_table(table, Ms, args.N)
     stem = args.out or f"descriptors_{args.collection}"
@@ -147,7 +222,13 @@ def main(argv=None):
         w.writerows(rows)
     cmd = " ".join(["benchmarks/bench_descriptors.py", *(argv or sys.argv[1:])])
     header = f"`{cmd}`; {machine_summary()}"
-    md = markdown(rows, args.collection, len(table), len(set(table.labels)), args.N, header)
+    if dropped:
+        header += (f"\n\nLeft out (several components, lam_1 = 0): {', '.join(dropped)}; "
+                   f"{len(table)} shapes scored.")
+    pairs = {2 * M + 1: paired(table, M, args.N) for M in Ms}
+    sweep = n_sweep(table, Ms=[m for m in (8, 16) if m <= args.max_M])
+    md = markdown(rows, args.collection, len(table), len(set(table.labels)), args.N, header,
+                  pairs, sweep)
     (RESULTS / f"{stem}.md").write_text(md)
     print(md)
 

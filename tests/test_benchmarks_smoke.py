@@ -129,5 +129,11 @@ def test_descriptors_benchmark_scores_every_row_at_equal_size():
     best = bd.winners(rows)
     assert set(best) == {3, 5} and all(0 < s <= 1 for _, s in best.values())
     assert "cShape-DNA (paper)" in best[3][0]  # spheres vs tori: every row is perfect, a tie
-    md = bd.markdown(rows, "tiny", 4, 2, 12, "header")
-    assert md.count("\n| ") >= 3
+    pairs = {5: bd.paired(table, 2, 12)}
+    assert set(pairs[5]) == {"ft", "map"}
+    sweep = bd.n_sweep(table, Ms=[2], Ns=[8, 12])
+    assert {(r["N"], r["transform"]) for r in sweep} >= {(6, "weyl"), (12, "log-weyl-dct")}
+    at6 = {r["transform"]: r for r in sweep if r["N"] == 6}  # N = 2M+2: nothing cropped
+    assert at6["log-weyl"]["map"] == pytest.approx(at6["log-weyl-dct"]["map"])
+    md = bd.markdown(rows, "tiny", 4, 2, 12, "header", pairs, sweep)
+    assert md.count("\n| ") >= 3 and "paired" in md
