@@ -156,22 +156,58 @@ def _mollify(lengths, mean_edge):
     return eps, int(np.count_nonzero(margin < delta))
 
 
+#: Largest ratio of the longest to the shortest edge: areas and FEM entries go as length^2
+#: and float64 spans about 1e-308 .. 1e308, so beyond this no unit keeps both representable.
+MAX_EDGE_RATIO = 1e150
+
+
 def _check_positive_area(mesh):
-    """Raise if the surface has (numerically) zero area: mollification would invent one."""
+    """Raise if the surface has (numerically) zero area, which mollification would invent.
+
+    The message tells the causes apart: coordinates too large for float64 (rescale),
+    edge lengths spread too far for float64 or a far-out vertex making needle triangles
+    (a misplaced vertex, named), and truly coincident or collinear vertices.
+    """
     L = mesh.mean_edge_length
-    if not np.isfinite(mesh.area):
+    area = mesh.area
+    finite = bool(np.isfinite(area) and np.isfinite(L * L))
+    if finite and area > ZERO_AREA_RTOL * mesh.n_faces * L * L:
+        return
+    lengths = mesh._edge_lengths
+    positive = lengths[lengths > 0]
+    lo = float(positive.min()) if len(positive) else 0.0
+    hi = float(lengths.max())
+    ratio = hi / lo if lo > 0 else 0.0
+    V = mesh.vertices
+    k = int(np.argmax(np.abs(V - np.median(V, axis=0)).max(axis=1)))
+    far_out = (f"vertex {k} at {V[k].tolist()} lies farthest from the others and is probably "
+               "misplaced: fix or remove it")
+    if ratio > MAX_EDGE_RATIO:
         raise ValueError(
-            f"the surface area overflows (mean edge length {L:.3g}): the coordinates are too "
-            "large for float64; rescale the mesh (the area normalisation makes the "
-            "descriptor scale invariant)"
+            f"the edge lengths range from {lo:.3g} to {hi:.3g}, a ratio beyond "
+            f"{MAX_EDGE_RATIO:.0e}: their squares (triangle areas, FEM entries) over- or "
+            f"underflow float64 in any unit, so no spectrum can be computed; {far_out}"
         )
-    if not mesh.area > ZERO_AREA_RTOL * mesh.n_faces * L * L:
+    if not finite:
         raise ValueError(
-            f"the mesh has zero surface area (area={mesh.area:.3g}, {mesh.n_faces} triangles, "
-            f"mean edge length {L:.3g}): its vertices are coincident or collinear (or too "
-            "close together for float64), so it has no Laplace-Beltrami spectrum; check the "
-            "vertex coordinates (all zero? one axis only?)"
+            f"the surface area overflows float64 (area={area:.3g}, mean edge length "
+            f"{L:.3g}): the coordinates are too large; rescale the mesh, e.g. "
+            f"Mesh(vertices / {L:.0e}, faces) (the area normalisation makes the descriptor "
+            "scale invariant)"
         )
+    if ratio > 1e6:
+        raise ValueError(
+            f"the mesh is made of needle triangles: its area {area:.3g} is only "
+            f"{area / (mesh.n_faces * L * L):.1e} of (triangles x mean edge length^2), with "
+            f"edge lengths from {lo:.3g} to {hi:.3g}, too thin for a stable spectrum; "
+            f"{far_out}"
+        )
+    raise ValueError(
+        f"the mesh has zero surface area (area={area:.3g}, {mesh.n_faces} triangles, "
+        f"mean edge length {L:.3g}): its vertices are coincident or collinear (or too "
+        "close together for float64), so it has no Laplace-Beltrami spectrum; check the "
+        "vertex coordinates (all zero? one axis only?)"
+    )
 
 
 def assemble(mesh, mass="consistent"):

@@ -145,6 +145,25 @@ def test_overflowing_coordinates_are_a_clear_error(sphere):
         fem_matrices(Mesh(sphere.vertices * 1e160, sphere.faces))
 
 
+@pytest.mark.parametrize("far, match", [
+    (1e200, r"edge lengths range from 1 to 1e\+200, a ratio beyond 1e\+150: their squares .* "
+            r"underflow float64 in any unit"),
+    (-1e160, r"edge lengths range from 1 to 1e\+160, a ratio beyond 1e\+150"),
+    (1e20, r"needle triangles: its area 1.71e\+20 is only 1.7e-20 of .* edge lengths from 1 "
+           r"to 1e\+20"),
+])
+@pytest.mark.parametrize("fn", ["fem_matrices", "shape_dna", "compact_shape_dna"])
+def test_one_far_vertex_is_named_not_called_zero_area(far, match, fn):
+    """A tetrahedron with one vertex at 1e200 was refused as having "zero surface area
+    (area=1.71e+200)": the message now says what is wrong and which vertex to fix."""
+    V = TET_V.copy()
+    V[3, 2] = far
+    with pytest.raises(ValueError, match=match) as info:
+        _quiet(PIPELINE[fn], (V, TET_F))
+    assert f"vertex 3 at [0.0, 0.0, {far!r}]" in str(info.value)
+    assert "zero surface area" not in str(info.value) and "misplaced" in str(info.value)
+
+
 # ------------------------------------------------------------ repaired, with a warning
 def _spectrum(mesh, N=12):
     return cshape.shape_dna(mesh, N=N)
