@@ -89,3 +89,26 @@ def test_installed_cshape_describe_on_a_folder(installed_wheel_env, tmp_path):
         i = table.labels.index(path.parent.name)
         np.testing.assert_allclose(table.lam[i], cshape.shape_dna(cshape.load_mesh(path), N=12),
                                    rtol=1e-8, atol=1e-10)
+
+
+def test_sdist_stores_the_manifest_itself(tmp_path):
+    """The source distribution (what `python -m build` turns into the wheel) holds the
+    manifest's contents at cshape/data_manifest.yaml, not a link that would dangle."""
+    import shutil
+    import subprocess
+    import sys
+    import tarfile
+
+    from conftest import _BUILD_IGNORE
+
+    src = tmp_path / "src"
+    shutil.copytree(REPO, src, symlinks=True, ignore=_BUILD_IGNORE)
+    r = subprocess.run([sys.executable, "-c", "from setuptools import build_meta as b; "
+                        "print(b.build_sdist('dist'))"], cwd=src, capture_output=True,
+                       text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    sdist = src / "dist" / r.stdout.strip().splitlines()[-1]
+    with tarfile.open(sdist) as tf:
+        member = tf.getmember(f"{sdist.name[:-len('.tar.gz')]}/cshape/data_manifest.yaml")
+        assert member.isfile()
+        assert tf.extractfile(member).read() == (REPO / "data_manifest.yaml").read_bytes()
