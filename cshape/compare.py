@@ -42,6 +42,8 @@ __all__ = [
     "descriptor_size",
     "difference_matrix",
     "distance_matrix",
+    "annotate_points",
+    "matrix_ticks",
     "mds_embedding",
     "plot_distance_matrix",
     "plot_mds",
@@ -49,6 +51,7 @@ __all__ = [
     "retrieval_scores",
     "scale_255",
     "scaled_difference",
+    "short_label",
 ]
 
 #: The descriptor kinds of :func:`descriptor_matrix`.
@@ -572,6 +575,30 @@ def mds_embedding(D, *, n_components=2, random_state=0, n_init=4, max_iter=300):
 
 
 # --------------------------------------------------------------------------- plots
+#: An MDS plot names its points up to this many shapes; beyond, only the class legend.
+MDS_MAX_NAMES = 40
+#: A distance matrix gets one tick per shape up to this many shapes; beyond, one per class.
+MATRIX_MAX_NAMES = 40
+#: A legend lists up to this many classes; beyond, colours repeat and no legend is drawn.
+MAX_LEGEND_CLASSES = 20
+#: Longest point or tick label, in characters; longer names are cut in the middle.
+LABEL_WIDTH = 16
+
+
+def short_label(name, width=LABEL_WIDTH) -> str:
+    """A name short enough for a plot: the part after the last ``/``, cut in the middle.
+
+    >>> short_label("animals/spot_low_resolution", 12)
+    'spot_…lution'
+    """
+    text = str(name).replace("\\", "/").rstrip("/")
+    text = text.rsplit("/", 1)[-1] or str(name)
+    if len(text) <= width:
+        return text
+    head = (width - 1) // 2
+    return text[:head] + "\u2026" + text[len(text) - (width - 1 - head):]
+
+
 def _figure_and_ax(ax, figsize):
     if ax is not None:
         return ax.figure, ax
@@ -581,21 +608,120 @@ def _figure_and_ax(ax, figsize):
     return fig, fig.add_subplot()
 
 
-def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4.5)):
-    """Scatter plot of a 2-D MDS embedding with a text label at every point (Fig. 4-5).
+def _class_colours(labels, p):
+    """(colour of each point, [(class, colour)] in first-seen order)."""
+    import matplotlib as mpl
+
+    codes = _check_labels(labels, p)
+    first = {}
+    for i, c in enumerate(codes):
+        first.setdefault(c, i)
+    cmap = mpl.colormaps["tab10" if len(first) <= 10 else "tab20"]
+    lab = list(labels)
+    return ([cmap(c % cmap.N) for c in codes],
+            [(str(lab[i]), cmap(c % cmap.N)) for c, i in first.items()])
+
+
+def _square_limits(ax, Y, margin=0.08):
+    """Equal x and y ranges around the points and a square box: the panel stays square
+    and one unit is as long on both axes, whatever the spread of the embedding."""
+    lo, hi = Y.min(axis=0), Y.max(axis=0)
+    centre = (lo + hi) / 2
+    half = max(float((hi - lo).max()) / 2, 1e-12 * max(1.0, float(np.abs(Y).max())))
+    half *= 1 + 2 * margin
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_aspect("equal", adjustable="box")
+    return 2 * half
+
+
+def _side_points(ax) -> float:
+    """The shorter side of ``ax`` in points, after a layout pass of its figure."""
+    fig = ax.figure
+    fig.draw_without_rendering()  # constrained layout: the axes get their final size
+    box = ax.get_window_extent()
+    return 72.0 * min(box.width, box.height) / fig.dpi
+
+
+def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15):
+    """Write ``texts[i]`` beside point ``Y[i]`` where it covers no text already written.
+
+    Greedy, in order: a text's box is estimated from its length, the font size and the
+    axes' size after a layout pass (``safety`` times larger), and skipped when it would
+    overlap a box kept before.  The texts take no part in the layout, so call this last,
+    after the axis limits, legends and colour bars are set.
+
+    Returns
+    -------
+    list of int
+        The indices of the points that got their text.
+    """
+    from matplotlib.font_manager import FontProperties
+
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    per_pt = max(x1 - x0, y1 - y0) / max(_side_points(ax), 1.0) * safety
+    size = FontProperties(size=fontsize).get_size_in_points()
+    boxes, kept = [], []
+    for i, text in enumerate(texts):
+        w, h = 0.62 * size * len(text) * per_pt, 1.25 * size * per_pt
+        d = offset * per_pt
+        # right of and above the point, or left / below where the axes end
+        right = Y[i, 0] + d + w <= max(x0, x1)
+        up = Y[i, 1] + d + h <= max(y0, y1)
+        bx = Y[i, 0] + d if right else Y[i, 0] - d - w
+        by = Y[i, 1] + d if up else Y[i, 1] - d - h
+        box = (bx, by, bx + w, by + h)
+        if any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
+               for b in boxes):
+            continue
+        boxes.append(box)
+        kept.append(i)
+        t = ax.annotate(text, tuple(Y[i]), xytext=(offset if right else -offset,
+                                                   offset if up else -offset),
+                        textcoords="offset points", fontsize=fontsize,
+                        ha="left" if right else "right", va="bottom" if up else "top",
+                        annotation_clip=True)
+        t.set_in_layout(False)
+        t.set_clip_on(True)
+    return kept
+
+
+def _spread_out(points, min_gap):
+    """Indices of points kept so that no two are closer than ``min_gap`` (greedy, in
+    order): the points whose labels can be written without writing over each other."""
+    kept = []
+    for i, x in enumerate(points):
+        if all(np.linalg.norm(x - points[j]) >= min_gap for j in kept):
+            kept.append(i)
+    return kept
+
+
+def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4.5),
+             max_names=MDS_MAX_NAMES, legend=True):
+    """Scatter plot of a 2-D MDS embedding, square, coloured by class (Fig. 4-5).
+
+    Readable from 3 to thousands of shapes with any names: the panel is square with equal
+    units on both axes; points are named (the part after the last ``/``, at most
+    :data:`LABEL_WIDTH` characters) only up to ``max_names`` shapes, and only where a name
+    does not cover another; classes are told apart by colour, listed in a legend outside
+    the panel up to :data:`MAX_LEGEND_CLASSES` classes.
 
     Parameters
     ----------
     Y : array_like, shape (p, 2)
         From :func:`mds_embedding`.
     names : sequence of str, length p, optional
-        Text written beside each point (e.g. the paper's ``'CM'``, ``'A1'``, ...).
+        Shape names, written beside the points (up to ``max_names`` shapes).
     labels : sequence, length p, optional
         Classes; points of one class share a colour.
     ax : matplotlib Axes, optional
         Draw here; by default a new Figure is made (not registered with pyplot).
     title : str, optional
     figsize : (float, float), default=(5.0, 4.5)
+    max_names : int, default=MDS_MAX_NAMES
+        Write no name when there are more shapes.
+    legend : bool, default=True
+        Draw the class legend (outside the panel, on the right).
 
     Returns
     -------
@@ -608,37 +734,76 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     if names is not None and len(names) != p:
         raise ValueError(f"names has {len(names)} entries but Y has {p} points")
     fig, ax = _figure_and_ax(ax, figsize)
+    size = 25.0 if p <= 100 else max(4.0, 2500.0 / p)
     if labels is not None:
-        codes = _check_labels(labels, p)
-        first = {}
-        for i, c in enumerate(codes):
-            first.setdefault(c, i)
-        import matplotlib as mpl
-
-        cmap = mpl.colormaps["tab10" if len(first) <= 10 else "tab20"]
-        colors = [cmap(c % cmap.N) for c in codes]
-        ax.scatter(Y[:, 0], Y[:, 1], c=colors, s=25)
-        lab = list(labels)
-        for c, i in first.items():
-            ax.scatter([], [], color=cmap(c % cmap.N), label=str(lab[i]))
-        if len(first) <= 20:
-            ax.legend(fontsize="small", loc="best")
+        colours, classes = _class_colours(labels, p)
+        ax.scatter(Y[:, 0], Y[:, 1], c=colours, s=size, linewidths=0)
+        for lab, col in classes:
+            ax.scatter([], [], color=col, label=short_label(lab))
+        if legend and len(classes) <= MAX_LEGEND_CLASSES:
+            ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                      borderaxespad=0.0, frameon=False)
     else:
-        ax.scatter(Y[:, 0], Y[:, 1], s=25)
-    if names is not None:
-        for (x, y), name in zip(Y, names, strict=True):
-            ax.annotate(str(name), (x, y), xytext=(3, 3), textcoords="offset points",
-                        fontsize="small")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("MDS 1")
-    ax.set_ylabel("MDS 2")
+        ax.scatter(Y[:, 0], Y[:, 1], s=size, linewidths=0)
+    _square_limits(ax, Y)
+    if names is not None and p <= max_names:
+        annotate_points(ax, Y, [short_label(n) for n in names])
+    ax.set_xlabel("MDS 1", fontsize="small")
+    ax.set_ylabel("MDS 2", fontsize="small")
+    ax.locator_params(nbins=4)
+    ax.ticklabel_format(style="sci", scilimits=(-3, 3))
+    ax.tick_params(labelsize="x-small")
     if title:
-        ax.set_title(title)
+        ax.set_title(title, fontsize="medium")
     return fig
 
 
-def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, cmap="jet",
-                         vmax=None, colorbar=True, figsize=(5.0, 4.5)):
+def _runs(labels):
+    """Contiguous runs of equal labels: [(start, stop, label)]."""
+    out = []
+    for i, lab in enumerate(labels):
+        if out and out[-1][2] == lab:
+            out[-1][1] = i + 1
+        else:
+            out.append([i, i + 1, lab])
+    return [tuple(r) for r in out]
+
+
+def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
+                 fontsize="x-small", safety=1.5):
+    """Ticks of a (p, p) matrix image that never write over each other.
+
+    One tick per shape (short names) when there are at most ``max_names`` shapes and their
+    labels fit the axes' height; else one per class, at the middle of each run of a class,
+    as many as fit (the axes' size after a layout pass without ticks, ``safety`` times
+    smaller for the room the tick labels take), with thin white lines at the class
+    boundaries.
+    """
+    from matplotlib.font_manager import FontProperties
+
+    ax.set_xticks([])
+    ax.set_yticks([])
+    size = FontProperties(size=fontsize).get_size_in_points()
+    n_fit = max(1, int(_side_points(ax) / safety / (1.2 * size)))
+    runs = _runs([str(x) for x in labels]) if labels is not None and len(labels) == p else []
+    if names is not None and len(names) == p and p <= min(max_names, n_fit):
+        where, text = list(range(p)), [short_label(n) for n in names]
+    elif len(runs) > 1:
+        mids = np.array([[(a + b - 1) / 2, 0.0] for a, b, _ in runs])
+        keep = _spread_out(mids, p / n_fit)
+        where, text = [mids[k, 0] for k in keep], [short_label(runs[k][2]) for k in keep]
+    else:
+        return
+    ax.set_xticks(where, text, rotation=90, fontsize=fontsize)
+    ax.set_yticks(where, text, fontsize=fontsize)
+    if 1 < len(runs) <= 100:  # beyond, the lines would hide the matrix
+        for a, _, _ in runs[1:]:
+            ax.axhline(a - 0.5, color="white", lw=0.6)
+            ax.axvline(a - 0.5, color="white", lw=0.6)
+
+
+def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, labels=None,
+                         cmap="jet", vmax=None, colorbar=True, figsize=(5.0, 4.5)):
     """Image of a distance matrix, as in Fig. 3 and 6 (blue: similar, red: dissimilar).
 
     Parameters
@@ -652,7 +817,12 @@ def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, cmap
         Draw here; by default a new Figure is made (not registered with pyplot).
     title : str, optional
     names : sequence of str, optional
-        Tick labels (only drawn for at most 40 models).
+        Tick labels, one per shape (shortened), drawn for at most
+        :data:`MATRIX_MAX_NAMES` shapes.
+    labels : sequence, optional
+        Classes of the rows: beyond :data:`MATRIX_MAX_NAMES` shapes (or without
+        ``names``) one tick per class, and lines between classes (see
+        :func:`matrix_ticks`).
     cmap : str, default='jet'
         The paper's colours.
     vmax : float, optional
@@ -670,13 +840,11 @@ def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, cmap
         vmax = 255.0 if scale else (float(img.max()) or 1.0)
     fig, ax = _figure_and_ax(ax, figsize)
     im = ax.imshow(img, cmap=cmap, vmin=0.0, vmax=vmax, interpolation="nearest")
-    if names is not None and len(names) == len(A) and len(A) <= 40:
-        ax.set_xticks(range(len(A)), [str(n) for n in names], rotation=90, fontsize="x-small")
-        ax.set_yticks(range(len(A)), [str(n) for n in names], fontsize="x-small")
+    matrix_ticks(ax, len(A), names, labels)
     if colorbar:
         fig.colorbar(im, ax=ax, shrink=0.8)
     if title:
-        ax.set_title(title)
+        ax.set_title(title, fontsize="medium")
     return fig
 
 

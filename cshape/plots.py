@@ -234,6 +234,8 @@ def plot_weyl(spectra, areas, *, figsize=(10.0, 4.0)):
         Left: ``lam_i`` against ``i``, each model along its own line.  Right: ``area * lam_i``,
         all models around the common Weyl line ``4 pi i`` (dashed).
     """
+    from .compare import LABEL_WIDTH, short_label
+
     items = _spectra(spectra)
     missing = [k for k, _ in items if k not in areas]
     if missing:
@@ -244,8 +246,9 @@ def plot_weyl(spectra, areas, *, figsize=(10.0, 4.0)):
     for name, lam in items:
         i = np.arange(len(lam))
         nmax = max(nmax, len(lam))
-        ax1.plot(i, lam, ".", ms=4, label=name)
-        ax2.plot(i, normalize(lam, areas[name]), ".", ms=4, label=name)
+        label = short_label(name, 2 * LABEL_WIDTH)
+        ax1.plot(i, lam, ".", ms=4, label=label)
+        ax2.plot(i, normalize(lam, areas[name]), ".", ms=4, label=label)
     x = np.arange(nmax)
     ax2.plot(x, FOUR_PI * x, "k--", lw=1, label="Weyl line 4 pi i")
     ax1.set(xlabel="i", ylabel="lam_i", title="(a) Shape-DNA")
@@ -425,7 +428,7 @@ def plot_cshape_dna(descriptors, *, ax=None, title="cShape-DNA", figsize=(6.0, 3
 
 
 def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", size=3.0,
-                  colorbar=True):
+                  colorbar=True, names=None, labels=None):
     """A row of matrix images: scaled distance matrices or difference matrices (Fig. 3, 6, 7).
 
     Parameters
@@ -440,29 +443,31 @@ def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", 
     size : float, default=3.0
         Panel size in inches.
     colorbar : bool, default=True
+    names, labels : sequence of length p, optional
+        Shape names and classes of the rows, for the ticks: one per shape (shortened) up to
+        :data:`cshape.compare.MATRIX_MAX_NAMES` shapes, else one per class with lines
+        between the classes (:func:`cshape.compare.matrix_ticks`).  No ticks without them.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
-    from .compare import scale_255
+    from .compare import plot_distance_matrix, scale_255
 
     mats = [scale_255(m) if scale else np.asarray(m, dtype=np.float64) for m in matrices]
     if not mats:
         raise ValueError("matrices is empty; pass at least one (p, p) matrix")
     if vmax is None:
         vmax = 255.0 if scale else max(float(m.max()) for m in mats) or 1.0
-    fig = new_figure((size * len(mats) + 0.8, size))
+    ticks = names is not None or labels is not None
+    fig = new_figure((size * len(mats) + 0.8, size + (0.9 if ticks else 0.0)))
     axs = np.atleast_1d(fig.subplots(1, len(mats)))
-    im = None
     for k, (ax, m) in enumerate(zip(axs, mats, strict=True)):
-        im = ax.imshow(m, cmap=cmap, vmin=0.0, vmax=vmax, interpolation="nearest")
-        ax.set_xticks([])
-        ax.set_yticks([])
-        if titles is not None:
-            ax.set_title(str(titles[k]), fontsize="medium")
-    if colorbar and im is not None:
-        fig.colorbar(im, ax=list(axs), shrink=0.8)
+        plot_distance_matrix(m, scale=False, ax=ax, names=names, labels=labels, cmap=cmap,
+                             vmax=vmax, colorbar=False,
+                             title=None if titles is None else str(titles[k]))
+    if colorbar:
+        fig.colorbar(axs[-1].images[0], ax=list(axs), shrink=0.8)
     return fig
 
 
@@ -490,6 +495,8 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
     """
     import matplotlib as mpl
     from matplotlib.figure import Figure
+
+    from .compare import MDS_MAX_NAMES, _square_limits, annotate_points, short_label
 
     p = len(state.names)
     if isinstance(shape, bool) or not isinstance(shape, (int, np.integer)) or not 0 <= shape < p:
@@ -529,11 +536,9 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
     Y = state.mds
     if Y is not None:
         ax.scatter(Y[:, 0], Y[:, 1], c=[cmap(codes[lab] % cmap.N) for lab in state.labels], s=22)
-        if p <= 40:
-            for (x, y), name in zip(Y, state.names, strict=True):
-                ax.annotate(name, (x, y), xytext=(2, 2), textcoords="offset points",
-                            fontsize="x-small")
-        ax.set_aspect("equal", adjustable="datalim")
+        _square_limits(ax, Y)
+        if p <= MDS_MAX_NAMES:
+            annotate_points(ax, Y, [short_label(n) for n in state.names])
     tr = "" if transform == "weyl" else f", {transform}"
     ax.set(title=f"MDS of cShape-DNA (size {2 * M + 1}{tr})")
     for ax, img, title, vmax in (

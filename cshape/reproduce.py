@@ -26,13 +26,17 @@ import numpy as np
 
 from .batch import DescriptorTable, describe
 from .compare import (
+    MAX_LEGEND_CLASSES,
+    MDS_MAX_NAMES,
     DescriptorIndex,
+    annotate_points,
     difference_matrix,
     distance_matrix,
     mds_embedding,
     plot_mds,
     retrieval_scores,
     scaled_difference,
+    short_label,
 )
 
 __all__ = [
@@ -42,6 +46,7 @@ __all__ = [
     "experiment_cost",
     "experiment_noise",
     "experiment_retrieval",
+    "fig1_selection",
     "reproduce",
 ]
 
@@ -59,6 +64,9 @@ PAPER = {
 }
 
 NOISE_LEVELS = (0.5, 1.0, 2.0, 4.0, 10.0)
+
+#: Fig. 1 draws at most this many Shape-DNAs (one per class, see :func:`fig1_selection`).
+FIG1_MAX_SHAPES = 8
 
 
 def _need(table, p=3):
@@ -253,18 +261,55 @@ def _grid(n, size=3.2, cols=3):
 
 
 def _mds_figure(table, panels, random_state):
+    """MDS panels (Fig. 4-5): square, names up to MDS_MAX_NAMES shapes, one class legend."""
     fig, axs = _grid(len(panels))
+    Ys = []
     for ax, (title, kind, kw) in zip(axs, panels, strict=False):
-        Y = mds_embedding(table.distance_matrix(kind, **kw), random_state=random_state)
-        plot_mds(Y, names=table.names if len(table) <= 60 else None,
-                 labels=table.labels, ax=ax, title=title)
+        Ys.append(mds_embedding(table.distance_matrix(kind, **kw), random_state=random_state))
+        plot_mds(Ys[-1], labels=table.labels, ax=ax, title=title, legend=False)
     handles, labels = axs[0].get_legend_handles_labels()
-    for ax in axs:
-        if ax.get_legend() is not None:
-            ax.get_legend().remove()
-    if handles:
-        fig.legend(handles, labels, loc="outside right upper", fontsize="small")
+    if handles and len(handles) <= MAX_LEGEND_CLASSES:
+        fig.legend(handles, labels, loc="outside right upper", fontsize="small", frameon=False)
+    elif handles:
+        fig.suptitle(f"{len(handles)} classes (colours repeat)", fontsize="small")
+    if len(table) <= MDS_MAX_NAMES:  # names last: they are placed in the final layout
+        short = [short_label(n) for n in table.names]
+        for ax, Y in zip(axs, Ys, strict=False):
+            annotate_points(ax, Y, short)
     return fig
+
+
+def fig1_selection(table, max_shapes=FIG1_MAX_SHAPES):
+    """The shapes of Fig. 1, and a sentence for the report when they are a sample.
+
+    One shape per class, the first of each class in the table; with more than
+    ``max_shapes`` classes, the classes are taken evenly spread over their order.  Without
+    class labels (or one class), the first ``max_shapes`` shapes.
+
+    Returns
+    -------
+    names : list of str
+    note : str
+        Empty when every shape is drawn.
+    """
+    p = len(table)
+    classes = list(dict.fromkeys(table.labels))
+    if all(table.labels) and len(classes) > 1:
+        rows = [table.labels.index(c) for c in classes]
+        if len(rows) > max_shapes:
+            pick = np.unique(np.linspace(0, len(rows) - 1, max_shapes).round().astype(int))
+            rows = [rows[k] for k in pick]
+        how = (f"one shape of each of the {len(classes)} classes" if len(rows) == len(classes)
+               else f"one shape of each of {len(rows)} of the {len(classes)} classes (evenly "
+               "spread over the classes)")
+    else:
+        rows = list(range(min(max_shapes, p)))
+        how = f"the first {len(rows)} shapes"
+    names = [table.names[i] for i in rows]
+    note = "" if len(rows) == p else (
+        f"Fig. 1 samples: it shows {how}, {len(rows)} of the {p} shapes ("
+        + ", ".join(names) + ").")
+    return names, note
 
 
 def _noise_change_figure(noise, levels):
@@ -363,7 +408,7 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
     all_Ms = (M, *[m for m in Ms if m != M])
 
     # -- Fig. 1 and 2
-    sel = table.names[: min(6, len(table))]
+    sel, results["fig1_note"] = fig1_selection(table)
     figs = {}
     figs["fig1_weyl"] = plots.plot_weyl({n: table.lam[table.index(n)] for n in sel},
                                         {n: table.areas[table.index(n)] for n in sel})
@@ -378,11 +423,13 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
     results["3.1"] = {"mean": r31["mean"], "std": r31["std"]}
     results["3.2"] = r32
     D_sd = r31["D_shape_dna"]
+    ticks = {"names": table.names, "labels": table.labels}
     figs["fig3_matrices"] = plots.plot_matrices(
-        [D_sd, r31["D_cshape"]], [f"(a) Shape-DNA N={N}", f"(b) cShape-DNA M={M}"], scale=True)
+        [D_sd, r31["D_cshape"]], [f"(a) Shape-DNA N={N}", f"(b) cShape-DNA M={M}"], scale=True,
+        **ticks)
     figs["fig3_difference"] = plots.plot_matrices(
         [difference_matrix(D_sd, r31["D_cshape"])],
-        [f"(c) difference: mean {r31['mean']:.2f}, std {r31['std']:.2f}"])
+        [f"(c) difference: mean {r31['mean']:.2f}, std {r31['std']:.2f}"], **ticks)
     figs["fig4_mds_cshape"] = _mds_figure(
         table, [(f"Shape-DNA N={N}", "shape_dna", {"N": N})]
         + [(f"cShape-DNA M={m}", "cshape", {"M": m, "N": N}) for m in all_Ms], random_state)
@@ -391,10 +438,11 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         + [(f"F1 N={N}", "f1", {"N": N})], random_state)
     D_ms = [table.distance_matrix("cshape", M=m, N=N) for m in Ms]
     figs["fig6_matrices"] = plots.plot_matrices(D_ms, [f"cShape-DNA M={m}" for m in Ms],
-                                                scale=True)
+                                                scale=True, **ticks)
     figs["fig6_differences"] = plots.plot_matrices(
         [difference_matrix(D_sd, D) for D in D_ms],
-        [f"M={m}: mean {r32['cshape'][m][0]:.2f}, std {r32['cshape'][m][1]:.2f}" for m in Ms])
+        [f"M={m}: mean {r32['cshape'][m][0]:.2f}, std {r32['cshape'][m][1]:.2f}" for m in Ms],
+        **ticks)
 
     # -- retrieval and cost
     labelled = len(set(table.labels)) < len(table) and all(table.labels)
@@ -421,14 +469,16 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         noise = experiment_noise(table, noisy_tables, pairs=pairs, N=N, M=M)
         results["3.3"] = noise
         levels = sorted(noise)
+        same_rows = all(len(noise[lv]["diff_cshape"]) == len(table) for lv in levels)
+        noise_ticks = ticks if same_rows else {}
         figs["fig7_noise_shape_dna"] = plots.plot_matrices(
             [noise[lv]["diff_shape_dna"] for lv in levels],
             [f"lam={lv:g}: {noise[lv]['shape_dna'][0]:.1f} / {noise[lv]['shape_dna'][1]:.1f}"
-             for lv in levels])
+             for lv in levels], **noise_ticks)
         figs["fig7_noise_cshape"] = plots.plot_matrices(
             [noise[lv]["diff_cshape"] for lv in levels],
             [f"lam={lv:g}: {noise[lv]['cshape'][0]:.1f} / {noise[lv]['cshape'][1]:.1f}"
-             for lv in levels])
+             for lv in levels], **noise_ticks)
         figs["fig8_noise_change"] = _noise_change_figure(
             noise, [lv for lv in levels if lv in (0.5, 1.0, 10.0)] or levels)
 
@@ -472,7 +522,10 @@ def _report(res, figs, title):
          "same values.", ""]
     if res["failures"]:
         s += [f"Skipped (failed): {', '.join(n for n, _ in res['failures'])}", ""]
-    s += ["## Fig. 1-2: Shape-DNA, normalisation, DFT", "", "![](fig1_weyl.png)", "",
+    s += ["## Fig. 1-2: Shape-DNA, normalisation, DFT", ""]
+    if res.get("fig1_note"):
+        s += [res["fig1_note"], ""]
+    s += ["![](fig1_weyl.png)", "",
           "![](fig2_stages.png)", "", "![](fig2_dft.png)", "",
           "## 3.1 Shape-DNA vs cShape-DNA", "",
           "Mean and standard deviation of |scale_255(D_Shape-DNA) - scale_255(D_cShape-DNA)| "

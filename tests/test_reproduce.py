@@ -30,6 +30,9 @@ def test_reproduce_writes_a_report(tmp_path):
     )
     rep = (tmp_path / "rep" / "report.md").read_text()
     assert "0.68" in rep  # the paper's number beside ours
+    # Fig. 1 draws one shape per class, and the report says it is a sample
+    assert ("Fig. 1 samples: it shows one shape of each of the 3 classes, 3 of the 6 shapes "
+            "(S2, C6, T0).") in rep
     data = json.loads((tmp_path / "rep" / "results.json").read_text())
     assert data["n_shapes"] == res["n_shapes"] == 6
     assert list((tmp_path / "rep").glob("fig*.png"))

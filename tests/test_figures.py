@@ -1,0 +1,127 @@
+"""Figures that hold on any collection: square panels, bounded and non-overlapping labels,
+class legends and ticks, from 3 to 1000 shapes with long names (no eigensolve: synthetic
+spectra)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cshape import plots
+from cshape.batch import DescriptorTable
+from cshape.compare import (
+    MAX_LEGEND_CLASSES,
+    MDS_MAX_NAMES,
+    plot_distance_matrix,
+    plot_mds,
+    short_label,
+)
+from cshape.reproduce import _mds_figure, fig1_selection
+
+
+def synthetic_table(p, n_classes, N=30, seed=0):
+    """p shapes in n_classes contiguous classes with long names; Weyl-like spectra."""
+    rng = np.random.default_rng(seed)
+    labels = [f"class_with_a_rather_long_name_{k % n_classes:03d}" for k in range(p)]
+    labels.sort()
+    names = [f"animals/{lab}/specimen_low_resolution_{i:04d}" for i, lab in enumerate(labels)]
+    base = {lab: 1 + 0.3 * rng.random(N) for lab in set(labels)}
+    i = np.arange(N)
+    lam = np.array([4 * np.pi * i * np.sort(base[lab] * (1 + 0.01 * rng.random(N)))
+                    for lab in labels])
+    return DescriptorTable(names, lam, np.ones(p), labels, M=4)
+
+
+def drawn(fig):
+    fig.draw_without_rendering()
+    return fig
+
+
+def assert_square(ax, tol=0.02):
+    box = ax.get_window_extent()
+    assert box.width == pytest.approx(box.height, rel=tol), (box.width, box.height)
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    assert abs(x1 - x0) == pytest.approx(abs(y1 - y0), rel=1e-9)  # one unit, both axes
+
+
+def assert_no_overlap(artists):
+    boxes = [a.get_window_extent() for a in artists if a.get_visible() and a.get_text()]
+    for k, a in enumerate(boxes):
+        for b in boxes[k + 1:]:
+            assert not a.overlaps(b), (a, b)
+
+
+def test_short_label():
+    assert short_label("animals/spot_low_resolution", 12) == "spot_\u2026lution"
+    assert short_label("spot") == "spot"
+    assert len(short_label("x" * 200)) == 16
+
+
+@pytest.mark.parametrize("p, n_classes", [(3, 3), (12, 3), (40, 8), (1000, 40)])
+def test_mds_panel_square_bounded_labels(p, n_classes):
+    table = synthetic_table(p, n_classes)
+    Y = np.random.default_rng(1).normal(size=(p, 2)) * [10.0, 0.1]  # a thin cloud
+    fig = drawn(plot_mds(Y, names=table.names, labels=table.labels, title="MDS"))
+    ax = fig.axes[0]
+    assert_square(ax)
+    texts = ax.texts
+    assert len(texts) <= min(p, MDS_MAX_NAMES)
+    if p > MDS_MAX_NAMES:
+        assert len(texts) == 0
+    else:
+        assert texts and all(len(t.get_text()) <= 16 for t in texts)
+    assert_no_overlap(texts)
+    legend = ax.get_legend()
+    if n_classes <= MAX_LEGEND_CLASSES:
+        assert len(legend.get_texts()) == n_classes
+    else:
+        assert legend is None
+
+
+@pytest.mark.parametrize("p, n_classes", [(3, 3), (60, 6)])
+def test_report_mds_figure_panels_square_with_one_legend(p, n_classes):
+    table = synthetic_table(p, n_classes)
+    panels = [(f"cShape-DNA M={m}", "cshape", {"M": m}) for m in (4, 2, 1)]
+    panels += [("Shape-DNA", "shape_dna", {}), ("F1", "f1", {})]
+    fig = drawn(_mds_figure(table, panels, random_state=0))
+    shown = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(shown) == 5
+    for ax in shown:
+        assert_square(ax)
+        assert_no_overlap(ax.texts)
+        assert ax.get_legend() is None
+    assert len(fig.legends) == 1 and len(fig.legends[0].get_texts()) == n_classes
+
+
+@pytest.mark.parametrize("p, n_classes", [(3, 3), (30, 3), (1000, 300)])
+def test_matrix_figures_square_with_class_ticks(p, n_classes):
+    table = synthetic_table(p, n_classes)
+    D = table.distance_matrix("cshape")
+    fig = drawn(plots.plot_matrices([D, D], ["a", "b"], scale=True, names=table.names,
+                                    labels=table.labels))
+    for ax in fig.axes[:2]:
+        assert_square(ax)
+        ticks = [t for t in ax.get_yticklabels() if t.get_text()]
+        assert ticks
+        assert_no_overlap(ticks)
+        assert_no_overlap([t for t in ax.get_xticklabels() if t.get_text()])
+        if p > 40:  # one tick per class (not per shape), and only class names
+            assert len(ticks) <= n_classes
+            assert {t.get_text() for t in ticks} <= {short_label(x) for x in table.labels}
+    if p == 30:  # 3 classes of 10: a tick in the middle of each class
+        ax = drawn(plot_distance_matrix(D, labels=table.labels)).axes[0]
+        assert list(ax.get_yticks()) == [4.5, 14.5, 24.5]
+
+
+def test_fig1_one_shape_per_class_and_says_when_it_samples():
+    table = synthetic_table(6, 3)
+    names, note = fig1_selection(table)
+    assert [table.labels[table.index(n)] for n in names] == sorted(set(table.labels))
+    assert "one shape of each of the 3 classes, 3 of the 6 shapes" in note
+    many = synthetic_table(40, 20)
+    names, note = fig1_selection(many, max_shapes=8)
+    assert len({many.labels[many.index(n)] for n in names}) == len(names) == 8
+    assert "8 of the 20 classes" in note
+    few = DescriptorTable(["a", "b", "c"], np.ones((3, 5)), np.ones(3))
+    assert fig1_selection(few) == (["a", "b", "c"], "")
