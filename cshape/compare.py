@@ -636,9 +636,11 @@ def _square_limits(ax, Y, margin=0.08):
 
 
 def _side_points(ax) -> float:
-    """The shorter side of ``ax`` in points, after a layout pass of its figure."""
+    """The shorter side of ``ax`` in points (after a layout pass, if the figure has a
+    layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
     fig = ax.figure
-    fig.draw_without_rendering()  # constrained layout: the axes get their final size
+    if fig.get_layout_engine() is not None:
+        fig.draw_without_rendering()  # the axes get their final size
     box = ax.get_window_extent()
     return 72.0 * min(box.width, box.height) / fig.dpi
 
