@@ -195,3 +195,31 @@ def test_offline_download_ends_in_one_line_and_leaves_no_folder(tmp_path):
     assert_one_line_error(res, "cannot download odedstein-meshes/cube from https://127.0.0.1")
     assert "Connection refused" in res.stderr and len(res.stderr.strip().splitlines()) == 1
     assert list(cache.iterdir()) == []  # no empty downloads/odedstein-meshes/cube/ left
+
+
+@pytest.mark.realdata
+def test_real_meshes_describe_info_query(shared_meshes, tmp_path):
+    """The real meshes: a torus, a coarse unit sphere, and cubes too coarse for N=30."""
+    out = tmp_path / "real.csv"
+    dirs = [shared_meshes / d for d in ("torus", "sphere", "cube")]
+    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, cache=tmp_path / "c")
+    assert_one_line_error(res, "2 of 4 meshes failed")  # cube.obj has 26 vertices, 30 > 26
+    assert "failed: cube: ValueError: N=30 eigenvalues requested" in res.stderr
+    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, "--keep-going",
+              cache=tmp_path / "c", check=True)
+    table = DescriptorTable.load(out)
+    assert sorted(zip(table.names, table.labels, strict=True)) == [
+        ("sphere", "sphere"), ("torus", "torus")]
+    # the unit sphere's first non-zero eigenvalue l(l+1) = 2, three times
+    np.testing.assert_allclose(table.lam[table.index("sphere")][1:4], 2.0, rtol=0.02)
+
+    res = cli("info", shared_meshes / "torus" / "torus.obj",
+              shared_meshes / "cube" / "cube_no_bottom.obj", "--json", check=True)
+    torus, open_cube = (json.loads(line) for line in res.stdout.splitlines())
+    assert torus["genus"] == 1 and torus["closed"] and torus["components"] == 1
+    assert open_cube["genus"] is None and open_cube["boundary_edges"] > 0
+
+    res = cli("query", out, shared_meshes / "sphere" / "sphere.obj", "-k", "1", "--json",
+              cache=tmp_path / "c", check=True)
+    hit = json.loads(res.stdout)["neighbours"][0]
+    assert hit["name"] == "sphere" and hit["distance"] == 0.0  # the same file, cached
