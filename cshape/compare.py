@@ -772,7 +772,7 @@ def _runs(labels):
 
 
 def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
-                 fontsize="x-small", safety=1.5):
+                 fontsize="x-small", safety=1.5, side_pt=None):
     """Ticks of a (p, p) matrix image that never write over each other.
 
     One tick per shape (short names) when there are at most ``max_names`` shapes and their
@@ -780,13 +780,26 @@ def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
     as many as fit (the axes' size after a layout pass without ticks, ``safety`` times
     smaller for the room the tick labels take), with thin white lines at the class
     boundaries.
+
+    Parameters
+    ----------
+    side_pt : float, optional
+        The axes' shorter side in points; measured (a layout pass) when not given.  Pass
+        the value returned for one panel to give panels of one size the same ticks.
+
+    Returns
+    -------
+    float
+        The side used.
     """
     from matplotlib.font_manager import FontProperties
 
     ax.set_xticks([])
     ax.set_yticks([])
+    if side_pt is None:
+        side_pt = _side_points(ax)
     size = FontProperties(size=fontsize).get_size_in_points()
-    n_fit = max(1, int(_side_points(ax) / safety / (1.2 * size)))
+    n_fit = max(1, int(side_pt / safety / (1.2 * size)))
     runs = _runs([str(x) for x in labels]) if labels is not None and len(labels) == p else []
     if names is not None and len(names) == p and p <= min(max_names, n_fit):
         where, text = list(range(p)), [short_label(n) for n in names]
@@ -795,13 +808,14 @@ def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
         keep = _spread_out(mids, p / n_fit)
         where, text = [mids[k, 0] for k in keep], [short_label(runs[k][2]) for k in keep]
     else:
-        return
+        return side_pt
     ax.set_xticks(where, text, rotation=90, fontsize=fontsize)
     ax.set_yticks(where, text, fontsize=fontsize)
     if 1 < len(runs) <= 100:  # beyond, the lines would hide the matrix
         for a, _, _ in runs[1:]:
             ax.axhline(a - 0.5, color="white", lw=0.6)
             ax.axvline(a - 0.5, color="white", lw=0.6)
+    return side_pt
 
 
 def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, labels=None,

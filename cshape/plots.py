@@ -452,7 +452,7 @@ def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", 
     -------
     matplotlib.figure.Figure
     """
-    from .compare import plot_distance_matrix, scale_255
+    from .compare import matrix_ticks, plot_distance_matrix, scale_255
 
     mats = [scale_255(m) if scale else np.asarray(m, dtype=np.float64) for m in matrices]
     if not mats:
@@ -463,11 +463,14 @@ def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", 
     fig = new_figure((size * len(mats) + 0.8, size + (0.9 if ticks else 0.0)))
     axs = np.atleast_1d(fig.subplots(1, len(mats)))
     for k, (ax, m) in enumerate(zip(axs, mats, strict=True)):
-        plot_distance_matrix(m, scale=False, ax=ax, names=names, labels=labels, cmap=cmap,
-                             vmax=vmax, colorbar=False,
+        plot_distance_matrix(m, scale=False, ax=ax, cmap=cmap, vmax=vmax, colorbar=False,
                              title=None if titles is None else str(titles[k]))
     if colorbar:
         fig.colorbar(axs[-1].images[0], ax=list(axs), shrink=0.8)
+    if ticks:  # last, in the final layout; the same ticks on every panel
+        side = None
+        for ax, m in zip(axs, mats, strict=True):
+            side = matrix_ticks(ax, len(m), names, labels, side_pt=side)
     return fig
 
 
