@@ -27,7 +27,7 @@ import re
 import shutil
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 __all__ = [
@@ -38,6 +38,7 @@ __all__ = [
     "offline_mathjax",
     "run_notebook",
     "run_notebooks",
+    "stderr_outputs",
     "add_run_notebooks",
 ]
 
@@ -64,6 +65,9 @@ class RunResult:
         Execution stopped at an exercise stub.
     ipynb, html : pathlib.Path or None
         The executed notebook and its HTML rendering (None when not written).
+    stderr : list of str
+        ``"cell <k>: <text>"`` for every stderr output (a warning box in the lesson) of a
+        cell not tagged ``expect-stderr`` (the tag marks a lesson about that warning).
     """
 
     name: str
@@ -73,6 +77,33 @@ class RunResult:
     stopped_at_stub: bool = False
     ipynb: Path | None = None
     html: Path | None = None
+    stderr: list = field(default_factory=list)
+
+
+#: Cell tag of a cell whose stderr output is part of the lesson (e.g. a warning it explains).
+EXPECT_STDERR = "expect-stderr"
+
+
+def stderr_outputs(nb) -> list[str]:
+    """The stderr outputs of an executed notebook, outside cells tagged ``expect-stderr``.
+
+    Parameters
+    ----------
+    nb : nbformat.NotebookNode
+
+    Returns
+    -------
+    list of str
+        ``"cell <k>: <first 300 characters>"``, in cell order.
+    """
+    found = []
+    for k, cell in enumerate(nb.cells):
+        if cell.cell_type != "code" or EXPECT_STDERR in cell.get("metadata", {}).get("tags", []):
+            continue
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "stream" and out.get("name") == "stderr":
+                found.append(f"cell {k}: {''.join(out.get('text', ''))[:300]}")
+    return found
 
 
 def default_notebook_dir() -> Path:
@@ -270,7 +301,7 @@ def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
         if km.has_kernel:
             km.shutdown_kernel(now=True)
     seconds = time.perf_counter() - t0
-    res = RunResult(path.name, ok, seconds, err, stub)
+    res = RunResult(path.name, ok, seconds, err, stub, stderr=stderr_outputs(nb))
     if out_dir is not None:
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
@@ -341,6 +372,8 @@ def run_notebooks(src=None, out="out/notebooks", *, names=None, small=False, tim
             state = "ok" if r.ok else f"FAILED ({r.error.splitlines()[0] if r.error else ''})"
             if r.stopped_at_stub:
                 state += ", stopped at the first exercise stub"
+            if r.stderr:
+                state += f", {len(r.stderr)} stderr output(s): {r.stderr[0].splitlines()[0]}"
             progress(f"  {p.name}: {state} in {r.seconds:.1f} s")
     index = _index(results, out, small)
     if progress:

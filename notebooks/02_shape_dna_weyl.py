@@ -42,6 +42,8 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 def real_mesh(small=SMALL):
     """A real scanned-style mesh: Spot the cow (Keenan Crane, public domain) from the project's
     shared meshes when that folder is there, else PyMeshLab's sample cow, else a torus."""
+    import warnings
+
     import cshape.data
 
     try:
@@ -51,7 +53,14 @@ def real_mesh(small=SMALL):
     except (FileNotFoundError, KeyError, ValueError) as exc:
         print(f"shared meshes not available ({exc}); using PyMeshLab's sample cow instead")
     try:
-        return cshape.data.load("pymeshlab-samples", "cow"), "cow (PyMeshLab sample)"
+        # PyMeshLab's cow stores one vertex twice; loading welds the copies into one (the FEM
+        # would otherwise see a crack there). Say so here, once, instead of a warning box.
+        with warnings.catch_warnings(record=True) as repairs:
+            warnings.simplefilter("always", cshape.CShapeWarning)
+            cow = cshape.data.load("pymeshlab-samples", "cow")
+        for w in repairs:
+            print(f"note: {str(w.message).replace('repaired mesh', 'repaired on loading')}")
+        return cow, "cow (PyMeshLab sample)"
     except (FileNotFoundError, KeyError, ValueError) as exc:
         print(f"PyMeshLab samples not available ({exc}); using a built-in torus")
         return shapes.torus(64, 32), "torus (built-in)"
@@ -143,6 +152,27 @@ plots.plot_shape_dna_stages(lam, real.area, name=real_name.split(" ")[0])
 # %%
 plots.plot_eigenfunctions(real, phi, [1, 2, 3, 5, 10, 20, 30, N - 1], lam, elev=15, azim=30,
                           vertical_axis="y")
+
+# %% [markdown]
+# ### Turn it by hand
+#
+# The picture above is flat and fixed (it is what a PDF export keeps). Below, the same eigenfunctions on a mesh you
+# can **drag to rotate** and **scroll to zoom**; the **slider** steps through $\varphi_i$, with $\lambda_i$ in the
+# title. Red and blue are the two signs, white the *nodal lines* where $\varphi_i = 0$: count the nodal domains
+# (the regions of one sign) as $i$ grows. The colour range of every mode is symmetric about 0, because the sign
+# of an eigenfunction is arbitrary. The eigenfunctions are the ones computed above (`eigenpairs=`), not recomputed.
+
+# %%
+plots.eigenfunction_explorer(real, 21, eigenpairs=(lam, phi), vertical_axis="y")
+
+# %% [markdown]
+# On a symmetric shape eigenvalues repeat. The sphere's are $\ell(\ell+1)/r^2$ with multiplicity $2\ell+1$: slide
+# through $i = 1, 2, 3$ ($\ell = 1$), then $i = 4..8$ ($\ell = 2$). Modes of one $\lambda$ are rotated copies of one
+# pattern (or mixtures of them): the solver may return any orthonormal basis of that eigenspace, which is one
+# reason why Shape-DNA keeps the eigenvalues and not the eigenfunctions.
+
+# %%
+plots.eigenfunction_explorer(models["sphere"], 16)
 
 # %% [markdown]
 # ## What is left after Eq. (8)

@@ -86,6 +86,17 @@ for k, lev in enumerate([0.0, *levels]):
 fig
 
 # %% [markdown]
+# The same model clean and at the middle noise level, side by side: drag each to rotate it, scroll to zoom in on the
+# surface. Noise moves every vertex along its normal, so the outline hardly changes while the surface turns rough,
+# and the high eigenvalues, which measure small-scale oscillation, go up.
+
+# %%
+lev = levels[len(levels) // 2]
+plots.view_meshes({f"{name}, clean": mesh,
+                   f"{name}, lambda = {lev}": variants.add_normal_noise(mesh, lev, random_state=0)},
+                  edges=False, height=380)
+
+# %% [markdown]
 # ## Descriptors of the clean and the noisy collections
 #
 # `batch.describe` caches eigenvalues by mesh content, so rerunning this notebook only computes what is new.

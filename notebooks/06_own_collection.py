@@ -62,7 +62,8 @@ def write_obj(mesh, path):
         f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in mesh.faces)
 
 
-work = Path(tempfile.mkdtemp(prefix="cshape-own-"))
+tmp = tempfile.TemporaryDirectory(prefix="cshape-own-")  # removed at the end of the notebook
+work = Path(tmp.name)
 folder = work / "my_meshes"
 s = 2 if SMALL else 4
 for k in range(3):
@@ -179,6 +180,15 @@ print("".join(csv_path.read_text().splitlines(keepends=True)[:3])[:400], "...")
 for name in cshape.data.list_collections():
     info = cshape.data.info(name)
     print(f"{name:20s} {info['kind']:9s} {info['description'][:90]}...")
+
+# %% [markdown]
+# ## Cleaning up
+#
+# The example folder, its caches and the tables were temporary: remove them (your own `folder` stays where it is).
+
+# %%
+tmp.cleanup()
+print("removed", work, "| exists:", work.exists())
 
 # %% [markdown]
 # ## Exercises

@@ -53,9 +53,16 @@ def kernel_env(tmp_path_factory):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
-def test_notebook_runs(path, kernel_env):
-    res = run_notebook(path, small=True, html=False, timeout=600, env=kernel_env)
+def test_notebook_runs(path, kernel_env, tmp_path):
+    tmp = tmp_path / "tmp"  # the kernel's temporary folder, to see what it leaves behind
+    tmp.mkdir()
+    res = run_notebook(path, small=True, html=False, timeout=600,
+                       env={**kernel_env, "TMPDIR": str(tmp)})
     assert res.ok, f"{path.name} failed after {res.seconds:.1f} s: {res.error}"
+    # no warning boxes in a lesson, unless a cell tagged expect-stderr is about that warning
+    assert res.stderr == [], f"{path.name} has stderr outputs: {res.stderr}"
+    left = sorted(p.name for p in tmp.iterdir() if p.name.startswith("cshape"))
+    assert left == [], f"{path.name} leaves temporary folders behind: {left}"
 
 
 @pytest.mark.slow
@@ -103,6 +110,18 @@ def test_kernel_is_this_interpreter_and_cli_writes_html(tmp_path, capsys):
         assert local.stat().st_mtime_ns == stamp
     assert "01_tiny.html" in (out / "index.html").read_text()
     assert "01_tiny.ipynb: ok" in capsys.readouterr().out
+
+
+def test_stderr_outputs_are_reported_unless_expected(tmp_path):
+    src = "import sys, warnings\nprint('fine')\nwarnings.warn('a box in the lesson')"
+    path = _tiny(tmp_path, src)
+    res = run_notebook(path, html=False)
+    assert res.ok and len(res.stderr) == 1 and "a box in the lesson" in res.stderr[0], res.stderr
+    assert res.stderr[0].startswith("cell 0: ")
+    nb = nbformat.read(path, as_version=4)
+    nb.cells[0].metadata["tags"] = ["expect-stderr"]
+    nbformat.write(nb, path)
+    assert run_notebook(path, html=False).stderr == []
 
 
 def test_failing_cell_is_reported(tmp_path):
