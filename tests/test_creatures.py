@@ -1,0 +1,198 @@
+"""The creature benchmark (cshape.creatures) and its manifest collections: deterministic,
+sized, cached, varied within a class, and hard enough that retrieval does not saturate."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+
+import cshape
+import cshape.data as data
+from cshape import creatures as cr
+from cshape import variants as v
+from cshape.compare import retrieval_scores
+
+#: Small and fast: coarse grid, few vertices (the meshes are still closed).
+FAST = {"vertices": [300, 400], "voxelsize": 0.035}
+
+
+@pytest.fixture(autouse=True)
+def _isolated_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("CSHAPE_CACHE", str(tmp_path / "cache"))
+    monkeypatch.delenv("CSHAPE_MANIFEST", raising=False)
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory):
+    """creatures-small (12 classes x 3, as shipped) built once, and its Shape-DNA N=100."""
+    cache = tmp_path_factory.mktemp("creatures-cache")
+    coll = data.load_collection("creatures-small", cache_dir=cache, progress=False)
+    table = cshape.describe(coll, N=100, cache_dir=cache / "eig", progress=False, n_jobs=1)
+    return cache, coll, table
+
+
+# ---------------------------------------------------------------------- capsules
+def _bones(caps):
+    return np.array([np.linalg.norm(np.subtract(c.b, c.a)) for c in caps])
+
+
+def test_capsules_are_seeded_and_vary_within_a_class():
+    a = cr.creature_capsules("human", 3)
+    assert a == cr.creature_capsules("human", 3)
+    b = cr.creature_capsules("human", 4)
+    assert len(a) == len(b)  # same skeleton ...
+    assert not np.allclose(_bones(a), _bones(b))  # ... other proportions
+    assert not np.allclose([c.radius for c in a], [c.radius for c in b])
+
+
+def test_variation_zero_keeps_the_proportions_and_changes_the_pose():
+    a = cr.creature_capsules("spider", 1, variation=0)
+    b = cr.creature_capsules("spider", 2, variation=0)
+    np.testing.assert_allclose(_bones(a), _bones(b))
+    np.testing.assert_allclose([c.radius for c in a], [c.radius for c in b])
+    assert not np.allclose([c.b for c in a], [c.b for c in b])  # joint angles differ
+
+
+def test_proportions_stay_in_the_documented_range():
+    # the human's torso is the first capsule: 0.55 times the body's length factor
+    lengths = [_bones(cr.creature_capsules("human", s))[0] / 0.55 for s in range(40)]
+    assert 1 / 1.35 <= min(lengths) and max(lengths) <= 1.35
+    assert max(lengths) / min(lengths) > 1.3  # the range is used
+
+
+@pytest.mark.parametrize("kind", cr.CREATURE_KINDS)
+def test_every_class_gives_a_connected_closed_mesh(kind):
+    m = cr.creature(kind, 0, **{**FAST, "vertices": tuple(FAST["vertices"])})
+    assert m.is_closed
+    assert len(cshape.largest_component(m).faces) == m.n_faces  # one piece
+    assert 150 < m.n_vertices < 700
+
+
+def test_creature_is_deterministic_and_seeded():
+    a = cr.creature("snake", 5, vertices=300, voxelsize=0.04)
+    b = cr.creature("snake", 5, vertices=300, voxelsize=0.04)
+    c = cr.creature("snake", 6, vertices=300, voxelsize=0.04)
+    np.testing.assert_array_equal(a.vertices, b.vertices)
+    np.testing.assert_array_equal(a.faces, b.faces)
+    assert a.n_vertices != c.n_vertices or not np.allclose(a.vertices, c.vertices)
+
+
+def test_noise_zero_is_the_clean_remesh():
+    clean = cr.creature("snake", 2, vertices=300, voxelsize=0.04, noise=0)
+    noisy = cr.creature("snake", 2, vertices=300, voxelsize=0.04, noise=1.0)
+    np.testing.assert_array_equal(clean.faces, noisy.faces)  # same remesh, moved vertices
+    d = np.linalg.norm(noisy.vertices - clean.vertices, axis=1)
+    assert 0 < d.max() <= 1.0 * clean.mean_edge_length
+
+
+def test_capsules_expression_cutoff_keeps_the_surface():
+    caps = cr.creature_capsules("starfish", 0)
+    pts = np.array([c.a for c in caps] + [c.b for c in caps])
+    box = (*(pts.min(0) - 0.3), *(pts.max(0) + 0.3))
+    full = v.marching_cubes(v.capsules_expression(caps), box, 0.04)
+    cut = v.marching_cubes(v.capsules_expression(caps, cutoff=0.12), box, 0.04)
+    np.testing.assert_allclose(cut.vertices, full.vertices, atol=1e-9)
+    np.testing.assert_array_equal(cut.faces, full.faces)
+    with pytest.raises(ValueError, match="cutoff must be a positive number"):
+        v.capsules_expression(caps, cutoff=0)
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: cr.creature_capsules("dragon", 0), r"kind must be one of \{'human'"),
+        (lambda: cr.creature_capsules("human", 0, variation=-1), "variation must be"),
+        (lambda: cr.creature("human", 0, noise=-0.1), "noise must be a finite number >= 0"),
+        (lambda: cr.creature("human", 0, vertices=(4000, 1500)), "vertices must be an integer"),
+        (lambda: cr.creature_items(seed=-1), "seed must be an integer"),
+        (lambda: cr.creature_items(members=0), "members must be an integer"),
+        (lambda: cr.creature_items(kinds=["human", "elf"]), r"kinds must be one of"),
+    ],
+)
+def test_bad_arguments_are_named(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+# ---------------------------------------------------------------------- items and manifest
+def test_items_of_two_seeds_share_no_member_and_grow_by_prefix():
+    dev, held = cr.creature_items(0, 10), cr.creature_items(1, 10)
+    assert len(dev) == len(held) == 10 * len(cr.CREATURE_KINDS)
+    assert not {it["seed"] for it in dev} & {it["seed"] for it in held}
+    assert len({it["seed"] for it in dev}) == len(dev)
+    assert [it["name"] for it in dev] == [it["name"] for it in held]
+    three = cr.creature_items(0, 3)
+    assert all(it in dev for it in three)  # a smaller instance is part of the larger one
+    assert dev[0] == {"name": "human-00", "label": "human", "recipe": "creature",
+                      "seed": 0, "params": {"kind": "human"}}
+
+
+def test_manifest_has_dev_heldout_and_small_instances():
+    held, dev, small = (data.info(n) for n in ("creatures", "creatures-dev", "creatures-small"))
+    assert held["generate"]["seed"] != dev["generate"]["seed"]
+    for e, members in ((held, 10), (dev, 10), (small, 3)):
+        labels = [it["label"] for it in e["items"]]
+        assert sorted(set(labels)) == sorted(cr.CREATURE_KINDS)
+        assert all(labels.count(k) == members for k in set(labels))
+    said = " ".join(held["description"].split()).lower()
+    for word in ("proportions", "pose", "resolution", "noise", "held-out"):  # what it varies
+        assert word in said
+
+
+@pytest.mark.parametrize(
+    "mutate, match",
+    [
+        (lambda e: e.update(items=[]), "either 'items'.*or 'generate'"),
+        (lambda e: e["generate"].update(colour=1), r"'generate' has unknown key\(s\) \['colour'\]"),
+        (lambda e: e["generate"].update(members=0), "'generate': members must be"),
+        (lambda e: e["generate"].update(params={"wings": 2}),
+         "recipe 'creature' has no parameter 'wings'"),
+    ],
+)
+def test_generate_field_is_validated(mutate, match):
+    e = {"name": "c", "kind": "generated", "description": "d", "license": "l",
+         "citation": "c", "generate": {"seed": 0, "members": 1}}
+    mutate(e)
+    with pytest.raises(ValueError, match=match):
+        data.validate_manifest(copy.deepcopy({"version": 1, "collections": [e]}))
+
+
+def test_load_creatures_is_cached_and_reproducible(tmp_path):
+    kw = {"members": 2, "kinds": ["snake", "teddy"], **FAST}
+    a = data.load_creatures(3, cache_dir=tmp_path / "a", progress=False, **kw)
+    assert a.names == ["snake-00", "snake-01", "teddy-00", "teddy-01"]
+    assert a.labels == ["snake", "snake", "teddy", "teddy"]
+    files = sorted((tmp_path / "a").rglob("*.npz"))
+    assert len(files) == 4
+    mtimes = [f.stat().st_mtime_ns for f in files]
+    again = data.load_creatures(3, cache_dir=tmp_path / "a", progress=False, **kw)
+    assert [f.stat().st_mtime_ns for f in files] == mtimes  # read, not rebuilt
+    fresh = data.load_creatures(3, cache_dir=tmp_path / "b", progress=False, **kw)
+    other = data.load_creatures(4, cache_dir=tmp_path / "a", progress=False, **kw)
+    for x, y, z in zip(again, fresh, other, strict=True):
+        np.testing.assert_array_equal(x.mesh.vertices, y.mesh.vertices)  # same seed
+        assert x.mesh.n_vertices != z.mesh.n_vertices or not np.allclose(
+            x.mesh.vertices, z.mesh.vertices)  # another seed
+    assert len(sorted((tmp_path / "a").rglob("*.npz"))) == 8
+
+
+# ---------------------------------------------------------------------- the point of it
+@pytest.mark.slow
+def test_small_instance_sizes(small):
+    _, coll, table = small
+    assert len(coll) == 36 and len(set(coll.labels)) == 12
+    nv = [it.mesh.n_vertices for it in coll]
+    assert 400 < min(nv) and max(nv) < 1300 and max(nv) / min(nv) > 1.4  # resolutions vary
+    assert all(it.mesh.is_closed for it in coll)
+    assert not table.failures
+
+
+@pytest.mark.slow
+def test_shape_dna_retrieval_does_not_saturate(small):
+    _, _, table = small
+    s = retrieval_scores(table.distance_matrix("shape_dna", N=100), table.labels)
+    chance = 2 / 35  # first tier of a random ranking: (class size - 1) / (p - 1)
+    assert chance * 3 < s["ft"] < 0.9  # far better than chance, far from perfect
+    assert s["nn"] < 1.0
