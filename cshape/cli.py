@@ -50,6 +50,28 @@ def add_demo(sub):
     p.set_defaults(func=_demo)
 
 
+#: The default shapes of ``cshape reproduce``: the paper's models and poses for Section 3,
+#: and the held-out instance of the creature benchmark for the retrieval tables.
+REPRODUCE_COLLECTIONS = "paper-models,articulated"
+REPRODUCE_BENCHMARK = "creatures"
+
+
+def _load_named(spec, what):
+    """A manifest collection by name, or a folder of meshes (labels from sub-folders)."""
+    from pathlib import Path
+
+    from . import data
+
+    if spec in data.list_collections():
+        return data.load_collection(spec, progress=True)
+    if Path(spec).expanduser().is_dir():
+        return data.load_folder(spec)
+    raise ValueError(
+        f"{what} {spec!r} is neither a collection of the data manifest (see `cshape data "
+        "list`) nor a folder of meshes"
+    )
+
+
 def _reproduce(args) -> int:
     from . import data
     from .reproduce import reproduce
@@ -57,17 +79,25 @@ def _reproduce(args) -> int:
     records = []
     if args.folder:
         records.extend(data.load_folder(args.folder).items)
-    for name in [c for c in args.collections.split(",") if c] if not args.folder else []:
-        records.extend(data.load_collection(name, progress=True).items)
+    collections = args.collections if args.collections is not None else REPRODUCE_COLLECTIONS
+    for name in [c for c in collections.split(",") if c] if not args.folder else []:
+        records.extend(_load_named(name, "--collections").items)
     if args.limit:
         records = records[: args.limit]
+    bench = args.benchmark
+    if bench is None:  # default: the creatures, unless the shapes were chosen
+        bench = "same" if args.folder or args.collections is not None else REPRODUCE_BENCHMARK
+    benchmark = None if bench.lower() == "same" else _load_named(bench, "--benchmark")
     levels = tuple(float(x) for x in args.noise.split(",") if x) if args.noise else ()
     quality = ("CM", "CS") if {"CM", "CS"} <= {r.name for r in records} else None
     res = reproduce(
         records, args.out, N=args.N, M=args.M, noise_levels=levels, quality=quality,
-        n_jobs=args.jobs, progress=True,
+        n_jobs=args.jobs, progress=True, benchmark=benchmark,
     )
-    print(f"report written to {args.out}/report.md ({res['n_shapes']} shapes)")
+    print(f"report written to {args.out}/report.md ({res['n_shapes']} shapes; retrieval on "
+          f"{res['benchmark']['name']}, {res['benchmark']['n_shapes']} shapes)")
+    for line in res["verdict"]:
+        print(line)
     return 0
 
 
@@ -76,13 +106,19 @@ def add_reproduce(sub):
         "reproduce",
         help="run the paper's Section 3 experiments and write a report folder",
         description="Run the paper's Section 3 (distance matrices, M sweep, noise, mesh "
-        "quality, retrieval, size and time) on shape collections and write report.md, "
-        "results.json and the figures.",
+        "quality, size and time) on shape collections, the retrieval tables (every "
+        "descriptor; every size M = 16 .. 1 with a verdict) on a labelled benchmark, and "
+        "write report.md, results.json and the figures.",
     )
-    p.add_argument("--collections", default="paper-models,articulated",
-                   help="comma-separated collections of the data manifest "
-                   "(default: paper-models,articulated, generated offline)")
+    p.add_argument("--collections", default=None,
+                   help="comma-separated collections of the data manifest for Section 3 "
+                   f"(default: {REPRODUCE_COLLECTIONS}, generated offline)")
     p.add_argument("--folder", help="use a folder of meshes instead (labels from sub-folders)")
+    p.add_argument("--benchmark", default=None,
+                   help="labelled collection (manifest name or folder) for the retrieval "
+                   f"tables, or 'same' for the Section 3 shapes (default: {REPRODUCE_BENCHMARK}"
+                   ", the held-out creature benchmark; 'same' when --collections or --folder "
+                   "is given)")
     p.add_argument("--out", default="out/reproduce", help="report folder (default out/reproduce)")
     p.add_argument("-N", type=int, default=100, help="Shape-DNA length (default 100)")
     p.add_argument("-M", type=int, default=16, help="cShape-DNA half-width (default 16)")

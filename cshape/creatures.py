@@ -440,9 +440,9 @@ def creature(kind="human", random_state=0, *, variation=1.0, vertices=(1500, 400
 def creature_items(seed=1, members=10, kinds=None, params=None) -> list[dict]:
     """The items of a creature benchmark instance, as ``data_manifest.yaml`` items.
 
-    Member ``k`` of the class at position ``c`` of :data:`CREATURE_KINDS` gets the item seed ``1_000_000 * seed + 1000 * c + k``,
-    so two instances (two ``seed``) share no member and an instance with more members
-    contains the smaller one.
+    Member ``k`` of the class at position ``c`` of :data:`CREATURE_KINDS` gets the item seed
+    ``1_000_000 * seed + 1000 * c + k``, so two instances (two ``seed``) share no member
+    and an instance with more members contains the smaller one.
 
     Parameters
     ----------

@@ -40,14 +40,19 @@ from .compare import (
 )
 
 __all__ = [
+    "EXTENSIONS",
+    "FAMILIES",
     "PAPER",
     "experiment_3_1",
     "experiment_3_2",
     "experiment_cost",
     "experiment_noise",
     "experiment_retrieval",
+    "experiment_sizes",
+    "family_descriptors",
     "fig1_selection",
     "reproduce",
+    "size_verdict",
 ]
 
 #: The numbers the paper reports (McGill database, 458 models, N=100).
@@ -99,13 +104,17 @@ def experiment_3_2(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     """Section 3.2 and the equal-size comparison of Section 3.1 (Fig. 4-6).
 
     For every ``M``, the difference statistics against Shape-DNA with ``N`` values of the
-    cShape-DNA (``2M+1`` values) and of the truncated Shape-DNA of the same size; F1 (``N``)
-    once.
+    cShape-DNA (``2M+1`` values), of the truncated Shape-DNA of the same size, and of the
+    extensions beyond the paper of the same size (the log-Weyl DFT and DCT crops,
+    :func:`cshape.compact_shape_dna` ``transform=``, and the truncated log spectrum); F1
+    (``N``) once.  A descriptor that cannot be computed for the table (a log-Weyl one on a
+    spectrum with a second zero eigenvalue) is left out.
 
     Returns
     -------
     dict
-        ``{'cshape': {M: (mean, std)}, 'truncated': {M: (mean, std)}, 'f1': (mean, std)}``.
+        ``{'cshape': {M: (mean, std)}, 'truncated': {M: (mean, std)}, 'log-weyl': {...},
+        'log-weyl-dct': {...}, 'truncated_log': {...}, 'f1': (mean, std)}``.
     """
     _need(table)
     D_sd = table.distance_matrix("shape_dna", N=N)
@@ -113,6 +122,14 @@ def experiment_3_2(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     for M in Ms:
         out["cshape"][M] = scaled_difference(D_sd, table.distance_matrix("cshape", M=M, N=N))
         out["truncated"][M] = scaled_difference(D_sd, table.distance_matrix("truncated", M=M))
+    for key in ("log-weyl", "log-weyl-dct", "truncated_log"):
+        kind, kw = ("truncated_log", {}) if key == "truncated_log" else ("cshape",
+                                                                         {"transform": key})
+        try:
+            out[key] = {M: scaled_difference(D_sd, table.distance_matrix(kind, M=M, N=N, **kw))
+                        for M in Ms if 2 * M + 1 <= N - 1}
+        except ValueError:
+            out[key] = {}
     out["f1"] = scaled_difference(D_sd, table.distance_matrix("f1", N=N))
     return out
 
@@ -175,19 +192,215 @@ def _descriptor_specs(Ms, N):
     return specs
 
 
+#: The descriptor families of the equal-size comparison (:func:`experiment_sizes`): title ->
+#: (kind of :func:`cshape.compare.descriptor_matrix`, its keywords).  Every family has
+#: ``2M+1`` values at half-width ``M``; 'truncated F1' keeps the first ``2M+1`` F1 values.
+FAMILIES = {
+    "cShape-DNA (paper)": ("cshape", {"transform": "weyl"}),
+    "log-Weyl DFT": ("cshape", {"transform": "log-weyl"}),
+    "log-Weyl DCT": ("cshape", {"transform": "log-weyl-dct"}),
+    "truncated Shape-DNA": ("truncated", {}),
+    "truncated log spectrum": ("truncated_log", {}),
+    "truncated F1": ("f1", {}),
+}
+
+#: The families beyond the paper (extensions of cshape), marked as such in the report.
+EXTENSIONS = ("log-Weyl DFT", "log-Weyl DCT", "truncated log spectrum")
+
+
+def family_descriptors(table: DescriptorTable, family, M, N=100) -> np.ndarray:
+    """Descriptors of a :data:`FAMILIES` member with ``2M+1`` values, shape (p, 2M+1).
+
+    Raises
+    ------
+    ValueError
+        Unknown family, or the family cannot be computed (``2M+1`` too large for ``N``, or
+        a log-Weyl family on a spectrum with a zero eigenvalue after ``lam_0``).
+    """
+    if family not in FAMILIES:
+        raise ValueError(f"family must be one of {list(FAMILIES)}, got {family!r}")
+    kind, kw = FAMILIES[family]
+    if kind == "f1":
+        X = table.descriptors("f1", N=N)
+        if X.shape[1] < 2 * M + 1:
+            raise ValueError(f"F1 of N={N} has {X.shape[1]} values, fewer than 2M+1 = "
+                             f"{2 * M + 1}; use a larger N")
+        return X[:, : 2 * M + 1]
+    return table.descriptors(kind, M=M, N=N, **kw)
+
+
+def _retrieval_specs(Ms, N):
+    """(title, family or None, M, kind, keywords) of every row of the retrieval table."""
+    specs = [("Shape-DNA", None, None, "shape_dna", {"N": N}),
+             ("log spectrum (all N-1 log-Weyl ratios)", None, None, "truncated_log",
+              {"M": (N - 2) // 2}),
+             ("F1", None, None, "f1", {"N": N})]
+    for M in Ms:
+        for fam in FAMILIES:
+            specs.append((f"{fam} M={M}" if FAMILIES[fam][0] == "cshape"
+                          else f"{fam} {2 * M + 1}", fam, M, None, None))
+    return specs
+
+
 def experiment_retrieval(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     """Retrieval measures (:func:`cshape.compare.retrieval_scores`) of every descriptor.
+
+    Rows: Shape-DNA (``N`` values), the whole log spectrum (the ``N-1`` log-Weyl ratios,
+    a extension beyond the paper) and F1 (``N-2``); then for every ``M`` each of
+    :data:`FAMILIES` with ``2M+1`` values.  A descriptor that cannot be computed for the
+    table (see :func:`family_descriptors`) is left out.
 
     Returns
     -------
     list of dict
-        One row per descriptor: ``descriptor``, ``size`` and the six measures.
+        One row per descriptor: ``descriptor``, ``family`` (None for the full-length rows),
+        ``M``, ``size`` and the six measures.
     """
     rows = []
-    for title, kind, kw in _descriptor_specs(Ms, N):
-        s = retrieval_scores(table.distance_matrix(kind, **kw), table.labels)
-        rows.append({"descriptor": title, "size": table.descriptors(kind, **kw).shape[1], **s})
+    for title, fam, M, kind, kw in _retrieval_specs(Ms, N):
+        try:
+            X = (table.descriptors(kind, **kw) if fam is None
+                 else family_descriptors(table, fam, M, N))
+        except ValueError:
+            continue
+        s = retrieval_scores(distance_matrix(X), table.labels)
+        rows.append({"descriptor": title, "family": fam, "M": M, "size": X.shape[1], **s})
     return rows
+
+
+def experiment_sizes(table: DescriptorTable, *, Ms=None, N=100, measure="ft"):
+    """Section 3.2 by retrieval: every family of :data:`FAMILIES` at every size ``2M+1``.
+
+    For each ``M`` the retrieval measures of every family, the best family by ``measure``
+    and its lead over the runner-up with the paired standard error over the queries
+    (``std(a_q - b_q) / sqrt(p)`` of the per-query values,
+    :func:`cshape.compare.retrieval_per_query`).
+
+    Parameters
+    ----------
+    table : DescriptorTable
+        With class labels.
+    Ms : sequence of int, optional
+        Default ``16, 15, ..., 1``, limited to ``2M+1 <= N-2`` (F1 has ``N-2`` values).
+    N : int, default=100
+    measure : {'nn', 'ft', 'st', 'e', 'dcg', 'map'}, default='ft'
+        The measure that decides the winner (first tier).
+
+    Returns
+    -------
+    dict
+        ``measure``, ``Ms``, ``families`` (computed), ``skipped`` ({family: reason}),
+        ``reference`` (the measures of Shape-DNA with ``N`` values) and ``rows``: one per
+        ``M`` with ``M``, ``size``, ``scores`` ({family: {measure: value}}), ``best``
+        (families tied at the best value), ``runner_up``, ``lead``, ``lead_se``.
+    """
+    from .compare import retrieval_per_query
+
+    if Ms is None:
+        Ms = range(min(16, (N - 3) // 2), 0, -1)
+    Ms = [int(m) for m in Ms]
+    labels = table.labels
+    ref = retrieval_scores(table.distance_matrix("shape_dna", N=N), labels)
+    rows, skipped = [], {}
+    for M in Ms:
+        scores, per = {}, {}
+        for fam in FAMILIES:
+            if fam in skipped:
+                continue
+            try:
+                X = family_descriptors(table, fam, M, N)
+            except ValueError as exc:
+                skipped[fam] = str(exc)
+                continue
+            q = retrieval_per_query(distance_matrix(X), labels)
+            per[fam] = q[measure]
+            scores[fam] = {k: float(np.nanmean(v)) for k, v in q.items()}
+        order = sorted(scores, key=lambda f: -scores[f][measure])
+        top = scores[order[0]][measure]
+        best = [f for f in order if scores[f][measure] == top]
+        rest = [f for f in order if f not in best]
+        row = {"M": M, "size": 2 * M + 1, "scores": scores, "best": best,
+               "runner_up": rest[0] if rest else None, "lead": 0.0, "lead_se": 0.0}
+        if rest:
+            d = per[best[0]] - per[rest[0]]
+            d = d[~np.isnan(d)]
+            row["lead"] = float(d.mean())
+            row["lead_se"] = float(d.std(ddof=1) / np.sqrt(len(d))) if len(d) > 1 else 0.0
+        rows.append(row)
+    families = [f for f in FAMILIES if f not in skipped]
+    return {"measure": measure, "Ms": Ms, "families": families, "skipped": skipped,
+            "reference": ref, "N": N, "n_shapes": len(table), "rows": rows}
+
+
+_MEASURES = {"nn": "nearest neighbour", "ft": "first tier", "st": "second tier",
+             "e": "E-measure", "dcg": "DCG", "map": "mean average precision"}
+
+
+def _ranges(ms) -> str:
+    """'16..9, 6, 2..1' for descending integers."""
+    parts, start = [], None
+    for i, m in enumerate(ms):
+        if start is None:
+            start = m
+        if i + 1 == len(ms) or ms[i + 1] != m - 1:
+            parts.append(str(m) if m == start else f"{start}..{m}")
+            start = None
+    return ", ".join(parts)
+
+
+def size_verdict(sizes, *, name="this collection") -> list:
+    """The verdict under the size table, computed from :func:`experiment_sizes`' numbers.
+
+    Returns
+    -------
+    list of str
+        Sentences: which family wins at how many sizes, the winners at 17 and 33 values
+        with their lead and its standard error, how the paper's cShape-DNA compares with
+        the truncated Shape-DNA and the extensions, and where the best family reaches
+        Shape-DNA with ``N`` values.  Nothing in them is fixed text about a winner.
+    """
+    meas, rows = sizes["measure"], sizes["rows"]
+    if not rows:
+        return []
+    mname = _MEASURES[meas]
+    n = len(rows)
+    out = [f"Verdict on {name} by {mname} ({sizes['n_shapes']} queries; a lead is given "
+           "with its paired standard error over the queries, and a lead below two "
+           "standard errors is not clear):"]
+    wins = {f: [r["M"] for r in rows if f in r["best"]] for f in sizes["families"]}
+    ranked = sorted((f for f in wins if wins[f]), key=lambda f: -len(wins[f]))
+    out.append("Best (ties count for each): " + "; ".join(
+        f"{f} at {len(wins[f])} of {n} sizes (M = {_ranges(wins[f])})" for f in ranked) + ".")
+    for M in (8, 16):
+        r = next((r for r in rows if r["M"] == M), None)
+        if r is None:
+            continue
+        sc = r["scores"]
+        others = ", ".join(f"{f} {sc[f][meas]:.3f}" for f in sizes["families"]
+                           if f not in r["best"] and f in sc)
+        lead = ""
+        if r["runner_up"] is not None:
+            clear = "clear" if r["lead"] > 2 * r["lead_se"] else "not clear"
+            lead = (f"; lead over {r['runner_up']} {r['lead']:.3f} +- {r['lead_se']:.3f} "
+                    f"({clear})")
+        out.append(f"At {r['size']} values (M={M}): best {' = '.join(r['best'])} "
+                   f"{sc[r['best'][0]][meas]:.3f}{lead}; then {others}.")
+    paper, trunc = "cShape-DNA (paper)", "truncated Shape-DNA"
+    pairs = [(paper, trunc)] + [(f, paper) for f in EXTENSIONS]
+    for a, b in pairs:
+        if a in sizes["families"] and b in sizes["families"]:
+            diff = np.array([r["scores"][a][meas] - r["scores"][b][meas] for r in rows])
+            out.append(f"{a} vs {b}: higher at {int(np.sum(diff > 0))}, lower at "
+                       f"{int(np.sum(diff < 0))} of {n} sizes (mean difference "
+                       f"{diff.mean():+.3f}).")
+    ref = sizes["reference"][meas]
+    if ranked:
+        top = ranked[0]
+        reach = [r["size"] for r in rows if r["scores"][top][meas] >= ref]
+        where = (f"reaches it at {len(reach)} of {n} sizes (smallest: {min(reach)} values)"
+                 if reach else "stays below it at every size")
+        out.append(f"Shape-DNA with N={sizes['N']} values scores {ref:.3f}; {top} {where}.")
+    return out
 
 
 def experiment_cost(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100, repeats=5,
@@ -358,8 +571,16 @@ def _jsonable(obj):
 
 def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NOISE_LEVELS,
               noise_seed=0, quality=None, example=None, cache_dir=None, n_jobs=1, client=None,
-              progress=True, random_state=0, title="cshape: the paper's Section 3 on our data"):
+              progress=True, random_state=0, title="cshape: the paper's Section 3 on our data",
+              benchmark=None, benchmark_name=None, benchmark_info=None, size_Ms=None):
     """Run Section 3 on a collection and write a report folder.
+
+    Two collections may take part: ``records`` for the parts of Section 3 that compare a
+    shape with versions of itself (distance matrices, the M sweep, noise, mesh quality,
+    figures, size and time), and ``benchmark``, a labelled collection, for the retrieval
+    tables (every descriptor, and every size ``M = 16 .. 1`` with the verdict under it).
+    Without ``benchmark`` the retrieval tables are made on ``records`` when they carry
+    class labels.
 
     Parameters
     ----------
@@ -386,6 +607,15 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         Passed to :func:`cshape.describe` (eigenvalues are cached, runs resume).
     random_state : int, default=0
         Seed of the MDS embeddings.
+    benchmark : iterable, optional
+        Labelled shapes for the retrieval tables (as ``records``), e.g.
+        ``cshape.data.load_collection('creatures')`` (the held-out instance of the creature
+        benchmark) or a downloaded benchmark (``'shrec07-watertight'``, ``'mcgill-3dsb'``,
+        ``'tosca'``); its descriptors are saved as ``table_benchmark.npz``.
+    benchmark_name, benchmark_info : str, optional
+        Its name and a description for the report (default: the collection's).
+    size_Ms : sequence of int, optional
+        The sizes of the equal-size table (:func:`experiment_sizes`; default 16 .. 1).
 
     Returns
     -------
@@ -444,9 +674,23 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         [f"M={m}: mean {r32['cshape'][m][0]:.2f}, std {r32['cshape'][m][1]:.2f}" for m in Ms],
         **ticks)
 
-    # -- retrieval and cost
-    labelled = len(set(table.labels)) < len(table) and all(table.labels)
-    results["retrieval"] = experiment_retrieval(table, Ms=all_Ms, N=N) if labelled else None
+    # -- retrieval (every descriptor, every size) on the benchmark, and cost
+    btable, bname = table, "the shapes above"
+    if benchmark is not None:
+        brecords = list(benchmark)
+        bname = benchmark_name or _collection_name(benchmark) or "the benchmark"
+        benchmark_info = benchmark_info or _collection_info(benchmark)
+        btable = describe(brecords, **kw)
+        _need(btable)
+        btable.save(out / "table_benchmark.npz")
+    results["benchmark"] = {"name": bname, "n_shapes": len(btable),
+                            "classes": sorted(set(btable.labels)),
+                            "failures": btable.failures if benchmark is not None else [],
+                            "info": " ".join((benchmark_info or "").split())}
+    labelled = len(set(btable.labels)) < len(btable) and all(btable.labels)
+    results["retrieval"] = experiment_retrieval(btable, Ms=all_Ms, N=N) if labelled else None
+    results["sizes"] = experiment_sizes(btable, Ms=size_Ms, N=N) if labelled else None
+    results["verdict"] = size_verdict(results["sizes"], name=bname) if labelled else []
     results["cost"] = experiment_cost(table, Ms=all_Ms, N=N)
 
     # -- 3.3 noise
@@ -505,11 +749,70 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
     return results
 
 
+def _collection_name(coll):
+    name = getattr(coll, "name", None)
+    return name if isinstance(name, str) else None
+
+
+def _collection_info(coll):
+    info = getattr(coll, "info", None)
+    return info.get("description") if isinstance(info, dict) else None
+
+
 def _named(records, table):
     """(name, label, source) of the records, in the names describe gave them."""
     from .batch import _records
 
     return [r for r in _records(records) if r[0] in table.names]
+
+
+def _retrieval_report(res) -> list:
+    """The report's retrieval section: every descriptor, every size, the verdict."""
+    b = res.get("benchmark") or {}
+    name = b.get("name", "the shapes above")
+    s = [f"## Retrieval on {name} (Princeton Shape Benchmark measures)", ""]
+    if not res["retrieval"]:
+        return s + ["Not computed: the collection needs class labels with two or more shapes "
+                    "per class.", ""]
+    s += [f"{b['n_shapes']} shapes in {len(b['classes'])} classes."
+          + (f" {b['info']}" if b.get("info") else ""), ""]
+    if b.get("failures"):
+        s += [f"Skipped (failed): {', '.join(n for n, _ in b['failures'])}", ""]
+    s += [_md_table(["descriptor", "size", "NN", "FT", "ST", "E", "DCG", "MAP"],
+                    [[r["descriptor"] + ("*" if r["family"] in EXTENSIONS
+                                         or r["descriptor"].startswith("log spectrum") else ""),
+                      r["size"]] + [_fmt(r[k], 3) for k in ("nn", "ft", "st", "e", "dcg", "map")]
+                     for r in res["retrieval"]]), "",
+          "\\* extensions beyond the paper: the log-Weyl DFT and DCT crops "
+          "(`compact_shape_dna(..., transform='log-weyl' / 'log-weyl-dct')`) and the "
+          "truncated log spectrum (the first 2M+1 log-Weyl ratios r_i = log(lam_i^norm / "
+          "(4 pi i))). E is the E-measure over the first 32 results (all results when the "
+          "collection is smaller), so with small classes it stays well below 1 even for a "
+          "perfect ranking.", ""]
+    sz = res.get("sizes")
+    if sz and sz["rows"]:
+        meas = sz["measure"]
+        fams = sz["families"]
+        s += [f"### Every size: {_MEASURES[meas]} at 2M+1 values, M = {sz['Ms'][0]} .. "
+              f"{sz['Ms'][-1]}", "",
+              f"The {_MEASURES[meas]} of each descriptor family at equal size on {name} "
+              f"(bold: the best at that size; Shape-DNA with N={sz['N']} values: "
+              f"{sz['reference'][meas]:.3f}).", ""]
+        rows = []
+        for r in sz["rows"]:
+            cells = []
+            for f in fams:
+                v = r["scores"].get(f, {}).get(meas)
+                txt = _fmt(v, 3)
+                cells.append(f"**{txt}**" if f in r["best"] else txt)
+            rows.append([r["M"], r["size"], *cells])
+        s += [_md_table(["M", "size"] + [f + ("*" if f in EXTENSIONS else "") for f in fams],
+                        rows), ""]
+        if sz["skipped"]:
+            s += ["Not computed: " + "; ".join(f"{f} ({why})" for f, why in
+                                               sz["skipped"].items()), ""]
+        s += [" ".join(res["verdict"]), ""]
+    return s
 
 
 def _report(res, figs, title):
@@ -537,30 +840,24 @@ def _report(res, figs, title):
           "## 3.2 The parameter M, and equal-size descriptors", "",
           f"Difference statistics against Shape-DNA N={N} (mean / std).", ""]
     r32 = res["3.2"]
+    ext = [(k, t) for k, t in (("log-weyl", "log-Weyl DFT*"), ("log-weyl-dct", "log-Weyl DCT*"),
+                               ("truncated_log", "truncated log spectrum*")) if r32.get(k)]
     rows = []
     for m in r32["cshape"]:
         paper = PAPER["3.2"].get(m)
         if paper is None and m == p31["M"]:
             paper = (p31["mean"], p31["std"])
-        rows.append([m, 2 * m + 1, _pair(r32["cshape"][m]), _pair(r32["truncated"][m]),
-                     _pair(paper)])
-    s += [_md_table(["M", "size", "cShape-DNA", "truncated Shape-DNA", "paper cShape-DNA"],
-                    rows), "",
-          f"F1 (N={N}): {_fmt(r32['f1'][0])} / {_fmt(r32['f1'][1])}.", "",
+        rows.append([m, 2 * m + 1, _pair(r32["cshape"][m]), _pair(r32["truncated"][m])]
+                    + [_pair(r32[k].get(m)) for k, _ in ext] + [_pair(paper)])
+    s += [_md_table(["M", "size", "cShape-DNA", "truncated Shape-DNA"] + [t for _, t in ext]
+                    + ["paper cShape-DNA"], rows), "",
+          f"F1 (N={N}): {_fmt(r32['f1'][0])} / {_fmt(r32['f1'][1])}."
+          + (" * Extensions beyond the paper (cshape's `transform=` and the truncated log "
+             "spectrum): they are not meant to be faithful to Shape-DNA's distances, so a "
+             "large difference here is expected." if ext else ""), "",
           "![](fig4_mds_cshape.png)", "", "![](fig5_mds_truncated_f1.png)", "",
           "![](fig6_matrices.png)", "", "![](fig6_differences.png)", ""]
-    s += ["## Retrieval (Princeton Shape Benchmark measures)", ""]
-    if res["retrieval"]:
-        s += [_md_table(["descriptor", "size", "NN", "FT", "ST", "E", "DCG", "MAP"],
-                        [[r["descriptor"], r["size"]] + [_fmt(r[k], 3) for k in
-                                                         ("nn", "ft", "st", "e", "dcg", "map")]
-                         for r in res["retrieval"]]), "",
-              "E is the E-measure over the first 32 results (all results when the collection "
-              "is smaller), so with small classes it stays well below 1 even for a perfect "
-              "ranking.", ""]
-    else:
-        s += ["Not computed: the collection needs class labels with two or more shapes "
-              "per class.", ""]
+    s += _retrieval_report(res)
     s += ["## Size and comparison time", "",
           f"Paper: cShape-DNA saves \"up to {PAPER['saving']:.0%}\" of space and time "
           f"(3 values instead of 100 at M=1). Times (best of 5): the full distance matrix "
