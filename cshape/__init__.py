@@ -14,6 +14,7 @@ The pipeline, one module per stage (data flows one way):
    :func:`scaled_difference`,
    :func:`retrieval_scores`, :func:`mds_embedding`, :class:`DescriptorIndex`
 6. :mod:`cshape.variants`    - marching cubes, remeshing, Section 3.3 noise (PyMeshLab)
+   (:mod:`cshape.creatures`: the generated retrieval benchmark, twelve classes of creatures)
 7. :mod:`cshape.data`        - the data manifest and shape collections
 
 :mod:`cshape.batch` runs many meshes (cached, parallel, Dask); :mod:`cshape.reproduce` the

@@ -31,7 +31,7 @@ import numbers
 import numpy as np
 
 from ._checks import check_choice
-from .mesh import Mesh
+from .mesh import Mesh, largest_component
 from .variants import (
     Capsule,
     _bend,
@@ -262,19 +262,21 @@ def _spider(d):
 
 def _ant(d):
     fb, tb = d.group()
-    caps = [Capsule((0.3 * fb, 0, 0.05), (0.3 * fb, 0, 0.05), 0.1 * tb),  # head
-            Capsule((0, 0, 0), (0.18 * fb, 0, 0.02), 0.085 * tb),  # thorax
-            Capsule((-0.12 * fb, 0, 0.02), (-0.4 * fb, 0, 0.08), 0.14 * tb)]  # abdomen
+    rt, rh, ra = 0.085 * tb, 0.1 * tb, 0.14 * tb
+    t1 = 0.18 * fb  # thorax from x = 0 to t1; head and abdomen overlap its ends
+    head = (t1 + 0.8 * (rt + rh), 0, 0.05)
+    caps = [Capsule(head, head, rh),
+            Capsule((0, 0, 0), (t1, 0, 0.02), rt),
+            Capsule((-0.8 * (rt + ra), 0, 0.02), (-0.8 * (rt + ra) - 0.28 * fb, 0, 0.08), ra)]
     fl, tl = d.group()
-    for k, x in enumerate((0.16, 0.09, 0.02)):
+    for k, x in enumerate((0.9, 0.5, 0.1)):
         for s in (-1, 1):
             az = s * (60 - 40 * k + d.u(-10, 10))
             j = d.jitter()
-            caps += _limb((x * fb, 0.05 * s, 0.0), [_dir(az, d.u(10, 45)), _dir(az, d.u(-80, -30))],
+            caps += _limb((x * t1, 0.05 * s, 0.0), [_dir(az, d.u(10, 45)), _dir(az, d.u(-80, -30))],
                           [0.25 * fl * j, 0.3 * fl * j], 0.04 * tl)
     for s in (-1, 1):
-        caps += _limb(caps[0].a, [_dir(s * d.u(15, 45), d.u(20, 60))],
-                      [0.2 * d.factor(0.3)], 0.04)
+        caps += _limb(head, [_dir(s * d.u(15, 45), d.u(20, 60))], [0.2 * d.factor(0.3)], 0.04)
     return caps
 
 
@@ -308,7 +310,7 @@ def _crab(d):
 def _octopus(d):
     fb, tb = d.group()
     fl, tl = d.group()
-    caps = [Capsule((0, 0, 0.12), (d.u(-0.1, 0.1), 0, 0.12 + 0.32 * fb), 0.2 * tb)]
+    caps = [Capsule((0, 0, 0.08), (d.u(-0.1, 0.1), 0, 0.08 + 0.32 * fb), 0.2 * tb)]
     for k in range(8):
         az = 45.0 * k + d.u(-10, 10)
         p = 0.14 * tb * _dir(az, 0)
@@ -416,7 +418,8 @@ def creature(kind="human", random_state=0, *, variation=1.0, vertices=(1500, 400
     Returns
     -------
     Mesh
-        Closed; connected as the capsules are.
+        Closed and connected (the outer surface; a void enclosed where limbs cross is
+        dropped).
     """
     lo, hi = (vertices, vertices) if isinstance(vertices, numbers.Integral) else tuple(vertices)
     lo = _check_int("vertices", lo, 100, 1_000_000)
@@ -431,6 +434,10 @@ def creature(kind="human", random_state=0, *, variation=1.0, vertices=(1500, 400
     box = (*(pts.min(0) - margin), *(pts.max(0) + margin))
     mesh = marching_cubes(capsules_expression(caps, cutoff=3 * vs), box, vs)
     mesh = remesh(mesh, target_vertices=int(rng.integers(lo, hi + 1)))
+    if mesh.n_components > 1:
+        # where limbs cross, marching cubes can enclose a small void: an inner shell of a few
+        # vertices that would add a zero eigenvalue; the creature is the outer surface
+        mesh = largest_component(mesh)
     amp = float(rng.uniform(0, noise))
     if amp > 0:
         mesh = add_normal_noise(mesh, amp, rng, signed=True)

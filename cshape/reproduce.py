@@ -376,8 +376,9 @@ def size_verdict(sizes, *, name="this collection") -> list:
         if r is None:
             continue
         sc = r["scores"]
-        others = ", ".join(f"{f} {sc[f][meas]:.3f}" for f in sizes["families"]
-                           if f not in r["best"] and f in sc)
+        others = ", ".join(f"{f} {sc[f][meas]:.3f}" for f in
+                           sorted((f for f in sc if f not in r["best"]),
+                                  key=lambda f: -sc[f][meas]))
         lead = ""
         if r["runner_up"] is not None:
             clear = "clear" if r["lead"] > 2 * r["lead_se"] else "not clear"
