@@ -1,6 +1,5 @@
 """Command line: ``cshape demo``, ``cshape reproduce`` and the sub-commands other modules
-register (:mod:`cshape.commands`: ``describe``, ``info``, ``query``; :mod:`cshape.data`:
-``data``; ...).
+register (:mod:`cshape.commands`: ``describe``, ``info``, ``query``, ``data``; ...).
 
 Sub-commands are small functions ``add_<name>(subparsers)`` that define their parser and
 set ``func``; :func:`main` wires them up.  Heavy imports happen inside the commands.
@@ -16,8 +15,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
-__all__ = ["EXPECTED_ERRORS", "CommandError", "main", "one_line"]
+__all__ = ["EXPECTED_ERRORS", "CommandError", "main", "one_line", "print_warnings"]
 
 
 def _demo(args) -> int:
@@ -90,10 +90,13 @@ def _reproduce(args) -> int:
     benchmark = None if bench.lower() == "same" else _load_named(bench, "--benchmark")
     levels = tuple(float(x) for x in args.noise.split(",") if x) if args.noise else ()
     quality = ("CM", "CS") if {"CM", "CS"} <= {r.name for r in records} else None
-    res = reproduce(
-        records, args.out, N=args.N, M=args.M, noise_levels=levels, quality=quality,
-        n_jobs=args.jobs, progress=True, benchmark=benchmark,
-    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = reproduce(
+            records, args.out, N=args.N, M=args.M, noise_levels=levels, quality=quality,
+            n_jobs=args.jobs, progress=True, benchmark=benchmark,
+        )
+    print_warnings(caught, "reproduce", args.verbose)
     print(f"report written to {args.out}/report.md ({res['n_shapes']} shapes; retrieval on "
           f"{res['benchmark']['name']}, {res['benchmark']['n_shapes']} shapes)")
     for line in res["verdict"]:
@@ -126,6 +129,7 @@ def add_reproduce(sub):
                    help="noise levels of Section 3.3, comma-separated ('' to skip)")
     p.add_argument("--jobs", type=int, default=2, help="local worker processes (default 2)")
     p.add_argument("--limit", type=int, default=0, help="use only the first LIMIT shapes")
+    p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
     p.set_defaults(func=_reproduce)
 
 
@@ -149,7 +153,6 @@ def build_parser() -> argparse.ArgumentParser:
 #: (module, function) pairs that add sub-commands; each module imports lazily.
 _EXTRA: list[tuple[str, str]] = [
     ("commands", "add_commands"),
-    ("data", "add_data"),
     ("notebooks_run", "add_run_notebooks"),
 ]
 
@@ -169,6 +172,26 @@ def one_line(exc: BaseException) -> str:
     msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
     text = " ".join(str(msg).split())
     return text or type(exc).__name__
+
+
+#: Warnings listed one by one before a command summarises the rest (``-v``: all).
+MAX_WARNINGS = 10
+
+
+def print_warnings(caught, command, verbose=False, skip=()):
+    """Print recorded warnings on stderr, one line each: ``cshape <command>: warning: ...``.
+
+    Repeated messages once; messages starting with a prefix in ``skip`` left out; at most
+    :data:`MAX_WARNINGS` unless ``verbose``, then a count of the rest.
+    """
+    msgs = [" ".join(str(w.message).split()) for w in caught]
+    msgs = [m for m in dict.fromkeys(msgs) if not m.startswith(skip)]
+    shown = msgs if verbose else msgs[:MAX_WARNINGS]
+    for m in shown:
+        print(f"cshape {command}: warning: {m}", file=sys.stderr)
+    if len(msgs) > len(shown):
+        print(f"cshape {command}: {len(msgs) - len(shown)} more warnings (-v lists them all)",
+              file=sys.stderr)
 
 
 def main(argv=None) -> int:

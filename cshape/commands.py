@@ -1,4 +1,5 @@
-"""The mesh commands of the command line: ``cshape describe``, ``cshape info``, ``cshape query``.
+"""The commands of the command line on meshes and collections: ``cshape describe``,
+``cshape info``, ``cshape query`` and ``cshape data``.
 
 * ``cshape describe PATH... [--out table.csv|table.npz]`` - Shape-DNA / cShape-DNA of every
   mesh under the paths (files, folders searched recursively, globs; class labels from
@@ -8,7 +9,9 @@
   change, from :mod:`cshape.mesh` (:class:`cshape.Mesh`, :func:`cshape.repair_mesh`) and
   :func:`cshape.variants.mesh_quality`;
 * ``cshape query TABLE MESH_OR_NAME -k 5`` - the nearest shapes of a table, with their
-  distances (:class:`cshape.DescriptorIndex`).
+  distances (:class:`cshape.DescriptorIndex`);
+* ``cshape data {list, build NAME, path NAME}`` - the shape collections of
+  :mod:`cshape.data`.
 
 Only argument handling and printing live here; the work is done by the pipeline's
 functions.  Expected failures raise :class:`cshape.cli.CommandError` (or the pipeline's
@@ -27,13 +30,9 @@ import warnings
 from collections import Counter
 from pathlib import Path
 
-from .cli import CommandError
+from .cli import CommandError, print_warnings
 
 __all__ = ["add_commands", "collect_mesh_files", "mesh_report"]
-
-#: Warnings listed one by one before ``describe`` summarises the rest (``-v``: all).
-MAX_WARNINGS = 10
-
 
 # ============================================================================ inputs
 def _mesh_suffixes() -> tuple[str, ...]:
@@ -137,17 +136,6 @@ def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
     return [(n, lab, f) for n, (f, lab, _) in zip(names, unique, strict=True)]
 
 
-def _print_warnings(caught, command, verbose, skip=()):
-    msgs = [" ".join(str(w.message).split()) for w in caught]
-    msgs = [m for m in dict.fromkeys(msgs) if not m.startswith(skip)]
-    shown = msgs if verbose else msgs[:MAX_WARNINGS]
-    for m in shown:
-        print(f"cshape {command}: warning: {m}", file=sys.stderr)
-    if len(msgs) > len(shown):
-        print(f"cshape {command}: {len(msgs) - len(shown)} more warnings (-v lists them all)",
-              file=sys.stderr)
-
-
 def _progress(args) -> bool:
     return not args.quiet and sys.stderr.isatty()
 
@@ -186,7 +174,7 @@ def _cmd_describe(args) -> int:
         )
     seconds = time.perf_counter() - t0
     # describe's own summary of the failures is replaced by the list below
-    _print_warnings(caught, "describe", args.verbose, skip=("describe: ",))
+    print_warnings(caught, "describe", args.verbose, skip=("describe: ",))
     for name, msg in table.failures:
         print(f"cshape describe: failed: {name}: {' '.join(msg.split())}", file=sys.stderr)
     n_fail, p = len(table.failures), len(records)
@@ -419,7 +407,7 @@ def _cmd_query(args) -> int:
                            bc=table.bc, mass=table.mass, transform=table.transform,
                            cache_dir=False if args.no_cache else args.cache_dir,
                            progress=False, on_error="warn")
-        _print_warnings(caught, "query", False, skip=("describe: ",))
+        print_warnings(caught, "query", False, skip=("describe: ",))
         if one.failures:
             raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
         lam, area, exclude, what = one.lam[0], one.areas[0], None, repr(target)
@@ -483,8 +471,70 @@ def _add_query(sub):
     p.set_defaults(func=_cmd_query)
 
 
+# ============================================================================ data
+def _cmd_data_list(args) -> int:
+    from .data import load_manifest
+
+    entries = load_manifest(args.manifest)
+    rows = []
+    for name, e in entries.items():
+        n = len(e.get("items") or [])
+        rows.append((name, e["kind"], str(n) if n else "-", " ".join(e["description"].split())))
+    w0 = max(len(r[0]) for r in rows)
+    print(f"{'name':<{w0}}  {'kind':<9}  {'items':>5}  description")
+    for r in rows:
+        desc = r[3] if len(r[3]) <= 70 else r[3][:67] + "..."
+        print(f"{r[0]:<{w0}}  {r[1]:<9}  {r[2]:>5}  {desc}")
+    return 0
+
+
+def _cmd_data_build(args) -> int:
+    from .data import build, load_collection
+
+    t0 = time.perf_counter()
+    folder = build(args.name, cache_dir=args.cache_dir, archive=args.archive,
+                   manifest=args.manifest, progress=None)
+    n = len(load_collection(args.name, cache_dir=args.cache_dir, manifest=args.manifest,
+                            progress=False))
+    print(f"{args.name}: {n} meshes ready in {time.perf_counter() - t0:.1f} s at {folder}")
+    return 0
+
+
+def _cmd_data_path(args) -> int:
+    from .data import collection_path
+
+    print(collection_path(args.name, cache_dir=args.cache_dir, manifest=args.manifest))
+    return 0
+
+
+def _add_data(sub) -> None:
+    """``cshape data {list, build NAME, path NAME}``: the collections of :mod:`cshape.data`."""
+    import argparse
+
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--manifest", default=None, help="manifest file (default: the shipped one)")
+    common.add_argument("--cache-dir", default=None,
+                        help="cache folder (default: $CSHAPE_CACHE or ~/.cache/cshape)")
+    p = sub.add_parser("data", help="list, build and locate shape collections")
+    dsub = p.add_subparsers(dest="data_command", required=True)
+    pl = dsub.add_parser("list", parents=[common], help="list the collections of the manifest")
+    pl.set_defaults(func=_cmd_data_list)
+    pb = dsub.add_parser(
+        "build", parents=[common],
+        help="build (generated), download (download) or check (package, local) a collection",
+    )
+    pb.add_argument("name", help="collection name (see `cshape data list`)")
+    pb.add_argument("--archive", default=None,
+                    help="a benchmark archive you downloaded by hand, to unpack into place")
+    pb.set_defaults(func=_cmd_data_build)
+    pp = dsub.add_parser("path", parents=[common], help="print the folder of a collection")
+    pp.add_argument("name", help="collection name")
+    pp.set_defaults(func=_cmd_data_path)
+
+
 def add_commands(sub) -> None:
-    """Register ``describe``, ``info`` and ``query`` on the CLI's sub-parsers."""
+    """Register ``describe``, ``info``, ``query`` and ``data`` on the CLI's sub-parsers."""
     _add_describe(sub)
     _add_info(sub)
     _add_query(sub)
+    _add_data(sub)
