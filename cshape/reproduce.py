@@ -684,9 +684,14 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         btable = describe(brecords, **kw)
         _need(btable)
         btable.save(out / "table_benchmark.npz")
+    keep = _single_zero_rows(btable)
+    left_out = [btable.names[i] for i in range(len(btable)) if i not in set(keep.tolist())]
+    if left_out:  # the log-Weyl ratios and F1 need lam_1 > 0: one component per mesh
+        btable = btable.select(keep)
     results["benchmark"] = {"name": bname, "n_shapes": len(btable),
                             "classes": sorted(set(btable.labels)),
                             "failures": btable.failures if benchmark is not None else [],
+                            "left_out": left_out,
                             "info": " ".join((benchmark_info or "").split())}
     labelled = len(set(btable.labels)) < len(btable) and all(btable.labels)
     results["retrieval"] = experiment_retrieval(btable, Ms=all_Ms, N=N) if labelled else None
@@ -750,6 +755,13 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
     return results
 
 
+def _single_zero_rows(table) -> np.ndarray:
+    """Rows whose spectrum has one zero eigenvalue (``lam_1 > 0``: a connected mesh)."""
+    lam = np.asarray(table.lam)
+    tol = 1e-8 * np.abs(lam).max(axis=1)
+    return np.flatnonzero(lam[:, 1] > tol)
+
+
 def _collection_name(coll):
     name = getattr(coll, "name", None)
     return name if isinstance(name, str) else None
@@ -779,6 +791,10 @@ def _retrieval_report(res) -> list:
           + (f" {b['info']}" if b.get("info") else ""), ""]
     if b.get("failures"):
         s += [f"Skipped (failed): {', '.join(n for n, _ in b['failures'])}", ""]
+    if b.get("left_out"):
+        s += [f"Left out of the retrieval tables ({len(b['left_out'])}: a second zero "
+              "eigenvalue, i.e. several connected components, which the log-Weyl ratios and "
+              f"F1 cannot take): {', '.join(b['left_out'])}.", ""]
     s += [_md_table(["descriptor", "size", "NN", "FT", "ST", "E", "DCG", "MAP"],
                     [[r["descriptor"] + ("*" if r["family"] in EXTENSIONS
                                          or r["descriptor"].startswith("log spectrum") else ""),

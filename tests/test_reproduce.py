@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from cshape import data, shapes
+from cshape import CShapeWarning, data, shapes
 from cshape.batch import DescriptorTable
 from cshape.cli import main
 from cshape.compare import distance_matrix, retrieval_scores
@@ -51,15 +51,20 @@ def _folder_benchmark(root):
         m = shapes.icosphere(2)
         _write_off(root / "ellipsoid" / f"e{k}.off",
                    type(m)(m.vertices * [1.0, s, 1.0 / s], m.faces))
+    two = shapes.icosphere(1)  # two disjoint spheres: a second zero eigenvalue
+    _write_off(root / "ellipsoid" / "two.off",
+               type(two)(np.vstack([two.vertices, two.vertices + 3.0]),
+                         np.vstack([two.faces, two.faces + len(two.vertices)])))
     return data.load_folder(root)
 
 
 def test_reproduce_writes_a_report(tmp_path):
     bench = _folder_benchmark(tmp_path / "bench")
-    res = reproduce(
-        _records(), tmp_path / "rep", N=30, M=4, Ms=(2, 1), noise_levels=(1.0,),
-        cache_dir=tmp_path / "cache", progress=False, benchmark=bench, size_Ms=(6, 4, 1),
-    )
+    with pytest.warns(CShapeWarning, match="two: mesh has 2 connected components"):
+        res = reproduce(
+            _records(), tmp_path / "rep", N=30, M=4, Ms=(2, 1), noise_levels=(1.0,),
+            cache_dir=tmp_path / "cache", progress=False, benchmark=bench, size_Ms=(6, 4, 1),
+        )
     rep = (tmp_path / "rep" / "report.md").read_text()
     assert "0.68" in rep  # the paper's number beside ours
     # Fig. 1 draws one shape per class, and the report says it is a sample
@@ -76,9 +81,11 @@ def test_reproduce_writes_a_report(tmp_path):
     assert 0 < r31["mean"] < 255
     # retrieval on the benchmark folder, not on the Section 3 shapes
     assert res["benchmark"]["name"] == "bench" and res["benchmark"]["n_shapes"] == 6
+    assert res["benchmark"]["left_out"] == ["two"] and "several connected components" in rep
     assert "## Retrieval on bench" in rep
     btable = DescriptorTable.load(tmp_path / "rep" / "table_benchmark.npz")
-    assert sorted(btable.labels) == ["ellipsoid"] * 3 + ["torus"] * 3
+    assert sorted(btable.labels) == ["ellipsoid"] * 4 + ["torus"] * 3
+    btable = btable.select([i for i, n in enumerate(btable.names) if n != "two"])
     by_title = {r["descriptor"]: r for r in data_["retrieval"]}
     for title in ("Shape-DNA", "cShape-DNA (paper) M=4", "log-Weyl DFT M=4", "log-Weyl DCT M=2",
                   "truncated Shape-DNA 9", "truncated log spectrum 5", "truncated F1 3"):
