@@ -223,10 +223,15 @@ def _check_M(M, N, transform="weyl"):
                 f"2M+1 = {2 * M + 1} values cannot be kept from N = {N} eigenvalues; "
                 f"use M <= {(N - 1) // 2} or a larger N"
             )
+        if L < 1:
+            raise ValueError(
+                f"transform={transform!r} needs N >= 2 (the log-Weyl ratio starts at lam_1; "
+                f"lam_0 has no logarithm), got N = {N}"
+            )
         raise ValueError(
             f"2M+1 = {2 * M + 1} values cannot be kept from the N-1 = {L} log-Weyl ratios "
-            f"of transform={transform!r} (lam_0 has no logarithm); use M <= "
-            f"{max((L - 1) // 2, 0) if L >= 1 else 'nothing'} or N >= {2 * M + 2}"
+            f"of transform={transform!r} (lam_0 has no logarithm); use M <= {(L - 1) // 2} "
+            f"or N >= {2 * M + 2}"
         )
     return M
 

@@ -134,6 +134,8 @@ def test_normalisations():
                                           transform="log-weyl-dct"), ValueError,
          r"but lam_2 = -3"),
         (lambda: cshape.log_weyl_ratio([0.0]), ValueError, "at least 2 eigenvalues"),
+        (lambda: cshape.compact_shape_dna([0.0], M=0, N=1, normalized=True, transform="log-weyl"),
+         ValueError, r"needs N >= 2 \(the log-Weyl ratio starts at lam_1"),
         (lambda: cshape.compact_shape_dna(LAM_NORM, M=1, N=8, area=2.0, normalized=True),
          ValueError, "not both"),
         (lambda: cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalized="yes"), TypeError,
