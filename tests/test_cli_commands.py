@@ -6,8 +6,10 @@ file written.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import socket
 import subprocess
 import sys
 
@@ -22,8 +24,8 @@ from cshape.batch import DescriptorTable
 N, M = 20, 4
 
 
-def cli(*args, cache=None, check=False):
-    env = dict(os.environ)
+def cli(*args, cache=None, check=False, env=None):
+    env = {**os.environ, **(env or {})}
     if cache is not None:
         env["CSHAPE_CACHE"] = str(cache)
     res = subprocess.run([sys.executable, "-m", "cshape", *map(str, args)],
@@ -31,6 +33,14 @@ def cli(*args, cache=None, check=False):
     if check:
         assert res.returncode == 0, res.stderr
     return res
+
+
+@contextlib.contextmanager
+def socket_port():
+    """A free local TCP port (closed again on exit)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        yield s.getsockname()[1]
 
 
 def assert_one_line_error(res, match):
@@ -177,14 +187,11 @@ def test_query_by_name_and_by_mesh_file(table_file, folder, tmp_path):
 
 def test_offline_download_ends_in_one_line_and_leaves_no_folder(tmp_path):
     """`cshape data build` of a download collection whose server refuses the connection."""
-    import socket
-
     import yaml
 
     entry = cshape.data.info("odedstein-meshes")
-    with socket.socket() as s:  # a local port nobody listens on once closed
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
+    with socket_port() as port:  # nobody listens there once closed
+        pass
     entry["items"] = [{**it, "url": f"https://127.0.0.1:{port}/{it['file']}"}
                       for it in entry["items"][:2]]
     manifest = tmp_path / "manifest.yaml"
@@ -223,3 +230,23 @@ def test_real_meshes_describe_info_query(shared_meshes, tmp_path):
               cache=tmp_path / "c", check=True)
     hit = json.loads(res.stdout)["neighbours"][0]
     assert hit["name"] == "sphere" and hit["distance"] == 0.0  # the same file, cached
+
+
+def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    out = tmp_path / "t.npz"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  protocol="tcp://", host="127.0.0.1",
+                                  dashboard_address=":0") as cluster:
+        cli("describe", folder, "--dask", cluster.scheduler_address, "--out", out, "-N", N,
+            "-M", M, "--no-cache", check=True)
+    table = DescriptorTable.load(out)
+    lam = cshape.shape_dna(cshape.load_mesh(folder / "torus" / "ring.off"), N=N)
+    np.testing.assert_allclose(table.lam[table.index("ring")], lam, rtol=1e-12, atol=1e-12)
+
+    with socket_port() as port:  # nobody listens there
+        pass
+    env = {"DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"}
+    res = cli("describe", folder, "--dask", f"tcp://127.0.0.1:{port}", "--no-cache",
+              "-N", N, "-M", M, env=env)
+    assert_one_line_error(res, f"Timed out trying to connect to tcp://127.0.0.1:{port}")
