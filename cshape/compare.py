@@ -723,7 +723,9 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     max_names : int, default=MDS_MAX_NAMES
         Write no name when there are more shapes.
     legend : bool, default=True
-        Draw the class legend (outside the panel, on the right).
+        Draw the class legend: outside the panel, on the right, on a figure of its own;
+        inside (where it covers the fewest points) when ``ax`` is given.  A figure of
+        several panels reads best with ``legend=False`` and one ``fig.legend``.
 
     Returns
     -------
@@ -735,6 +737,7 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     p = len(Y)
     if names is not None and len(names) != p:
         raise ValueError(f"names has {len(names)} entries but Y has {p} points")
+    own = ax is None
     fig, ax = _figure_and_ax(ax, figsize)
     size = 25.0 if p <= 100 else max(4.0, 2500.0 / p)
     if labels is not None:
@@ -742,9 +745,11 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
         ax.scatter(Y[:, 0], Y[:, 1], c=colours, s=size, linewidths=0)
         for lab, col in classes:
             ax.scatter([], [], color=col, label=short_label(lab))
-        if legend and len(classes) <= MAX_LEGEND_CLASSES:
+        if legend and len(classes) <= MAX_LEGEND_CLASSES and own:
             ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1.0),
                       borderaxespad=0.0, frameon=False)
+        elif legend and len(classes) <= MAX_LEGEND_CLASSES:  # a panel of a larger figure
+            ax.legend(fontsize="x-small", loc="best", framealpha=0.7)
     else:
         ax.scatter(Y[:, 0], Y[:, 1], s=size, linewidths=0)
     _square_limits(ax, Y)
