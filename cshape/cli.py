@@ -133,8 +133,18 @@ def add_reproduce(sub):
     p.set_defaults(func=_reproduce)
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line too (argparse prints the usage
+    first); sub-command parsers are of this class as well."""
+
+    def error(self, message):
+        print(f"{self.prog}: error: {' '.join(message.split())}; see `{self.prog} --help`",
+              file=sys.stderr)
+        sys.exit(2)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="cshape", description="Shape-DNA and compact Shape-DNA of triangle meshes"
     )
     sub = parser.add_subparsers(dest="command", required=True)

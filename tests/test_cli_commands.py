@@ -119,11 +119,14 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     (["describe", "MESHES", "-N", "20", "-M", "10"], "use M <= 9"),
     (["info", "no_such.obj"], "no mesh file at 'no_such.obj'"),
     (["query", "no_such.csv", "x"], "no descriptor table at 'no_such.csv'"),
+    (["describe"], "the following arguments are required: PATH"),  # argparse's errors too
+    (["describe", "MESHES", "-N", "x"], "argument -N: invalid int value: 'x'"),
 ])
 def test_expected_failures_end_in_one_line(folder, tmp_path, args, match):
     args = [str(folder) + a[6:] if a.startswith("MESHES") else a for a in args]
     res = cli(*args, cache=tmp_path / "c")
     assert_one_line_error(res, match)
+    assert len(res.stderr.strip().splitlines()) == 1, res.stderr
     assert list(tmp_path.iterdir()) == []  # nothing written, not even the cache folder
 
 
