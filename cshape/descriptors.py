@@ -396,27 +396,29 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
     Notes
     -----
     **Which transform.**  ``'weyl'`` to reproduce the paper.  To retrieve shapes,
-    ``'log-weyl-dct'``.  Measured by ``python benchmarks/bench_descriptors.py`` (first tier,
-    chosen on the development collection ``creatures-dev``, 120 shapes in 12 classes;
-    the held-out numbers are in ``benchmarks/results/descriptors_creatures.md``):
+    ``'log-weyl-dct'``.  Chosen with ``python benchmarks/bench_descriptors.py`` on the
+    development collection ``creatures-dev`` and then measured once on the held-out
+    ``creatures`` (``--collection creatures``; 120 shapes in 12 classes each; results in
+    ``benchmarks/results/descriptors_creatures*.md``).  First tier, dev / held out:
 
     ==================================== ============= =============
     descriptor (N = 100)                  17 numbers    33 numbers
     ==================================== ============= =============
-    ``'weyl'`` (the paper)                0.277         0.278
-    ``'log-weyl'`` (DFT)                  0.431         0.479
-    ``'log-weyl-dct'``                    0.427         0.494
+    ``'weyl'`` (the paper)                0.277 / 0.342 0.278 / 0.339
+    ``'log-weyl'`` (DFT)                  0.431 / 0.465 0.479 / 0.544
+    ``'log-weyl-dct'``                    0.427 / 0.478 0.494 / 0.559
     ==================================== ============= =============
 
     The log-Weyl ratio weighs every index alike, where Eq. (8) lets the largest
-    eigenvalues (mesh detail) dominate the distance: +0.15 to +0.22 first tier.  The DCT
-    ties the DFT at 17 numbers (paired difference -0.004 +- 0.006) and wins at 33
-    (+0.016 +- 0.005) and at every smaller ``N``: its even extension has no jump between
-    ``r_{N-1}`` and ``r_1`` to spread over all frequencies.
+    eigenvalues (mesh detail) dominate the distance: +0.12 to +0.22 first tier.  The DCT
+    ties the DFT at 17 numbers on dev (paired difference -0.004 +- 0.006; held out
+    +0.013 +- 0.006) and wins at 33 (+0.016 +- 0.005; held out +0.015 +- 0.006) and at
+    every smaller ``N``: its even extension has no jump between ``r_{N-1}`` and ``r_1`` to
+    spread over all frequencies.  Below 9 numbers (``M <= 3``) the DFT is better.
 
     **Which N.**  It matters more than the transform: the fewer eigenvalues beyond
-    ``2M+1``, the better on this collection (17 numbers: first tier 0.43 at ``N = 100``,
-    0.49 at ``N = 50``, 0.53 at ``N = 18``).  At ``N = 2M+2`` nothing is cropped and both
+    ``2M+1``, the better on these collections (17 numbers, held out: first tier 0.48 at
+    ``N = 100``, 0.57 at ``N = 50``, 0.59 at ``N = 18``).  At ``N = 2M+2`` nothing is cropped and both
     log-Weyl transforms have the distances of the first ``2M+1`` log-Weyl ratios (the
     truncated log spectrum, kind ``'truncated_log'`` of
     :func:`cshape.compare.descriptor_matrix`), the best descriptor of 17 and of 33 numbers

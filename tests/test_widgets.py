@@ -235,8 +235,8 @@ def test_sweep_rejects_M_beyond_the_log_weyl_bound(collection):
 
 
 def test_widget_transform_toggle_clamps_M(collection):
-    w = widgets.m_sweep_widget(collection.select(range(4)), M=11, N=23, dpi=30,
-                               figsize=(6, 4))
+    sweep = widgets.MSweep.from_table(collection.select(range(4)), mds=False)
+    w = widgets.m_sweep_widget(sweep, M=11, N=23, dpi=30, figsize=(6, 4))
     assert w.state.M == 11 and w.state.transform == "weyl"
     png = w.image.value
     w.controls["transform"].value = "log-weyl-dct"  # M = 11 needs 2M+1 = 23 > N-1 = 22
