@@ -30,6 +30,7 @@ CHROMIUM = Path("/usr/bin/chromium")
 REPO = Path(__file__).resolve().parents[1]
 ARTIFACTS = REPO / "test-artifacts"
 NOTEBOOK = "07_m_sweep.ipynb"
+EXPLORER_NOTEBOOK = "02_shape_dna_weyl.ipynb"
 FLAGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
@@ -59,11 +60,12 @@ def _wait_for_server(url, proc, timeout=90.0):
 @pytest.fixture
 def jupyterlab(tmp_path):
     """A JupyterLab server on 127.0.0.1 with a random port and token, serving a copy of the
-    M-sweep notebook; the kernels see CSHAPE_SMALL=1."""
+    M-sweep and the Shape-DNA notebooks; the kernels see CSHAPE_SMALL=1."""
     pytest.importorskip("jupyterlab", reason="jupyterlab is not installed")
     root = tmp_path / "root"
     root.mkdir()
-    shutil.copy(default_notebook_dir() / NOTEBOOK, root / NOTEBOOK)
+    for name in (NOTEBOOK, EXPLORER_NOTEBOOK):
+        shutil.copy(default_notebook_dir() / name, root / name)
     # no "get notified about Jupyter news?" toast over the plot
     notif = tmp_path / "settings" / "@jupyterlab" / "apputils-extension"
     notif.mkdir(parents=True)
@@ -107,13 +109,18 @@ def _start_kernel(page, timeout=90.0):
     """Accept JupyterLab's "Select Kernel" dialog if it comes up, then wait for an idle kernel."""
     accept = page.locator(".jp-Dialog .jp-mod-accept")
     idle = page.locator(".jp-Notebook-ExecutionIndicator[data-status='idle']")
+    # the indicator can say idle before the session has a kernel: ask the session itself
+    connected = """() => { const w = window.jupyterapp.shell.currentWidget;
+        const k = w && w.sessionContext && w.sessionContext.session
+                  && w.sessionContext.session.kernel;
+        return !!k && k.status === 'idle' && k.connectionStatus === 'connected'; }"""
     t0 = time.monotonic()
     quiet_since = None
     while time.monotonic() - t0 < timeout:
         if accept.count() and accept.first.is_visible():
             accept.first.click()
             quiet_since = None
-        elif idle.count():
+        elif idle.count() and page.evaluate(connected):
             # idle and no dialog for a second: the kernel is up
             quiet_since = quiet_since or time.monotonic()
             if time.monotonic() - quiet_since > 1.0:
@@ -185,6 +192,75 @@ def test_m_sweep_in_chromium(jupyterlab):
             ctx.close()
 
 
+def _open_and_run_all(sync_api, ctx, base, token, notebook):
+    page = ctx.new_page()
+    page.goto(f"{base}/lab/tree/{notebook}?token={token}", timeout=90_000)
+    page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
+    page.wait_for_function("() => window.jupyterapp !== undefined", timeout=90_000)
+    _start_kernel(page)
+    # (not awaiting the command's promise: it settles only when every cell has run)
+    page.evaluate("() => { window.jupyterapp.commands.execute('notebook:run-all-cells'); }")
+    return page
+
+
+def test_eigenfunction_explorer_in_jupyterlab(jupyterlab):
+    """Lesson 02 in JupyterLab: the eigenfunction explorer (plotly, rendered by the lab
+    extension) appears; moving its slider to phi_10 re-renders the 3-D canvas."""
+    if not CHROMIUM.exists():
+        msg = f"{CHROMIUM} not found: install Debian's chromium (tools/ensure_browser.sh)"
+        if os.environ.get("CI"):
+            pytest.fail(msg + "; CI must run the browser test, and make test installs it as root")
+        pytest.skip(msg)
+    sync_api = pytest.importorskip(
+        "playwright.sync_api", reason="the playwright Python package is not installed")
+    base, token, tmp = jupyterlab
+    ARTIFACTS.mkdir(exist_ok=True)
+    with sync_api.sync_playwright() as p:
+        ctx = p.chromium.launch_persistent_context(
+            str(tmp / "chromium-profile"), executable_path=str(CHROMIUM), headless=True,
+            args=FLAGS, viewport={"width": 1400, "height": 1000},
+        )
+        try:
+            page = _open_and_run_all(sync_api, ctx, base, token, EXPLORER_NOTEBOOK)
+            # the first plotly figure with a slider: the explorer of the real mesh
+            plot = page.locator(".js-plotly-plot").filter(
+                has=page.locator(".slider-rail-rect")).first
+            try:
+                plot.wait_for(timeout=240_000)
+            except sync_api.TimeoutError:
+                page.screenshot(path=str(ARTIFACTS / "explorer_browser_failed.png"))
+                errors = page.locator(".jp-OutputArea-output[data-mime-type*='stderr']")
+                raise AssertionError(
+                    "the eigenfunction explorer did not appear; stderr outputs: "
+                    f"{[errors.nth(i).inner_text()[:500] for i in range(errors.count())]}"
+                ) from None
+            plot.scroll_into_view_if_needed()
+            canvas = plot.locator(".gl-container canvas").first
+            canvas.wait_for(timeout=60_000)
+            page.wait_for_timeout(2000)  # WebGL draws after the DOM is there
+            px0 = _canvas_pixels(canvas.screenshot())
+            title = plot.locator(".gtitle")
+            title0 = title.text_content()
+            box = plot.locator(".slider-rail-rect").bounding_box()
+            assert "λ" in title0 and "φ" in title0, title0
+            # the slider has 21 steps (phi_0..phi_20): step 10 is in the middle of the rail
+            page.mouse.click(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+            page.wait_for_function(
+                "([el, t]) => el.textContent !== t", arg=[title.element_handle(), title0],
+                timeout=30_000)
+            page.wait_for_timeout(2000)
+            title1 = title.text_content()
+            png1 = canvas.screenshot()
+            page.screenshot(path=str(ARTIFACTS / "explorer_browser.png"))
+            canvas.screenshot(path=str(ARTIFACTS / "explorer_canvas.png"))
+        finally:
+            ctx.close()
+    assert "φ10" in title1.replace("\u200b", "").replace(" ", ""), (title0, title1)
+    px1 = _canvas_pixels(png1)
+    assert _not_blank(px0) and _not_blank(px1), "the 3-D canvas is blank"
+    assert _changed(px0, px1) > 0.01, "the canvas did not change"
+
+
 def test_ensure_browser_is_idempotent():
     """With the browser installed, tools/ensure_browser.sh changes nothing and exits 0."""
     if not (CHROMIUM.exists() and Path("/usr/bin/chromedriver").exists()):
@@ -207,6 +283,13 @@ def _canvas_pixels(png: bytes):
 def _not_blank(px) -> bool:
     """More than 2 % of the pixels differ from the corner colour (the background)."""
     return float(np.mean(np.abs(px - px[0, 0]).sum(axis=2) > 30)) > 0.02
+
+
+def _changed(px0, px1) -> float:
+    """Fraction of pixels that differ, over the common part of two screenshots (a re-layout
+    may change a canvas's size by a scrollbar's width)."""
+    h, w = min(px0.shape[0], px1.shape[0]), min(px0.shape[1], px1.shape[1])
+    return float(np.mean(np.abs(px1[:h, :w] - px0[:h, :w]).sum(axis=2) > 30))
 
 
 def test_exported_html_renders_math_and_3d_offline(tmp_path):
@@ -286,4 +369,4 @@ def test_exported_html_renders_math_and_3d_offline(tmp_path):
     assert "φ" in title0 and "λ" in title0 and title1 != title0
     assert "10" in title1, title1  # the 10th eigenfunction
     assert _not_blank(px0) and _not_blank(px1)
-    assert float(np.mean(np.abs(px1 - px0).sum(axis=2) > 30)) > 0.01, "canvas unchanged"
+    assert _changed(px0, px1) > 0.01, "the canvas did not change"
