@@ -183,3 +183,88 @@ def test_block_size_below_the_largest_symmetry_multiplicity_is_refused():
     B = cshape.fem_matrices(mesh)[1]
     with pytest.raises(ValueError, match="block_size must be at least 6"):
         spectrum._block_lanczos(K, B, 20, lambda X: X, -0.1, block_size=4)
+
+
+# ------------------------------------------------------------------ row-split products
+@pytest.fixture
+def split_path(monkeypatch):
+    """Small problems take the row-split (threadable) products of big ones."""
+    monkeypatch.setattr(spectrum, "THREADS_MIN_UNKNOWNS", 500)
+
+
+@pytest.mark.parametrize("threads", [1, 3])
+def test_split_products_keep_dense_lapack_eigenvalues_and_icosahedral_copies(
+        sparse_path, split_path, threads):
+    # icosphere(3): the sphere's l(l+1) split into exact icosahedral multiplicities
+    # (1, 3, 4, 5): every copy must be found, to 1e-10 of dense LAPACK, with any threads
+    mesh = shapes.icosphere(3)
+    K, B = _KB(mesh)
+    N = 100
+    lam_ref = la.eigh(K.toarray(), B.toarray(), eigvals_only=True, subset_by_index=[0, N - 1])
+    sigma = spectrum._default_sigma(B, N)
+    op = spectrum._CholeskyOperator(K - sigma * B)
+    with spectrum._one_blas_thread():
+        lam, phi = spectrum._block_lanczos(K, B, N, op.matmat, sigma, threads=threads)
+    lam = np.sort(lam)
+    np.testing.assert_allclose(lam[1:], lam_ref[1:], rtol=1e-10)
+    # the exact multiplicities: groups of eigenvalues equal to 1e-8
+    groups = np.diff(np.flatnonzero(np.diff(np.concatenate([[-1.0], lam_ref, [1e9]]))
+                                    > 1e-8 * lam_ref[-1]))
+    assert groups.max() == 5 and set(groups.tolist()) <= {1, 3, 4, 5}
+    np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(N), atol=1e-10)
+
+
+def test_split_products_give_the_same_bits_with_any_number_of_threads(split_path):
+    K, B = _KB(shapes.icosphere(4))
+    sigma = spectrum._default_sigma(B, 100)
+    op = spectrum._CholeskyOperator(K - sigma * B)
+    with spectrum._one_blas_thread():
+        runs = [spectrum._block_lanczos(K, B, 100, op.matmat, sigma, threads=t)
+                for t in (1, 3)]
+    for lam, phi in runs[1:]:
+        np.testing.assert_array_equal(lam, runs[0][0])
+        np.testing.assert_array_equal(phi, runs[0][1])
+    # and the same eigenvalues as ARPACK with tol=0
+    ref, _ = spectrum._arpack(K, B, 100, op, sigma, return_vectors=False)
+    np.testing.assert_allclose(np.sort(runs[0][0])[1:], np.sort(ref)[1:], rtol=1e-10)
+
+
+def test_thread_policy_and_its_environment_override(monkeypatch):
+    monkeypatch.delenv("CSHAPE_THREADS", raising=False)
+    assert spectrum.solver_threads(1000) == 1  # small: never threaded
+    big = spectrum.THREADS_MIN_UNKNOWNS
+    assert 1 <= spectrum.solver_threads(big) <= spectrum.ROW_PARTS
+    # off the main thread (a threads-only Dask cluster, a user's thread pool): one thread
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(1) as ex:
+        assert ex.submit(spectrum.solver_threads, big).result() == 1
+    monkeypatch.setenv("CSHAPE_THREADS", "3")
+    assert spectrum.solver_threads(10) == 3
+    for bad in ("0", "two", "-1", "1.5"):
+        monkeypatch.setenv("CSHAPE_THREADS", bad)
+        with pytest.raises(ValueError, match="CSHAPE_THREADS must be a positive integer"):
+            spectrum.solver_threads(big)
+
+
+DETERMINISM = """
+import sys
+import numpy as np
+from cshape import shapes, shape_dna
+lam = shape_dna(shapes.icosphere(4), N=100)
+sys.stdout.write(lam.tobytes().hex())
+"""
+
+
+def test_results_are_identical_across_processes():
+    # fixed seeds, no dependence on threads or on the state of the process: a fresh
+    # interpreter (here with 2 threads allowed for the products) gives the same bits
+    import os
+    import subprocess
+    import sys
+
+    lam = cshape.shape_dna(shapes.icosphere(4), N=100)
+    env = dict(os.environ, CSHAPE_THREADS="2")
+    out = subprocess.run([sys.executable, "-c", DETERMINISM], capture_output=True, text=True,
+                         check=True, env=env).stdout
+    np.testing.assert_array_equal(np.frombuffer(bytes.fromhex(out)), lam)
