@@ -253,3 +253,33 @@ def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
     res = cli("describe", folder, "--dask", f"tcp://127.0.0.1:{port}", "--no-cache",
               "-N", N, "-M", M, env=env)
     assert_one_line_error(res, f"Timed out trying to connect to tcp://127.0.0.1:{port}")
+
+
+def test_interrupt_ends_in_one_line_and_leaves_complete_cache_entries(tmp_path):
+    import signal
+    import time
+
+    ico = shapes.icosphere(3)
+    for k in range(40):  # distinct contents: 40 eigensolves, far more than the wait below
+        write_off(tmp_path / "in" / f"s{k:02d}.off", ((1 + k / 40) * ico.vertices, ico.faces))
+    cache, out = tmp_path / "c", tmp_path / "t.csv"
+    env = {**os.environ, "CSHAPE_CACHE": str(cache)}
+    proc = subprocess.Popen([sys.executable, "-m", "cshape", "describe", str(tmp_path / "in"),
+                             "--out", str(out), "-N", "60"], stderr=subprocess.PIPE,
+                            text=True, env=env)
+    entries = cache / "eigenvalues"
+    while proc.poll() is None and len(list(entries.glob("*.npz"))) < 1:
+        time.sleep(0.05)
+    if proc.poll() is not None:
+        pytest.skip("describe finished before it could be interrupted")
+    proc.send_signal(signal.SIGINT)
+    err = proc.communicate(timeout=300)[1]
+    assert proc.returncode == 130 and err.strip() == "cshape describe: interrupted", err
+    assert not out.exists()
+    assert [p for p in entries.rglob("*") if p.name.startswith(".")] == []  # no temp file
+    # what was finished is cached and complete (resuming from it: tests/test_batch.py)
+    done = list(entries.glob("*.npz"))
+    assert 1 <= len(done) < 40
+    for entry in done:
+        with np.load(entry) as z:
+            assert z["lam"].shape == (60,)
