@@ -91,9 +91,9 @@ print("classes:", ", ".join(classes))
 # ## 1 · Which indices make the distance?
 #
 # After the area normalisation (Section 2.1) Weyl's law puts every Shape-DNA near the same line,
-# $\lambda_i^{norm} \approx 4\pi i$. Two shapes differ by a few percent at every index, so the *absolute*
-# differences grow with $i$: a 3 % difference at $i = 90$ is about $0.03 \cdot 4\pi \cdot 90 \approx 34$, at
-# $i = 3$ it is about $1$.
+# $\lambda_i^{norm} \approx 4\pi i$. Shapes differ from one another by some percent at every index (tens of
+# percent at the lowest indices, a few percent higher up), so the *absolute* differences grow with $i$: 5 % of
+# the line is $0.05 \cdot 4\pi \cdot 90 \approx 57$ at $i = 90$ and about $2$ at $i = 3$.
 #
 # How much of the Euclidean distance comes from index $i$? Summed over all pairs of shapes $p, q$ of a
 # collection of $P$ shapes,
@@ -303,7 +303,7 @@ def descriptor_rows(table):
     for size in SIZES:
         M = (size - 1) // 2
         rows += [
-            ("cShape-DNA (paper, Eq. 8-10)", size,
+            ("cShape-DNA (paper)", size,
              table.distance_matrix("cshape", M=M, transform="weyl")),
             ("truncated Shape-DNA", size, table.distance_matrix("truncated", M=M)),
             ("truncated log spectrum", size, table.distance_matrix("truncated_log", M=M)),
@@ -365,7 +365,7 @@ def plot_scores(results, measure="ft"):
             ax.bar(x + (k - 0.5) * 0.38, vals, width=0.38, label=f"{size} numbers")
         full = next(s[measure] for nm, sz, s in scores if sz not in SIZES)
         ax.axhline(full, color="k", ls="--", lw=1, label=f"Shape-DNA N={N}")
-        ax.set_xticks(x, [nm.replace(" (paper, Eq. 8-10)", "\n(paper)") for nm in names],
+        ax.set_xticks(x, [nm.replace(" (paper)", "\n(paper)") for nm in names],
                       rotation=30, ha="right", fontsize="small")
         ax.set(ylabel={"ft": "first tier", "nn": "nearest neighbour", "st": "second tier"}[measure],
                ylim=(0, 1.0), title=title)
@@ -438,9 +438,11 @@ for name in available if not SMALL else []:
 # 2. **Weighting by hand.** Divide each column of `lam_norm[:, 1:]` by its standard deviation over the collection
 #    (a z-score per index) and score the first 17 columns. Is it better or worse than the truncated log spectrum?
 #    Why is it less honest to report (hint: the weights are learned from the very collection you score)?
-# 3. **Every size.** Plot first tier against the size $2M+1$ for $M = 1, \dots, 16$ for the paper's cShape-DNA, the
-#    truncated Shape-DNA and the log-Weyl DCT (`table.distance_matrix(kind, M=m, transform=...)`). Where do the
-#    curves cross? (`cshape reproduce` makes this table for every size.)
+# 3. **Choose on one, report on another.** On the development instance (`creatures-dev`, or `creatures-small`)
+#    pick the size $2M+1$, $M = 1, \dots, 16$, at which the log-Weyl DCT has its best first tier
+#    (`table.distance_matrix("cshape", M=m, transform="log-weyl-dct")`). Report that descriptor's first tier on the
+#    held-out `creatures`. Is it lower than on the instance you chose on? Do the same for the truncated log
+#    spectrum. (`cshape reproduce` makes the table for every size.)
 # 4. **Mesh detail.** Describe the collection with `N = 200` and repeat Section 1: does the share of the last
 #    third grow? Which descriptors of Section 4 change, and which cannot?
 # 5. **The seam.** Compute the jump $r_{N-1} - r_1$ for every shape and the DFT reconstruction error of
