@@ -4,11 +4,13 @@ Run from the repository root::
 
     .venv/bin/python benchmarks/bench_spectrum.py                 # 10k, 40k, 160k vertices
     .venv/bin/python benchmarks/bench_spectrum.py --sizes 10k,40k --repeats 5
+    .venv/bin/python benchmarks/bench_spectrum.py --quick         # 10k, 40k, best of 2
 
 For each sphere (``cshape.shapes.icosphere``: 10242, 40962, 163842 vertices) it times
 
-* cshape: ``cshape.shape_dna(mesh, N)`` (FEM assembly and eigensolve, everything a user
-  pays for), and
+* cshape: ``cshape.shape_dna((vertices, faces), N)`` (validation, repair, topology, FEM
+  assembly and eigensolve, everything a user pays for: the plain arrays are passed so that
+  no run reuses the topology cached on a ``Mesh`` by the one before), and
 * LaPy: ``lapy.Solver(TriaMesh(v, f), use_cholmod=True).eigs(k=N)`` (assembly and
   eigensolve), LaPy's fastest setting (CHOLMOD through ``cholespy``).  It is timed both
   with the default BLAS threads and with BLAS limited to one thread, because on a busy
@@ -19,6 +21,10 @@ Each timing is the best of ``--repeats`` runs, the runs of the two libraries int
 that both see the same machine load.  It then checks that both give the same eigenvalues
 (relative difference at most ``--rtol``, 1e-8 by default; a zero eigenvalue is compared on
 the scale of the largest one) and prints a table with the ratio LaPy time / cshape time.
+A second table compares what comes before the eigensolve: cshape's preparation inside
+``shape_dna`` (``spectrum._prepare``), ``cshape.fem_matrices`` called alone, and LaPy's
+``TriaMesh`` + ``Solver`` assembly, with the threads ``spectrum.solver_threads`` gives the
+Lanczos products at that size and load (``CSHAPE_THREADS`` overrides it).
 The exit status is 1 if an accuracy check fails, 2 if LaPy is not installed (it is in the
 ``bench`` dependency group: ``pip install --group bench``).  Nothing here asserts a time.
 """
@@ -36,8 +42,8 @@ import cshape
 from cshape import shapes
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import load_average, relative_difference  # noqa: E402
 from _common import machine_summary as _machine_summary
-from _common import relative_difference  # noqa: E402
 
 
 def machine_summary():
@@ -65,10 +71,44 @@ def _one_blas_thread():
 
 
 def run_cshape(mesh, N):
-    """Eigenvalues and seconds of ``cshape.shape_dna(mesh, N)``."""
+    """Eigenvalues and seconds of ``cshape.shape_dna((vertices, faces), N)``.
+
+    The plain arrays are passed, so every run validates the input and builds its topology
+    anew, as LaPy's runs build their ``TriaMesh`` (a ``Mesh`` object would keep its cached
+    edges from one run to the next).
+    """
     t = time.perf_counter()
-    lam = cshape.shape_dna(mesh, N=N)
+    lam = cshape.shape_dna((mesh.vertices, mesh.faces), N=N)
     return lam, time.perf_counter() - t
+
+
+def run_overheads(mesh, N):
+    """Seconds of what comes before the eigensolve, for cshape and for LaPy.
+
+    Returns
+    -------
+    dict
+        ``prepare``: cshape's validation, repair, topology, assembly and component check as
+        ``shape_dna`` runs them (``spectrum._prepare``); ``fem_matrices``: the public
+        ``cshape.fem_matrices`` called alone; ``lapy_assembly``: ``TriaMesh`` plus LaPy's
+        ``Solver`` constructor (its FEM assembly).
+    """
+    from lapy import Solver, TriaMesh
+
+    from cshape import spectrum
+
+    VF = (mesh.vertices, mesh.faces)
+    out = {}
+    t = time.perf_counter()
+    spectrum._prepare(VF, N, "neumann", "consistent")
+    out["prepare"] = time.perf_counter() - t
+    t = time.perf_counter()
+    cshape.fem_matrices(VF)
+    out["fem_matrices"] = time.perf_counter() - t
+    t = time.perf_counter()
+    Solver(TriaMesh(mesh.vertices, mesh.faces), use_cholmod=True)
+    out["lapy_assembly"] = time.perf_counter() - t
+    return out
 
 
 def run_lapy(mesh, N, one_thread):
@@ -103,7 +143,9 @@ def bench_size(label, N, repeats):
     mesh = shapes.icosphere(SIZES[label])
     t_cs, t_lapy = [], {False: [], True: []}
     runs_cs, runs_lapy = [], []
+    over = []
     for _ in range(repeats):
+        over.append(run_overheads(mesh, N))
         lam, t = run_cshape(mesh, N)
         runs_cs.append(lam)
         t_cs.append(t)
@@ -118,9 +160,13 @@ def bench_size(label, N, repeats):
     cs_spread = max(float(relative_difference(lam, runs_cs[0]).max()) for lam in runs_cs)
     good_lapy = [lam for lam in runs_lapy if not missed_copies(lam)] or runs_lapy
     rel = np.max([relative_difference(lam, good_lapy[0]) for lam in runs_cs], axis=0)
+    from cshape import spectrum
+
     return {
         "label": label,
         "n": mesh.n_vertices,
+        "threads": spectrum.solver_threads(mesh.n_vertices),
+        **{k: min(o[k] for o in over) for k in over[0]},
         "cshape": min(t_cs),
         "lapy": best_lapy[lapy_setting],
         "lapy_default": best_lapy[False],
@@ -141,6 +187,8 @@ def main(argv=None):
                         help="comma-separated subset of 10k,40k,160k (default: all)")
     parser.add_argument("--repeats", type=int, default=3, help="runs per timing (best counts)")
     parser.add_argument("-N", type=int, default=100, help="number of eigenvalues (default 100)")
+    parser.add_argument("--quick", action="store_true",
+                        help="10k and 40k only, best of 2 (a few minutes)")
     parser.add_argument("--rtol", type=float, default=1e-8,
                         help="largest accepted relative eigenvalue difference (default 1e-8)")
     args = parser.parse_args(argv)
@@ -150,6 +198,8 @@ def main(argv=None):
         print("LaPy is not installed: .venv/bin/pip install --group bench  (or pip install lapy)")
         return 2
 
+    if args.quick:
+        args.sizes, args.repeats = ["10k", "40k"], min(args.repeats, 2)
     print(machine_summary())
     print(f"N={args.N}, best of {args.repeats} runs each, runs interleaved\n")
     header = (f"{'size':>5} {'vertices':>9} {'cshape [s]':>11} {'LaPy [s]':>9} "
@@ -158,8 +208,10 @@ def main(argv=None):
     print("-" * len(header))
     failed = False
     notes = []
+    rows = []
     for label in args.sizes:
         r = bench_size(label, args.N, args.repeats)
+        rows.append(r)
         ok = r["maxrel"] <= args.rtol and r["cshape_missed"] == 0 and r["cshape_spread"] == 0
         failed |= not ok
         print(f"{r['label']:>5} {r['n']:>9d} {r['cshape']:>11.2f} {r['lapy']:>9.2f} "
@@ -173,6 +225,18 @@ def main(argv=None):
             notes.append(f"{label}: LaPy (ARPACK, random start vector) missed a copy of a "
                          f"repeated eigenvalue in {r['lapy_missed']} of {r['lapy_runs']} runs; "
                          "cshape was compared with a LaPy run that found them all")
+    print("\nBefore the eigensolve (best of the same runs): cshape's validation, repair, "
+          "topology and assembly\ninside shape_dna, fem_matrices called alone, LaPy's "
+          "TriaMesh + Solver() assembly\n")
+    head2 = (f"{'size':>5} {'prepare [s]':>12} {'fem_matrices [s]':>17} {'LaPy assembly [s]':>18}"
+             f" {'LaPy/prepare':>13}  threads")
+    print(head2)
+    print("-" * len(head2))
+    for r in rows:
+        print(f"{r['label']:>5} {r['prepare']:>12.3f} {r['fem_matrices']:>17.3f} "
+              f"{r['lapy_assembly']:>18.3f} {r['lapy_assembly'] / r['prepare']:>13.2f}  "
+              f"{r['threads']}")
+    print(f"\nat the end: load average {' '.join(f'{x:.2f}' for x in load_average())}")
     for note in notes:
         print("note:", note)
     if failed:
