@@ -137,3 +137,13 @@ def test_descriptors_benchmark_scores_every_row_at_equal_size():
     assert at6["log-weyl"]["map"] == pytest.approx(at6["log-weyl-dct"]["map"])
     md = bd.markdown(rows, "tiny", 4, 2, 12, "header", pairs, sweep)
     assert md.count("\n| ") >= 3 and "paired" in md
+
+
+def test_spectrum_bench_core_on_a_small_sphere(monkeypatch):
+    pytest.importorskip("lapy")
+    bs = _load("bench_spectrum")
+    monkeypatch.setitem(bs.SIZES, "tiny", 3)  # 642 vertices
+    r = bs.bench_size("tiny", 20, 1)
+    assert r["n"] == 642 and r["threads"] == 1
+    assert r["maxrel"] < 1e-8 and r["cshape_missed"] == 0 and r["cshape_spread"] == 0
+    assert r["prepare"] > 0 and r["fem_matrices"] > 0 and r["lapy_assembly"] > 0
