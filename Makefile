@@ -3,6 +3,7 @@
 #   make test   - the test suite (what CI runs); installs Debian's Chromium for the
 #                 browser test when it is missing and we are root (else that test skips)
 #   make notebooks - after editing a lesson's source notebooks/NN_topic.py: rewrite its .ipynb
+#   make assignments - nbgrader's student versions of the graded lessons into notebooks/student/
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -15,7 +16,7 @@ setup: $(STAMP)
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade "pip>=25.1"
-	$(PY) -m pip install --quiet -e ".[notebooks,distributed,download]" --group test --group bench
+	$(PY) -m pip install --quiet -e ".[notebooks,distributed,download,course]" --group test --group bench
 	touch $(STAMP)
 
 demo: $(STAMP)

@@ -1,230 +1,210 @@
-"""Course-assignment versions of the notebooks, generated from the solution notebooks.
+"""The course: nbgrader makes the student versions of the lessons; the lessons ship with cshape.
 
-The notebooks in ``notebooks/`` are the tested source: they contain the solutions, marked the
-way nbgrader marks them::
+The lessons ``NN_topic.ipynb`` are the solutions.  Their graded exercises are real nbgrader
+source cells (cell metadata ``nbgrader``: solution cells, autograder-test cells with points,
+read-only cells, stable ``grade_id`` s) with nbgrader's text markers inside::
 
-    def mass_matrix(V, F):
+    def mass_matrix(V, F):            # solution cell
         ### BEGIN SOLUTION
-        ...                      # the solution, run by the test suite
+        ...
         ### END SOLUTION
 
+    check_close(...)                  # autograder-test cell, 1 point, locked
     ### BEGIN HIDDEN TESTS
-    check_close(...)             # extra checks the student does not see
+    ...                               # run by the autograder, not shown to students
     ### END HIDDEN TESTS
 
-:func:`student_notebook` turns one notebook into the student version:
+nbgrader itself (the optional ``course`` extra: ``pip install "cshape[course]"``) makes the
+student release; this module only lays out a course folder and calls it:
 
-* code between ``### BEGIN SOLUTION`` and ``### END SOLUTION`` becomes
-  ``raise NotImplementedError("...")`` at the marker's indentation;
-* in markdown cells the region becomes *"YOUR ANSWER HERE"*;
-* hidden-test regions are removed, and a cell left empty (or tagged ``hidden-tests``) is
-  dropped;
-* outputs and execution counts are cleared and a note at the top says the file is generated.
-
-:func:`generate` writes the student versions of every notebook that has solution markers into
-``notebooks/student/`` (committed, so that instructors and students can open them directly);
-``check=True`` reports generated files that are out of date instead of writing (the test suite
-does this).  Never edit the generated files by hand: edit the solution notebook and run
-``python -m cshape assignments``.
+* :func:`write_course` writes an nbgrader course: ``nbgrader_config.py`` and
+  ``source/<assignment>/`` with the graded lessons;
+* :func:`generate` runs ``nbgrader generate_assignment`` in a throwaway course and writes
+  the release into ``notebooks/student/`` (``cshape assignments``, ``make assignments``);
+  ``check=True`` reports what is out of date instead (the test suite does this);
+* :func:`copy_lessons` copies the lessons, their student versions and a ready nbgrader
+  course into a folder, from an installed package as from a checkout (``cshape lessons``).
 """
 
 from __future__ import annotations
 
-import copy
+import os
 import re
+import shutil
+import subprocess
+import sys
+import tempfile
 from pathlib import Path
 
 __all__ = [
-    "BEGIN_SOLUTION",
-    "END_SOLUTION",
-    "BEGIN_HIDDEN",
-    "END_HIDDEN",
-    "STUB_MESSAGE",
+    "ASSIGNMENT",
+    "NBGRADER_CONFIG",
     "add_assignments",
+    "copy_lessons",
     "generate",
-    "has_markers",
-    "strip_regions",
-    "student_notebook",
+    "is_graded",
+    "lessons_dir",
+    "release_notebooks",
+    "run_nbgrader",
+    "update_folder",
+    "write_course",
 ]
 
-BEGIN_SOLUTION = "### BEGIN SOLUTION"
-END_SOLUTION = "### END SOLUTION"
-BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
-END_HIDDEN = "### END HIDDEN TESTS"
-#: Cells with this tag are removed from the student version as a whole.
-HIDDEN_TAG = "hidden-tests"
-STUB_MESSAGE = "Exercise: replace this line with your solution"
-MARKDOWN_ANSWER = "_YOUR ANSWER HERE_"
-
-_NOTE = (
-    "> **Student version**, generated from `../{source}` by `python -m cshape assignments`: "
-    "do not edit it by hand. Fill in every cell that raises `NotImplementedError`, then run "
-    "the check cell below it: it tells you what is wrong."
-)
+#: Notebooks are named ``NN_topic.ipynb``.
+PATTERN = "[0-9][0-9]_*.ipynb"
+#: The nbgrader assignment that holds the graded lessons.
+ASSIGNMENT = "lessons"
+#: ``nbgrader_config.py`` of the course folders written here.
+NBGRADER_CONFIG = """\
+# nbgrader configuration of a cshape course (written by `cshape lessons`).
+c = get_config()  # noqa: F821
+c.CourseDirectory.course_id = "cshape"
+# the lessons compute spectra: allow a cell up to 20 minutes (nbgrader's default is 30 s)
+c.Execute.timeout = 1200
+"""
 
 
-def _marker_re(marker):
-    return re.compile(r"^([ \t]*)" + re.escape(marker) + r"[ \t]*$")
+def lessons_dir() -> Path:
+    """The folder of the lessons ``NN_*.ipynb`` (with ``student/`` and ``README.md``).
+
+    In an installed package that is the package data ``cshape/lessons``; in a source
+    checkout (an editable install) it is the checkout's ``notebooks/``.
+    """
+    here = Path(__file__).resolve().parent
+    for folder in (here / "lessons", here.parent / "notebooks"):
+        if any(folder.glob(PATTERN)):
+            return folder
+    raise FileNotFoundError(
+        f"no lessons found in {str(here / 'lessons')!r}: reinstall cshape (pip install "
+        "--force-reinstall cshape), or run from the repository's checkout"
+    )
 
 
-_RE = {m: _marker_re(m) for m in (BEGIN_SOLUTION, END_SOLUTION, BEGIN_HIDDEN, END_HIDDEN)}
+def is_graded(nb) -> bool:
+    """Whether a notebook (``nbformat`` node or path) has nbgrader cells."""
+    if not hasattr(nb, "cells"):
+        import nbformat
+
+        nb = nbformat.read(nb, as_version=4)
+    return any("nbgrader" in c.get("metadata", {}) for c in nb.cells)
 
 
-def strip_regions(source, begin, end, replacement=None, *, where="cell"):
-    """Replace every ``begin`` ... ``end`` region (marker lines included) of a cell's source.
+def _nbgrader_env() -> dict:
+    """Environment for nbgrader: this interpreter's scripts first (nbgrader calls
+    ``alembic``), so its kernels are this interpreter's too."""
+    env = dict(os.environ)
+    env["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), env.get("PATH", "")])
+    return env
+
+
+def run_nbgrader(*args, cwd, env=None, timeout=3600) -> str:
+    """Run ``python -m nbgrader ARGS`` in the course folder ``cwd``; return its log.
 
     Parameters
     ----------
-    source : str
-        The cell source.
-    begin, end : str
-        Marker lines, e.g. :data:`BEGIN_SOLUTION` and :data:`END_SOLUTION`; each must stand
-        alone on its line (indentation allowed).
-    replacement : callable or None
-        ``replacement(indent) -> str`` gives the line(s) put in place of each region; None
-        removes the region.
-    where : str
-        Named in error messages (e.g. ``"01_fem_assembly.ipynb, cell 8"``).
-
-    Returns
-    -------
-    str
+    *args : str
+        The nbgrader command, e.g. ``"generate_assignment", "lessons", "--force"``.
+    cwd : str or os.PathLike
+        The course folder (holding ``nbgrader_config.py``).
+    env : dict, optional
+        Extra environment variables (they reach the kernels, e.g. ``CSHAPE_SMALL``).
+    timeout : float, default=3600
+        Seconds for the whole command.
 
     Raises
     ------
-    ValueError
-        For an unbalanced or nested pair of markers, naming ``where`` and the line.
+    ImportError
+        When nbgrader is not installed (``pip install "cshape[course]"``).
+    RuntimeError
+        When nbgrader fails; the message ends with nbgrader's error line.
     """
-    out, inside, indent = [], False, ""
-    b_re, e_re = _RE.get(begin, _marker_re(begin)), _RE.get(end, _marker_re(end))
-    lines = source.split("\n")
-    for k, line in enumerate(lines, start=1):
-        mb, me = b_re.match(line), e_re.match(line)
-        if mb:
-            if inside:
-                raise ValueError(f"{where}, line {k}: {begin!r} inside another {begin!r} region; "
-                                 f"close the first with {end!r}")
-            inside, indent = True, mb.group(1)
-            continue
-        if me:
-            if not inside:
-                raise ValueError(f"{where}, line {k}: {end!r} without a {begin!r} before it")
-            inside = False
-            if replacement is not None:
-                out.append(replacement(indent))
-            continue
-        if not inside:
-            out.append(line)
-    if inside:
-        raise ValueError(f"{where}: {begin!r} is never closed; add a {end!r} line")
-    return "\n".join(out)
+    try:
+        import nbgrader  # noqa: F401
+    except ImportError:
+        raise ImportError(
+            'nbgrader is not installed; it makes the student versions: pip install "cshape[course]"'
+        ) from None
+    full_env = _nbgrader_env()
+    full_env.update(env or {})
+    r = subprocess.run([sys.executable, "-m", "nbgrader", *args], cwd=str(cwd), env=full_env,
+                       capture_output=True, text=True, timeout=timeout)
+    log = r.stdout + r.stderr
+    if r.returncode != 0 or "[ERROR]" in log or "| ERROR]" in log:
+        lines = log.strip().splitlines()
+        errors = [ln.strip() for ln in lines if re.match(r"\s*\w+(Error|Exception): ", ln)]
+        why = errors[-1] if errors else " / ".join(ln.strip() for ln in lines[-5:])
+        raise RuntimeError(f"nbgrader {' '.join(args)} failed in {str(cwd)!r}: {why}")
+    return log
 
 
-def has_markers(nb) -> bool:
-    """Whether a notebook has any solution or hidden-test markers (or hidden-test tags)."""
-    for cell in nb.cells:
-        if HIDDEN_TAG in cell.get("metadata", {}).get("tags", []):
-            return True
-        if BEGIN_SOLUTION in cell.source or BEGIN_HIDDEN in cell.source:
-            return True
-    return False
-
-
-def _is_empty(source) -> bool:
-    return all(not ln.strip() or ln.strip().startswith("#") for ln in source.split("\n"))
-
-
-def student_notebook(nb, *, source_name="the solution notebook"):
-    """The student version of a solution notebook (a new notebook; ``nb`` is unchanged).
+def write_course(dest, lessons, *, assignment=ASSIGNMENT) -> Path:
+    """Lay out an nbgrader course folder: ``nbgrader_config.py`` and ``source/<assignment>/``.
 
     Parameters
     ----------
-    nb : nbformat.NotebookNode
-        A version-4 notebook with ``### BEGIN SOLUTION`` / ``### END SOLUTION`` and
-        ``### BEGIN HIDDEN TESTS`` / ``### END HIDDEN TESTS`` regions.
-    source_name : str
-        File name of the solution notebook, written in the generated note.
+    dest : str or os.PathLike
+        The course folder (created; existing files of the same names are replaced).
+    lessons : iterable of path
+        The solution notebooks to put in the assignment.
+    assignment : str, default='lessons'
 
     Returns
     -------
-    nbformat.NotebookNode
-
-    Raises
-    ------
-    ValueError
-        For unbalanced markers, naming the notebook and cell.
+    pathlib.Path
+        ``dest``.
     """
+    dest = Path(dest)
+    source = dest / "source" / assignment
+    source.mkdir(parents=True, exist_ok=True)
+    (dest / "nbgrader_config.py").write_text(NBGRADER_CONFIG, encoding="utf-8")
+    for path in lessons:
+        shutil.copyfile(path, source / Path(path).name)
+    return dest
+
+
+def _render(path) -> str:
     import nbformat
 
-    out = copy.deepcopy(nb)
-    cells = []
-    for k, cell in enumerate(out.cells):
-        where = f"{source_name}, cell {k}"
-        if HIDDEN_TAG in cell.get("metadata", {}).get("tags", []):
-            continue
-        src = strip_regions(cell.source, BEGIN_HIDDEN, END_HIDDEN, where=where)
-        if cell.cell_type == "code":
-            src = strip_regions(
-                src, BEGIN_SOLUTION, END_SOLUTION, where=where,
-                replacement=lambda ind: f'{ind}raise NotImplementedError("{STUB_MESSAGE}")',
-            )
-            if cell.source.strip() and _is_empty(src):
-                continue  # the cell held hidden tests only
-            cell.outputs = []
-            cell.execution_count = None
-        else:
-            src = strip_regions(src, BEGIN_SOLUTION, END_SOLUTION, where=where,
-                                replacement=lambda ind: f"{ind}{MARKDOWN_ANSWER}")
-        cell.source = src
-        cells.append(cell)
-    note = nbformat.v4.new_markdown_cell(_NOTE.format(source=source_name))
-    note["id"] = "student-note"
-    # after the title cell, so the notebook still opens with its title and learning goals
-    out.cells = cells[:1] + [note] + cells[1:]
-    return out
-
-
-def _render(nb) -> str:
-    import nbformat
-
-    text = nbformat.writes(nb)
+    text = nbformat.writes(nbformat.read(path, as_version=4))
     return text if text.endswith("\n") else text + "\n"
 
 
-def generate(src=None, dest=None, *, check=False) -> list[Path]:
-    """Write the student versions of all notebooks with solution markers.
+def release_notebooks(src=None) -> dict[str, str]:
+    """nbgrader's student release of the graded lessons in ``src``: file name -> notebook text.
 
-    Parameters
-    ----------
-    src : str or os.PathLike, optional
-        Folder of the solution notebooks ``NN_*.ipynb`` (default: the checkout's
-        ``notebooks/``).
-    dest : str or os.PathLike, optional
-        Output folder (default ``<src>/student``).  Student versions whose source has lost
-        its markers or disappeared are deleted (not with ``check``).
-    check : bool, default=False
-        Write nothing; return the generated files that are missing, different from what
-        would be generated, or stale.
+    Runs ``nbgrader generate_assignment --no-db`` once in a throwaway course folder.
+    ``src`` defaults to :func:`lessons_dir`; lessons without nbgrader cells are left out.
 
-    Returns
-    -------
-    list of pathlib.Path
-        Files written (or, with ``check``, out of date).
+    Raises
+    ------
+    FileNotFoundError
+        If ``src`` does not exist.
+    ImportError, RuntimeError
+        See :func:`run_nbgrader`.
     """
-    import nbformat
-
-    from .notebooks_run import PATTERN, default_notebook_dir
-
-    src = Path(default_notebook_dir() if src is None else src)
+    src = lessons_dir() if src is None else Path(src)
     if not src.is_dir():
         raise FileNotFoundError(f"src folder {str(src)!r} does not exist; pass the notebooks/ "
                                 "folder of the repository")
-    dest = src / "student" if dest is None else Path(dest)
-    wanted = {}
-    for path in sorted(src.glob(PATTERN)):
-        nb = nbformat.read(path, as_version=4)
-        if has_markers(nb):
-            wanted[dest / path.name] = _render(student_notebook(nb, source_name=path.name))
+    graded = [p for p in sorted(src.glob(PATTERN)) if is_graded(p)]
+    if not graded:
+        return {}
+    with tempfile.TemporaryDirectory(prefix="cshape-course-") as tmp:
+        write_course(tmp, graded)
+        run_nbgrader("generate_assignment", ASSIGNMENT, "--force", "--no-db", cwd=tmp)
+        release = Path(tmp) / "release" / ASSIGNMENT
+        return {p.name: _render(release / p.name) for p in graded}
+
+
+def update_folder(wanted, dest, *, check=False) -> list[Path]:
+    """Make the ``NN_*.ipynb`` files of ``dest`` exactly ``wanted`` (file name -> text).
+
+    Writes the files that are missing or differ and deletes the other ``NN_*.ipynb``; with
+    ``check`` writes nothing and returns those files instead.  Returns the paths written
+    (or, with ``check``, out of date), sorted; stale ones last.
+    """
+    dest = Path(dest)
+    wanted = {dest / name: text for name, text in wanted.items()}
     existing = set(dest.glob(PATTERN)) if dest.is_dir() else set()
     changed = [p for p, text in wanted.items()
                if not p.is_file() or p.read_text(encoding="utf-8") != text]
@@ -237,6 +217,91 @@ def generate(src=None, dest=None, *, check=False) -> list[Path]:
     for p in stale:
         p.unlink()
     return sorted(changed)
+
+
+def generate(src=None, dest=None, *, check=False) -> list[Path]:
+    """Make the student versions of the graded lessons with nbgrader, into ``dest``.
+
+    Parameters
+    ----------
+    src : str or os.PathLike, optional
+        Folder of the solution notebooks ``NN_*.ipynb`` (default :func:`lessons_dir`).
+    dest : str or os.PathLike, optional
+        Output folder (default ``<src>/student``).  Student versions whose lesson has no
+        graded cells any more, or is gone, are deleted (not with ``check``).
+    check : bool, default=False
+        Write nothing; return the student versions that are missing, different from
+        nbgrader's release, or stale.
+
+    Returns
+    -------
+    list of pathlib.Path
+        Files written (or, with ``check``, out of date).
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``src`` does not exist.
+    ImportError, RuntimeError
+        See :func:`run_nbgrader`.
+    """
+    src = lessons_dir() if src is None else Path(src)
+    wanted = release_notebooks(src)
+    return update_folder(wanted, src / "student" if dest is None else dest, check=check)
+
+
+def copy_lessons(dest, *, src=None) -> list[Path]:
+    """Copy the lessons, their student versions and an nbgrader course into ``dest``.
+
+    ``dest`` gets ``README.md``, the lessons ``NN_*.ipynb`` (they run there: they need only
+    an installed cshape), ``student/NN_*.ipynb`` and, for ``nbgrader``, ``nbgrader_config.py``
+    with the graded lessons in ``source/lessons/``.  Everything is written to a temporary
+    folder beside ``dest`` first and moved into place at the end, so a failure leaves no
+    half-written folder.
+
+    Parameters
+    ----------
+    dest : str or os.PathLike
+        A folder that does not exist yet, or an empty one.
+    src : str or os.PathLike, optional
+        Folder of the lessons (default :func:`lessons_dir`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written, relative to ``dest``.
+
+    Raises
+    ------
+    FileExistsError
+        If ``dest`` exists and is not an empty folder.
+    """
+    dest = Path(dest)
+    if dest.exists() and (not dest.is_dir() or any(dest.iterdir())):
+        raise FileExistsError(f"dest {str(dest)!r} already exists and is not an empty folder; "
+                              "choose a new folder")
+    src = lessons_dir() if src is None else Path(src)
+    lessons = sorted(src.glob(PATTERN))
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{dest.name}-", dir=dest.parent))
+    try:
+        for path in lessons:
+            shutil.copyfile(path, tmp / path.name)
+        if (src / "README.md").is_file():
+            shutil.copyfile(src / "README.md", tmp / "README.md")
+        student = sorted((src / "student").glob(PATTERN))
+        if student:
+            (tmp / "student").mkdir()
+            for path in student:
+                shutil.copyfile(path, tmp / "student" / path.name)
+        write_course(tmp, [p for p in lessons if is_graded(p)])
+        if dest.exists():
+            dest.rmdir()
+        tmp.rename(dest)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return sorted(p.relative_to(dest) for p in dest.rglob("*") if p.is_file())
 
 
 def _cmd(args) -> int:
@@ -256,23 +321,38 @@ def _cmd(args) -> int:
     return 0
 
 
+def _cmd_lessons(args) -> int:
+    files = copy_lessons(args.dir)
+    lessons = [f for f in files if f.parent == Path(".") and f.suffix == ".ipynb"]
+    print(f"{len(lessons)} lessons, {sum(f.parts[0] == 'student' for f in files)} student "
+          f"versions and an nbgrader course (source/{ASSIGNMENT}/) in {args.dir}")
+    print(f"open them: jupyter lab {args.dir}    release: cd {args.dir} && nbgrader "
+          f"generate_assignment {ASSIGNMENT}")
+    return 0
+
+
 def add_assignments(sub) -> None:
-    """Register ``cshape assignments`` on the CLI's sub-parsers."""
+    """Register ``cshape assignments`` and ``cshape lessons`` on the CLI's sub-parsers."""
     p = sub.add_parser(
         "assignments",
-        help="generate the student versions of the notebooks (solutions -> stubs, hidden "
-             "tests removed) into notebooks/student/",
+        help="make the student versions of the graded lessons with nbgrader "
+             "(into notebooks/student/)",
     )
-    p.add_argument("--src", default=None, help="solution notebooks (default: notebooks/)")
+    p.add_argument("--src", default=None, help="solution notebooks (default: the lessons)")
     p.add_argument("--dest", default=None, help="output folder (default: <src>/student)")
     p.add_argument("--check", action="store_true",
-                   help="write nothing; exit 1 if the generated notebooks are out of date")
+                   help="write nothing; exit 1 if the student notebooks are out of date")
     p.set_defaults(func=_cmd)
+    q = sub.add_parser(
+        "lessons",
+        help="copy the lessons, their student versions and an nbgrader course into DIR",
+    )
+    q.add_argument("dir", help="a new (or empty) folder")
+    q.set_defaults(func=_cmd_lessons)
 
 
 if __name__ == "__main__":  # pragma: no cover
     import argparse
-    import sys
 
     parser = argparse.ArgumentParser(prog="python -m cshape.assignments")
     add_assignments(parser.add_subparsers(dest="command", required=True))

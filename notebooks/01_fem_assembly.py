@@ -52,7 +52,7 @@ np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 
-# %%
+# %% nbgrader={"grade": false, "grade_id": "check_close", "locked": true, "schema_version": 3, "solution": false, "task": false}
 def check_close(name, got, want, hint="", rtol=1e-9):
     """Compare your result with the expected one and say what is wrong."""
     got = np.asarray(got.toarray() if hasattr(got, "toarray") else got, dtype=float)
@@ -120,7 +120,7 @@ A_mine
 # entries of its three edges (both $(i, j)$ and $(j, i)$) and $|t|/6$ to the diagonal entry of each of its three
 # corners. $|t| = \tfrac12 \lVert (p_1 - p_0) \times (p_2 - p_0)\rVert$.
 
-# %%
+# %% nbgrader={"grade": false, "grade_id": "mass_matrix", "locked": false, "schema_version": 3, "solution": true, "task": false}
 def mass_matrix(V, F):
     """Consistent mass matrix B of Eq. (5)/(7), dense (n, n), positive definite."""
     ### BEGIN SOLUTION
@@ -136,7 +136,7 @@ def mass_matrix(V, F):
     ### END SOLUTION
 
 
-# %%
+# %% nbgrader={"grade": true, "grade_id": "test_mass_matrix", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
 A_ref, B_ref = cshape.fem_matrices(tent)
 B_mine = mass_matrix(V, F)
 if not np.isclose(np.sum(B_mine), tent.area):
@@ -147,7 +147,8 @@ if np.any(np.diag(B_mine) <= 0):
 check_close("B", B_mine, B_ref, hint="Each triangle adds |t|/12 per edge entry, |t|/6 per corner.")
 check_close("A", A_mine, A_ref)
 
-# %%
+# %% nbgrader={"grade": true, "grade_id": "hidden_mass_matrix", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
+# hidden tests: the autograder runs more checks here
 ### BEGIN HIDDEN TESTS
 _ico = shapes.icosphere(1)
 check_close("mass_matrix(icosphere(1))", mass_matrix(_ico.vertices, _ico.faces),

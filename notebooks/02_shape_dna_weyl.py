@@ -131,6 +131,62 @@ axs[0].plot(4 * np.pi * np.arange(N), "k--", lw=1, label="4 pi i")
 axs[0].legend(fontsize="small")
 fig
 
+# %% [markdown] nbgrader={"grade": false, "grade_id": "weyl_task", "locked": true, "schema_version": 3, "solution": false, "task": false}
+# ## Exercise (graded): the Weyl line and the `'weyl'` normalisation
+#
+# After the area normalisation the eigenvalues lie around the Weyl line $4\pi i$ for $i = 0, \dots, N-1$:
+# $\lambda_0 = 0$ sits on it at $i = 0$. The `'weyl'` normalisation uses that line without the area: fit the
+# slope $s$ of $\lambda_i \approx s\,i$ by least squares through the origin, $s = \sum_i i\,\lambda_i / \sum_i i^2$
+# ($i = 0, \dots, N-1$), and multiply the eigenvalues by $4\pi / s$.
+#
+# Write `weyl_line(N)`, the $N$ values of the line, and `weyl_normalize_mine(lam)`. The check below them prints
+# hints; the autograder also runs hidden checks.
+
+# %% nbgrader={"grade": false, "grade_id": "weyl_normalize_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
+def weyl_line(N):
+    """The Weyl line 4 pi i, i = 0..N-1, shape (N,)."""
+    ### BEGIN SOLUTION
+    return 4 * np.pi * np.arange(N)
+    ### END SOLUTION
+
+
+def weyl_normalize_mine(lam):
+    """lam * 4 pi / s, with s the least-squares slope of lam_i ~ s i (i = 0..N-1), shape (N,)."""
+    ### BEGIN SOLUTION
+    lam = np.asarray(lam, dtype=float)
+    i = np.arange(len(lam))
+    return lam * (4 * np.pi / ((i @ lam) / (i @ i)))
+    ### END SOLUTION
+
+
+# %% nbgrader={"grade": true, "grade_id": "test_weyl_normalize_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
+line = weyl_line(N)
+assert np.shape(line) == (N,), f"weyl_line(N) must hold N = {N} values, got shape {np.shape(line)}"
+assert np.allclose(np.diff(line), 4 * np.pi), "consecutive values of the line differ by 4 pi"
+if not np.isclose(line[0], 0.0):
+    print(f"hint: your line starts at {line[0]:.4f}; it starts at i = 0, "
+          "where lam_0 = 0 lies on it")
+lam_cube = spectra["cube"]
+mine = weyl_normalize_mine(lam_cube)
+assert np.shape(mine) == np.shape(lam_cube), "weyl_normalize_mine(lam) has the length of lam"
+assert np.allclose(weyl_normalize_mine(3.0 * lam_cube), mine), (
+    "the normalisation is scale invariant: lam and 3 lam must give the same result")
+_i = np.arange(N)
+if not np.isclose((_i @ mine) / (_i @ _i), 4 * np.pi):
+    print("hint: the least-squares slope of your result against i = 0..N-1 should be 4 pi, it is "
+          f"{(_i @ mine) / (_i @ _i):.4f}: fit against i = 0..N-1, through the origin")
+print("visible checks passed")
+
+# %% nbgrader={"grade": true, "grade_id": "hidden_weyl_normalize_mine", "locked": true, "points": 2, "schema_version": 3, "solution": false, "task": false}
+# hidden tests: the autograder runs more checks here
+### BEGIN HIDDEN TESTS
+assert np.allclose(weyl_line(3), [0.0, 4 * np.pi, 8 * np.pi]), "weyl_line(3) is [0, 4 pi, 8 pi]"
+_small = [0.0, 2.0, 3.0]
+assert np.allclose(weyl_normalize_mine(_small), cshape.normalize(_small, method="weyl")), _small
+for _name, _lam in spectra.items():
+    assert np.allclose(weyl_normalize_mine(_lam), cshape.normalize(_lam, method="weyl")), _name
+### END HIDDEN TESTS
+
 # %% [markdown]
 # ## One shape through the pipeline (Fig. 2 a-d)
 #

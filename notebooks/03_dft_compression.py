@@ -72,7 +72,7 @@ def real_mesh(small=SMALL):
         return shapes.torus(64, 32), "torus (built-in)"
 
 
-# %%
+# %% nbgrader={"grade": false, "grade_id": "check_close", "locked": true, "schema_version": 3, "solution": false, "task": false}
 def check_close(name, got, want, hint="", rtol=1e-9):
     """Compare your result with the expected one and say what is wrong."""
     got, want = np.asarray(got), np.asarray(want)
@@ -101,7 +101,7 @@ print(real_name, "- N =", N, ", M =", M)
 # Write `weyl_subtract_mine(lam_norm)` returning $\lambda'_k = \lambda^{norm}_k - 4\pi k$ for $k = 0, \dots, N-1$
 # (no loop needed: `np.arange`).
 
-# %%
+# %% nbgrader={"grade": false, "grade_id": "weyl_subtract_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
 def weyl_subtract_mine(lam_norm):
     """Eq. (8): lam'_k = lam_norm_k - 4 pi k."""
     ### BEGIN SOLUTION
@@ -110,11 +110,13 @@ def weyl_subtract_mine(lam_norm):
     ### END SOLUTION
 
 
+# %% nbgrader={"grade": true, "grade_id": "test_weyl_subtract_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
 lam_prime = weyl_subtract_mine(lam_norm)
 check_close("lam'", lam_prime, cshape.weyl_subtract(lam_norm),
             hint="The line is 4 pi k with k starting at 0 (lam'_0 = lam_norm_0).")
 
-# %%
+# %% nbgrader={"grade": true, "grade_id": "hidden_weyl_subtract_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
+# hidden tests: the autograder runs more checks here
 ### BEGIN HIDDEN TESTS
 check_close("weyl_subtract_mine([0, 1, 2])", weyl_subtract_mine([0.0, 1.0, 2.0]),
             [0.0, 1 - 4 * np.pi, 2 - 8 * np.pi])
@@ -126,7 +128,7 @@ check_close("weyl_subtract_mine([0, 1, 2])", weyl_subtract_mine([0.0, 1.0, 2.0])
 # Write `dft_mine(x)` computing $\Lambda_i = \sum_k x_k e^{-j2\pi ik/N}$ *from the sum* (an $N\times N$ matrix of
 # exponentials is fine; no `np.fft`). Python writes $j$ as `1j`.
 
-# %%
+# %% nbgrader={"grade": false, "grade_id": "dft_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
 def dft_mine(x):
     """Eq. (9): Lambda_i = sum_k x_k exp(-j 2 pi i k / N), i = 0..N-1."""
     ### BEGIN SOLUTION
@@ -137,12 +139,14 @@ def dft_mine(x):
     ### END SOLUTION
 
 
+# %% nbgrader={"grade": true, "grade_id": "test_dft_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
 Lam = dft_mine(lam_prime)
 if np.allclose(Lam, np.conj(np.fft.fft(lam_prime))) and not np.allclose(Lam, np.fft.fft(lam_prime)):
     print("hint: you computed the conjugate: the exponent of Eq. (9) has a minus sign")
 check_close("Lambda", Lam, np.fft.fft(lam_prime), hint="Sum over k of x_k exp(-2j pi i k / N).")
 
-# %%
+# %% nbgrader={"grade": true, "grade_id": "hidden_dft_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
+# hidden tests: the autograder runs more checks here
 ### BEGIN HIDDEN TESTS
 _x = np.random.default_rng(0).standard_normal(7)
 check_close("dft_mine(odd length)", dft_mine(_x), np.fft.fft(_x))
@@ -155,7 +159,7 @@ check_close("dft_mine(impulse)", dft_mine([1.0, 0, 0, 0]), np.ones(4))
 # Write `crop_mine(Lam, M)`: shift the zero frequency to the centre index `N // 2` (`np.fft.fftshift`), then keep
 # the $2M+1$ values from `N//2 - M` to `N//2 + M` inclusive. The result is the cShape-DNA.
 
-# %%
+# %% nbgrader={"grade": false, "grade_id": "crop_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
 def crop_mine(Lam, M):
     """Eq. (10): the 2M+1 shifted DFT coefficients around the centre <N/2>."""
     ### BEGIN SOLUTION
@@ -165,12 +169,14 @@ def crop_mine(Lam, M):
     ### END SOLUTION
 
 
+# %% nbgrader={"grade": true, "grade_id": "test_crop_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
 S_mine = crop_mine(Lam, M)
 S = cshape.compact_shape_dna(lam, M=M, N=N, area=real.area)
 check_close("S_c", S_mine, S, hint="Length 2M+1, centred on index N // 2 of the shifted vector; "
             "the middle value S_c[M] is the zero frequency Lambda_0.")
 
-# %%
+# %% nbgrader={"grade": true, "grade_id": "hidden_crop_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
+# hidden tests: the autograder runs more checks here
 ### BEGIN HIDDEN TESTS
 for _n in (9, 10):
     _x = np.arange(_n, dtype=float) ** 1.5

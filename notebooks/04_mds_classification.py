@@ -195,6 +195,55 @@ ax.set(xlabel="descriptor size (values)", ylabel="first tier", xscale="log",
 ax.legend(fontsize="small")
 fig
 
+# %% [markdown] nbgrader={"grade": false, "grade_id": "retrieval_task", "locked": true, "schema_version": 3, "solution": false, "task": false}
+# ## Exercise (graded): nearest neighbour and first tier
+#
+# Write `nn_ft_mine(D, labels)` returning the mean nearest-neighbour rate and the mean first tier over all
+# queries, as `compare.retrieval_scores` defines them. Every model $i$ is the query once; the *other* $p - 1$
+# models are ranked by increasing $D_{ij}$ (ties by index: `np.argsort(D[i], kind="stable")`). With $C$ the size
+# of the query's class, NN is 1 when the first result is of the query's class, and FT is the fraction of the
+# first $C - 1$ results that are. Every class here has at least two models.
+
+# %% nbgrader={"grade": false, "grade_id": "nn_ft_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
+def nn_ft_mine(D, labels):
+    """Mean nearest-neighbour rate and mean first tier of the distance matrix D, shape (p, p)."""
+    ### BEGIN SOLUTION
+    D, labels = np.asarray(D, dtype=float), np.asarray(labels)
+    nn, ft = [], []
+    for i in range(len(D)):
+        order = np.argsort(D[i], kind="stable")
+        order = order[order != i]  # the query is not one of its own results
+        same = labels[order] == labels[i]
+        R = int(np.sum(labels == labels[i])) - 1
+        nn.append(float(same[0]))
+        ft.append(same[:R].sum() / R)
+    return float(np.mean(nn)), float(np.mean(ft))
+    ### END SOLUTION
+
+
+# %% nbgrader={"grade": true, "grade_id": "test_nn_ft_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
+nn, ft = nn_ft_mine(D_sdna, table.labels)
+print(f"Shape-DNA, N = {N}: nearest neighbour {nn:.3f}, first tier {ft:.3f}")
+assert 0 <= nn <= 1 and 0 <= ft <= 1, "both measures lie in [0, 1]"
+_rng = np.random.default_rng(1)
+_X = _rng.standard_normal((12, 2))
+_D = np.linalg.norm(_X[:, None] - _X[None], axis=-1)
+_labels = np.repeat(["a", "b", "c"], 4)
+if nn_ft_mine(_D, _labels) == (1.0, 1.0):
+    print("hint: random points score a perfect NN and FT with your function: is the query its own "
+          "first result? D[i, i] = 0; leave the query out of its ranking")
+print("visible checks passed")
+
+# %% nbgrader={"grade": true, "grade_id": "hidden_nn_ft_mine", "locked": true, "points": 2, "schema_version": 3, "solution": false, "task": false}
+# hidden tests: the autograder runs more checks here
+### BEGIN HIDDEN TESTS
+_square = np.array([[0, 1, 2, 3], [1, 0, 3, 2], [2, 3, 0, 1], [3, 2, 1, 0]], dtype=float)
+assert np.allclose(nn_ft_mine(_square, ["a", "b", "a", "b"]), (0.0, 0.0)), "hand example: (0, 0)"
+for _DD, _ll in ((_D, _labels), (D_sdna, table.labels)):
+    _want = compare.retrieval_scores(_DD, _ll)
+    assert np.allclose(nn_ft_mine(_DD, _ll), (_want["nn"], _want["ft"])), "against retrieval_scores"
+### END HIDDEN TESTS
+
 # %% [markdown]
 # ## Exercises
 #

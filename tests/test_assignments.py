@@ -1,103 +1,126 @@
-"""Student versions of the notebooks: solutions -> stubs, hidden tests removed, kept in sync."""
+"""The course: nbgrader source notebooks, nbgrader's student release, the full grading cycle,
+and the lessons copied out of cshape by ``cshape lessons``."""
 
 from __future__ import annotations
+
+import json
+import shutil
 
 import nbformat
 import pytest
 
 from cshape import assignments as asg
 from cshape.cli import main
-from cshape.notebooks_run import default_notebook_dir
 
-SOLUTION_CELL = '''\
-def f(x):
-    """Square it."""
-    ### BEGIN SOLUTION
-    y = x * x
-    return y
-    ### END SOLUTION
+NB_DIR = asg.lessons_dir()
+LESSONS = sorted(NB_DIR.glob(asg.PATTERN))
+GRADED = [p for p in LESSONS if asg.is_graded(p)]
 
 
-print(f(3))'''
+def _nbgrader_cells(path):
+    nb = nbformat.read(path, as_version=4)
+    return nb, [(k, c, c.metadata["nbgrader"]) for k, c in enumerate(nb.cells)
+                if "nbgrader" in c.metadata]
 
 
-def _nb(*cells):
-    nb = nbformat.v4.new_notebook()
-    for k, (kind, src, *tags) in enumerate(cells):
-        cell = (nbformat.v4.new_code_cell if kind == "code" else nbformat.v4.new_markdown_cell)(src)
-        cell["id"] = f"c{k}"
-        if tags:
-            cell.metadata["tags"] = list(tags)
-        if kind == "code":
-            cell.outputs = [nbformat.v4.new_output("stream", text="9\n")]
-            cell.execution_count = 1
-        nb.cells.append(cell)
-    return nb
+@pytest.mark.parametrize("stem", ["01_fem", "02_shape", "03_dft", "04_mds", "05_noise"])
+def test_lessons_1_to_5_have_a_graded_exercise_with_hidden_tests(stem):
+    (path,) = [p for p in LESSONS if p.name.startswith(stem)]
+    _, cells = _nbgrader_cells(path)
+    solutions = [c for _, c, m in cells if m["solution"]]
+    tests = [(c, m) for _, c, m in cells if m["grade"] and not m["solution"]]
+    assert solutions and tests, f"{path.name}: no nbgrader solution and test cells"
+    assert any("### BEGIN HIDDEN TESTS" in c.source for c, _ in tests), path.name
+    assert any("hint" in c.source for c, _ in tests), f"{path.name}: visible checks give hints"
 
 
-def test_solution_becomes_a_stub_at_its_indentation():
-    out = asg.strip_regions(SOLUTION_CELL, asg.BEGIN_SOLUTION, asg.END_SOLUTION,
-                            replacement=lambda ind: f'{ind}raise NotImplementedError("x")')
-    assert "x * x" not in out and "BEGIN" not in out
-    assert '\n    raise NotImplementedError("x")\n' in out
-    assert out.endswith("print(f(3))")
-    ns = {}
-    exec(out.replace("print(f(3))", ""), ns)
-    with pytest.raises(NotImplementedError):
-        ns["f"](2)
+@pytest.mark.parametrize("path", GRADED, ids=lambda p: p.stem)
+def test_graded_cells_carry_valid_nbgrader_metadata(path):
+    """What nbgrader needs: markers only in cells of the right kind, unique stable grade_ids,
+    points on test cells, test cells locked."""
+    nb, cells = _nbgrader_cells(path)
+    ids = [m["grade_id"] for _, _, m in cells]
+    assert len(ids) == len(set(ids)), f"{path.name}: duplicate grade_id in {ids}"
+    for k, _, m in cells:
+        assert m["schema_version"] == 3 and m["grade_id"].isidentifier(), (path.name, k)
+        if m["grade"]:
+            assert m.get("points", 0) > 0, f"{path.name} cell {k}: a graded cell needs points"
+        if m["grade"] and not m["solution"]:
+            assert m["locked"], f"{path.name} cell {k}: autograder tests are locked"
+    for k, c in enumerate(nb.cells):
+        m = c.metadata.get("nbgrader", {})
+        if "### BEGIN SOLUTION" in c.source:
+            assert m.get("solution"), f"{path.name} cell {k}: solution region, no solution cell"
+        if "### BEGIN HIDDEN TESTS" in c.source:
+            assert m.get("grade") and not m.get("solution"), (
+                f"{path.name} cell {k}: hidden tests belong in an autograder-test cell")
 
 
-@pytest.mark.parametrize("source, match", [
-    ("a\n### BEGIN SOLUTION\nb", "never closed"),
-    ("a\n### END SOLUTION\nb", "line 2: '### END SOLUTION' without"),
-    ("### BEGIN SOLUTION\n### BEGIN SOLUTION\n### END SOLUTION", "inside another"),
-])
-def test_unbalanced_markers_are_errors(source, match):
-    with pytest.raises(ValueError, match=match):
-        asg.strip_regions(source, asg.BEGIN_SOLUTION, asg.END_SOLUTION, where="nb.ipynb, cell 3")
+@pytest.fixture(scope="module")
+def released():
+    """nbgrader's release of the committed lessons (one nbgrader run for the module)."""
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
+    return asg.release_notebooks()
 
 
-def test_student_notebook():
-    nb = _nb(
-        ("markdown", "# Title\n\nLearning goals"),
-        ("code", SOLUTION_CELL),
-        ("code", "check(f)\n### BEGIN HIDDEN TESTS\nassert f(4) == 16\n### END HIDDEN TESTS"),
-        ("code", "### BEGIN HIDDEN TESTS\nassert f(5) == 25\n### END HIDDEN TESTS"),
-        ("code", "secret = 1", "hidden-tests"),
-        ("markdown", "Why?\n### BEGIN SOLUTION\nBecause.\n### END SOLUTION"),
+def test_committed_student_notebooks_are_nbgraders_release(released):
+    assert sorted(released) == [p.name for p in GRADED]
+    stale = asg.update_folder(released, NB_DIR / "student", check=True)
+    assert stale == [], (
+        f"student notebooks out of date: {[p.name for p in stale]}; run `make assignments` "
+        "and commit notebooks/student/"
     )
-    before = nbformat.writes(nb)
-    st = asg.student_notebook(nb, source_name="01_x.ipynb")
-    assert nbformat.writes(nb) == before  # the solution notebook is unchanged
-    nbformat.validate(st)
-    srcs = [c.source for c in st.cells]
-    assert srcs[0].startswith("# Title")
-    assert "Student version" in srcs[1] and "01_x.ipynb" in srcs[1]
-    assert "NotImplementedError" in srcs[2] and "x * x" not in srcs[2]
-    assert srcs[3] == "check(f)"  # hidden region removed, visible check kept
-    assert not any("f(5)" in s or "secret" in s for s in srcs)  # hidden-only and tagged cells
-    assert asg.MARKDOWN_ANSWER in srcs[-1] and "Because" not in srcs[-1]
-    assert all(c.outputs == [] and c.execution_count is None
-               for c in st.cells if c.cell_type == "code")
-    assert asg.has_markers(nb) and not asg.has_markers(st)
+    for path in GRADED:
+        student = (NB_DIR / "student" / path.name).read_text()
+        assert "### BEGIN SOLUTION" not in student and "### BEGIN HIDDEN TESTS" not in student
+        assert "raise NotImplementedError()" in student
 
 
-def test_generate_check_and_stale(tmp_path):
+def test_update_folder_writes_checks_and_removes_stale(tmp_path):
+    dest = tmp_path / "student"
+    want = {"01_a.ipynb": "A\n", "02_b.ipynb": "B\n"}
+    assert asg.update_folder(want, dest, check=True) == [dest / "01_a.ipynb", dest / "02_b.ipynb"]
+    assert not dest.exists()  # check writes nothing
+    assert asg.update_folder(want, dest) == [dest / "01_a.ipynb", dest / "02_b.ipynb"]
+    assert asg.update_folder(want, dest, check=True) == []
+    assert asg.update_folder(want, dest) == []  # nothing changed, nothing written
+    (dest / "01_a.ipynb").write_text("A\n ")  # a hand edit
+    (dest / "03_c.ipynb").write_text("C\n")  # its lesson is gone
+    assert asg.update_folder(want, dest, check=True) == [dest / "01_a.ipynb", dest / "03_c.ipynb"]
+    assert asg.update_folder(want, dest) == [dest / "01_a.ipynb"]
+    assert sorted(p.name for p in dest.iterdir()) == ["01_a.ipynb", "02_b.ipynb"]
+    assert (dest / "01_a.ipynb").read_text() == "A\n"
+
+
+def test_generate_releases_only_graded_lessons(tmp_path):
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
     src = tmp_path / "nb"
     src.mkdir()
-    nbformat.write(_nb(("markdown", "# A"), ("code", SOLUTION_CELL)), src / "01_a.ipynb")
-    nbformat.write(_nb(("markdown", "# B"), ("code", "1 + 1")), src / "02_b.ipynb")
+    shutil.copyfile(NB_DIR / "03_dft_compression.ipynb", src / "03_dft_compression.ipynb")
+    nb = nbformat.v4.new_notebook()
+    nb.cells.append(nbformat.v4.new_code_cell("1 + 1"))
+    nbformat.write(nb, src / "09_plain.ipynb")  # no nbgrader cells: no student version
     dest = src / "student"
-    assert asg.generate(src, check=True) == [dest / "01_a.ipynb"]
-    assert asg.generate(src) == [dest / "01_a.ipynb"]  # only notebooks with markers
-    assert asg.generate(src, check=True) == []
-    assert asg.generate(src) == []  # nothing changed, nothing written
-    (dest / "01_a.ipynb").write_text((dest / "01_a.ipynb").read_text() + " ")  # hand edit
-    assert asg.generate(src, check=True) == [dest / "01_a.ipynb"]
-    (src / "01_a.ipynb").unlink()  # source gone: the student version is stale
-    assert asg.generate(src, check=True) == [dest / "01_a.ipynb"]
-    asg.generate(src)
-    assert not (dest / "01_a.ipynb").exists()
+    assert asg.generate(src) == [dest / "03_dft_compression.ipynb"]
+    assert sorted(p.name for p in dest.iterdir()) == ["03_dft_compression.ipynb"]
+    assert ((dest / "03_dft_compression.ipynb").read_text()
+            == (NB_DIR / "student" / "03_dft_compression.ipynb").read_text())
+
+
+def test_nbgrader_refuses_markers_outside_nbgrader_cells(tmp_path):
+    """The failure of issue 12 stays caught: a solution region without metadata."""
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
+    nb = nbformat.read(NB_DIR / "03_dft_compression.ipynb", as_version=4)
+    for c in nb.cells:
+        if "### BEGIN SOLUTION" in c.source:
+            del c.metadata["nbgrader"]
+            break
+    src = tmp_path / "nb"
+    src.mkdir()
+    nbformat.write(nb, src / "03_dft_compression.ipynb")
+    why = "generate_assignment.*failed.*Solution region detected in a non-solution cell"
+    with pytest.raises(RuntimeError, match=why):
+        asg.generate(src, check=True)
 
 
 def test_generate_names_a_missing_folder(tmp_path):
@@ -105,23 +128,78 @@ def test_generate_names_a_missing_folder(tmp_path):
         asg.generate(tmp_path / "nope")
 
 
-def test_committed_student_notebooks_are_up_to_date():
-    stale = asg.generate(check=True)
-    assert stale == [], (
-        f"generated student notebooks out of date: {[p.name for p in stale]}; run "
-        "`python -m cshape assignments` and commit notebooks/student/"
-    )
-
-
-def test_notebooks_1_and_3_have_graded_exercises():
-    folder = default_notebook_dir()
-    for name in ("01_fem_assembly.ipynb", "03_dft_compression.ipynb"):
-        nb = nbformat.read(folder / name, as_version=4)
-        text = "\n".join(c.source for c in nb.cells)
-        assert text.count(asg.BEGIN_SOLUTION) >= 1 and asg.BEGIN_HIDDEN in text, name
-        assert (folder / "student" / name).is_file()
-
-
-def test_cli_check(capsys):
-    assert main(["assignments", "--check"]) == 0
+def test_cli_check(tmp_path, capsys):
+    nb = nbformat.v4.new_notebook()
+    nb.cells.append(nbformat.v4.new_code_cell("1 + 1"))
+    nbformat.write(nb, tmp_path / "01_plain.ipynb")
+    assert main(["assignments", "--check", "--src", str(tmp_path)]) == 0
     assert "up to date" in capsys.readouterr().out
+    (tmp_path / "student").mkdir()
+    (tmp_path / "student" / "01_plain.ipynb").write_text("{}")  # stale: nothing to grade
+    assert main(["assignments", "--check", "--src", str(tmp_path)]) == 1
+    assert "out of date" in capsys.readouterr().out
+    assert main(["assignments", "--src", str(tmp_path / "nope")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_nbgrader_course_full_cycle(tmp_path):
+    """Release, autograde two submissions, feedback: the instructor's solutions get full marks,
+    the untouched student release gets less and does not crash the grader."""
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
+    from nbgrader.api import Gradebook
+
+    course = asg.write_course(tmp_path / "course", GRADED)
+    asg.run_nbgrader("generate_assignment", asg.ASSIGNMENT, "--force", cwd=course)
+    release = course / "release" / asg.ASSIGNMENT
+    assert sorted(p.name for p in release.glob("*.ipynb")) == [p.name for p in GRADED]
+    submissions = {"instructor": course / "source" / asg.ASSIGNMENT, "untouched": release}
+    for student, folder in submissions.items():
+        shutil.copytree(folder, course / "submitted" / student / asg.ASSIGNMENT)
+    env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")}
+    asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course, env=env)
+    asg.run_nbgrader("generate_feedback", asg.ASSIGNMENT, "--force", cwd=course)
+
+    with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
+        scores = {}
+        for student in submissions:
+            sub = gb.find_submission(asg.ASSIGNMENT, student)
+            scores[student] = (sub.score, sub.max_score)
+            per_nb = {nb.name: (nb.score, nb.max_score) for nb in sub.notebooks}
+            assert sorted(per_nb) == [p.stem for p in GRADED], student
+            if student == "instructor":
+                assert all(s == m > 0 for s, m in per_nb.values()), per_nb
+        max_score = scores["instructor"][1]
+        assert max_score >= 2 * len(GRADED)
+        assert scores["instructor"][0] == max_score, scores
+        assert scores["untouched"][0] < max_score, scores
+    for student in submissions:
+        for path in GRADED:
+            page = course / "feedback" / student / asg.ASSIGNMENT / f"{path.stem}.html"
+            assert page.is_file() and page.stat().st_size > 1000, page
+    # the hidden tests ran in the autograder (they are in the graded copy, not in the release)
+    graded = (course / "autograded" / "untouched" / asg.ASSIGNMENT / GRADED[0].name).read_text()
+    assert "### BEGIN HIDDEN TESTS" in graded
+    assert "### BEGIN HIDDEN TESTS" not in (release / GRADED[0].name).read_text()
+
+
+def test_copy_lessons_and_refuse_a_used_folder(tmp_path, capsys):
+    dest = tmp_path / "course"
+    assert main(["lessons", str(dest)]) == 0
+    names = {p.name for p in dest.glob(asg.PATTERN)}
+    assert names == {p.name for p in LESSONS}
+    assert {p.name for p in (dest / "student").glob(asg.PATTERN)} == {p.name for p in GRADED}
+    assert {p.name for p in (dest / "source" / asg.ASSIGNMENT).iterdir()} == {
+        p.name for p in GRADED}
+    assert "course_id" in (dest / "nbgrader_config.py").read_text()
+    assert (dest / "README.md").is_file()
+    for p in LESSONS:
+        assert json.loads((dest / p.name).read_text()) == json.loads(p.read_text())
+    assert "lessons" in capsys.readouterr().out
+    # a folder in use: one line, exit 2, nothing written
+    before = sorted(dest.rglob("*"))
+    assert main(["lessons", str(dest)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "not an empty folder" in err
+    assert sorted(dest.rglob("*")) == before
+    assert [p.name for p in tmp_path.iterdir()] == ["course"]  # no temporary folder left
