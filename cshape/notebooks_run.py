@@ -107,8 +107,11 @@ def stderr_outputs(nb) -> list[str]:
 
 
 def default_notebook_dir() -> Path:
-    """``notebooks/`` of the source checkout (next to the ``cshape`` package)."""
-    return Path(__file__).resolve().parent.parent / "notebooks"
+    """The lessons: ``notebooks/`` of a source checkout, or the package data
+    ``cshape/lessons`` of an installed cshape (see :func:`cshape.assignments.lessons_dir`)."""
+    from .assignments import lessons_dir
+
+    return lessons_dir()
 
 
 def find_notebooks(src=None, names=None) -> list[Path]:
