@@ -240,10 +240,8 @@ def generate(src=None, dest=None, *, check=False) -> list[Path]:
 
     Raises
     ------
-    FileNotFoundError
-        If ``src`` does not exist.
-    ImportError, RuntimeError
-        See :func:`run_nbgrader`.
+    FileNotFoundError, ImportError, RuntimeError
+        See :func:`release_notebooks`.
     """
     src = lessons_dir() if src is None else Path(src)
     wanted = release_notebooks(src)

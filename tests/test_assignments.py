@@ -178,6 +178,13 @@ def test_nbgrader_course_full_cycle(tmp_path):
         for path in GRADED:
             page = course / "feedback" / student / asg.ASSIGNMENT / f"{path.stem}.html"
             assert page.is_file() and page.stat().st_size > 1000, page
+    # the solutions ran without an error anywhere, graded or not
+    for path in GRADED:
+        done = nbformat.read(course / "autograded" / "instructor" / asg.ASSIGNMENT / path.name,
+                             as_version=4)
+        errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
+                  for o in c.get("outputs", []) if o.output_type == "error"]
+        assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
     # the hidden tests ran in the autograder (they are in the graded copy, not in the release)
     graded = (course / "autograded" / "untouched" / asg.ASSIGNMENT / GRADED[0].name).read_text()
     assert "### BEGIN HIDDEN TESTS" in graded
