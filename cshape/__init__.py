@@ -22,6 +22,10 @@ paper's Section 3; :mod:`cshape.plots` and :mod:`cshape.widgets` draw the notebo
 and the M-sweep widget (import them on demand).
 
 :mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, hemisphere, ...).
+
+The ``cshape`` command (:mod:`cshape.cli`: the parser and the one error path;
+:mod:`cshape.commands`: ``describe``, ``info``, ``query``, ``data``) is a thin shell over
+these functions.
 """
 
 from . import data, shapes, variants
