@@ -262,9 +262,11 @@ def mesh_report(path) -> dict:
         the reader: faces it dropped); ``repair`` (what :func:`cshape.repair_mesh` changes,
         empty when nothing); after the repair (the mesh every cshape computation uses):
         ``repaired_vertices``, ``repaired_faces``, ``area``, ``components``,
-        ``boundary_edges``, ``nonmanifold_edges``, ``nonmanifold_vertices``,
-        ``euler_characteristic``, ``closed``, ``genus`` (None unless closed, connected and
-        manifold) and ``genus_note`` (why not), ``bbox`` (extent along x, y, z),
+        ``boundary_edges``, ``boundary_loops``, ``nonmanifold_edges``,
+        ``nonmanifold_vertices``, ``euler_characteristic``, ``closed``, ``genus`` (of a
+        connected manifold surface, closed or with ``b`` boundary loops: ``chi = 2 - 2 genus
+        - b``; None otherwise) and ``genus_note`` (open surface, or why there is none),
+        ``bbox`` (extent along x, y, z),
         ``mean_edge_length``, ``min_angle`` and ``mean_min_angle`` (degrees),
         ``pct_below_10`` (share of triangles with an angle under 10 degrees, percent),
         ``degenerate_faces``.
@@ -287,14 +289,16 @@ def mesh_report(path) -> dict:
         repair += [x.strip() for x in msg.split(";") if x.strip()]
     q = mesh_quality(mesh)
     genus, note = mesh.genus, ""
-    if genus is None:
-        nb, nn = len(mesh.boundary_edges), len(mesh.nonmanifold_edges)
-        if nb:
-            note = f"open surface, {nb} boundary edges"
-        elif nn or len(mesh.nonmanifold_vertices):
-            note = "non-manifold surface"
-        else:
-            note = f"{mesh.n_components} components"
+    loops = mesh.n_boundary_loops
+    manifold = not len(mesh.nonmanifold_edges) and not len(mesh.nonmanifold_vertices)
+    if genus is None and manifold and mesh.n_components == 1 and loops:
+        # Euler's formula for a connected, orientable surface with b boundary loops:
+        # chi = 2 - 2 g - b
+        genus = (2 - mesh.euler_characteristic - loops) // 2
+        note = f"open surface, {loops} boundary loop{'s' if loops > 1 else ''}"
+    elif genus is None:
+        note = ("non-manifold surface" if not manifold
+                else f"{mesh.n_components} components")
     ext = mesh.vertices.max(axis=0) - mesh.vertices.min(axis=0)
     return {
         "file": str(path),
@@ -307,6 +311,7 @@ def mesh_report(path) -> dict:
         "area": mesh.area,
         "components": mesh.n_components,
         "boundary_edges": int(len(mesh.boundary_edges)),
+        "boundary_loops": loops,
         "nonmanifold_edges": int(len(mesh.nonmanifold_edges)),
         "nonmanifold_vertices": int(len(mesh.nonmanifold_vertices)),
         "euler_characteristic": mesh.euler_characteristic,
@@ -341,14 +346,16 @@ def _cmd_info(args) -> int:
         if r["repair"]:
             rows += [("after repair", f"{r['repaired_vertices']} vertices, "
                                       f"{r['repaired_faces']} faces")]
-        g = r["genus"] if r["genus"] is not None else f"- ({r['genus_note']})"
+        g = "-" if r["genus"] is None else r["genus"]
+        g = f"{g} ({r['genus_note']})" if r["genus_note"] else g
         bbox = " x ".join(f"{x:.4g}" for x in r["bbox"])
         rows += [
             ("area", f"{r['area']:.6g}"),
             ("bounding box", bbox),
             ("mean edge length", f"{r['mean_edge_length']:.4g}"),
             ("components", r["components"]),
-            ("boundary edges", r["boundary_edges"]),
+            ("boundary edges", f"{r['boundary_edges']} in {r['boundary_loops']} loop"
+                               f"{'' if r['boundary_loops'] == 1 else 's'}"),
             ("non-manifold edges", r["nonmanifold_edges"]),
             ("non-manifold vertices", r["nonmanifold_vertices"]),
             ("Euler characteristic", r["euler_characteristic"]),

@@ -177,6 +177,17 @@ class Mesh:
         return np.unique(self.boundary_edges)
 
     @cached_property
+    def n_boundary_loops(self) -> int:
+        """Number of boundary loops: connected pieces of the boundary edges (0 if closed)."""
+        b = self.boundary_edges
+        if len(b) == 0:
+            return 0
+        n = self.n_vertices
+        g = sp.coo_matrix((np.ones(len(b)), (b[:, 0], b[:, 1])), shape=(n, n))
+        _, lab = connected_components(g, directed=False)
+        return int(len(np.unique(lab[self.boundary_vertices])))
+
+    @cached_property
     def nonmanifold_vertices(self) -> np.ndarray:
         """Sorted indices of non-manifold vertices.
 

@@ -143,8 +143,8 @@ def test_info_topology_angles_and_repair(tmp_path):
     assert (t["vertices"], t["faces"], t["components"]) == (288, 576, 1)
     assert t["closed"] and t["genus"] == 1 and t["euler_characteristic"] == 0
     assert t["boundary_edges"] == t["nonmanifold_edges"] == 0 and t["repair"] == []
-    assert s["genus"] is None and s["boundary_edges"] == 4 * 6
-    assert s["genus_note"] == "open surface, 24 boundary edges"
+    assert s["genus"] == 0 and s["boundary_edges"] == 4 * 6 and s["boundary_loops"] == 1
+    assert s["genus_note"] == "open surface, 1 boundary loop"
     assert s["min_angle"] == pytest.approx(45.0)  # a grid of right isosceles triangles
     assert s["area"] == pytest.approx(1.0)
     assert d["vertices"] == sq.n_vertices + 1 and d["faces"] == sq.n_faces + 1
@@ -227,7 +227,7 @@ def test_real_meshes_describe_info_query(shared_meshes, tmp_path):
               shared_meshes / "cube" / "cube_no_bottom.obj", "--json", check=True)
     torus, open_cube = (json.loads(line) for line in res.stdout.splitlines())
     assert torus["genus"] == 1 and torus["closed"] and torus["components"] == 1
-    assert open_cube["genus"] is None and open_cube["boundary_edges"] > 0
+    assert open_cube["genus"] == 0 and open_cube["boundary_loops"] == 1
 
     res = cli("query", out, shared_meshes / "sphere" / "sphere.obj", "-k", "1", "--json",
               cache=tmp_path / "c", check=True)

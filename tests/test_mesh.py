@@ -282,3 +282,14 @@ def test_row_distinctness_check_is_exact():
         r = cshape.repair_mesh(Mesh(Vd, Fd))
     np.testing.assert_array_equal(r.faces, m.faces)
     np.testing.assert_array_equal(r.vertices, m.vertices)
+
+
+def test_boundary_loops():
+    sq = shapes.square(4)
+    assert shapes.icosphere(2).n_boundary_loops == 0
+    assert sq.n_boundary_loops == 1 and shapes.disk(6).n_boundary_loops == 1
+    # two squares side by side, apart: two loops; a hemisphere: one
+    V = np.vstack([sq.vertices, sq.vertices + [3.0, 0.0, 0.0]])
+    F = np.vstack([sq.faces, sq.faces + sq.n_vertices])
+    assert cshape.Mesh(V, F).n_boundary_loops == 2
+    assert shapes.hemisphere(8).n_boundary_loops == 1
