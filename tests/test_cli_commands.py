@@ -64,8 +64,8 @@ def folder(tmp_path_factory):
 
 def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
     out = tmp_path / "table.csv"
-    res = cli("describe", folder, "--out", out, "-N", N, "-M", M, cache=tmp_path / "c",
-              check=True)
+    res = cli("describe", folder, "--out", out, "-N", N, "-M", M, "--jobs", 2,
+              cache=tmp_path / "c", check=True)
     table = DescriptorTable.load(out)
     assert sorted(zip(table.names, table.labels, strict=True)) == [
         ("big", "sphere"), ("ring", "torus"), ("small", "sphere")]
