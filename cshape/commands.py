@@ -69,8 +69,9 @@ def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
     -------
     list of (str, str, Path)
         In the order of ``paths`` (a folder's files sorted), each file once.  ``name`` is the
-        file stem, or the path relative to the folder it was found in (without the suffix)
-        where stems repeat; ``label`` is the first sub-folder below the folder given (the
+        file stem; where stems repeat, the path relative to the folder it was found in, else
+        to the folder all the files of that stem are in (without the suffix, unless only the
+        suffix differs); ``label`` is the first sub-folder below the folder given (the
         folder's own name for files directly in it) and, for a file or glob match, the name
         of the folder holding the file.
 
@@ -129,10 +130,17 @@ def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
             if names[i] in repeated:
                 rel = f.relative_to(base) if f.is_relative_to(base) else f
                 names[i] = str(rel.parent / _stem(rel)) if rel.parent != Path() else _stem(rel)
-        repeated = {n for n, c in Counter(names).items() if c > 1}
-        for i, (f, _, _) in enumerate(unique):  # still equal: the whole path
-            if names[i] in repeated:
-                names[i] = str(f.parent / _stem(f))
+        for name in {n for n, c in Counter(names).items() if c > 1}:
+            # still equal: the path below the folder all the files of that name are in
+            clash = [i for i in range(len(unique)) if names[i] == name]
+            files = [unique[i][0].resolve() for i in clash]
+            common = Path(os.path.commonpath(files))
+            rels = [f.relative_to(common) for f in files]
+            new = [str(r.parent / _stem(r)) for r in rels]
+            if len(set(new)) < len(new):  # x.off and x.ply: the suffix too
+                new = [str(r) for r in rels]
+            for i, n in zip(clash, new, strict=True):
+                names[i] = n
     return [(n, lab, f) for n, (f, lab, _) in zip(names, unique, strict=True)]
 
 

@@ -283,3 +283,23 @@ def test_interrupt_ends_in_one_line_and_leaves_complete_cache_entries(tmp_path):
     for entry in done:
         with np.load(entry) as z:
             assert z["lam"].shape == (60,)
+
+
+def test_collect_mesh_files_names_labels_and_globs(tmp_path):
+    from cshape.commands import collect_mesh_files
+
+    ico = shapes.icosphere(1)
+    for rel in ("a/cls/x.off", "b/cls/x.off", "b/y.off", "c/z.off", "c/z.ply.gz"):
+        write_off(tmp_path / rel, ico)  # contents do not matter here
+    (tmp_path / "b" / "notes.txt").write_text("not a mesh")
+    got = collect_mesh_files([tmp_path / "a", tmp_path / "b", tmp_path / "b" / "y.off",
+                              f"{tmp_path}/*/cls/*.off", f"{tmp_path}/c/*"])
+    assert [(n, lab, p.relative_to(tmp_path).as_posix()) for n, lab, p in got] == [
+        ("a/cls/x", "cls", "a/cls/x.off"),   # same stem, same sub-folder: the path below
+        ("b/cls/x", "cls", "b/cls/x.off"),   # the folder both are in
+        ("y", "b", "b/y.off"),                # once, although named three ways
+        ("z.off", "c", "c/z.off"),            # only the suffix differs: kept
+        ("z.ply.gz", "c", "c/z.ply.gz"),
+    ]
+    with pytest.raises(ValueError, match="matches no mesh file"):
+        collect_mesh_files([f"{tmp_path}/b/*.txt"])
