@@ -211,7 +211,7 @@ ax1.axhline(0, color="k", ls="--", lw=1)
 for lab in classes:
     ax1.plot([], [], color=colors[lab], label=lab)
 ax1.set(xlabel="i", ylabel="r_i", title="(a) log-Weyl ratio r_i = log(lam_i^norm / 4 pi i)")
-ax1.legend(fontsize="small")
+ax1.legend(fontsize="x-small", ncols=2, loc="lower right")
 ax2.bar(i[1:], 100 * share_r, width=1.0, color="C0")
 ax2.set(xlabel="i", ylabel="% of the squared distance",
         title="(b) which indices make the distance, r")
@@ -424,8 +424,8 @@ fig
 #
 # - *Development numbers are not held-out numbers.* The log-Weyl variants and the sizes 17 and 33 were chosen
 #   after looking at retrieval results, on the development instance among others; numbers on a collection used
-#   for choosing are optimistic by construction. The held-out column (full run) comes from an instance nobody
-#   looked at while choosing: quote that one. It is still one family of generated shapes; real meshes are
+#   for choosing are optimistic by construction. The held-out columns (full run) come from an instance on which
+#   nothing was chosen: quote those. It is still one family of generated shapes; real meshes are
 #   Section 5.
 # - *Small classes, coarse numbers.* With three members per class (the small run) one query more or less moves the
 #   first tier by several hundredths: do not read small differences.
