@@ -14,8 +14,11 @@ its traceback.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import shutil
 import sys
 import warnings
+from pathlib import Path
 
 __all__ = ["EXPECTED_ERRORS", "CommandError", "main", "one_line", "print_warnings"]
 
@@ -72,6 +75,26 @@ def _load_named(spec, what):
     )
 
 
+@contextlib.contextmanager
+def _new_folder(path):
+    """Remove ``path`` again (with what was written into it) if it is new and the block
+    fails: a failed or interrupted command leaves no half-written report folder.  The
+    folders above it that the block created and left empty go too."""
+    path = Path(path)
+    new = [q for q in [path, *path.parents] if not q.exists()]
+    try:
+        yield
+    except BaseException:
+        if new:
+            shutil.rmtree(new[0], ignore_errors=True)
+            for q in new[1:]:
+                try:
+                    q.rmdir()
+                except OSError:
+                    break
+        raise
+
+
 def _reproduce(args) -> int:
     from . import data
     from .reproduce import reproduce
@@ -90,7 +113,7 @@ def _reproduce(args) -> int:
     benchmark = None if bench.lower() == "same" else _load_named(bench, "--benchmark")
     levels = tuple(float(x) for x in args.noise.split(",") if x) if args.noise else ()
     quality = ("CM", "CS") if {"CM", "CS"} <= {r.name for r in records} else None
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True) as caught, _new_folder(args.out):
         warnings.simplefilter("always")
         res = reproduce(
             records, args.out, N=args.N, M=args.M, noise_levels=levels, quality=quality,

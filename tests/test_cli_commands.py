@@ -303,3 +303,12 @@ def test_collect_mesh_files_names_labels_and_globs(tmp_path):
     ]
     with pytest.raises(ValueError, match="matches no mesh file"):
         collect_mesh_files([f"{tmp_path}/b/*.txt"])
+
+
+def test_failed_reproduce_leaves_no_report_folder(folder, tmp_path):
+    """Two shapes are too few for Section 3: one line, exit 2, and no folder created."""
+    out = tmp_path / "new" / "report"
+    res = cli("reproduce", "--folder", folder / "sphere", "--out", out, "-N", N, "-M", 3,
+              "--noise", "", cache=tmp_path / "c")
+    assert_one_line_error(res, "the experiments need at least 3 shapes")
+    assert not (tmp_path / "new").exists()
