@@ -59,14 +59,14 @@ REPRODUCE_COLLECTIONS = "paper-models,articulated"
 REPRODUCE_BENCHMARK = "creatures"
 
 
-def _load_named(spec, what):
+def _load_named(spec, what, n_jobs=1):
     """A manifest collection by name, or a folder of meshes (labels from sub-folders)."""
     from pathlib import Path
 
     from . import data
 
     if spec in data.list_collections():
-        return data.load_collection(spec, progress=True)
+        return data.load_collection(spec, progress=True, n_jobs=n_jobs)
     if Path(spec).expanduser().is_dir():
         return data.load_folder(spec)
     raise ValueError(
@@ -104,13 +104,14 @@ def _reproduce(args) -> int:
         records.extend(data.load_folder(args.folder).items)
     collections = args.collections if args.collections is not None else REPRODUCE_COLLECTIONS
     for name in [c for c in collections.split(",") if c] if not args.folder else []:
-        records.extend(_load_named(name, "--collections").items)
+        records.extend(_load_named(name, "--collections", args.jobs).items)
     if args.limit:
         records = records[: args.limit]
     bench = args.benchmark
     if bench is None:  # default: the creatures, unless the shapes were chosen
         bench = "same" if args.folder or args.collections is not None else REPRODUCE_BENCHMARK
-    benchmark = None if bench.lower() == "same" else _load_named(bench, "--benchmark")
+    benchmark = (None if bench.lower() == "same"
+                 else _load_named(bench, "--benchmark", args.jobs))
     levels = tuple(float(x) for x in args.noise.split(",") if x) if args.noise else ()
     quality = ("CM", "CS") if {"CM", "CS"} <= {r.name for r in records} else None
     with warnings.catch_warnings(record=True) as caught, _new_folder(args.out):
@@ -150,8 +151,10 @@ def add_reproduce(sub):
     p.add_argument("-M", type=int, default=16, help="cShape-DNA half-width (default 16)")
     p.add_argument("--noise", default="0.5,1,2,4,10",
                    help="noise levels of Section 3.3, comma-separated ('' to skip)")
-    p.add_argument("--jobs", type=int, default=2, help="local worker processes (default 2)")
-    p.add_argument("--limit", type=int, default=0, help="use only the first LIMIT shapes")
+    p.add_argument("--jobs", type=int, default=2,
+                   help="local worker processes for eigensolves and generated meshes (default 2)")
+    p.add_argument("--limit", type=int, default=0,
+                   help="use only the first LIMIT shapes for Section 3 (not the benchmark)")
     p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
     p.set_defaults(func=_reproduce)
 

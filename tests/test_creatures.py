@@ -28,7 +28,7 @@ def _isolated_cache(tmp_path, monkeypatch):
 def small(tmp_path_factory):
     """creatures-small (12 classes x 3, as shipped) built once, and its Shape-DNA N=100."""
     cache = tmp_path_factory.mktemp("creatures-cache")
-    coll = data.load_collection("creatures-small", cache_dir=cache, progress=False)
+    coll = data.load_collection("creatures-small", cache_dir=cache, progress=False, n_jobs=2)
     table = cshape.describe(coll, N=100, cache_dir=cache / "eig", progress=False, n_jobs=1)
     return cache, coll, table
 
@@ -175,6 +175,12 @@ def test_load_creatures_is_cached_and_reproducible(tmp_path):
         assert x.mesh.n_vertices != z.mesh.n_vertices or not np.allclose(
             x.mesh.vertices, z.mesh.vertices)  # another seed
     assert len(sorted((tmp_path / "a").rglob("*.npz"))) == 8
+    parallel = data.load_creatures(3, cache_dir=tmp_path / "c", progress=False, n_jobs=2, **kw)
+    for x, y in zip(fresh, parallel, strict=True):  # two processes build the same meshes
+        np.testing.assert_array_equal(x.mesh.vertices, y.mesh.vertices)
+        np.testing.assert_array_equal(x.mesh.faces, y.mesh.faces)
+    with pytest.raises(ValueError, match="n_jobs must be an integer >= 1"):
+        data.load_creatures(3, cache_dir=tmp_path / "c", n_jobs=0, **kw)
 
 
 # ---------------------------------------------------------------------- the point of it
