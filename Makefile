@@ -33,6 +33,7 @@ notebooks: $(STAMP)
 	$(PY) tools/sync_notebooks.py
 
 assignments: $(STAMP)
+	$(PY) tools/sync_notebooks.py
 	$(PY) -m cshape assignments
 
 bench: $(STAMP)
