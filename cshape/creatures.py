@@ -161,6 +161,12 @@ def _four_legs(d, caps, half, width, z, fl, tl, *, upper=0.28, lower=0.26, r=0.0
                           r * tl)
 
 
+def _tail(d, start, azimuths, elevations, length, radius):
+    """A one-capsule tail: direction, length and thickness of its own."""
+    return _limb(start, [_dir(d.u(*azimuths), d.u(*elevations))],
+                 [length * d.factor(LENGTH_SPREAD)], radius * d.factor(THICKNESS_SPREAD))
+
+
 def _quadruped(d):
     fb, tb = d.group()
     fl, tl = d.group()
@@ -172,8 +178,7 @@ def _quadruped(d):
                  0.09 * tn)
     caps += neck + head
     _four_legs(d, caps, 0.75 * half, 0.09 * tb, -0.05, fl, tl)
-    caps += _limb((-half, 0, 0.05), [_dir(d.u(140, 220), d.u(-45, 45))],
-                  [0.32 * d.factor(LENGTH_SPREAD)], 0.045 * d.factor(THICKNESS_SPREAD))
+    caps += _tail(d, (-half, 0, 0.05), (140, 220), (-45, 45), 0.32, 0.045)
     return caps
 
 
@@ -188,8 +193,7 @@ def _centaur(d):
     caps += _limb(base, [_dir(0, 90 - lean)], [0.12], 0.12 * tb)
     _human_upper(d, (half + 0.12 * np.sin(np.radians(lean)), 0, 0.1), caps,
                  torso_len=0.38, torso_r=0.12)
-    caps += _limb((-half, 0, 0.05), [_dir(d.u(150, 210), d.u(-50, 30))],
-                  [0.3 * d.factor(LENGTH_SPREAD)], 0.04 * d.factor(THICKNESS_SPREAD))
+    caps += _tail(d, (-half, 0, 0.05), (150, 210), (-50, 30), 0.3, 0.04)
     return caps
 
 
