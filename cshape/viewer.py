@@ -45,6 +45,10 @@ DIVERGING = "RdBu_r"
 SEQUENTIAL = "Viridis"
 _UP = {"z": (0, 0, 1), "y": (0, 1, 0), "x": (1, 0, 0)}
 _GREY = "rgb(190, 199, 209)"
+#: Mesh3d shading: soft light from the front right, so that the shape shows under the colours.
+_SHADING = dict(flatshading=False, hoverinfo="skip",
+                lighting=dict(ambient=0.55, diffuse=0.7, specular=0.1, roughness=0.8),
+                lightposition=dict(x=1e5, y=-1e5, z=1e5))
 
 
 # ------------------------------------------------------------------------------ pure parts
@@ -168,9 +172,7 @@ def _check_height(height):
 # ------------------------------------------------------------------------------ figures
 def _trace(go, mesh, f, *, cmap, symmetric, showscale, scene, colorbar_x=None):
     kw = mesh3d_arrays(mesh)
-    common = dict(flatshading=False, hoverinfo="skip", scene=scene,
-                  lighting=dict(ambient=0.55, diffuse=0.7, specular=0.1, roughness=0.8),
-                  lightposition=dict(x=1e5, y=-1e5, z=1e5))
+    common = dict(_SHADING, scene=scene)
     if f is None:
         return go.Mesh3d(**kw, color=_GREY, **common)
     if symmetric is None:
@@ -191,8 +193,8 @@ def _trace(go, mesh, f, *, cmap, symmetric, showscale, scene, colorbar_x=None):
 
 def _scene(vertical_axis):
     up = dict(zip("xyz", _UP[vertical_axis], strict=True))
-    eye = {"z": dict(x=1.2, y=-1.2, z=0.7), "y": dict(x=1.2, y=0.7, z=1.2),
-           "x": dict(x=0.7, y=1.2, z=1.2)}[vertical_axis]
+    eye = {"z": dict(x=1.0, y=-1.0, z=0.6), "y": dict(x=1.0, y=0.6, z=1.0),
+           "x": dict(x=0.6, y=1.0, z=1.0)}[vertical_axis]
     axis = dict(visible=False, showbackground=False)
     return dict(aspectmode="data", xaxis=axis, yaxis=axis, zaxis=axis,
                 camera=dict(up=up, eye=eye), dragmode="turntable")
@@ -254,7 +256,7 @@ def view_meshes(meshes, scalars=None, *, cmap=None, symmetric=None, edges=None,
         if edges if edges is not None else mesh.n_faces <= 2000:
             P = _edge_lines(mesh)
             fig.add_trace(go.Scatter3d(x=P[:, 0], y=P[:, 1], z=P[:, 2], mode="lines",
-                                       line=dict(color="rgba(0,0,0,0.45)", width=1.5),
+                                       line=dict(color="rgba(0,0,0,0.6)", width=2),
                                        hoverinfo="skip", showlegend=False, scene=scene))
         fig.update_layout({scene: _scene(vertical_axis)})
     fig.update_layout(height=height, margin=dict(l=0, r=0, t=40 if (title or n > 1) else 10, b=0),
@@ -347,9 +349,7 @@ def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=D
     trace = go.Mesh3d(**mesh3d_arrays(mesh), intensity=first["values"], intensitymode="vertex",
                       colorscale=cmap, cmin=first["cmin"], cmax=first["cmax"],
                       colorbar=dict(thickness=14, len=0.75, title=dict(text="φ")),
-                      flatshading=False, hoverinfo="skip",
-                      lighting=dict(ambient=0.55, diffuse=0.7, specular=0.1, roughness=0.8),
-                      lightposition=dict(x=1e5, y=-1e5, z=1e5))
+                      **_SHADING)
     frames = [go.Frame(name=str(md["i"]), traces=[0],
                        data=[go.Mesh3d(intensity=md["values"], cmin=md["cmin"],
                                        cmax=md["cmax"])],

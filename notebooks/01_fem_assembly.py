@@ -87,6 +87,24 @@ fig
 
 
 # %% [markdown]
+# ### The hat functions behind Eq. (3)
+#
+# Linear finite elements write a function on the surface as $f = \sum_i f_i \varphi_i$, one value $f_i$ per
+# vertex. The *hat function* $\varphi_j$ is 1 at vertex $v_j$, 0 at every other vertex and linear on each
+# triangle, so it lives on the triangles around $v_j$ only. $a_{ij}$ and $b_{ij}$ integrate products of two hats
+# (their gradients for $A$): they vanish unless $v_i$ and $v_j$ share a triangle, which is why $A$ and $B$ are
+# sparse, with one entry per edge. Below, one hat on a coarse sphere: drag to rotate it, scroll to zoom.
+
+# %%
+ball = shapes.icosphere(1)
+j = int(np.argmax(ball.vertices @ [1.0, -1.0, 0.6]))  # the vertex facing the camera
+hat = np.zeros(ball.n_vertices)
+hat[j] = 1.0  # phi_j: 1 at v_j, 0 at the other vertices, linear in between
+plots.view_mesh(ball, hat, cmap="Reds", edges=True, height=380,
+                title=f"the hat function phi_{j} on an icosphere")
+
+
+# %% [markdown]
 # ## The stiffness matrix $A$, Eq. (4), by hand
 #
 # For the angle at corner $c$ of a triangle with edge vectors $u, w$ leaving $c$,
