@@ -96,6 +96,26 @@ print(DEV, table)
 print("classes:", ", ".join(classes))
 
 # %% [markdown]
+# One member of each class, and the three first members of one class: proportions, pose, resolution and a
+# little noise vary within a class (`cshape data list` describes the variation).
+
+# %%
+coll = cshape.data.load_collection(dev, progress=False) if isinstance(dev, str) else dev
+ncols = 6
+fig = plots.new_figure((2.2 * ncols, 2.3 * (-(-len(classes) // ncols) + 1)))
+nrows = -(-len(classes) // ncols) + 1
+for k, lab in enumerate(classes):
+    item = next(it for it in coll if it.label == lab and it.name in table.names)
+    plots.plot_mesh(item.mesh, ax=fig.add_subplot(nrows, ncols, k + 1, projection="3d"),
+                    title=lab, edges=False)
+shown = "human" if "human" in classes else classes[0]
+members = [it for it in coll if it.label == shown][:3]
+for k, item in enumerate(members):
+    plots.plot_mesh(item.mesh, title=f"{item.name}, {item.mesh.n_vertices} vertices", edges=False,
+                    ax=fig.add_subplot(nrows, ncols, (nrows - 1) * ncols + k + 1, projection="3d"))
+fig
+
+# %% [markdown]
 # ## 1 · Which indices make the distance?
 #
 # After the area normalisation (Section 2.1) Weyl's law puts every Shape-DNA near the same line,
