@@ -382,8 +382,8 @@ def main(argv=None):
     parser.add_argument("-N", type=int, default=100)
     parser.add_argument("--repeats", type=int, default=None,
                         help="timings are the best of this many runs (default 2, 1 quick)")
-    parser.add_argument("--block-sizes", default="4,12,16",
-                        help="other Lanczos block sizes to try (default 4,12,16)")
+    parser.add_argument("--block-sizes", default="6,12,16",
+                        help="other Lanczos block sizes to try (default 6,12,16; at least 6)")
     parser.add_argument("--threads", type=int, default=1,
                         help="BLAS threads (default 1; 0: library default)")
     args = parser.parse_args(argv)
@@ -394,6 +394,11 @@ def main(argv=None):
         parser.error(f"--mesh must be a subset of {','.join(MESHES)}, got {bad}")
     repeats = args.repeats or (1 if args.quick else 2)
     block_sizes = [int(x) for x in args.block_sizes.split(",") if x.strip()]
+    from cshape import spectrum
+
+    if any(b < spectrum.MIN_BLOCK_SIZE for b in block_sizes):
+        parser.error(f"--block-sizes must be at least {spectrum.MIN_BLOCK_SIZE} (smaller blocks "
+                     "miss copies of the icosphere's 5-fold eigenvalues and are refused)")
     from threadpoolctl import threadpool_limits
 
     summary = machine_summary()

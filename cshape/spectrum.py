@@ -778,6 +778,13 @@ def shape_dna(mesh, N=100, bc="neumann", mass="consistent"):
         Ascending eigenvalues; ``lam[0] == 0`` for a closed (or Neumann) mesh.  A mesh
         with ``c`` connected components has ``c`` zero eigenvalues (a warning says so).
 
+    Notes
+    -----
+    Meshes of 50,000 vertices and more may use several threads for the products of the
+    eigensolver when cores are free (never in batch workers); the environment variable
+    ``CSHAPE_THREADS`` sets the number.  The eigenvalues are the same bits with any number
+    of threads (:func:`solver_threads`).
+
     Examples
     --------
     >>> import cshape
