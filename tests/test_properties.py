@@ -426,7 +426,7 @@ def test_arbitrary_arrays_give_a_mesh_or_a_clear_error(VF):
     event("a mesh")
     assert np.isfinite(mesh.vertices).all()
     assert mesh.faces.min() >= 0 and mesh.faces.max() < mesh.n_vertices
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True):
         warnings.simplefilter("always", CShapeWarning)
         try:
             lam = cshape.shape_dna(mesh, N=2)
@@ -435,7 +435,11 @@ def test_arbitrary_arrays_give_a_mesh_or_a_clear_error(VF):
             return
     event("a spectrum")
     assert np.isfinite(lam).all() and np.all(lam >= 0) and lam[0] <= lam[1]
-    if not any("mollified" in str(w.message) for w in caught):
-        # (a mollified needle makes the problem stiff, lam_max ~ 1e13: lam_0 is then only
-        # zero to about 1e-16 lam_max; see the report of issue 6)
-        assert lam[0] <= 1e-6 * max(lam[1], 1.0)
+    # lam_0 = 0 (constants) up to the problem's conditioning: a needle triangle (mollified
+    # or merely thin: an angle of 1e-6 rad) makes it stiff, max|A| / min B_ii ~ 1e13, and a
+    # generalised eigensolver then finds lam_0 only to about 1e-16 of that (issue 6's note)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CShapeWarning)
+        A, B = cshape.fem_matrices(cshape.repair_mesh(mesh))
+    stiffness = abs(A).max() / B.diagonal().min()
+    assert lam[0] <= max(1e-6 * max(lam[1], 1.0), 1e-14 * stiffness)
