@@ -143,7 +143,7 @@ def test_spectrum_bench_core_on_a_small_sphere(monkeypatch):
     pytest.importorskip("lapy")
     bs = _load("bench_spectrum")
     monkeypatch.setitem(bs.SIZES, "tiny", 3)  # 642 vertices
-    r = bs.bench_size("tiny", 20, 1)
+    r = bs.bench_size("tiny", 20, 2)  # 4 LaPy runs: one of them finds every copy
     assert r["n"] == 642 and r["threads"] == 1
     assert r["maxrel"] < 1e-8 and r["cshape_missed"] == 0 and r["cshape_spread"] == 0
     assert r["prepare"] > 0 and r["fem_matrices"] > 0 and r["lapy_assembly"] > 0
