@@ -45,31 +45,7 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 
 # %%
-def real_mesh(small=SMALL):
-    """A real scanned-style mesh: Spot the cow (Keenan Crane, public domain) from the project's
-    shared meshes when that folder is there, else PyMeshLab's sample cow, else a torus."""
-    import warnings
-
-    import cshape.data
-
-    try:
-        name = "spot_low_resolution" if small else "spot"
-        credit = f"{name} (Spot by Keenan Crane, public domain)"
-        return cshape.data.load("shared-meshes", name), credit
-    except (FileNotFoundError, KeyError, ValueError) as exc:
-        print(f"shared meshes not available ({exc}); using PyMeshLab's sample cow instead")
-    try:
-        # PyMeshLab's cow stores one vertex twice; loading welds the copies into one (the FEM
-        # would otherwise see a crack there). Say so here, once, instead of a warning box.
-        with warnings.catch_warnings(record=True) as repairs:
-            warnings.simplefilter("always", cshape.CShapeWarning)
-            cow = cshape.data.load("pymeshlab-samples", "cow")
-        for w in repairs:
-            print(f"note: {str(w.message).replace('repaired mesh', 'repaired on loading')}")
-        return cow, "cow (PyMeshLab sample)"
-    except (FileNotFoundError, KeyError, ValueError) as exc:
-        print(f"PyMeshLab samples not available ({exc}); using a built-in torus")
-        return shapes.torus(64, 32), "torus (built-in)"
+from cshape.teaching import real_mesh  # Spot the cow, else PyMeshLab's cow, else a torus
 
 
 # %% nbgrader={"grade": false, "grade_id": "check_close", "locked": true, "schema_version": 3, "solution": false, "task": false}
@@ -89,7 +65,7 @@ def check_close(name, got, want, hint="", rtol=1e-9):
 
 N = 50 if SMALL else 100
 M = 8 if SMALL else 16
-real, real_name = real_mesh()
+real, real_name = real_mesh(SMALL)
 lam = cshape.shape_dna(real, N)
 lam_norm = cshape.normalize(lam, real.area)  # the area normalisation of Section 2.1
 print(real_name, "- N =", N, ", M =", M)

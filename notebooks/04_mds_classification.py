@@ -35,41 +35,19 @@ import os
 import numpy as np
 
 import cshape
-from cshape import plots, shapes
+from cshape import plots
 
 SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 # %%
-from cshape import batch, variants
+from cshape import batch
 
+# a few classes made in code (small) or paper-models + articulated (full size)
+from cshape.teaching import demo_collection
 
-def demo_collection(small=SMALL):
-    """(name, label, mesh) triples: a few classes of shapes, all made in code.
-
-    Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a snake
-    figure.  Full: cshape's "paper-models" (spheres S1-S3, cube, torus, eight, the
-    marching-cubes quadruped CM and its remesh CS, the human D1 and its refinement D2) and
-    "articulated" (four classes x five poses), built with PyMeshLab once and then cached.
-    """
-    if not small:
-        import cshape.data
-
-        return [(it.name, it.label, it.mesh)
-                for coll in ("paper-models", "articulated")
-                for it in cshape.data.load_collection(coll)]
-    items = [(f"sphere-{s}", "sphere", shapes.icosphere(s)) for s in (2, 3)]
-    items += [(f"cube-{n}", "cube", shapes.cube(n)) for n in (5, 7)]
-    items += [(f"torus-{k}", "torus", shapes.torus(8 * k + 24, 4 * k + 12)) for k in (0, 1)]
-    for kind in ("human", "snake"):
-        for seed in (0, 1):
-            fig = variants.articulated_figure(kind, seed, voxelsize=0.05, target_vertices=500)
-            items.append((f"{kind}-{seed}", kind, fig))
-    return items
-
-
-collection = demo_collection()
+collection = demo_collection(SMALL)
 N = 40 if SMALL else 100
 table = batch.describe(collection, N=N, progress=not SMALL)
 print(table)

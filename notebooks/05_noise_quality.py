@@ -40,32 +40,10 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 # %%
 from cshape import batch, variants
 
+# a few classes made in code (small) or paper-models + articulated (full size)
+from cshape.teaching import demo_collection
 
-def demo_collection(small=SMALL):
-    """(name, label, mesh) triples: a few classes of shapes, all made in code.
-
-    Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a snake
-    figure.  Full: cshape's "paper-models" (spheres S1-S3, cube, torus, eight, the
-    marching-cubes quadruped CM and its remesh CS, the human D1 and its refinement D2) and
-    "articulated" (four classes x five poses), built with PyMeshLab once and then cached.
-    """
-    if not small:
-        import cshape.data
-
-        return [(it.name, it.label, it.mesh)
-                for coll in ("paper-models", "articulated")
-                for it in cshape.data.load_collection(coll)]
-    items = [(f"sphere-{s}", "sphere", shapes.icosphere(s)) for s in (2, 3)]
-    items += [(f"cube-{n}", "cube", shapes.cube(n)) for n in (5, 7)]
-    items += [(f"torus-{k}", "torus", shapes.torus(8 * k + 24, 4 * k + 12)) for k in (0, 1)]
-    for kind in ("human", "snake"):
-        for seed in (0, 1):
-            fig = variants.articulated_figure(kind, seed, voxelsize=0.05, target_vertices=500)
-            items.append((f"{kind}-{seed}", kind, fig))
-    return items
-
-
-collection = demo_collection()
+collection = demo_collection(SMALL)
 if not SMALL:  # leave out the largest meshes: every model is solved once per noise level
     collection = [c for c in collection if c[0] not in ("S2", "S3", "D2")]
 N = 30 if SMALL else 100

@@ -140,14 +140,9 @@ def test_unknown_notebook_name():
 @pytest.mark.filterwarnings("ignore:cow.obj. repaired mesh")
 def test_real_mesh_falls_back_without_the_shared_folder(tmp_path, monkeypatch, capsys):
     """Notebooks 2-3 work for a user without ../shared/meshes: PyMeshLab's sample cow."""
-    import cshape
-    from cshape import shapes
+    from cshape.teaching import real_mesh
 
-    nb = nbformat.read(NB_DIR / "02_shape_dna_weyl.ipynb", as_version=4)
-    src = next(c.source for c in nb.cells if c.source.startswith("def real_mesh"))
-    ns = {"SMALL": True, "cshape": cshape, "shapes": shapes}
-    exec(src, ns)
     monkeypatch.setenv("CSHAPE_SHARED_MESHES", str(tmp_path / "no-such-folder"))
-    mesh, name = ns["real_mesh"]()
+    mesh, name = real_mesh(small=True)
     assert "cow" in name and mesh.n_vertices > 1000
     assert "shared meshes not available" in capsys.readouterr().out
