@@ -129,21 +129,32 @@ def _start_kernel(page, timeout=90.0):
     raise TimeoutError(f"the notebook's kernel was not idle within {timeout:.0f} s")
 
 
-def test_m_sweep_in_chromium(jupyterlab):
+def _playwright():
+    """Playwright's sync API for Debian's Chromium; without the browser the test skips (and
+    fails under CI, where make test installs it as root)."""
     if not CHROMIUM.exists():
         msg = f"{CHROMIUM} not found: install Debian's chromium (tools/ensure_browser.sh)"
         if os.environ.get("CI"):
             pytest.fail(msg + "; CI must run the browser test, and make test installs it as root")
         pytest.skip(msg)
-    sync_api = pytest.importorskip(
+    return pytest.importorskip(
         "playwright.sync_api", reason="the playwright Python package is not installed")
+
+
+def _lab_context(p, tmp):
+    """A headless Chromium with its own profile in ``tmp``, sized for JupyterLab."""
+    return p.chromium.launch_persistent_context(
+        str(tmp / "chromium-profile"), executable_path=str(CHROMIUM), headless=True,
+        args=FLAGS, viewport={"width": 1400, "height": 1000},
+    )
+
+
+def test_m_sweep_in_chromium(jupyterlab):
+    sync_api = _playwright()
     base, token, tmp = jupyterlab
     ARTIFACTS.mkdir(exist_ok=True)
     with sync_api.sync_playwright() as p:
-        ctx = p.chromium.launch_persistent_context(
-            str(tmp / "chromium-profile"), executable_path=str(CHROMIUM), headless=True,
-            args=FLAGS, viewport={"width": 1400, "height": 1000},
-        )
+        ctx = _lab_context(p, tmp)
         try:
             page = ctx.new_page()
             page.goto(f"{base}/lab/tree/{NOTEBOOK}?token={token}", timeout=90_000)
@@ -206,20 +217,11 @@ def _open_and_run_all(sync_api, ctx, base, token, notebook):
 def test_eigenfunction_explorer_in_jupyterlab(jupyterlab):
     """Lesson 02 in JupyterLab: the eigenfunction explorer (plotly, rendered by the lab
     extension) appears; moving its slider to phi_10 re-renders the 3-D canvas."""
-    if not CHROMIUM.exists():
-        msg = f"{CHROMIUM} not found: install Debian's chromium (tools/ensure_browser.sh)"
-        if os.environ.get("CI"):
-            pytest.fail(msg + "; CI must run the browser test, and make test installs it as root")
-        pytest.skip(msg)
-    sync_api = pytest.importorskip(
-        "playwright.sync_api", reason="the playwright Python package is not installed")
+    sync_api = _playwright()
     base, token, tmp = jupyterlab
     ARTIFACTS.mkdir(exist_ok=True)
     with sync_api.sync_playwright() as p:
-        ctx = p.chromium.launch_persistent_context(
-            str(tmp / "chromium-profile"), executable_path=str(CHROMIUM), headless=True,
-            args=FLAGS, viewport={"width": 1400, "height": 1000},
-        )
+        ctx = _lab_context(p, tmp)
         try:
             page = _open_and_run_all(sync_api, ctx, base, token, EXPLORER_NOTEBOOK)
             # the first plotly figure with a slider: the explorer of the real mesh
