@@ -177,8 +177,11 @@ def test_load_creatures_is_cached_and_reproducible(tmp_path):
     assert len(sorted((tmp_path / "a").rglob("*.npz"))) == 8
     parallel = data.load_creatures(3, cache_dir=tmp_path / "c", progress=False, n_jobs=2, **kw)
     for x, y in zip(fresh, parallel, strict=True):  # two processes build the same meshes
-        np.testing.assert_array_equal(x.mesh.vertices, y.mesh.vertices)
+        # same triangles; coordinates equal up to the rounding of PyMeshLab's multithreaded
+        # filters, whose summation order follows the threads a process has (a CI run saw
+        # 1.9e-6 between the serial and the worker-built snake; usually they are bit-equal)
         np.testing.assert_array_equal(x.mesh.faces, y.mesh.faces)
+        np.testing.assert_allclose(x.mesh.vertices, y.mesh.vertices, rtol=0, atol=1e-5)
     with pytest.raises(ValueError, match="n_jobs must be an integer >= 1"):
         data.load_creatures(3, cache_dir=tmp_path / "c", n_jobs=0, **kw)
 
