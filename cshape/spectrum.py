@@ -77,6 +77,7 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
+from . import _cholmod
 from .fem import fem
 from .mesh import CShapeWarning, as_mesh, repair_mesh
 
@@ -132,43 +133,25 @@ def _check_N(N, n_unknowns, bc):
 
 
 class _CholeskyOperator(spla.LinearOperator):
-    """``x -> (K - sigma B)^{-1} x`` with a sparse Cholesky factor (vectors or blocks)."""
+    """``x -> (K - sigma B)^{-1} x`` with a sparse Cholesky factor (vectors or blocks).
+
+    The factorisation is CHOLMOD's, through the fastest backend that works here
+    (:mod:`cshape._cholmod`; ``CSHAPE_CHOLESKY`` chooses one).  ``rhs_order`` is the memory
+    order of a block of right-hand sides that the backend takes without a copy.
+    """
 
     def __init__(self, M):
-        M = sp.csr_matrix(M)
-        M.sum_duplicates()
         n = M.shape[0]
         super().__init__(dtype=np.float64, shape=(n, n))
-        self._solver = None
-        try:
-            import cholespy
-        except ImportError:  # pragma: no cover - cholespy is a core dependency
-            self._lu = spla.splu(M.tocsc())
-            return
-        # CSR input: cholespy copies it (a CSC input would be reallocated in place).
-        self._solver = cholespy.CholeskySolverD(
-            n,
-            M.indptr.astype(np.int32),
-            M.indices.astype(np.int32),
-            M.data.astype(np.float64),
-            cholespy.MatrixType.CSR,
-        )
+        self._factor = _cholmod.factorize(M)
+        self.backend = self._factor.name
+        self.rhs_order = self._factor.rhs_order
 
     def _matvec(self, x):
-        x = np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
-        if self._solver is None:
-            return self._lu.solve(x)
-        out = np.empty_like(x)
-        self._solver.solve(x, out)
-        return out
+        return self._factor.solve(np.asarray(x, dtype=np.float64).reshape(-1))
 
     def _matmat(self, X):
-        X = np.ascontiguousarray(X, dtype=np.float64)
-        if self._solver is None:
-            return self._lu.solve(X)
-        out = np.empty_like(X)
-        self._solver.solve(X, out)
-        return out
+        return self._factor.solve(X)
 
 
 class _NoConvergence(RuntimeError):
@@ -259,7 +242,8 @@ class _RowSplit:
     ``threads > 1`` the ranges run at once (BLAS itself on one thread each).
     """
 
-    def __init__(self, n, B, threads=1):
+    def __init__(self, n, B, threads=1, rhs_order="C"):
+        self.rhs_order = rhs_order  # memory order of the B-images handed to the solver
         parts = ROW_PARTS if n >= THREADS_MIN_UNKNOWNS else 1
         edges = np.linspace(0, n, parts + 1).astype(int)
         self.ranges = list(zip(edges[:-1], edges[1:], strict=True))
@@ -384,12 +368,13 @@ def _b_orthonormalize(W, B, scale, split=None):
     Rinv = la.solve_triangular(R, np.eye(b), lower=False)
     # Q column-major (it is copied into the column-major basis as one contiguous block),
     # BQ row-major (the next right-hand side of the row-major solver)
-    Q, BQ = split.times(W, Rinv, "F"), split.times(BW, Rinv)
+    Q, BQ = split.times(W, Rinv, "F"), split.times(BW, Rinv, split.rhs_order)
     if np.linalg.cond(R) > 1e2:  # Cholesky-QR loses eps * cond^2 of orthogonality: repeat
         G = split.tdot(Q, BQ)
         R2 = la.cholesky(0.5 * (G + G.T), lower=False)  # G ~ I: well conditioned
         R2inv = la.solve_triangular(R2, np.eye(b), lower=False)
-        Q, BQ, R = split.times(Q, R2inv, "F"), split.times(BQ, R2inv), R2 @ R
+        Q, BQ, R = (split.times(Q, R2inv, "F"), split.times(BQ, R2inv, split.rhs_order),
+                    R2 @ R)
     return Q, BQ, R
 
 
@@ -414,7 +399,7 @@ def _complete_block(rng, Q, BQ, R, b, V, B):
 
 def _block_lanczos(
     K, B, N, solve, sigma, *, block_size=BLOCK_SIZE, max_dim=None, tol=RESIDUAL_TOL, seed=0,
-    return_vectors=True, threads=1,
+    return_vectors=True, threads=1, rhs_order="C",
 ):
     """The ``N`` smallest eigenpairs of ``K f = lam B f`` by block shift-invert Lanczos.
 
@@ -440,6 +425,8 @@ def _block_lanczos(
     threads : int, default=1
         Threads for the products over the basis (:func:`solver_threads`); the result is
         the same with any number.
+    rhs_order : {'C', 'F'}, default='C'
+        Memory order of the blocks passed to ``solve`` (the one it takes without a copy).
 
     Returns
     -------
@@ -472,7 +459,7 @@ def _block_lanczos(
     V = _empty_basis(n, cap)
     # Block tridiagonal projection of OP, in LAPACK upper banded storage (bandwidth b).
     band = np.zeros((b + 1, cap))
-    split = _RowSplit(n, B, threads)
+    split = _RowSplit(n, B, threads, rhs_order)
     try:
         return _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol,
                              seed, return_vectors)
@@ -505,7 +492,7 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
     for j in range(nblocks):
         m0, m = j * b, (j + 1) * b
         lo = max(0, m0 - b)
-        W = solve(np.ascontiguousarray(BVcur))
+        W = solve(BVcur)
         # first pass (classical Gram-Schmidt) against the two newest blocks; the coupling
         # to the previous block is known (R_j^T, by symmetry)
         A = split.tdot(BVcur, W)
@@ -662,7 +649,7 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     try:
         with _one_blas_thread():
             lam, phi = _block_lanczos(K, B, N, op.matmat, sigma, return_vectors=return_vectors,
-                                      threads=solver_threads(k))
+                                      threads=solver_threads(k), rhs_order=op.rhs_order)
     except (_NoConvergence, la.LinAlgError):
         lam, phi = _arpack(K, B, N, op, sigma, return_vectors)
     order = np.argsort(lam, kind="stable")
