@@ -68,8 +68,8 @@ _CHOLMOD_REAL, _CHOLMOD_A = 1, 0
 
 def _cholmod_library():
     """The CHOLMOD shared library of the cvxopt wheel, with ctypes signatures; or raise."""
-    import cvxopt.cholmod  # noqa: F401 - loads the library's own dependencies (BLAS)
     import cvxopt
+    import cvxopt.cholmod  # noqa: F401 - loads the library's own dependencies (BLAS)
 
     root = os.path.dirname(os.path.abspath(cvxopt.__file__))
     pattern = [os.path.join(root, "..", "cvxopt.libs", "libcholmod*.so*"),  # Linux wheels
