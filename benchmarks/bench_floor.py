@@ -13,8 +13,8 @@ one sparse Cholesky factorisation of ``S = K - sigma B`` plus the triangular sol
 * ``total``: ``cshape.shape_dna(mesh, N)``, everything a user pays (best of ``--repeats``);
 * the stages, each timed on its own: repair checks and FEM assembly (``spectrum._prepare``),
   the connected-components check, the factorisation as the solver does it
-  (``spectrum._CholeskyOperator``) and the bare ``cholespy.CholeskySolverD`` call on
-  ready arrays, and the block Lanczos iteration ``spectrum._block_lanczos`` with its solves
+  (``spectrum._CholeskyOperator``), the bare factorisation of the backend in use
+  (``cshape._cholmod.factorize``) and cholespy's (LaPy's) on ready arrays, and the block Lanczos iteration ``spectrum._block_lanczos`` with its solves
   counted and timed;
 * ``floor (method)``: bare factorisation + as many multi-right-hand-side solves (blocks of
   ``b`` columns) as the Lanczos iteration used; ``floor (ideal)``: bare factorisation +
@@ -151,7 +151,8 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     -------
     dict
         Times in seconds (``total``, ``prepare``, ``components``, ``factor_solver``,
-        ``factor_bare``, ``lanczos``, ``lanczos_solves``, ``floor_method``, ``floor_ideal``,
+        ``factor_bare`` (the backend of ``cshape._cholmod``, ``backend``), ``factor_cholespy``,
+        ``lanczos``, ``lanczos_solves``, ``floor_method``, ``floor_ideal``,
         ``solve_per_column`` (dict: right-hand sides -> seconds per column)), counts
         (``solve_calls``, ``solve_columns``, ``block_size``, ``n``) and ``variants`` (list of
         dicts: ``block_size``, ``seconds``, ``columns``, ``maxrel``).
@@ -160,7 +161,7 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     import scipy.sparse.csgraph as csgraph
 
     import cshape
-    from cshape import spectrum
+    from cshape import _cholmod, spectrum
 
     cshape.shape_dna(make_mesh("tiny"), N=min(N, 100))  # warm-up: imports, first calls
     b0 = spectrum.BLOCK_SIZE
@@ -180,15 +181,17 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     Sc.sum_duplicates()
     ip, ix, dx = Sc.indptr.astype(np.int32), Sc.indices.astype(np.int32), Sc.data.copy()
     n = S.shape[0]
-    out["factor_bare"], fac = _best(
+    out["backend"] = _cholmod.backend()
+    out["factor_bare"], fac = _best(lambda: _cholmod.factorize(Sc), repeats)
+    # LaPy's factorisation (cholespy, reference BLAS), for comparison
+    out["factor_cholespy"], _ = _best(
         lambda: cholespy.CholeskySolverD(n, ip, ix, dx, cholespy.MatrixType.CSR), repeats)
 
     def solve_cols(m, reps):
-        X = np.random.default_rng(1).standard_normal((n, m))
-        Y = np.empty_like(X)
+        X = np.asarray(np.random.default_rng(1).standard_normal((n, m)), order=fac.rhs_order)
         t0 = time.perf_counter()
         for _ in range(reps):
-            fac.solve(X if m > 1 else X[:, 0].copy(), Y if m > 1 else Y[:, 0].copy())
+            fac.solve(X if m > 1 else X[:, 0].copy())
         return (time.perf_counter() - t0) / (reps * m)
 
     reps = max(2, int(2e6 // n))
@@ -206,7 +209,8 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
                 try:
                     with Bc:
                         lam, _ = spectrum._block_lanczos(K, B, N, counter, sigma, block_size=b,
-                                                         return_vectors=False, threads=threads)
+                                                         return_vectors=False, threads=threads,
+                                                         rhs_order=op.rhs_order)
                 except spectrum._NoConvergence as exc:
                     runs.append({"block_size": b, "seconds": float("nan"),
                                  "columns": counter.columns, "calls": counter.calls,
@@ -328,7 +332,8 @@ def report(label, r, groups, top):
     for name, key in (("shape_dna total", "total"), ("repair checks + FEM assembly", "prepare"),
                       ("connected components", "components"),
                       ("factorisation as the solver does it", "factor_solver"),
-                      ("  of which bare cholespy factorisation", "factor_bare"),
+                      (f"  of which bare {r['backend']} factorisation", "factor_bare"),
+                      ("  (cholespy's, as LaPy uses it, for comparison)", "factor_cholespy"),
                       (f"block Lanczos (b = {b}, {r['threads']} thread(s) for its products)",
                        "lanczos"),
                       (f"  of which {r['solve_calls']} solves, {r['solve_columns']} columns",
@@ -347,7 +352,7 @@ def report(label, r, groups, top):
         f"({100 * (r['lanczos'] - r['lanczos_solves']) / r['total']:.0f} % of total); "
         f"{r['full_passes']} full re-orthogonalisation passes over the basis in "
         f"{r['solve_calls']} steps (each reads the n x m basis twice)",
-        "- CHOLMOD solve cost per column: " + ", ".join(
+        f"- CHOLMOD ({r['backend']}) solve cost per column: " + ", ".join(
             f"{m} rhs {1e3 * per[m]:.2f} ms" for m in sorted(per)),
         "",
         "Block sizes (same factorisation; max rel diff against shape_dna's eigenvalues):", "",

@@ -16,7 +16,14 @@ import numpy as np
 import pytest
 
 from cshape import CShapeWarning, Mesh, shape_dna, shapes
-from cshape.batch import DescriptorTable, describe, mesh_key
+from cshape.batch import (
+    _SAMPLERS,
+    DescriptorTable,
+    _pause_samplers,
+    _resume_samplers,
+    describe,
+    mesh_key,
+)
 
 N = 20
 
@@ -259,8 +266,19 @@ def test_dask_process_cluster_equals_serial(reference):
             table = run(small_collection(), cache_dir=False, client=client)
             # every worker was set up by its first task (allocator thresholds, issue 14)
             ready = client.run(lambda: __import__("cshape.batch").batch._WORKER_READY)
+            # the workers' profiler and tick were paused for the run and run again after it
+            running = client.run(lambda dask_worker: [
+                dask_worker.periodic_callbacks[name].is_running() for name in _SAMPLERS])
+            paused = client.run(_pause_samplers)
+            stopped = client.run(lambda dask_worker: [
+                dask_worker.periodic_callbacks[name].is_running() for name in _SAMPLERS])
+            resumed = client.run(_resume_samplers)
     np.testing.assert_array_equal(table.lam, reference.lam)
     assert ready and all(ready.values())
+    assert all(all(flags) for flags in running.values())
+    assert all(p == list(_SAMPLERS) for p in paused.values())
+    assert not any(any(flags) for flags in stopped.values())
+    assert resumed == paused
 
 
 MALLOC_PROBE = """
