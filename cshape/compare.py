@@ -52,6 +52,7 @@ __all__ = [
     "scale_255",
     "scaled_difference",
     "short_label",
+    "short_labels",
 ]
 
 #: The descriptor kinds of :func:`descriptor_matrix`.
@@ -599,6 +600,36 @@ def short_label(name, width=LABEL_WIDTH) -> str:
     return text[:head] + "\u2026" + text[len(text) - (width - 1 - head):]
 
 
+def short_labels(names, width=LABEL_WIDTH) -> list:
+    """:func:`short_label` of every name, kept distinct where the names are.
+
+    Names whose short labels would coincide (``a/spot`` and ``b/spot`` both give ``spot``)
+    keep their parent folder (``a/spot``, ``b/spot``), cut in the middle to ``width``; if
+    they still coincide, each gets its position in ``names`` as a suffix (``spot#3``).
+
+    >>> short_labels(["a/spot", "b/spot", "c/bob"])
+    ['a/spot', 'b/spot', 'bob']
+    """
+    names = [str(n) for n in names]
+    out = [short_label(n, width) for n in names]
+
+    def clashes(labels):
+        seen = {}
+        for i, (lab, name) in enumerate(zip(labels, names, strict=True)):
+            seen.setdefault(lab, {}).setdefault(name, []).append(i)
+        return [i for group in seen.values() if len(group) > 1
+                for idx in group.values() for i in idx]
+
+    for i in clashes(out):
+        parts = names[i].replace("\\", "/").rstrip("/").split("/")
+        out[i] = short_label("/".join(parts[-2:]).replace("/", "\u2215"), width).replace(
+            "\u2215", "/")
+    for i in clashes(out):
+        suffix = f"#{i}"
+        out[i] = short_label(out[i], max(width - len(suffix), 2)) + suffix
+    return out
+
+
 def _figure_and_ax(ax, figsize):
     if ax is not None:
         return ax.figure, ax
@@ -754,7 +785,7 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
         ax.scatter(Y[:, 0], Y[:, 1], s=size, linewidths=0)
     _square_limits(ax, Y)
     if names is not None and p <= max_names:
-        annotate_points(ax, Y, [short_label(n) for n in names])
+        annotate_points(ax, Y, short_labels(names))
     ax.set_xlabel("MDS 1", fontsize="small")
     ax.set_ylabel("MDS 2", fontsize="small")
     ax.locator_params(nbins=4)
@@ -807,7 +838,7 @@ def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
     n_fit = max(1, int(side_pt / safety / (1.2 * size)))
     runs = _runs([str(x) for x in labels]) if labels is not None and len(labels) == p else []
     if names is not None and len(names) == p and p <= min(max_names, n_fit):
-        where, text = list(range(p)), [short_label(n) for n in names]
+        where, text = list(range(p)), short_labels(names)
     elif len(runs) > 1:
         mids = np.array([[(a + b - 1) / 2, 0.0] for a, b, _ in runs])
         keep = _spread_out(mids, p / n_fit)

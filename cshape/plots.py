@@ -499,7 +499,7 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
     import matplotlib as mpl
     from matplotlib.figure import Figure
 
-    from .compare import MDS_MAX_NAMES, _square_limits, annotate_points, short_label
+    from .compare import MDS_MAX_NAMES, _square_limits, annotate_points, short_labels
 
     p = len(state.names)
     if isinstance(shape, bool) or not isinstance(shape, (int, np.integer)) or not 0 <= shape < p:
@@ -541,7 +541,7 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
         ax.scatter(Y[:, 0], Y[:, 1], c=[cmap(codes[lab] % cmap.N) for lab in state.labels], s=22)
         _square_limits(ax, Y)
         if p <= MDS_MAX_NAMES:
-            annotate_points(ax, Y, [short_label(n) for n in state.names])
+            annotate_points(ax, Y, short_labels(state.names))
     tr = "" if transform == "weyl" else f", {transform}"
     ax.set(title=f"MDS of cShape-DNA (size {2 * M + 1}{tr})")
     for ax, img, title, vmax in (

@@ -36,7 +36,7 @@ from .compare import (
     plot_mds,
     retrieval_scores,
     scaled_difference,
-    short_label,
+    short_labels,
 )
 
 __all__ = [
@@ -487,7 +487,7 @@ def _mds_figure(table, panels, random_state):
     elif handles:
         fig.suptitle(f"{len(handles)} classes (colours repeat)", fontsize="small")
     if len(table) <= MDS_MAX_NAMES:  # names last: they are placed in the final layout
-        short = [short_label(n) for n in table.names]
+        short = short_labels(table.names)
         for ax, Y in zip(axs, Ys, strict=False):
             annotate_points(ax, Y, short)
     return fig

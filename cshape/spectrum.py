@@ -8,8 +8,8 @@ of one sparse Cholesky factorisation:
 1. Factorise ``S = K - sigma B`` once (CHOLMOD, supernodal ``L L^T``: the build in the
    ``cvxopt`` wheel with an optimised BLAS, else the ``cholespy`` wheel, else SciPy's
    SuperLU; see :mod:`cshape._cholmod`) with a shift ``sigma < 0`` below the whole
-   spectrum, so ``S`` is positive definite.  Default ``sigma = -0.01 * 4 pi N / area``: one hundredth of
-   Weyl's estimate ``lam_N ~ 4 pi N / area`` (-1 for the unit sphere and N = 100).
+   spectrum, so ``S`` is positive definite.  Default ``sigma = -0.01 * 4 pi N / area``:
+   one hundredth of Weyl's estimate ``lam_N ~ 4 pi N / area`` (-1 for the unit sphere and N = 100).
 2. The operator ``OP = S^{-1} B`` is self-adjoint in the B-inner product and has the
    eigenvalues ``theta = 1 / (lam - sigma)``: the N smallest ``lam`` are its N largest
    ``theta``.  A block Krylov space of ``OP`` is grown from a fixed random block of

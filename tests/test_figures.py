@@ -15,6 +15,7 @@ from cshape.compare import (
     plot_distance_matrix,
     plot_mds,
     short_label,
+    short_labels,
 )
 from cshape.reproduce import _mds_figure, fig1_selection
 
@@ -50,6 +51,22 @@ def assert_no_overlap(artists):
     for k, a in enumerate(boxes):
         for b in boxes[k + 1:]:
             assert not a.overlaps(b), (a, b)
+
+
+def test_short_labels_keep_different_names_apart():
+    assert short_labels(["a/spot", "b/spot", "c/bob"]) == ["a/spot", "b/spot", "bob"]
+    assert short_labels(["a\\cow", "b\\cow"]) == ["a/cow", "b/cow"]  # Windows separators
+    # the parent folders cut to the width, still distinct
+    assert short_labels(["m/long_folder_name_a/cow", "m/long_folder_name_b/cow"], 12) == [
+        "long_\u2026_a/cow", "long_\u2026_b/cow"]
+    # same parent and name once cut: the position tells them apart, within the width
+    names = [f"{d}/animals/spot_low_resolution_version_one" for d in "xy"]
+    labels = short_labels(names)
+    assert labels == ["animal\u2026ion_one#0", "animal\u2026ion_one#1"]
+    assert all(len(lab) <= 16 for lab in labels)
+    # equal names label equally; distinct short names are left as short_label makes them
+    assert short_labels(["spot", "spot", "x/bob"]) == ["spot", "spot", "bob"]
+    assert short_labels([]) == []
 
 
 def test_short_label():
