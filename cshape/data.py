@@ -758,8 +758,11 @@ def load_collection(
     manifest : path or dict, optional
         Another manifest (default :func:`load_manifest`).
     n_jobs : int, default=1
-        Worker processes that build the missing generated meshes (joblib's loky pool; the
-        meshes are the same as built one by one, each from its own seed).
+        Worker processes that build the missing generated meshes (joblib's loky pool), each
+        from its own seed.  Usually the same bits as built one by one; remeshed meshes can
+        differ slightly between processes (isotropic remeshing turns a last-bit difference
+        of its input into another edge flip: a few triangles, the same shape), and the
+        cache keeps whichever was built first.
 
     Returns
     -------
