@@ -14,8 +14,8 @@ one sparse Cholesky factorisation of ``S = K - sigma B`` plus the triangular sol
 * the stages, each timed on its own: repair checks and FEM assembly (``spectrum._prepare``),
   the connected-components check, the factorisation as the solver does it
   (``spectrum._CholeskyOperator``), the bare factorisation of the backend in use
-  (``cshape._cholmod.factorize``) and cholespy's (LaPy's) on ready arrays, and the block Lanczos iteration ``spectrum._block_lanczos`` with its solves
-  counted and timed;
+  (``cshape._cholmod.factorize``) and cholespy's (LaPy's) on ready arrays, and the
+  block Lanczos iteration ``spectrum._block_lanczos`` with its solves counted and timed;
 * ``floor (method)``: bare factorisation + as many multi-right-hand-side solves (blocks of
   ``b`` columns) as the Lanczos iteration used; ``floor (ideal)``: bare factorisation +
   ``N`` solve columns in blocks of ``b`` (no Krylov method finds N eigenpairs with fewer);

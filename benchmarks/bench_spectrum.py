@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 import cshape
-from cshape import shapes
+from cshape import shapes, spectrum
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import load_average, relative_difference  # noqa: E402
@@ -94,8 +94,6 @@ def run_overheads(mesh, N):
         ``Solver`` constructor (its FEM assembly).
     """
     from lapy import Solver, TriaMesh
-
-    from cshape import spectrum
 
     VF = (mesh.vertices, mesh.faces)
     out = {}
@@ -164,8 +162,6 @@ def bench_size(label, N, repeats):
     # icosphere splits (l=4: 4+5 copies, ~6e-4 apart), which missed_copies cannot see
     rel = max(min(float(relative_difference(lam, ref).max()) for ref in good_lapy)
               for lam in runs_cs)
-    from cshape import spectrum
-
     return {
         "label": label,
         "n": mesh.n_vertices,

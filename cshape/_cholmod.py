@@ -27,6 +27,7 @@ same bits in every run and process; two backends agree to rounding (about 1e-13)
 from __future__ import annotations
 
 import ctypes
+import functools
 import glob
 import os
 import weakref
@@ -66,8 +67,12 @@ _COMMON_BYTES = 1 << 16
 _CHOLMOD_REAL, _CHOLMOD_A = 1, 0
 
 
+@functools.cache
 def _cholmod_library():
-    """The CHOLMOD shared library of the cvxopt wheel, with ctypes signatures; or raise."""
+    """The CHOLMOD shared library of the cvxopt wheel, with ctypes signatures; or raise.
+
+    Loaded once per process (the result is cached; a failure raises again).
+    """
     import cvxopt
     import cvxopt.cholmod  # noqa: F401 - loads the library's own dependencies (BLAS)
 
@@ -223,7 +228,7 @@ _STATUS = {}  # backend name -> (usable, reason), decided once per process
 
 def _make(name, S):
     if name == "cholmod":
-        return _CholmodFactor(_STATUS["cholmod-lib"], S)
+        return _CholmodFactor(_cholmod_library(), S)
     if name == "cholespy":
         return _CholespyFactor(S)
     return _SpluFactor(S)
@@ -234,8 +239,6 @@ def _probe(name):
     if name in _STATUS:
         return _STATUS[name]
     try:
-        if name == "cholmod":
-            _STATUS["cholmod-lib"] = _cholmod_library()
         # 1-D Laplacian + identity (30 unknowns): exact inverse known from dense LAPACK
         n = 30
         S = sp.diags([-np.ones(n - 1), 3.0 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1],

@@ -61,8 +61,6 @@ REPRODUCE_BENCHMARK = "creatures"
 
 def _load_named(spec, what, n_jobs=1):
     """A manifest collection by name, or a folder of meshes (labels from sub-folders)."""
-    from pathlib import Path
-
     from . import data
 
     if spec in data.list_collections():

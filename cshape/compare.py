@@ -593,7 +593,11 @@ def short_label(name, width=LABEL_WIDTH) -> str:
     'spot_…lution'
     """
     text = str(name).replace("\\", "/").rstrip("/")
-    text = text.rsplit("/", 1)[-1] or str(name)
+    return _cut_middle(text.rsplit("/", 1)[-1] or str(name), width)
+
+
+def _cut_middle(text, width):
+    """``text`` cut to ``width`` characters in the middle (an ellipsis marks the cut)."""
     if len(text) <= width:
         return text
     head = (width - 1) // 2
@@ -622,11 +626,10 @@ def short_labels(names, width=LABEL_WIDTH) -> list:
 
     for i in clashes(out):
         parts = names[i].replace("\\", "/").rstrip("/").split("/")
-        out[i] = short_label("/".join(parts[-2:]).replace("/", "\u2215"), width).replace(
-            "\u2215", "/")
+        out[i] = _cut_middle("/".join(parts[-2:]), width)
     for i in clashes(out):
         suffix = f"#{i}"
-        out[i] = short_label(out[i], max(width - len(suffix), 2)) + suffix
+        out[i] = _cut_middle(out[i], max(width - len(suffix), 2)) + suffix
     return out
 
 

@@ -147,7 +147,6 @@ class _CholeskyOperator(spla.LinearOperator):
         n = M.shape[0]
         super().__init__(dtype=np.float64, shape=(n, n))
         self._factor = _cholmod.factorize(M)
-        self.backend = self._factor.name
         self.rhs_order = self._factor.rhs_order
 
     def _matvec(self, x):
@@ -370,7 +369,7 @@ def _b_orthonormalize(W, B, scale, split=None):
         return Q, BQ, R2 @ R
     Rinv = la.solve_triangular(R, np.eye(b), lower=False)
     # Q column-major (it is copied into the column-major basis as one contiguous block),
-    # BQ row-major (the next right-hand side of the row-major solver)
+    # BQ in the order the solver takes without a copy (the next block of right-hand sides)
     Q, BQ = split.times(W, Rinv, "F"), split.times(BW, Rinv, split.rhs_order)
     if np.linalg.cond(R) > 1e2:  # Cholesky-QR loses eps * cond^2 of orthogonality: repeat
         G = split.tdot(Q, BQ)

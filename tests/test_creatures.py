@@ -181,8 +181,9 @@ def test_load_creatures_is_cached_and_reproducible(tmp_path):
         # Usually bit-equal, but not always: isotropic remeshing is chaotic, and a last-bit
         # difference in its input can flip an edge split or collapse.  The cause was not
         # reproduced outside CI (1 or 2 OpenMP threads, CPU load, allocation history, libc's
-        # rand state and the FPU flags all gave the same bits here).  CI runs saw a worker-built snake with 1.9e-6 different coordinates, and
-        # once with 530 triangles instead of 526 (then the normal noise, drawn per vertex,
+        # rand state and the FPU flags all gave the same bits here).  CI runs saw a
+        # worker-built snake with 1.9e-6 different coordinates, and once with 530 triangles
+        # instead of 526 (then the normal noise, drawn per vertex,
         # is another realisation: 3 % of area and 0.04 of extent between realisations).
         # The shape itself does not change:
         if x.mesh.n_faces == y.mesh.n_faces and np.array_equal(x.mesh.faces, y.mesh.faces):
