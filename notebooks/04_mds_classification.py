@@ -180,7 +180,9 @@ fig
 # queries, as `compare.retrieval_scores` defines them. Every model $i$ is the query once; the *other* $p - 1$
 # models are ranked by increasing $D_{ij}$ (ties by index: `np.argsort(D[i], kind="stable")`). With $C$ the size
 # of the query's class, NN is 1 when the first result is of the query's class, and FT is the fraction of the
-# first $C - 1$ results that are. Every class here has at least two models.
+# first $C - 1$ results that are. A query whose class has no other model ($C = 1$: the cube, the torus and
+# the eight of the full-size run) has no right answer and is left out of both means, as in
+# `compare.retrieval_scores`.
 
 # %% nbgrader={"grade": false, "grade_id": "nn_ft_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
 def nn_ft_mine(D, labels):
@@ -189,10 +191,12 @@ def nn_ft_mine(D, labels):
     D, labels = np.asarray(D, dtype=float), np.asarray(labels)
     nn, ft = [], []
     for i in range(len(D)):
+        R = int(np.sum(labels == labels[i])) - 1  # relevant models: the class minus the query
+        if R == 0:
+            continue  # a class of one: nothing to retrieve
         order = np.argsort(D[i], kind="stable")
         order = order[order != i]  # the query is not one of its own results
         same = labels[order] == labels[i]
-        R = int(np.sum(labels == labels[i])) - 1
         nn.append(float(same[0]))
         ft.append(same[:R].sum() / R)
     return float(np.mean(nn)), float(np.mean(ft))
@@ -217,7 +221,8 @@ print("visible checks passed")
 ### BEGIN HIDDEN TESTS
 _square = np.array([[0, 1, 2, 3], [1, 0, 3, 2], [2, 3, 0, 1], [3, 2, 1, 0]], dtype=float)
 assert np.allclose(nn_ft_mine(_square, ["a", "b", "a", "b"]), (0.0, 0.0)), "hand example: (0, 0)"
-for _DD, _ll in ((_D, _labels), (D_sdna, table.labels)):
+_lonely = np.r_[_labels[:-1], ["d"]]  # "d" is a class of one: its query is left out
+for _DD, _ll in ((_D, _labels), (_D, _lonely), (D_sdna, table.labels)):
     _want = compare.retrieval_scores(_DD, _ll)
     assert np.allclose(nn_ft_mine(_DD, _ll), (_want["nn"], _want["ft"])), "against retrieval_scores"
 ### END HIDDEN TESTS
