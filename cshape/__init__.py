@@ -10,6 +10,9 @@ The pipeline, one module per stage (data flows one way):
    :func:`compact_shape_dna` (Eq. 9-10; ``transform='log-weyl'``, ``'log-weyl-dct'``),
    :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
    :func:`f1_feature`
+   :mod:`cshape.signatures` - per-point signatures from :func:`eigenpairs`: :func:`hks`,
+   :func:`wks`, :func:`si_hks`, :func:`heat_kernel`, :func:`heat_trace`, and
+   :func:`match_points` (correspondence)
 5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
    :func:`scaled_difference`,
    :func:`retrieval_scores`, :func:`mds_embedding`, :class:`DescriptorIndex`
@@ -53,6 +56,7 @@ from .descriptors import (
 from .fem import fem_matrices
 from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
 from .readers import load_mesh
+from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
 from .spectrum import eigenpairs, shape_dna
 
 __version__ = "0.1.0"
@@ -78,14 +82,20 @@ __all__ = [
     "eigenpairs",
     "f1_feature",
     "fem_matrices",
+    "heat_kernel",
+    "heat_trace",
+    "hks",
     "inverse_compact_shape_dna",
     "largest_component",
     "load_mesh",
     "log_weyl_ratio",
+    "match_points",
     "normalize",
     "real_form",
     "repair_mesh",
     "shape_dna",
     "shapes",
+    "si_hks",
     "weyl_subtract",
+    "wks",
 ]

@@ -1,0 +1,576 @@
+"""Stage 5 of the pipeline: point signatures from the eigenpairs, and point correspondence.
+
+Shape-DNA keeps the eigenvalues ``lam``; the eigenfunctions ``phi`` (``A phi_i = -lam_i B
+phi_i``, Eq. 3, B-orthonormal: ``phi.T @ B @ phi = I``) describe each *point*.  Everything here
+takes the output of :func:`cshape.eigenpairs` and uses every pair it is given: pass
+``lam[:k], phi[:, :k]`` to use fewer.
+
+=====================  =====================================================================
+function               definition
+=====================  =====================================================================
+:func:`heat_trace`     ``Z(t) = sum_i exp(-lam_i t)``
+:func:`heat_kernel`    ``k_t(x, y) = sum_i exp(-lam_i t) phi_i(x) phi_i(y)``
+:func:`hks`            ``HKS(x, t) = k_t(x, x)`` (Sun, Ovsjanikov and Guibas 2009)
+:func:`wks`            ``WKS(x, e) = C_e sum_i phi_i(x)^2 exp(-(e - log lam_i)^2 / (2 sigma^2))``,
+                       ``C_e = 1 / sum_i exp(-(e - log lam_i)^2 / (2 sigma^2))`` (Aubry,
+                       Schlickewei and Cremers 2011); ``lam_0 = 0`` left out
+:func:`si_hks`         ``|FFT_tau(d/dtau log HKS(x, base^tau))|``, the first frequencies
+                       (Bronstein and Kokkinos 2010)
+:func:`match_points`   nearest signature (optionally mutual nearest neighbours)
+=====================  =====================================================================
+
+Per-vertex signatures are arrays of shape ``(n, number of scales)``.
+
+Normalisations
+--------------
+* ``normalization='trace'`` divides by the signature's integral over the surface, so each
+  column integrates to 1: the heat trace ``Z(t)`` for the HKS (Sun et al.'s scaled HKS),
+  ``sum_i exp(-(e - log lam_i)^2 / (2 sigma^2))`` for the WKS (Aubry et al.'s ``C_e``, the
+  WKS default).  Since ``int_M k_t(x, x) dx = Z(t)``, a surface whose HKS is constant (the
+  sphere) has ``HKS = Z(t) / area``.  On a mesh the integral ``1^T B s`` of a signature ``s``
+  equals ``Z(t)`` (or 1) exactly for the lumped mass matrix (``mass='lumped'``) and up to the
+  discretisation error for the consistent one (``1^T B phi_i^2 != phi_i^T B phi_i``).
+* ``area=...`` gives the signature of the shape scaled to unit area, the paper's
+  normalisation of Section 2.1 (``lam -> lam * area``, ``phi -> phi * sqrt(area)``): times are
+  then in units of the area, energies are ``log(lam * area)``, and values are dimensionless, so
+  a scaled copy of a shape has the same signature.  Without it, the HKS of a shape scaled by
+  ``s`` is ``HKS_s(x, s^2 t) = HKS(x, t) / s^2``.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ._checks import check_choice
+from .descriptors import _as_lam
+
+__all__ = [
+    "heat_kernel",
+    "heat_trace",
+    "hks",
+    "hks_times",
+    "match_points",
+    "si_hks",
+    "si_hks_tau",
+    "wks",
+    "wks_energies",
+]
+
+#: ``t_min = T_FACTOR / lam_max`` and ``t_max = T_FACTOR / lam_1`` (Sun et al. 2009).
+T_FACTOR = 4.0 * np.log(10.0)
+
+#: The WKS's Gaussian width in energy steps (Aubry et al. 2011: ``sigma = 7 delta``).
+WKS_WIDTH = 7.0
+
+#: An eigenvalue at most this fraction of the largest counts as zero (``lam_0`` of a closed
+#: or Neumann problem); relative, since eigenvalues scale as 1 / length^2.
+ZERO_TOL = 1e-8
+
+
+# ---------------------------------------------------------------------- checks
+def _check_lam(lam, *, nonneg=True) -> np.ndarray:
+    lam = _as_lam(lam, "lam")
+    scale = float(np.abs(lam).max())
+    if nonneg and lam.min() < -ZERO_TOL * max(scale, np.finfo(float).tiny):
+        raise ValueError(
+            f"lam must be eigenvalues >= 0 (A f = -lam B f), got a minimum of {lam.min():.6g}; "
+            "pass the eigenvalues from cshape.eigenpairs"
+        )
+    return np.maximum(lam, 0.0) if nonneg else lam
+
+
+def _as_real_2d(x, name) -> np.ndarray:
+    if isinstance(x, (str, bytes)) or np.iscomplexobj(x):
+        raise TypeError(f"{name} must be a real array, got {type(x).__name__}")
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real array, got {type(x).__name__}") from None
+    return a
+
+
+def _check_pairs(lam, phi):
+    """``lam`` (N,) and ``phi`` (n, N) as float arrays, or a clear error."""
+    lam = _check_lam(lam)
+    phi = _as_real_2d(phi, "phi")
+    if phi.ndim != 2:
+        raise ValueError(
+            f"phi must have shape (n, N) (one column per eigenvalue), got shape {phi.shape}; "
+            "pass the eigenfunctions from cshape.eigenpairs"
+        )
+    if phi.shape[1] != len(lam):
+        raise ValueError(
+            f"phi has {phi.shape[1]} columns but lam has {len(lam)} eigenvalues; pass "
+            "lam[:k] and phi[:, :k] of the same eigenpairs"
+        )
+    if not np.isfinite(phi).all():
+        raise ValueError("phi contains NaN or infinite values")
+    return lam, phi
+
+
+def _check_positive(name, value, *, allow_none=True):
+    if value is None and allow_none:
+        return None
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a positive number, got {type(value).__name__} {value!r}")
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return float(value)
+
+
+def _check_count(name, value, lo=1):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
+    if value < lo:
+        raise ValueError(f"{name} must be at least {lo}, got {value}")
+    return int(value)
+
+
+def _check_scales(name, values, *, positive=True) -> np.ndarray:
+    """A scalar or 1-D array of finite (positive) scales, as a 1-D float array."""
+    a = _as_real_2d(values, name)
+    if a.ndim > 1:
+        raise ValueError(f"{name} must be a number or a 1-D array, got shape {a.shape}")
+    a = np.atleast_1d(a)
+    if a.size == 0:
+        raise ValueError(f"{name} is empty; pass at least one value")
+    if not np.isfinite(a).all() or (positive and (a <= 0).any()):
+        bad = a[~np.isfinite(a) | ((a <= 0) if positive else False)][0]
+        kind = "positive finite" if positive else "finite"
+        raise ValueError(f"{name} must be {kind} values, got {bad!r}")
+    return a
+
+
+def _scaled(lam, phi, area):
+    """The eigenpairs of the shape scaled to unit area (Section 2.1), or unchanged."""
+    if area is None:
+        return lam, phi
+    return lam * area, phi * np.sqrt(area)
+
+
+def _nonzero(lam) -> np.ndarray:
+    """Mask of the eigenvalues that are not numerically zero."""
+    return lam > ZERO_TOL * lam.max()
+
+
+def _first_nonzero(lam) -> float:
+    nz = lam[_nonzero(lam)] if lam.max() > 0 else lam[:0]
+    if len(nz) == 0:
+        raise ValueError(
+            "lam has no non-zero eigenvalue, so the default scales are undefined; compute "
+            "more eigenpairs (N >= 2) or pass the scales explicitly"
+        )
+    return float(nz[0])
+
+
+# ---------------------------------------------------------------------- heat
+def heat_trace(lam, t, *, area: float | None = None) -> np.ndarray:
+    """The heat trace ``Z(t) = sum_i exp(-lam_i t)``, summed over the given eigenvalues.
+
+    ``Z(t) = int_M k_t(x, x) dx``: the integral of the HKS over the surface.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+        Eigenvalues of ``A f = -lam B f`` (Eq. 3), ``>= 0``.
+    t : float or array_like, shape (T,)
+        Positive times (units of length^2, or of the area with ``area=``).
+    area : float, optional
+        Surface area: the trace of the shape scaled to unit area, ``sum_i exp(-lam_i area t)``.
+
+    Returns
+    -------
+    ndarray, shape (T,)
+    """
+    lam = _check_lam(lam)
+    t = _check_scales("t", t)
+    area = _check_positive("area", area)
+    if area is not None:
+        lam = lam * area
+    return np.exp(-np.outer(t, lam)).sum(axis=1)
+
+
+def heat_kernel(lam, phi, t, sources, *, area: float | None = None) -> np.ndarray:
+    """The heat kernel ``k_t(x, y) = sum_i exp(-lam_i t) phi_i(x) phi_i(y)`` from vertices.
+
+    The temperature at every vertex ``x`` at time ``t`` after a unit of heat was put at
+    ``y`` (a Dirac delta: ``int k_t(x, y) dx = 1`` for Neumann or closed surfaces).
+    Truncated to the ``N`` given eigenpairs, it is smooth at the scale of the ``N``-th
+    eigenfunction: for small ``t`` it needs many eigenpairs.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+    phi : array_like, shape (n, N)
+        B-orthonormal eigenfunctions, from :func:`cshape.eigenpairs`.
+    t : float
+        Positive time.
+    sources : int or array_like of int, shape (s,)
+        Vertex indices ``y``.
+    area : float, optional
+        Surface area: the kernel of the shape scaled to unit area (see the module notes).
+
+    Returns
+    -------
+    ndarray, shape (n,) for one source, (n, s) for several
+        ``k_t(x, y)``, rows ``x`` (all vertices), columns ``y``; symmetric in ``x, y``.
+    """
+    lam, phi = _check_pairs(lam, phi)
+    tt = _check_scales("t", t)
+    if tt.size != 1:
+        raise ValueError(f"t must be one time, got {tt.size} values; call once per time")
+    area = _check_positive("area", area)
+    n = phi.shape[0]
+    src = np.asarray(sources)
+    if src.dtype.kind not in "iu" or src.ndim > 1:
+        raise TypeError(
+            f"sources must be a vertex index or a 1-D array of them, got {sources!r}"
+        )
+    if src.size and (src.min() < 0 or src.max() >= n):
+        raise ValueError(
+            f"sources holds vertex index {int(src.max() if src.max() >= n else src.min())}, "
+            f"outside [0, {n - 1}]; indices are zero-based vertex numbers"
+        )
+    lam, phi = _scaled(lam, phi, area)
+    w = np.exp(-lam * tt[0])
+    return phi @ (w[:, None] * phi[src].T) if src.ndim else phi @ (w * phi[src])
+
+
+# ---------------------------------------------------------------------- HKS
+def hks_times(lam, n_times: int = 100, *, area: float | None = None) -> np.ndarray:
+    """The default HKS times of Sun et al. (2009): log-spaced over the spectrum's range.
+
+    ``t`` runs from ``4 ln 10 / lam_max`` to ``4 ln 10 / lam_1`` (``lam_1`` the first
+    non-zero eigenvalue): at ``t_min`` the last eigenfunction's term has decayed to
+    ``1e-4``, at ``t_max`` the first non-constant one's.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+    n_times : int, default=100
+    area : float, optional
+        Times for the shape scaled to unit area (in units of the area).
+
+    Returns
+    -------
+    ndarray, shape (n_times,)
+        Ascending.
+    """
+    lam = _check_lam(lam)
+    n_times = _check_count("n_times", n_times)
+    area = _check_positive("area", area)
+    if area is not None:
+        lam = lam * area
+    lam1 = _first_nonzero(lam)
+    return np.geomspace(T_FACTOR / lam.max(), T_FACTOR / lam1, n_times)
+
+
+def hks(lam, phi, t=None, *, n_times: int = 100, area: float | None = None,
+        normalization: str = "none") -> np.ndarray:
+    """Heat kernel signature ``HKS(x, t) = k_t(x, x) = sum_i exp(-lam_i t) phi_i(x)^2``.
+
+    The heat that stays at ``x`` after time ``t`` (Sun, Ovsjanikov and Guibas 2009): small
+    ``t`` sees the curvature near ``x``, large ``t`` the whole shape.  It is invariant to
+    isometries (pose), rigid motions and the order of the vertices.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+        Eigenvalues, ``>= 0`` (the ``N`` used are all those given).
+    phi : array_like, shape (n, N)
+        B-orthonormal eigenfunctions, from :func:`cshape.eigenpairs`.
+    t : float or array_like, shape (T,), optional
+        Positive times.  Default: ``n_times`` values from :func:`hks_times` (computed
+        after the ``area`` scaling, if any).
+    n_times : int, default=100
+        Number of default times (ignored when ``t`` is given).
+    area : float, optional
+        Surface area: the HKS of the shape scaled to unit area (times in units of the area,
+        values multiplied by it), invariant to scale.
+    normalization : {'none', 'trace'}, default='none'
+        ``'trace'`` divides each column by the heat trace ``Z(t)`` (Sun et al.'s scaled HKS),
+        so that it integrates to 1 over the surface (see the module notes).
+
+    Returns
+    -------
+    ndarray, shape (n, T)
+        ``HKS[x, j]`` at time ``t[j]``.
+
+    Examples
+    --------
+    >>> import cshape
+    >>> lam, phi = cshape.eigenpairs(cshape.shapes.icosphere(3), N=16)
+    >>> h = cshape.hks(lam, phi)   # (642, 100): on the unit sphere ~ heat_trace / (4 pi)
+    """
+    lam, phi = _check_pairs(lam, phi)
+    n_times = _check_count("n_times", n_times)
+    area = _check_positive("area", area)
+    normalization = check_choice("normalization", normalization, ("none", "trace"))
+    lam, phi = _scaled(lam, phi, area)
+    t = hks_times(lam, n_times) if t is None else _check_scales("t", t)
+    E = np.exp(-np.outer(lam, t))  # (N, T)
+    out = np.square(phi) @ E
+    if normalization == "trace":
+        out /= E.sum(axis=0)
+    return out
+
+
+# ---------------------------------------------------------------------- WKS
+def wks_energies(lam, n_energies: int = 100, *, area: float | None = None):
+    """The default WKS energies and width of Aubry et al. (2011).
+
+    With ``e_1 = log lam_1`` (first non-zero) and ``e_N = log lam_max``, the step is
+    ``delta = (e_N - e_1) / n_energies`` and ``sigma = 7 delta``; the energies are
+    ``n_energies`` values evenly spaced over ``[e_1 + 2 sigma, e_N - 2 sigma]``.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+        At least two distinct non-zero eigenvalues.
+    n_energies : int, default=100
+    area : float, optional
+        Energies of the shape scaled to unit area (``log(lam * area)``).
+
+    Returns
+    -------
+    energies : ndarray, shape (n_energies,)
+    sigma : float
+    """
+    lam = _check_lam(lam)
+    n_energies = _check_count("n_energies", n_energies)
+    area = _check_positive("area", area)
+    if area is not None:
+        lam = lam * area
+    e1, eN = np.log(_first_nonzero(lam)), np.log(lam.max())
+    if not eN > e1:
+        raise ValueError(
+            "lam needs two distinct non-zero eigenvalues for the default WKS energies; "
+            "compute more eigenpairs or pass energies= and sigma="
+        )
+    sigma = WKS_WIDTH * (eN - e1) / n_energies
+    return np.linspace(e1 + 2 * sigma, eN - 2 * sigma, n_energies), float(sigma)
+
+
+def wks(lam, phi, energies=None, sigma: float | None = None, *, n_energies: int = 100,
+        area: float | None = None, normalization: str = "trace") -> np.ndarray:
+    """Wave kernel signature (Aubry, Schlickewei and Cremers 2011).
+
+    ``WKS(x, e) = C_e sum_i phi_i(x)^2 g_i(e)``, ``g_i(e) = exp(-(e - log lam_i)^2 /
+    (2 sigma^2))``, ``C_e = 1 / sum_i g_i(e)``: the probability of finding at ``x`` a quantum
+    particle whose log-energy is distributed around ``e``.  A band-pass filter in
+    ``log lam``, where the HKS is a low-pass one: it separates fine features better and
+    sees the large scales less.  ``lam_0 = 0`` (the constant) is left out.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+    phi : array_like, shape (n, N)
+        B-orthonormal eigenfunctions, from :func:`cshape.eigenpairs`.
+    energies : float or array_like, shape (E,), optional
+        Log-energies ``e``.  Default: :func:`wks_energies`.
+    sigma : float, optional
+        Width of ``g`` in log-energy.  Default: 7 energy steps (:func:`wks_energies`); must
+        be given with explicit ``energies``.
+    n_energies : int, default=100
+        Number of default energies (ignored when ``energies`` is given).
+    area : float, optional
+        Surface area: the WKS of the shape scaled to unit area (energies ``log(lam area)``,
+        values multiplied by the area), invariant to scale.
+    normalization : {'trace', 'none'}, default='trace'
+        ``'trace'`` multiplies by ``C_e`` (each column integrates to 1 over the surface);
+        ``'none'`` leaves it out.
+
+    Returns
+    -------
+    ndarray, shape (n, E)
+    """
+    lam, phi = _check_pairs(lam, phi)
+    n_energies = _check_count("n_energies", n_energies)
+    area = _check_positive("area", area)
+    sigma = _check_positive("sigma", sigma)
+    normalization = check_choice("normalization", normalization, ("trace", "none"))
+    lam, phi = _scaled(lam, phi, area)
+    if energies is None:
+        energies, default_sigma = wks_energies(lam, n_energies)
+        sigma = default_sigma if sigma is None else sigma
+    else:
+        energies = _check_scales("energies", energies, positive=False)
+        if sigma is None:
+            raise ValueError(
+                "sigma is required with explicit energies (the Gaussian width in log-energy); "
+                "e.g. sigma = 7 * the step between energies, as in wks_energies"
+            )
+    keep = _nonzero(lam) if lam.max() > 0 else np.zeros(len(lam), bool)
+    if not keep.any():
+        raise ValueError("lam has no non-zero eigenvalue: the WKS needs log(lam_i)")
+    G = np.exp(-np.square(energies[None, :] - np.log(lam[keep])[:, None]) / (2 * sigma**2))
+    out = np.square(phi[:, keep]) @ G  # (n, E)
+    if normalization == "trace":
+        total = G.sum(axis=0)
+        if (total == 0).any():
+            e = float(energies[np.flatnonzero(total == 0)[0]])
+            raise ValueError(
+                f"energies holds {e:.6g}, too far from every log(lam_i) (all the weights "
+                f"exp(-(e - log lam_i)^2 / (2 sigma^2)) underflow to 0; log lam_i is "
+                f"in [{np.log(lam[keep]).min():.4g}, {np.log(lam[keep]).max():.4g}]); "
+                "choose energies in the spectrum's range or a larger sigma"
+            )
+        out /= total
+    return out
+
+
+# ---------------------------------------------------------------------- SI-HKS
+def si_hks_tau(step: float = 1 / 16) -> np.ndarray:
+    """The default log-time grid of :func:`si_hks`: ``t = base^tau`` for a fixed ``tau``.
+
+    The grid is fixed, not fitted to a spectrum (a grid that follows the spectrum would
+    scale with the shape and hide what SI-HKS removes): ``tau`` from -24 to 16 in steps of
+    ``step`` (``t = 2^tau`` from ``6e-8`` to ``6.6e4``), wide enough for shapes from about ``1e-2``
+    to ``1e2`` units across with up to a few hundred eigenpairs (``base = 2``).
+
+    Returns
+    -------
+    ndarray, shape (40 / step + 1,)
+    """
+    step = _check_positive("step", step, allow_none=False)
+    return np.arange(-24.0, 16.0 + step / 2, step)
+
+
+def si_hks(lam, phi, tau=None, *, base: float = 2.0, n_freqs: int = 6) -> np.ndarray:
+    """Scale-invariant HKS (Bronstein and Kokkinos 2010).
+
+    Scaling a shape by ``s`` maps ``HKS(x, t)`` to ``HKS(x, t / s^2) / s^2``.  With
+    ``t = base^tau`` on an even grid, ``log HKS`` is shifted in ``tau`` by ``2 log_base s``
+    and offset by ``-2 log s``; the derivative in ``tau`` removes the offset and the modulus
+    of its Fourier transform the shift:
+
+    ``SI-HKS(x, w) = |FFT_tau( d/dtau log HKS(x, base^tau) )|(w)``, ``w = 0 .. n_freqs-1``.
+
+    The shift is removed exactly when the derivative is zero at both ends of the grid: with
+    ``N`` eigenpairs the HKS is constant for ``t << 1 / lam_max`` (``sum_i phi_i(x)^2``)
+    and for ``t >> 1 / lam_1`` (``phi_0^2 = 1 / area``), so the grid must reach past both
+    (the default :func:`si_hks_tau` does for shapes of a size between about 0.01 and 100);
+    a ``ValueError`` says when it does not.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+    phi : array_like, shape (n, N)
+        B-orthonormal eigenfunctions of a closed or Neumann problem (``lam_0 = 0``, so the
+        HKS is positive everywhere).
+    tau : array_like, shape (T,), optional
+        Evenly spaced, increasing log-times.  Default: :func:`si_hks_tau` (``T = 641``).
+    base : float, default=2.0
+        ``t = base^tau``.
+    n_freqs : int, default=6
+        Number of low frequencies kept (the zero frequency included).
+
+    Returns
+    -------
+    ndarray, shape (n, n_freqs)
+    """
+    lam, phi = _check_pairs(lam, phi)
+    base = _check_positive("base", base, allow_none=False)
+    if base == 1.0:
+        raise ValueError("base must differ from 1 (t = base^tau), got 1.0")
+    n_freqs = _check_count("n_freqs", n_freqs)
+    tau = si_hks_tau() if tau is None else _check_scales("tau", tau, positive=False)
+    if len(tau) < 3:
+        raise ValueError(f"tau must hold at least 3 log-times, got {len(tau)}")
+    d = np.diff(tau)
+    if not (d > 0).all() or np.ptp(d) > 1e-9 * abs(d.mean()):
+        raise ValueError("tau must be evenly spaced and increasing (e.g. np.arange(-8, 8, 1/16))")
+    if n_freqs > len(tau) // 2:
+        raise ValueError(
+            f"n_freqs={n_freqs} is more than half the {len(tau) - 1} derivative samples; "
+            f"use n_freqs <= {len(tau) // 2} or a finer tau"
+        )
+    t = np.power(base, tau)
+    lam0 = lam.min()
+    # log HKS = -lam0 t + log(phi^2 @ exp(-(lam - lam0) t)): no overflow, no underflow of
+    # the slowest term
+    S = np.square(phi) @ np.exp(-np.outer(lam - lam0, t))
+    with np.errstate(divide="ignore"):
+        logk = np.log(S) - lam0 * t
+    if not np.isfinite(logk).all():
+        raise ValueError(
+            "the HKS vanishes at some vertices (every eigenfunction is zero there, e.g. fixed "
+            "vertices with bc='dirichlet'); SI-HKS needs bc='neumann' or a closed surface"
+        )
+    dlog = np.diff(logk, axis=1) / d.mean()
+    edge = np.abs(dlog[:, [0, -1]]).max()
+    if edge > 1e-3 * max(np.abs(dlog).max(), np.finfo(float).tiny):
+        raise ValueError(
+            "tau does not cover the HKS's whole decay (d log HKS / d tau is not ~0 at both "
+            f"ends: {edge:.3g}); widen tau to t from well below 1/lam_max = "
+            f"{1 / lam.max():.3g} to well above 1/lam_1"
+        )
+    return np.abs(np.fft.rfft(dlog, axis=1)[:, :n_freqs])
+
+
+# ---------------------------------------------------------------------- matching
+def _as_signature(x, name) -> np.ndarray:
+    a = _as_real_2d(x, name)
+    if a.ndim == 1:
+        a = a[:, None]
+    if a.ndim != 2 or a.shape[0] == 0:
+        raise ValueError(
+            f"{name} must have shape (n, n_scales) (one row per vertex), got {a.shape}"
+        )
+    if not np.isfinite(a).all():
+        raise ValueError(f"{name} contains NaN or infinite values")
+    return a
+
+
+def _nearest(a, b, chunk=2048):
+    """Index of the nearest row of ``b`` for every row of ``a`` (Euclidean)."""
+    if a.shape[1] <= 8:
+        from scipy.spatial import cKDTree
+
+        return cKDTree(b).query(a)[1].astype(np.int64)
+    bb = np.einsum("ij,ij->i", b, b)
+    out = np.empty(len(a), dtype=np.int64)
+    for s in range(0, len(a), chunk):
+        block = a[s:s + chunk]
+        # |a - b|^2 = |a|^2 - 2 a.b + |b|^2; |a|^2 does not change the argmin
+        out[s:s + chunk] = np.argmin(bb[None, :] - 2.0 * (block @ b.T), axis=1)
+    return out
+
+
+def match_points(sig_a, sig_b, *, mutual: bool = False) -> np.ndarray:
+    """Match every vertex of shape a to the vertex of shape b with the nearest signature.
+
+    The distance is Euclidean over the columns (scales); transform the signatures first to
+    weight them (e.g. :func:`hks` with ``normalization='trace'`` and log-spaced times is Sun
+    et al.'s distance; ``np.log`` of it weighs the scales equally).
+
+    Parameters
+    ----------
+    sig_a : array_like, shape (n_a, k) or (n_a,)
+    sig_b : array_like, shape (n_b, k) or (n_b,)
+        Signatures at the same scales.
+    mutual : bool, default=False
+        Keep only mutual nearest neighbours (``a -> b -> a`` returns to the same vertex);
+        the others get ``-1``.
+
+    Returns
+    -------
+    ndarray of int64, shape (n_a,)
+        ``match[i]`` is the vertex of b matched to vertex ``i`` of a (or -1).
+    """
+    a = _as_signature(sig_a, "sig_a")
+    b = _as_signature(sig_b, "sig_b")
+    if not isinstance(mutual, (bool, np.bool_)):
+        raise TypeError(f"mutual must be True or False, got {mutual!r}")
+    if a.shape[1] != b.shape[1]:
+        raise ValueError(
+            f"sig_a has {a.shape[1]} scales and sig_b {b.shape[1]}; compute both at the same "
+            "times or energies"
+        )
+    ab = _nearest(a, b)
+    if not mutual:
+        return ab
+    ba = _nearest(b, a)
+    return np.where(ba[ab] == np.arange(len(a)), ab, -1)
