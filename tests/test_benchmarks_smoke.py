@@ -147,3 +147,40 @@ def test_spectrum_bench_core_on_a_small_sphere(monkeypatch):
     assert r["n"] == 642 and r["threads"] == 1
     assert r["maxrel"] < 1e-8 and r["cshape_missed"] == 0 and r["cshape_spread"] == 0
     assert r["prepare"] > 0 and r["fem_matrices"] > 0 and r["lapy_assembly"] > 0
+
+
+@pytest.mark.slow
+def test_signatures_bench_on_small_meshes(tmp_path, monkeypatch):
+    pytest.importorskip("lapy")
+    bs = _load("bench_signatures")
+    monkeypatch.setattr(bs, "RESULTS", tmp_path)
+    mesh = bs.torus_mesh(2000)
+    assert abs(mesh.n_vertices - 2000) < 100
+    sig = bs.time_signatures(mesh, N=20, n_scales=10, n_match=50)
+    assert sig["hks_shape"] == (mesh.n_vertices, 10) and sig["si_hks_shape"] == (mesh.n_vertices, 6)
+    assert sig["match_dist"] < 1e-6 and all(sig[k] > 0 for k in ("eigenpairs", "hks", "wks"))
+    from cshape import shapes
+
+    eig = bs.eigenpairs_vs_lapy(shapes.icosphere(3), N=16, repeats=2)
+    assert eig["n"] == 642 and eig["ratio"] > 0
+    assert eig["lam_maxrel"] < 1e-8 and eig["hks_maxrel"] < 1e-6
+    md = bs.markdown(sig, eig, "header", "footer")
+    assert md.count("\n| ") == 9 and "LaPy / cshape" in md
+
+
+@pytest.mark.slow
+def test_correspondence_bench_on_a_small_template(tmp_path):
+    pytest.importorskip("pymeshlab")
+    bc = _load("bench_correspondence")
+    small = {"voxelsize": 0.03, "target_vertices": 800}
+    rows = bc.evaluate("quadruped", [None, 1], N=30, n_scales=20, template=small)
+    assert len(rows) == 2 * len(bc.DESCRIPTORS)
+    assert all(0 <= r["acc"] <= r["acc_mirror"] <= 1 for r in rows)
+    assert all(r["mean_err_mirror"] <= r["mean_err"] for r in rows)
+    # the rest pose against itself: every descriptor finds every vertex
+    assert all(r["acc"] == 1.0 and r["mean_err"] == 0.0 for r in rows if r["seed"] is None)
+    # a real pose: the oracle alignment moves only the limbs off, signatures lose some
+    posed = {r["descriptor"]: r for r in rows if r["seed"] == 1}
+    assert 0.3 < posed["xyz, rigid oracle"]["acc"] < 1.0
+    md = bc.markdown(rows, "header", "footer")
+    assert md.count("\n| ") == 1 + 2 * len(bc.DESCRIPTORS)  # header, quadruped, all

@@ -1,0 +1,276 @@
+"""Poses that keep the template's vertices: articulated figures deformed by a skeleton.
+
+:func:`cshape.variants.articulated_figure` meshes every pose anew (marching cubes and
+remeshing), so two poses share no vertex and a point-to-point map between them has no
+ground truth.  Here a figure is meshed **once**, in a rest pose (the *template*), and every
+pose moves the template's vertices by **linear blend skinning**: each bone turns about its
+joint, each vertex follows the bones near it,
+
+``x' = sum_b w_b(x) G_b x``, ``G_b = G_parent(b) T(j_b) R_b T(-j_b)``,
+
+where ``j_b`` is the bone's joint in the rest pose, ``R_b`` its rotation and ``w_b(x)``
+smooth weights that sum to 1 (``(1 - s^2)^2`` for ``s = (d_b(x) - d_min(x)) / h < 1``,
+else 0; ``d_b`` the distance to the bone's capsules).  The faces stay the same, so **the
+ground-truth map between two poses is the identity** on vertex indices.  Rigid parts keep
+their metric exactly; joints bend with the stretching and compression of real skin
+(near-isometric, as real poses are).
+
+:func:`mirror_map` gives the template's left-right symmetry (a second map that intrinsic
+signatures cannot tell from the identity).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from ._checks import check_choice
+from .mesh import Mesh
+from .variants import Capsule, capsules_expression, marching_cubes, remesh
+
+__all__ = ["POSED_KINDS", "mirror_map", "posed_figure", "pose_template", "skin_weights"]
+
+#: The classes of :func:`posed_figure`.
+POSED_KINDS = ("human", "quadruped")
+
+#: Width ``h`` of the blend between two bones (units of the figure, about 1.7 long).
+BLEND_WIDTH = 0.06
+
+
+@dataclass(frozen=True)
+class _Joint:
+    """One degree of freedom: a rotation about ``axis`` (rest frame) by an angle in range."""
+
+    axis: tuple
+    lo: float
+    hi: float
+
+
+@dataclass(frozen=True)
+class _Bone:
+    name: str
+    parent: int  # index of the parent bone, -1 for the root
+    joint: tuple  # rest-pose position of the joint the bone turns about
+    capsules: tuple  # its Capsules in the rest pose
+    dofs: tuple = field(default_factory=tuple)  # _Joint rotations, applied in order
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
+
+
+def _human():
+    bones = [_Bone("torso", -1, (0, 0, 0), (Capsule((0, 0, 0), (0, 0, 0.55), 0.16),))]
+    bones.append(_Bone(
+        "head", 0, (0, 0, 0.55),
+        (Capsule((0, 0, 0.55), (0, 0, 0.72), 0.06), Capsule((0, 0, 0.78), (0, 0, 0.86), 0.13)),
+        (_Joint((1, 0, 0), -20, 20), _Joint((0, 1, 0), -15, 15)),
+    ))
+    for s in (-1, 1):
+        sh = np.array([0.2 * s, 0.0, 0.5])
+        arm = _unit([s * np.sin(np.radians(50)), 0, -np.cos(np.radians(50))])
+        el = sh + 0.3 * arm
+        hand = el + 0.28 * arm
+        bend = tuple(_unit(np.cross(arm, [0, 1, 0])))  # flexes the forearm forward
+        up = len(bones)
+        bones.append(_Bone(
+            f"upper_arm_{s}", 0, tuple(sh), (Capsule(tuple(sh), tuple(el), 0.055),),
+            (_Joint((0, 1, 0), -25 * s, 35 * s), _Joint((1, 0, 0), -35, 35)),
+        ))
+        bones.append(_Bone(f"forearm_{s}", up, tuple(el), (Capsule(tuple(el), tuple(hand), 0.055),),
+                           (_Joint(bend, 0, 100),)))
+        hip = np.array([0.09 * s, 0.0, 0.0])
+        leg = _unit([s * np.sin(np.radians(12)), 0, -np.cos(np.radians(12))])
+        knee = hip + 0.4 * leg
+        foot = knee + 0.4 * leg
+        th = len(bones)
+        bones.append(_Bone(
+            f"thigh_{s}", 0, tuple(hip), (Capsule(tuple(hip), tuple(knee), 0.07),),
+            (_Joint((1, 0, 0), -35, 35), _Joint((0, 1, 0), -5 * s, 12 * s)),
+        ))
+        bones.append(_Bone(f"shin_{s}", th, tuple(knee), (Capsule(tuple(knee), tuple(foot), 0.07),),
+                           (_Joint((1, 0, 0), -80, 0),)))
+    return bones
+
+
+def _quadruped():
+    bones = [_Bone("body", -1, (0, 0, 0), (Capsule((-0.45, 0, 0), (0.45, 0, 0), 0.17),))]
+    neck_dir = _unit([np.cos(np.radians(45)), 0, np.sin(np.radians(45))])
+    n0 = np.array([0.45, 0.0, 0.05])
+    n1 = n0 + 0.3 * neck_dir
+    head_end = n1 + 0.22 * _unit([1, 0, -0.2])
+    bones.append(_Bone(
+        "neck", 0, tuple(n0),
+        (Capsule(tuple(n0), tuple(n1), 0.08), Capsule(tuple(n1), tuple(head_end), 0.09)),
+        (_Joint((0, 1, 0), -25, 25), _Joint((0, 0, 1), -30, 30)),
+    ))
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            hip = np.array([0.34 * sx, 0.09 * sy, -0.05])
+            knee = hip + [0, 0, -0.28]
+            foot = knee + [0, 0, -0.26]
+            up = len(bones)
+            bones.append(_Bone(
+                f"leg_{sx}_{sy}", 0, tuple(hip), (Capsule(tuple(hip), tuple(knee), 0.055),),
+                (_Joint((0, 1, 0), -30, 30), _Joint((1, 0, 0), -10 * sy, 5 * sy)),
+            ))
+            bones.append(_Bone(
+                f"lower_leg_{sx}_{sy}", up, tuple(knee),
+                (Capsule(tuple(knee), tuple(foot), 0.055),),
+                (_Joint((0, 1, 0), 0, 60 * sx),),
+            ))
+    t0 = np.array([-0.45, 0.0, 0.05])
+    bones.append(_Bone(
+        "tail", 0, tuple(t0), (Capsule(tuple(t0), tuple(t0 + [-0.32, 0, 0]), 0.045),),
+        (_Joint((0, 0, 1), -35, 35), _Joint((0, 1, 0), -35, 35)),
+    ))
+    return bones
+
+
+_SKELETONS = {"human": _human, "quadruped": _quadruped}
+#: The mirror of each class: the coordinate that flips between left and right.
+_MIRROR_AXIS = {"human": 0, "quadruped": 1}
+
+
+def _skeleton(kind):
+    return _SKELETONS[check_choice("kind", kind, POSED_KINDS)]()
+
+
+@lru_cache(maxsize=8)
+def _template(kind, voxelsize, target_vertices):
+    caps = [c for b in _skeleton(kind) for c in b.capsules]
+    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
+    margin = max(c.radius for c in caps) + 4 * voxelsize + 0.05
+    lo, hi = pts.min(0) - margin, pts.max(0) + margin
+    mesh = marching_cubes(capsules_expression(caps), (*lo, *hi), voxelsize)
+    return remesh(mesh, target_vertices=target_vertices)
+
+
+def pose_template(kind="human", *, voxelsize=0.02, target_vertices=3000) -> Mesh:
+    """The template of a class: the rest pose, meshed once (marching cubes and remeshing).
+
+    Parameters
+    ----------
+    kind : {'human', 'quadruped'}, default='human'
+    voxelsize : float, default=0.02
+        Marching-cubes voxel (keep it below half the thinnest radius, 0.045).
+    target_vertices : int, default=3000
+        Approximate vertex count after isotropic remeshing.
+
+    Returns
+    -------
+    Mesh
+        Closed and connected; cached, so every pose of a class starts from the same one.
+    """
+    kind = check_choice("kind", kind, POSED_KINDS)
+    return _template(kind, float(voxelsize), int(target_vertices))
+
+
+def _segment_distance(x, a, b):
+    """Distances from points ``x`` (n, 3) to the segment ``a b``."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = b - a
+    L2 = float(d @ d)
+    s = np.clip((x - a) @ d / L2, 0.0, 1.0) if L2 > 0 else np.zeros(len(x))
+    return np.linalg.norm(x - (a + s[:, None] * d), axis=1)
+
+
+def skin_weights(kind, vertices, *, width=BLEND_WIDTH) -> np.ndarray:
+    """Linear-blend-skinning weights of rest-pose points, shape (n, number of bones).
+
+    ``w_b ~ (1 - s_b^2)^2`` for ``s_b = (d_b - d_min) / width < 1`` and 0 beyond (a smooth
+    bump with compact support), with ``d_b`` the distance from the point to the surface of
+    bone ``b``'s capsules and ``d_min`` the smallest over the bones; rows sum to 1.  A point
+    farther than ``width`` from every other bone's region follows its bone rigidly; near a
+    joint it blends the bones that meet there.
+    """
+    x = np.asarray(vertices, dtype=float)
+    bones = _skeleton(kind)
+    D = np.stack([
+        np.min([_segment_distance(x, c.a, c.b) - c.radius for c in b.capsules], axis=0)
+        for b in bones
+    ], axis=1)
+    s = (D - D.min(axis=1, keepdims=True)) / width
+    W = np.square(np.clip(1.0 - np.square(s), 0.0, None))
+    return W / W.sum(axis=1, keepdims=True)
+
+
+def _rotation(axis, deg):
+    """Rotation matrix about a unit ``axis`` by ``deg`` degrees (Rodrigues)."""
+    k = _unit(axis)
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    t = np.radians(deg)
+    return np.eye(3) + np.sin(t) * K + (1 - np.cos(t)) * (K @ K)
+
+
+def _bone_transforms(bones, angles):
+    """World transforms (R, t) of every bone, ``x -> R x + t``, from forward kinematics."""
+    out = []
+    for b, ang in zip(bones, angles, strict=True):
+        R_loc = np.eye(3)
+        for dof, a in zip(b.dofs, ang, strict=True):
+            R_loc = R_loc @ _rotation(dof.axis, a)
+        j = np.asarray(b.joint, float)
+        t_loc = j - R_loc @ j  # turn about the joint
+        if b.parent < 0:
+            out.append((R_loc, t_loc))
+        else:
+            Rp, tp = out[b.parent]
+            out.append((Rp @ R_loc, Rp @ t_loc + tp))
+    return out
+
+
+def posed_figure(kind="human", random_state=0, *, rest=False, voxelsize=0.02,
+                 target_vertices=3000) -> Mesh:
+    """A pose of a class, made by moving the template's vertices (same faces, same order).
+
+    Parameters
+    ----------
+    kind : {'human', 'quadruped'}, default='human'
+    random_state : int, numpy.random.Generator or None, default=0
+        Seed of the joint angles, each uniform in its range (a few tens of degrees; elbows
+        and knees up to 100 and 80).
+    rest : bool, default=False
+        Return the template itself (every angle 0).
+    voxelsize, target_vertices
+        Of the template (:func:`pose_template`).
+
+    Returns
+    -------
+    Mesh
+        ``faces`` equal to the template's: vertex ``i`` of every pose is the same material
+        point (the ground-truth correspondence is the identity).
+    """
+    template = pose_template(kind, voxelsize=voxelsize, target_vertices=target_vertices)
+    if rest:
+        return template
+    bones = _skeleton(kind)
+    rng = np.random.default_rng(random_state)
+    angles = [[float(rng.uniform(min(d.lo, d.hi), max(d.lo, d.hi))) for d in b.dofs]
+              for b in bones]
+    T = _bone_transforms(bones, angles)
+    V = template.vertices
+    W = skin_weights(kind, V)
+    out = np.zeros_like(V)
+    for b, (R, t) in enumerate(T):
+        out += W[:, b:b + 1] * (V @ R.T + t)
+    return Mesh(out, template.faces)
+
+
+def mirror_map(kind, mesh) -> np.ndarray:
+    """The template's left-right mirror as a vertex map, shape (n,).
+
+    ``mirror[i]`` is the vertex nearest to the reflection of vertex ``i`` of the rest pose
+    (``x -> -x`` for the human, ``y -> -y`` for the quadruped); the remeshed template is
+    symmetric up to about an edge length.
+    """
+    from scipy.spatial import cKDTree
+
+    kind = check_choice("kind", kind, POSED_KINDS)
+    V = np.asarray(mesh.vertices, dtype=float)
+    R = V.copy()
+    R[:, _MIRROR_AXIS[kind]] *= -1
+    return cKDTree(V).query(R)[1].astype(np.int64)
