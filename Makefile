@@ -16,7 +16,7 @@ setup: $(STAMP)
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade "pip>=25.1"
-	$(PY) -m pip install --quiet -e ".[notebooks,distributed,download,course]" --group test --group bench
+	$(PY) -m pip install --quiet -e ".[all]" --group test --group bench
 	touch $(STAMP)
 
 demo: $(STAMP)

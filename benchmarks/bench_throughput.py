@@ -127,7 +127,8 @@ def make_collection(count, resolution="high", seed=0):
         ``(name, label, mesh)`` records, as ``cshape.describe`` takes them; the label is
         the family (``'real-<file stem>'`` for real meshes).
     """
-    from cshape import load_mesh, shapes, variants
+    from cshape import load_mesh, shapes
+    from cshape.data import variants
 
     if resolution not in ("high", "low", "tiny"):
         raise ValueError(f"resolution must be 'high', 'low' or 'tiny', got {resolution!r}")

@@ -1,40 +1,45 @@
 """cshape: Shape-DNA and compact Shape-DNA (cShape-DNA) of triangle meshes.
 
-The pipeline, one module per stage (data flows one way):
+The core is the method, one module per stage, in pipeline order (data flows one way):
 
-1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`repair_mesh`; :mod:`cshape.readers` -
-   :func:`load_mesh` (OBJ, OFF, PLY, STL, ...)
+1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`repair_mesh`, :func:`largest_component`;
+   :mod:`cshape.readers`     - :func:`load_mesh` (OBJ, OFF, PLY, STL, ...)
 2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
 3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
 4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
-   :func:`compact_shape_dna` (Eq. 9-10; ``transform='log-weyl'``, ``'log-weyl-dct'``),
-   :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
-   :func:`f1_feature`
-   :mod:`cshape.signatures` - per-point signatures from :func:`eigenpairs`: :func:`hks`,
+   :func:`compact_shape_dna` (Eq. 9-10), :func:`log_weyl_ratio`, :func:`real_form`,
+   :func:`inverse_compact_shape_dna`, :func:`f1_feature`
+5. :mod:`cshape.compare`     - :func:`descriptor_matrix`, :func:`distance_matrix`,
+   :func:`scale_255`, :func:`retrieval_scores`, :func:`mds_embedding`;
+   :mod:`cshape.index`       - :class:`DescriptorIndex` (nearest neighbours in a database)
+6. :mod:`cshape.signatures`  - per-point signatures from :func:`eigenpairs`: :func:`hks`,
    :func:`wks`, :func:`si_hks`, :func:`heat_kernel`, :func:`heat_trace`, and
    :func:`match_points` (correspondence)
-5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
-   :func:`scaled_difference`,
-   :func:`retrieval_scores`, :func:`mds_embedding`, :class:`DescriptorIndex`
-6. :mod:`cshape.variants`    - marching cubes, remeshing, Section 3.3 noise (PyMeshLab)
-   (:mod:`cshape.creatures`: the generated retrieval benchmark, twelve classes of creatures)
-7. :mod:`cshape.data`        - the data manifest and shape collections
 
-:mod:`cshape.batch` runs many meshes (cached, parallel, Dask); :mod:`cshape.reproduce` the
-paper's Section 3; :mod:`cshape.plots` and :mod:`cshape.widgets` draw the notebooks' figures
-and the M-sweep widget (import them on demand).
+:mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, torus, ...).
 
-:mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, hemisphere, ...).
+The applications and the layers on top are subpackages, imported on first use:
 
-The ``cshape`` command (:mod:`cshape.cli`: the parser and the one error path;
-:mod:`cshape.commands`: ``describe``, ``info``, ``query``, ``data``) is a thin shell over
-these functions.
+* :mod:`cshape.batch`     - :func:`describe` a whole collection into a :class:`DescriptorTable`
+  (cached, parallel, Dask);
+* :mod:`cshape.reproduce` - the paper's Section 3 and the retrieval tables, as a report;
+* :mod:`cshape.plots`     - figures, the 3-D viewer, widgets (extra ``plots``);
+* :mod:`cshape.data`      - the data manifest, collections, generated shapes, PyMeshLab
+  variants, downloads (extra ``download`` for downloads);
+* :mod:`cshape.course`    - lessons runner, nbgrader assignments (extras ``notebooks``,
+  ``course``);
+* :mod:`cshape.cli`       - the ``cshape`` command.
+
+The core imports none of them.
 """
 
-from . import data, shapes, variants
-from .batch import DescriptorTable, describe
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from . import _compat, shapes
 from .compare import (
-    DescriptorIndex,
     descriptor_matrix,
     difference_matrix,
     distance_matrix,
@@ -54,6 +59,7 @@ from .descriptors import (
     weyl_subtract,
 )
 from .fem import fem_matrices
+from .index import DescriptorIndex
 from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
 from .readers import load_mesh
 from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
@@ -61,41 +67,72 @@ from .spectrum import eigenpairs, shape_dna
 
 __version__ = "0.1.0"
 
+_compat.install()
+
+#: Names served on first use (``cshape.describe``, ``cshape.data``, ...): the applications
+#: and layers are imported only when asked for, so ``import cshape`` stays light.
+_LAZY = {
+    "describe": ("cshape.batch", "describe"),
+    "DescriptorTable": ("cshape.batch", "DescriptorTable"),
+    "batch": ("cshape.batch", None),
+    "data": ("cshape.data", None),
+    "plots": ("cshape.plots", None),
+    "course": ("cshape.course", None),
+    "reproduce": ("cshape.reproduce", None),
+    "variants": ("cshape.data.variants", None),
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        module, attr = _LAZY[name]
+        mod = importlib.import_module(module)
+        value = mod if attr is None else getattr(mod, attr)
+        if name != "reproduce":  # cshape.reproduce is the subpackage once imported
+            globals()[name] = value
+        return value
+    raise AttributeError(f"module 'cshape' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
+
 __all__ = [
+    "wks",
+    "si_hks",
+    "match_points",
+    "hks",
+    "heat_trace",
+    "heat_kernel",
     "CShapeWarning",
     "DescriptorIndex",
     "DescriptorTable",
-    "describe",
-    "descriptor_matrix",
-    "difference_matrix",
-    "distance_matrix",
-    "mds_embedding",
-    "retrieval_scores",
-    "scale_255",
-    "scaled_difference",
-    "data",
-    "variants",
     "Mesh",
     "as_mesh",
     "compact_shape_dna",
     "compact_shape_dna_real",
+    "data",
+    "describe",
+    "descriptor_matrix",
+    "difference_matrix",
+    "distance_matrix",
     "eigenpairs",
     "f1_feature",
     "fem_matrices",
-    "heat_kernel",
-    "heat_trace",
-    "hks",
     "inverse_compact_shape_dna",
     "largest_component",
     "load_mesh",
     "log_weyl_ratio",
-    "match_points",
+    "mds_embedding",
     "normalize",
     "real_form",
     "repair_mesh",
+    "retrieval_scores",
+    "scale_255",
+    "scaled_difference",
     "shape_dna",
     "shapes",
-    "si_hks",
+    "variants",
     "weyl_subtract",
-    "wks",
 ]

@@ -39,7 +39,7 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 
 # %%
-from cshape.teaching import real_mesh  # Spot the cow, else PyMeshLab's cow, else a torus
+from cshape.course.teaching import real_mesh  # Spot the cow, else PyMeshLab's cow, else a torus
 
 # %% [markdown]
 # ## Three shapes, three lines (Fig. 1)
@@ -225,7 +225,7 @@ fig
 # %% [markdown]
 # ## Exercises
 #
-# 1. **Isometry.** Bend a mesh without stretching it (e.g. `cshape.variants.articulated_figure("human", seed)` for
+# 1. **Isometry.** Bend a mesh without stretching it (e.g. `cshape.data.variants.articulated_figure("human", seed)` for
 #    two seeds gives two poses with the same bone lengths). Compare their normalised Shape-DNAs with those of two
 #    different classes.
 # 2. **How many eigenvalues?** Plot $\lambda'_i$ of the sphere for $N = 100$. Why does it look like a staircase?

@@ -45,7 +45,7 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 
 # %%
-from cshape.teaching import real_mesh  # Spot the cow, else PyMeshLab's cow, else a torus
+from cshape.course.teaching import real_mesh  # Spot the cow, else PyMeshLab's cow, else a torus
 
 
 # %% nbgrader={"grade": false, "grade_id": "check_close", "locked": true, "schema_version": 3, "solution": false, "task": false}

@@ -45,7 +45,7 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 from cshape import batch
 
 # a few classes made in code (small) or paper-models + articulated (full size)
-from cshape.teaching import demo_collection
+from cshape.course.teaching import demo_collection
 
 collection = demo_collection(SMALL)
 N = 40 if SMALL else 100
@@ -106,11 +106,11 @@ Ms = [m for m in (16, 8, 4, 2, 1) if 2 * m + 1 <= N]
 nrows = -(-(len(Ms) + 1) // 3)
 fig = plots.new_figure((11, 3.6 * nrows))
 axs = fig.subplots(nrows, 3).ravel()
-compare.plot_mds(compare.mds_embedding(D_sdna), labels=table.labels, ax=axs[0],
+plots.plot_mds(compare.mds_embedding(D_sdna), labels=table.labels, ax=axs[0],
                  title=f"(a) Shape-DNA, N={N}")
 for ax, m in zip(axs[1:], Ms, strict=False):
     Y = compare.mds_embedding(table.distance_matrix("cshape", M=m))
-    compare.plot_mds(Y, labels=table.labels, ax=ax, title=f"cShape-DNA M={m} ({2 * m + 1} values)")
+    plots.plot_mds(Y, labels=table.labels, ax=ax, title=f"cShape-DNA M={m} ({2 * m + 1} values)")
 for ax in axs[1:]:  # one legend is enough
     if ax.get_legend() is not None:
         ax.get_legend().remove()
@@ -129,9 +129,9 @@ fig = plots.new_figure((11, 3.6 * nrows))
 axs = fig.subplots(nrows, 3).ravel()
 for ax, m in zip(axs, Ms, strict=False):
     Y = compare.mds_embedding(table.distance_matrix("truncated", M=m))
-    compare.plot_mds(Y, labels=table.labels, ax=ax, title=f"first {2 * m + 1} eigenvalues")
+    plots.plot_mds(Y, labels=table.labels, ax=ax, title=f"first {2 * m + 1} eigenvalues")
 Y = compare.mds_embedding(table.distance_matrix("f1"))
-compare.plot_mds(Y, labels=table.labels, ax=axs[len(Ms)], title=f"(f) F1, N={N}")
+plots.plot_mds(Y, labels=table.labels, ax=axs[len(Ms)], title=f"(f) F1, N={N}")
 for ax in axs[1:]:  # one legend is enough
     if ax.get_legend() is not None:
         ax.get_legend().remove()
@@ -236,5 +236,5 @@ for _DD, _ll in ((_D, _labels), (_D, _lonely), (D_sdna, table.labels)):
 #    the distance from the sphere to the cube, for the Shape-DNA and for the cShape-DNA?
 # 3. Compute the difference statistics of Fig. 3 for `normalization="weyl"` (pass it to
 #    `table.distance_matrix`). Does the choice of normalisation matter here?
-# 4. Replace the MDS by a nearest-neighbour classifier (`compare.DescriptorIndex`): leave one shape out, predict
+# 4. Replace the MDS by a nearest-neighbour classifier (`cshape.DescriptorIndex`): leave one shape out, predict
 #    its class from its nearest neighbour, and count the errors for each descriptor.

@@ -38,10 +38,11 @@ np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 # %%
-from cshape import batch, variants
+from cshape import batch
 
 # a few classes made in code (small) or paper-models + articulated (full size)
-from cshape.teaching import demo_collection
+from cshape.course.teaching import demo_collection
+from cshape.data import variants
 
 collection = demo_collection(SMALL)
 if not SMALL:  # leave out the largest meshes: every model is solved once per noise level

@@ -51,7 +51,7 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 import tempfile
 from pathlib import Path
 
-from cshape import variants
+from cshape.data import variants
 
 
 def write_obj(mesh, path):
@@ -136,14 +136,13 @@ else:
 # %% [markdown]
 # ## Which stored shape is this?
 #
-# `compare.DescriptorIndex` answers nearest-neighbour queries against a database of descriptors. We query a
+# `cshape.DescriptorIndex` answers nearest-neighbour queries against a database of descriptors. We query a
 # shape the collection has never seen: a noisy, rotated, larger copy of one of the tori (rotation and scale do
 # not change the normalised spectrum; the noise does, a little).
 
 # %%
-from cshape import compare
 
-index = compare.DescriptorIndex(table.descriptors("cshape", M=M))
+index = cshape.DescriptorIndex(table.descriptors("cshape", M=M))
 base = coll["torus1"].mesh
 c, s_ = np.cos(0.7), np.sin(0.7)
 R = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])

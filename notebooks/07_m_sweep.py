@@ -39,7 +39,7 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 from cshape import batch
 
 # a few classes made in code (small) or paper-models + articulated (full size)
-from cshape.teaching import demo_collection
+from cshape.course.teaching import demo_collection
 
 N = 40 if SMALL else 100
 table = batch.describe(demo_collection(SMALL), N=N, progress=not SMALL)
@@ -53,7 +53,7 @@ table
 # matrices, their difference, its mean and standard deviation, and the MDS coordinates.
 
 # %%
-from cshape import widgets
+from cshape.plots import widgets
 
 sweep = widgets.MSweep.from_table(table)
 for M in [16, 8, 4, 2, 1]:

@@ -78,7 +78,7 @@ def describe_collection(name, small=SMALL):
     return table.select(ok)
 
 
-# The creature benchmark (cshape.creatures, 12 classes): 'creatures-dev' (seed 0) is the instance to
+# The creature benchmark (cshape.data.creatures, 12 classes): 'creatures-dev' (seed 0) is the instance to
 # look at and choose on, 'creatures' (seed 1) the held-out one.  The small run takes 6 of the 12
 # classes of 'creatures-small' (3 coarse members each, seed 0), chosen for their build time.
 if SMALL:
@@ -315,7 +315,7 @@ fig
 # the share of the query's class found among the first $C-1$ and $2(C-1)$ results, $C$ the class size
 # (`cshape.compare.retrieval_scores`). All descriptors come from the same eigenvalues.
 #
-# The collection is cshape's creature benchmark (`cshape.creatures`, see `cshape data list`): 12 classes of capsule
+# The collection is cshape's creature benchmark (`cshape.data.creatures`, see `cshape data list`): 12 classes of capsule
 # creatures whose members differ in limb lengths and thickness, pose, mesh resolution and a little noise. It comes
 # in two instances drawn from different seeds: `creatures-dev` (seed 0), the one to look at and choose on, and
 # `creatures` (seed 1), held out for reporting. The small run uses six classes of `creatures-small` (three

@@ -10,8 +10,8 @@ import zipfile
 import nbformat
 import pytest
 
-from cshape import assignments as asg
 from cshape.cli import main
+from cshape.course import assignments as asg
 
 NB_DIR = asg.lessons_dir()
 LESSONS = sorted(NB_DIR.glob(asg.PATTERN))

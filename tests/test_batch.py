@@ -16,14 +16,8 @@ import numpy as np
 import pytest
 
 from cshape import CShapeWarning, Mesh, shape_dna, shapes
-from cshape.batch import (
-    _SAMPLERS,
-    DescriptorTable,
-    _pause_samplers,
-    _resume_samplers,
-    describe,
-    mesh_key,
-)
+from cshape.batch import DescriptorTable, describe, mesh_key
+from cshape.batch._dask import _SAMPLERS, _pause_samplers, _resume_samplers
 
 N = 20
 
@@ -265,7 +259,7 @@ def test_dask_process_cluster_equals_serial(reference):
         with distributed.Client(cluster) as client:
             table = run(small_collection(), cache_dir=False, client=client)
             # every worker was set up by its first task (allocator thresholds, issue 14)
-            ready = client.run(lambda: __import__("cshape.batch").batch._WORKER_READY)
+            ready = client.run(lambda: __import__("cshape.batch._dask").batch._dask._WORKER_READY)
             # the workers' profiler and tick were paused for the run and run again after it
             running = client.run(lambda dask_worker: [
                 dask_worker.periodic_callbacks[name].is_running() for name in _SAMPLERS])
@@ -284,7 +278,7 @@ def test_dask_process_cluster_equals_serial(reference):
 MALLOC_PROBE = """
 import resource, sys
 import numpy as np
-from cshape.batch import _malloc_as_a_plain_process
+from cshape.batch._dask import _malloc_as_a_plain_process
 
 ok = _malloc_as_a_plain_process() if sys.argv[1] == "fix" else None
 np.ones(2**17)  # 1 MiB: warm up

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cshape.notebooks_run import default_notebook_dir
+from cshape.course.lessons import default_notebook_dir
 
 pytestmark = pytest.mark.browser
 
@@ -305,7 +305,7 @@ def test_exported_html_renders_math_and_3d_offline(tmp_path):
     pytest.importorskip("jupyter_server_mathjax", reason="jupyter-server-mathjax not installed")
     import nbformat
 
-    from cshape.notebooks_run import find_notebooks, run_notebook
+    from cshape.course.lessons import find_notebooks, run_notebook
 
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",

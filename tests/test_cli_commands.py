@@ -286,7 +286,7 @@ def test_interrupt_ends_in_one_line_and_leaves_complete_cache_entries(tmp_path):
 
 
 def test_collect_mesh_files_names_labels_and_globs(tmp_path):
-    from cshape.commands import collect_mesh_files
+    from cshape.cli.explore import collect_mesh_files
 
     ico = shapes.icosphere(1)
     for rel in ("a/cls/x.off", "b/cls/x.off", "b/y.off", "c/z.off", "c/z.ply.gz"):

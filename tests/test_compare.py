@@ -10,19 +10,18 @@ import pytest
 from cshape import compact_shape_dna, compact_shape_dna_real, normalize, shape_dna, shapes
 from cshape.compare import (
     DESCRIPTOR_KINDS,
-    DescriptorIndex,
     descriptor_matrix,
     descriptor_size,
     difference_matrix,
     distance_matrix,
     mds_embedding,
-    plot_distance_matrix,
-    plot_mds,
     retrieval_per_query,
     retrieval_scores,
     scale_255,
     scaled_difference,
 )
+from cshape.index import DescriptorIndex
+from cshape.plots.collection import plot_distance_matrix, plot_mds
 
 
 # ------------------------------------------------------------------ distance_matrix

@@ -1,4 +1,4 @@
-"""The creature benchmark (cshape.creatures) and its manifest collections: deterministic,
+"""The creature benchmark (cshape.data.creatures) and its manifest collections: deterministic,
 sized, cached, varied within a class, and hard enough that retrieval does not saturate."""
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ import pytest
 
 import cshape
 import cshape.data as data
-from cshape import creatures as cr
-from cshape import variants as v
 from cshape.compare import retrieval_scores
+from cshape.data import creatures as cr
+from cshape.data import variants as v
 
 #: Small and fast: coarse grid, few vertices (the meshes are still closed).
 FAST = {"vertices": [300, 400], "voxelsize": 0.035}

@@ -21,8 +21,8 @@ import yaml
 
 import cshape.data as data
 from cshape import CShapeWarning, shapes
-from cshape import variants as v
 from cshape.cli import main
+from cshape.data import variants as v
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -245,10 +245,11 @@ def test_cache_key_follows_parameters_and_seed(tmp_path):
     m1 = data.load_manifest(_write_manifest(tmp_path, [TINY], "a.yaml"))
     m2 = data.load_manifest(_write_manifest(tmp_path, [t2], "b.yaml"))
     root = tmp_path / "cache"
-    f1 = data._cache_file(m1, "tiny", m1["tiny"]["items"][1], root)
-    f2 = data._cache_file(m2, "tiny", m2["tiny"]["items"][1], root)
+    f1 = data.store._cache_file(m1, "tiny", m1["tiny"]["items"][1], root)
+    f2 = data.store._cache_file(m2, "tiny", m2["tiny"]["items"][1], root)
     assert f1 != f2
-    assert data._cache_file(m1, "tiny", m1["tiny"]["items"][0], root) == data._cache_file(
+    cache_file = data.store._cache_file
+    assert cache_file(m1, "tiny", m1["tiny"]["items"][0], root) == cache_file(
         m2, "tiny", m2["tiny"]["items"][0], root)
     a = data.load("tiny", "n", manifest=m1)
     b = data.load("tiny", "n", manifest=m2)
@@ -264,7 +265,7 @@ def test_atomic_write_leaves_no_partial_file(tmp_path, monkeypatch):
         fh.write(b"PK\x03\x04 partial")
         raise OSError("disk full")
 
-    monkeypatch.setattr(data.np, "savez", broken_savez)
+    monkeypatch.setattr(data.store.np, "savez", broken_savez)
     with pytest.raises(OSError, match="disk full"):
         data.load("tiny", "s", manifest=man)
     folder = tmp_path / "cache" / "generated" / "tiny"
@@ -273,7 +274,7 @@ def test_atomic_write_leaves_no_partial_file(tmp_path, monkeypatch):
 
 def test_unreadable_cache_file_is_rebuilt(tmp_path):
     man = data.load_manifest(_write_manifest(tmp_path, [TINY]))
-    path = data._cache_file(man, "tiny", man["tiny"]["items"][0], tmp_path / "cache")
+    path = data.store._cache_file(man, "tiny", man["tiny"]["items"][0], tmp_path / "cache")
     path.parent.mkdir(parents=True)
     path.write_bytes(b"garbage")
     with pytest.warns(UserWarning, match="rebuilding unreadable cache file"):
@@ -405,7 +406,7 @@ def test_fetch_uses_pooch_with_sha256(tmp_path, monkeypatch):
     m = data.load("odedstein-meshes", "torus", download=True)
     assert m.genus == 1
     (url, known), = calls
-    item = data._find_item(data.info("odedstein-meshes"), "torus")
+    item = data.manifest._find_item(data.info("odedstein-meshes"), "torus")
     assert url == item["url"] and known == "sha256:" + item["sha256"]
     dest = tmp_path / "cache" / "downloads" / "odedstein-meshes" / "torus" / "torus.obj"
     assert dest.is_file()

@@ -9,7 +9,7 @@ import pytest
 
 from cshape import plots
 from cshape.batch import DescriptorTable
-from cshape.compare import (
+from cshape.plots.collection import (
     MAX_LEGEND_CLASSES,
     MDS_MAX_NAMES,
     plot_distance_matrix,
@@ -17,7 +17,8 @@ from cshape.compare import (
     short_label,
     short_labels,
 )
-from cshape.reproduce import _mds_figure, fig1_selection
+from cshape.reproduce import fig1_selection
+from cshape.reproduce.figures import _mds_figure
 
 
 def synthetic_table(p, n_classes, N=30, seed=0):

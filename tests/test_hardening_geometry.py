@@ -355,7 +355,7 @@ def test_merge_tol_welds_close_pairs_on_both_sides_of_any_grid_cell():
 
 @pytest.mark.parametrize("method", ["loop", "midpoint"])
 def test_subdivide_refuses_nonmanifold_edges_clearly(method):
-    from cshape import variants
+    from cshape.data import variants
 
     with pytest.raises(ValueError, match="subdivide needs edge-manifold input.*4 edges shared"):
         variants.subdivide(_book(3), 1, method)
@@ -364,7 +364,7 @@ def test_subdivide_refuses_nonmanifold_edges_clearly(method):
 @pytest.mark.parametrize("op", ["remesh", "subdivide", "noise"])
 def test_variants_accept_boundaries_and_bowties(op):
     """PyMeshLab filters on open, bow-tie and single-triangle meshes: a mesh, no crash."""
-    from cshape import variants
+    from cshape.data import variants
 
     a = shapes.icosphere(1)
     top = int(np.argmax(a.vertices[:, 2]))

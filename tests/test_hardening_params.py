@@ -262,7 +262,7 @@ def test_real_form_shapes():
 
 # ------------------------------------------------------------------ variants: memory guards
 def test_remesh_and_subdivide_refuse_outputs_that_would_exhaust_memory():
-    from cshape import variants
+    from cshape.data import variants
 
     s = shapes.icosphere(2)  # 320 faces, area ~12.5
     with pytest.raises(ValueError, match=r"target_length=0.0001 would make about .* use "
@@ -278,7 +278,7 @@ def test_remesh_and_subdivide_refuse_outputs_that_would_exhaust_memory():
 
 @pytest.mark.parametrize("lam", [np.inf, np.nan, -1.0, True, "1"])
 def test_noise_level_must_be_finite_and_non_negative(lam):
-    from cshape import variants
+    from cshape.data import variants
 
     with pytest.raises(ValueError, match=r"lam must be a number >= 0"):
         variants.add_normal_noise(shapes.icosphere(1), lam=lam)
@@ -290,7 +290,7 @@ def test_noise_level_must_be_finite_and_non_negative(lam):
     ("((((", "Unexpected end of expression"),
 ])
 def test_marching_cubes_bad_expression(expr, match):
-    from cshape import variants
+    from cshape.data import variants
 
     with pytest.raises(ValueError, match=rf"expr .* is not a valid muparser expression.*{match}"):
         variants.marching_cubes(expr, (-1, -1, -1, 1, 1, 1), 0.1)
@@ -298,7 +298,7 @@ def test_marching_cubes_bad_expression(expr, match):
 
 @pytest.mark.parametrize("expr", ["sqrt(-1)", "1/0", "x^2+y^2+z^2+1"])
 def test_marching_cubes_without_a_surface(expr):
-    from cshape import variants
+    from cshape.data import variants
 
     with pytest.raises(ValueError, match="produced no triangles"):
         variants.marching_cubes(expr, (-1, -1, -1, 1, 1, 1), 0.1)

@@ -10,7 +10,7 @@ import nbformat
 import pytest
 
 from cshape.cli import main
-from cshape.notebooks_run import (
+from cshape.course.lessons import (
     default_notebook_dir,
     find_notebooks,
     offline_mathjax,
@@ -140,7 +140,7 @@ def test_unknown_notebook_name():
 @pytest.mark.filterwarnings("ignore:cow.obj. repaired mesh")
 def test_real_mesh_falls_back_without_the_shared_folder(tmp_path, monkeypatch, capsys):
     """Notebooks 2-3 work for a user without ../shared/meshes: PyMeshLab's sample cow."""
-    from cshape.teaching import real_mesh
+    from cshape.course.teaching import real_mesh
 
     monkeypatch.setenv("CSHAPE_SHARED_MESHES", str(tmp_path / "no-such-folder"))
     mesh, name = real_mesh(small=True)

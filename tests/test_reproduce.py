@@ -24,7 +24,7 @@ from cshape.reproduce import (
 )
 
 
-def _records():
+def collection_records():
     out = []
     for s in (2, 3):
         out.append((f"S{s}", "sphere", shapes.icosphere(s)))
@@ -62,7 +62,7 @@ def test_reproduce_writes_a_report(tmp_path):
     bench = _folder_benchmark(tmp_path / "bench")
     with pytest.warns(CShapeWarning, match="two: mesh has 2 connected components"):
         res = reproduce(
-            _records(), tmp_path / "rep", N=30, M=4, Ms=(2, 1), noise_levels=(1.0,),
+            collection_records(), tmp_path / "rep", N=30, M=4, Ms=(2, 1), noise_levels=(1.0,),
             cache_dir=tmp_path / "cache", progress=False, benchmark=bench, size_Ms=(6, 4, 1),
         )
     rep = (tmp_path / "rep" / "report.md").read_text()
@@ -187,7 +187,7 @@ def test_cli_reproduce_on_a_folder(tmp_path):
     import cshape
 
     folder = tmp_path / "meshes"
-    for name, label, mesh in _records()[:4]:
+    for name, label, mesh in collection_records()[:4]:
         _write_off(folder / label / f"{name}.off", mesh)
     assert cshape.load_mesh(folder / "sphere" / "S2.off").n_vertices == 162
     bench = _folder_benchmark(tmp_path / "bench")

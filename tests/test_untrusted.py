@@ -135,7 +135,7 @@ def test_package_never_unpickles():
 def test_pickled_generated_cache_file_is_rebuilt_not_executed(tmp_path):
     marker = tmp_path / "EXECUTED"
     man = data.load_manifest(_manifest(tmp_path, [TINY]))
-    path = data._cache_file(man, "tiny", man["tiny"]["items"][0], tmp_path / "cache")
+    path = data.store._cache_file(man, "tiny", man["tiny"]["items"][0], tmp_path / "cache")
     path.parent.mkdir(parents=True)
     _pickled_npz(path, marker)
     with pytest.warns(UserWarning, match="rebuilding unreadable cache file.*Object arrays"):
@@ -150,7 +150,7 @@ def test_pickled_npz_read_directly_is_a_clear_error(tmp_path):
     p = tmp_path / "item.npz"
     _pickled_npz(p, marker)
     with pytest.raises(ValueError, match=r"cannot read cached mesh .*item\.npz.*Object arrays"):
-        data._FileLoader(p)()
+        data.files._FileLoader(p)()
     assert not marker.exists()
 
 
@@ -409,7 +409,7 @@ def test_build_killed_mid_write_leaves_no_cache_entry(tmp_path):
             fh.flush()
             os.kill(os.getpid(), signal.SIGKILL)  # killed in the middle of the write
 
-        data.np.savez = dying_savez
+        data.store.np.savez = dying_savez
         data.load("tiny", "s", manifest=sys.argv[1])
     """
     child = _run_child(code, tmp_path, man)
@@ -429,7 +429,7 @@ def test_interrupt_mid_write_removes_the_temporary(tmp_path, monkeypatch):
         fh.write(b"PK\x03\x04 partial")
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(data.np, "savez", interrupted)
+    monkeypatch.setattr(data.store.np, "savez", interrupted)
     with pytest.raises(KeyboardInterrupt):
         data.load("tiny", "s", manifest=man)
     assert list(_cache_folder(tmp_path).iterdir()) == []
@@ -443,13 +443,13 @@ def test_two_processes_building_the_same_item_do_not_corrupt_it(tmp_path):
         from pathlib import Path
         import cshape.data as data
 
-        real = data.np.savez
+        real = data.store.np.savez
 
         def slow_savez(fh, **arrays):  # both writers are inside the write at once
             real(fh, **arrays)
             time.sleep(0.5)
 
-        data.np.savez = slow_savez
+        data.store.np.savez = slow_savez
         while not Path(sys.argv[2]).exists():
             time.sleep(0.01)
         m = data.load("tiny", "s", manifest=sys.argv[1])
@@ -504,12 +504,12 @@ def test_full_disk_is_a_clear_error_and_leaves_nothing(tmp_path, monkeypatch, wh
             fh.write(b"PK\x03\x04 the first few bytes")
             raise enospc
 
-        monkeypatch.setattr(data.np, "savez", full)
+        monkeypatch.setattr(data.store.np, "savez", full)
     else:
         def full(src, dst):
             raise enospc
 
-        monkeypatch.setattr(data.os, "replace", full)
+        monkeypatch.setattr(os, "replace", full)
     with pytest.raises(OSError, match=r"no space left to write the cache file .*s-\w+\.npz.*"
                                       r"nothing was written.*CSHAPE_CACHE") as info:
         data.load("tiny", "s", manifest=man)
@@ -582,8 +582,8 @@ def test_cache_file_of_another_recipe_is_not_taken_for_this_item(tmp_path):
     man = data.load_manifest(_manifest(tmp_path, [{**TINY, "items": [TINY["items"][0], other]}]))
     data.load_collection("tiny", manifest=man, progress=False)
     root = tmp_path / "cache"
-    s_path = data._cache_file(man, "tiny", man["tiny"]["items"][0], root)
-    t_path = data._cache_file(man, "tiny", man["tiny"]["items"][1], root)
+    s_path = data.store._cache_file(man, "tiny", man["tiny"]["items"][0], root)
+    t_path = data.store._cache_file(man, "tiny", man["tiny"]["items"][1], root)
     s_path.write_bytes(t_path.read_bytes())  # 's' now holds the 42-vertex sphere of 't'
     with pytest.warns(UserWarning, match="rebuilding .* another recipe"):
         m = data.load("tiny", "s", manifest=man)

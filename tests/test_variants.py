@@ -1,4 +1,5 @@
-"""Tests of cshape.variants: PyMeshLab primitives, marching cubes, remeshing, noise, quality."""
+"""Tests of cshape.data.variants: PyMeshLab primitives, marching cubes, remeshing, noise,
+quality."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ import numpy as np
 import pytest
 
 from cshape import CShapeWarning, Mesh, shapes
-from cshape import variants as v
+from cshape.data import variants as v
 
 
 # ---------------------------------------------------------------------- primitives

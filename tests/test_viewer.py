@@ -1,4 +1,4 @@
-"""The interactive 3-D views (cshape.viewer, re-exported by cshape.plots): the pure functions
+"""The interactive 3-D views (cshape.plots.viewer, re-exported by cshape.plots): the pure functions
 behind them (symmetric colour limits, per-mode data, plotly arrays) and their validation."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 
 import cshape
 from cshape import plots, shapes
-from cshape.viewer import mesh3d_arrays, mode_data, symmetric_limits
+from cshape.plots.viewer import mesh3d_arrays, mode_data, symmetric_limits
 
 go = pytest.importorskip("plotly.graph_objects")
 

@@ -27,10 +27,11 @@ def test_the_packaged_manifest_is_the_top_level_file():
         "cshape/data_manifest.yaml must be a symbolic link to ../data_manifest.yaml; "
         "recreate it with: ln -sf ../data_manifest.yaml cshape/data_manifest.yaml"
     )
-    assert data._DEFAULT_MANIFEST.read_bytes() == top.read_bytes()
-    assert list(data.load_manifest(data._DEFAULT_MANIFEST)) == list(data.load_manifest(top))
+    assert data.manifest._DEFAULT_MANIFEST.read_bytes() == top.read_bytes()
+    default = data.manifest._DEFAULT_MANIFEST
+    assert list(data.load_manifest(default)) == list(data.load_manifest(top))
     # relative 'local' paths still resolve against the repository, as before the move
-    entry = data.load_manifest(data._DEFAULT_MANIFEST)["shared-meshes"]
+    entry = data.load_manifest(data.manifest._DEFAULT_MANIFEST)["shared-meshes"]
     assert entry["_root"] == str(REPO.resolve())
 
 

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 import cshape
-from cshape import compare, shapes, widgets
+from cshape import compare, shapes
 from cshape.batch import DescriptorTable
+from cshape.plots import widgets
 
 N = 24
 

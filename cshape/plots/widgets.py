@@ -32,9 +32,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._checks import check_choice
-from .compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
-from .descriptors import NORMALIZATIONS, TRANSFORMS, log_weyl_ratio, normalize, weyl_subtract
+from .._checks import check_choice
+from ..compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
+from ..descriptors import NORMALIZATIONS, TRANSFORMS, log_weyl_ratio, normalize, weyl_subtract
 
 __all__ = ["MSweep", "MSweepWidget", "SweepState", "clamp_M", "m_sweep_widget", "max_M",
            "sweep_state"]
@@ -382,7 +382,7 @@ def _png(fig, dpi) -> bytes:
 
 def _as_sweeps(data, normalization):
     """{collection name: MSweep} from a table, a mapping of tables, or an MSweep."""
-    from .batch import DescriptorTable
+    from ..batch import DescriptorTable
 
     def one(x):
         if isinstance(x, MSweep):
@@ -504,7 +504,7 @@ class MSweepWidget(_VBox):
 
     def refresh(self):
         """Recompute the state for the current controls (cheap stages only) and redraw."""
-        from .plots import plot_m_sweep
+        from .figures import plot_m_sweep
 
         c = self.controls
         N = int(c["N"].value)

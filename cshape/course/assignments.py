@@ -39,7 +39,6 @@ from pathlib import Path
 __all__ = [
     "ASSIGNMENT",
     "NBGRADER_CONFIG",
-    "add_assignments",
     "copy_lessons",
     "generate",
     "is_graded",
@@ -70,12 +69,12 @@ def lessons_dir() -> Path:
     In an installed package that is the package data ``cshape/lessons``; in a source
     checkout (an editable install) it is the checkout's ``notebooks/``.
     """
-    here = Path(__file__).resolve().parent
-    for folder in (here / "lessons", here.parent / "notebooks"):
+    package = Path(__file__).resolve().parents[1]  # cshape/
+    for folder in (package / "lessons", package.parent / "notebooks"):
         if any(folder.glob(PATTERN)):
             return folder
     raise FileNotFoundError(
-        f"no lessons found in {str(here / 'lessons')!r}: reinstall cshape (pip install "
+        f"no lessons found in {str(package / 'lessons')!r}: reinstall cshape (pip install "
         "--force-reinstall cshape), or run from the repository's checkout"
     )
 
@@ -300,59 +299,3 @@ def copy_lessons(dest, *, src=None) -> list[Path]:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return sorted(p.relative_to(dest) for p in dest.rglob("*") if p.is_file())
-
-
-def _cmd(args) -> int:
-    paths = generate(args.src, args.dest, check=args.check)
-    if args.check:
-        if paths:
-            print("out of date (run `python -m cshape assignments`):")
-            for p in paths:
-                print("  ", p)
-            return 1
-        print("student notebooks are up to date")
-        return 0
-    for p in paths:
-        print("wrote", p)
-    if not paths:
-        print("student notebooks already up to date")
-    return 0
-
-
-def _cmd_lessons(args) -> int:
-    files = copy_lessons(args.dir)
-    lessons = [f for f in files if f.parent == Path(".") and f.suffix == ".ipynb"]
-    print(f"{len(lessons)} lessons, {sum(f.parts[0] == 'student' for f in files)} student "
-          f"versions and an nbgrader course (source/{ASSIGNMENT}/) in {args.dir}")
-    print(f"open them: jupyter lab {args.dir}    release: cd {args.dir} && nbgrader "
-          f"generate_assignment {ASSIGNMENT}")
-    return 0
-
-
-def add_assignments(sub) -> None:
-    """Register ``cshape assignments`` and ``cshape lessons`` on the CLI's sub-parsers."""
-    p = sub.add_parser(
-        "assignments",
-        help="make the student versions of the graded lessons with nbgrader "
-             "(into notebooks/student/)",
-    )
-    p.add_argument("--src", default=None, help="solution notebooks (default: the lessons)")
-    p.add_argument("--dest", default=None, help="output folder (default: <src>/student)")
-    p.add_argument("--check", action="store_true",
-                   help="write nothing; exit 1 if the student notebooks are out of date")
-    p.set_defaults(func=_cmd)
-    q = sub.add_parser(
-        "lessons",
-        help="copy the lessons, their student versions and an nbgrader course into DIR",
-    )
-    q.add_argument("dir", help="a new (or empty) folder")
-    q.set_defaults(func=_cmd_lessons)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    import argparse
-
-    parser = argparse.ArgumentParser(prog="python -m cshape.assignments")
-    add_assignments(parser.add_subparsers(dest="command", required=True))
-    a = parser.parse_args(["assignments", *sys.argv[1:]])
-    sys.exit(a.func(a))

@@ -30,8 +30,8 @@ import numbers
 
 import numpy as np
 
-from ._checks import check_choice
-from .mesh import Mesh, largest_component
+from .._checks import check_choice
+from ..mesh import Mesh, largest_component
 from .variants import (
     Capsule,
     _bend,

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._checks import check_choice
-from .mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
+from .._checks import check_choice
+from ..mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
 
 __all__ = [
     "ARTICULATED_KINDS",

@@ -30,26 +30,26 @@ import warnings
 from collections import Counter
 from pathlib import Path
 
-from .cli import CommandError, print_warnings
+from .output import CommandError, print_warnings
 
-__all__ = ["add_commands", "collect_mesh_files", "mesh_report"]
+__all__ = ["add_describe", "add_info", "add_query", "collect_mesh_files", "mesh_report"]
 
 # ============================================================================ inputs
 def _mesh_suffixes() -> tuple[str, ...]:
-    from .data import MESH_SUFFIXES
+    from ..data import MESH_SUFFIXES
 
     return tuple(MESH_SUFFIXES)
 
 
 def _is_mesh_name(path: Path) -> bool:
     """True for a file name ending in a mesh suffix (also under ``.gz``)."""
-    from .readers import split_mesh_name
+    from ..readers import split_mesh_name
 
     return split_mesh_name(path)[1] in _mesh_suffixes()
 
 
 def _stem(path: Path) -> str:
-    from .readers import split_mesh_name
+    from ..readers import split_mesh_name
 
     return split_mesh_name(path)[0]
 
@@ -82,7 +82,7 @@ def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
     ValueError
         If a folder or a pattern holds no mesh file, or no path was given.
     """
-    from .data import load_folder
+    from ..data import load_folder
 
     found: list[tuple[Path, str, Path]] = []  # (file, label, base for relative names)
 
@@ -149,14 +149,14 @@ def _progress(args) -> bool:
 
 
 def _transforms() -> tuple[str, ...]:
-    from .descriptors import TRANSFORMS
+    from ..descriptors import TRANSFORMS
 
     return TRANSFORMS
 
 
 # ============================================================================ describe
 def _cmd_describe(args) -> int:
-    from .batch import describe
+    from ..batch import describe
 
     out = Path(args.out) if args.out else None
     if out is not None and out.suffix.lower() not in (".csv", ".npz"):
@@ -217,7 +217,7 @@ def _print_table(table, width=4):
         print(f"{name:<{w}}  {table.labels[i]:<{wl}}  {table.areas[i]:>10.4g}  {vals}")
 
 
-def _add_describe(sub):
+def add_describe(sub):
     p = sub.add_parser(
         "describe",
         help="Shape-DNA and cShape-DNA of mesh files and folders, into a descriptor table",
@@ -279,8 +279,8 @@ def mesh_report(path) -> dict:
         ``pct_below_10`` (share of triangles with an angle under 10 degrees, percent),
         ``degenerate_faces``.
     """
-    from .mesh import CShapeWarning, load_mesh, repair_mesh
-    from .variants import mesh_quality
+    from ..data.variants import mesh_quality
+    from ..mesh import CShapeWarning, load_mesh, repair_mesh
 
     path = Path(path)
     with warnings.catch_warnings(record=True) as caught:
@@ -379,7 +379,7 @@ def _cmd_info(args) -> int:
     return 0
 
 
-def _add_info(sub):
+def add_info(sub):
     p = sub.add_parser(
         "info",
         help="size, area, topology, minimum angle and needed repairs of mesh files",
@@ -398,8 +398,8 @@ _KINDS = ("cshape", "shape_dna", "truncated", "truncated_log", "f1")
 
 
 def _cmd_query(args) -> int:
-    from .batch import DescriptorTable, describe
-    from .compare import DescriptorIndex
+    from ..batch import DescriptorTable, describe
+    from ..index import DescriptorIndex
 
     table = DescriptorTable.load(args.table)
     if len(table) == 0:
@@ -461,7 +461,7 @@ def _cmd_query(args) -> int:
     return 0
 
 
-def _add_query(sub):
+def add_query(sub):
     p = sub.add_parser(
         "query",
         help="the nearest shapes of a descriptor table to a mesh file or a shape of the table",
@@ -484,72 +484,3 @@ def _add_query(sub):
     p.add_argument("--no-cache", action="store_true", help="do not use the eigenvalue cache")
     p.add_argument("--json", action="store_true", help="print the neighbours as JSON")
     p.set_defaults(func=_cmd_query)
-
-
-# ============================================================================ data
-def _cmd_data_list(args) -> int:
-    from .data import load_manifest
-
-    entries = load_manifest(args.manifest)
-    rows = []
-    for name, e in entries.items():
-        n = len(e.get("items") or [])
-        rows.append((name, e["kind"], str(n) if n else "-", " ".join(e["description"].split())))
-    w0 = max(len(r[0]) for r in rows)
-    print(f"{'name':<{w0}}  {'kind':<9}  {'items':>5}  description")
-    for r in rows:
-        desc = r[3] if len(r[3]) <= 70 else r[3][:67] + "..."
-        print(f"{r[0]:<{w0}}  {r[1]:<9}  {r[2]:>5}  {desc}")
-    return 0
-
-
-def _cmd_data_build(args) -> int:
-    from .data import build, load_collection
-
-    t0 = time.perf_counter()
-    folder = build(args.name, cache_dir=args.cache_dir, archive=args.archive,
-                   manifest=args.manifest, progress=None)
-    n = len(load_collection(args.name, cache_dir=args.cache_dir, manifest=args.manifest,
-                            progress=False))
-    print(f"{args.name}: {n} meshes ready in {time.perf_counter() - t0:.1f} s at {folder}")
-    return 0
-
-
-def _cmd_data_path(args) -> int:
-    from .data import collection_path
-
-    print(collection_path(args.name, cache_dir=args.cache_dir, manifest=args.manifest))
-    return 0
-
-
-def _add_data(sub) -> None:
-    """``cshape data {list, build NAME, path NAME}``: the collections of :mod:`cshape.data`."""
-    import argparse
-
-    common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--manifest", default=None, help="manifest file (default: the shipped one)")
-    common.add_argument("--cache-dir", default=None,
-                        help="cache folder (default: $CSHAPE_CACHE or ~/.cache/cshape)")
-    p = sub.add_parser("data", help="list, build and locate shape collections")
-    dsub = p.add_subparsers(dest="data_command", required=True)
-    pl = dsub.add_parser("list", parents=[common], help="list the collections of the manifest")
-    pl.set_defaults(func=_cmd_data_list)
-    pb = dsub.add_parser(
-        "build", parents=[common],
-        help="build (generated), download (download) or check (package, local) a collection",
-    )
-    pb.add_argument("name", help="collection name (see `cshape data list`)")
-    pb.add_argument("--archive", default=None,
-                    help="a benchmark archive you downloaded by hand, to unpack into place")
-    pb.set_defaults(func=_cmd_data_build)
-    pp = dsub.add_parser("path", parents=[common], help="print the folder of a collection")
-    pp.add_argument("name", help="collection name")
-    pp.set_defaults(func=_cmd_data_path)
-
-
-def add_commands(sub) -> None:
-    """Register ``describe``, ``info``, ``query`` and ``data`` on the CLI's sub-parsers."""
-    _add_describe(sub)
-    _add_info(sub)
-    _add_query(sub)
-    _add_data(sub)

@@ -27,8 +27,8 @@ import numbers
 
 import numpy as np
 
-from ._checks import check_choice
-from .mesh import as_mesh, repair_mesh
+from .._checks import check_choice
+from ..mesh import as_mesh, repair_mesh
 
 __all__ = [
     "eigenfunction_explorer",
@@ -321,7 +321,7 @@ def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=D
     """
     import plotly.graph_objects as go
 
-    from .spectrum import eigenpairs as _eigenpairs
+    from ..spectrum import eigenpairs as _eigenpairs
 
     if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
         raise ValueError(f"n_modes must be an integer >= 1, got {n_modes!r}")

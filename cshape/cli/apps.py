@@ -1,32 +1,21 @@
-"""Command line: ``cshape demo``, ``cshape reproduce`` and the sub-commands other modules
-register (:mod:`cshape.commands`: ``describe``, ``info``, ``query``, ``data``; ...).
-
-Sub-commands are small functions ``add_<name>(subparsers)`` that define their parser and
-set ``func``; :func:`main` wires them up.  Heavy imports happen inside the commands.
-
-The one error path: every expected failure (bad input, a missing or unreadable file, an
-offline or failed download, a missing optional dependency) ends in one line on stderr,
-``cshape <command>: error: <message>``, and exit status 2, without a traceback; Ctrl-C ends
-in ``cshape <command>: interrupted`` and exit status 130.  Anything else is a bug and keeps
-its traceback.
-"""
+"""``cshape demo`` and ``cshape reproduce``: the applications on the command line."""
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import shutil
-import sys
 import warnings
 from pathlib import Path
 
-__all__ = ["EXPECTED_ERRORS", "CommandError", "main", "one_line", "print_warnings"]
+from .output import print_warnings
+
+__all__ = ["REPRODUCE_BENCHMARK", "REPRODUCE_COLLECTIONS", "add_demo", "add_reproduce"]
 
 
 def _demo(args) -> int:
     import numpy as np
 
-    from . import compact_shape_dna, normalize, shape_dna, shapes
+    from .. import compact_shape_dna, normalize, shape_dna, shapes
 
     np.set_printoptions(precision=3, suppress=True, linewidth=100)
     cases = {
@@ -61,7 +50,7 @@ REPRODUCE_BENCHMARK = "creatures"
 
 def _load_named(spec, what, n_jobs=1):
     """A manifest collection by name, or a folder of meshes (labels from sub-folders)."""
-    from . import data
+    from .. import data
 
     if spec in data.list_collections():
         return data.load_collection(spec, progress=True, n_jobs=n_jobs)
@@ -94,8 +83,8 @@ def _new_folder(path):
 
 
 def _reproduce(args) -> int:
-    from . import data
-    from .reproduce import reproduce
+    from .. import data
+    from ..reproduce import reproduce
 
     records = []
     if args.folder:
@@ -155,92 +144,3 @@ def add_reproduce(sub):
                    help="use only the first LIMIT shapes for Section 3 (not the benchmark)")
     p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
     p.set_defaults(func=_reproduce)
-
-
-class _Parser(argparse.ArgumentParser):
-    """An argument parser whose usage errors are one line too (argparse prints the usage
-    first); sub-command parsers are of this class as well."""
-
-    def error(self, message):
-        print(f"{self.prog}: error: {' '.join(message.split())}; see `{self.prog} --help`",
-              file=sys.stderr)
-        sys.exit(2)
-
-
-def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(
-        prog="cshape", description="Shape-DNA and compact Shape-DNA of triangle meshes"
-    )
-    sub = parser.add_subparsers(dest="command", required=True)
-    add_demo(sub)
-    add_reproduce(sub)
-    # further sub-commands (data, reproduce, notebooks, ...) register here
-    for modname, fname in _EXTRA:
-        try:
-            mod = __import__(f"cshape.{modname}", fromlist=[fname])
-        except ImportError:  # pragma: no cover - module not written yet
-            continue
-        getattr(mod, fname)(sub)
-    return parser
-
-
-#: (module, function) pairs that add sub-commands; each module imports lazily.
-_EXTRA: list[tuple[str, str]] = [
-    ("commands", "add_commands"),
-    ("notebooks_run", "add_run_notebooks"),
-]
-
-
-class CommandError(Exception):
-    """An expected failure of a command; :func:`main` prints its message on one line."""
-
-
-#: Expected failures: bad values, files (OSError covers FileNotFoundError, PermissionError,
-#: a full disk and network errors, requests' and pooch's included), a missing optional
-#: dependency, a failed batch run.  KeyError: a name not found (its message is args[0]).
-EXPECTED_ERRORS = (CommandError, ValueError, OSError, ImportError, KeyError, RuntimeError)
-
-
-def one_line(exc: BaseException) -> str:
-    """The message of ``exc`` on one line (whitespace runs collapsed), never empty."""
-    msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-    text = " ".join(str(msg).split())
-    return text or type(exc).__name__
-
-
-#: Warnings listed one by one before a command summarises the rest (``-v``: all).
-MAX_WARNINGS = 10
-
-
-def print_warnings(caught, command, verbose=False, skip=()):
-    """Print recorded warnings on stderr, one line each: ``cshape <command>: warning: ...``.
-
-    Repeated messages once; messages starting with a prefix in ``skip`` left out; at most
-    :data:`MAX_WARNINGS` unless ``verbose``, then a count of the rest.
-    """
-    msgs = [" ".join(str(w.message).split()) for w in caught]
-    msgs = [m for m in dict.fromkeys(msgs) if not m.startswith(skip)]
-    shown = msgs if verbose else msgs[:MAX_WARNINGS]
-    for m in shown:
-        print(f"cshape {command}: warning: {m}", file=sys.stderr)
-    if len(msgs) > len(shown):
-        print(f"cshape {command}: {len(msgs) - len(shown)} more warnings (-v lists them all)",
-              file=sys.stderr)
-
-
-def main(argv=None) -> int:
-    """Run the ``cshape`` command line; returns the exit status (0, 2 on an expected error)."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    try:
-        return int(args.func(args) or 0)
-    except KeyboardInterrupt:
-        print(f"cshape {args.command}: interrupted", file=sys.stderr)
-        return 130
-    except EXPECTED_ERRORS as exc:
-        print(f"cshape {args.command}: error: {one_line(exc)}", file=sys.stderr)
-        return 2
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

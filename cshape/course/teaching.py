@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import warnings
 
-from . import data, shapes, variants
-from .mesh import CShapeWarning
+from .. import data, shapes
+from ..data import variants
+from ..mesh import CShapeWarning
 
 __all__ = ["real_mesh", "demo_collection"]
 

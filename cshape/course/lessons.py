@@ -39,7 +39,6 @@ __all__ = [
     "run_notebook",
     "run_notebooks",
     "stderr_outputs",
-    "add_run_notebooks",
 ]
 
 #: Notebooks are named ``NN_topic.ipynb``.
@@ -383,37 +382,3 @@ def run_notebooks(src=None, out="out/notebooks", *, names=None, small=False, tim
         what = "executed notebooks and HTML" if html else "executed notebooks"
         progress(f"{what} in {out}/ ; open {index}")
     return results
-
-
-def _cmd(args) -> int:
-    src = args.src
-    if args.student:
-        src = Path(default_notebook_dir() if src is None else src) / "student"
-    out = args.out or ("out/notebooks/student" if args.student else "out/notebooks")
-    results = run_notebooks(src, out, names=args.names or None, small=args.small,
-                            timeout=args.timeout, html=not args.no_html,
-                            stop_at_stub=args.student)
-    return 0 if all(r.ok for r in results) else 1
-
-
-def add_run_notebooks(sub) -> None:
-    """Register ``cshape notebooks`` (and ``cshape assignments``) on the CLI's sub-parsers."""
-    p = sub.add_parser(
-        "notebooks",
-        help="execute the walkthrough notebooks into an output folder (executed .ipynb + HTML)",
-    )
-    p.add_argument("names", nargs="*", help="notebooks to run, e.g. 01 03 (default: all)")
-    p.add_argument("--src", default=None, help="notebook folder (default: the checkout's)")
-    p.add_argument("--out", default=None, help="output folder (default: out/notebooks)")
-    p.add_argument("--small", action="store_true",
-                   help="small meshes and N (sets CSHAPE_SMALL=1 in the kernels)")
-    p.add_argument("--student", action="store_true",
-                   help="run notebooks/student/ instead, each up to its first exercise stub")
-    p.add_argument("--no-html", action="store_true", help="write the executed .ipynb only")
-    p.add_argument("--timeout", type=int, default=1200, help="seconds per cell (default 1200)")
-    p.set_defaults(func=_cmd)
-    try:
-        from .assignments import add_assignments
-    except ImportError:  # pragma: no cover
-        return
-    add_assignments(sub)

@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .descriptors import FOUR_PI, inverse_compact_shape_dna, normalize, weyl_subtract
-from .mesh import as_mesh
+from ..descriptors import FOUR_PI, inverse_compact_shape_dna, normalize, weyl_subtract
+from ..mesh import as_mesh
 from .viewer import eigenfunction_explorer, view_mesh, view_meshes
 
 __all__ = [
@@ -234,7 +234,7 @@ def plot_weyl(spectra, areas, *, figsize=(10.0, 4.0)):
         Left: ``lam_i`` against ``i``, each model along its own line.  Right: ``area * lam_i``,
         all models around the common Weyl line ``4 pi i`` (dashed).
     """
-    from .compare import LABEL_WIDTH, short_label
+    from .collection import LABEL_WIDTH, short_label
 
     items = _spectra(spectra)
     missing = [k for k, _ in items if k not in areas]
@@ -313,7 +313,7 @@ def plot_dft(lam, area, M, *, N=None, figsize=(11.0, 3.4)):
         (f) the cropped magnitudes over the frequencies ``-M..M``, and the normalised
         Shape-DNA minus the Weyl line with its reconstruction from the ``2M+1`` values.
     """
-    from .descriptors import compact_shape_dna
+    from ..descriptors import compact_shape_dna
 
     lam = np.asarray(lam, dtype=np.float64)
     N = len(lam) if N is None else int(N)
@@ -452,7 +452,8 @@ def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", 
     -------
     matplotlib.figure.Figure
     """
-    from .compare import matrix_ticks, plot_distance_matrix, scale_255
+    from ..compare import scale_255
+    from .collection import matrix_ticks, plot_distance_matrix
 
     mats = [scale_255(m) if scale else np.asarray(m, dtype=np.float64) for m in matrices]
     if not mats:
@@ -499,7 +500,7 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
     import matplotlib as mpl
     from matplotlib.figure import Figure
 
-    from .compare import MDS_MAX_NAMES, _square_limits, annotate_points, short_labels
+    from .collection import MDS_MAX_NAMES, _square_limits, annotate_points, short_labels
 
     p = len(state.names)
     if isinstance(shape, bool) or not isinstance(shape, (int, np.integer)) or not 0 <= shape < p:

@@ -1,0 +1,34 @@
+"""Batch runs: eigenvalues and descriptors of a whole collection, cached, resumable, parallel.
+
+:func:`describe` computes the Shape-DNA (the ``N`` smallest eigenvalues, Section 2.1) of
+every mesh of a collection and returns a :class:`DescriptorTable`, from which every
+descriptor of :func:`cshape.compare.descriptor_matrix` (normalised / truncated Shape-DNA,
+cShape-DNA for any ``M``, F1) is derived without another eigensolve.
+
+The cache
+---------
+Each mesh's eigenvalues are stored in ``cache_dir`` as one ``<key>.npz`` file (NumPy
+arrays only, read with ``allow_pickle=False``), where ``key`` is the SHA-256 of the mesh
+content (vertex and face bytes) and of the parameters that change the eigenvalues
+(``bc``, ``mass``, :data:`CACHE_VERSION`).  ``N`` is not part of the key: an entry with at
+least ``N`` eigenvalues serves any smaller ``N`` (the first ``N`` values), and any ``M``.
+Entries are written atomically (temporary file in the same folder, then ``os.replace``) by
+the calling process only, as each result arrives, so an interrupted run (Ctrl-C, a killed
+process or worker) leaves only complete entries and the next run resumes where it stopped.
+An unreadable entry is reported, recomputed and overwritten.  Leftover ``.*.tmp`` files of
+a killed run are ignored and safe to delete.
+
+Meshes given as file paths are also remembered by file: ``cache_dir/files/<h>.key`` holds
+the content key of the file whose resolved path, size and modification time (ns) hash to
+``h`` (with ``bc``, ``mass`` and :data:`CACHE_VERSION`).  A second run over unchanged files
+finds their eigenvalues without reading the meshes; a changed file has a new ``h`` and is
+read (and its content key looked up) again.
+"""
+
+from __future__ import annotations
+
+from .cache import CACHE_VERSION, default_cache_dir, mesh_key
+from .run import describe
+from .table import DescriptorTable
+
+__all__ = ["CACHE_VERSION", "DescriptorTable", "default_cache_dir", "describe", "mesh_key"]

@@ -1,0 +1,377 @@
+"""Batch runs: :func:`describe` computes the Shape-DNA of every mesh of a collection (cached,
+resumable, in worker processes or on a Dask cluster) into a :class:`DescriptorTable`.
+"""
+
+from __future__ import annotations
+
+import numbers
+import os
+import warnings
+from collections import Counter, deque
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from .._checks import check_choice
+from .._files import atomic_write
+from ..descriptors import TRANSFORMS
+from ..mesh import CShapeWarning, Mesh
+from ._dask import _run_dask
+from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
+from .table import DescriptorTable
+from .work import _blas_limit, _init_worker, _work
+
+# =========================================================================== the work
+
+
+
+
+
+
+
+
+
+
+
+
+# =========================================================================== records
+class _Failed:
+    """Stands for a mesh whose record could not produce it; describe reports the message."""
+
+    def __init__(self, message):
+        self.message = message
+
+
+def _has_attr(cls, obj, name) -> bool:
+    """``hasattr`` without running a property (which may load a mesh)."""
+    import inspect
+
+    try:
+        inspect.getattr_static(obj, name)
+        return True
+    except AttributeError:
+        return False
+
+
+def collection_records(collection):
+    """[(name, label, source)] from the accepted collection forms (see :func:`describe`)."""
+    if isinstance(collection, (str, os.PathLike, Mesh)):
+        raise TypeError(
+            "collection must be an iterable of meshes, paths or records, got a single "
+            f"{type(collection).__name__}; wrap it in a list"
+        )
+    items = list(collection.items()) if isinstance(collection, Mapping) else list(collection)
+    out = []
+    path_rows = []
+    for i, item in enumerate(items):
+        if isinstance(item, (str, os.PathLike)):
+            path_rows.append(len(out))
+            out.append([Path(item).stem, "", Path(item)])
+        elif isinstance(item, Mesh):
+            out.append([f"mesh{i}", "", item])
+        elif isinstance(item, (tuple, list)) and len(item) in (2, 3) and isinstance(item[0], str):
+            name, label, src = (item[0], "", item[1]) if len(item) == 2 else item
+            out.append([name, label, src])
+        elif isinstance(item, (tuple, list)) and len(item) == 2 and np.ndim(item[0]) == 2:
+            out.append([f"mesh{i}", "", item])
+        elif _has_attr(type(item), item, "mesh") or _has_attr(type(item), item, "path"):
+            try:  # one access: a record may load its mesh lazily (and fail doing so)
+                src = getattr(item, "mesh", None)
+            except Exception as exc:  # noqa: BLE001 - reported as this mesh's failure
+                src = _Failed(f"{type(exc).__name__}: {exc}")
+            if src is None:
+                src = item.path
+            out.append([getattr(item, "name", None) or f"mesh{i}",
+                        getattr(item, "label", "") or "", src])
+        else:
+            raise TypeError(
+                f"collection item {i} is a {type(item).__name__}; expected a path, a Mesh, "
+                "a (vertices, faces) pair, a (name, mesh) or (name, label, mesh) tuple, or "
+                "a record with .name, .label and .mesh (or .path)"
+            )
+    # paths given bare: the file stem, or the whole path where stems collide
+    stems = Counter(out[r][0] for r in path_rows)
+    for r in path_rows:
+        if stems[out[r][0]] > 1:
+            out[r][0] = str(out[r][2])
+    names = [str(r[0]) for r in out]
+    if len(set(names)) != len(names):
+        dup = sorted(n for n, c in Counter(names).items() if c > 1)
+        raise ValueError(
+            f"collection has repeated names {dup[:5]}; give each mesh a unique name, e.g. "
+            "as (name, mesh) pairs"
+        )
+    return [(str(n), str(lab), src) for n, lab, src in out]
+
+
+# =========================================================================== describe
+def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_dir=None,
+             n_jobs=1, client=None, blas_threads=1, progress=True,
+             on_error="warn", transform="weyl") -> DescriptorTable:
+    """Eigenvalues and descriptors of every mesh of a collection: cached, resumable, parallel.
+
+    Parameters
+    ----------
+    collection : iterable
+        The meshes, each given as one of
+
+        * a path (``str`` or ``os.PathLike``) of a mesh file, read by
+          :func:`cshape.load_mesh` in the worker; named by its file stem (by the whole path
+          when stems collide);
+        * a :class:`cshape.Mesh` or a ``(vertices, faces)`` pair, named ``mesh<i>``;
+        * a ``(name, mesh)`` or ``(name, label, mesh)`` tuple, ``mesh`` as above;
+        * a record with attributes ``name``, ``label`` (optional) and ``mesh`` (or
+          ``path``), e.g. the records of a cshape data collection;
+
+        or a mapping ``{name: mesh}``.  Names must be unique.
+    N : int, default=100
+        Number of eigenvalues per shape (Shape-DNA length).
+    M : int, default=16
+        Default cShape-DNA half-width of the returned table (any ``M <= (N-1)//2`` can be
+        asked of it later without recomputing; ``M <= (N-2)//2`` for the log-Weyl
+        transforms).
+    bc : {'neumann', 'dirichlet'}, default='neumann'
+    mass : {'consistent', 'lumped'}, default='consistent'
+    cache_dir : str, os.PathLike, None or False, default=None
+        Folder of the eigenvalue cache (see the module notes); ``None`` uses
+        :func:`default_cache_dir`, ``False`` disables caching.
+    n_jobs : int, default=1
+        Local worker processes (``-1``: all cores).  ``1`` computes in this process.
+        Each worker process uses one BLAS thread.  The workers (joblib's loky pool) do
+        not re-run the calling script, so a plain script without an
+        ``if __name__ == '__main__':`` guard works.
+    client : dask.distributed.Client or str, optional
+        Run on a Dask cluster: a client, or a scheduler address such as
+        ``'tcp://10.0.0.5:8786'`` (a client is opened and closed for the run).  The workers
+        need cshape installed; the cache is read and written by this process only, so it
+        need not be on a shared file system (workers given *paths* must be able to read
+        them).  Takes precedence over ``n_jobs``.  On its first task each worker process
+        undoes its nanny's ``MALLOC_TRIM_THRESHOLD_``, which made eigensolves about 1.35x
+        slower (glibc's allocator thresholds set back to a plain process's), and while
+        describe runs, each worker's statistical profiler and 20 ms event-loop tick are
+        paused (they took the GIL from the eigensolves: about 10 % of their time) and
+        restarted at the end; clusters need no other setup.
+    blas_threads : int or None, default=1
+        BLAS / OpenMP threads for each eigensolve, in this process (``n_jobs=1``) and in
+        every local worker process; ``None`` leaves the library default.  One thread is
+        the right choice for many small and medium meshes: on a busy 2-core machine two
+        OpenBLAS threads made the dense eigensolve of 1000-vertex meshes about 100 times
+        slower.  Dask workers started by a nanny already use one thread.
+    progress : bool, default=True
+        Show a tqdm progress bar.
+    on_error : {'warn', 'raise'}, default='warn'
+        ``'warn'``: a mesh that fails (unreadable file, too few vertices for ``N``, ...) is
+        skipped, listed in ``table.failures`` and reported in one warning at the end.
+        ``'raise'``: stop at the first failure with a ``RuntimeError``.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        Default cShape-DNA transform of the returned table (see
+        :func:`cshape.compact_shape_dna`); like ``M`` it does not change the eigenvalues or
+        the cache, and any transform can be asked of the table later.
+
+    Returns
+    -------
+    DescriptorTable
+        The successful meshes in the order of ``collection``: ``names``, ``labels``,
+        ``lam`` (p, N), ``areas`` (p,), ``seconds``, ``cached`` and ``failures``;
+        descriptors through :meth:`DescriptorTable.descriptors`.
+
+    Warns
+    -----
+    CShapeWarning
+        For failed meshes, corrupt cache entries (recomputed), and the warnings of the
+        mesh stage (repairs, several components) prefixed by the mesh name.
+
+    Examples
+    --------
+    >>> from cshape import shapes
+    >>> from cshape.batch import describe
+    >>> meshes = [("s1", "sphere", shapes.icosphere(2)), ("s2", "sphere", shapes.icosphere(3)),
+    ...           ("t1", "torus", shapes.torus(24, 12))]
+    >>> table = describe(meshes, N=30, M=4, cache_dir=False, progress=False)
+    >>> table
+    DescriptorTable(3 shapes, N=30, M=4, 2 classes)
+    >>> table.cshape.shape, table.distance_matrix("shape_dna").shape
+    ((3, 9), (3, 3))
+
+    Notes
+    -----
+    If a local worker process dies (killed, out of memory), the meshes it had not finished
+    are reported as failures; the finished ones are already cached, so calling
+    ``describe`` again computes only what is missing.
+    """
+    N = _check_pos_int(N, "N")
+    M = _check_pos_int(M, "M", lo=0)
+    transform = check_choice("transform", transform, TRANSFORMS)
+    if 2 * M + 1 > N:
+        raise ValueError(f"M={M} needs 2M+1 = {2 * M + 1} <= N = {N}; use M <= {(N - 1) // 2}")
+    if transform != "weyl" and 2 * M + 1 > N - 1:
+        raise ValueError(f"M={M} with transform={transform!r} needs 2M+1 = {2 * M + 1} <= N-1 "
+                         f"= {N - 1} (lam_0 has no logarithm); use M <= {(N - 2) // 2}")
+    bc = check_choice("bc", bc, ("neumann", "dirichlet"))
+    mass = check_choice("mass", mass, ("consistent", "lumped"))
+    n_jobs = _check_n_jobs(n_jobs)
+    if blas_threads is not None:
+        blas_threads = _check_pos_int(blas_threads, "blas_threads")
+    on_error = check_choice("on_error", on_error, ("warn", "raise"))
+    if cache_dir is False:
+        cache = None
+    else:
+        cache = Path(default_cache_dir() if cache_dir is None else cache_dir)
+        cache.mkdir(parents=True, exist_ok=True)
+    records = collection_records(collection)
+    p = len(records)
+    results = [None] * p
+    failures = {}
+
+    from tqdm.auto import tqdm
+
+    bar = tqdm(total=p, desc="describe", unit="mesh", disable=not progress)
+    aliases = {}  # row -> alias file of a mesh given by path (see the module notes)
+
+    def finish(i, res):
+        name = records[i][0]
+        for msg in res.get("warnings", ()):
+            warnings.warn(f"{name}: {msg}", CShapeWarning, stacklevel=3)
+        if res["ok"]:
+            if cache is not None and not res["cached"]:
+                try:
+                    _write_entry(cache, res)
+                except OSError as exc:  # a full or read-only disk must not lose the result
+                    warnings.warn(f"{name}: could not write its cache entry ({exc}); the "
+                                  "result is kept but will be recomputed next time",
+                                  CShapeWarning, stacklevel=3)
+            alias = aliases.get(i)
+            if alias is not None and _read_alias(alias) != res["key"]:
+                try:
+                    alias.parent.mkdir(exist_ok=True)
+                    atomic_write(alias, lambda f: f.write(res["key"]), binary=False)
+                except OSError:
+                    pass  # only the shortcut is lost: the file is read again next time
+            results[i] = res
+        else:
+            if on_error == "raise":
+                raise RuntimeError(f"describe: mesh {name!r} failed: {res['error']}")
+            failures[i] = res["error"]
+        bar.update(1)
+
+    try:
+        # meshes in memory, and files seen before unchanged: look them up in the cache here,
+        # before any task is sent
+        tasks = []
+        for i, (_name, _label, src) in enumerate(records):
+            key = None
+            if isinstance(src, _Failed):
+                finish(i, {"ok": False, "error": src.message})
+                continue
+            if isinstance(src, (str, os.PathLike)) and cache is not None:
+                alias = aliases[i] = _file_alias(cache, src, bc, mass)
+                known = None if alias is None else _read_alias(alias)
+                hit = None if known is None else _read_entry(cache, known, N)
+                if hit is not None:
+                    finish(i, {**hit, "ok": True})
+                    continue
+            if not isinstance(src, (str, os.PathLike)):
+                try:
+                    key = mesh_key(src, bc, mass)
+                except (TypeError, ValueError) as exc:
+                    finish(i, {"ok": False, "error": f"{type(exc).__name__}: {exc}"})
+                    continue
+                hit = None if cache is None else _read_entry(cache, key, N)
+                if hit is not None:
+                    finish(i, {**hit, "ok": True})
+                    continue
+            tasks.append((i, src, N, bc, mass, None if cache is None else str(cache), key))
+
+        if client is not None:
+            _run_dask(tasks, client, finish)
+        elif n_jobs == 1 or len(tasks) <= 1:
+            with _blas_limit(blas_threads):
+                for t in tasks:
+                    finish(t[0], _work(t))
+        else:
+            _run_processes(tasks, n_jobs, finish, failures, blas_threads)
+    finally:
+        bar.close()
+
+    ok = [i for i in range(p) if results[i] is not None]
+    fail_list = [(records[i][0], failures[i]) for i in sorted(failures)]
+    if fail_list:
+        shown = "; ".join(f"{n} ({m})" for n, m in fail_list[:5])
+        more = f"; and {len(fail_list) - 5} more" if len(fail_list) > 5 else ""
+        warnings.warn(
+            f"describe: {len(fail_list)} of {p} meshes failed and were skipped "
+            f"(see table.failures): {shown}{more}", CShapeWarning, stacklevel=2)
+    return DescriptorTable(
+        [records[i][0] for i in ok],
+        np.array([results[i]["lam"][:N] for i in ok]).reshape(len(ok), N),
+        [results[i]["area"] for i in ok],
+        [records[i][1] for i in ok], M=M, bc=bc, mass=mass,
+        seconds=[results[i]["seconds"] for i in ok],
+        cached=[results[i]["cached"] for i in ok], failures=fail_list, transform=transform)
+
+
+def _check_pos_int(value, name, lo=1):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < lo:
+        raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
+    return int(value)
+
+
+def _check_n_jobs(n_jobs):
+    if n_jobs is None:
+        return 1
+    if isinstance(n_jobs, bool) or not isinstance(n_jobs, numbers.Integral) or n_jobs == 0 \
+            or n_jobs < -1:
+        raise ValueError(f"n_jobs must be a positive integer or -1 (all cores), got {n_jobs!r}")
+    return (os.cpu_count() or 1) if n_jobs == -1 else int(n_jobs)
+
+
+def _run_processes(tasks, n_jobs, finish, failures, blas_threads):
+    """Run ``tasks`` in ``n_jobs`` local worker processes, calling ``finish`` as they end.
+
+    The pool is joblib's loky executor: its workers start a fresh interpreter that imports
+    cshape but not the caller's ``__main__``.  (multiprocessing's 'spawn' and 'forkserver'
+    re-run the calling script in every worker, so a script without an
+    ``if __name__ == "__main__":`` guard started describe again in each worker, whose death
+    failed every mesh; 'fork' is unsafe with the threads of BLAS and PyMeshLab.)  A worker
+    that dies (killed, out of memory) breaks the pool: its unfinished meshes are reported as
+    failures, and the finished ones are already cached.
+    """
+    from concurrent.futures import FIRST_COMPLETED, wait
+
+    from joblib.externals.loky import ProcessPoolExecutor
+    from joblib.externals.loky.process_executor import BrokenProcessPool
+
+    todo = deque(tasks)
+    window = 4 * n_jobs  # tasks in flight: bounded memory for large collections
+    with ProcessPoolExecutor(max_workers=min(n_jobs, len(tasks)),
+                             initializer=_init_worker, initargs=(blas_threads,)) as ex:
+        pending = {}
+        try:
+            while todo or pending:
+                while todo and len(pending) < window:
+                    fut = ex.submit(_work, todo[0])  # raises if the pool is broken
+                    pending[fut] = todo.popleft()
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    t = pending[fut]
+                    try:
+                        res = fut.result()
+                    except BrokenProcessPool:
+                        raise
+                    except Exception as exc:  # noqa: BLE001 - e.g. a task that cannot pickle
+                        res = {"ok": False, "error": f"{type(exc).__name__}: {exc}"}
+                    del pending[fut]
+                    finish(t[0], res)
+        except BrokenProcessPool:
+            lost = list(pending.values()) + list(todo)
+            for t in lost:
+                failures[t[0]] = ("worker process died (killed or crashed) before finishing "
+                                  "this mesh; run describe again to resume")
+        finally:
+            for fut in pending:
+                fut.cancel()
+
+
+#: glibc's ceiling for its adaptive mmap threshold on 64-bit systems (32 MiB): the value a
+#: plain process settles at after freeing a few large arrays.

@@ -1,0 +1,84 @@
+"""The work of one mesh in a batch run: read, repair, eigensolve (in any process)."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import threading
+import time
+import warnings
+
+from ..mesh import Mesh, as_mesh, repair_mesh
+from ..readers import load_mesh
+from ..spectrum import shape_dna
+from .cache import CACHE_VERSION, _read_entry, mesh_key
+
+
+def load_source(source) -> Mesh:
+    if isinstance(source, (str, os.PathLike)):
+        return load_mesh(source)
+    return as_mesh(source)
+
+
+def _work(task):
+    """Eigenvalues of one mesh; runs in the caller, a worker process or a Dask worker.
+
+    Never raises: errors come back as ``{'ok': False, 'error': message}``.  Warnings are
+    recorded (and returned, to be re-issued with the mesh name) when this runs in a main
+    thread; in other threads they are left alone (``catch_warnings`` is not thread-safe).
+    """
+    capture = threading.current_thread() is threading.main_thread()
+    if capture:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            out = _work_inner(task)
+        out["warnings"] = [str(w.message) for w in caught]
+    else:
+        out = _work_inner(task)
+        out["warnings"] = []
+    return out
+
+
+def _work_inner(task):
+    index, source, N, bc, mass, cache_dir, key = task
+    t0 = time.perf_counter()
+    try:
+        mesh = load_source(source)
+        if key is None:
+            key = mesh_key(mesh, bc, mass)
+            if cache_dir is not None:
+                hit = _read_entry(cache_dir, key, N)
+                if hit is not None:
+                    hit.update(index=index, ok=True)
+                    return hit
+        fixed = repair_mesh(mesh)
+        lam = shape_dna(fixed, N=N, bc=bc, mass=mass)
+        return {"index": index, "ok": True, "lam": lam, "area": float(fixed.area),
+                "key": key, "seconds": time.perf_counter() - t0, "cached": False,
+                "n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
+                "params": {"N": N, "bc": bc, "mass": mass, "cache_version": CACHE_VERSION}}
+    except Exception as exc:  # noqa: BLE001 - reported and skipped by describe
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+        return {"index": index, "ok": False, "error": f"{type(exc).__name__}: {msg}"}
+
+
+_THREAD_LIMITS = None
+
+
+def _blas_limit(blas_threads):
+    """Context manager limiting BLAS / OpenMP threads (a no-op for None)."""
+
+    if blas_threads is None:
+        return contextlib.nullcontext()
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=blas_threads)
+
+
+def _init_worker(blas_threads):
+    """Worker-process initialiser: limit BLAS threads for the life of the process."""
+    global _THREAD_LIMITS
+    if blas_threads is not None:
+        from threadpoolctl import threadpool_limits
+
+        _THREAD_LIMITS = threadpool_limits(limits=blas_threads)

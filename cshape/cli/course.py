@@ -1,0 +1,93 @@
+"""``cshape notebooks``, ``cshape assignments`` and ``cshape lessons``: the course's commands.
+
+The course layer (:mod:`cshape.course`) is imported when a command runs, so the command line
+works without the ``notebooks`` and ``course`` extras until one of these is called.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+__all__ = ["add_assignments", "add_notebooks"]
+
+
+def _cmd_notebooks(args) -> int:
+    from ..course.lessons import default_notebook_dir, run_notebooks
+
+    src = args.src
+    if args.student:
+        src = Path(default_notebook_dir() if src is None else src) / "student"
+    out = args.out or ("out/notebooks/student" if args.student else "out/notebooks")
+    results = run_notebooks(src, out, names=args.names or None, small=args.small,
+                            timeout=args.timeout, html=not args.no_html,
+                            stop_at_stub=args.student)
+    return 0 if all(r.ok for r in results) else 1
+
+
+def add_notebooks(sub) -> None:
+    """Register ``cshape notebooks``."""
+    p = sub.add_parser(
+        "notebooks",
+        help="execute the walkthrough notebooks into an output folder (executed .ipynb + HTML)",
+    )
+    p.add_argument("names", nargs="*", help="notebooks to run, e.g. 01 03 (default: all)")
+    p.add_argument("--src", default=None, help="notebook folder (default: the checkout's)")
+    p.add_argument("--out", default=None, help="output folder (default: out/notebooks)")
+    p.add_argument("--small", action="store_true",
+                   help="small meshes and N (sets CSHAPE_SMALL=1 in the kernels)")
+    p.add_argument("--student", action="store_true",
+                   help="run notebooks/student/ instead, each up to its first exercise stub")
+    p.add_argument("--no-html", action="store_true", help="write the executed .ipynb only")
+    p.add_argument("--timeout", type=int, default=1200, help="seconds per cell (default 1200)")
+    p.set_defaults(func=_cmd_notebooks)
+
+
+def _cmd_assignments(args) -> int:
+    from ..course.assignments import generate
+
+    paths = generate(args.src, args.dest, check=args.check)
+    if args.check:
+        if paths:
+            print("out of date (run `python -m cshape assignments`):")
+            for p in paths:
+                print("  ", p)
+            return 1
+        print("student notebooks are up to date")
+        return 0
+    for p in paths:
+        print("wrote", p)
+    if not paths:
+        print("student notebooks already up to date")
+    return 0
+
+
+def _cmd_lessons(args) -> int:
+    from ..course.assignments import ASSIGNMENT, copy_lessons
+
+    files = copy_lessons(args.dir)
+    lessons = [f for f in files if f.parent == Path(".") and f.suffix == ".ipynb"]
+    print(f"{len(lessons)} lessons, {sum(f.parts[0] == 'student' for f in files)} student "
+          f"versions and an nbgrader course (source/{ASSIGNMENT}/) in {args.dir}")
+    print(f"open them: jupyter lab {args.dir}    release: cd {args.dir} && nbgrader "
+          f"generate_assignment {ASSIGNMENT}")
+    return 0
+
+
+def add_assignments(sub) -> None:
+    """Register ``cshape assignments`` and ``cshape lessons`` on the CLI's sub-parsers."""
+    p = sub.add_parser(
+        "assignments",
+        help="make the student versions of the graded lessons with nbgrader "
+             "(into notebooks/student/)",
+    )
+    p.add_argument("--src", default=None, help="solution notebooks (default: the lessons)")
+    p.add_argument("--dest", default=None, help="output folder (default: <src>/student)")
+    p.add_argument("--check", action="store_true",
+                   help="write nothing; exit 1 if the student notebooks are out of date")
+    p.set_defaults(func=_cmd_assignments)
+    q = sub.add_parser(
+        "lessons",
+        help="copy the lessons, their student versions and an nbgrader course into DIR",
+    )
+    q.add_argument("dir", help="a new (or empty) folder")
+    q.set_defaults(func=_cmd_lessons)

@@ -1,0 +1,463 @@
+"""The data manifest: its records (:class:`Item`, :class:`Collection`), the recipes that
+generate shapes, the schema and :func:`validate_manifest`, and look-ups by name.
+"""
+
+from __future__ import annotations
+
+import copy
+import inspect
+import os
+import re
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path, PurePosixPath
+
+from ..mesh import Mesh
+
+KINDS = ("generated", "package", "download", "local")
+LAYOUTS = ("mcgill", "tosca", "shrec07")
+
+#: Bumped whenever a recipe's output changes, so stale cache files are not reused.
+RECIPES_VERSION = 1
+
+#: The manifest shipped inside the package.  In a source checkout ``cshape/data_manifest.yaml``
+#: is a symbolic link to the top-level ``data_manifest.yaml`` (the one file to edit); the
+#: wheel stores the file itself (``[tool.setuptools.package-data]`` in pyproject.toml).
+_DEFAULT_MANIFEST = Path(__file__).resolve().parent / "data_manifest.yaml"
+
+
+# ====================================================================== records
+@dataclass(eq=False)
+class Item:
+    """One mesh of a collection: its name, class label and (lazily loaded) mesh.
+
+    Attributes
+    ----------
+    name : str
+        Unique within the collection.
+    label : str
+        Class label (for classification and MDS colouring).
+    collection : str
+        Name of the collection.
+    meta : dict
+        The manifest entry of the item (recipe, params, seed, file, license, ...).
+    mesh : Mesh
+        Loaded on first access and kept.
+    path : Path or None
+        The file it is read from (a generated item's cache file).
+    """
+
+    name: str
+    label: str
+    collection: str = ""
+    meta: dict = field(default_factory=dict, repr=False)
+    _load: Callable[[], Mesh] | None = field(default=None, repr=False)
+
+    @property
+    def path(self) -> Path | None:
+        """The file the mesh is read from (for generated items, its cache file)."""
+        return getattr(self._load, "path", None)
+
+    @cached_property
+    def mesh(self) -> Mesh:
+        """The item's mesh, loaded (or read from the cache) on first access."""
+        if self._load is None:  # pragma: no cover - every constructor passes a loader
+            raise ValueError(f"item {self.name!r} has no loader")
+        return self._load()
+
+
+@dataclass(eq=False)
+class Collection:
+    """A named list of :class:`Item`, indexable by position or item name.
+
+    Attributes
+    ----------
+    name : str
+    items : list of Item
+    info : dict
+        The manifest entry (description, license, citation, ...).
+    """
+
+    name: str
+    items: list
+    info: dict = field(default_factory=dict, repr=False)
+
+    def __len__(self) -> int:
+        return len(self.items)
+
+    def __iter__(self):
+        return iter(self.items)
+
+    def __getitem__(self, key) -> Item:
+        if isinstance(key, str):
+            for it in self.items:
+                if it.name == key:
+                    return it
+            raise KeyError(
+                f"collection {self.name!r} has no item {key!r}; items are {self.names[:20]}"
+            )
+        return self.items[key]
+
+    @property
+    def names(self) -> list[str]:
+        """Item names, in order."""
+        return [it.name for it in self.items]
+
+    @property
+    def labels(self) -> list[str]:
+        """Class labels, in order."""
+        return [it.label for it in self.items]
+
+    @property
+    def meshes(self) -> list[Mesh]:
+        """All meshes (loads those not loaded yet)."""
+        return [it.mesh for it in self.items]
+
+    def __repr__(self) -> str:
+        classes = sorted(set(self.labels))
+        return f"Collection({self.name!r}, {len(self)} items, {len(classes)} classes)"
+
+
+# ====================================================================== recipes
+def _recipes() -> dict:
+    from . import variants as v
+    from .creatures import creature
+
+    return {
+        # name: (function, takes a base mesh, takes a seed)
+        "sphere": (v.sphere, False, False),
+        "torus": (v.torus, False, False),
+        "cube": (v.cube, False, False),
+        "eight": (v.eight, False, False),
+        "figure": (v.articulated_figure, False, True),
+        "remesh": (v.remesh, True, False),
+        "subdivide": (v.subdivide, True, False),
+        "noise": (v.add_normal_noise, True, True),
+        "creature": (creature, False, True),
+    }
+
+
+#: Recipe names a ``generated`` item may use, with the :mod:`cshape.variants` function each
+#: calls (``base`` items pass the base mesh first; ``seed`` is passed as ``random_state``).
+RECIPES = {
+    "sphere": "cshape.variants.sphere",
+    "torus": "cshape.variants.torus",
+    "cube": "cshape.variants.cube",
+    "eight": "cshape.variants.eight",
+    "figure": "cshape.variants.articulated_figure (seed -> random_state)",
+    "remesh": "cshape.variants.remesh (base mesh)",
+    "subdivide": "cshape.variants.subdivide (base mesh)",
+    "noise": "cshape.variants.add_normal_noise (base mesh, seed -> random_state)",
+    "creature": "cshape.creatures.creature (seed -> random_state)",
+}
+
+#: Fields of a generated collection's ``generate`` mapping: the arguments of
+#: :func:`cshape.creatures.creature_items`, which lists the items in place of ``items``.
+GENERATE_FIELDS = ("seed", "members", "kinds", "params")
+
+
+# ====================================================================== manifest schema
+_STR, _INT, _DICT, _LIST = "str", "int", "dict", "list"
+
+#: The manifest schema: fields every collection needs, and per kind the required and optional
+#: collection fields and item fields (``type`` names: str, int, dict, list, "int|null", ...).
+MANIFEST_SCHEMA = {
+    "top": {"required": {"version": _INT, "collections": _LIST}},
+    "collection": {
+        "required": {
+            "name": _STR, "kind": _STR, "description": _STR, "license": _STR, "citation": _STR,
+        },
+    },
+    "kinds": {
+        "generated": {
+            "required": {},
+            "optional": {"items": _LIST, "generate": _DICT},
+            "item_required": {"name": _STR, "label": _STR, "recipe": _STR},
+            "item_optional": {"params": _DICT, "seed": _INT, "base": _STR, "description": _STR},
+        },
+        "package": {
+            "required": {"package": _STR, "path": _STR, "items": _LIST},
+            "optional": {},
+            "item_required": {"name": _STR, "label": _STR, "file": _STR},
+            "item_optional": {"description": _STR},
+        },
+        "download": {
+            "required": {"page": _STR, "format": _STR},
+            "optional": {"items": _LIST, "layout": _STR, "path_env": _STR},
+            "item_required": {
+                "name": _STR, "label": _STR, "file": _STR, "url": _STR, "sha256": _STR,
+                "size": _INT,
+            },
+            "item_optional": {"license": _STR, "author": _STR, "citation": _STR},
+        },
+        "local": {
+            "required": {"path": _STR, "labels": _STR},
+            "optional": {"path_env": _STR, "items": _LIST},
+            "item_required": {"name": _STR, "label": _STR, "file": _STR},
+            "item_optional": {},
+        },
+    },
+}
+
+_TYPES = {_STR: str, _INT: int, _DICT: dict, _LIST: list}
+
+
+def _check_fields(obj, required, optional, where):
+    if not isinstance(obj, dict):
+        raise ValueError(f"{where}: expected a mapping of fields, got {type(obj).__name__}")
+    for key, typ in required.items():
+        if key not in obj or obj[key] is None:
+            raise ValueError(f"{where}: missing required field {key!r} ({typ})")
+    allowed = {**required, **optional}
+    for key, value in obj.items():
+        if key not in allowed:
+            raise ValueError(
+                f"{where}: unknown field {key!r}; allowed fields are {sorted(allowed)}"
+            )
+        typ = allowed[key]
+        ok = isinstance(value, _TYPES[typ]) and not isinstance(value, bool)
+        if not ok and not (value is None and key in optional):
+            raise ValueError(
+                f"{where}: field {key!r} must be a {typ}, got {type(value).__name__} {value!r}"
+            )
+
+
+def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
+    """Check a parsed manifest against :data:`MANIFEST_SCHEMA`; return it keyed by name.
+
+    Besides the fields and their types, checks that names are unique, kinds and layouts
+    known, recipes and their parameter names exist in :mod:`cshape.variants`, ``base``
+    references name an *earlier* generated item, and sha256 / url / size look right.
+
+    Parameters
+    ----------
+    doc : dict
+        As returned by ``yaml.safe_load``.
+    source : str
+        Shown in error messages.
+
+    Returns
+    -------
+    dict
+        ``{collection name: entry}``, in manifest order.
+
+    Raises
+    ------
+    ValueError
+        Naming the collection (and item) and the field at fault.
+    """
+    _check_fields(doc, MANIFEST_SCHEMA["top"]["required"], {}, source)
+    recipes = _recipes()
+    out: dict = {}
+    for i, entry in enumerate(doc["collections"]):
+        name = entry.get("name") if isinstance(entry, dict) else None
+        where = f"{source}: collection {name!r} (entry {i})" if name else f"{source}: entry {i}"
+        if not isinstance(entry, dict):
+            raise ValueError(f"{where}: expected a mapping of fields")
+        kind = entry.get("kind")
+        if kind is not None and kind not in KINDS:
+            raise ValueError(f"{where}: unknown kind {kind!r}; kind must be one of {KINDS}")
+        base_required = MANIFEST_SCHEMA["collection"]["required"]
+        spec = MANIFEST_SCHEMA["kinds"].get(kind, {"required": {}, "optional": {}})
+        _check_fields(
+            entry, {**base_required, **spec["required"]}, spec["optional"], where
+        )
+        if name in out:
+            raise ValueError(f"{where}: duplicate collection name {name!r}")
+        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", name):
+            raise ValueError(
+                f"{where}: name must be letters, digits, '-', '_' or '.', got {name!r}"
+            )
+        if kind == "download":
+            if ("items" in entry) == ("layout" in entry):
+                raise ValueError(
+                    f"{where}: a download collection needs either 'items' (files with url, "
+                    "sha256, size) or 'layout' (a benchmark fetched by hand), not both or none"
+                )
+            if "layout" in entry and entry["layout"] not in LAYOUTS:
+                raise ValueError(
+                    f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
+                )
+        if kind == "generated":
+            if ("items" in entry) == ("generate" in entry):
+                raise ValueError(
+                    f"{where}: a generated collection needs either 'items' (one recipe per "
+                    "item) or 'generate' (a creature benchmark: seed, members, kinds, "
+                    "params), not both or none"
+                )
+            if "generate" in entry:
+                entry["items"] = _generate_items(entry["generate"], where)
+        if kind == "package":
+            rel = PurePosixPath(entry["path"])
+            if rel.is_absolute() or ".." in rel.parts:
+                raise ValueError(
+                    f"{where}: field 'path' must be a folder inside package "
+                    f"{entry['package']!r}, got {entry['path']!r}"
+                )
+        if kind == "local" and entry["labels"] != "subfolder" and not entry["labels"].endswith(
+            ".csv"
+        ):
+            raise ValueError(
+                f"{where}: field 'labels' must be 'subfolder' or the name of a CSV file, "
+                f"got {entry['labels']!r}"
+            )
+        seen = set()
+        for j, item in enumerate(entry.get("items") or []):
+            iname = item.get("name") if isinstance(item, dict) else None
+            iwhere = f"{where}, item {iname!r}" if iname else f"{where}, item {j}"
+            _check_fields(item, spec["item_required"], spec["item_optional"], iwhere)
+            if iname in seen:
+                raise ValueError(f"{iwhere}: duplicate item name {iname!r}")
+            if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", iname):
+                # names become cache file names: no '/', '..' or hidden files
+                raise ValueError(
+                    f"{iwhere}: item name must be letters, digits, '-', '_' or '.' (starting "
+                    f"with a letter or digit), got {iname!r}"
+                )
+            seen.add(iname)
+            if kind == "generated":
+                _check_recipe(item, recipes, out, entry, iwhere)
+            if kind == "download":
+                if not re.fullmatch(r"[0-9a-f]{64}", item["sha256"]):
+                    raise ValueError(
+                        f"{iwhere}: field 'sha256' must be 64 lowercase hex digits, "
+                        f"got {item['sha256']!r}"
+                    )
+                if not item["url"].startswith("https://"):
+                    raise ValueError(f"{iwhere}: field 'url' must be an https URL")
+                if item["size"] <= 0:
+                    raise ValueError(f"{iwhere}: field 'size' must be a positive byte count")
+            if "file" in item:
+                p = PurePosixPath(item["file"])
+                if p.is_absolute() or ".." in p.parts:
+                    raise ValueError(
+                        f"{iwhere}: field 'file' must be a relative path inside the "
+                        f"collection, got {item['file']!r}"
+                    )
+        out[name] = entry
+    return out
+
+
+def _generate_items(spec, where) -> list:
+    """The items of a ``generate`` mapping (:func:`cshape.creatures.creature_items`)."""
+    from .creatures import creature_items
+
+    bad = sorted(set(spec) - set(GENERATE_FIELDS))
+    if bad:
+        raise ValueError(
+            f"{where}: field 'generate' has unknown key(s) {bad}; its keys are "
+            f"{list(GENERATE_FIELDS)}"
+        )
+    try:
+        return creature_items(**spec)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}: field 'generate': {exc}") from None
+
+
+def _check_recipe(item, recipes, done, entry, where):
+    recipe = item["recipe"]
+    if recipe not in recipes:
+        raise ValueError(
+            f"{where}: unknown recipe {recipe!r}; recipe must be one of {sorted(recipes)}"
+        )
+    fn, takes_base, takes_seed = recipes[recipe]
+    sig = inspect.signature(fn)
+    names = list(sig.parameters)
+    allowed = set(names[1:] if takes_base else names) - {"random_state"}
+    for key in item.get("params") or {}:
+        if key not in allowed:
+            raise ValueError(
+                f"{where}: recipe {recipe!r} has no parameter {key!r}; "
+                f"its parameters are {sorted(allowed)}"
+            )
+    if takes_base != ("base" in item):
+        need = "needs a 'base' (collection/item)" if takes_base else "takes no 'base'"
+        raise ValueError(f"{where}: recipe {recipe!r} {need}")
+    if "seed" in item and not takes_seed:
+        raise ValueError(f"{where}: recipe {recipe!r} is deterministic and takes no 'seed'")
+    if takes_base:
+        coll, _, iname = item["base"].partition("/")
+        pool = {it["name"] for it in entry["items"][: entry["items"].index(item)]}
+        known = pool if coll == entry["name"] else (
+            {it["name"] for it in done[coll]["items"]}
+            if coll in done and done[coll]["kind"] == "generated" else None
+        )
+        if known is None or iname not in known:
+            raise ValueError(
+                f"{where}: field 'base' must name an earlier generated item as "
+                f"'collection/item', got {item['base']!r}"
+            )
+
+
+def load_manifest(path=None) -> dict:
+    """Read and validate a manifest; return ``{collection name: entry}``.
+
+    Parameters
+    ----------
+    path : str, os.PathLike or dict, optional
+        The YAML file; default ``$CSHAPE_MANIFEST`` or the ``data_manifest.yaml`` shipped
+        inside the package.  A dict is taken as an already parsed manifest.
+        The file's folder is recorded (key ``_root`` of each entry) to resolve relative
+        ``local`` paths.
+    """
+    if isinstance(path, dict):
+        if "collections" in path:
+            # a copy: the entries get a '_root' key, which must not change the caller's dict
+            doc = copy.deepcopy(path)
+            return _with_root(validate_manifest(doc, source="manifest"), Path.cwd())
+        return path  # already validated
+    import yaml
+
+    p = Path(path or os.environ.get("CSHAPE_MANIFEST") or _DEFAULT_MANIFEST)
+    if not p.is_file():
+        raise FileNotFoundError(
+            f"no data manifest at {str(p)!r}; pass manifest=PATH or set CSHAPE_MANIFEST"
+        )
+    with open(p, encoding="utf-8") as fh:
+        try:
+            doc = yaml.safe_load(fh)
+        except yaml.YAMLError as exc:
+            raise ValueError(f"{p.name}: not valid YAML ({exc})") from None
+    return _with_root(validate_manifest(doc, source=p.name), p.resolve().parent)
+
+
+def _with_root(entries, root):
+    for e in entries.values():
+        e.setdefault("_root", str(root))
+    return entries
+
+
+def _entry(name, manifest) -> dict:
+    entries = load_manifest(manifest)
+    if name not in entries:
+        raise ValueError(
+            f"unknown collection {name!r}; known collections are {list(entries)} "
+            "(see `cshape data list`)"
+        )
+    return entries[name]
+
+
+def list_collections(manifest=None) -> list[str]:
+    """Names of the collections in the manifest, in manifest order.
+
+    Examples
+    --------
+    >>> import cshape.data
+    >>> "paper-models" in cshape.data.list_collections()
+    True
+    """
+    return list(load_manifest(manifest))
+
+
+def info(name, manifest=None) -> dict:
+    """The manifest entry of collection ``name`` (description, kind, license, items, ...)."""
+    return {k: v for k, v in _entry(name, manifest).items() if not k.startswith("_")}
+
+
+def _find_item(entry, name):
+    for it in entry.get("items") or []:
+        if it["name"] == name:
+            return it
+    names = [it["name"] for it in entry.get("items") or []]
+    raise ValueError(f"collection {entry['name']!r} has no item {name!r}; items are {names}")

@@ -1,0 +1,348 @@
+"""Collections on disk: the cache of generated meshes, collection folders, and loading a
+collection or one shape by name (:func:`load_collection`, :func:`load`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from .._files import atomic_write, make_folder
+from ..mesh import Mesh
+from .download import extract_archive, fetch
+from .files import _file_loader, _FileLoader, _read_npz, _VerifiedLoader
+from .folders import _LAYOUT_READERS, _manual_message, load_folder
+from .manifest import RECIPES_VERSION, Collection, Item, _entry, _find_item, _recipes, load_manifest
+from .paths import _cache_root, _removing_new_folders, collection_path
+
+# ====================================================================== cache
+
+
+def _pymeshlab_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("pymeshlab")
+    except PackageNotFoundError:  # pragma: no cover
+        return "unknown"
+
+
+def _recipe_record(entries, coll, item) -> dict:
+    rec = {
+        "recipe": item["recipe"],
+        "params": item.get("params") or {},
+        "seed": item.get("seed"),
+        "recipes_version": RECIPES_VERSION,
+        "pymeshlab": _pymeshlab_version(),
+    }
+    if "base" in item:
+        bcoll, _, bname = item["base"].partition("/")
+        bitem = _find_item(entries[bcoll], bname)
+        rec["base"] = {"item": item["base"], "key": _key(_recipe_record(entries, bcoll, bitem))}
+    return rec
+
+
+def _key(record) -> str:
+    blob = json.dumps(record, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+
+
+
+def _atomic_save_npz(path: Path, **arrays) -> None:
+    """Write ``arrays`` to ``path`` as .npz atomically (see :func:`cshape._files.atomic_write`)."""
+    hint = "pass cache_dir= or set CSHAPE_CACHE to a writable folder"
+    make_folder(path.parent, what="cache folder", hint=hint)
+    atomic_write(path, lambda fh: np.savez(fh, **arrays), what="cache file", hint=hint)
+
+
+
+
+def _cache_file(entries, coll, item, root: Path) -> Path:
+    key = _key(_recipe_record(entries, coll, item))
+    return root / "generated" / coll / f"{item['name']}-{key}.npz"
+
+
+def _generated_mesh(entries, coll, item, root: Path) -> tuple[Mesh, bool]:
+    """Return (mesh, built) for a generated item, from the cache or by building it."""
+    path = _cache_file(entries, coll, item, root)
+    record = _recipe_record(entries, coll, item)
+    if path.is_file():
+        try:
+            return _read_npz(path, record), False
+        except (OSError, ValueError, KeyError) as exc:
+            warnings.warn(f"rebuilding unreadable cache file {path} ({exc})", stacklevel=3)
+    fn, takes_base, takes_seed = _recipes()[item["recipe"]]
+    args, kwargs = [], dict(item.get("params") or {})
+    if takes_base:
+        bcoll, _, bname = item["base"].partition("/")
+        args.append(_generated_mesh(entries, bcoll, _find_item(entries[bcoll], bname), root)[0])
+    if takes_seed:
+        kwargs["random_state"] = item.get("seed")
+    mesh = fn(*args, **kwargs)
+    _atomic_save_npz(
+        path, vertices=mesh.vertices, faces=mesh.faces, recipe=np.array(json.dumps(record))
+    )
+    return mesh, True
+
+
+# ====================================================================== paths
+
+
+
+
+
+
+# ====================================================================== loading
+def load_collection(
+    name, *, cache_dir=None, download=False, progress=None, manifest=None, n_jobs=1
+) -> Collection:
+    """Load a collection: its meshes with names and class labels.
+
+    Parameters
+    ----------
+    name : str
+        A collection of the manifest (:func:`list_collections`).
+    cache_dir : str or os.PathLike, optional
+        Cache folder (default :func:`cache_dir`).
+    download : bool, default=False
+        For a ``download`` collection whose files are not in the cache yet, fetch them
+        (:func:`fetch`).  Without it a missing file is an error saying how to fetch it;
+        nothing is ever downloaded unless asked.
+    progress : bool or None, default=None
+        Progress bar while building generated meshes: ``None`` shows it on a terminal when
+        the build takes more than half a second.
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
+    n_jobs : int, default=1
+        Worker processes that build the missing generated meshes (joblib's loky pool), each
+        from its own seed.  Usually the same bits as built one by one; remeshed meshes can
+        differ slightly between processes (isotropic remeshing turns a last-bit difference
+        of its input into another edge flip: a few triangles, the same shape), and the
+        cache keeps whichever was built first.
+
+    Returns
+    -------
+    Collection
+        ``.names``, ``.labels``, ``.meshes``; items by position or name.  Generated meshes are
+        built (or read from the cache) now; files of the other kinds load on first access.
+    """
+    entries = load_manifest(manifest)
+    entry = _entry(name, entries)
+    kind = entry["kind"]
+    meta = {k: v for k, v in entry.items() if not k.startswith("_")}
+    if kind == "generated":
+        root = _cache_root(cache_dir)
+        _build_in_processes(entries, name, root, n_jobs, progress)
+        items = []
+        with _progress(len(entry["items"]), f"cshape: {name}", progress) as bar:
+            for it in entry["items"]:
+                mesh, _ = _generated_mesh(entries, name, it, root)
+                cached = _cache_file(entries, name, it, root)
+                rec = Item(it["name"], it["label"], name, dict(it), _load=_FileLoader(cached))
+                rec.__dict__["mesh"] = mesh
+                items.append(rec)
+                bar.update(1)
+        return Collection(name, items, meta)
+    folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
+    if kind == "download" and "layout" in entry:
+        if not folder.is_dir():
+            raise FileNotFoundError(_manual_message(entry, folder))
+        coll = _LAYOUT_READERS[entry["layout"]](folder)
+        return Collection(name, coll.items, meta)
+    if kind == "local" and not entry.get("items"):
+        coll = load_folder(folder, labels=entry["labels"], name=name)
+        return Collection(name, coll.items, meta)
+    if kind == "download":
+        missing = [it for it in entry["items"] if not (folder / it["file"]).is_file()]
+        if missing and not download:
+            total = sum(it["size"] for it in missing) / 1e6
+            raise FileNotFoundError(
+                f"collection {name!r}: {len(missing)} of {len(entry['items'])} files are not "
+                f"downloaded yet ({total:.1f} MB) into {str(folder)!r}; run `cshape data "
+                f"build {name}` or pass download=True"
+            )
+        if missing:
+            fetch(name, cache_dir=cache_dir, manifest=entries)
+    if kind == "package" and not folder.is_dir():
+        raise FileNotFoundError(
+            f"collection {name!r}: folder {str(folder)!r} is not in the installed "
+            f"{entry['package']!r} package (a different version?)"
+        )
+    items = [
+        Item(it["name"], it["label"], name, dict(it), _load=(
+            _VerifiedLoader(folder / it["file"], it, name) if kind == "download"
+            else _file_loader(folder / it["file"])))
+        for it in entry["items"]
+    ]
+    return Collection(name, items, meta)
+
+
+def _build_one(task) -> None:
+    entries, coll, item, root = task
+    _generated_mesh(entries, coll, item, Path(root))
+
+
+def _build_in_processes(entries, name, root, n_jobs, progress) -> None:
+    """Build the missing items of a generated collection (those without a base) in
+    ``n_jobs`` processes; each writes its cache file atomically, as a serial build does."""
+    if isinstance(n_jobs, bool) or not isinstance(n_jobs, int) or n_jobs < 1:
+        raise ValueError(f"n_jobs must be an integer >= 1 (worker processes), got {n_jobs!r}")
+    todo = [it for it in entries[name]["items"]
+            if "base" not in it and not _cache_file(entries, name, it, root).is_file()]
+    if n_jobs == 1 or len(todo) < 2:
+        return
+    from joblib.externals.loky import ProcessPoolExecutor
+
+    tasks = [(entries, name, it, str(root)) for it in todo]
+    with _progress(len(todo), f"cshape: {name} ({n_jobs} processes)", progress) as bar, \
+            ProcessPoolExecutor(max_workers=min(n_jobs, len(todo))) as ex:
+        for _ in ex.map(_build_one, tasks):
+            bar.update(1)
+
+
+def load(name, item, *, cache_dir=None, download=False, manifest=None) -> Mesh:
+    """One mesh of a collection, e.g. ``load("paper-models", "CM")``.
+
+    Parameters
+    ----------
+    name : str
+        The collection.
+    item : str
+        The item's name (``load_collection(name).names``).
+    cache_dir, download, manifest
+        As for :func:`load_collection`.
+
+    Returns
+    -------
+    Mesh
+    """
+    entries = load_manifest(manifest)
+    entry = _entry(name, entries)
+    if entry["kind"] == "generated":
+        return _generated_mesh(entries, name, _find_item(entry, item), _cache_root(cache_dir))[0]
+    if entry["kind"] == "download" and "items" in entry:
+        it = _find_item(entry, item)
+        folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
+        if not (folder / it["file"]).is_file():
+            if not download:
+                raise FileNotFoundError(
+                    f"{name}/{item} is not downloaded yet; run `cshape data build {name}` "
+                    "or pass download=True"
+                )
+            fetch(name, items=[item], cache_dir=cache_dir, manifest=entries)
+            return _file_loader(folder / it["file"])()  # pooch checked its sha256
+        return _VerifiedLoader(folder / it["file"], it, name)()
+    return load_collection(name, cache_dir=cache_dir, manifest=entries)[item].mesh
+
+
+def load_creatures(seed=1, members=10, kinds=None, *, cache_dir=None, progress=None,
+                   n_jobs=1, **params) -> Collection:
+    """An instance of the creature benchmark (:mod:`cshape.creatures`) for any seed.
+
+    The manifest's ``creatures-dev`` is ``load_creatures(0)``, ``creatures`` (held out) is
+    ``load_creatures(1)`` (same meshes, cached in a folder of their own).
+
+    Parameters
+    ----------
+    seed : int, default=1
+        Instance seed: 0 is the development instance (choose and tune on it), 1 the held-out
+        one (report on it); any other seed gives a fresh instance.
+    members : int, default=10
+        Members per class.
+    kinds : sequence of str, optional
+        Classes (default all of :data:`cshape.creatures.CREATURE_KINDS`).
+    cache_dir, progress, n_jobs
+        As for :func:`load_collection`.
+    **params
+        Passed to :func:`cshape.creatures.creature` for every item (``variation``,
+        ``vertices``, ``noise``, ``voxelsize``).
+
+    Returns
+    -------
+    Collection
+        Named ``creatures-seed<seed>``; items ``<kind>-<k>``, labels the class.
+
+    Examples
+    --------
+    >>> import cshape.data
+    >>> small = cshape.data.load_creatures(0, members=2, kinds=["snake", "teddy"],
+    ...                                    vertices=[400, 600], voxelsize=0.03)
+    >>> small.names
+    ['snake-00', 'snake-01', 'teddy-00', 'teddy-01']
+    """
+    generate = {"seed": seed, "members": members, "params": params}
+    if kinds is not None:
+        generate["kinds"] = list(kinds)
+    name = f"creatures-seed{seed}"
+    doc = {"version": 1, "collections": [{
+        "name": name, "kind": "generated", "generate": generate,
+        "description": f"creature benchmark, seed {seed}, {members} members per class",
+        "license": "BSD-3-Clause (generated by cshape; no third-party data)",
+        "citation": "cshape.creatures.creature, built with PyMeshLab",
+    }]}
+    return load_collection(name, cache_dir=cache_dir, progress=progress, manifest=doc,
+                           n_jobs=n_jobs)
+
+
+
+
+
+
+
+
+
+
+
+
+class _NoBar:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def update(self, n=1):
+        pass
+
+
+def _progress(total, desc, progress):
+    if progress is False:
+        return _NoBar()
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:  # pragma: no cover - tqdm is a dependency
+        return _NoBar()
+    return tqdm(total=total, desc=desc, unit="mesh", delay=0.5, disable=None if progress is None
+                else not progress, leave=False)
+
+
+
+
+def build(name, *, cache_dir=None, progress=None, archive=None, manifest=None) -> Path:
+    """Make a collection available offline and return its folder.
+
+    generated: build every missing item into the cache; download (pinned files): fetch them;
+    download (benchmark): unpack ``archive`` (a file you downloaded by hand) into place with
+    :func:`extract_archive`, then check it reads; package / local: check every file reads.
+    """
+    entries = load_manifest(manifest)
+    entry = _entry(name, entries)
+    folder = collection_path(name, cache_dir=cache_dir, manifest=entries)
+    if archive is not None and entry["kind"] != "download":
+        raise ValueError(f"archive= is only for download collections, not {entry['kind']!r}")
+    with _removing_new_folders(folder):
+        if archive is not None:
+            extract_archive(archive, folder)
+        if entry["kind"] == "download" and "items" in entry:
+            fetch(name, cache_dir=cache_dir, progress=bool(progress is not False),
+                  manifest=entries)
+        coll = load_collection(name, cache_dir=cache_dir, progress=progress, manifest=entries)
+        if entry["kind"] != "generated":
+            for it in coll:
+                it.mesh  # noqa: B018 - read every file once, so a broken one shows now
+    return folder

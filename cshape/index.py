@@ -1,0 +1,172 @@
+""":class:`DescriptorIndex`: exact nearest-neighbour queries against a large database.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ._checks import check_descriptors
+from .compare import _check_kind, descriptor_matrix
+
+
+# --------------------------------------------------------------------------- index
+class DescriptorIndex:
+    """Exact nearest-neighbour search in a descriptor database (scikit-learn).
+
+    Parameters
+    ----------
+    X : array_like, shape (n, d)
+        The database, one descriptor per row; real or complex (complex rows are stored as
+        ``[Re, Im]``, which keeps the Euclidean distances).
+    algorithm : {'auto', 'brute', 'kd_tree', 'ball_tree'}, default='auto'
+        Passed to :class:`sklearn.neighbors.NearestNeighbors`; all are exact.  Measured on
+        this project's 2-core machine (100 000 descriptors, 1000 queries, k=10): 'auto'
+        picks a k-d tree up to 15 values (3 values: 0.01 s, 9: 0.2 s) and a brute-force
+        scan above (33 values: 0.5 s, 100 values: 1.3 s; trees took 2-24 s there), so the
+        default is the right choice for every descriptor size of the paper.
+    n_jobs : int, optional
+        Parallel queries (scikit-learn convention, -1 for all cores).
+
+    Attributes
+    ----------
+    X_ : ndarray, shape (n, d')
+        The stored (real) database.
+    nn_ : sklearn.neighbors.NearestNeighbors
+        The fitted index.
+    recipe_ : dict or None
+        How the rows were made from eigenvalues (``kind``, ``M``, ``N``, ``normalization``,
+        ``transform``), when built with :meth:`from_table`; :meth:`query_spectra` describes
+        queries with the same recipe, so a query can never use another transform.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from cshape.compare import DescriptorIndex
+    >>> index = DescriptorIndex(np.array([[0.0, 0], [1, 0], [5, 5]]))
+    >>> dist, ind = index.query([[0.9, 0.1]], k=2)
+    >>> ind.tolist()
+    [[1, 0]]
+    """
+
+    def __init__(self, X, *, algorithm="auto", n_jobs=None):
+        from sklearn.neighbors import NearestNeighbors
+
+        self.algorithm = algorithm
+        self.n_jobs = n_jobs
+        self._complex = np.iscomplexobj(np.asarray(X))
+        self.X_ = check_descriptors(X, "X")
+        if len(self.X_) == 0:
+            raise ValueError("X is empty; the index needs at least one descriptor")
+        self.nn_ = NearestNeighbors(algorithm=algorithm, n_jobs=n_jobs).fit(self.X_)
+        self.recipe_ = None
+
+    @classmethod
+    def from_table(cls, table, kind="cshape", M=None, N=None, *, transform=None,
+                   normalization="area", algorithm="auto", n_jobs=None):
+        """An index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
+
+        Parameters
+        ----------
+        table : DescriptorTable
+        kind : str, default='cshape'
+            See :func:`descriptor_matrix`.
+        M, N : int, optional
+            Default: the table's.
+        transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
+            Default: the table's ``transform`` (see :func:`cshape.compact_shape_dna`).
+        normalization : {'area', 'fiedler', 'weyl'}, default='area'
+        algorithm, n_jobs
+            As for the constructor.
+
+        Returns
+        -------
+        DescriptorIndex
+            With :attr:`recipe_` set, for :meth:`query_spectra`.
+        """
+        recipe = {"kind": _check_kind(kind), "M": table.M if M is None else M,
+                  "N": table.N if N is None else N, "normalization": normalization,
+                  "transform": table.transform if transform is None else transform}
+        X = descriptor_matrix(table.lam, table.areas, **recipe)
+        index = cls(X, algorithm=algorithm, n_jobs=n_jobs)
+        index.recipe_ = recipe
+        return index
+
+    def query_spectra(self, lams, areas=None, k=1):
+        """Nearest database rows of shapes given by their eigenvalues.
+
+        The queries are described exactly as the database was (:attr:`recipe_`: kind,
+        ``M``, ``N``, normalisation and transform).
+
+        Parameters
+        ----------
+        lams : array_like, shape (q, n) or (n,)
+            Ascending eigenvalues of each query shape, ``n >= N``.
+        areas : array_like, shape (q,) or float, optional
+            Surface areas (needed by the area normalisation).
+        k : int, default=1
+
+        Returns
+        -------
+        dist, ind : ndarray, shape (q, k)
+            As for :meth:`query`.
+        """
+        if self.recipe_ is None:
+            raise ValueError(
+                "this index does not know how its descriptors were made; build it with "
+                "DescriptorIndex.from_table(table, ...) to query by eigenvalues, or pass "
+                "descriptors to query()"
+            )
+        L = np.asarray(lams, dtype=np.float64)
+        if L.ndim == 1:
+            L = L[None, :]
+        a = None if areas is None else np.atleast_1d(np.asarray(areas, dtype=np.float64))
+        Y = descriptor_matrix(L, a, **self.recipe_)
+        return self.query(Y, k=k)
+
+    def __len__(self):
+        return len(self.X_)
+
+    def query(self, Y=None, k=1):
+        """The ``k`` nearest database descriptors of each query.
+
+        Parameters
+        ----------
+        Y : array_like, shape (q, d), optional
+            Query descriptors, of the same kind and length as the database (a single
+            descriptor of shape (d,) is accepted).  ``None`` queries the database with
+            itself, each row's own entry excluded.
+        k : int, default=1
+            Number of neighbours; at most ``n`` (``n - 1`` when ``Y`` is None).
+
+        Returns
+        -------
+        dist : ndarray, shape (q, k)
+            Euclidean distances, ascending along each row.
+        ind : ndarray of int, shape (q, k)
+            Row indices into the database.
+        """
+        n = len(self.X_)
+        limit = n - 1 if Y is None else n
+        if isinstance(k, bool) or not isinstance(k, numbers.Integral) or not 1 <= k <= limit:
+            raise ValueError(
+                f"k must be an integer in [1, {limit}] for a database of {n} descriptors"
+                f"{' queried with itself' if Y is None else ''}, got {k!r}"
+            )
+        if Y is None:
+            return self.nn_.kneighbors(None, n_neighbors=int(k))
+        Yarr = np.asarray(Y)
+        if Yarr.ndim == 1:
+            Yarr = Yarr[None, :]
+        if np.iscomplexobj(Yarr) != self._complex:
+            raise ValueError(
+                "Y and the database must both be real or both complex descriptors"
+            )
+        Q = check_descriptors(Yarr, "Y")
+        if Q.shape[1] != self.X_.shape[1]:
+            raise ValueError(
+                f"Y has descriptors of length {Yarr.shape[1]} but the database has "
+                f"{self.X_.shape[1] // (2 if self._complex else 1)}; use the same kind, M and N"
+            )
+        return self.nn_.kneighbors(Q, n_neighbors=int(k))

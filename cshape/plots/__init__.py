@@ -1,0 +1,65 @@
+"""Figures, the 3-D viewer and the widgets: the pictures layer (extra ``cshape[plots]``).
+
+* :mod:`cshape.plots.figures`    - the lessons' matplotlib figures (meshes, eigenfunctions,
+  the paper's Fig. 1-2 and 9, the DFT, convergence, the M-sweep panels);
+* :mod:`cshape.plots.collection` - pictures of a collection: MDS scatter plots (Fig. 4-5) and
+  distance-matrix images (Fig. 3, 6) with readable labels;
+* :mod:`cshape.plots.viewer`     - interactive 3-D views (plotly), offline in exported HTML;
+* :mod:`cshape.plots.widgets`    - the M-sweep widget (ipywidgets) over pure functions.
+
+Every figure function returns a :class:`matplotlib.figure.Figure` made without pyplot
+(nothing is registered globally, nothing is shown); in a notebook the figure displays as a
+cell's last expression.
+"""
+
+from __future__ import annotations
+
+from .._checks import require_extra
+
+require_extra("cshape.plots", "plots", ("matplotlib", "plotly"))
+
+from .collection import (  # noqa: E402
+    annotate_points,
+    matrix_ticks,
+    plot_distance_matrix,
+    plot_mds,
+    short_label,
+    short_labels,
+)
+from .figures import (  # noqa: E402
+    new_figure,
+    plot_convergence,
+    plot_cshape_dna,
+    plot_dft,
+    plot_eigenfunctions,
+    plot_m_sweep,
+    plot_matrices,
+    plot_mesh,
+    plot_reconstruction_error,
+    plot_shape_dna_stages,
+    plot_weyl,
+)
+from .viewer import eigenfunction_explorer, view_mesh, view_meshes  # noqa: E402
+
+__all__ = [
+    "annotate_points",
+    "eigenfunction_explorer",
+    "matrix_ticks",
+    "new_figure",
+    "plot_convergence",
+    "plot_cshape_dna",
+    "plot_dft",
+    "plot_distance_matrix",
+    "plot_eigenfunctions",
+    "plot_m_sweep",
+    "plot_matrices",
+    "plot_mds",
+    "plot_mesh",
+    "plot_reconstruction_error",
+    "plot_shape_dna_stages",
+    "plot_weyl",
+    "short_label",
+    "short_labels",
+    "view_mesh",
+    "view_meshes",
+]
