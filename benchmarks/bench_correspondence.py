@@ -5,7 +5,7 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_correspondence.py            # 2 classes x 5 poses
     .venv/bin/python benchmarks/bench_correspondence.py --quick    # 2 classes x 2 poses
 
-The shapes are :func:`cshape.poses.posed_figure`: a template (rest pose, ~2800 vertices)
+The shapes are :func:`cshape.data.poses.posed_figure`: a template (rest pose, ~2800 vertices)
 whose vertices are moved by a skeleton, so that the ground-truth map from the rest pose to
 every pose is the identity.  For every pose, each vertex ``i`` of the rest pose is matched to
 the vertex of the pose whose descriptor is nearest (:func:`cshape.match_points`), and the
@@ -43,8 +43,8 @@ from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
 import cshape
-from cshape import poses
 from cshape import signatures as sg
+from cshape.data import poses
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import load_average, machine_summary  # noqa: E402
@@ -112,7 +112,7 @@ def evaluate(kind, seeds, N=100, n_scales=100, template=None):
     """One row per (pose, descriptor): accuracy exact and up to the mirror, mean error.
 
     ``seeds`` are pose seeds (``None``: the rest pose itself, a check of the plumbing);
-    ``template`` holds keyword arguments of :func:`cshape.poses.pose_template`.
+    ``template`` holds keyword arguments of :func:`cshape.data.poses.pose_template`.
     """
     template = template or {}
     rest = poses.posed_figure(kind, rest=True, **template)
@@ -156,7 +156,7 @@ def summary(rows):
 def markdown(rows, header, footer):
     lines = [
         "# Point correspondence across poses (issue 21)", "", header, "",
-        "Rest pose to each pose of `cshape.poses.posed_figure` (ground truth: the identity); "
+        "Rest pose to each pose of `cshape.data.poses.posed_figure` (ground truth: the identity); "
         f"a match is correct within {100 * THRESHOLD:.0f} % of the geodesic diameter (edge "
         "paths).  Signatures from N = 100 eigenpairs; the xyz rows are baselines (the oracle "
         "knows the true map for its rigid alignment).", "",

@@ -7,7 +7,7 @@ import pytest
 
 pytest.importorskip("pymeshlab")
 
-from cshape import poses  # noqa: E402
+from cshape.data import poses  # noqa: E402
 
 SMALL = {"voxelsize": 0.03, "target_vertices": 800}  # ~700 vertices, under a second
 

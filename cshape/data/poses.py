@@ -26,8 +26,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from ._checks import check_choice
-from .mesh import Mesh
+from .._checks import check_choice
+from ..mesh import Mesh
 from .variants import Capsule, capsules_expression, marching_cubes, remesh
 
 __all__ = ["POSED_KINDS", "mirror_map", "posed_figure", "pose_template", "skin_weights"]
