@@ -268,3 +268,18 @@ def test_results_are_identical_across_processes():
     out = subprocess.run([sys.executable, "-c", DETERMINISM], capture_output=True, text=True,
                          check=True, env=env).stdout
     np.testing.assert_array_equal(np.frombuffer(bytes.fromhex(out)), lam)
+
+
+@pytest.mark.parametrize("N", [1, 7, 30, 150])
+def test_rayleigh_ritz_schedule_finds_every_copy_for_any_N(sparse_path, N):
+    # The projected problem is solved only where the pairs are predicted to have
+    # converged (spectrum._first_check, _next_check): for small and large N alike the
+    # result is dense LAPACK's, every icosahedral copy included (groups of 1, 3, 4, 5).
+    mesh = shapes.icosphere(3)
+    K, B = _KB(mesh)
+    lam_ref = la.eigh(K.toarray(), B.toarray(), eigvals_only=True, subset_by_index=[0, N - 1])
+    lam = cshape.shape_dna(mesh, N=N)
+    scale = np.maximum(lam_ref, 1.0)  # unit sphere: lam_0 = 0, then lam >= 2
+    assert np.max(np.abs(lam - lam_ref) / scale) < 1e-9
+    assert spectrum._first_check(N) >= N
+    assert spectrum._next_check(200, 3, 8) == 208 and spectrum._next_check(200, 10, 8) == 232
