@@ -1,15 +1,80 @@
 """Argument checks shared by every stage and layer (a leaf module: it imports nothing from
-cshape).  The one rule: ``TypeError`` for a wrong type, ``ValueError`` for a value out of
-range; the message names the argument, the value and the fix."""
+cshape).
+
+The one rule: ``TypeError`` for a wrong type, ``ValueError`` for a value out of range; the
+message names the argument, the value and the fix, and is the same in every function that
+takes the argument (``N=2.5`` reads ``N must be an integer, got float 2.5`` whether it was
+given to :func:`cshape.shape_dna`, :func:`cshape.describe` or
+:func:`cshape.compare.descriptor_matrix`).  ``bool`` is not an integer nor a number here;
+NumPy integers and floats are.
+
+Mode names (descriptor kinds, transforms, normalizations, boundary conditions, mass
+matrices) are written in one style: lower case, words joined by hyphens (``'shape-dna'``,
+``'log-weyl-dct'``), as the transforms always were.  The older spellings of
+:data:`OLD_SPELLINGS` keep working with a ``DeprecationWarning``.
+"""
 
 from __future__ import annotations
 
+import numbers
+import os
+import warnings
+from collections.abc import Collection, Mapping
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
-__all__ = ["check_choice", "check_descriptors", "check_labels", "check_square", "require_extra"]
+__all__ = [
+    "OLD_SPELLINGS",
+    "check_bool",
+    "check_choice",
+    "check_descriptors",
+    "check_int",
+    "check_labels",
+    "check_path",
+    "check_real",
+    "check_square",
+    "require_extra",
+]
+
+#: Old spellings of mode names -> the current (hyphenated) ones.  :func:`check_choice`
+#: accepts an old spelling wherever its new name is allowed, with a DeprecationWarning.
+OLD_SPELLINGS: dict[str, str] = {
+    "shape_dna": "shape-dna",
+    "cshape_complex": "cshape-complex",
+    "truncated_log": "truncated-log",
+    "log_weyl": "log-weyl",
+    "log_weyl_dct": "log-weyl-dct",
+}
+
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
-def check_choice(name, value, allowed):
+def _caller_stacklevel() -> int:
+    """``stacklevel`` of the first frame outside cshape (where the user wrote the call)."""
+    import sys
+
+    level, frame = 1, sys._getframe(1)
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(
+            _PACKAGE_DIR + os.sep):
+        level += 1
+        frame = frame.f_back
+    return level
+
+
+def _describe(value: object) -> str:
+    """``float 2.5``, ``str '10'``, ``NoneType``: the type and the value, for messages."""
+    if value is None:
+        return "NoneType"
+    text = repr(value)
+    if len(text) > 60:
+        text = text[:57] + "..."
+    return f"{type(value).__name__} {text}"
+
+
+def check_choice(name: str, value: object, allowed: Collection[str], *,
+                 aliases: Mapping[str, str] = OLD_SPELLINGS) -> str:
     """Return ``value`` lower-cased if it is one of ``allowed``, else raise a clear error.
 
     Parameters
@@ -18,18 +83,141 @@ def check_choice(name, value, allowed):
         The argument's name, for the message.
     value : object
         What the caller passed.
-    allowed : sequence of str
+    allowed : collection of str
         The accepted options (lower case).
+    aliases : mapping of str to str, default=OLD_SPELLINGS
+        Old spellings accepted for an allowed option, with a ``DeprecationWarning``.
+
+    Returns
+    -------
+    str
+        The option, lower case, in its current spelling.
 
     Raises
     ------
+    TypeError
+        ``value`` is not a string: ``"<name> must be one of {'a', 'b'}, got <type> <value>"``.
     ValueError
-        ``"<name> must be one of {'a', 'b'}, got <value>"``.
+        An unknown option: ``"<name> must be one of {'a', 'b'}, got <value>"``.
     """
-    if not isinstance(value, str) or value.lower() not in allowed:
-        opts = ", ".join(repr(a) for a in allowed)
-        raise ValueError(f"{name} must be one of {{{opts}}}, got {value!r}")
-    return value.lower()
+    opts = ", ".join(repr(a) for a in allowed)
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be one of {{{opts}}}, got {_describe(value)}")
+    v = value.lower()
+    if v in allowed:
+        return v
+    new = aliases.get(v)
+    if new is not None and new in allowed:
+        warnings.warn(f"{name}={value!r} is deprecated; write {name}={new!r} (mode names are "
+                      "lower case with hyphens)", DeprecationWarning,
+                      stacklevel=_caller_stacklevel())
+        return new
+    raise ValueError(f"{name} must be one of {{{opts}}}, got {value!r}")
+
+
+def check_int(name: str, value: object, *, min: int | None = None,
+              max: int | None = None) -> int:
+    """Return ``value`` as a Python ``int`` if it is an integer in ``[min, max]``.
+
+    Python and NumPy integers are accepted; ``bool``, floats (even ``4.0``) and strings are
+    not.
+
+    Raises
+    ------
+    TypeError
+        ``"<name> must be an integer, got float 2.5"``.
+    ValueError
+        ``"<name> must be an integer >= 1, got 0"``, or ``... in [0, 8], got 9`` when
+        ``max`` is given.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {_describe(value)}")
+    v = int(value)
+    if (min is not None and v < min) or (max is not None and v > max):
+        if max is None:
+            raise ValueError(f"{name} must be an integer >= {min}, got {v}")
+        if min is None:
+            raise ValueError(f"{name} must be an integer <= {max}, got {v}")
+        raise ValueError(f"{name} must be an integer in [{min}, {max}], got {v}")
+    return v
+
+
+def check_real(name: str, value: object, *, min: float | None = None,
+               positive: bool = False, finite: bool = True) -> float:
+    """Return ``value`` as a Python ``float`` if it is a real number in range.
+
+    Python and NumPy integers and floats (and 0-d real arrays) are accepted; ``bool``,
+    strings, complex numbers, ``None`` and sequences are not.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : object
+        What the caller passed.
+    min : float, optional
+        Smallest allowed value (inclusive).
+    positive : bool, default=False
+        Require ``value > 0``.
+    finite : bool, default=True
+        Refuse NaN and infinities.
+
+    Raises
+    ------
+    TypeError
+        ``"<name> must be a real number, got str '1'"``.
+    ValueError
+        ``"<name> must be a positive finite number, got 0.0"``, ``"<name> must be a finite
+        number >= 0, got -1.0"``.
+    """
+    x: Any = value
+    if isinstance(x, np.ndarray) and x.ndim == 0:
+        x = x[()]
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {_describe(value)}")
+    v = float(x)
+    bad = (finite and not np.isfinite(v)) or np.isnan(v)
+    bad = bad or (positive and not v > 0) or (min is not None and not v >= min)
+    if bad:
+        what = "finite number" if finite else "number"
+        if positive:
+            rule = f"a positive {what}"
+        elif min is not None:
+            rule = f"a {what} >= {min:g}"
+        else:
+            rule = f"a {what}"
+        raise ValueError(f"{name} must be {rule}, got {v!r}")
+    return v
+
+
+def check_bool(name: str, value: object) -> bool:
+    """Return ``value`` as a Python ``bool`` (``True``/``False``, NumPy bools accepted).
+
+    Raises
+    ------
+    TypeError
+        ``"<name> must be True or False, got int 1"``.
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be True or False, got {_describe(value)}")
+    return bool(value)
+
+
+def check_path(name: str, value: object) -> Path:
+    """Return ``value`` as a :class:`pathlib.Path` (a ``str`` or ``os.PathLike``).
+
+    Raises
+    ------
+    TypeError
+        ``"<name> must be a path (str or os.PathLike), got int 3"``.
+    ValueError
+        An empty string: ``"<name> is an empty path"``.
+    """
+    if isinstance(value, bytes) or not isinstance(value, (str, os.PathLike)):
+        raise TypeError(f"{name} must be a path (str or os.PathLike), got {_describe(value)}")
+    if isinstance(value, str) and not value.strip():
+        raise ValueError(f"{name} is an empty path; pass a file or folder name")
+    return Path(value)
 
 
 def require_extra(layer: str, extra: str, modules: tuple[str, ...]) -> None:

@@ -21,11 +21,9 @@ Every function takes and returns plain NumPy arrays.
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
-from ._checks import check_choice, check_descriptors, check_labels, check_square
+from ._checks import check_choice, check_descriptors, check_int, check_labels, check_square
 from .descriptors import (
     TRANSFORMS,
     compact_shape_dna,
@@ -49,7 +47,7 @@ __all__ = [
 ]
 
 #: The descriptor kinds of :func:`descriptor_matrix`.
-DESCRIPTOR_KINDS = ("shape_dna", "truncated", "cshape", "cshape_complex", "f1", "truncated_log")
+DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log")
 
 #: The E-measure of the Princeton Shape Benchmark looks at the first 32 results.
 E_MEASURE_DEPTH = 32
@@ -67,30 +65,24 @@ def descriptor_size(kind, M=16, N=100) -> int:
 
     Parameters
     ----------
-    kind : {'shape_dna', 'truncated', 'cshape', 'cshape_complex', 'f1', 'truncated_log'}
+    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
     M, N : int
         See :func:`descriptor_matrix`.
 
     Returns
     -------
     int
-        ``N`` for 'shape_dna', ``2M+1`` for 'truncated', 'truncated_log', 'cshape' and
-        'cshape_complex' (complex numbers counted once, as the paper does; the same for
+        ``N`` for 'shape-dna', ``2M+1`` for 'truncated', 'truncated-log', 'cshape' and
+        'cshape-complex' (complex numbers counted once, as the paper does; the same for
         every transform), ``N - 2`` for 'f1' (a connected mesh, one zero eigenvalue).
     """
     kind = _check_kind(kind)
-    return {"shape_dna": N, "truncated": 2 * M + 1, "cshape": 2 * M + 1,
-            "cshape_complex": 2 * M + 1, "f1": N - 2, "truncated_log": 2 * M + 1}[kind]
+    return {"shape-dna": N, "truncated": 2 * M + 1, "cshape": 2 * M + 1,
+            "cshape-complex": 2 * M + 1, "f1": N - 2, "truncated-log": 2 * M + 1}[kind]
 
 
 def _check_kind(kind):
     return check_choice("kind", kind, DESCRIPTOR_KINDS)
-
-
-def _check_int(value, name, lo):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < lo:
-        raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
-    return int(value)
 
 
 def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
@@ -102,16 +94,16 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
     ============== ============ =========================================================
     kind           row length   definition
     ============== ============ =========================================================
-    'shape_dna'    N            normalised Shape-DNA: ``lam[:N] * area`` (Section 2.1)
+    'shape-dna'    N            normalised Shape-DNA: ``lam[:N] * area`` (Section 2.1)
     'truncated'    2M+1         the first ``2M+1`` values of the normalised Shape-DNA
                                 (Fig. 5 a-e: "the first 33, 17, 9, 5 and 3 eigenvalues")
     'cshape'       2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10, or the ``transform``
                                 given) in its real form (:func:`cshape.real_form`: same
                                 Euclidean distances)
-    'cshape_complex' 2M+1       the cShape-DNA as :func:`cshape.compact_shape_dna` returns
+    'cshape-complex' 2M+1       the cShape-DNA as :func:`cshape.compact_shape_dna` returns
                                 it (complex for the DFT transforms, real for the DCT)
     'f1'           N-2          F1 feature ``lam_1 / lam_i`` of ``lam[:N]`` (Fig. 5f)
-    'truncated_log' 2M+1        the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
+    'truncated-log' 2M+1        the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
                                 (:func:`cshape.log_weyl_ratio`; needs ``2M+2`` eigenvalues).
                                 Its distances equal those of the truncated *log spectrum*
                                 ``log lam_1^norm .. log lam_{2M+1}^norm``: ``log 4 pi i``
@@ -127,21 +119,24 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
         Surface areas, used by ``normalization='area'`` (the paper's choice) for all kinds
         but 'f1' (scale invariant already).  For eigenvalues that are already normalised
         pass ``areas=np.ones(p)``.
-    kind : {'shape_dna', 'truncated', 'cshape', 'cshape_complex', 'f1'}, default='cshape'
+    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
+default='cshape'
+        The old spellings 'shape_dna', 'cshape_complex' and 'truncated_log' still work, with
+        a ``DeprecationWarning``.
     M : int, default=16
         Crop half-width: ``2M+1`` values for 'cshape' and 'truncated'.
     N : int, default=100
-        Shape-DNA length for 'shape_dna', 'cshape' and 'f1'.
+        Shape-DNA length for 'shape-dna', 'cshape' and 'f1'.
     normalization : {'area', 'fiedler', 'weyl'}, default='area'
         See :func:`cshape.normalize`.
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
-        The transform of the 'cshape' and 'cshape_complex' kinds (see
+        The transform of the 'cshape' and 'cshape-complex' kinds (see
         :func:`cshape.compact_shape_dna`); the other kinds do not use it.
 
     Returns
     -------
     X : ndarray, shape (p, d)
-        float64, or complex128 for 'cshape_complex' with a DFT transform; ``d`` as in the
+        float64, or complex128 for 'cshape-complex' with a DFT transform; ``d`` as in the
         table.
 
     Raises
@@ -152,8 +147,8 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
     """
     kind = _check_kind(kind)
     transform = check_choice("transform", transform, TRANSFORMS)
-    M = _check_int(M, "M", 0)
-    N = _check_int(N, "N", 1)
+    M = check_int("M", M, min=0)
+    N = check_int("N", N, min=1)
     if isinstance(lams, np.ndarray) and lams.ndim == 2:
         rows = list(lams)
     elif isinstance(lams, np.ndarray) or not hasattr(lams, "__len__"):
@@ -166,8 +161,8 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
     p = len(rows)
     if p == 0:
         raise ValueError("lams is empty; it needs the eigenvalues of at least one shape")
-    need = {"truncated": 2 * M + 1, "truncated_log": 2 * M + 2}.get(kind, N)
-    if kind in ("cshape", "cshape_complex"):
+    need = {"truncated": 2 * M + 1, "truncated-log": 2 * M + 2}.get(kind, N)
+    if kind in ("cshape", "cshape-complex"):
         L = N if transform == "weyl" else N - 1  # lam_0 has no logarithm
         if 2 * M + 1 > L:
             raise ValueError(
@@ -198,17 +193,17 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
     out = []
     for i, r in enumerate(rows):
         area = float(a[i]) if needs_area else None
-        if kind == "shape_dna":
+        if kind == "shape-dna":
             out.append(normalize(r[:N], area=area, method=normalization))
         elif kind == "truncated":
             out.append(normalize(r[: 2 * M + 1], area=area, method=normalization))
-        elif kind == "truncated_log":
+        elif kind == "truncated-log":
             out.append(log_weyl_ratio(normalize(r[: 2 * M + 2], area=area,
                                                 method=normalization)))
-        elif kind in ("cshape", "cshape_complex"):
+        elif kind in ("cshape", "cshape-complex"):
             lam_norm = normalize(r[:N], area=area, method=normalization)
             S = compact_shape_dna(lam_norm, M=M, N=N, normalized=True, transform=transform)
-            out.append(S if kind == "cshape_complex" else real_form(S))
+            out.append(S if kind == "cshape-complex" else real_form(S))
         else:
             out.append(f1_feature(r[:N]))
     lengths = {len(x) for x in out}
@@ -368,7 +363,7 @@ def retrieval_per_query(D, labels, *, min_class_size=2):
     """
     A = check_square(D, "D")
     codes = check_labels(labels, len(A))
-    min_class_size = _check_int(min_class_size, "min_class_size", 2)
+    min_class_size = check_int("min_class_size", min_class_size, min=2)
     p = len(A)
     sizes = np.bincount(codes)
     keys = ("nn", "ft", "st", "e", "dcg", "map")

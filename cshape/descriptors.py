@@ -420,7 +420,7 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
     ``2M+1``, the better on these collections (17 numbers, held out: first tier 0.48 at
     ``N = 100``, 0.57 at ``N = 50``, 0.59 at ``N = 18``).  At ``N = 2M+2`` nothing is
     cropped and both log-Weyl transforms have the distances of the first ``2M+1`` log-Weyl
-    ratios (the truncated log spectrum, kind ``'truncated_log'`` of
+    ratios (the truncated log spectrum, kind ``'truncated-log'`` of
     :func:`cshape.compare.descriptor_matrix`), the best descriptor of 17 and of 33 numbers
     there.  Keep ``N > 2M+2`` where higher eigenvalues carry shape information.
     """

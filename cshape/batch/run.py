@@ -191,7 +191,7 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
     >>> table = describe(meshes, N=30, M=4, cache_dir=False, progress=False)
     >>> table
     DescriptorTable(3 shapes, N=30, M=4, 2 classes)
-    >>> table.cshape.shape, table.distance_matrix("shape_dna").shape
+    >>> table.cshape.shape, table.distance_matrix("shape-dna").shape
     ((3, 9), (3, 3))
 
     Notes

@@ -127,7 +127,7 @@ class DescriptorTable:
 
         Parameters
         ----------
-        kind : {'shape_dna', 'truncated', 'cshape', 'cshape_complex', 'f1', 'truncated_log'}
+        kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
             Default 'cshape'.
         M : int, optional
             Default: the table's ``M``.
@@ -154,7 +154,7 @@ class DescriptorTable:
     @property
     def shape_dna(self) -> np.ndarray:
         """Area-normalised Shape-DNA, shape (p, N)."""
-        return self.descriptors("shape_dna")
+        return self.descriptors("shape-dna")
 
     @property
     def cshape(self) -> np.ndarray:

@@ -394,7 +394,18 @@ def add_info(sub):
 
 
 # ============================================================================ query
-_KINDS = ("cshape", "shape_dna", "truncated", "truncated_log", "f1")
+_KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "f1")
+
+
+def _kind_arg(value: str) -> str:
+    """``--kind`` value in the current spelling; an old one ('shape_dna') with a warning."""
+    from .._checks import OLD_SPELLINGS
+
+    new = OLD_SPELLINGS.get(value.lower())
+    if new is None:
+        return value.lower()
+    print(f"cshape: warning: --kind {value} is deprecated; write --kind {new}", file=sys.stderr)
+    return new
 
 
 def _cmd_query(args) -> int:
@@ -440,9 +451,9 @@ def _cmd_query(args) -> int:
     hits = hits[:k]
     r = index.recipe_
     tr = "" if r["transform"] == "weyl" else f", {r['transform']}"
-    desc = {"cshape": f"cShape-DNA M={r['M']}{tr}", "shape_dna": f"Shape-DNA N={r['N']}",
+    desc = {"cshape": f"cShape-DNA M={r['M']}{tr}", "shape-dna": f"Shape-DNA N={r['N']}",
             "truncated": f"the first {2 * r['M'] + 1} eigenvalues",
-            "truncated_log": f"the first {2 * r['M'] + 1} log-Weyl ratios",
+            "truncated-log": f"the first {2 * r['M'] + 1} log-Weyl ratios",
             "f1": f"F1 N={r['N']}"}[args.kind]
     if k < args.k:
         print(f"cshape query: only {k} other shapes in the table", file=sys.stderr)
@@ -473,7 +484,7 @@ def add_query(sub):
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")
     p.add_argument("target", metavar="MESH_OR_NAME", help="a shape name of TABLE or a mesh file")
     p.add_argument("-k", type=int, default=5, help="number of neighbours (default 5)")
-    p.add_argument("--kind", default="cshape", choices=_KINDS,
+    p.add_argument("--kind", default="cshape", choices=_KINDS, type=_kind_arg,
                    help="descriptor compared (default cshape)")
     p.add_argument("-M", type=int, default=None, help="cShape-DNA M (default: the table's)")
     p.add_argument("-N", type=int, default=None,
