@@ -16,7 +16,7 @@ tier, mean average precision), these descriptors of ``2M+1`` numbers computed fr
 * ``log-Weyl DFT``: ``transform='log-weyl'``;
 * ``log-Weyl DCT``: ``transform='log-weyl-dct'``;
 * ``truncated Shape-DNA``: ``lam_0^norm .. lam_{2M}^norm`` (the paper's Fig. 5);
-* ``truncated log spectrum``: ``r_1 .. r_{2M+1}`` (kind ``'truncated_log'``);
+* ``truncated log spectrum``: ``r_1 .. r_{2M+1}`` (kind ``'truncated-log'``);
 * ``F1``: ``lam_1 / lam_i`` for ``i = 2 .. 2M+2`` (F1 of ``2M+3`` eigenvalues);
 
 and, as a reference, Shape-DNA with all ``N`` values.  It writes
@@ -48,7 +48,7 @@ ROWS = (
     ("log-Weyl DFT", "cshape", "log-weyl"),
     ("log-Weyl DCT", "cshape", "log-weyl-dct"),
     ("truncated Shape-DNA", "truncated", "weyl"),
-    ("truncated log spectrum", "truncated_log", "weyl"),
+    ("truncated log spectrum", "truncated-log", "weyl"),
     ("F1", "f1", "weyl"),
 )
 MEASURES = ("nn", "ft", "st", "map")
@@ -86,7 +86,7 @@ def score_table(table, Ms, N):
     from cshape.compare import distance_matrix, retrieval_scores
 
     out = []
-    ref = retrieval_scores(table.distance_matrix("shape_dna", N=N), table.labels)
+    ref = retrieval_scores(table.distance_matrix("shape-dna", N=N), table.labels)
     out.append({"descriptor": f"Shape-DNA N={N}", "M": "", "size": N,
                 **{k: ref[k] for k in MEASURES}})
     for M in Ms:

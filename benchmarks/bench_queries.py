@@ -63,9 +63,9 @@ def machine_summary():
 
 RESULTS = Path(__file__).resolve().parent / "results"
 FOUR_PI = 4.0 * np.pi
-#: Descriptor name -> (kind, M) ; the length is N for 'shape_dna' and 2M+1 otherwise.
+#: Descriptor name -> (kind, M) ; the length is N for 'shape-dna' and 2M+1 otherwise.
 DESCRIPTORS = {
-    "Shape-DNA N=100": ("shape_dna", None),
+    "Shape-DNA N=100": ("shape-dna", None),
     "cShape-DNA M=16": ("cshape", 16),
     "cShape-DNA M=1": ("cshape", 1),
 }
@@ -158,7 +158,7 @@ def cshape_rows(lam_norm, M):
 def descriptors(lam_norm, name):
     """The database / query rows of descriptor ``name`` (a key of :data:`DESCRIPTORS`)."""
     kind, M = DESCRIPTORS[name]
-    if kind == "shape_dna":
+    if kind == "shape-dna":
         return lam_norm
     return cshape_rows(lam_norm, M)
 

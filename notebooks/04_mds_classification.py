@@ -80,7 +80,7 @@ fig
 from cshape import compare
 
 M = 16 if 2 * 16 + 1 <= N else (N - 1) // 2
-D_sdna = table.distance_matrix("shape_dna")
+D_sdna = table.distance_matrix("shape-dna")
 D_cs = table.distance_matrix("cshape", M=M)
 mean, std = compare.scaled_difference(D_sdna, D_cs)
 plots.plot_matrices(

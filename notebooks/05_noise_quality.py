@@ -98,9 +98,9 @@ print(clean)
 # %%
 from cshape import compare
 
-diffs, titles, stats = {"shape_dna": [], "cshape": []}, {"shape_dna": [], "cshape": []}, []
+diffs, titles, stats = {"shape-dna": [], "cshape": []}, {"shape-dna": [], "cshape": []}, []
 for lev in levels:
-    for kind in ("shape_dna", "cshape"):
+    for kind in ("shape-dna", "cshape"):
         D0, D1 = clean.distance_matrix(kind), noisy[lev].distance_matrix(kind)
         mean, std = compare.scaled_difference(D0, D1)
         diffs[kind].append(compare.difference_matrix(D0, D1))
@@ -108,7 +108,7 @@ for lev in levels:
         stats.append((lev, kind, mean, std))
 vmax = max(d.max() for v in diffs.values() for d in v)
 print("mean / std of each difference image")
-plots.plot_matrices(diffs["shape_dna"], [f"Shape-DNA {t}" for t in titles["shape_dna"]], vmax=vmax)
+plots.plot_matrices(diffs["shape-dna"], [f"Shape-DNA {t}" for t in titles["shape-dna"]], vmax=vmax)
 
 # %%
 plots.plot_matrices(diffs["cshape"], [f"cShape-DNA {t}" for t in titles["cshape"]], vmax=vmax)
@@ -117,7 +117,7 @@ plots.plot_matrices(diffs["cshape"], [f"cShape-DNA {t}" for t in titles["cshape"
 print(f"{'lambda':>7s} {'Shape-DNA mean/std':>20s} {'cShape-DNA mean/std':>20s}")
 for lev in levels:
     s = {k: (m, sd) for lv, k, m, sd in stats if lv == lev}
-    print(f"{lev:7.1f} {s['shape_dna'][0]:12.2f} / {s['shape_dna'][1]:5.2f} "
+    print(f"{lev:7.1f} {s['shape-dna'][0]:12.2f} / {s['shape-dna'][1]:5.2f} "
           f"{s['cshape'][0]:12.2f} / {s['cshape'][1]:5.2f}")
 
 # %% [markdown]
@@ -133,7 +133,7 @@ for lev in levels:
 show = [levels[0], levels[len(levels) // 2], levels[-1]]
 fig = plots.new_figure((11, 3.5))
 axs = fig.subplots(1, 2, sharey=True)
-for ax, kind, title in ((axs[0], "shape_dna", "(a) normalised Shape-DNA"),
+for ax, kind, title in ((axs[0], "shape-dna", "(a) normalised Shape-DNA"),
                         (axs[1], "cshape", "(b) cShape-DNA")):
     d = {lev: np.linalg.norm(noisy[lev].descriptors(kind) - clean.descriptors(kind), axis=1)
          for lev in show}

@@ -153,7 +153,7 @@ def fisher_ratio(X, labels):
     return between / within
 
 
-lam_norm = table.descriptors("shape_dna")  # (P, N): lam_i * area, Section 2.1
+lam_norm = table.descriptors("shape-dna")  # (P, N): lam_i * area, Section 2.1
 i = np.arange(N)
 share = distance_share(lam_norm)
 F = fisher_ratio(lam_norm[:, 1:], labels)  # lam_0 = 0 for every closed mesh
@@ -327,14 +327,14 @@ SIZES = (17, 33)  # numbers per shape: M = 8 and M = 16
 
 def descriptor_rows(table):
     """(name, size, distance matrix) of every descriptor of the comparison."""
-    rows = [(f"Shape-DNA N={table.N}", table.N, table.distance_matrix("shape_dna"))]
+    rows = [(f"Shape-DNA N={table.N}", table.N, table.distance_matrix("shape-dna"))]
     for size in SIZES:
         M = (size - 1) // 2
         rows += [
             ("cShape-DNA (paper)", size,
              table.distance_matrix("cshape", M=M, transform="weyl")),
             ("truncated Shape-DNA", size, table.distance_matrix("truncated", M=M)),
-            ("truncated log spectrum", size, table.distance_matrix("truncated_log", M=M)),
+            ("truncated log spectrum", size, table.distance_matrix("truncated-log", M=M)),
             ("log-Weyl DFT", size, table.distance_matrix("cshape", M=M, transform="log-weyl")),
             ("log-Weyl DCT", size, table.distance_matrix("cshape", M=M, transform="log-weyl-dct")),
         ]

@@ -64,7 +64,7 @@ def test_describe_matches_shape_dna(reference):
     assert reference.failures == []
     assert reference.cshape.shape == (6, 9)
     assert reference.descriptors("cshape", M=2).shape == (6, 5)
-    assert reference.distance_matrix("shape_dna").shape == (6, 6)
+    assert reference.distance_matrix("shape-dna").shape == (6, 6)
 
 
 def test_cache_is_reused_for_other_M_and_smaller_N(tmp_path, reference):

@@ -240,20 +240,20 @@ def test_descriptor_matrix_kinds(spectra):
     for kind in DESCRIPTOR_KINDS:
         X = descriptor_matrix(lams, areas, kind=kind, M=M, N=N)
         assert X.shape == (3, descriptor_size(kind, M, N)), kind
-    sd = descriptor_matrix(lams, areas, "shape_dna", M=M, N=N)
+    sd = descriptor_matrix(lams, areas, "shape-dna", M=M, N=N)
     np.testing.assert_allclose(sd[2], normalize(lams[2], areas[2]))
     np.testing.assert_allclose(descriptor_matrix(lams, areas, "truncated", M=M, N=N),
                                sd[:, : 2 * M + 1])
     np.testing.assert_allclose(descriptor_matrix(lams, areas, "cshape", M=M, N=N)[2],
                                compact_shape_dna_real(lams[2], M=M, N=N, area=areas[2]))
-    np.testing.assert_allclose(descriptor_matrix(lams, areas, "cshape_complex", M=M, N=N)[2],
+    np.testing.assert_allclose(descriptor_matrix(lams, areas, "cshape-complex", M=M, N=N)[2],
                                compact_shape_dna(lams[2], M=M, N=N, area=areas[2]))
 
 
 def test_descriptor_matrix_real_and_complex_cshape_give_the_same_distances(spectra):
     lams, areas = spectra
     Dr = distance_matrix(descriptor_matrix(lams, areas, "cshape", M=5, N=30))
-    Dc = distance_matrix(descriptor_matrix(lams, areas, "cshape_complex", M=5, N=30))
+    Dc = distance_matrix(descriptor_matrix(lams, areas, "cshape-complex", M=5, N=30))
     np.testing.assert_allclose(Dr, Dc, atol=1e-9 * Dr.max())
     # scale invariance: the unit and radius-2 spheres have the same normalised descriptors
     assert Dr[0, 1] < 1e-6 * Dr.max()
@@ -262,7 +262,7 @@ def test_descriptor_matrix_real_and_complex_cshape_give_the_same_distances(spect
 def test_descriptor_matrix_ragged_rows(spectra):
     lams, areas = spectra
     rows = [lams[0], lams[1][:20], lams[2]]
-    X = descriptor_matrix(rows, areas, "shape_dna", N=20)
+    X = descriptor_matrix(rows, areas, "shape-dna", N=20)
     assert X.shape == (3, 20)
 
 
@@ -273,9 +273,9 @@ def test_descriptor_matrix_rejects(spectra):
     with pytest.raises(ValueError, match=r"needs areas"):
         descriptor_matrix(lams, None, kind="cshape", M=4, N=30)
     with pytest.raises(ValueError, match=r"areas has 2 entries but lams has 3 rows"):
-        descriptor_matrix(lams, areas[:2], kind="shape_dna", N=30)
+        descriptor_matrix(lams, areas[:2], kind="shape-dna", N=30)
     with pytest.raises(ValueError, match=r"lams\[1\] has shape \(10,\)"):
-        descriptor_matrix([lams[0], lams[1][:10]], areas[:2], kind="shape_dna", N=30)
+        descriptor_matrix([lams[0], lams[1][:10]], areas[:2], kind="shape-dna", N=30)
     with pytest.raises(ValueError, match=r"2M\+1 = 31 values cannot be kept from N = 30"):
         descriptor_matrix(lams, areas, kind="cshape", M=15, N=30)
     # F1 needs no area
@@ -356,7 +356,7 @@ def test_descriptor_index_rejects():
 def test_descriptor_matrix_transforms(spectra, transform):
     lams, areas = spectra
     X = descriptor_matrix(lams, areas, "cshape", M=4, N=30, transform=transform)
-    Xc = descriptor_matrix(lams, areas, "cshape_complex", M=4, N=30, transform=transform)
+    Xc = descriptor_matrix(lams, areas, "cshape-complex", M=4, N=30, transform=transform)
     assert X.shape == Xc.shape == (3, 9) and X.dtype == np.float64
     for i in range(3):
         np.testing.assert_array_equal(
@@ -370,7 +370,7 @@ def test_descriptor_matrix_transforms(spectra, transform):
 
 def test_truncated_log_is_the_truncated_log_spectrum(spectra):
     lams, areas = spectra
-    X = descriptor_matrix(lams, areas, "truncated_log", M=4, N=30)
+    X = descriptor_matrix(lams, areas, "truncated-log", M=4, N=30)
     assert X.shape == (3, 9)
     for i in range(3):  # r_1 .. r_9 = log(lam_i A / (4 pi i))
         np.testing.assert_allclose(
@@ -378,7 +378,7 @@ def test_truncated_log_is_the_truncated_log_spectrum(spectra):
     logs = np.log(lams[:, 1:10] * areas[:, None])
     np.testing.assert_allclose(distance_matrix(X), distance_matrix(logs), atol=1e-12)
     with pytest.raises(ValueError, match=r"needs at least 10 eigenvalues"):
-        descriptor_matrix(lams[:, :9], areas, "truncated_log", M=4, N=9)
+        descriptor_matrix(lams[:, :9], areas, "truncated-log", M=4, N=9)
 
 
 def test_descriptor_matrix_transform_errors(spectra):

@@ -101,7 +101,7 @@ def test_mds_panel_square_bounded_labels(p, n_classes):
 def test_report_mds_figure_panels_square_with_one_legend(p, n_classes):
     table = synthetic_table(p, n_classes)
     panels = [(f"cShape-DNA M={m}", "cshape", {"M": m}) for m in (4, 2, 1)]
-    panels += [("Shape-DNA", "shape_dna", {}), ("F1", "f1", {})]
+    panels += [("Shape-DNA", "shape-dna", {}), ("F1", "f1", {})]
     fig = drawn(_mds_figure(table, panels, random_state=0))
     shown = [ax for ax in fig.axes if ax.get_visible()]
     assert len(shown) == 5

@@ -129,7 +129,7 @@ def test_experiment_sizes_picks_the_best_family_by_its_scores():
             assert r["lead"] == pytest.approx(top - ft[r["runner_up"]])
             assert r["lead_se"] >= 0
     assert sz["reference"]["ft"] == pytest.approx(
-        retrieval_scores(t.distance_matrix("shape_dna", N=40), labels)["ft"])
+        retrieval_scores(t.distance_matrix("shape-dna", N=40), labels)["ft"])
 
 
 def test_experiment_sizes_skips_a_family_it_cannot_compute():

@@ -34,7 +34,7 @@ def test_sweep_state_matches_the_descriptors(collection):
     for i in range(6):  # Eq. (8)-(10), row by row
         S = cshape.compact_shape_dna(t.lam[i], M=4, N=N, area=t.areas[i])
         np.testing.assert_allclose(st.coefficients[i], S, rtol=1e-12, atol=1e-9)
-    D_ref = compare.distance_matrix(compare.descriptor_matrix(t.lam, t.areas, "shape_dna", N=N))
+    D_ref = compare.distance_matrix(compare.descriptor_matrix(t.lam, t.areas, "shape-dna", N=N))
     D = compare.distance_matrix(compare.descriptor_matrix(t.lam, t.areas, "cshape", M=4, N=N))
     np.testing.assert_allclose(st.D_ref, compare.scale_255(D_ref), atol=1e-9)
     np.testing.assert_allclose(st.D, compare.scale_255(D), atol=1e-9)

@@ -16,7 +16,7 @@ PAPER = {
     "3.1": {"M": 16, "mean": 0.68, "std": 0.69},
     "3.2": {8: (1.3, 1.1), 4: (2.3, 1.8), 2: (4.8, 3.1), 1: (6.0, 3.8)},
     "3.3": {
-        "shape_dna": {0.5: (4.3, 5.5), 1.0: (8.5, 9.1), 2.0: (11.8, 12.0), 4.0: (12.3, 11.5),
+        "shape-dna": {0.5: (4.3, 5.5), 1.0: (8.5, 9.1), 2.0: (11.8, 12.0), 4.0: (12.3, 11.5),
                       10.0: (24.9, 23.7)},
         "cshape": {0.5: (4.6, 5.5), 1.0: (9.0, 9.1), 2.0: (12.2, 12.1), 4.0: (12.4, 11.5),
                    10.0: (24.9, 23.7)},
@@ -50,7 +50,7 @@ def experiment_3_1(table: DescriptorTable, *, N=100, M=16):
         ``D_shape_dna``, ``D_cshape`` (p, p).
     """
     _need(table)
-    D_sd = table.distance_matrix("shape_dna", N=N)
+    D_sd = table.distance_matrix("shape-dna", N=N)
     D_cs = table.distance_matrix("cshape", M=M, N=N)
     mean, std = scaled_difference(D_sd, D_cs)
     return {"N": N, "M": M, "mean": mean, "std": std, "D_shape_dna": D_sd, "D_cshape": D_cs}
@@ -70,16 +70,16 @@ def experiment_3_2(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     -------
     dict
         ``{'cshape': {M: (mean, std)}, 'truncated': {M: (mean, std)}, 'log-weyl': {...},
-        'log-weyl-dct': {...}, 'truncated_log': {...}, 'f1': (mean, std)}``.
+        'log-weyl-dct': {...}, 'truncated-log': {...}, 'f1': (mean, std)}``.
     """
     _need(table)
-    D_sd = table.distance_matrix("shape_dna", N=N)
+    D_sd = table.distance_matrix("shape-dna", N=N)
     out = {"N": N, "cshape": {}, "truncated": {}}
     for M in Ms:
         out["cshape"][M] = scaled_difference(D_sd, table.distance_matrix("cshape", M=M, N=N))
         out["truncated"][M] = scaled_difference(D_sd, table.distance_matrix("truncated", M=M))
-    for key in ("log-weyl", "log-weyl-dct", "truncated_log"):
-        kind, kw = ("truncated_log", {}) if key == "truncated_log" else ("cshape",
+    for key in ("log-weyl", "log-weyl-dct", "truncated-log"):
+        kind, kw = ("truncated-log", {}) if key == "truncated-log" else ("cshape",
                                                                          {"transform": key})
         try:
             out[key] = {M: scaled_difference(D_sd, table.distance_matrix(kind, M=M, N=N, **kw))
@@ -116,8 +116,8 @@ def experiment_noise(clean: DescriptorTable, noisy: dict, *, pairs=None, N=100, 
     Returns
     -------
     dict
-        ``{level: {'shape_dna': (mean, std), 'cshape': (mean, std),
-        'change_shape_dna': (p,), 'change_cshape': (p,), 'names': [...]}}`` where the
+        ``{level: {'shape-dna': (mean, std), 'cshape': (mean, std),
+        'change_shape-dna': (p,), 'change_cshape': (p,), 'names': [...]}}`` where the
         ``change_*`` arrays are ``||x_noisy - x_clean||`` per shape.
     """
     out = {}
@@ -130,7 +130,7 @@ def experiment_noise(clean: DescriptorTable, noisy: dict, *, pairs=None, N=100, 
                 "noisy table; the experiment needs at least 3"
             )
         res = {"names": [clean.names[i] for i in ci]}
-        for kind, kw in (("shape_dna", {"N": N}), ("cshape", {"M": M, "N": N})):
+        for kind, kw in (("shape-dna", {"N": N}), ("cshape", {"M": M, "N": N})):
             Xc = clean.select(ci).descriptors(kind, **kw)
             Xn = table.select(ni).descriptors(kind, **kw)
             res[kind] = scaled_difference(distance_matrix(Xc), distance_matrix(Xn))
@@ -141,7 +141,7 @@ def experiment_noise(clean: DescriptorTable, noisy: dict, *, pairs=None, N=100, 
 
 
 def _descriptor_specs(Ms, N):
-    specs = [("Shape-DNA", "shape_dna", {"N": N})]
+    specs = [("Shape-DNA", "shape-dna", {"N": N})]
     specs += [(f"cShape-DNA M={M}", "cshape", {"M": M, "N": N}) for M in Ms]
     specs += [(f"truncated Shape-DNA {2 * M + 1}", "truncated", {"M": M}) for M in Ms]
     specs += [("F1", "f1", {"N": N})]
@@ -156,7 +156,7 @@ FAMILIES = {
     "log-Weyl DFT": ("cshape", {"transform": "log-weyl"}),
     "log-Weyl DCT": ("cshape", {"transform": "log-weyl-dct"}),
     "truncated Shape-DNA": ("truncated", {}),
-    "truncated log spectrum": ("truncated_log", {}),
+    "truncated log spectrum": ("truncated-log", {}),
     "truncated F1": ("f1", {}),
 }
 
@@ -187,8 +187,8 @@ def family_descriptors(table: DescriptorTable, family, M, N=100) -> np.ndarray:
 
 def _retrieval_specs(Ms, N):
     """(title, family or None, M, kind, keywords) of every row of the retrieval table."""
-    specs = [("Shape-DNA", None, None, "shape_dna", {"N": N}),
-             ("log spectrum (all N-1 log-Weyl ratios)", None, None, "truncated_log",
+    specs = [("Shape-DNA", None, None, "shape-dna", {"N": N}),
+             ("log spectrum (all N-1 log-Weyl ratios)", None, None, "truncated-log",
               {"M": (N - 2) // 2}),
              ("F1", None, None, "f1", {"N": N})]
     for M in Ms:
@@ -256,7 +256,7 @@ def experiment_sizes(table: DescriptorTable, *, Ms=None, N=100, measure="ft"):
         Ms = range(min(16, (N - 3) // 2), 0, -1)
     Ms = [int(m) for m in Ms]
     labels = table.labels
-    ref = retrieval_scores(table.distance_matrix("shape_dna", N=N), labels)
+    ref = retrieval_scores(table.distance_matrix("shape-dna", N=N), labels)
     rows, skipped = [], {}
     for M in Ms:
         scores, per = {}, {}
@@ -385,7 +385,7 @@ def experiment_cost(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100, repea
     rng = np.random.default_rng(random_state)
     rows_idx = rng.integers(0, len(table), size=database_size)
     q_idx = rng.integers(0, database_size, size=n_queries)
-    warm = table.descriptors("shape_dna", N=N)  # first calls pay imports and allocations
+    warm = table.descriptors("shape-dna", N=N)  # first calls pay imports and allocations
     distance_matrix(warm)
     DescriptorIndex(warm, algorithm="brute").query(warm[:1], k=1)
     rows = []

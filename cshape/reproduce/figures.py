@@ -85,7 +85,7 @@ def _noise_change_figure(noise, levels):
 
     fig = Figure(figsize=(10, 3.6), layout="constrained")
     axs = fig.subplots(1, 2)
-    for ax, kind, title in ((axs[0], "shape_dna", "(a) Shape-DNA"),
+    for ax, kind, title in ((axs[0], "shape-dna", "(a) Shape-DNA"),
                             (axs[1], "cshape", "(b) cShape-DNA")):
         top = max(float(noise[lv]["change_" + kind].max()) for lv in levels) or 1.0
         for lv in levels:

@@ -151,7 +151,7 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         [difference_matrix(D_sd, r31["D_cshape"])],
         [f"(c) difference: mean {r31['mean']:.2f}, std {r31['std']:.2f}"], **ticks)
     figs["fig4_mds_cshape"] = _mds_figure(
-        table, [(f"Shape-DNA N={N}", "shape_dna", {"N": N})]
+        table, [(f"Shape-DNA N={N}", "shape-dna", {"N": N})]
         + [(f"cShape-DNA M={m}", "cshape", {"M": m, "N": N}) for m in all_Ms], random_state)
     figs["fig5_mds_truncated_f1"] = _mds_figure(
         table, [(f"truncated N={2 * m + 1}", "truncated", {"M": m}) for m in all_Ms]
@@ -212,7 +212,7 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         noise_ticks = ticks if same_rows else {}
         figs["fig7_noise_shape_dna"] = plots.plot_matrices(
             [noise[lv]["diff_shape_dna"] for lv in levels],
-            [f"lam={lv:g}: {noise[lv]['shape_dna'][0]:.1f} / {noise[lv]['shape_dna'][1]:.1f}"
+            [f"lam={lv:g}: {noise[lv]['shape-dna'][0]:.1f} / {noise[lv]['shape-dna'][1]:.1f}"
              for lv in levels], **noise_ticks)
         figs["fig7_noise_cshape"] = plots.plot_matrices(
             [noise[lv]["diff_cshape"] for lv in levels],
@@ -227,7 +227,7 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         from ..compare import descriptor_matrix
 
         a, b = (table.index(q) for q in quality)
-        S = descriptor_matrix(table.lam[[a, b]], table.areas[[a, b]], "cshape_complex",
+        S = descriptor_matrix(table.lam[[a, b]], table.areas[[a, b]], "cshape-complex",
                               M=M, N=N)
         figs["fig9_quality"] = plots.plot_cshape_dna({quality[0]: S[0], quality[1]: S[1]})
         D_cs = r31["D_cshape"]
@@ -347,7 +347,7 @@ def _report(res, figs, title):
           f"Difference statistics against Shape-DNA N={N} (mean / std).", ""]
     r32 = res["3.2"]
     ext = [(k, t) for k, t in (("log-weyl", "log-Weyl DFT*"), ("log-weyl-dct", "log-Weyl DCT*"),
-                               ("truncated_log", "truncated log spectrum*")) if r32.get(k)]
+                               ("truncated-log", "truncated log spectrum*")) if r32.get(k)]
     rows = []
     for m in r32["cshape"]:
         paper = PAPER["3.2"].get(m)
@@ -382,9 +382,9 @@ def _report(res, figs, title):
     if res["3.3"]:
         rows = []
         for lv, r in sorted(res["3.3"].items()):
-            psd = PAPER["3.3"]["shape_dna"].get(lv)
+            psd = PAPER["3.3"]["shape-dna"].get(lv)
             pcs = PAPER["3.3"]["cshape"].get(lv)
-            rows.append([f"{lv:g}", _pair(r["shape_dna"], 1), _pair(psd, 1),
+            rows.append([f"{lv:g}", _pair(r["shape-dna"], 1), _pair(psd, 1),
                          _pair(r["cshape"], 1), _pair(pcs, 1)])
         s += ["## 3.3 Noise", "",
               "Clean vs noisy scaled distance matrices (mean / std of the difference).", "",
