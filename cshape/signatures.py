@@ -39,11 +39,9 @@ Normalisations
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
-from ._checks import check_choice
+from ._checks import check_bool, check_choice, check_int, check_real
 from .descriptors import _as_lam
 
 __all__ = [
@@ -111,21 +109,10 @@ def _check_pairs(lam, phi):
 
 
 def _check_positive(name, value, *, allow_none=True):
+    """A positive finite real number as float (``None`` passes when allowed)."""
     if value is None and allow_none:
         return None
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a positive number, got {type(value).__name__} {value!r}")
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-    return float(value)
-
-
-def _check_count(name, value, lo=1):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__} {value!r}")
-    if value < lo:
-        raise ValueError(f"{name} must be at least {lo}, got {value}")
-    return int(value)
+    return check_real(name, value, positive=True)
 
 
 def _check_scales(name, values, *, positive=True) -> np.ndarray:
@@ -259,7 +246,7 @@ def hks_times(lam, n_times: int = 100, *, area: float | None = None) -> np.ndarr
         Ascending.
     """
     lam = _check_lam(lam)
-    n_times = _check_count("n_times", n_times)
+    n_times = check_int("n_times", n_times, min=1)
     area = _check_positive("area", area)
     if area is not None:
         lam = lam * area
@@ -305,7 +292,7 @@ def hks(lam, phi, t=None, *, n_times: int = 100, area: float | None = None,
     >>> h = cshape.hks(lam, phi)   # (642, 100): on the unit sphere ~ heat_trace / (4 pi)
     """
     lam, phi = _check_pairs(lam, phi)
-    n_times = _check_count("n_times", n_times)
+    n_times = check_int("n_times", n_times, min=1)
     area = _check_positive("area", area)
     normalization = check_choice("normalization", normalization, ("none", "trace"))
     lam, phi = _scaled(lam, phi, area)
@@ -339,7 +326,7 @@ def wks_energies(lam, n_energies: int = 100, *, area: float | None = None):
     sigma : float
     """
     lam = _check_lam(lam)
-    n_energies = _check_count("n_energies", n_energies)
+    n_energies = check_int("n_energies", n_energies, min=1)
     area = _check_positive("area", area)
     if area is not None:
         lam = lam * area
@@ -387,7 +374,7 @@ def wks(lam, phi, energies=None, sigma: float | None = None, *, n_energies: int 
     ndarray, shape (n, E)
     """
     lam, phi = _check_pairs(lam, phi)
-    n_energies = _check_count("n_energies", n_energies)
+    n_energies = check_int("n_energies", n_energies, min=1)
     area = _check_positive("area", area)
     sigma = _check_positive("sigma", sigma)
     normalization = check_choice("normalization", normalization, ("trace", "none"))
@@ -483,7 +470,7 @@ def si_hks(lam, phi, tau=None, *, base: float = 2.0, n_freqs: int = 6) -> np.nda
     base = _check_positive("base", base, allow_none=False)
     if base == 1.0:
         raise ValueError("base must differ from 1 (t = base^tau), got 1.0")
-    n_freqs = _check_count("n_freqs", n_freqs)
+    n_freqs = check_int("n_freqs", n_freqs, min=1)
     tau = si_hks_tau() if tau is None else _check_scales("tau", tau, positive=False)
     if len(tau) < 3:
         raise ValueError(f"tau must hold at least 3 log-times, got {len(tau)}")
@@ -581,8 +568,7 @@ def match_points(sig_a, sig_b, *, mutual: bool = False) -> np.ndarray:
     """
     a = _as_signature(sig_a, "sig_a")
     b = _as_signature(sig_b, "sig_b")
-    if not isinstance(mutual, (bool, np.bool_)):
-        raise TypeError(f"mutual must be True or False, got {mutual!r}")
+    mutual = check_bool("mutual", mutual)
     if a.shape[1] != b.shape[1]:
         raise ValueError(
             f"sig_a has {a.shape[1]} scales and sig_b {b.shape[1]}; compute both at the same "
