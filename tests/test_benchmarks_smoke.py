@@ -184,3 +184,26 @@ def test_correspondence_bench_on_a_small_template(tmp_path):
     assert 0.3 < posed["xyz, rigid oracle"]["acc"] < 1.0
     md = bc.markdown(rows, "header", "footer")
     assert md.count("\n| ") == 1 + 2 * len(bc.DESCRIPTORS)  # header, quadruped, all
+
+
+@pytest.mark.slow
+def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
+    pytest.importorskip("lapy")
+    sw = _load("bench_sweep")
+    monkeypatch.setattr(sw, "RESULTS", tmp_path)
+    monkeypatch.setitem(sw.SIZES, "tiny", ("torus", 40, 20))  # 800 vertices: sparse path
+    r = sw.compare(sw.make_mesh("tiny"), 20, repeats=1, threads=(1, 2))
+    assert r["n"] == 800 and r["maxrel"] < 1e-8 and r["same_bits"]
+    assert set(r["cshape"]) == {1, 2} and r["lapy"] > r["lapy_assembly"] > 0
+    st = r["stages"]
+    assert all(st[k] > 0 for k in ("prepare", "factorise", "solves", "rayleigh_ritz"))
+    assert sum(st[k] for k in sw.STAGES) == pytest.approx(st["total"])
+    lines = sw.sweep_lines([("tiny", r)], (1, 2), "t") + sw.summary_lines([("tiny", r)], (1, 2))
+    assert sum(line.startswith("| tiny | 800 |") for line in lines) == 1
+    meshes = [("a", sw.make_mesh("tiny")), ("b", sw.make_mesh("tiny"))]
+    rows = sw.throughput(meshes, 10, workers=1)
+    assert [(x["who"], x["workers"]) for x in rows] == [("cshape", 1), ("LaPy", 1)]
+    assert all(x["per_minute"] > 0 for x in rows)
+    assert sw.main(["--sizes", "1k", "--repeats", "1", "--no-real", "-N", "10",
+                    "--out", "t"]) == 0
+    assert (tmp_path / "t.md").read_text().count("| 1k | 1,000 |") == 1
