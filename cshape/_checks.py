@@ -228,7 +228,13 @@ def require_extra(layer: str, extra: str, modules: tuple[str, ...]) -> None:
     """
     import importlib.util
 
-    missing = [m for m in modules if importlib.util.find_spec(m) is None]
+    def absent(module: str) -> bool:
+        try:
+            return importlib.util.find_spec(module) is None
+        except (ImportError, ValueError):  # a broken or blocked install
+            return True
+
+    missing = [m for m in modules if absent(m)]
     if missing:
         raise ImportError(
             f"{layer} needs {', '.join(missing)}, which the '{extra}' extra installs: "

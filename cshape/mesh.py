@@ -9,8 +9,8 @@ plus the topological facts the FEM stage needs (boundary and non-manifold edges,
 connected components).  Every public function of cshape also accepts the pair
 ``(vertices, faces)`` in place of a :class:`Mesh` (see :func:`as_mesh`).
 
-Reading files (:func:`load_mesh` and its format checks) lives in :mod:`cshape.readers`;
-``cshape.mesh.load_mesh`` still works.
+Reading files (:func:`cshape.load_mesh` and its format checks) lives in :mod:`cshape.readers`,
+the next module of the pipeline: it imports this one, never the reverse.
 """
 
 from __future__ import annotations
@@ -518,13 +518,3 @@ def largest_component(mesh) -> Mesh:
     per = np.bincount(lab, weights=mesh.face_areas)
     keep = lab == int(np.argmax(per))
     return repair_mesh(Mesh(mesh.vertices, mesh.faces[keep]), warn=False)
-
-
-def __getattr__(name):
-    # load_mesh moved to cshape.readers (file formats); imported on first use because
-    # cshape.readers itself imports this module
-    if name == "load_mesh":
-        from .readers import load_mesh
-
-        return load_mesh
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

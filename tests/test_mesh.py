@@ -120,15 +120,13 @@ def _write_off(path, V, F):
     path.write_text("\n".join(lines) + "\n")
 
 
-def test_load_mesh_lives_in_readers_and_is_re_exported():
-    """File reading moved to cshape.readers; the old import paths give the same function."""
+def test_load_mesh_lives_in_readers():
+    """File reading is cshape.readers' (it imports cshape.mesh, never the reverse)."""
     import cshape.mesh
     import cshape.readers
-    from cshape.mesh import load_mesh
 
-    assert cshape.load_mesh is cshape.readers.load_mesh is cshape.mesh.load_mesh is load_mesh
-    with pytest.raises(AttributeError, match="no_such_name"):
-        cshape.mesh.no_such_name  # noqa: B018
+    assert cshape.load_mesh is cshape.readers.load_mesh
+    assert not hasattr(cshape.mesh, "load_mesh")
 
 
 def test_load_off_roundtrip(tmp_path):

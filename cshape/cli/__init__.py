@@ -1,6 +1,6 @@
 """The ``cshape`` command line: a thin shell over the package's functions.
 
-* :mod:`cshape.cli.main`    - the parser, the static registry of sub-commands, :func:`main`;
+* :mod:`cshape.cli.registry`    - the parser, the static registry of sub-commands, :func:`main`;
 * :mod:`cshape.cli.output`  - the one error path (one line, exit status 2) and warnings;
 * :mod:`cshape.cli.explore` - ``describe``, ``info``, ``query``: one's own meshes;
 * :mod:`cshape.cli.data`    - ``data list|build|path``: the data manifest's collections;
@@ -12,8 +12,8 @@ Heavy imports happen inside the commands.
 
 from __future__ import annotations
 
-from .main import build_parser, main
 from .output import EXPECTED_ERRORS, CommandError, one_line, print_warnings
+from .registry import build_parser, main
 
 __all__ = ["EXPECTED_ERRORS", "CommandError", "build_parser", "main", "one_line",
            "print_warnings"]

@@ -15,7 +15,7 @@
 
 Only argument handling and printing live here; the work is done by the pipeline's
 functions.  Expected failures raise :class:`cshape.cli.CommandError` (or the pipeline's
-``ValueError`` / ``OSError``), which :func:`cshape.cli.main` prints on one line with exit
+``ValueError`` / ``OSError``), which :func:`cshape.cli.registry` prints on one line with exit
 status 2.
 """
 
@@ -280,7 +280,8 @@ def mesh_report(path) -> dict:
         ``degenerate_faces``.
     """
     from ..data.variants import mesh_quality
-    from ..mesh import CShapeWarning, load_mesh, repair_mesh
+    from ..mesh import CShapeWarning, repair_mesh
+    from ..readers import load_mesh
 
     path = Path(path)
     with warnings.catch_warnings(record=True) as caught:
