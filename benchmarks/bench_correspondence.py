@@ -7,8 +7,11 @@ Run from the repository root::
 
 The shapes are :func:`cshape.data.poses.posed_figure`: a template (rest pose, ~2800 vertices)
 whose vertices are moved by a skeleton, so that the ground-truth map from the rest pose to
-every pose is the identity.  For every pose, each vertex ``i`` of the rest pose is matched to
-the vertex of the pose whose descriptor is nearest (:func:`cshape.match_points`), and the
+every pose is the identity.  They are the items of the manifest's ``poses`` collection
+(``cshape.data.load_collection("poses")``: rest pose and poses 0-4 of each class).
+
+For every pose, each vertex ``i`` of the rest pose is matched to the vertex of the pose
+whose descriptor is nearest (:func:`cshape.match_points`), and the
 error is the geodesic distance on the pose between the match and vertex ``i`` (shortest
 paths along the edges, which overestimate the geodesic by a few per cent), over the pose's
 geodesic diameter.  A match counts as correct when the error is at most 5 % of it.

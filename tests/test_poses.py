@@ -62,3 +62,28 @@ def test_mirror_map_is_a_near_symmetry(kind):
 def test_bad_kind():
     with pytest.raises(ValueError, match=r"kind must be one of \{'human', 'quadruped'\}"):
         poses.posed_figure("octopus")
+
+
+def test_manifest_poses_collection_lists_the_rest_pose_and_five_poses_per_class():
+    from cshape import data
+
+    entry = data.info("poses")
+    items = {it["name"]: it for it in entry["items"]}
+    for kind in poses.POSED_KINDS:
+        assert items[f"{kind}-rest"]["recipe"] == "pose-template"
+        for k in range(5):
+            assert items[f"{kind}-{k}"]["base"] == f"poses/{kind}-rest"
+
+
+@pytest.mark.slow
+def test_manifest_poses_share_the_cached_template(tmp_path):
+    from cshape import data
+
+    rest = data.load("poses", "quadruped-rest", cache_dir=tmp_path)
+    p2 = data.load("poses", "quadruped-2", cache_dir=tmp_path)
+    np.testing.assert_array_equal(p2.faces, rest.faces)
+    np.testing.assert_array_equal(rest.vertices, poses.pose_template("quadruped").vertices)
+    np.testing.assert_array_equal(p2.vertices, poses.posed_figure("quadruped", 2).vertices)
+    # from the cache file: the same bits again
+    np.testing.assert_array_equal(data.load("poses", "quadruped-2", cache_dir=tmp_path).vertices,
+                                  p2.vertices)

@@ -123,6 +123,7 @@ class Collection:
 def _recipes() -> dict:
     from . import variants as v
     from .creatures import creature
+    from .poses import pose, pose_template
 
     return {
         # name: (function, takes a base mesh, takes a seed)
@@ -135,6 +136,8 @@ def _recipes() -> dict:
         "subdivide": (v.subdivide, True, False),
         "noise": (v.add_normal_noise, True, True),
         "creature": (creature, False, True),
+        "pose-template": (pose_template, False, False),
+        "pose": (pose, True, True),
     }
 
 
@@ -150,6 +153,8 @@ RECIPES = {
     "subdivide": "cshape.variants.subdivide (base mesh)",
     "noise": "cshape.variants.add_normal_noise (base mesh, seed -> random_state)",
     "creature": "cshape.creatures.creature (seed -> random_state)",
+    "pose-template": "cshape.data.poses.pose_template",
+    "pose": "cshape.data.poses.pose (base: the template, seed -> random_state)",
 }
 
 #: Fields of a generated collection's ``generate`` mapping: the arguments of

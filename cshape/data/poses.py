@@ -26,11 +26,13 @@ from functools import lru_cache
 
 import numpy as np
 
-from .._checks import check_choice
-from ..mesh import Mesh
+from .._checks import check_bool, check_choice, check_int, check_real
+from ..mesh import Mesh, as_mesh
 from .variants import Capsule, capsules_expression, marching_cubes, remesh
 
-__all__ = ["POSED_KINDS", "mirror_map", "posed_figure", "pose_template", "skin_weights"]
+__all__ = [
+    "POSED_KINDS", "mirror_map", "pose", "pose_template", "posed_figure", "skin_weights",
+]
 
 #: The classes of :func:`posed_figure`.
 POSED_KINDS = ("human", "quadruped")
@@ -166,7 +168,9 @@ def pose_template(kind="human", *, voxelsize=0.02, target_vertices=3000) -> Mesh
         Closed and connected; cached, so every pose of a class starts from the same one.
     """
     kind = check_choice("kind", kind, POSED_KINDS)
-    return _template(kind, float(voxelsize), int(target_vertices))
+    voxelsize = check_real("voxelsize", voxelsize, positive=True)
+    target_vertices = check_int("target_vertices", target_vertices, min=100)
+    return _template(kind, voxelsize, target_vertices)
 
 
 def _segment_distance(x, a, b):
@@ -223,30 +227,27 @@ def _bone_transforms(bones, angles):
     return out
 
 
-def posed_figure(kind="human", random_state=0, *, rest=False, voxelsize=0.02,
-                 target_vertices=3000) -> Mesh:
-    """A pose of a class, made by moving the template's vertices (same faces, same order).
+def pose(template, kind="human", random_state=0) -> Mesh:
+    """Move the vertices of a class's template into a pose drawn from ``random_state``.
 
     Parameters
     ----------
+    template : Mesh or (vertices, faces)
+        The rest pose of ``kind`` (:func:`pose_template`; the data manifest's ``poses``
+        collection passes its cached template item).
     kind : {'human', 'quadruped'}, default='human'
     random_state : int, numpy.random.Generator or None, default=0
         Seed of the joint angles, each uniform in its range (a few tens of degrees; elbows
         and knees up to 100 and 80).
-    rest : bool, default=False
-        Return the template itself (every angle 0).
-    voxelsize, target_vertices
-        Of the template (:func:`pose_template`).
 
     Returns
     -------
     Mesh
-        ``faces`` equal to the template's: vertex ``i`` of every pose is the same material
-        point (the ground-truth correspondence is the identity).
+        The template's faces, moved vertices: vertex ``i`` is the same material point in
+        every pose (the ground-truth correspondence is the identity).  NumPy only, so the
+        same template and seed give the same bits in any process.
     """
-    template = pose_template(kind, voxelsize=voxelsize, target_vertices=target_vertices)
-    if rest:
-        return template
+    template = as_mesh(template)
     bones = _skeleton(kind)
     rng = np.random.default_rng(random_state)
     angles = [[float(rng.uniform(min(d.lo, d.hi), max(d.lo, d.hi))) for d in b.dofs]
@@ -258,6 +259,31 @@ def posed_figure(kind="human", random_state=0, *, rest=False, voxelsize=0.02,
     for b, (R, t) in enumerate(T):
         out += W[:, b:b + 1] * (V @ R.T + t)
     return Mesh(out, template.faces)
+
+
+def posed_figure(kind="human", random_state=0, *, rest=False, voxelsize=0.02,
+                 target_vertices=3000) -> Mesh:
+    """A pose of a class: :func:`pose` of the class's cached :func:`pose_template`.
+
+    Parameters
+    ----------
+    kind : {'human', 'quadruped'}, default='human'
+    random_state : int, numpy.random.Generator or None, default=0
+        Seed of the joint angles (see :func:`pose`).
+    rest : bool, default=False
+        Return the template itself (every angle 0).
+    voxelsize, target_vertices
+        Of the template (:func:`pose_template`).
+
+    Returns
+    -------
+    Mesh
+        ``faces`` equal to the template's (the ground-truth correspondence is the identity).
+    """
+    template = pose_template(kind, voxelsize=voxelsize, target_vertices=target_vertices)
+    if check_bool("rest", rest):
+        return template
+    return pose(template, kind, random_state)
 
 
 def mirror_map(kind, mesh) -> np.ndarray:
