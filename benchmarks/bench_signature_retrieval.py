@@ -54,7 +54,11 @@ def fixed_scales(N=100, n_scales=N_SCALES):
 
 
 def weighted_quantiles(X, w, qs=QUANTILES):
-    """Column-wise quantiles of ``X`` (n, k) with vertex weights ``w`` (n,): (len(qs), k)."""
+    """Column-wise quantiles of ``X`` (n, k) with vertex weights ``w`` (n,): (len(qs), k).
+
+    Each sorted value sits at the middle of its weight's share of the cumulative weight;
+    quantiles interpolate linearly between them (and clip at the ends).
+    """
     out = np.empty((len(qs), X.shape[1]))
     for j in range(X.shape[1]):
         order = np.argsort(X[:, j])

@@ -1,4 +1,4 @@
-"""Stage 5 of the pipeline: point signatures from the eigenpairs, and point correspondence.
+"""Stage 6 of the pipeline: point signatures from the eigenpairs, and point correspondence.
 
 Shape-DNA keeps the eigenvalues ``lam``; the eigenfunctions ``phi`` (``A phi_i = -lam_i B
 phi_i``, Eq. 3, B-orthonormal: ``phi.T @ B @ phi = I``) describe each *point*.  Everything here
@@ -40,6 +40,7 @@ Normalisations
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._checks import check_bool, check_choice, check_int, check_real
 from .descriptors import _as_lam
@@ -153,7 +154,7 @@ def _first_nonzero(lam) -> float:
 
 
 # ---------------------------------------------------------------------- heat
-def heat_trace(lam, t, *, area: float | None = None) -> np.ndarray:
+def heat_trace(lam: ArrayLike, t: ArrayLike, *, area: float | None = None) -> np.ndarray:
     """The heat trace ``Z(t) = sum_i exp(-lam_i t)``, summed over the given eigenvalues.
 
     ``Z(t) = int_M k_t(x, x) dx``: the integral of the HKS over the surface.
@@ -179,7 +180,8 @@ def heat_trace(lam, t, *, area: float | None = None) -> np.ndarray:
     return np.exp(-np.outer(t, lam)).sum(axis=1)
 
 
-def heat_kernel(lam, phi, t, sources, *, area: float | None = None) -> np.ndarray:
+def heat_kernel(lam: ArrayLike, phi: ArrayLike, t: float, sources: ArrayLike, *,
+                area: float | None = None) -> np.ndarray:
     """The heat kernel ``k_t(x, y) = sum_i exp(-lam_i t) phi_i(x) phi_i(y)`` from vertices.
 
     The temperature at every vertex ``x`` at time ``t`` after a unit of heat was put at
@@ -226,7 +228,7 @@ def heat_kernel(lam, phi, t, sources, *, area: float | None = None) -> np.ndarra
 
 
 # ---------------------------------------------------------------------- HKS
-def hks_times(lam, n_times: int = 100, *, area: float | None = None) -> np.ndarray:
+def hks_times(lam: ArrayLike, n_times: int = 100, *, area: float | None = None) -> np.ndarray:
     """The default HKS times of Sun et al. (2009): log-spaced over the spectrum's range.
 
     ``t`` runs from ``4 ln 10 / lam_max`` to ``4 ln 10 / lam_1`` (``lam_1`` the first
@@ -254,8 +256,8 @@ def hks_times(lam, n_times: int = 100, *, area: float | None = None) -> np.ndarr
     return np.geomspace(T_FACTOR / lam.max(), T_FACTOR / lam1, n_times)
 
 
-def hks(lam, phi, t=None, *, n_times: int = 100, area: float | None = None,
-        normalization: str = "none") -> np.ndarray:
+def hks(lam: ArrayLike, phi: ArrayLike, t: ArrayLike | None = None, *, n_times: int = 100,
+        area: float | None = None, normalization: str = "none") -> np.ndarray:
     """Heat kernel signature ``HKS(x, t) = k_t(x, x) = sum_i exp(-lam_i t) phi_i(x)^2``.
 
     The heat that stays at ``x`` after time ``t`` (Sun, Ovsjanikov and Guibas 2009): small
@@ -305,7 +307,8 @@ def hks(lam, phi, t=None, *, n_times: int = 100, area: float | None = None,
 
 
 # ---------------------------------------------------------------------- WKS
-def wks_energies(lam, n_energies: int = 100, *, area: float | None = None):
+def wks_energies(lam: ArrayLike, n_energies: int = 100, *,
+                 area: float | None = None) -> tuple[np.ndarray, float]:
     """The default WKS energies and width of Aubry et al. (2011).
 
     With ``e_1 = log lam_1`` (first non-zero) and ``e_N = log lam_max``, the step is
@@ -340,7 +343,8 @@ def wks_energies(lam, n_energies: int = 100, *, area: float | None = None):
     return np.linspace(e1 + 2 * sigma, eN - 2 * sigma, n_energies), float(sigma)
 
 
-def wks(lam, phi, energies=None, sigma: float | None = None, *, n_energies: int = 100,
+def wks(lam: ArrayLike, phi: ArrayLike, energies: ArrayLike | None = None,
+        sigma: float | None = None, *, n_energies: int = 100,
         area: float | None = None, normalization: str = "trace") -> np.ndarray:
     """Wave kernel signature (Aubry, Schlickewei and Cremers 2011).
 
@@ -430,7 +434,8 @@ def si_hks_tau(step: float = 1 / 8) -> np.ndarray:
     return np.arange(-24.0, 16.0 + step / 2, step)
 
 
-def si_hks(lam, phi, tau=None, *, base: float = 2.0, n_freqs: int = 6) -> np.ndarray:
+def si_hks(lam: ArrayLike, phi: ArrayLike, tau: ArrayLike | None = None, *, base: float = 2.0,
+           n_freqs: int = 6) -> np.ndarray:
     """Scale-invariant HKS (Bronstein and Kokkinos 2010).
 
     Scaling a shape by ``s`` maps ``HKS(x, t)`` to ``HKS(x, t / s^2) / s^2``.  With
@@ -545,7 +550,7 @@ def _nearest(a, b, chunk=2048):
     return out
 
 
-def match_points(sig_a, sig_b, *, mutual: bool = False) -> np.ndarray:
+def match_points(sig_a: ArrayLike, sig_b: ArrayLike, *, mutual: bool = False) -> np.ndarray:
     """Match every vertex of shape a to the vertex of shape b with the nearest signature.
 
     The distance is Euclidean over the columns (scales); transform the signatures first to

@@ -207,3 +207,25 @@ def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
     assert sw.main(["--sizes", "1k", "--repeats", "1", "--no-real", "-N", "10",
                     "--out", "t"]) == 0
     assert (tmp_path / "t.md").read_text().count("| 1k | 1,000 |") == 1
+
+
+@pytest.mark.slow
+def test_signature_retrieval_bench_descriptors_are_scale_invariant():
+    from cshape import shapes
+
+    br = _load("bench_signature_retrieval")
+    X = np.array([[1.0], [2.0], [3.0], [4.0]])
+    q = br.weighted_quantiles(X, np.array([1.0, 1.0, 1.0, 5.0]), qs=(0.5, 0.9))
+    # value 4 holds 5/8 of the weight, centred at 3/8 + 5/16 = 0.6875; value 3 at 0.3125
+    np.testing.assert_allclose(q[:, 0], [3.5, 4.0])
+    meshes = [shapes.icosphere(3), shapes.icosphere(3, 2.5), shapes.torus(24, 12),
+              shapes.torus(24, 12, R=2.0, r=0.8)]
+    descs = [br.shape_descriptors(m, N=30) for m in meshes]
+    assert [len(descs[0][k]) for k in descs[0]] == [29, 80, 80]
+    for k in descs[0]:  # area-normalised: a scaled copy has the same descriptor
+        np.testing.assert_allclose(descs[1][k], descs[0][k], rtol=1e-6, atol=1e-8)
+        np.testing.assert_allclose(descs[3][k], descs[2][k], rtol=1e-6, atol=1e-8)
+        assert np.abs(descs[2][k] - descs[0][k]).max() > 1e-2
+    rows = br.score(descs, ["sphere", "sphere", "torus", "torus"])
+    assert all(r["nn"] == 1.0 and r["map"] == 1.0 for r in rows)
+    assert br.markdown(rows, "tiny", 4, 2, "h", "f").count("\n| ") == 4
