@@ -19,7 +19,10 @@ function               definition
 :func:`match_points`   nearest signature (optionally mutual nearest neighbours)
 =====================  =====================================================================
 
-Per-vertex signatures are arrays of shape ``(n, number of scales)``.
+Per-vertex signatures are arrays of shape ``(n, number of scales)``, one row per row of
+``phi``.  :func:`cshape.eigenpairs` repairs a mesh first (duplicate or unreferenced vertices
+removed), and ``n`` is then the repaired mesh's vertex count: call
+:func:`cshape.repair_mesh` yourself to keep the rows and your vertex indices in step.
 
 Normalisations
 --------------

@@ -178,7 +178,9 @@ def test_correspondence_bench_on_a_small_template(tmp_path):
     assert all(0 <= r["acc"] <= r["acc_mirror"] <= 1 for r in rows)
     assert all(r["mean_err_mirror"] <= r["mean_err"] for r in rows)
     # the rest pose against itself: every descriptor finds every vertex
-    assert all(r["acc"] == 1.0 and r["mean_err"] == 0.0 for r in rows if r["seed"] is None)
+    assert all(r["acc"] == 1.0 and r["mean_err"] == 0.0 and r["mutual_kept"] == 1.0
+               for r in rows if r["seed"] is None)
+    assert all(0 < r["mutual_kept"] <= 1 and 0 <= r["mutual_acc"] <= 1 for r in rows)
     # a real pose: the oracle alignment moves only the limbs off, signatures lose some
     posed = {r["descriptor"]: r for r in rows if r["seed"] == 1}
     assert 0.3 < posed["xyz, rigid oracle"]["acc"] < 1.0
