@@ -119,6 +119,18 @@ def test_hks_by_hand():
                                (phi**2) @ E / E.sum(axis=0))
 
 
+def test_hks_agrees_with_lapy(ellipsoid):
+    # the peer's heat kernel diagonal (lapy.heat.diagonal) from the peer's own eigenpairs
+    lapy = pytest.importorskip("lapy")
+    from lapy import heat
+
+    m, lam, phi = ellipsoid
+    ev, ef = lapy.Solver(lapy.TriaMesh(m.vertices, m.faces)).eigs(k=40)
+    t = sg.hks_times(lam, 10)
+    ref = heat.diagonal(t[None, :], np.arange(m.n_vertices), ef, ev[:, None], 40)
+    np.testing.assert_allclose(cshape.hks(lam, phi, t), ref, rtol=1e-8)
+
+
 # ---------------------------------------------------------------------- heat kernel
 def test_heat_kernel_symmetric_conserves_heat_and_diagonal_is_hks(ellipsoid):
     m, lam, phi = ellipsoid
