@@ -8,7 +8,8 @@ The core is the method, one module per stage, in pipeline order (data flows one 
 3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
 4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
    :func:`compact_shape_dna` (Eq. 9-10), :func:`log_weyl_ratio`, :func:`real_form`,
-   :func:`inverse_compact_shape_dna`, :func:`f1_feature`
+   :func:`inverse_compact_shape_dna`, :func:`f1_feature`; :func:`count_zero_modes` and
+   :func:`nonzero_eigenvalues` (the rule for meshes of several pieces)
 5. :mod:`cshape.compare`     - :func:`descriptor_matrix`, :func:`distance_matrix`,
    :func:`scale_255`, :func:`retrieval_scores`, :func:`mds_embedding`;
    :mod:`cshape.index`       - :class:`DescriptorIndex` (nearest neighbours in a database)
@@ -51,9 +52,11 @@ from .compare import (
 from .descriptors import (
     compact_shape_dna,
     compact_shape_dna_real,
+    count_zero_modes,
     f1_feature,
     inverse_compact_shape_dna,
     log_weyl_ratio,
+    nonzero_eigenvalues,
     normalize,
     real_form,
     weyl_subtract,
@@ -63,7 +66,7 @@ from .index import DescriptorIndex
 from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
 from .readers import load_mesh
 from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
-from .spectrum import eigenpairs, shape_dna
+from .spectrum import eigenpairs, estimate_seconds, shape_dna
 
 __version__ = "0.1.0"
 
@@ -112,12 +115,14 @@ __all__ = [
     "as_mesh",
     "compact_shape_dna",
     "compact_shape_dna_real",
+    "count_zero_modes",
     "data",
     "describe",
     "descriptor_matrix",
     "difference_matrix",
     "distance_matrix",
     "eigenpairs",
+    "estimate_seconds",
     "f1_feature",
     "fem_matrices",
     "inverse_compact_shape_dna",
@@ -125,6 +130,7 @@ __all__ = [
     "load_mesh",
     "log_weyl_ratio",
     "mds_embedding",
+    "nonzero_eigenvalues",
     "normalize",
     "real_form",
     "repair_mesh",

@@ -27,6 +27,7 @@ from ._checks import check_choice, check_descriptors, check_int, check_labels, c
 from .descriptors import (
     TRANSFORMS,
     compact_shape_dna,
+    count_zero_modes,
     f1_feature,
     log_weyl_ratio,
     normalize,
@@ -42,6 +43,7 @@ __all__ = [
     "mds_embedding",
     "retrieval_per_query",
     "retrieval_scores",
+    "row_problems",
     "scale_255",
     "scaled_difference",
 ]
@@ -74,7 +76,8 @@ def descriptor_size(kind, M=16, N=100) -> int:
     int
         ``N`` for 'shape-dna', ``2M+1`` for 'truncated', 'truncated-log', 'cshape' and
         'cshape-complex' (complex numbers counted once, as the paper does; the same for
-        every transform), ``N - 2`` for 'f1' (a connected mesh, one zero eigenvalue).
+        every transform), ``N - 2`` for 'f1' (for every mesh: see
+        :func:`descriptor_matrix` for meshes of several pieces).
     """
     kind = _check_kind(kind)
     return {"shape-dna": N, "truncated": 2 * M + 1, "cshape": 2 * M + 1,
@@ -86,7 +89,7 @@ def _check_kind(kind):
 
 
 def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
-                      transform="weyl"):
+                      transform="weyl", zero_modes=None, names=None):
     """Descriptors of many shapes from their eigenvalues, one row per shape.
 
     The four descriptors of the paper's Section 3.1, and one beyond it:
@@ -110,6 +113,18 @@ def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normaliza
                                 is the same for every shape
     ============== ============ =========================================================
 
+    **Meshes of several pieces** (``k`` components, ``k`` zero eigenvalues), by kind:
+    'shape-dna', 'truncated' and 'cshape' with the paper's ``transform='weyl'`` take the
+    spectrum as it is, its ``k`` zeros included (Eq. 8 needs no logarithm).
+    'truncated-log', the log-Weyl transforms and 'f1' drop the ``k`` zero modes and index
+    the rest from 1 (``mu_i = lam_{k-1+i}``, normalised by the total area: Weyl's law of
+    the disjoint union; :func:`cshape.nonzero_eigenvalues`): 'truncated-log' is
+    ``r_1 .. r_{2M+1}`` of ``mu`` (needs ``N >= 2M+1+k``), the log-Weyl transforms extend
+    the ``N-k`` ratios to ``N-1`` by Weyl's law (``r_i = r_{N-k}``) and need ``2M+1``
+    measured ones, 'f1' is ``mu_1 / mu_i`` for ``i = 2..N-1``, extended the same way
+    (``mu_i = mu_{N-k} i / (N-k)``), and needs two.  A row without enough non-zero
+    eigenvalues cannot be described: :func:`row_problems` says which and why.
+
     Parameters
     ----------
     lams : array_like, shape (p, n), or sequence of p 1-D arrays
@@ -132,6 +147,12 @@ default='cshape'
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
         The transform of the 'cshape' and 'cshape-complex' kinds (see
         :func:`cshape.compact_shape_dna`); the other kinds do not use it.
+    zero_modes : array_like of int, shape (p,), optional
+        Number of zero eigenvalues of each shape (its connected components, e.g.
+        :attr:`cshape.DescriptorTable.zero_modes`); a negative entry or ``None``: counted
+        from that row's eigenvalues (:func:`cshape.count_zero_modes`).
+    names : sequence of str, length p, optional
+        Shape names, for the error messages (default: ``row <i>``).
 
     Returns
     -------
@@ -143,14 +164,75 @@ default='cshape'
     ------
     ValueError
         Unknown ``kind``, too few eigenvalues in a row, missing or wrong-length ``areas``,
-        or F1 rows of different lengths (a mesh with several zero eigenvalues).
+        or rows that cannot be described (all of them named, with the reason; see
+        :func:`row_problems`).
     """
+    rows, a, zm, recipe = _prepare_rows(lams, areas, kind, M, N, normalization, transform,
+                                        zero_modes)
+    labels = _row_names(names, len(rows))
+    out, problems = [], {}
+    for i, r in enumerate(rows):
+        try:
+            out.append(_one_row(r, a[i], zm[i], **recipe))
+        except ValueError as exc:
+            problems[i] = str(exc)
+    if problems:
+        shown = "; ".join(f"{labels[i]}: {m}" for i, m in list(problems.items())[:5])
+        more = f"; and {len(problems) - 5} more" if len(problems) > 5 else ""
+        raise ValueError(
+            f"kind={recipe['kind']!r} cannot describe {len(problems)} of {len(rows)} shapes "
+            f"({shown}{more}); leave them out (cshape.compare.row_problems lists them; "
+            "a DescriptorTable leaves them out with a warning) or choose another kind")
+    lengths = {len(x) for x in out}
+    if len(lengths) > 1:  # pragma: no cover - every kind has a fixed length
+        raise ValueError(f"the {kind!r} descriptors have different lengths {sorted(lengths)}")
+    return np.vstack(out)
+
+
+def row_problems(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
+                 transform="weyl", zero_modes=None) -> dict:
+    """The rows of :func:`descriptor_matrix` that cannot be described, with the reason.
+
+    Takes the arguments of :func:`descriptor_matrix`.  A row cannot be described when it
+    has too few non-zero eigenvalues for the kind (a mesh of many pieces with a small
+    ``N``), when its eigenvalues are not ascending, or when its area is not a positive
+    number.  Errors in the arguments themselves (an unknown kind, ``M`` too large for
+    ``N``) are raised, as by :func:`descriptor_matrix`.
+
+    Returns
+    -------
+    dict of int to str
+        ``{row: reason}``; empty when every row can be described.
+    """
+    rows, a, zm, recipe = _prepare_rows(lams, areas, kind, M, N, normalization, transform,
+                                        zero_modes)
+    problems = {}
+    for i, r in enumerate(rows):
+        try:
+            _one_row(r, a[i], zm[i], **recipe)
+        except ValueError as exc:
+            problems[i] = str(exc)
+    return problems
+
+
+def _row_names(names, p):
+    if names is None:
+        return [f"row {i}" for i in range(p)]
+    names = [str(n) for n in names]
+    if len(names) != p:
+        raise ValueError(f"names has {len(names)} entries but lams has {p} rows")
+    return names
+
+
+def _prepare_rows(lams, areas, kind, M, N, normalization, transform, zero_modes):
+    """Checked rows, areas (None where unused), zero modes (None: count) and the recipe."""
     kind = _check_kind(kind)
     transform = check_choice("transform", transform, TRANSFORMS)
+    normalization = check_choice("normalization", normalization, ("area", "fiedler", "weyl"))
     M = check_int("M", M, min=0)
     N = check_int("N", N, min=1)
     if isinstance(lams, np.ndarray) and lams.ndim == 2:
-        rows = list(lams)
+        rows = list(np.asarray(lams, dtype=np.float64))
     elif isinstance(lams, np.ndarray) or not hasattr(lams, "__len__"):
         raise ValueError(
             "lams must be a (p, n) array or a sequence of p 1-D eigenvalue arrays, got "
@@ -188,34 +270,46 @@ default='cshape'
         a = np.asarray(areas, dtype=np.float64).reshape(-1)
         if len(a) != p:
             raise ValueError(f"areas has {len(a)} entries but lams has {p} rows")
+        a = [float(x) for x in a]
     else:
-        a = np.full(p, np.nan)
-    out = []
-    for i, r in enumerate(rows):
-        area = float(a[i]) if needs_area else None
-        if kind == "shape-dna":
-            out.append(normalize(r[:N], area=area, method=normalization))
-        elif kind == "truncated":
-            out.append(normalize(r[: 2 * M + 1], area=area, method=normalization))
-        elif kind == "truncated-log":
-            out.append(log_weyl_ratio(normalize(r[: 2 * M + 2], area=area,
-                                                method=normalization)))
-        elif kind in ("cshape", "cshape-complex"):
-            lam_norm = normalize(r[:N], area=area, method=normalization)
-            S = compact_shape_dna(lam_norm, M=M, N=N, normalized=True, transform=transform)
-            out.append(S if kind == "cshape-complex" else real_form(S))
-        else:
-            out.append(f1_feature(r[:N]))
-    lengths = {len(x) for x in out}
-    if len(lengths) > 1:
-        first = len(out[0])
-        bad = next(i for i, x in enumerate(out) if len(x) != first)
-        raise ValueError(
-            f"the {kind!r} descriptors have different lengths ({sorted(lengths)}): row {bad} "
-            "probably has several zero eigenvalues (a mesh with several components); use "
-            "cshape.largest_component on that mesh"
-        )
-    return np.vstack(out)
+        a = [None] * p
+    if zero_modes is None:
+        zm = [None] * p
+    else:
+        z = np.asarray(zero_modes).reshape(-1)
+        if len(z) != p or not np.issubdtype(z.dtype, np.integer):
+            raise ValueError(
+                f"zero_modes must hold one integer per row ({p}), got {np.shape(zero_modes)} "
+                f"of {z.dtype}")
+        zm = [None if x < 0 else int(x) for x in z]
+    recipe = {"kind": kind, "M": M, "N": N, "normalization": normalization,
+              "transform": transform}
+    return rows, a, zm, recipe
+
+
+def _one_row(r, area, k, *, kind, M, N, normalization, transform):
+    """One descriptor; ValueError if this row cannot be described under the kind."""
+    if kind == "shape-dna":
+        return normalize(r[:N], area=area, method=normalization)
+    if kind == "truncated":
+        return normalize(r[: 2 * M + 1], area=area, method=normalization)
+    if kind == "f1":
+        return f1_feature(r[:N], k, length=N - 2)
+    if kind == "truncated-log":  # r_1 .. r_{2M+1} of the eigenvalues after the zero modes
+        k0 = count_zero_modes(r) if k is None else k
+        kk = max(k0, 1)
+        if len(r) - kk < 2 * M + 1:
+            raise ValueError(
+                f"{kk} of its {len(r)} eigenvalues are zero modes (a mesh of {kk} "
+                f"components): {len(r) - kk} non-zero ones are left and 2M+1 = {2 * M + 1} "
+                f"are needed (compute N >= {2 * M + 1 + kk} eigenvalues, or use "
+                f"M <= {max(len(r) - kk - 1, 0) // 2})")
+        lam_norm = normalize(r[: 2 * M + 1 + kk], area=area, method=normalization)
+        return log_weyl_ratio(lam_norm, k0)
+    lam_norm = normalize(r[:N], area=area, method=normalization)
+    S = compact_shape_dna(lam_norm, M=M, N=N, normalized=True, transform=transform,
+                          zero_modes=k)
+    return S if kind == "cshape-complex" else real_form(S)
 
 
 # --------------------------------------------------------------------------- distances

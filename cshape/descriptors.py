@@ -12,9 +12,33 @@
                                   same Euclidean distances;
 * :func:`inverse_compact_shape_dna` - rebuild the smoothed normalised Shape-DNA from the
                                   cropped coefficients;
-* :func:`f1_feature`            - the F1 feature ``lam_1 / lam_i`` of the paper's Fig. 5f.
+* :func:`f1_feature`            - the F1 feature ``lam_1 / lam_i`` of the paper's Fig. 5f;
+* :func:`count_zero_modes`, :func:`nonzero_eigenvalues` - the zero modes of a spectrum (one
+                                  per connected component) and the eigenvalues after them.
 
 All functions take and return plain NumPy arrays.
+
+Meshes of several pieces
+------------------------
+A mesh with ``k`` connected components has ``k`` zero eigenvalues (the constants on each
+piece; Neumann or closed).  The descriptors that need a positive ``lam_i`` (the log-Weyl
+ratio and its transforms, the truncated log spectrum, F1) follow one rule:
+
+* drop the ``k`` zero modes and index the rest from 1: ``mu_i = lam_{k-1+i}``,
+  ``i = 1..N-k`` (a connected mesh: ``mu_i = lam_i``, nothing changes);
+* Weyl's law holds for the disjoint union with its **total** area (the counting functions
+  of the pieces add up), so ``mu_i^norm = mu_i * area ~ 4 pi i`` as for one piece, and
+  ``r_i = log(mu_i^norm / (4 pi i))``;
+* a descriptor of fixed length that needs ``mu`` up to ``i = N-1`` (the log-Weyl transforms
+  of an ``N``-eigenvalue Shape-DNA, F1) extends the ``N-k`` measured values by Weyl's law
+  from the last one, ``mu_i = mu_{N-k} i / (N-k)`` (``r_i = r_{N-k}``): ``k-1`` values
+  for ``k`` pieces; it needs at least ``2M+1`` measured ones (two for F1);
+* ``k`` is the mesh's component count where it is known (``zero_modes=``; the
+  :class:`cshape.DescriptorTable` stores it), else :func:`count_zero_modes`: the leading
+  eigenvalues at most ``ZERO_RTOL = 1e-8`` times the largest.
+
+The paper's descriptors (``transform='weyl'``, the Shape-DNA and its truncation) take any
+spectrum as it is, zero modes included.
 
 Transforms (``transform=`` of :func:`compact_shape_dna`)
 --------------------------------------------------------
@@ -53,7 +77,10 @@ __all__ = [
     "real_form",
     "inverse_compact_shape_dna",
     "f1_feature",
+    "count_zero_modes",
+    "nonzero_eigenvalues",
     "NORMALIZATIONS",
+    "ZERO_RTOL",
     "TRANSFORMS",
 ]
 
@@ -61,6 +88,12 @@ NORMALIZATIONS = ("area", "fiedler", "weyl")
 #: The ``transform=`` options of :func:`compact_shape_dna`; ``'weyl'`` is the paper's.
 TRANSFORMS = ("weyl", "log-weyl", "log-weyl-dct")
 FOUR_PI = 4.0 * np.pi
+#: An eigenvalue at most ``ZERO_RTOL`` times the largest of its spectrum is a zero mode.
+#: The eigensolver's round-off on a zero mode is below ``1e-10`` of the largest (it sets
+#: such values to 0, :func:`cshape.solve_eigenproblem`); the smallest non-zero eigenvalue
+#: of a real shape is far above ``1e-8`` of the N-th (``lam_1 / lam_{N-1}`` would need a
+#: piece about ``1e8 / N`` times longer than wide).
+ZERO_RTOL = 1e-8
 
 
 def _as_lam(lam, name="lam", min_len=1) -> np.ndarray:
@@ -157,7 +190,113 @@ def weyl_subtract(lam_norm):
     return x - FOUR_PI * np.arange(len(x))
 
 
-def log_weyl_ratio(lam_norm):
+def count_zero_modes(lam, *, rtol=ZERO_RTOL) -> int:
+    """Number of zero modes of an ascending spectrum: one per connected component.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+        Ascending eigenvalues, ``lam_0`` first (raw or normalised: the test is relative).
+    rtol : float, default=ZERO_RTOL (1e-8)
+        The leading eigenvalues at most ``rtol`` times the largest (in absolute value) are
+        zero modes.
+
+    Returns
+    -------
+    int
+        ``k``: ``lam_0 .. lam_{k-1}`` are zero modes; ``N`` when all are (too few
+        eigenvalues to see past them), ``0`` for a Dirichlet spectrum of open pieces.
+    """
+    x = _as_lam(lam)
+    tol = rtol * float(np.abs(x).max())
+    above = np.flatnonzero(x > tol)
+    return int(above[0]) if len(above) else len(x)
+
+
+def _zero_modes(x, zero_modes, tol) -> int:
+    """The number of zero modes of ``x``: counted, or ``zero_modes`` checked against it."""
+    if zero_modes is None:
+        above = np.flatnonzero(x > tol)
+        return int(above[0]) if len(above) else len(x)
+    if isinstance(zero_modes, bool) or not isinstance(zero_modes, (int, np.integer)) \
+            or zero_modes < 0:
+        raise ValueError(
+            f"zero_modes must be an integer >= 0 (the number of zero eigenvalues, one per "
+            f"connected component), got {zero_modes!r}")
+    k = int(zero_modes)
+    if k > len(x):
+        raise ValueError(f"zero_modes={k} is more than the {len(x)} eigenvalues given")
+    big = np.flatnonzero(np.abs(x[:k]) > tol)
+    if len(big):
+        j = int(big[0])
+        raise ValueError(
+            f"zero_modes={k} (components) but lam_{j} = {x[j]:.3g} is not zero: the "
+            "eigenvalues belong to another mesh, or are not ascending")
+    return k
+
+
+def _after(x, k, tol, what):
+    """``x[k:]``, checked positive (ascending past the zero modes)."""
+    mu = x[k:]
+    if len(mu) == 0:
+        raise ValueError(
+            f"{what} needs a non-zero eigenvalue, but all {len(x)} are zero modes (a mesh "
+            f"of {len(x)} or more components): compute more eigenvalues (N > {len(x)})")
+    bad = np.flatnonzero(~(mu > tol))
+    if len(bad):
+        i = int(bad[0]) + k
+        raise ValueError(
+            f"{what} needs lam_i > 0 after the {k} zero mode{'s' if k != 1 else ''}, but "
+            f"lam_{i} = {x[i]:.3g}: lam must be ascending")
+    return mu
+
+
+def _weyl_extend(mu, length):
+    """``mu`` cut or extended to ``length`` values by Weyl's law ``mu_i ~ mu_L i / L``."""
+    L = len(mu)
+    if length is None or length == L:
+        return mu
+    if length < L:
+        return mu[:length]
+    i = np.arange(L + 1, length + 1, dtype=np.float64)
+    return np.concatenate([mu, mu[-1] * i / L])
+
+
+def nonzero_eigenvalues(lam, zero_modes=None, *, length=None):
+    """The eigenvalues after the zero modes, indexed from 1: ``mu_i = lam_{k-1+i}``.
+
+    The rule for meshes of several pieces (see the module notes): a mesh of ``k``
+    components has ``k`` zero eigenvalues; they are dropped and the rest indexed from 1,
+    so that ``mu_i * area ~ 4 pi i`` (Weyl's law with the total area).
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+        Ascending eigenvalues, ``lam_0`` first.
+    zero_modes : int, optional
+        ``k``, e.g. the mesh's number of connected components (Neumann or closed pieces);
+        checked against the spectrum.  Default: :func:`count_zero_modes`.
+    length : int, optional
+        Return exactly ``length`` values: the first ones, or the ``N-k`` measured ones
+        extended by Weyl's law from the last, ``mu_i = mu_{N-k} i / (N-k)``.
+
+    Returns
+    -------
+    mu : ndarray, shape (N-k,) or (length,)
+
+    Raises
+    ------
+    ValueError
+        If no eigenvalue is left, a value after the zero modes is not positive, or
+        ``zero_modes`` disagrees with the spectrum (a "zero mode" that is not zero).
+    """
+    x = _as_lam(lam)
+    tol = ZERO_RTOL * float(np.abs(x).max())
+    k = _zero_modes(x, zero_modes, tol)
+    return _weyl_extend(_after(x, k, tol, "nonzero_eigenvalues"), length)
+
+
+def log_weyl_ratio(lam_norm, zero_modes=None, *, length=None):
     """The log-Weyl ratio of a normalised Shape-DNA (an extension beyond the paper).
 
     ``r_i = log(lam_i^norm / (4 pi i))`` for ``i = 1, ..., N-1``: the relative deviation
@@ -169,36 +308,38 @@ def log_weyl_ratio(lam_norm):
     is dropped as well, so that the sequence, its length ``N-1`` and the index ``i`` in
     ``4 pi i`` are the same for every spectrum (and equal to those of Eq. 8 for ``i >= 1``).
 
+    **Several pieces.**  A mesh of ``k`` components has ``k`` zero eigenvalues: all are
+    dropped and the rest indexed from 1 (:func:`nonzero_eigenvalues`),
+    ``r_i = log(mu_i^norm / (4 pi i))``, ``i = 1..N-k``, with the total area in the
+    normalisation (Weyl's law of the disjoint union).
+
     Parameters
     ----------
     lam_norm : array_like, shape (N,)
         Area-normalised eigenvalues, ``N >= 2`` (see :func:`normalize`).
+    zero_modes : int, optional
+        Number of zero eigenvalues (the mesh's components); default: counted
+        (:func:`count_zero_modes`).
+    length : int, optional
+        Return exactly ``length`` ratios; past the ``N - max(k, 1)`` measured ones the
+        last is repeated (Weyl's law from the last eigenvalue, ``r_i = r_{N-k}``).
 
     Returns
     -------
-    r : ndarray, shape (N-1,)
-        ``r[i-1] = log(lam_norm[i] / (4 pi i))``.
+    r : ndarray, shape (N - max(k, 1),) or (length,)
+        ``r[i-1] = log(mu_i^norm / (4 pi i))``; ``N-1`` values for a connected mesh.
 
     Raises
     ------
     ValueError
-        If some ``lam_i``, ``i >= 1``, is not positive (below ``1e-8`` times the largest
-        eigenvalue): a mesh of several components has several zero eigenvalues (keep one
-        with :func:`cshape.largest_component`, or use ``transform='weyl'``).
+        If no eigenvalue is left after the zero modes, or one after them is not positive
+        (lam not ascending).
     """
     x = _as_lam(lam_norm, "lam_norm", min_len=2)
-    tail = x[1:]
-    tol = 1e-8 * float(np.abs(x).max())
-    bad = np.flatnonzero(~(tail > tol))
-    if len(bad):
-        i = int(bad[0]) + 1
-        raise ValueError(
-            f"the log-Weyl ratio needs lam_i > 0 for every i >= 1, but lam_{i} = "
-            f"{tail[i - 1]:.3g}: a mesh of several components has several zero eigenvalues "
-            "(keep one with cshape.largest_component) and lam must be ascending; "
-            "transform='weyl' takes any spectrum"
-        )
-    return np.log(tail / (FOUR_PI * np.arange(1, len(x))))
+    tol = ZERO_RTOL * float(np.abs(x).max())
+    k = max(_zero_modes(x, zero_modes, tol), 1)
+    mu = _weyl_extend(_after(x, k, tol, "the log-Weyl ratio"), length)
+    return np.log(mu / (FOUR_PI * np.arange(1, len(mu) + 1)))
 
 
 def _check_transform(transform):
@@ -275,7 +416,9 @@ def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized=Fal
         # computed (a duplicated face would otherwise count twice in the area only)
         mesh = repair_mesh(as_mesh(mesh_or_lam))
         lam = shape_dna(mesh, N=N, bc=bc)
-        return normalize(lam, area=mesh.area if area is None else area, method=normalization)
+        k = mesh.n_components if bc == "neumann" else None  # one zero mode per piece
+        return (normalize(lam, area=mesh.area if area is None else area, method=normalization),
+                k)
     lam = _as_lam(mesh_or_lam, "mesh_or_lam")
     if len(lam) < N:
         raise ValueError(
@@ -283,7 +426,7 @@ def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized=Fal
         )
     lam = lam[:N]
     if normalized:
-        return lam
+        return lam, None
     if normalization == "area" and area is None:
         import warnings
 
@@ -296,8 +439,8 @@ def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized=Fal
             "normalized=True to say they are normalised already",
             CShapeWarning, stacklevel=3,
         )
-        return lam
-    return normalize(lam, area=area, method=normalization)
+        return lam, None
+    return normalize(lam, area=area, method=normalization), None
 
 
 def _dft_crop(x, M):
@@ -315,7 +458,8 @@ def _dct(x):
 
 
 def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
-                      normalization="area", transform="weyl", normalized=False):
+                      normalization="area", transform="weyl", normalized=False,
+                      zero_modes=None):
     """Compact Shape-DNA (cShape-DNA), Eq. (8)-(10), and its log-Weyl extensions.
 
     ``transform='weyl'`` (the default) is the paper, bit for bit: normalise (multiply by
@@ -362,6 +506,14 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
         The sequence and transform, as above.
     normalized : bool, default=False
         ``True``: the eigenvalues are already normalised (``lam^norm``); no ``area``.
+    zero_modes : int, optional
+        Log-Weyl transforms only: the number ``k`` of zero eigenvalues (the mesh's
+        connected components).  Default: the mesh's component count (Neumann), else
+        counted from the eigenvalues (:func:`count_zero_modes`).  The ``k`` zero modes are
+        dropped, the rest indexed from 1 and extended to ``N-1`` ratios by Weyl's law
+        (``r_i = r_{N-k}`` for the last ``k-1``; see the module notes); at least ``2M+1``
+        must be measured (``N >= 2M+1+k``).  ``'weyl'`` (Eq. 8) takes the spectrum as it
+        is, zero modes included.
 
     Returns
     -------
@@ -426,13 +578,29 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
     """
     transform = _check_transform(transform)
     M = _check_M(M, _check_N(N), transform)  # before the eigensolve
-    lam_norm = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized)
+    lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization,
+                                            normalized)
     if transform == "weyl":
         return _dft_crop(weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
-    r = log_weyl_ratio(lam_norm)
+    r = _log_weyl_sequence(lam_norm, M, pieces if zero_modes is None else zero_modes,
+                           transform)
     if transform == "log-weyl":
         return _dft_crop(r, M)
     return _dct(r)[: 2 * M + 1].copy()
+
+
+def _log_weyl_sequence(lam_norm, M, zero_modes, transform):
+    """The ``N-1`` log-Weyl ratios of the log-Weyl transforms (the rule for several pieces)."""
+    x = _as_lam(lam_norm, "lam_norm", min_len=2)
+    N = len(x)
+    k0 = _zero_modes(x, zero_modes, ZERO_RTOL * float(np.abs(x).max()))
+    k = max(k0, 1)  # lam_0 is dropped also when positive (Dirichlet)
+    if N - k < 2 * M + 1:
+        raise ValueError(
+            f"transform={transform!r} needs 2M+1 = {2 * M + 1} non-zero eigenvalues, but "
+            f"{k} of the N = {N} are zero modes (a mesh of {k} components) and {N - k} are "
+            f"left: use N >= {2 * M + 1 + k} or M <= {max(N - k - 1, 0) // 2}")
+    return log_weyl_ratio(x, k0, length=N - 1)
 
 
 def real_form(S_c):
@@ -545,25 +713,36 @@ def inverse_compact_shape_dna(S_c, N, *, add_weyl=True, transform="weyl"):
     return np.concatenate([[0.0], FOUR_PI * np.arange(1, N) * np.exp(seq)])
 
 
-def f1_feature(lam):
+def f1_feature(lam, zero_modes=None, *, length=None):
     """The F1 feature vector ``(lam_1/lam_2, lam_1/lam_3, ..., lam_1/lam_{N-1})`` (Fig. 5f).
 
     ``lam_1`` is the first non-zero eigenvalue (the one after ``lam_0 = 0`` for a
-    connected closed mesh); the ratios run over the eigenvalues after it.
+    connected closed mesh); the ratios run over the eigenvalues after it.  A mesh of ``k``
+    pieces has ``k`` zero eigenvalues: they are dropped and the rest indexed from 1
+    (:func:`nonzero_eigenvalues`), ``F1_i = mu_1 / mu_i``.
 
     Parameters
     ----------
     lam : array_like, shape (N,)
         Ascending eigenvalues.
+    zero_modes : int, optional
+        Number of zero eigenvalues (the mesh's components); default: counted
+        (:func:`count_zero_modes`).
+    length : int, optional
+        Return exactly ``length`` ratios, past the measured ones extended by Weyl's law
+        (``mu_i = mu_{N-k} i / (N-k)``); :func:`cshape.compare.descriptor_matrix` asks for
+        ``N - 2``, the length of a connected mesh.
 
     Returns
     -------
-    ndarray, shape (N - p - 1,)
-        With ``p`` the index of the first non-zero eigenvalue (``p = 1`` for a connected
-        closed mesh, so the length is ``N - 2``).  Scale invariant; values in (0, 1].
+    ndarray, shape (N - k - 1,) or (length,)
+        ``N - 2`` values for a connected closed mesh (``k = 1``); ``k = 0`` for a
+        Dirichlet spectrum.  Scale invariant; values in (0, 1].
     """
     x = _as_lam(lam, min_len=2)
-    p = _first_nonzero(x)
-    if p + 1 >= len(x):
+    tol = ZERO_RTOL * float(np.abs(x).max())
+    mu = _after(x, _zero_modes(x, zero_modes, tol), tol, "F1")
+    if len(mu) < 2:
         raise ValueError("lam needs at least one eigenvalue after the first non-zero one")
-    return x[p] / x[p + 1 :]
+    mu = _weyl_extend(mu, None if length is None else length + 1)
+    return mu[0] / mu[1:]

@@ -39,6 +39,9 @@ class DescriptorIndex:
         How the rows were made from eigenvalues (``kind``, ``M``, ``N``, ``normalization``,
         ``transform``), when built with :meth:`from_table`; :meth:`query_spectra` describes
         queries with the same recipe, so a query can never use another transform.
+    rows_ : ndarray of int, shape (n,)
+        The table row of each database row (:meth:`from_table` leaves out the shapes the
+        kind cannot describe); ``arange(n)`` for an index built from descriptors.
 
     Examples
     --------
@@ -61,6 +64,7 @@ class DescriptorIndex:
             raise ValueError("X is empty; the index needs at least one descriptor")
         self.nn_ = NearestNeighbors(algorithm=algorithm, n_jobs=n_jobs).fit(self.X_)
         self.recipe_ = None
+        self.rows_ = np.arange(len(self.X_))
 
     @classmethod
     def from_table(cls, table, kind="cshape", M=None, N=None, *, transform=None,
@@ -83,17 +87,20 @@ class DescriptorIndex:
         Returns
         -------
         DescriptorIndex
-            With :attr:`recipe_` set, for :meth:`query_spectra`.
+            With :attr:`recipe_` set, for :meth:`query_spectra`, and :attr:`rows_`: the
+            shapes the kind cannot describe (a mesh of many pieces with too few non-zero
+            eigenvalues) are left out with a :class:`cshape.CShapeWarning` naming them.
         """
         recipe = {"kind": _check_kind(kind), "M": table.M if M is None else M,
                   "N": table.N if N is None else N, "normalization": normalization,
                   "transform": table.transform if transform is None else transform}
-        X = descriptor_matrix(table.lam, table.areas, **recipe)
+        X = table.descriptors(**recipe)  # warns about and leaves out what it cannot describe
         index = cls(X, algorithm=algorithm, n_jobs=n_jobs)
         index.recipe_ = recipe
+        index.rows_ = np.flatnonzero(table.usable(**recipe))
         return index
 
-    def query_spectra(self, lams, areas=None, k=1):
+    def query_spectra(self, lams, areas=None, k=1, *, zero_modes=None, names=None):
         """Nearest database rows of shapes given by their eigenvalues.
 
         The queries are described exactly as the database was (:attr:`recipe_`: kind,
@@ -106,11 +113,16 @@ class DescriptorIndex:
         areas : array_like, shape (q,) or float, optional
             Surface areas (needed by the area normalisation).
         k : int, default=1
+        zero_modes : array_like of int, shape (q,), optional
+            Zero eigenvalues of each query (its component count); default: counted.
+        names : sequence of str, optional
+            Query names for the error message of a query that cannot be described.
 
         Returns
         -------
         dist, ind : ndarray, shape (q, k)
-            As for :meth:`query`.
+            As for :meth:`query`: ``ind`` are database rows (:attr:`rows_` maps them to
+            the table's rows).
         """
         if self.recipe_ is None:
             raise ValueError(
@@ -122,7 +134,8 @@ class DescriptorIndex:
         if L.ndim == 1:
             L = L[None, :]
         a = None if areas is None else np.atleast_1d(np.asarray(areas, dtype=np.float64))
-        Y = descriptor_matrix(L, a, **self.recipe_)
+        zm = None if zero_modes is None else np.atleast_1d(np.asarray(zero_modes))
+        Y = descriptor_matrix(L, a, zero_modes=zm, names=names, **self.recipe_)
         return self.query(Y, k=k)
 
     def __len__(self):

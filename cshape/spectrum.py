@@ -89,11 +89,15 @@ from . import _cholmod
 from .fem import fem
 from .mesh import CShapeWarning, as_mesh, repair_mesh
 
-__all__ = ["eigenpairs", "shape_dna", "solve_eigenproblem", "solver_threads"]
+__all__ = ["eigenpairs", "estimate_seconds", "shape_dna", "solve_eigenproblem",
+           "solver_threads"]
 
 #: Problems with at most this many unknowns are solved densely (N = 100, one thread: dense
 #: LAPACK and the sparse path take the same time at 642 unknowns, dense 2.2x longer at 829).
 DENSE_LIMIT = 700
+
+#: An eigensolve estimated (:func:`estimate_seconds`) to take longer warns before it starts.
+LONG_SOLVE_SECONDS = 60.0
 
 #: Block size ``b`` of the block Lanczos method (number of simultaneous right-hand sides).
 BLOCK_SIZE = 8
@@ -823,6 +827,54 @@ def shape_dna(mesh, N=100, bc="neumann", mass="consistent"):
     return solve_eigenproblem(problem.A, problem.B, N, return_vectors=False)
 
 
+def estimate_seconds(n, N) -> float:
+    """A rough wall time of the eigensolve of ``N`` eigenvalues with ``n`` unknowns, in s.
+
+    ``1e-9 n^3`` for the dense path (``n <= DENSE_LIMIT`` or ``3 N >= n``), else
+    ``1e-8 n N^2`` (the Lanczos basis of about ``3 N`` vectors of length ``n``, kept
+    orthogonal), plus ``2e-5 n`` (FEM, factorisation).  Fitted on one core of this
+    project's 2-core machine under load (tori of 5K and 11.5K vertices, N = 100-800:
+    0.7-31 s within 30 %; icosphere of 2562 vertices, N = 900, dense: 18 s; a user's
+    11.5K-vertex mesh with N = 2000: 396 s, estimated 461 s).  A faster machine is
+    faster: the estimate is for warnings, not for planning to the minute.
+    """
+    n, N = float(n), float(N)
+    if n <= DENSE_LIMIT or 3 * N >= n:
+        return 1e-9 * n**3 + 2e-5 * n
+    return 1e-8 * n * N**2 + 2e-5 * n
+
+
+def _duration(seconds) -> str:
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def long_solve_message(n, N):
+    """The warning of an eigensolve estimated to take long, or None (see
+    :func:`estimate_seconds` and ``LONG_SOLVE_SECONDS``)."""
+    t = estimate_seconds(n, N)
+    if t < LONG_SOLVE_SECONDS:
+        return None
+    faster = next((m for m in (400, 200, 100, 50) if m < N
+                   and estimate_seconds(n, m) < LONG_SOLVE_SECONDS), None)
+    hint = (f"; N={faster} would take about {_duration(estimate_seconds(n, faster))}"
+            if faster else "")
+    return (f"N={int(N)} eigenvalues of a mesh of {int(n)} vertices: the eigensolve will "
+            f"take about {_duration(t)} on one core (a rough estimate, 1e-8 n N^2 s){hint}")
+
+
+def components_message(ncomp) -> str:
+    """The warning about a mesh of ``ncomp`` connected components (also shown by a batch
+    run whose eigenvalues come from the cache)."""
+    return (f"mesh has {ncomp} connected components: its spectrum is the union of theirs, "
+            f"with {ncomp} zero eigenvalues under Neumann conditions; the log-Weyl, "
+            "truncated log and F1 descriptors drop them (cshape.nonzero_eigenvalues); use "
+            "cshape.largest_component(mesh) to describe one piece")
+
+
 def _prepare(mesh, N, bc, mass):
     # repair first, so that the components counted are those of the mesh that is solved
     # (a welded STL triangle soup is one piece, not one per triangle)
@@ -836,11 +888,8 @@ def _prepare(mesh, N, bc, mass):
     else:
         ncomp = mesh.n_components
     if ncomp > 1:
-        warnings.warn(
-            f"mesh has {ncomp} connected components: its spectrum is the union of theirs, "
-            f"with {ncomp} zero eigenvalues under Neumann conditions; use "
-            "cshape.largest_component(mesh) to describe one piece",
-            CShapeWarning,
-            stacklevel=3,
-        )
+        warnings.warn(components_message(ncomp), CShapeWarning, stacklevel=3)
+    long = long_solve_message(problem.n_unknowns, N)
+    if long:
+        warnings.warn(long, CShapeWarning, stacklevel=3)
     return problem

@@ -129,10 +129,11 @@ def test_normalisations():
          ValueError, r"use M <= 3 or N >= 10"),
         (lambda: cshape.compact_shape_dna([0.0, 0.0, 30.0, 40.0], M=1, N=4, normalized=True,
                                           transform="log-weyl"), ValueError,
-         r"needs lam_i > 0 for every i >= 1, but lam_1 = 0.*largest_component"),
+         r"needs 2M\+1 = 3 non-zero eigenvalues, but 2 of the N = 4 are zero modes \(a mesh "
+         r"of 2 components\) and 2 are left: use N >= 5 or M <= 0"),
         (lambda: cshape.compact_shape_dna([0.0, 20.0, -3.0, 40.0], M=1, N=4, normalized=True,
                                           transform="log-weyl-dct"), ValueError,
-         r"but lam_2 = -3"),
+         r"needs lam_i > 0 after the 1 zero mode, but lam_2 = -3.*ascending"),
         (lambda: cshape.log_weyl_ratio([0.0]), ValueError, "at least 2 eigenvalues"),
         (lambda: cshape.compact_shape_dna([0.0], M=0, N=1, normalized=True, transform="log-weyl"),
          ValueError, r"needs N >= 2 \(the log-Weyl ratio starts at lam_1"),

@@ -65,6 +65,8 @@ def _read_entry(cache_dir, key, N):
             area = float(z["area"])
             seconds = float(z["seconds"])
             stored_key = str(z["key"])
+            # the component count (stored since cshape 0.1; -1: an older entry)
+            components = int(z["components"]) if "components" in z.files else -1
         if stored_key != key or lam.ndim != 1 or not np.all(np.isfinite(lam)):
             raise ValueError("inconsistent content")
         if not (np.isfinite(area) and area > 0):
@@ -76,7 +78,8 @@ def _read_entry(cache_dir, key, N):
         return None
     if len(lam) < N:
         return None
-    return {"lam": lam[:N], "area": area, "seconds": seconds, "key": key, "cached": True}
+    return {"lam": lam[:N], "area": area, "seconds": seconds, "key": key, "cached": True,
+            "components": components}
 
 
 def _file_alias(cache_dir, path, bc, mass) -> Path | None:
@@ -109,6 +112,7 @@ def _write_entry(cache_dir, result):
                  seconds=np.float64(result["seconds"]), key=np.array(result["key"]),
                  n_vertices=np.int64(result["n_vertices"]),
                  n_faces=np.int64(result["n_faces"]),
+                 components=np.int64(result.get("components", -1)),
                  params=np.array(json.dumps(result["params"])))
 
     atomic_write(path, write, binary=True)

@@ -15,8 +15,9 @@ import numpy as np
 
 from .._checks import check_choice
 from .._files import atomic_write
-from ..descriptors import TRANSFORMS
+from ..descriptors import TRANSFORMS, count_zero_modes
 from ..mesh import CShapeWarning, Mesh
+from ..spectrum import components_message, estimate_seconds, long_solve_message
 from ._dask import _run_dask
 from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
 from .table import DescriptorTable
@@ -234,6 +235,13 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         for msg in res.get("warnings", ()):
             warnings.warn(f"{name}: {msg}", CShapeWarning, stacklevel=3)
         if res["ok"]:
+            if res["cached"]:  # the warnings the eigensolve gave, again
+                pieces = res.get("components", -1)
+                if pieces < 0 and bc == "neumann":  # an entry older than the count
+                    pieces = count_zero_modes(res["lam"])
+                if pieces > 1:
+                    warnings.warn(f"{name}: {components_message(pieces)}", CShapeWarning,
+                                  stacklevel=3)
             if cache is not None and not res["cached"]:
                 try:
                     _write_entry(cache, res)
@@ -283,6 +291,7 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
                     continue
             tasks.append((i, src, N, bc, mass, None if cache is None else str(cache), key))
 
+        _warn_long_run(tasks, records, N)
         if client is not None:
             _run_dask(tasks, client, finish)
         elif n_jobs == 1 or len(tasks) <= 1:
@@ -308,7 +317,53 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         [results[i]["area"] for i in ok],
         [records[i][1] for i in ok], M=M, bc=bc, mass=mass,
         seconds=[results[i]["seconds"] for i in ok],
-        cached=[results[i]["cached"] for i in ok], failures=fail_list, transform=transform)
+        cached=[results[i]["cached"] for i in ok], failures=fail_list, transform=transform,
+        components=[results[i].get("components", -1) for i in ok])
+
+
+#: Below this N no eigensolve of a mesh that fits in memory is estimated to take long
+#: enough to read the meshes twice for an estimate (see :func:`_warn_long_run`).
+_ESTIMATE_MIN_N = 300
+
+
+def _warn_long_run(tasks, records, N):
+    """Warn, before the eigensolves start, when they are estimated to take long.
+
+    Only for ``N >= _ESTIMATE_MIN_N`` (the vertex counts of meshes given by path are read
+    for it, from the file).  The estimate is :func:`cshape.estimate_seconds` summed over the
+    meshes not found in the cache.
+    """
+    if N < _ESTIMATE_MIN_N or not tasks:
+        return
+    from ..readers import load_mesh
+
+    sizes = []
+    for t in tasks:
+        src = t[1]
+        try:
+            mesh = load_mesh(src, repair=False) if isinstance(src, (str, os.PathLike)) \
+                else src
+            n = mesh.n_vertices if isinstance(mesh, Mesh) else len(mesh[0])
+        except Exception:  # noqa: BLE001 - the run itself reports the failure
+            continue
+        sizes.append((n, records[t[0]][0]))
+    if not sizes:
+        return
+    total = sum(estimate_seconds(n, N) for n, _ in sizes)
+    n_big, name = max(sizes)
+    one = long_solve_message(n_big, N)
+    if one is None and total < 2 * 60.0:
+        return
+    largest = one.split(": ", 1)[1] if one else "under a minute"
+    warnings.warn(
+        f"{LONG_RUN_PREFIX} {len(sizes)} eigensolve{'s' if len(sizes) > 1 else ''} of "
+        f"N={N}, about {total / 60:.0f} min in all on one core (a rough estimate, "
+        f"1e-8 n N^2 s); the largest, {name} ({n_big} vertices), {largest}",
+        CShapeWarning, stacklevel=3)
+
+
+#: How the warning of :func:`_warn_long_run` starts (the command line shows it at once).
+LONG_RUN_PREFIX = "long run ahead:"
 
 
 def _check_pos_int(value, name, lo=1):

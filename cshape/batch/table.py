@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import json
+import warnings
 import zipfile
 from collections import Counter
 from pathlib import Path
@@ -14,11 +15,16 @@ import numpy as np
 
 from .._checks import check_choice
 from .._files import atomic_write
-from ..compare import descriptor_matrix, distance_matrix
-from ..descriptors import TRANSFORMS
+from ..compare import descriptor_matrix, distance_matrix, row_problems
+from ..descriptors import TRANSFORMS, count_zero_modes
+from ..mesh import CShapeWarning
 
 _FORMAT = "cshape-descriptor-table"
-_FORMAT_VERSION = 1
+#: 1: CSV with a ``# cshape-descriptor-table {json}`` first line; 2: plain CSV (``pandas``
+#: reads it with no options) with a ``components`` column, metadata in ``<file>.json``.
+_FORMAT_VERSION = 2
+#: The columns before ``lam_0`` of a version-2 CSV.
+_CSV_COLUMNS = ("name", "label", "area", "seconds", "cached", "components")
 
 
 # =========================================================================== the table
@@ -50,15 +56,32 @@ class DescriptorTable:
         Whether each row came from the cache in the run that made the table.
     failures : list of (str, str)
         ``(name, message)`` of every mesh that was skipped.
+    components : array_like of int, shape (p,), optional
+        Number of connected components of each (repaired) mesh; ``-1`` where unknown (the
+        default; tables written before it was stored).
 
     Attributes
     ----------
     N : int
         Number of eigenvalues per shape (``lam.shape[1]``).
+    zero_modes : ndarray of int, shape (p,)
+        Number of zero eigenvalues of each shape: its component count (Neumann), else
+        counted from its eigenvalues (:func:`cshape.count_zero_modes`).
+
+    Notes
+    -----
+    **Meshes of several pieces.**  The descriptors that need positive eigenvalues
+    (``'truncated_log'``, ``'f1'``, the log-Weyl transforms) drop each shape's zero modes
+    (see :func:`cshape.compare.descriptor_matrix`).  A shape that still cannot be described
+    under a kind (too few non-zero eigenvalues) is left out of :meth:`descriptors`,
+    :meth:`distance_matrix` and :class:`cshape.DescriptorIndex`, with a warning that names
+    it; :meth:`usable` says which rows are kept, and ``table.select(table.usable(kind))``
+    is the table of those rows.
     """
 
     def __init__(self, names, lam, areas, labels=None, *, M=16, bc="neumann",
-                 mass="consistent", seconds=None, cached=None, failures=(), transform="weyl"):
+                 mass="consistent", seconds=None, cached=None, failures=(), transform="weyl",
+                 components=None):
         self.names = [str(n) for n in names]
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
@@ -83,6 +106,12 @@ class DescriptorTable:
         self.cached = (np.zeros(p, bool) if cached is None
                        else np.asarray(cached, dtype=bool).reshape(-1))
         self.failures = [(str(a), str(b)) for a, b in failures]
+        self.components = (np.full(p, -1, dtype=np.int64) if components is None
+                           else np.asarray(components, dtype=np.int64).reshape(-1))
+        for name, arr in (("seconds", self.seconds), ("cached", self.cached),
+                          ("components", self.components)):
+            if len(arr) != p:
+                raise ValueError(f"{name} has {len(arr)} entries for {p} names")
 
     # ------------------------------------------------------------------ basics
     @property
@@ -91,6 +120,15 @@ class DescriptorTable:
 
     def __len__(self) -> int:
         return len(self.names)
+
+    @property
+    def zero_modes(self) -> np.ndarray:
+        """Zero eigenvalues per shape, shape (p,): the component count where it is known
+        and the boundary condition is Neumann, else counted from the eigenvalues."""
+        out = self.components.copy()
+        for i in np.flatnonzero((out < 0) | (self.bc != "neumann")):
+            out[i] = count_zero_modes(self.lam[i])
+        return out
 
     def __repr__(self) -> str:
         nlab = len({x for x in self.labels if x})
@@ -118,9 +156,39 @@ class DescriptorTable:
             [self.names[i] for i in idx], self.lam[idx], self.areas[idx],
             [self.labels[i] for i in idx], M=self.M, bc=self.bc, mass=self.mass,
             seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures,
-            transform=self.transform)
+            transform=self.transform, components=self.components[idx])
 
     # ------------------------------------------------------------------ descriptors
+    def _recipe(self, kind, M, N, transform, kwargs):
+        return dict(kind=kind, M=self.M if M is None else M, N=self.N if N is None else N,
+                    transform=self.transform if transform is None else transform, **kwargs)
+
+    def usable(self, kind="cshape", M=None, N=None, *, transform=None,
+               **kwargs) -> np.ndarray:
+        """Which shapes can be described under a kind: boolean mask, shape (p,).
+
+        A shape cannot be described when it has too few non-zero eigenvalues for the kind
+        (a mesh of many pieces), see :func:`cshape.compare.row_problems`.  Takes the
+        arguments of :meth:`descriptors`; warns nothing.
+        """
+        bad = row_problems(self.lam, self.areas, zero_modes=self.zero_modes,
+                           **self._recipe(kind, M, N, transform, kwargs))
+        mask = np.ones(len(self), dtype=bool)
+        mask[list(bad)] = False
+        return mask
+
+    def _kept_rows(self, recipe, stacklevel=3):
+        """Rows that can be described; a warning names the others."""
+        bad = row_problems(self.lam, self.areas, zero_modes=self.zero_modes, **recipe)
+        if bad:
+            shown = "; ".join(f"{self.names[i]} ({m})" for i, m in list(bad.items())[:5])
+            more = f"; and {len(bad) - 5} more" if len(bad) > 5 else ""
+            warnings.warn(
+                f"kind={recipe['kind']!r} cannot describe {len(bad)} of {len(self)} shapes, "
+                f"left out: {shown}{more}",
+                CShapeWarning, stacklevel=stacklevel)
+        return np.array([i for i in range(len(self)) if i not in bad], dtype=np.int64)
+
     def descriptors(self, kind="cshape", M=None, N=None, *, transform=None,
                     **kwargs) -> np.ndarray:
         """Descriptor matrix, one row per shape; see :func:`cshape.compare.descriptor_matrix`.
@@ -138,17 +206,23 @@ class DescriptorTable:
 
         Returns
         -------
-        ndarray, shape (p, d)
+        ndarray, shape (q, d)
+            One row per shape that can be described (``q = p`` unless some are left out,
+            with a :class:`cshape.CShapeWarning` naming them; :meth:`usable` marks them).
         """
-        return descriptor_matrix(self.lam, self.areas, kind=kind,
-                                 M=self.M if M is None else M,
-                                 N=self.N if N is None else N,
-                                 transform=self.transform if transform is None else transform,
-                                 **kwargs)
+        recipe = self._recipe(kind, M, N, transform, kwargs)
+        keep = self._kept_rows(recipe)
+        if len(keep) == 0:
+            raise ValueError(
+                f"kind={recipe['kind']!r} cannot describe any of the {len(self)} shapes "
+                "(see the warning); choose another kind or compute more eigenvalues")
+        return descriptor_matrix(self.lam[keep], self.areas[keep],
+                                 zero_modes=self.zero_modes[keep],
+                                 names=[self.names[i] for i in keep], **recipe)
 
     def distance_matrix(self, kind="cshape", M=None, N=None, *, transform=None,
                         **kwargs) -> np.ndarray:
-        """Euclidean distance matrix (p, p) of :meth:`descriptors`."""
+        """Euclidean distance matrix (q, q) of :meth:`descriptors` (the same rows)."""
         return distance_matrix(self.descriptors(kind, M=M, N=N, transform=transform, **kwargs))
 
     @property
@@ -175,47 +249,63 @@ class DescriptorTable:
     def save(self, path) -> Path:
         """Save to ``.npz`` (NumPy arrays only, no pickle) or ``.csv`` (one row per shape).
 
-        The CSV has a first line ``# cshape-descriptor-table {json}`` with the metadata,
-        then a header ``name,label,area,seconds,cached,lam_0,...,lam_{N-1}``; floats are
-        written with 17 significant digits, so both formats round-trip exactly.
+        The CSV is plain: a header ``name,label,area,seconds,cached,components,lam_0,...,
+        lam_{N-1}`` and one row per shape, so that ``pandas.read_csv(path)`` reads it with
+        no options; floats are written with 17 significant digits, so both formats
+        round-trip exactly.  The metadata (``M``, ``transform``, ``bc``, ``mass``, the
+        failures, the format version) go to the sidecar ``<path>.json`` (e.g.
+        ``table.csv.json``), written with it; :meth:`load` reads both.
 
         Parameters
         ----------
         path : str or os.PathLike
-            Ending in ``.npz`` or ``.csv``.
+            Ending in ``.npz`` or ``.csv``; its folder must exist.
 
         Returns
         -------
         Path
+
+        Raises
+        ------
+        FileNotFoundError
+            If the folder of ``path`` does not exist (the message names it).
         """
         path = Path(path)
         suffix = path.suffix.lower()
         if suffix not in (".npz", ".csv"):
             raise ValueError(f"path must end in .npz or .csv, got {str(path)!r}")
-        path.parent.mkdir(parents=True, exist_ok=True)
+        check_out_folder(path)
         if suffix == ".npz":
             def write(f):
                 np.savez(f, names=np.array(self.names, dtype=str),
                          labels=np.array(self.labels, dtype=str), lam=self.lam,
                          areas=self.areas, seconds=self.seconds, cached=self.cached,
+                         components=self.components,
                          meta=np.array(json.dumps(self._meta())))
             atomic_write(path, write, binary=True)
         else:
             def write(f):
-                f.write(f"# {_FORMAT} {json.dumps(self._meta())}\n")
                 w = csv.writer(f, lineterminator="\n")
-                w.writerow(["name", "label", "area", "seconds", "cached"]
-                           + [f"lam_{i}" for i in range(self.N)])
+                w.writerow(list(_CSV_COLUMNS) + [f"lam_{i}" for i in range(self.N)])
                 for i in range(len(self)):
                     w.writerow([self.names[i], self.labels[i], _fmt(self.areas[i]),
-                                _fmt(self.seconds[i]), int(self.cached[i])]
+                                _fmt(self.seconds[i]), int(self.cached[i]),
+                                int(self.components[i])]
                                + [_fmt(x) for x in self.lam[i]])
             atomic_write(path, write, binary=False)
+            atomic_write(sidecar_path(path),
+                         lambda f: f.write(json.dumps(self._meta(), indent=1) + "\n"),
+                         binary=False)
         return path
 
     @classmethod
     def load(cls, path) -> DescriptorTable:
         """Read a table written by :meth:`save` (``.npz`` or ``.csv``).
+
+        A ``.csv`` is read with its sidecar ``<path>.json``; without the sidecar (a CSV
+        copied alone) it loads with the defaults ``M=16``, ``transform='weyl'``,
+        ``bc='neumann'``, ``mass='consistent'`` and a warning.  Tables of format version 1
+        (the metadata on a first ``#`` line of the CSV) load as well.
 
         Raises
         ------
@@ -256,22 +346,72 @@ class DescriptorTable:
                            M=meta["M"], bc=meta["bc"], mass=meta["mass"],
                            seconds=z["seconds"], cached=z["cached"],
                            failures=meta["failures"],
-                           transform=meta.get("transform", "weyl"))
+                           transform=meta.get("transform", "weyl"),
+                           components=z["components"] if "components" in z.files else None)
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
             prefix = f"# {_FORMAT} "
-            if not first.startswith(prefix):
-                raise ValueError(f"{str(path)!r} is not a cshape descriptor table CSV")
-            meta = json.loads(first[len(prefix):])
-            _check_meta(meta, path)
-            rows = list(csv.reader(f))
-        body = rows[1:]
+            if first.startswith(prefix):  # version 1: the metadata on the first line
+                meta = json.loads(first[len(prefix):])
+                _check_meta(meta, path)
+                rows = list(csv.reader(f))
+                header, body, start = rows[0], rows[1:], 5
+            else:
+                f.seek(0)
+                rows = list(csv.reader(f))
+                header, body = rows[0], rows[1:]
+                if tuple(header[:len(_CSV_COLUMNS)]) != _CSV_COLUMNS:
+                    raise ValueError(
+                        f"{str(path)!r} is not a cshape descriptor table CSV (its header "
+                        f"should start with {','.join(_CSV_COLUMNS)},lam_0)")
+                start = len(_CSV_COLUMNS)
+                meta = _read_sidecar(path, len(header) - start)
         N = int(meta["N"])
-        lam = np.array([[float(x) for x in r[5:]] for r in body]).reshape(len(body), N)
+        if len(header) - start != N:
+            raise ValueError(f"{str(path)!r} has {len(header) - start} eigenvalue columns "
+                             f"but its metadata say N = {N}")
+        lam = np.array([[float(x) for x in r[start:]] for r in body]).reshape(len(body), N)
         return cls([r[0] for r in body], lam, [float(r[2]) for r in body],
                    [r[1] for r in body], M=meta["M"], bc=meta["bc"], mass=meta["mass"],
                    seconds=[float(r[3]) for r in body], cached=[r[4] == "1" for r in body],
-                   failures=meta["failures"], transform=meta.get("transform", "weyl"))
+                   failures=meta["failures"], transform=meta.get("transform", "weyl"),
+                   components=[int(r[5]) for r in body] if start == 6 else None)
+
+
+def sidecar_path(path) -> Path:
+    """The metadata file of a CSV table: ``<path>.json`` (``table.csv.json``)."""
+    path = Path(path)
+    return path.with_name(path.name + ".json")
+
+
+def _read_sidecar(path, N) -> dict:
+    side = sidecar_path(path)
+    if not side.is_file():
+        warnings.warn(
+            f"{str(path)!r} has no metadata file {str(side)!r} (written with it by "
+            "DescriptorTable.save); read with M=16, transform='weyl', bc='neumann', "
+            "mass='consistent'", CShapeWarning, stacklevel=4)
+        return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": N, "M": 16,
+                "transform": "weyl", "bc": "neumann", "mass": "consistent", "failures": []}
+    try:
+        meta = json.loads(side.read_text(encoding="utf-8"))
+    except (OSError, UnicodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"its metadata file {str(side)!r} is unreadable ({exc}); delete it "
+                         "to read the table with the default metadata") from None
+    if not isinstance(meta, dict):
+        raise ValueError(f"its metadata file {str(side)!r} holds no JSON object")
+    _check_meta(meta, side)
+    return meta
+
+
+def check_out_folder(path) -> None:
+    """Raise a ``FileNotFoundError`` naming the folder of ``path`` if it does not exist."""
+    folder = Path(path).parent
+    if not folder.is_dir():
+        what = "is a file, not a folder" if folder.exists() else "does not exist"
+        raise FileNotFoundError(
+            f"cannot write {str(path)!r}: the folder {str(folder)!r} {what}; create it "
+            "first or choose another path")
 
 
 def _fmt(x) -> str:

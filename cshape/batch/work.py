@@ -54,6 +54,7 @@ def _work_inner(task):
         fixed = repair_mesh(mesh)
         lam = shape_dna(fixed, N=N, bc=bc, mass=mass)
         return {"index": index, "ok": True, "lam": lam, "area": float(fixed.area),
+                "components": int(fixed.n_components),
                 "key": key, "seconds": time.perf_counter() - t0, "cached": False,
                 "n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
                 "params": {"N": N, "bc": bc, "mass": mass, "cache_version": CACHE_VERSION}}

@@ -21,6 +21,7 @@ status 2.
 
 from __future__ import annotations
 
+import contextlib
 import glob
 import json
 import os
@@ -157,6 +158,7 @@ def _transforms() -> tuple[str, ...]:
 # ============================================================================ describe
 def _cmd_describe(args) -> int:
     from ..batch import describe
+    from ..batch.run import LONG_RUN_PREFIX
 
     out = Path(args.out) if args.out else None
     if out is not None and out.suffix.lower() not in (".csv", ".npz"):
@@ -165,6 +167,8 @@ def _cmd_describe(args) -> int:
     if out is not None and out.is_dir():
         raise ValueError(f"--out {args.out!r} is a folder; give a file name such as "
                          f"{str(out / 'table.csv')!r}")
+    if out is not None:
+        check_out(out)  # before the eigensolves, not after
     if args.dask:
         try:
             import distributed  # noqa: F401
@@ -173,8 +177,7 @@ def _cmd_describe(args) -> int:
                               "`pip install cshape[distributed]`") from None
     records = collect_mesh_files(args.paths)
     t0 = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with _warnings_now((LONG_RUN_PREFIX,), "describe") as caught:
         table = describe(
             records, N=args.N, M=args.M, bc=args.bc, n_jobs=args.jobs, client=args.dask,
             cache_dir=False if args.no_cache else args.cache_dir, progress=_progress(args),
@@ -194,27 +197,79 @@ def _cmd_describe(args) -> int:
     n_cached = int(table.cached.sum())
     if out is not None:
         table.save(out)
-        where = f"; wrote {out}"
+        where = f"; wrote {out}" + (f" (metadata in {out}.json)" if out.suffix.lower() == ".csv"
+                                    else "")
     else:
         where = ""
         _print_table(table)
     if not args.quiet:
+        pieces = [(n, int(c)) for n, c in zip(table.names, _pieces(table), strict=True)
+                  if c > 1]
+        several = ""
+        if pieces:
+            listed = ", ".join(f"{n} ({c})" for n, c in pieces[:5])
+            more = f" and {len(pieces) - 5} more" if len(pieces) > 5 else ""
+            several = (f"; {len(pieces)} with several components: {listed}{more} (their "
+                       "zero modes are dropped by the log descriptors)")
         print(f"cshape describe: {len(table)} meshes ({n_cached} from the cache"
               f"{f', {n_fail} failed' if n_fail else ''}) in {seconds:.1f} s, "
-              f"N={table.N}, M={table.M}{where}", file=sys.stderr)
+              f"N={table.N}, M={table.M}{several}{where}", file=sys.stderr)
     return 0
 
 
+@contextlib.contextmanager
+def _warnings_now(prefixes, command):
+    """Record warnings (as ``catch_warnings(record=True)``), but print at once those whose
+    message starts with one of ``prefixes`` (e.g. a long run ahead)."""
+    caught = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            text = " ".join(str(message).split())
+            if text.startswith(prefixes):
+                print(f"cshape {command}: warning: {text}", file=sys.stderr, flush=True)
+            else:
+                caught.append(warnings.WarningMessage(message, category, filename, lineno,
+                                                      file, line))
+
+        warnings.showwarning = show
+        yield caught
+
+
+def check_out(path) -> None:
+    """An ``--out`` file's folder must exist: else a ``FileNotFoundError`` naming it."""
+    from ..batch.table import check_out_folder
+
+    check_out_folder(path)
+
+
+def _pieces(table):
+    """Connected components of each shape: stored, else (old tables) its zero modes."""
+    return [int(c) if c >= 0 else int(z)
+            for c, z in zip(table.components, table.zero_modes, strict=True)]
+
+
 def _print_table(table, width=4):
-    """One line per shape on stdout: name, label, area and the first cShape-DNA values."""
-    S = table.descriptors("cshape")
+    """One line per shape on stdout: name, label, area, components and the first values of
+    the table's cShape-DNA ('-' for a shape it cannot describe)."""
+    import numpy as np
+
+    keep = table.usable("cshape")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the rows left out are marked below
+        S = table.descriptors("cshape") if keep.any() else np.zeros((0, 2 * table.M + 1))
+    rows = dict(zip(np.flatnonzero(keep).tolist(), S, strict=True))
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
-    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  cShape-DNA (first {width} of "
+    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  cShape-DNA (first {width} of "
           f"{S.shape[1]} values, real form)")
+    pieces = _pieces(table)
     for i, name in enumerate(table.names):
-        vals = " ".join(f"{x: .4e}" for x in S[i, :width])
-        print(f"{name:<{w}}  {table.labels[i]:<{wl}}  {table.areas[i]:>10.4g}  {vals}")
+        vals = (" ".join(f"{x: .4e}" for x in rows[i][:width]) if i in rows
+                else "-  (cannot be described: too few non-zero eigenvalues)")
+        print(f"{name:<{w}}  {table.labels[i]:<{wl}}  {table.areas[i]:>10.4g}  "
+              f"{pieces[i]:>6}  {vals}")
 
 
 def add_describe(sub):
@@ -421,12 +476,16 @@ def _cmd_query(args) -> int:
                          f"use -N {table.N} or less")
     if args.k < 1:
         raise ValueError(f"-k must be at least 1, got {args.k}")
-    index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
-                                       transform=args.transform)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
+                                           transform=args.transform)
+    print_warnings(caught, "query", False)
     target = args.target
     if target in table.names:
         row = table.index(target)
         lam, area, exclude, what = table.lam[row], table.areas[row], row, f"{target!r}"
+        pieces = int(table.zero_modes[row])
     elif Path(target).is_file():
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -438,17 +497,25 @@ def _cmd_query(args) -> int:
         if one.failures:
             raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
         lam, area, exclude, what = one.lam[0], one.areas[0], None, repr(target)
+        pieces = int(one.zero_modes[0])
     else:
         close = [n for n in table.names if target.lower() in n.lower()][:5]
         hint = f"; names containing it: {close}" if close else ""
         raise ValueError(f"{target!r} is neither a shape of the table ({len(table)} shapes)"
                          f" nor a mesh file{hint}")
-    available = len(table) - (exclude is not None)
+    rows = index.rows_  # the table rows the kind describes
+    if exclude is not None and exclude not in rows:
+        raise ValueError(f"--kind {args.kind} cannot describe {target!r} (the warning above "
+                         "says why); choose another --kind, or a smaller -M")
+    available = len(rows) - (exclude is not None and exclude in rows)
     if available == 0:
-        raise ValueError(f"table {args.table!r} holds no other shape than {target!r}")
+        which = f" that --kind {args.kind} describes" if len(rows) < len(table) else ""
+        raise ValueError(f"table {args.table!r} holds no other shape{which} than {target!r}")
     k = min(args.k, available)
-    dist, ind = index.query_spectra(lam, area, k=min(k + 1, len(table)))
-    hits = [(float(d), int(i)) for d, i in zip(dist[0], ind[0], strict=True) if i != exclude]
+    dist, ind = index.query_spectra(lam, area, k=min(k + 1, len(rows)), zero_modes=[pieces],
+                                    names=[target])
+    hits = [(float(d), int(rows[i])) for d, i in zip(dist[0], ind[0], strict=True)
+            if rows[i] != exclude]
     hits = hits[:k]
     r = index.recipe_
     tr = "" if r["transform"] == "weyl" else f", {r['transform']}"
@@ -457,15 +524,19 @@ def _cmd_query(args) -> int:
             "truncated-log": f"the first {2 * r['M'] + 1} log-Weyl ratios",
             "f1": f"F1 N={r['N']}"}[args.kind]
     if k < args.k:
-        print(f"cshape query: only {k} other shapes in the table", file=sys.stderr)
+        print(f"cshape query: only {k} other shapes in the table"
+              f"{' that --kind ' + args.kind + ' describes' if len(rows) < len(table) else ''}",
+              file=sys.stderr)
     if args.json:
         print(json.dumps({"query": target, **r,
                           "neighbours": [{"rank": j + 1, "name": table.names[i],
                                           "label": table.labels[i], "distance": d}
                                          for j, (d, i) in enumerate(hits)]}))
         return 0
+    among = (f"the {len(table)} shapes" if len(rows) == len(table)
+             else f"the {len(rows)} of {len(table)} shapes it describes")
     print(f"nearest to {what} by {desc} ({index.X_.shape[1]} values, Euclidean distance), "
-          f"among the {len(table)} shapes of {args.table}:")
+          f"among {among} of {args.table}:")
     w = max([len(table.names[i]) for _, i in hits] + [4])
     print(f"{'rank':>4}  {'distance':>11}  {'name':<{w}}  label")
     for j, (d, i) in enumerate(hits, 1):
