@@ -338,8 +338,13 @@ def log_weyl_ratio(lam_norm, zero_modes=None, *, length=None):
     x = _as_lam(lam_norm, "lam_norm", min_len=2)
     tol = ZERO_RTOL * float(np.abs(x).max())
     k = max(_zero_modes(x, zero_modes, tol), 1)
-    mu = _weyl_extend(_after(x, k, tol, "the log-Weyl ratio"), length)
-    return np.log(mu / (FOUR_PI * np.arange(1, len(mu) + 1)))
+    mu = _after(x, k, tol, "the log-Weyl ratio")
+    r = np.log(mu / (FOUR_PI * np.arange(1, len(mu) + 1)))
+    if length is None or length == len(r):
+        return r
+    if length < len(r):
+        return r[:length]
+    return np.concatenate([r, np.full(length - len(r), r[-1])])  # Weyl: mu_i ~ mu_L i / L
 
 
 def _check_transform(transform):

@@ -71,7 +71,7 @@ class DescriptorTable:
     Notes
     -----
     **Meshes of several pieces.**  The descriptors that need positive eigenvalues
-    (``'truncated_log'``, ``'f1'``, the log-Weyl transforms) drop each shape's zero modes
+    (``'truncated-log'``, ``'f1'``, the log-Weyl transforms) drop each shape's zero modes
     (see :func:`cshape.compare.descriptor_matrix`).  A shape that still cannot be described
     under a kind (too few non-zero eigenvalues) is left out of :meth:`descriptors`,
     :meth:`distance_matrix` and :class:`cshape.DescriptorIndex`, with a warning that names

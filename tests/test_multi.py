@@ -1,0 +1,275 @@
+"""Meshes of several pieces (issue 19): one rule for every descriptor, and no mesh fails a
+whole table, query or summary.
+
+Known answers: two disjoint unit spheres have the spectrum 0, 0, 2 (x6), 6 (x10), ... and
+the total area 8 pi; two copies of one shape have every eigenvalue of the shape twice, so
+with the total area and the zero modes dropped (index from 1) their log-Weyl ratios at even
+indices are the shape's own, exactly.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+from conftest import write_off
+
+import cshape
+from cshape import shapes
+from cshape.batch import DescriptorTable, describe
+from cshape.compare import descriptor_matrix, row_problems
+from cshape.descriptors import ZERO_RTOL
+
+N, M = 30, 4
+FOUR_PI = 4 * np.pi
+
+
+def copies(mesh, k, gap=5.0):
+    """``k`` copies of ``mesh`` side by side along x: one mesh of ``k`` components."""
+    V, F = mesh.vertices, mesh.faces
+    return cshape.Mesh(np.vstack([V + [gap * i, 0, 0] for i in range(k)]),
+                       np.vstack([F + i * len(V) for i in range(k)]))
+
+
+@pytest.fixture(scope="module")
+def sphere():
+    return shapes.icosphere(2)  # 162 vertices: the unit sphere's spectrum within 5 %
+
+
+@pytest.fixture(scope="module")
+def spectra(sphere):
+    """(lam, area) of one sphere, two spheres and a dozen spheres (N eigenvalues each)."""
+    out = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cshape.CShapeWarning)
+        for k in (1, 2, 12):
+            m = copies(sphere, k)
+            out[k] = (cshape.shape_dna(m, N=N), m.area)
+    return out
+
+
+@pytest.fixture(scope="module")
+def table(spectra):
+    """A table of a torus, the sphere, two spheres and twelve spheres (components stored)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cshape.CShapeWarning)
+        torus = shapes.torus(24, 12)
+        lam_t = cshape.shape_dna(torus, N=N)
+    names = ["torus", "sphere", "two", "dozen"]
+    lam = np.array([lam_t, spectra[1][0], spectra[2][0], spectra[12][0]])
+    areas = [torus.area, spectra[1][1], spectra[2][1], spectra[12][1]]
+    return DescriptorTable(names, lam, areas, ["t", "s", "s", "s"], M=M,
+                           components=[1, 1, 2, 12])
+
+
+# ------------------------------------------------------------------ the rule
+def test_two_unit_spheres_known_spectrum_and_area(sphere, spectra):
+    lam, area = spectra[2]
+    assert area == pytest.approx(8 * np.pi, rel=2e-2)  # icosphere(2): 1.9 % below
+    assert lam[0] == lam[1] == 0.0  # the solver sets round-off zero modes to 0
+    np.testing.assert_allclose(lam[2:8], 2.0, rtol=3e-2)  # l = 1, twice: 2 x 3
+    np.testing.assert_allclose(lam[8:18], 6.0, rtol=5e-2)  # l = 2, twice: 2 x 5
+    assert lam[18] > 11.0
+    assert cshape.count_zero_modes(lam) == 2
+    mu = cshape.nonzero_eigenvalues(lam)
+    np.testing.assert_array_equal(mu, lam[2:])  # zero modes dropped, the rest from index 1
+    np.testing.assert_array_equal(cshape.nonzero_eigenvalues(lam, 2), mu)
+
+
+def test_log_weyl_ratio_of_a_disjoint_union_uses_the_total_area(spectra):
+    """Two copies: mu_{2j-1} = mu_{2j} = lam_j, area 2A, so r_{2j} = r_j of one copy."""
+    (lam1, a1), (lam2, a2) = spectra[1], spectra[2]
+    assert a2 == pytest.approx(2 * a1, rel=1e-12)
+    r1 = cshape.log_weyl_ratio(cshape.normalize(lam1, a1))
+    r2 = cshape.log_weyl_ratio(cshape.normalize(lam2, a2))
+    assert len(r1) == N - 1 and len(r2) == N - 2
+    np.testing.assert_allclose(r2[1::2], r1[: len(r2[1::2])], rtol=0, atol=1e-6)
+    # the odd indices: r_{2j-1} = r_j + log(2j / (2j - 1))
+    j = np.arange(1, len(r2[0::2]) + 1)
+    np.testing.assert_allclose(r2[0::2], r1[: len(j)] + np.log(2 * j / (2 * j - 1)),
+                               atol=1e-6)
+
+
+def test_connected_spectra_give_the_same_bits_as_before(spectra):
+    lam, area = spectra[1]
+    x = cshape.normalize(lam, area)
+    np.testing.assert_array_equal(cshape.log_weyl_ratio(x),
+                                  np.log(x[1:] / (FOUR_PI * np.arange(1, N))))
+    np.testing.assert_array_equal(cshape.f1_feature(lam), lam[1] / lam[2:])
+    # compact_shape_dna's default, the paper, takes any spectrum as it is: Eq. (8)-(10)
+    for k in (1, 2, 12):
+        lam_k, a_k = spectra[k]
+        lp = lam_k * a_k - FOUR_PI * np.arange(N)
+        ref = np.fft.fftshift(np.fft.fft(lp))[N // 2 - M: N // 2 + M + 1]
+        np.testing.assert_array_equal(cshape.compact_shape_dna(lam_k, M=M, N=N, area=a_k), ref)
+
+
+def test_fixed_length_descriptors_extend_by_weyls_law(spectra):
+    lam, area = spectra[2]
+    x = cshape.normalize(lam, area)
+    r = cshape.log_weyl_ratio(x, length=N - 1)
+    assert len(r) == N - 1 and r[-1] == r[-2]  # the one missing ratio repeats the last
+    np.testing.assert_array_equal(r[:-1], cshape.log_weyl_ratio(x))
+    f = cshape.f1_feature(lam, length=N - 2)
+    mu = lam[2:]
+    np.testing.assert_allclose(f[:-1], mu[0] / mu[1:])
+    assert f[-1] == pytest.approx(mu[0] / (mu[-1] * (N - 1) / (N - 2)))
+    for transform in ("log-weyl", "log-weyl-dct"):
+        S = cshape.compact_shape_dna(x, M=M, N=N, normalized=True, transform=transform)
+        assert S.shape == (2 * M + 1,) and np.all(np.isfinite(S))
+
+
+def test_every_kind_describes_a_multi_piece_mesh(spectra):
+    lam, area = spectra[2]
+    for kind in cshape.compare.DESCRIPTOR_KINDS:
+        for transform in cshape.descriptors.TRANSFORMS:
+            X = descriptor_matrix([lam], [area], kind=kind, M=M, N=N, transform=transform)
+            assert X.shape == (1, cshape.compare.descriptor_size(kind, M=M, N=N))
+            assert np.all(np.isfinite(X))
+
+
+def test_compact_shape_dna_of_a_mesh_counts_its_components(sphere):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cshape.CShapeWarning)
+        two = copies(sphere, 2)
+        S = cshape.compact_shape_dna(two, M=M, N=N, transform="log-weyl-dct")
+        lam = cshape.shape_dna(two, N=N)
+    ref = cshape.compact_shape_dna(lam, M=M, N=N, area=two.area, transform="log-weyl-dct",
+                                   zero_modes=2)
+    np.testing.assert_allclose(S, ref, rtol=1e-10, atol=1e-12)
+
+
+def test_the_zero_threshold_is_relative(spectra):
+    lam, _ = spectra[2]
+    for scale in (1e-9, 1.0, 1e9):  # meshes in any unit
+        assert cshape.count_zero_modes(lam * scale) == 2
+    noisy = lam.copy()
+    noisy[:2] = np.array([-3e-10, 4e-10]) * lam.max()  # round-off on the zero modes
+    assert cshape.count_zero_modes(noisy) == 2
+    assert cshape.count_zero_modes(noisy, rtol=1e-12) == 1
+    assert ZERO_RTOL == 1e-8
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda lam: cshape.nonzero_eigenvalues(lam, 3), r"zero_modes=3 \(components\) but "
+     r"lam_2 = 2.* is not zero"),
+    (lambda lam: cshape.nonzero_eigenvalues(lam, -1), r"zero_modes must be an integer >= 0"),
+    (lambda lam: cshape.nonzero_eigenvalues(np.zeros(5)), r"all 5 are zero modes.*N > 5"),
+    (lambda lam: cshape.log_weyl_ratio(np.r_[0.0, 0.0, 3.0, 0.0]),
+     r"lam_i > 0 after the 2 zero modes, but lam_3 = 0.*ascending"),
+    (lambda lam: cshape.compact_shape_dna(lam[:10], M=4, N=10, normalized=True,
+                                          transform="log-weyl"),
+     r"2M\+1 = 9 non-zero eigenvalues, but 2 of the N = 10 are zero modes .* use N >= 11"),
+    (lambda lam: cshape.f1_feature(np.r_[0.0, 0.0, 3.0]), r"at least one eigenvalue after"),
+])
+def test_rule_errors(spectra, call, match):
+    with pytest.raises(ValueError, match=match):
+        call(spectra[2][0])
+
+
+# ------------------------------------------------------------------ one mesh never fails all
+def test_descriptor_matrix_names_every_row_it_cannot_describe(table):
+    with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 4 "
+                       r"shapes \(dozen: 12 of its 30 eigenvalues are zero modes"):
+        descriptor_matrix(table.lam, table.areas, kind="truncated-log", M=9, N=N,
+                          names=table.names, zero_modes=table.zero_modes)
+    bad = row_problems(table.lam, table.areas, kind="truncated-log", M=9, N=N)
+    assert list(bad) == [3] and "2M+1 = 19 are needed" in bad[3]
+
+
+def test_table_leaves_out_with_a_warning_and_answers_the_rest(table):
+    np.testing.assert_array_equal(table.zero_modes, [1, 1, 2, 12])
+    for kind in cshape.compare.DESCRIPTOR_KINDS:  # M = 4: every shape can be described
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            assert len(table.descriptors(kind)) == 4
+    with pytest.warns(cshape.CShapeWarning, match=r"cannot describe 1 of 4 shapes, left out: "
+                      r"dozen \(12 of its 30"):
+        D = table.distance_matrix("truncated-log", M=9)
+    np.testing.assert_array_equal(table.usable("truncated-log", M=9), [True, True, True, False])
+    sub = table.select(table.usable("truncated-log", M=9))
+    np.testing.assert_array_equal(D, sub.distance_matrix("truncated-log", M=9))
+    with pytest.warns(cshape.CShapeWarning, match="dozen"):
+        X = table.descriptors("cshape", M=9, transform="log-weyl-dct")
+    assert X.shape == (3, 19)
+    with pytest.raises(ValueError, match="cannot describe any of the 1 shapes"), \
+            pytest.warns(cshape.CShapeWarning):
+        table.select([3]).descriptors("truncated-log", M=9)
+
+
+def test_index_maps_its_rows_to_the_table(table):
+    with pytest.warns(cshape.CShapeWarning, match="dozen"):
+        index = cshape.DescriptorIndex.from_table(table, "truncated-log", M=9)
+    np.testing.assert_array_equal(index.rows_, [0, 1, 2])
+    dist, ind = index.query_spectra(table.lam[2], table.areas[2], k=1, zero_modes=[2])
+    assert index.rows_[ind[0, 0]] == 2 and dist[0, 0] == 0.0
+    with pytest.raises(ValueError, match="cannot describe 1 of 1 shapes \\(dozen:"):
+        index.query_spectra(table.lam[3], table.areas[3], names=["dozen"])
+
+
+def test_components_are_cached_and_warned_again_on_a_cached_run(sphere, tmp_path):
+    meshes = [("two", "s", copies(sphere, 2)), ("one", "s", sphere)]
+    with pytest.warns(cshape.CShapeWarning, match="two: mesh has 2 connected components"):
+        first = describe(meshes, N=N, M=M, cache_dir=tmp_path, progress=False)
+    with pytest.warns(cshape.CShapeWarning, match="two: mesh has 2 connected components"):
+        again = describe(meshes, N=N, M=M, cache_dir=tmp_path, progress=False)
+    assert again.cached.all() and not first.cached.any()
+    np.testing.assert_array_equal(again.components, [2, 1])
+    np.testing.assert_array_equal(again.zero_modes, [2, 1])
+
+
+# ------------------------------------------------------------------ files
+def test_csv_reads_with_plain_pandas_and_keeps_the_metadata(table, tmp_path):
+    pd = pytest.importorskip("pandas")
+    t = DescriptorTable(table.names, table.lam, table.areas, table.labels, M=3,
+                        transform="log-weyl", failures=[("bad", "ValueError: x")],
+                        components=table.components)
+    path = t.save(tmp_path / "t.csv")
+    df = pd.read_csv(path)
+    assert list(df.columns[:6]) == ["name", "label", "area", "seconds", "cached", "components"]
+    assert df.shape == (4, 6 + N)
+    np.testing.assert_array_equal(df[[f"lam_{i}" for i in range(N)]].to_numpy(), t.lam)
+    assert df["components"].tolist() == [1, 1, 2, 12]
+    meta = json.loads((tmp_path / "t.csv.json").read_text())
+    assert (meta["format_version"], meta["M"], meta["transform"]) == (2, 3, "log-weyl")
+    back = DescriptorTable.load(path)
+    assert (back.M, back.transform, back.failures) == (3, "log-weyl", t.failures)
+    np.testing.assert_array_equal(back.components, t.components)
+    (tmp_path / "t.csv.json").unlink()  # a CSV copied alone: defaults, with a warning
+    with pytest.warns(cshape.CShapeWarning, match=r"no metadata file .*t.csv.json"):
+        alone = DescriptorTable.load(path)
+    assert (alone.M, alone.transform) == (16, "weyl")
+    np.testing.assert_array_equal(alone.lam, t.lam)
+
+
+def test_save_into_a_missing_folder_names_it(table, tmp_path):
+    with pytest.raises(FileNotFoundError, match=r"the folder '.*no_such' does not exist"):
+        table.save(tmp_path / "no_such" / "t.csv")
+    assert list(tmp_path.iterdir()) == []
+
+
+# ------------------------------------------------------------------ command line
+def test_cli_describe_and_query_report_pieces(sphere, tmp_path, capsys):
+    from cshape.cli import main
+
+    write_off(tmp_path / "m" / "two.off", copies(sphere, 2))
+    write_off(tmp_path / "m" / "dozen.off", copies(sphere, 12))
+    write_off(tmp_path / "m" / "one.off", sphere)
+    out = tmp_path / "t.csv"
+    assert main(["describe", str(tmp_path / "m"), "-N", str(N), "-M", "4", "--out", str(out),
+                 "--no-cache", "-q"]) == 0
+    assert main(["describe", str(tmp_path / "m"), "-N", str(N), "-M", "4", "--no-cache"]) == 0
+    cap = capsys.readouterr()
+    assert "2 with several components: dozen (12), two (2)" in cap.err
+    line = next(x for x in cap.out.splitlines() if x.startswith("dozen"))
+    assert line.split()[3] == "12"  # name, label, area, pieces
+    assert main(["query", str(out), "two", "--kind", "truncated-log", "-M", "9", "-k",
+                 "3"]) == 0
+    cap = capsys.readouterr()
+    assert "left out: dozen" in cap.err and "among the 2 of 3 shapes it describes" in cap.out
+    assert main(["query", str(out), "dozen", "--kind", "truncated-log", "-M", "9"]) == 2
+    assert "--kind truncated-log cannot describe 'dozen'" in capsys.readouterr().err
+    assert main(["info", str(tmp_path / "m" / "two.off")]) == 0
+    assert "components             2" in capsys.readouterr().out
