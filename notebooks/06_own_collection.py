@@ -157,8 +157,9 @@ plots.plot_mesh(query, title="the query: a noisy, rotated, scaled torus", edges=
 # %% [markdown]
 # ## Save the table, load it back
 #
-# CSV (a metadata line, then one row per shape: name, label, area, eigenvalues) is easy to read anywhere; NPZ is
-# compact. Both round-trip exactly.
+# CSV (a header, then one row per shape: name, label, area, components, eigenvalues; `pandas.read_csv` reads it with no
+# options, and the metadata go to `descriptors.csv.json` beside it) is easy to read anywhere; NPZ is compact. Both
+# round-trip exactly.
 
 # %%
 csv_path = table.save(work / "descriptors.csv")

@@ -244,10 +244,16 @@ def test_csv_reads_with_plain_pandas_and_keeps_the_metadata(table, tmp_path):
     np.testing.assert_array_equal(alone.lam, t.lam)
 
 
-def test_save_into_a_missing_folder_names_it(table, tmp_path):
-    with pytest.raises(FileNotFoundError, match=r"the folder '.*no_such' does not exist"):
-        table.save(tmp_path / "no_such" / "t.csv")
-    assert list(tmp_path.iterdir()) == []
+def test_out_into_a_missing_folder_names_it(tmp_path, capsys):
+    from cshape.cli import main
+
+    write_off(tmp_path / "m" / "one.off", shapes.icosphere(1))
+    out = tmp_path / "no_such" / "t.csv"
+    assert main(["describe", str(tmp_path / "m"), "-N", "5", "-M", "1", "--out", str(out),
+                 "--no-cache"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"the folder {str(out.parent)!r} does not exist" in err[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m"]
 
 
 # ------------------------------------------------------------------ command line

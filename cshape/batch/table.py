@@ -259,22 +259,19 @@ class DescriptorTable:
         Parameters
         ----------
         path : str or os.PathLike
-            Ending in ``.npz`` or ``.csv``; its folder must exist.
+            Ending in ``.npz`` or ``.csv``; a missing folder is created (the command
+            line's ``--out`` refuses one instead, before any work: a typo in a path
+            should not cost a run).
 
         Returns
         -------
         Path
-
-        Raises
-        ------
-        FileNotFoundError
-            If the folder of ``path`` does not exist (the message names it).
         """
         path = Path(path)
         suffix = path.suffix.lower()
         if suffix not in (".npz", ".csv"):
             raise ValueError(f"path must end in .npz or .csv, got {str(path)!r}")
-        check_out_folder(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
         if suffix == ".npz":
             def write(f):
                 np.savez(f, names=np.array(self.names, dtype=str),
