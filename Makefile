@@ -1,7 +1,8 @@
 # cshape: two commands on a fresh machine (Python >= 3.10 and the package index only).
 #   make demo   - the main job: runs every walkthrough notebook into out/notebooks/
-#   make test   - the test suite (what CI runs); installs Debian's Chromium for the
-#                 browser test when it is missing and we are root (else that test skips)
+#   make test   - the whole test suite, both tiers (what CI runs); installs Debian's Chromium
+#                 for the browser tests when it is missing and we are root (else they skip)
+#   make test-fast - the fast tier only (plain `pytest`: the developer's loop, under 2 minutes)
 #   make notebooks - after editing a lesson's source notebooks/NN_topic.py: rewrite its .ipynb
 #   make assignments - nbgrader's student versions of the graded lessons into notebooks/student/
 PYTHON ?= python3
@@ -9,7 +10,7 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench reproduce notebooks assignments lint setup clean
+.PHONY: demo test test-fast bench reproduce notebooks assignments lint setup clean
 
 setup: $(STAMP)
 
@@ -24,6 +25,9 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	bash tools/ensure_browser.sh
+	$(PY) -m pytest -m "slow or not slow" $(PYTEST_ARGS)
+
+test-fast: $(STAMP)
 	$(PY) -m pytest $(PYTEST_ARGS)
 
 reproduce: $(STAMP)

@@ -16,6 +16,14 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 
 
+@pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection
+def pytest_collection_modifyitems(config, items):
+    """A browser test is always in the slow tier."""
+    for item in items:
+        if item.get_closest_marker("browser") and not item.get_closest_marker("slow"):
+            item.add_marker(pytest.mark.slow)
+
+
 def shared_meshes_dir() -> Path:
     """The real-mesh folder: $CSHAPE_SHARED_MESHES, else ../shared/meshes beside the repo."""
     env = os.environ.get("CSHAPE_SHARED_MESHES")

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._checks import check_choice
+from .._checks import check_choice, require_extra
 from ..compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
 from ..descriptors import NORMALIZATIONS, TRANSFORMS, log_weyl_ratio, normalize, weyl_subtract
 
@@ -401,7 +401,7 @@ def _as_sweeps(data, normalization):
     return {"collection": one(data)}
 
 
-try:  # the widget class needs ipywidgets (a core dependency); the pure functions do not
+try:  # the widget class needs ipywidgets (the 'plots' extra); the pure functions do not
     import ipywidgets as _w
 
     _VBox = _w.VBox
@@ -550,7 +550,7 @@ def m_sweep_widget(data, *, M=16, N=None, normalization="area", figsize=(12.0, 7
         ``IPython.display.display``).  This function never displays anything itself.
     """
     if _w is None:  # pragma: no cover
-        raise ImportError("m_sweep_widget needs ipywidgets: pip install ipywidgets")
+        require_extra("m_sweep_widget", "plots", ("ipywidgets",))
     sweeps = _as_sweeps(data, normalization)
     return MSweepWidget(sweeps, M=M, N=N, normalization=normalization, figsize=figsize, dpi=dpi,
                         transform=transform)
