@@ -618,11 +618,14 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
     # Ritz vectors, then a final Rayleigh-Ritz with the pencil (K, B) on their span: it
     # makes them B-orthonormal to rounding (the basis is only semi-orthogonal) and gives
     # the Rayleigh quotients as eigenvalues.
-    X = V[:, :m] @ Y
-    GB = X.T @ (B @ X)
-    GK = X.T @ (K @ X)
+    # The products over the n rows run on the row ranges of ``split`` (threaded on big
+    # meshes, the same bits with any number of threads): at 163,842 unknowns V @ Y alone
+    # is 11 GFlop.
+    X = split.times(V[:, :m], np.ascontiguousarray(Y), "C")
+    GB = split.tdot(X, split.bmul(X))
+    GK = split.tdot(X, K @ X)
     lam, Z = la.eigh(0.5 * (GK + GK.T), 0.5 * (GB + GB.T))
-    return lam, X @ Z
+    return lam, split.times(X, Z, "C")
 
 
 def _arpack(K, B, N, op, sigma, return_vectors):
