@@ -10,6 +10,7 @@ import pytest
 from cshape import plots
 from cshape.batch import DescriptorTable
 from cshape.plots.collection import (
+    LEGEND_COLUMNS,
     MAX_LEGEND_CLASSES,
     MDS_MAX_NAMES,
     plot_distance_matrix,
@@ -76,25 +77,32 @@ def test_short_label():
     assert len(short_label("x" * 200)) == 16
 
 
-@pytest.mark.parametrize("p, n_classes", [(3, 3), (12, 3), (40, 8), (1000, 40)])
+@pytest.mark.parametrize("p, n_classes", [(3, 3), (12, 3), (40, 8), (1000, 40), (1000, 300)])
 def test_mds_panel_square_bounded_labels(p, n_classes):
     table = synthetic_table(p, n_classes)
     Y = np.random.default_rng(1).normal(size=(p, 2)) * [10.0, 0.1]  # a thin cloud
     fig = drawn(plot_mds(Y, names=table.names, labels=table.labels, title="MDS"))
     ax = fig.axes[0]
     assert_square(ax)
-    texts = ax.texts
-    assert len(texts) <= min(p, MDS_MAX_NAMES)
-    if p > MDS_MAX_NAMES:
-        assert len(texts) == 0
-    else:
-        assert texts and all(len(t.get_text()) <= 16 for t in texts)
+    count = f"{n_classes} classes"
+    texts = [t for t in ax.texts if t.get_text() != count]
     assert_no_overlap(texts)
-    legend = ax.get_legend()
-    if n_classes <= MAX_LEGEND_CLASSES:
-        assert len(legend.get_texts()) == n_classes
+    if p > MDS_MAX_NAMES:  # no shape names: class names at their classes
+        assert texts and len(texts) <= n_classes
+        assert {t.get_text() for t in texts} <= {short_label(x) for x in table.labels}
     else:
+        assert texts and len(texts) <= p and all(len(t.get_text()) <= 16 for t in texts)
+        assert {t.get_text() for t in texts} <= set(short_labels(table.names))
+    legend = ax.get_legend()
+    if n_classes <= MAX_LEGEND_CLASSES * LEGEND_COLUMNS:
+        assert len(legend.get_texts()) == n_classes
+        assert legend._ncols == (1 if n_classes <= MAX_LEGEND_CLASSES else 2)
+        box, page = legend.get_window_extent(), fig.bbox
+        assert page.x0 <= box.x0 and box.x1 <= page.x1 + 1  # within the figure
+        assert page.y0 <= box.y0 and box.y1 <= page.y1 + 1
+    else:  # too many to list: the panel says how many
         assert legend is None
+        assert [t.get_text() for t in ax.texts].count(count) == 1
 
 
 @pytest.mark.parametrize("p, n_classes", [(3, 3), (60, 6)])

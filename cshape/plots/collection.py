@@ -1,5 +1,12 @@
 """Pictures of a collection: MDS scatter plots (Fig. 4-5) and distance-matrix images
-(Fig. 3, 6), with short readable labels.
+(Fig. 3, 6), with short readable labels, and the pure functions behind them.
+
+* :func:`plot_mds` - the MDS scatter plot: square, one colour and marker per class, names
+  where they fit, outliers (:func:`mds_outliers`) marked at the border (:func:`border_points`)
+  so that the rest is drawn at a scale where it separates;
+* :func:`plot_distance_matrix`, :func:`matrix_ticks` - the matrix image and its ticks;
+* :func:`nearest_neighbours` - each shape's ``k`` nearest shapes, for hover texts and strips;
+* :func:`short_label`, :func:`short_labels`, :func:`annotate_points` - readable labels.
 """
 
 from __future__ import annotations
@@ -14,8 +21,20 @@ from ..compare import scale_255
 MDS_MAX_NAMES = 40
 #: A distance matrix gets one tick per shape up to this many shapes; beyond, one per class.
 MATRIX_MAX_NAMES = 40
-#: A legend lists up to this many classes; beyond, colours repeat and no legend is drawn.
+#: A legend lists up to this many classes in one column; beyond, a figure of its own gets a
+#: legend in columns below the panel (up to :data:`LEGEND_COLUMNS` columns).
 MAX_LEGEND_CLASSES = 20
+#: Most columns of a legend below an MDS panel: up to ``MAX_LEGEND_CLASSES * LEGEND_COLUMNS``
+#: classes are listed; beyond, the panel says how many classes there are.
+LEGEND_COLUMNS = 4
+#: Marker shapes of the classes: classes 0-19 are circles in 20 colours, 20-39 squares, ...
+CLASS_MARKERS = "os^Dv<>pP*Xh"
+#: A point is an outlier of an MDS picture when its median distance to the other points is
+#: more than this many times the typical one (:func:`mds_outliers`).
+OUTLIER_FACTOR = 5.0
+#: :func:`mds_outliers` measures each point's median distance to at most this many points
+#: (evenly spaced through the rows) to stay within memory on large collections.
+OUTLIER_REFERENCE_POINTS = 2000
 #: Longest point or tick label, in characters; longer names are cut in the middle.
 LABEL_WIDTH = 16
 
@@ -78,29 +97,268 @@ def _figure_and_ax(ax, figsize):
 
 def _class_colours(labels, p):
     """(colour of each point, [(class, colour)] in first-seen order)."""
+    codes, styles = class_styles(labels, p)
+    return [styles[c][1] for c in codes], [(lab, col) for lab, col, _ in styles]
+
+
+def class_styles(labels, p=None):
+    """A colour and a marker per class, distinct for up to ``20 * len(CLASS_MARKERS)`` classes.
+
+    Up to 10 classes: ``tab10`` circles; up to 20: ``tab20`` circles; beyond, class ``c``
+    gets colour ``c % 20`` of ``tab20`` and marker ``CLASS_MARKERS[c // 20]``.
+
+    Parameters
+    ----------
+    labels : sequence, length p
+    p : int, optional
+        Expected length (checked).
+
+    Returns
+    -------
+    codes : ndarray of int, shape (p,)
+        Class number of each point, in first-seen order.
+    styles : list of (str, colour, str)
+        ``(class label, RGBA colour, marker)`` of each class, in first-seen order.
+    """
     import matplotlib as mpl
 
-    codes = check_labels(labels, p)
+    lab = list(labels)
+    codes = check_labels(lab, len(lab) if p is None else p)
     first = {}
     for i, c in enumerate(codes):
-        first.setdefault(c, i)
+        first.setdefault(int(c), i)
     cmap = mpl.colormaps["tab10" if len(first) <= 10 else "tab20"]
-    lab = list(labels)
-    return ([cmap(c % cmap.N) for c in codes],
-            [(str(lab[i]), cmap(c % cmap.N)) for c, i in first.items()])
+    return codes, [(str(lab[i]), cmap(c % cmap.N),
+                    CLASS_MARKERS[(c // cmap.N) % len(CLASS_MARKERS)])
+                   for c, i in first.items()]
+
+
+def square_limits(Y, margin=0.08):
+    """The square drawn around points: ``(centre, half)``, the box being
+    ``centre +- half`` on both axes.
+
+    ``half`` is half the larger extent of the points, times ``1 + 2 * margin`` (never 0).
+
+    >>> square_limits(np.array([[0.0, 0.0], [4.0, 2.0]]), margin=0.0)
+    (array([2., 1.]), 2.0)
+    """
+    Y = np.asarray(Y, dtype=np.float64)
+    lo, hi = Y.min(axis=0), Y.max(axis=0)
+    centre = (lo + hi) / 2
+    half = max(float((hi - lo).max()) / 2, 1e-12 * max(1.0, float(np.abs(Y).max())))
+    return centre, half * (1 + 2 * margin)
 
 
 def _square_limits(ax, Y, margin=0.08):
     """Equal x and y ranges around the points and a square box: the panel stays square
     and one unit is as long on both axes, whatever the spread of the embedding."""
-    lo, hi = Y.min(axis=0), Y.max(axis=0)
-    centre = (lo + hi) / 2
-    half = max(float((hi - lo).max()) / 2, 1e-12 * max(1.0, float(np.abs(Y).max())))
-    half *= 1 + 2 * margin
+    centre, half = square_limits(Y, margin)
+    _set_square(ax, centre, half)
+    return 2 * half
+
+
+def _set_square(ax, centre, half):
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_aspect("equal", adjustable="box")
-    return 2 * half
+
+
+# --------------------------------------------------------------------------- outliers
+def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
+    """Each point's median Euclidean distance to the other points.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, d)
+    reference : int, default=OUTLIER_REFERENCE_POINTS
+        Measure against at most this many points, evenly spaced through the rows (all of
+        them when ``p <= reference``), a point never against itself.
+
+    Returns
+    -------
+    ndarray, shape (p,)
+        Zeros when ``p < 2``.
+    """
+    Y = np.asarray(Y, dtype=np.float64)
+    p = len(Y)
+    if p < 2:
+        return np.zeros(p)
+    ref = np.unique(np.linspace(0, p - 1, min(p, reference)).round().astype(np.int64))
+    out = np.empty(p)
+    for start in range(0, p, 512):  # blocks of rows: memory 512 x reference
+        rows = np.arange(start, min(p, start + 512))
+        d = np.linalg.norm(Y[rows, None, :] - Y[None, ref, :], axis=2)
+        d[rows[:, None] == ref[None, :]] = np.nan  # not against itself
+        out[rows] = np.nanmedian(d, axis=1)
+    return out
+
+
+def mds_outliers(Y, *, factor=OUTLIER_FACTOR) -> np.ndarray:
+    """The points of a picture that lie far from the rest: a robust rule.
+
+    Point ``i`` is an outlier when its median distance to the other points,
+    ``m_i = median_j |Y_i - Y_j|``, exceeds ``factor`` times the median of all ``m``.
+    A Gaussian cloud of 4000 points reaches at most 4.3 times the median (a thin 1-D
+    cloud; 2.9 in 2-D), so the default flags none of it; a coarse control cage among
+    finer meshes reaches 8 to 55.  Fewer than half of the points can be outliers.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, d)
+        Coordinates (an MDS embedding).
+    factor : float, default=OUTLIER_FACTOR
+
+    Returns
+    -------
+    ndarray of bool, shape (p,)
+        None when ``p < 3`` or when most points coincide (a typical distance of 0).
+    """
+    Y = np.asarray(Y, dtype=np.float64)
+    if Y.ndim != 2:
+        raise ValueError(f"Y must have shape (p, d), got {Y.shape}")
+    if not factor > 1:
+        raise ValueError(f"factor must be a number > 1, got {factor!r}")
+    if len(Y) < 3:
+        return np.zeros(len(Y), dtype=bool)
+    m = median_distances(Y)
+    typical = float(np.median(m))
+    if not typical > 0:
+        return np.zeros(len(Y), dtype=bool)
+    return m > factor * typical
+
+
+def outlier_ratios(Y) -> np.ndarray:
+    """Each point's median distance to the others over the median of those: how many
+    times farther than typical a point lies (compared with ``factor`` by
+    :func:`mds_outliers`)."""
+    m = median_distances(Y)
+    typical = float(np.median(m)) if len(m) else 0.0
+    return m / typical if typical > 0 else np.ones_like(m)
+
+
+def border_points(Y, outliers, centre, half):
+    """Where outliers are drawn: on the border of the square ``centre +- half``, in their
+    direction from the centre.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, 2)
+    outliers : array_like of bool, shape (p,)
+    centre : array_like, shape (2,)
+    half : float
+        Half the side of the square on whose border the outliers are drawn.
+
+    Returns
+    -------
+    P : ndarray, shape (q, 2)
+        The border positions of the ``q`` outliers, in the order of ``Y``.
+    angle : ndarray, shape (q,)
+        Their direction from the centre, degrees counter-clockwise from +x.
+
+    >>> P, angle = border_points([[10.0, 5.0], [0.0, 0.0]], [True, False], [0.0, 0.0], 1.0)
+    >>> P.tolist(), angle.round(2).tolist()
+    ([[1.0, 0.5]], [26.57])
+    """
+    Y = np.asarray(Y, dtype=np.float64)
+    out = np.asarray(outliers, dtype=bool)
+    c = np.asarray(centre, dtype=np.float64)
+    d = Y[out] - c
+    reach = np.abs(d).max(axis=1)
+    t = np.divide(float(half), reach, out=np.zeros_like(reach), where=reach > 0)
+    return c + d * t[:, None], np.degrees(np.arctan2(d[:, 1], d[:, 0]))
+
+
+def spread_on_border(P, centre, half, gap):
+    """Points on the border of the square ``centre +- half`` moved along it, in order,
+    until neighbours are at least ``gap`` apart (measured along the border).
+
+    Parameters
+    ----------
+    P : array_like, shape (q, 2)
+        Points on the border (from :func:`border_points`).
+    centre : array_like, shape (2,)
+    half : float
+    gap : float
+        At most ``8 * half / q`` is used, so that the points fit.
+
+    Returns
+    -------
+    ndarray, shape (q, 2)
+        In the order of ``P``.
+
+    >>> spread_on_border([[1.0, 0.0], [1.0, 0.1]], [0.0, 0.0], 1.0, 0.5).round(3).tolist()
+    [[1.0, -0.2], [1.0, 0.3]]
+    """
+    P = np.asarray(P, dtype=np.float64).reshape(-1, 2)
+    q, h = len(P), float(half)
+    if q < 2 or h <= 0:
+        return P.copy()
+    gap = min(float(gap), 8 * h / q)
+    x, y = (P - np.asarray(centre, dtype=np.float64)).T / h
+    # position along the border, counter-clockwise from the bottom-left corner, in [0, 8)
+    t = np.where(np.isclose(y, -1) & (x < 1), 1 + x,
+        np.where(np.isclose(x, 1) & (y < 1), 3 + y,
+        np.where(np.isclose(y, 1) & (x > -1), 5 - x, (7 - y) % 8)))
+    order = np.argsort(t, kind="stable")
+    u = t[order].copy()
+    g = gap / h
+    for _ in range(50):  # push apart, pairwise, until no pair is closer than the gap
+        moved = False
+        for j in range(1, q):
+            short = g - (u[j] - u[j - 1])
+            if short > 1e-12:
+                u[j - 1] -= short / 2
+                u[j] += short / 2
+                moved = True
+        if not moved:
+            break
+    u %= 8
+    out = np.empty_like(P)
+    for k, v in zip(order, u, strict=True):
+        if v < 2:
+            xy = (v - 1, -1.0)
+        elif v < 4:
+            xy = (1.0, v - 3)
+        elif v < 6:
+            xy = (5 - v, 1.0)
+        else:
+            xy = (-1.0, 7 - v)
+        out[k] = np.asarray(centre, dtype=np.float64) + h * np.array(xy)
+    return out
+
+
+# --------------------------------------------------------------------------- neighbours
+def nearest_neighbours(D, k=3):
+    """Each shape's ``k`` nearest other shapes in a distance matrix.
+
+    Parameters
+    ----------
+    D : array_like, shape (p, p)
+        Distances.
+    k : int, default=3
+        At most ``p - 1`` are returned.
+
+    Returns
+    -------
+    ind : ndarray of int, shape (p, min(k, p - 1))
+        Row ``i``: the nearest shapes to shape ``i``, nearest first, ``i`` itself left out
+        (by index: a duplicate at distance 0 is a neighbour); ties in the order of rows.
+    dist : ndarray, shape (p, min(k, p - 1))
+        Their distances.
+
+    >>> ind, dist = nearest_neighbours([[0, 1, 3], [1, 0, 1], [3, 1, 0]], k=2)
+    >>> ind.tolist(), dist.tolist()
+    ([[1, 2], [0, 2], [1, 0]], [[1.0, 3.0], [1.0, 1.0], [1.0, 3.0]])
+    """
+    A = check_square(D, "D")
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
+        raise ValueError(f"k must be an integer >= 1, got {k!r}")
+    p = len(A)
+    k = min(int(k), p - 1)
+    B = A.astype(np.float64, copy=True)
+    np.fill_diagonal(B, np.inf)
+    ind = np.argsort(B, axis=1, kind="stable")[:, :k]
+    return ind, np.take_along_axis(A, ind, axis=1).astype(np.float64)
 
 
 def _side_points(ax) -> float:
@@ -134,7 +392,7 @@ def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15
     boxes, kept = [], []
     for i, text in enumerate(texts):
         w, h = 0.62 * size * len(text) * per_pt, 1.25 * size * per_pt
-        d = offset * per_pt
+        d = offset * per_pt / safety  # the true offset: a larger one would hide overlaps
         # right of and above the point, or left / below where the axes end
         right = Y[i, 0] + d + w <= max(x0, x1)
         up = Y[i, 1] + d + h <= max(y0, y1)
@@ -166,15 +424,91 @@ def _spread_out(points, min_gap):
     return kept
 
 
+def _outlier_mask(Y, outliers):
+    if outliers is None or outliers is False:
+        return np.zeros(len(Y), dtype=bool)
+    if isinstance(outliers, str):
+        if outliers != "auto":
+            raise ValueError(f"outliers must be 'auto', None or a boolean mask, got "
+                             f"{outliers!r}")
+        return mds_outliers(Y)
+    mask = np.asarray(outliers, dtype=bool).reshape(-1)
+    if len(mask) != len(Y):
+        raise ValueError(f"outliers has {len(mask)} entries but Y has {len(Y)} points")
+    return mask
+
+
+def mds_layout(Y, outliers="auto", *, margin=0.08):
+    """Where :func:`plot_mds` draws each point: the inliers where they are, the outliers on
+    the border of a square fitted to the inliers.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, 2)
+    outliers : 'auto', None or array_like of bool, default='auto'
+        'auto': :func:`mds_outliers`; None: no outliers (every point where it is).
+    margin : float, default=0.08
+        Room around the inliers, as a fraction of their extent on each side.
+
+    Returns
+    -------
+    dict
+        ``outliers`` (bool, (p,)), ``P`` ((p, 2): drawn positions), ``angle`` ((p,):
+        outward direction of each outlier in degrees, NaN for inliers), ``centre`` and
+        ``half`` (the panel is ``centre +- half``), ``ratio`` ((p,): median distance over
+        the typical one, see :func:`outlier_ratios`; NaN unless there are outliers).
+    """
+    Y = np.asarray(Y, dtype=np.float64)
+    out = _outlier_mask(Y, outliers)
+    if out.all():
+        out = np.zeros(len(Y), dtype=bool)
+    P = Y.copy()
+    angle = np.full(len(Y), np.nan)
+    ratio = np.full(len(Y), np.nan)
+    if out.any():
+        # the outliers sit in a band beyond the inliers: the panel is a little larger
+        centre, half = square_limits(Y[~out], margin + 0.05)
+        P[out], angle[out] = border_points(Y, out, centre, half)
+        P[out] = spread_on_border(P[out], centre, half, 0.14 * half)
+        half *= 1 + 2 * 0.04
+        ratio = outlier_ratios(Y)
+    else:
+        centre, half = square_limits(Y, margin)
+    return {"outliers": out, "P": P, "angle": angle, "centre": centre, "half": half,
+            "ratio": ratio}
+
+
+def class_medians(Y, labels):
+    """The coordinate-wise median of each class's points: ``[(label, (x, y))]`` in
+    first-seen order (where :func:`plot_mds` writes class names)."""
+    Y = np.asarray(Y, dtype=np.float64)
+    codes = check_labels(labels, len(Y))
+    lab = [str(x) for x in labels]
+    seen = {}
+    for i, c in enumerate(codes):
+        seen.setdefault(int(c), i)
+    return [(lab[i], np.median(Y[codes == c], axis=0)) for c, i in seen.items()]
+
+
 def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4.5),
-             max_names=MDS_MAX_NAMES, legend=True):
+             max_names=MDS_MAX_NAMES, legend=True, outliers="auto"):
     """Scatter plot of a 2-D MDS embedding, square, coloured by class (Fig. 4-5).
 
-    Readable from 3 to thousands of shapes with any names: the panel is square with equal
-    units on both axes; points are named (the part after the last ``/``, at most
-    :data:`LABEL_WIDTH` characters) only up to ``max_names`` shapes, and only where a name
-    does not cover another; classes are told apart by colour, listed in a legend outside
-    the panel up to :data:`MAX_LEGEND_CLASSES` classes.
+    Readable from 3 to thousands of shapes with any names, and with outliers:
+
+    * the panel is square with equal units on both axes;
+    * outliers (:func:`mds_outliers`: a point whose median distance to the others is
+      :data:`OUTLIER_FACTOR` times the typical one, such as a coarse control cage among
+      fine meshes) are drawn as arrow heads on the border, in their direction, with their
+      name and how many times farther than typical they lie; the other points fill the
+      panel at their own scale, where they separate;
+    * points are named (the part after the last ``/``, at most :data:`LABEL_WIDTH`
+      characters) up to ``max_names`` shapes, where a name covers no other; beyond, each
+      class's name is written at the median of its points;
+    * classes get a colour and a marker each (:func:`class_styles`), listed in a legend
+      outside the panel: one column up to :data:`MAX_LEGEND_CLASSES` classes, in columns
+      below the panel up to ``LEGEND_COLUMNS`` times as many; beyond, the panel states
+      the number of classes.
 
     Parameters
     ----------
@@ -183,17 +517,22 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     names : sequence of str, length p, optional
         Shape names, written beside the points (up to ``max_names`` shapes).
     labels : sequence, length p, optional
-        Classes; points of one class share a colour.
+        Classes; points of one class share a colour and a marker.
     ax : matplotlib Axes, optional
         Draw here; by default a new Figure is made (not registered with pyplot).
     title : str, optional
     figsize : (float, float), default=(5.0, 4.5)
+        Made taller for a legend in columns.
     max_names : int, default=MDS_MAX_NAMES
-        Write no name when there are more shapes.
+        Write no shape name when there are more shapes (class names instead).
     legend : bool, default=True
-        Draw the class legend: outside the panel, on the right, on a figure of its own;
-        inside (where it covers the fewest points) when ``ax`` is given.  A figure of
-        several panels reads best with ``legend=False`` and one ``fig.legend``.
+        Draw the class legend: outside the panel on a figure of its own; inside (where it
+        covers the fewest points, up to :data:`MAX_LEGEND_CLASSES` classes) when ``ax`` is
+        given.  A figure of several panels reads best with ``legend=False`` and one
+        ``fig.legend``.
+    outliers : 'auto', None or array_like of bool, default='auto'
+        Which points to draw on the border (see :func:`mds_layout`); None draws every
+        point where it is, at the scale of them all.
 
     Returns
     -------
@@ -205,24 +544,55 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     p = len(Y)
     if names is not None and len(names) != p:
         raise ValueError(f"names has {len(names)} entries but Y has {p} points")
+    lay = mds_layout(Y, outliers)
+    out, P = lay["outliers"], lay["P"]
     own = ax is None
-    fig, ax = _figure_and_ax(ax, figsize)
     size = 25.0 if p <= 100 else max(4.0, 2500.0 / p)
+    scale = {"markerscale": max(1.0, (25.0 / size) ** 0.5)}  # legend markers stay visible
+    n_classes = 0
     if labels is not None:
-        colours, classes = _class_colours(labels, p)
-        ax.scatter(Y[:, 0], Y[:, 1], c=colours, s=size, linewidths=0)
-        for lab, col in classes:
-            ax.scatter([], [], color=col, label=short_label(lab))
-        if legend and len(classes) <= MAX_LEGEND_CLASSES and own:
-            ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1.0),
-                      borderaxespad=0.0, frameon=False)
-        elif legend and len(classes) <= MAX_LEGEND_CLASSES:  # a panel of a larger figure
-            ax.legend(fontsize="x-small", loc="best", framealpha=0.7)
+        codes, styles = class_styles(labels, p)
+        n_classes = len(styles)
     else:
-        ax.scatter(Y[:, 0], Y[:, 1], s=size, linewidths=0)
-    _square_limits(ax, Y)
-    if names is not None and p <= max_names:
-        annotate_points(ax, Y, short_labels(names))
+        codes, styles = np.zeros(p, dtype=np.int64), [("", "C0", "o")]
+    columns = 1 if n_classes <= MAX_LEGEND_CLASSES else -(-n_classes // MAX_LEGEND_CLASSES)
+    listed = legend and labels is not None and columns <= LEGEND_COLUMNS
+    if own and listed and columns > 1:  # the legend goes below: a taller figure
+        columns = min(LEGEND_COLUMNS, max(columns, 2))
+        rows = -(-(n_classes + bool(out.any())) // columns)
+        figsize = (max(figsize[0], 1.9 * columns), figsize[1] + 0.21 * rows + 0.5)
+    fig, ax = _figure_and_ax(ax, figsize)
+    for c, (lab, col, marker) in enumerate(styles):
+        sel = (codes == c) & ~out
+        ax.scatter(P[sel, 0], P[sel, 1], color=col, marker=marker, s=size, linewidths=0,
+                   label=short_label(lab) if labels is not None else None)
+    if out.any():
+        from matplotlib.markers import MarkerStyle
+        from matplotlib.transforms import Affine2D
+
+        for i in np.flatnonzero(out):
+            m = MarkerStyle(">", transform=Affine2D().rotate_deg(lay["angle"][i]))
+            ax.scatter([P[i, 0]], [P[i, 1]], color=styles[codes[i]][1], marker=m,
+                       s=max(size, 25.0) * 2.2, edgecolors="black", linewidths=0.6,
+                       zorder=3)
+        ax.scatter([], [], marker=">", color="white", edgecolors="black", linewidths=0.6,
+                   label="outlier, at the border (\u00d7k: k times the typical distance)")
+    _set_square(ax, lay["centre"], lay["half"])
+    if listed and own and columns == 1:
+        ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                  borderaxespad=0.0, frameon=False, **scale)
+    elif listed and own:
+        ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1),
+                  ncol=columns, borderaxespad=0.0, frameon=False, columnspacing=1.0,
+                  handletextpad=0.3, **scale)
+    elif legend and labels is not None and n_classes <= MAX_LEGEND_CLASSES:
+        ax.legend(fontsize="x-small", loc="best", framealpha=0.7, **scale)  # in a panel
+    elif out.any() and legend:
+        ax.legend(handles=ax.get_legend_handles_labels()[0][-1:], fontsize="x-small",
+                  loc="best", framealpha=0.7)
+    if labels is not None and legend and not listed:
+        ax.text(0.01, 0.01, f"{n_classes} classes", transform=ax.transAxes,
+                fontsize="x-small", color="0.35", ha="left", va="bottom")
     ax.set_xlabel("MDS 1", fontsize="small")
     ax.set_ylabel("MDS 2", fontsize="small")
     ax.locator_params(nbins=4)
@@ -230,6 +600,23 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     ax.tick_params(labelsize="x-small")
     if title:
         ax.set_title(title, fontsize="medium")
+    # texts last (they take the final layout): outliers first, then names or classes
+    texts, where = [], []
+    if out.any():
+        tags = short_labels(names) if names is not None else [f"#{i}" for i in range(p)]
+        for i in np.flatnonzero(out):
+            texts.append(f"{tags[i]} \u00d7{lay['ratio'][i]:.0f}")
+            where.append(P[i])
+    if names is not None and p <= max_names:
+        tags = short_labels(names)
+        texts += [tags[i] for i in np.flatnonzero(~out)]
+        where += [P[i] for i in np.flatnonzero(~out)]
+    elif labels is not None and n_classes > 1 and p > max_names:
+        for lab, xy in class_medians(Y[~out], [labels[i] for i in np.flatnonzero(~out)]):
+            texts.append(short_label(lab))
+            where.append(xy)
+    if texts:
+        annotate_points(ax, np.array(where), texts)
     return fig
 
 
