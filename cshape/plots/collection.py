@@ -365,6 +365,8 @@ def _side_points(ax) -> float:
     """The shorter side of ``ax`` in points (after a layout pass, if the figure has a
     layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
     fig = ax.figure
+    while getattr(fig, "figure", fig) is not fig:  # the root figure of a subfigure
+        fig = fig.figure
     if fig.get_layout_engine() is not None:
         fig.draw_without_rendering()  # the axes get their final size
     box = ax.get_window_extent()
@@ -525,11 +527,11 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
         Made taller for a legend in columns.
     max_names : int, default=MDS_MAX_NAMES
         Write no shape name when there are more shapes (class names instead).
-    legend : bool, default=True
-        Draw the class legend: outside the panel on a figure of its own; inside (where it
-        covers the fewest points, up to :data:`MAX_LEGEND_CLASSES` classes) when ``ax`` is
-        given.  A figure of several panels reads best with ``legend=False`` and one
-        ``fig.legend``.
+    legend : bool or 'outside', default=True
+        Draw the class legend: outside the panel on a figure of its own or with
+        ``'outside'``; inside (where it covers the fewest points, up to
+        :data:`MAX_LEGEND_CLASSES` classes) when ``ax`` is given.  A figure of several
+        panels reads best with ``legend=False`` and one ``fig.legend``.
     outliers : 'auto', None or array_like of bool, default='auto'
         Which points to draw on the border (see :func:`mds_layout`); None draws every
         point where it is, at the scale of them all.
@@ -576,11 +578,13 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
                        s=max(size, 25.0) * 2.2, edgecolors="black", linewidths=0.6,
                        zorder=3)
         ax.scatter([], [], marker=">", color="white", edgecolors="black", linewidths=0.6,
-                   label="outlier, at the border (\u00d7k: k times the typical distance)")
+                   label="outlier, on the border (\u00d7k typical distance)")
     _set_square(ax, lay["centre"], lay["half"])
-    if listed and own and columns == 1:
-        ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1.0),
-                  borderaxespad=0.0, frameon=False, **scale)
+    outside = own or legend == "outside"
+    if listed and outside and (columns == 1 or not own):
+        ax.legend(fontsize="small" if columns == 1 else "x-small", loc="upper left",
+                  bbox_to_anchor=(1.02, 1.0), ncol=columns, borderaxespad=0.0,
+                  frameon=False, **scale)
     elif listed and own:
         ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1),
                   ncol=columns, borderaxespad=0.0, frameon=False, columnspacing=1.0,

@@ -1,0 +1,770 @@
+"""Pictures for exploring one's own collection: which shapes lie near which.
+
+* :func:`collection_distances` - the distance matrix of a described collection under one
+  descriptor, with the rows that cannot be described left out (and named in a warning);
+* :func:`interactive_mds`      - the MDS as a plotly figure: each shape's name, class and
+  nearest neighbours on hover, outliers on the border, at any size;
+* :func:`plot_neighbour_strip`, :func:`neighbour_strip_plotly` - a query and its nearest
+  shapes as rendered thumbnails with their distances (matplotlib, plotly);
+* :func:`plot_overview`, :func:`overview_html` - the overview of a described folder: MDS,
+  distance matrix and a table of the classes (:func:`class_summary`);
+* :func:`figure_html`, :func:`save_figure` - offline HTML (plotly.js embedded, no network)
+  and atomic writes of any of these figures.
+
+Every figure names the descriptor it compared (:func:`descriptor_title`).  The pure
+functions behind the pictures (:func:`class_summary`, :func:`thumbnail_mesh`, and
+:func:`cshape.plots.collection.nearest_neighbours`, :func:`~cshape.plots.collection.mds_layout`)
+are tested directly.
+"""
+
+from __future__ import annotations
+
+import html
+import os
+import warnings
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from .._checks import check_choice, check_labels, check_square
+from .._files import atomic_write
+from ..compare import DESCRIPTOR_KINDS, descriptor_matrix, distance_matrix
+from ..mesh import CShapeWarning, as_mesh
+from .collection import (
+    class_styles,
+    mds_layout,
+    nearest_neighbours,
+    plot_distance_matrix,
+    plot_mds,
+    short_label,
+    short_labels,
+)
+
+__all__ = [
+    "CollectionDistances",
+    "class_summary",
+    "collection_distances",
+    "default_kind",
+    "descriptor_title",
+    "figure_html",
+    "guess_vertical_axis",
+    "interactive_mds",
+    "neighbour_strip_plotly",
+    "overview_html",
+    "plot_neighbour_strip",
+    "plot_overview",
+    "save_figure",
+    "thumbnail_mesh",
+]
+
+#: Most triangles of a thumbnail drawn by matplotlib (:func:`thumbnail_mesh`).
+THUMBNAIL_FACES = 6000
+#: Most triangles of a mesh drawn in an HTML strip (WebGL draws more, the file grows).
+HTML_THUMBNAIL_FACES = 20000
+#: Beyond this many shapes the HTML overview shows the class-by-class matrix of median
+#: distances instead of the shape-by-shape matrix (which would make a file of p^2 numbers).
+HTML_MATRIX_MAX = 800
+#: The static overview's class table lists at most this many classes (the largest first).
+OVERVIEW_TABLE_ROWS = 20
+#: plotly marker symbols of matplotlib's class markers.
+_PLOTLY_SYMBOLS = {"o": "circle", "s": "square", "^": "triangle-up", "D": "diamond",
+                   "v": "triangle-down", "<": "triangle-left", ">": "triangle-right",
+                   "p": "pentagon", "P": "cross", "*": "star", "X": "x", "h": "hexagon"}
+
+
+# =========================================================================== descriptors
+def default_kind() -> str:
+    """The descriptor compared when none is asked for: ``cshape.compare.DEFAULT_KIND`` when
+    the package defines one, else ``'cshape'``."""
+    from .. import compare
+
+    return str(getattr(compare, "DEFAULT_KIND", "cshape"))
+
+
+def descriptor_title(kind, M=16, N=100, transform="weyl") -> str:
+    """What a figure compared, in words: ``'cShape-DNA M=16 (33 values)'``.
+
+    >>> descriptor_title("truncated_log", M=8)
+    'truncated log spectrum (first 17 eigenvalues)'
+    """
+    n = 2 * M + 1
+    tr = "" if transform == "weyl" else f", {transform}"
+    names = {
+        "cshape": f"cShape-DNA M={M}{tr} ({n} values)",
+        "cshape_complex": f"cShape-DNA M={M}{tr} ({n} values)",
+        "shape_dna": f"Shape-DNA N={N} ({N} values)",
+        "truncated": f"truncated Shape-DNA (first {n} eigenvalues)",
+        "truncated_log": f"truncated log spectrum (first {n} eigenvalues)",
+        "f1": f"F1 N={N} ({N - 2} values)",
+    }
+    return names.get(kind, f"{kind} M={M} N={N}{tr}")
+
+
+class CollectionDistances(NamedTuple):
+    """The distances of a described collection under one descriptor.
+
+    Attributes
+    ----------
+    D : ndarray, shape (q, q)
+        Euclidean distances of the descriptors of the rows kept.
+    rows : ndarray of int, shape (q,)
+        The table rows kept, in order.
+    names, labels : list of str, length q
+        Their names and classes.
+    left_out : list of (str, str)
+        ``(name, reason)`` of every row that could not be described.
+    descriptor : str
+        :func:`descriptor_title` of the descriptor compared.
+    kind : str
+    """
+
+    D: np.ndarray
+    rows: np.ndarray
+    names: list
+    labels: list
+    left_out: list
+    descriptor: str
+    kind: str
+
+
+def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
+                         normalization="area") -> CollectionDistances:
+    """Distances between the shapes of a described collection, under one descriptor.
+
+    One shape never fails the collection: a row that cannot be described under ``kind``
+    (a mesh of several pieces, too few eigenvalues) is left out, and one
+    :class:`cshape.CShapeWarning` names every such row.
+
+    Parameters
+    ----------
+    table : DescriptorTable
+        Or any object with ``names``, ``labels``, ``lam`` (p, n), ``areas`` (p,), ``M``,
+        ``N`` and ``transform``.
+    kind : str, optional
+        See :func:`cshape.compare.descriptor_matrix`; default :func:`default_kind`.
+    M, N, transform : optional
+        Default: the table's.
+    normalization : {'area', 'fiedler', 'weyl'}, default='area'
+
+    Returns
+    -------
+    CollectionDistances
+
+    Raises
+    ------
+    ValueError
+        If no shape (or a single one) can be described under ``kind``, or ``kind`` is
+        unknown.
+    """
+    kind = check_choice("kind", default_kind() if kind is None else kind, DESCRIPTOR_KINDS)
+    recipe = {"kind": kind, "M": table.M if M is None else M, "N": table.N if N is None else N,
+              "transform": table.transform if transform is None else transform,
+              "normalization": normalization}
+    title = descriptor_title(kind, recipe["M"], recipe["N"], recipe["transform"])
+    p = len(table.names)
+    X, first_error = None, None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            X = descriptor_matrix(table.lam, table.areas, **recipe)
+        except ValueError as exc:
+            first_error = exc
+    if X is not None and len(X) == p:
+        for w in caught:  # the warnings of a complete matrix are the caller's
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        rows, left_out = np.arange(p), []
+    else:
+        rows, left_out = [], []
+        for i in range(p):  # one by one: which rows cannot be described
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                try:
+                    x = descriptor_matrix(table.lam[i:i + 1], table.areas[i:i + 1], **recipe)
+                    why = None if len(x) == 1 else (
+                        "; ".join(str(w.message) for w in caught) or "left out")
+                except ValueError as exc:
+                    why = str(exc)
+            if why is None:
+                rows.append(i)
+            else:
+                left_out.append((table.names[i], " ".join(why.split())))
+        if not rows and first_error is not None:
+            raise first_error
+        rows = np.asarray(rows, dtype=np.int64)
+        if left_out:
+            shown = ", ".join(n for n, _ in left_out[:10])
+            more = f" and {len(left_out) - 10} more" if len(left_out) > 10 else ""
+            warnings.warn(
+                f"{len(left_out)} of {p} shapes cannot be described by {title} and are left "
+                f"out of the figures: {shown}{more} ({left_out[0][1]})",
+                CShapeWarning, stacklevel=2)
+        if len(rows) < 2:
+            raise ValueError(
+                f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "
+                "needs two or more: choose another kind (kind=...)")
+        X = descriptor_matrix(table.lam[rows], table.areas[rows], **recipe)
+    D = distance_matrix(X)
+    return CollectionDistances(D, rows, [table.names[i] for i in rows],
+                               [table.labels[i] for i in rows], left_out, title, kind)
+
+
+# =========================================================================== classes
+def class_summary(D, labels) -> list[dict]:
+    """One row per class: its size, spread, nearest other class and how often its shapes'
+    nearest neighbour is of the class.
+
+    Parameters
+    ----------
+    D : array_like, shape (p, p)
+    labels : sequence, length p
+
+    Returns
+    -------
+    list of dict, one per class in first-seen order
+        ``label``; ``n`` (shapes); ``within`` (median distance between two shapes of the
+        class, NaN for a class of one); ``nearest`` (the class of the nearest shape of
+        another class, ``''`` when there is one class) and ``gap`` (that distance);
+        ``nn_same`` (fraction of the class's shapes whose nearest other shape is of the
+        class, NaN for a class of one).
+    """
+    A = check_square(D, "D")
+    codes = check_labels(labels, len(A))
+    lab = [str(x) for x in labels]
+    first = {}
+    for i, c in enumerate(codes):
+        first.setdefault(int(c), i)
+    B = A.copy()
+    np.fill_diagonal(B, np.inf)
+    nn = np.argmin(B, axis=1) if len(A) > 1 else np.zeros(len(A), dtype=np.int64)
+    out = []
+    for c, i0 in first.items():
+        inside = codes == c
+        n = int(inside.sum())
+        sub = A[np.ix_(inside, inside)][np.triu_indices(n, 1)]
+        other = B[np.ix_(inside, ~inside)]
+        if other.size:
+            a, b = np.unravel_index(np.argmin(other), other.shape)
+            nearest, gap = lab[np.flatnonzero(~inside)[b]], float(other[a, b])
+        else:
+            nearest, gap = "", float("nan")
+        out.append({
+            "label": lab[i0], "n": n,
+            "within": float(np.median(sub)) if sub.size else float("nan"),
+            "nearest": nearest, "gap": gap,
+            "nn_same": float(np.mean(codes[nn[inside]] == c)) if n > 1 else float("nan"),
+        })
+    return out
+
+
+# =========================================================================== interactive MDS
+def _rgb(colour) -> str:
+    r, g, b = (int(round(255 * x)) for x in colour[:3])
+    return f"rgb({r},{g},{b})"
+
+
+def _hover_texts(names, labels, D, k, lay):
+    p = len(names)
+    texts = []
+    ind = dist = None
+    if D is not None and p > 1:
+        ind, dist = nearest_neighbours(D, k)
+    for i in range(p):
+        t = f"<b>{html.escape(str(names[i]))}</b>"
+        if labels is not None:
+            t += f"<br>class: {html.escape(str(labels[i]))}"
+        if ind is not None:
+            near = ", ".join(f"{html.escape(str(names[j]))} ({d:.4g})"
+                             for j, d in zip(ind[i], dist[i], strict=True))
+            t += f"<br>nearest: {near}"
+        if lay["outliers"][i]:
+            t += (f"<br>outlier: {lay['ratio'][i]:.0f}\u00d7 the typical distance, drawn at the"
+                  " border")
+        texts.append(t)
+    return texts
+
+
+def interactive_mds(Y, names, labels=None, *, D=None, k=3, title=None, outliers="auto",
+                    height=650):
+    """The MDS of a collection as an interactive plotly figure.
+
+    Hovering a point shows its name, class and its ``k`` nearest shapes with their
+    distances (from ``D``, the distances compared, not the MDS coordinates).  Outliers are
+    drawn as arrows on the border pointing their way (as in :func:`plot_mds`), so the
+    first view shows the rest at its own scale; classes are legend entries (click to hide
+    one, double-click to show only it), in the colours and markers of :func:`plot_mds`.
+    Any number of shapes: beyond 2000 points WebGL draws them.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, 2)
+    names : sequence of str, length p
+    labels : sequence, length p, optional
+    D : array_like, shape (p, p), optional
+        The distances; without it the hover shows no neighbours.
+    k : int, default=3
+    title : str, optional
+        Say which descriptor was compared (:func:`descriptor_title`).
+    outliers : 'auto', None or array_like of bool, default='auto'
+        See :func:`cshape.plots.collection.mds_layout`.
+    height : int, default=650
+        Pixels.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Not shown; :func:`figure_html` or :func:`save_figure` write it offline.
+    """
+    import plotly.graph_objects as go
+
+    Y = np.asarray(Y, dtype=np.float64)
+    if Y.ndim != 2 or Y.shape[1] != 2:
+        raise ValueError(f"Y must have shape (p, 2), got {Y.shape}; use mds_embedding(D)")
+    p = len(Y)
+    if len(names) != p:
+        raise ValueError(f"names has {len(names)} entries but Y has {p} points")
+    if D is not None and check_square(D, "D").shape[0] != p:
+        raise ValueError(f"D has {len(D)} rows but Y has {p} points")
+    lay = mds_layout(Y, outliers)
+    out, P = lay["outliers"], lay["P"]
+    hover = _hover_texts(names, labels, D, k, lay)
+    if labels is not None:
+        codes, styles = class_styles(labels, p)
+    else:
+        codes, styles = np.zeros(p, dtype=np.int64), [("shapes", (0.12, 0.47, 0.71), "o")]
+    Scatter = go.Scattergl if p > 2000 else go.Scatter
+    size = 9 if p <= 200 else 6 if p <= 2000 else 4
+    fig = go.Figure()
+    for c, (lab, col, marker) in enumerate(styles):
+        sel = np.flatnonzero((codes == c) & ~out)
+        fig.add_trace(Scatter(
+            x=P[sel, 0], y=P[sel, 1], mode="markers", name=short_label(lab, 24),
+            legendgroup=str(c), text=[hover[i] for i in sel], hoverinfo="text",
+            customdata=[str(names[i]) for i in sel],
+            marker={"color": _rgb(col), "symbol": _PLOTLY_SYMBOLS.get(marker, "circle"),
+                    "size": size, "line": {"width": 0}}))
+    if out.any():
+        sel = np.flatnonzero(out)
+        tags = short_labels([str(names[i]) for i in range(p)])
+        # text inside the panel: to the left of points on the right border, and so on
+        pos = []
+        for i in sel:
+            dx, dy = (P[i] - lay["centre"]) / lay["half"]
+            pos.append(("bottom" if dy > 0.5 else "top" if dy < -0.5 else "middle") + " "
+                       + ("left" if dx > 0.5 else "right" if dx < -0.5 else "center"))
+        fig.add_trace(go.Scatter(
+            x=P[sel, 0], y=P[sel, 1], mode="markers+text", name="outliers, at the border",
+            text=[f"{tags[i]} \u00d7{lay['ratio'][i]:.0f}" for i in sel], textposition=pos,
+            hovertext=[hover[i] for i in sel], hoverinfo="text",
+            customdata=[str(names[i]) for i in sel],
+            marker={"symbol": "arrow", "angle": [90.0 - lay["angle"][i] for i in sel],
+                    "size": 16, "color": [_rgb(styles[codes[i]][1]) for i in sel],
+                    "line": {"width": 1, "color": "black"}}))
+    c, h = lay["centre"], lay["half"]
+    fig.update_layout(
+        title={"text": html.escape(title) if title else None, "x": 0.5},
+        height=height, template="plotly_white", hovermode="closest",
+        hoverlabel={"align": "left"}, legend={"title": {"text": "class"}, "itemsizing": "constant"},
+        xaxis={"range": [c[0] - h, c[0] + h], "title": "MDS 1", "zeroline": False},
+        yaxis={"range": [c[1] - h, c[1] + h], "title": "MDS 2", "zeroline": False,
+               "scaleanchor": "x", "scaleratio": 1},
+        margin={"l": 60, "r": 20, "t": 60, "b": 50})
+    return fig
+
+
+def figure_html(fig, *, full_html=True, include_plotlyjs=True) -> str:
+    """A plotly figure as HTML that works offline: plotly.js embedded in the page (no CDN),
+    no MathJax."""
+    return fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
+                       include_mathjax=False, config={"displaylogo": False, "responsive": True})
+
+
+# =========================================================================== thumbnails
+def thumbnail_mesh(mesh, max_faces=THUMBNAIL_FACES):
+    """A lighter copy of a mesh for a thumbnail: vertex clustering on a grid.
+
+    Vertices in one cell of a regular grid merge into their mean; triangles that lose a
+    corner vanish.  The cell shrinks the count below ``max_faces`` (a coarser grid each
+    time, starting from about ``sqrt(max_faces)`` cells along the longest side).  Enough
+    for a picture, not for computing.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+    max_faces : int, default=THUMBNAIL_FACES
+
+    Returns
+    -------
+    V : ndarray, shape (n', 3)
+    F : ndarray, shape (m', 3)
+        ``m' <= max_faces``; the mesh itself when it has no more triangles.
+    """
+    m = as_mesh(mesh)
+    V, F = np.asarray(m.vertices, dtype=np.float64), np.asarray(m.faces, dtype=np.int64)
+    if len(F) <= max_faces:
+        return V, F
+    lo = V.min(axis=0)
+    extent = float((V.max(axis=0) - lo).max()) or 1.0
+    cells = max(2.0, np.sqrt(max_faces))
+    while True:
+        key = np.floor((V - lo) / (extent / cells)).astype(np.int64)
+        _, inv, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        inv = inv.reshape(-1)
+        W = np.zeros((len(counts), 3))
+        np.add.at(W, inv, V)
+        W /= counts[:, None]
+        G = inv[F]
+        G = G[(G[:, 0] != G[:, 1]) & (G[:, 1] != G[:, 2]) & (G[:, 0] != G[:, 2])]
+        _, first = np.unique(np.sort(G, axis=1), axis=0, return_index=True)
+        G = G[np.sort(first)]
+        if len(G) <= max_faces or cells <= 2:
+            used, G = np.unique(G, return_inverse=True)
+            return W[used], G.reshape(-1, 3)
+        cells *= 0.8
+
+
+def guess_vertical_axis(path) -> str:
+    """The up axis by the file format's habit: ``'y'`` for OBJ, glTF and COLLADA (modelling
+    tools), ``'z'`` for the rest (scanners and CAD: PLY, STL, OFF, ...)."""
+    from ..readers import split_mesh_name
+
+    suffix = split_mesh_name(Path(path))[1].lower()
+    return "y" if suffix in (".obj", ".gltf", ".glb", ".dae") else "z"
+
+
+def _axes_list(vertical_axis, n):
+    if isinstance(vertical_axis, str):
+        return [vertical_axis] * n
+    axes = list(vertical_axis)
+    if len(axes) != n:
+        raise ValueError(f"vertical_axis has {len(axes)} entries for {n} meshes")
+    return axes
+
+
+def _strip_texts(names, distances, labels, n):
+    if len(names) != n:
+        raise ValueError(f"names has {len(names)} entries for {n} meshes (the query first)")
+    d = np.asarray(distances, dtype=np.float64).reshape(-1)
+    if len(d) != n - 1:
+        raise ValueError(f"distances has {len(d)} entries for {n - 1} neighbours (one per "
+                         "mesh after the query)")
+    if labels is not None and len(labels) != n:
+        raise ValueError(f"labels has {len(labels)} entries for {n} meshes")
+    heads = ["query"] + [f"{j}. d = {d[j - 1]:.4g}" for j in range(1, n)]
+    return heads, d
+
+
+def plot_neighbour_strip(meshes, names, distances, *, labels=None, title=None,
+                         vertical_axis="z", max_faces=THUMBNAIL_FACES, ncols=6, size=2.3):
+    """A query and its nearest shapes, rendered side by side with their distances.
+
+    Parameters
+    ----------
+    meshes : sequence of Mesh or (vertices, faces)
+        The query first, then its neighbours, nearest first.
+    names : sequence of str
+        One per mesh.
+    distances : array_like, shape (len(meshes) - 1,)
+        Distance of each neighbour to the query.
+    labels : sequence of str, optional
+        Class of each mesh, written under its name.
+    title : str, optional
+        Say which descriptor was compared (:func:`descriptor_title`).
+    vertical_axis : {'z', 'y', 'x'} or sequence of them, default='z'
+        The axis drawn upwards, for all meshes or each (see :func:`guess_vertical_axis`).
+    max_faces : int, default=THUMBNAIL_FACES
+        Meshes with more triangles are drawn from :func:`thumbnail_mesh`.
+    ncols : int, default=6
+        Thumbnails per row.
+    size : float, default=2.3
+        Inches per thumbnail.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    from .figures import plot_mesh
+
+    n = len(meshes)
+    heads, _ = _strip_texts(names, distances, labels, n)
+    axes = _axes_list(vertical_axis, n)
+    cols = min(ncols, n)
+    rows = -(-n // cols)
+    head = 0.35 if title else 0.0  # inches above the panels
+    height = size * rows * 1.15 + head
+    fig = Figure(figsize=(size * cols, height))
+    # a fixed layout: 3-D panels' titles are not seen by the layout engines
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.0, top=1.0 - head / height,
+                        wspace=0.02, hspace=0.12)
+    for j in range(n):
+        ax = fig.add_subplot(rows, cols, j + 1, projection="3d")
+        plot_mesh(thumbnail_mesh(meshes[j], max_faces), ax=ax, edges=False,
+                  vertical_axis=axes[j], elev=18.0, azim=-60.0)
+        ax.set_box_aspect((1, 1, 1), zoom=1.3)
+        text = f"{heads[j]}\n{short_label(names[j], 22)}"
+        if labels is not None:
+            text += f"\n[{short_label(labels[j], 22)}]"
+        ax.set_title(text, fontsize="small", color="C3" if j == 0 else "black",
+                     fontweight="bold" if j == 0 else "normal", y=0.93)
+    if title:
+        fig.suptitle(title, fontsize="medium", y=1.0 - 0.08 / height, va="top")
+    return fig
+
+
+def _camera(axis):
+    up = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}[axis]
+    eye = {"x": (0.4, 1.3, 1.3), "y": (1.3, 0.5, 1.3), "z": (1.3, -1.3, 0.5)}[axis]
+    return {"up": dict(zip("xyz", up, strict=True)), "eye": dict(zip("xyz", eye, strict=True))}
+
+
+def neighbour_strip_plotly(meshes, names, distances, *, labels=None, title=None,
+                           vertical_axis="z", max_faces=HTML_THUMBNAIL_FACES, height=360):
+    """:func:`plot_neighbour_strip` as an interactive plotly figure (each mesh turns and
+    zooms on its own; hover shows its name).  Parameters as there; returns a
+    ``plotly.graph_objects.Figure``."""
+    import plotly.graph_objects as go
+    from plotly.subplots import make_subplots
+
+    n = len(meshes)
+    heads, _ = _strip_texts(names, distances, labels, n)
+    axes = _axes_list(vertical_axis, n)
+    titles = [f"{h}<br>{html.escape(short_label(nm, 24))}"
+              + (f"<br>[{html.escape(short_label(labels[j], 24))}]" if labels is not None else "")
+              for j, (h, nm) in enumerate(zip(heads, names, strict=True))]
+    fig = make_subplots(rows=1, cols=n, specs=[[{"type": "scene"}] * n], subplot_titles=titles,
+                        horizontal_spacing=0.01)
+    for j in range(n):
+        V, F = thumbnail_mesh(meshes[j], max_faces)
+        fig.add_trace(go.Mesh3d(
+            x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
+            color="rgb(200,60,50)" if j == 0 else "rgb(185,192,205)", flatshading=True,
+            lighting={"ambient": 0.45, "diffuse": 0.8, "specular": 0.1},
+            hoverinfo="text", hovertext=html.escape(str(names[j])), name=str(names[j]),
+            showscale=False), row=1, col=j + 1)
+        scene = "scene" if j == 0 else f"scene{j + 1}"
+        fig.layout[scene].update(
+            aspectmode="data", camera=_camera(axes[j]),
+            xaxis={"visible": False}, yaxis={"visible": False}, zaxis={"visible": False})
+    fig.update_layout(title={"text": html.escape(title) if title else None, "x": 0.5},
+                      height=height, width=max(600, 230 * n), showlegend=False,
+                      margin={"l": 5, "r": 5, "t": 110 if labels is not None else 90, "b": 5})
+    for a in fig.layout.annotations:
+        a.font.size = 12
+    return fig
+
+
+# =========================================================================== overview
+def _class_order(labels):
+    """Rows ordered by class (first-seen order of the classes), stable within a class."""
+    codes = check_labels(labels, len(labels))
+    return np.argsort(codes, kind="stable")
+
+
+def _fmt(x, spec=".4g"):
+    return "-" if x is None or (isinstance(x, float) and np.isnan(x)) else format(x, spec)
+
+
+def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_out=(),
+                  random_state=0, table_rows=OVERVIEW_TABLE_ROWS):
+    """The overview of a described collection on one page: MDS, distance matrix, classes.
+
+    Parameters
+    ----------
+    D : array_like, shape (p, p)
+        Distances (:func:`collection_distances`).
+    names, labels : sequence of str, length p
+    Y : array_like, shape (p, 2), optional
+        MDS coordinates; computed from ``D`` when not given.
+    descriptor : str
+        What was compared (:func:`descriptor_title`), in the title.
+    title : str, optional
+        First line of the title (e.g. the table's file name).
+    left_out : sequence of (str, str)
+        Shapes that could not be described, named under the title.
+    random_state : int, default=0
+        Of :func:`cshape.mds_embedding`.
+    table_rows : int, default=OVERVIEW_TABLE_ROWS
+        Classes listed (the largest first), the rest counted.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    from ..compare import mds_embedding
+
+    A = check_square(D, "D")
+    p = len(A)
+    labels = [str(x) for x in labels]
+    if len(names) != p or len(labels) != p:
+        raise ValueError(f"names and labels need {p} entries (one per row of D)")
+    if Y is None:
+        Y = mds_embedding(A, random_state=random_state)
+    rows = sorted(class_summary(A, labels), key=lambda r: (-r["n"], r["label"]))
+    shown = rows[:table_rows]
+    fig = Figure(figsize=(12.0, 5.2 + 0.22 * (len(shown) + 2)), layout="constrained")
+    top, bottom = fig.subfigures(2, 1, height_ratios=[5.2, 0.22 * (len(shown) + 2) + 0.3])
+    ax1, ax2 = top.subplots(1, 2)
+    order = _class_order(labels)
+    plot_distance_matrix(A[np.ix_(order, order)], ax=ax2, names=[names[i] for i in order],
+                         labels=[labels[i] for i in order],
+                         title="distances, scaled to [0, 255], by class")
+    head = f"{title}: " if title else ""
+    n_classes = len(rows)
+    sup = f"{head}{p} shapes, {n_classes} classes, compared by {descriptor}"
+    if left_out:
+        sup += (f"\nleft out ({len(left_out)}, cannot be described): "
+                + ", ".join(n for n, _ in left_out[:8]) + (" ..." if len(left_out) > 8 else ""))
+    fig.suptitle(sup, fontsize="medium")
+    ax3 = bottom.subplots()
+    ax3.set_axis_off()
+    cells = [[short_label(r["label"], 24), str(r["n"]), _fmt(r["within"]),
+              short_label(r["nearest"], 24) or "-", _fmt(r["gap"]),
+              _fmt(100 * r["nn_same"], ".0f")] for r in shown]
+    if len(rows) > len(shown):
+        rest = rows[len(shown):]
+        cells.append([f"... {len(rest)} more classes", str(sum(r["n"] for r in rest)),
+                      "", "", "", ""])
+    tab = ax3.table(cellText=cells, loc="upper center", cellLoc="left",
+                    colLabels=["class", "shapes", "median distance within",
+                               "nearest other class", "its distance",
+                               "nearest neighbour in class (%)"])
+    tab.auto_set_font_size(False)
+    tab.set_fontsize(8)
+    tab.auto_set_column_width(list(range(6)))
+    # the MDS last: its names are placed in the final layout
+    plot_mds(Y, names, labels, ax=ax1, legend="outside",
+             title="MDS (Euclidean distances of the descriptors)")
+    return fig
+
+
+def _matrix_figure(A, names, labels, descriptor):
+    import plotly.graph_objects as go
+
+    p = len(A)
+    order = _class_order(labels)
+    if p <= HTML_MATRIX_MAX:
+        z = A[np.ix_(order, order)]
+        ticks = [str(names[i]) for i in order]
+        hover = "%{y}<br>%{x}<br>distance %{z:.4g}<extra></extra>"
+        what = "distance between every two shapes, ordered by class"
+    else:  # one cell per pair of classes: the median distance
+        codes = check_labels(labels, p)
+        first = {}
+        for i, c in enumerate(codes):
+            first.setdefault(int(c), i)
+        ticks = [str(labels[i]) for i in first.values()]
+        cls = list(first)
+        z = np.array([[np.median(A[np.ix_(codes == a, codes == b)]) for b in cls]
+                      for a in cls])
+        hover = "%{y}<br>%{x}<br>median distance %{z:.4g}<extra></extra>"
+        what = (f"median distance between every two classes ({p} shapes are more than "
+                f"{HTML_MATRIX_MAX}, the shape-by-shape matrix would be too large)")
+    fig = go.Figure(go.Heatmap(z=z, x=ticks, y=ticks, colorscale="Jet", hovertemplate=hover,
+                               colorbar={"title": {"text": "distance"}}))
+    fig.update_layout(title={"text": html.escape(f"{what}; {descriptor}"), "x": 0.5},
+                      height=700, template="plotly_white",
+                      xaxis={"showticklabels": len(ticks) <= 60, "constrain": "domain"},
+                      yaxis={"autorange": "reversed", "showticklabels": len(ticks) <= 60,
+                             "scaleanchor": "x"},
+                      margin={"l": 60, "r": 20, "t": 60, "b": 40})
+    return fig
+
+
+_STYLE = """body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1100px;color:#222}
+h1{font-size:1.4em}h2{font-size:1.15em;margin-top:1.6em}
+table{border-collapse:collapse;font-size:.9em}td,th{padding:.25em .7em;border-bottom:1px solid #ddd}
+th{text-align:left;background:#f4f4f4}td.n{text-align:right}.note{color:#555}"""
+
+
+def overview_html(D, names, labels, *, Y=None, descriptor="", title=None, left_out=(),
+                  k=3, random_state=0) -> str:
+    """The overview of a described collection as one offline HTML page.
+
+    An interactive MDS (:func:`interactive_mds`: names, classes and nearest neighbours on
+    hover), the distance matrix (hover: the two shapes and their distance; beyond
+    :data:`HTML_MATRIX_MAX` shapes the class-by-class medians) and a table of the classes
+    (:func:`class_summary`).  plotly.js is embedded once; the page asks the network for
+    nothing.  Parameters as :func:`plot_overview`; ``k`` neighbours on hover.
+
+    Returns
+    -------
+    str
+    """
+    from ..compare import mds_embedding
+
+    A = check_square(D, "D")
+    p = len(A)
+    labels = [str(x) for x in labels]
+    if len(names) != p or len(labels) != p:
+        raise ValueError(f"names and labels need {p} entries (one per row of D)")
+    if Y is None:
+        Y = mds_embedding(A, random_state=random_state)
+    rows = class_summary(A, labels)
+    head = f"{title}: " if title else ""
+    mds = interactive_mds(Y, names, labels, D=A, k=k, outliers="auto",
+                          title=f"MDS of {p} shapes by {descriptor}")
+    n_out = int(mds_layout(Y)["outliers"].sum())
+    parts = [
+        "<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+        f"<title>{html.escape(head + 'overview')}</title><style>{_STYLE}</style></head><body>",
+        f"<h1>{html.escape(head)}{p} shapes, {len(rows)} classes</h1>",
+        f"<p>Compared by <b>{html.escape(descriptor)}</b>, Euclidean distance. "
+        "Hover a point for its name, class and nearest shapes.</p>",
+    ]
+    if left_out:
+        items = "".join(f"<li>{html.escape(n)}: {html.escape(w)}</li>" for n, w in left_out)
+        parts.append(f"<p class='note'>Left out ({len(left_out)}: they cannot be described by "
+                     f"{html.escape(descriptor)}):</p><ul class='note'>{items}</ul>")
+    parts += ["<h2>MDS</h2>"]
+    if n_out:
+        parts.append(f"<p class='note'>{n_out} outlier{'s' if n_out > 1 else ''} (median "
+                     "distance more than 5\u00d7 the typical one) drawn as arrows on the "
+                     "border, pointing their way; the rest is drawn at its own scale.</p>")
+    parts += [figure_html(mds, full_html=False, include_plotlyjs=True),
+              "<h2>Distance matrix</h2>",
+              figure_html(_matrix_figure(A, names, labels, descriptor), full_html=False,
+                          include_plotlyjs=False),
+              "<h2>Classes</h2>",
+              "<table><tr><th>class</th><th>shapes</th><th>median distance within</th>"
+              "<th>nearest other class</th><th>its distance</th>"
+              "<th>nearest neighbour in class (%)</th></tr>"]
+    for r in sorted(rows, key=lambda r: (-r["n"], r["label"])):
+        parts.append(
+            f"<tr><td>{html.escape(r['label'])}</td><td class='n'>{r['n']}</td>"
+            f"<td class='n'>{_fmt(r['within'])}</td><td>{html.escape(r['nearest']) or '-'}</td>"
+            f"<td class='n'>{_fmt(r['gap'])}</td>"
+            f"<td class='n'>{_fmt(100 * r['nn_same'], '.0f')}</td></tr>")
+    parts += ["</table>", "</body></html>"]
+    return "\n".join(parts)
+
+
+# =========================================================================== files
+#: File types :func:`save_figure` writes: matplotlib figures and plotly figures.
+IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
+HTML_SUFFIXES = (".html", ".htm")
+
+
+def save_figure(fig, path, *, dpi=150) -> Path:
+    """Write a figure atomically (never a half-written file): a matplotlib figure as
+    ``.png``, ``.svg`` or ``.pdf``; a plotly figure or an HTML string as ``.html`` (offline,
+    plotly.js embedded).
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    path = Path(os.fspath(path))
+    suffix = path.suffix.lower()
+    if isinstance(fig, str) or hasattr(fig, "to_html"):
+        if suffix not in HTML_SUFFIXES:
+            raise ValueError(f"an interactive figure is written as .html, got {str(path)!r}")
+        text = fig if isinstance(fig, str) else figure_html(fig)
+        return atomic_write(path, lambda f: f.write(text), binary=False)
+    if suffix not in IMAGE_SUFFIXES:
+        raise ValueError(f"a matplotlib figure is written as {', '.join(IMAGE_SUFFIXES)}, "
+                         f"got {str(path)!r}")
+    return atomic_write(path, lambda f: fig.savefig(f, format=suffix[1:], dpi=dpi))
