@@ -31,6 +31,7 @@ import warnings
 from collections import Counter
 from pathlib import Path
 
+from . import pictures
 from .output import CommandError, print_warnings
 
 __all__ = ["add_describe", "add_info", "add_query", "collect_mesh_files", "mesh_report"]
@@ -476,6 +477,7 @@ def _cmd_query(args) -> int:
                          f"use -N {table.N} or less")
     if args.k < 1:
         raise ValueError(f"-k must be at least 1, got {args.k}")
+    pictures.check_plot_options(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
@@ -527,6 +529,13 @@ def _cmd_query(args) -> int:
         print(f"cshape query: only {k} other shapes in the table"
               f"{' that --kind ' + args.kind + ' describes' if len(rows) < len(table) else ''}",
               file=sys.stderr)
+    if args.plot is not None:
+        from ..plots.explore import descriptor_title
+
+        wrote = pictures.write_neighbour_strip(
+            args, table, hits, None if exclude is not None else target,
+            descriptor_title(args.kind, r["M"], r["N"], r["transform"]))
+        print(f"cshape query: wrote {wrote}", file=sys.stderr)
     if args.json:
         print(json.dumps({"query": target, **r,
                           "neighbours": [{"rank": j + 1, "name": table.names[i],
@@ -551,7 +560,7 @@ def add_query(sub):
         description="Load a table written by `cshape describe --out` and list the k shapes "
         "nearest to MESH_OR_NAME (a shape of the table, or a mesh file, described with the "
         "table's N, boundary condition, mass matrix and transform), with their distances.",
-        epilog="example: cshape query table.csv spot -k 5",
+        epilog="example: cshape query table.csv spot -k 5 --plot spot.png --meshes meshes/",
     )
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")
     p.add_argument("target", metavar="MESH_OR_NAME", help="a shape name of TABLE or a mesh file")
@@ -566,4 +575,5 @@ def add_query(sub):
     p.add_argument("--cache-dir", default=None, help="eigenvalue cache for a mesh file query")
     p.add_argument("--no-cache", action="store_true", help="do not use the eigenvalue cache")
     p.add_argument("--json", action="store_true", help="print the neighbours as JSON")
+    pictures.add_plot_options(p)
     p.set_defaults(func=_cmd_query)

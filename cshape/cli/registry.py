@@ -16,7 +16,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import apps, course, data, explore
+from . import apps, course, data, explore, pictures
 from .output import EXPECTED_ERRORS, one_line
 
 __all__ = ["SUBCOMMANDS", "build_parser", "main"]
@@ -39,6 +39,7 @@ SUBCOMMANDS = (
     explore.add_describe,
     explore.add_info,
     explore.add_query,
+    pictures.add_overview,
     data.add_data,
     course.add_notebooks,
     course.add_assignments,

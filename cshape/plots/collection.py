@@ -188,8 +188,13 @@ def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
     for start in range(0, p, 512):  # blocks of rows: memory 512 x reference
         rows = np.arange(start, min(p, start + 512))
         d = np.linalg.norm(Y[rows, None, :] - Y[None, ref, :], axis=2)
-        d[rows[:, None] == ref[None, :]] = np.nan  # not against itself
-        out[rows] = np.nanmedian(d, axis=1)
+        own = rows[:, None] == ref[None, :]
+        d[own] = np.inf  # not against itself: sorted last, and left out of the count
+        d.sort(axis=1)
+        m = len(ref) - own.any(axis=1)  # values counted in each row
+        lo, hi = (m - 1) // 2, m // 2
+        r = np.arange(len(rows))
+        out[rows] = (d[r, lo] + d[r, hi]) / 2
     return out
 
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 import html
 import os
 import warnings
+from collections import Counter
 from pathlib import Path
 from typing import NamedTuple
 
@@ -163,11 +164,12 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
               "normalization": normalization}
     title = descriptor_title(kind, recipe["M"], recipe["N"], recipe["transform"])
     p = len(table.names)
+    areas = np.asarray(table.areas, dtype=np.float64).reshape(-1)
     X, first_error = None, None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            X = descriptor_matrix(table.lam, table.areas, **recipe)
+            X = descriptor_matrix(table.lam, areas, **recipe)
         except ValueError as exc:
             first_error = exc
     if X is not None and len(X) == p:
@@ -175,20 +177,31 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         rows, left_out = np.arange(p), []
     else:
-        rows, left_out = [], []
+        rows, left_out, sizes = [], [], {}
         for i in range(p):  # one by one: which rows cannot be described
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 try:
-                    x = descriptor_matrix(table.lam[i:i + 1], table.areas[i:i + 1], **recipe)
+                    x = descriptor_matrix([table.lam[i]], areas[i:i + 1], **recipe)
                     why = None if len(x) == 1 else (
                         "; ".join(str(w.message) for w in caught) or "left out")
                 except ValueError as exc:
                     why = str(exc)
             if why is None:
                 rows.append(i)
+                sizes[i] = x.shape[1]
             else:
                 left_out.append((table.names[i], " ".join(why.split())))
+        if len(set(sizes.values())) > 1:  # F1 of a mesh of several pieces: a shorter row
+            usual = Counter(sizes.values()).most_common(1)[0][0]
+            for i in rows:
+                if sizes[i] != usual:
+                    left_out.append((table.names[i], (
+                        f"its descriptor has {sizes[i]} values, the others {usual}: several "
+                        "zero eigenvalues (a mesh of several pieces?)")))
+            rows = [i for i in rows if sizes[i] == usual]
+            order = {n: k for k, n in enumerate(table.names)}
+            left_out.sort(key=lambda item: order[item[0]])
         if not rows and first_error is not None:
             raise first_error
         rows = np.asarray(rows, dtype=np.int64)
@@ -203,7 +216,7 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
             raise ValueError(
                 f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "
                 "needs two or more: choose another kind (kind=...)")
-        X = descriptor_matrix(table.lam[rows], table.areas[rows], **recipe)
+        X = descriptor_matrix([table.lam[i] for i in rows], areas[rows], **recipe)
     D = distance_matrix(X)
     return CollectionDistances(D, rows, [table.names[i] for i in rows],
                                [table.labels[i] for i in rows], left_out, title, kind)
