@@ -372,3 +372,112 @@ def test_exported_html_renders_math_and_3d_offline(tmp_path):
     assert "10" in title1, title1  # the 10th eigenfunction
     assert _not_blank(px0) and _not_blank(px1)
     assert _changed(px0, px1) > 0.01, "the canvas did not change"
+
+
+# ------------------------------------------------------------------------------ own collection
+def _offline_page(browser, asked, viewport=(1200, 900)):
+    """A page that may load file: URLs only; any other request is recorded and refused."""
+    page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
+
+    def offline(route):
+        if route.request.url.startswith("file:"):
+            route.continue_()
+        else:
+            asked.append(route.request.url)
+            route.abort("internetdisconnected")
+
+    page.route("**/*", offline)
+    return page
+
+
+def _hover_text(page, point):
+    """Move the mouse onto an SVG point of a plotly figure; the hover label's text."""
+    point.scroll_into_view_if_needed()
+    box = point.bounding_box()
+    page.mouse.move(0, 0)
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    label = page.locator(".hoverlayer .hovertext").first
+    label.wait_for(timeout=10_000)
+    return label.text_content()
+
+
+@pytest.mark.slow
+def test_collection_pictures_in_chromium_offline(tmp_path):
+    """`cshape overview` and `cshape query --plot` pages open in Chromium with the network
+    blocked: the MDS draws every shape, hovering a point shows its name, class and nearest
+    shapes (those of the distance matrix), the outlier's arrow says it is one, the strip's
+    meshes render with their distances, and no request leaves the page."""
+    sync_api = _playwright()
+    from conftest import write_off
+
+    from cshape import shapes
+    from cshape.batch import DescriptorTable
+    from cshape.cli import main
+    from cshape.plots.collection import nearest_neighbours
+    from cshape.plots.explore import collection_distances
+
+    # a collection of 12 spectra in 3 classes, and one far away (a coarse control cage)
+    rng = np.random.default_rng(0)
+    i = np.arange(30)
+    labels = [f"class{k % 3}" for k in range(12)] + ["class0"]
+    lam = np.array([4 * np.pi * i * (1 + 0.3 * int(lab[-1]) + 0.2 * rng.random(30))
+                    for lab in labels])
+    lam[-1] *= 300.0
+    names = [f"shape{k}" for k in range(12)] + ["cage"]
+    table = DescriptorTable(names, lam, np.ones(13), labels, M=4)
+    table.save(tmp_path / "t.csv")
+    assert main(["overview", str(tmp_path / "t.csv"), "--out", str(tmp_path / "o.html")]) == 0
+    c = collection_distances(table)
+    ind, _ = nearest_neighbours(c.D, 3)
+    expected = {n: [c.names[j] for j in ind[k]] for k, n in enumerate(c.names)}
+    # four meshes in two classes, described, and the strip of one query
+    meshes = tmp_path / "meshes"
+    ico = shapes.icosphere(2)
+    write_off(meshes / "round" / "small.off", ico)
+    write_off(meshes / "round" / "big.off", (2.0 * ico.vertices, ico.faces))
+    write_off(meshes / "ring" / "thin.off", shapes.torus(24, 12, r=0.3))
+    write_off(meshes / "ring" / "fat.off", shapes.torus(24, 12, r=0.45))
+    assert main(["describe", str(meshes), "--out", str(tmp_path / "m.csv"), "-N", "20",
+                 "-M", "4", "--no-cache", "-q"]) == 0
+    assert main(["query", str(tmp_path / "m.csv"), "small", "-k", "2", "--plot",
+                 str(tmp_path / "strip.html"), "--meshes", str(meshes)]) == 0
+    ARTIFACTS.mkdir(exist_ok=True)
+    asked = []
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
+        try:
+            page = _offline_page(browser, asked)
+            page.goto((tmp_path / "o.html").as_uri(), timeout=60_000)
+            mds = page.locator(".js-plotly-plot").first
+            mds.locator(".scatterlayer .point").first.wait_for(timeout=60_000)
+            assert mds.locator(".scatterlayer .point").count() == 13
+            title = mds.locator(".gtitle").text_content()
+            hovers = {}
+            for k in range(mds.locator(".scatterlayer .point").count()):
+                text = _hover_text(page, mds.locator(".scatterlayer .point").nth(k))
+                hovers[text.split("class: ")[0]] = text  # the name comes first
+            page.screenshot(path=str(ARTIFACTS / "overview_html.png"), full_page=True)
+            n_matrix = page.locator(".js-plotly-plot .heatmaplayer").count()
+            strip = _offline_page(browser, asked, viewport=(1000, 450))
+            strip.goto((tmp_path / "strip.html").as_uri(), timeout=60_000)
+            strip.locator(".js-plotly-plot .gl-container canvas").first.wait_for(
+                timeout=60_000)
+            strip.wait_for_timeout(2000)
+            heads = strip.locator(".js-plotly-plot .annotation-text").all_text_contents()
+            png = strip.locator(".js-plotly-plot").first.screenshot()
+            strip.screenshot(path=str(ARTIFACTS / "neighbour_strip_html.png"))
+        finally:
+            browser.close()
+    assert asked == []  # plotly.js is in the page; nothing was asked of the network
+    assert "MDS of 13 shapes by cShape-DNA M=4 (9 values)" in title
+    assert n_matrix == 1
+    assert len(hovers) >= 10  # (points drawn on top of each other share one label)
+    assert set(hovers) <= set(names)
+    for name, text in hovers.items():
+        assert f"class: {labels[names.index(name)]}" in text
+        near = text.split("nearest: ")[1].split("outlier")[0]
+        assert [x.split(" (")[0] for x in near.split(", ")] == expected[name], text
+    assert "outlier" in hovers["cage"] and "drawn at the border" in hovers["cage"]
+    assert heads[0].startswith("query") and "small" in heads[0]
+    assert all("d = " in h for h in heads[1:]) and len(heads) == 3
+    assert _not_blank(_canvas_pixels(png))

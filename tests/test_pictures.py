@@ -34,6 +34,7 @@ from cshape.plots.collection import (
 from cshape.plots.explore import (
     class_summary,
     collection_distances,
+    colour_limit,
     descriptor_title,
     interactive_mds,
     neighbour_strip_plotly,
@@ -165,6 +166,13 @@ def test_class_summary_known_answer():
     assert rows["b"]["nn_same"] == 0.5  # b0's nearest is b1; b1's is c
     assert np.isnan(rows["c"]["within"]) and np.isnan(rows["c"]["nn_same"])
     assert (rows["c"]["nearest"], rows["c"]["gap"]) == ("b", 1.5)
+
+
+def test_colour_limit_leaves_the_outliers_out():
+    D = distance_matrix(blob_with_outlier(10))
+    out = [False] * 9 + [True]
+    assert colour_limit(D, out) == D[:9, :9].max() < 100 < D.max()
+    assert colour_limit(D, [False] * 10) == D.max()
 
 
 # ------------------------------------------------------------------------------ descriptors

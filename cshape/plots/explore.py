@@ -46,6 +46,7 @@ __all__ = [
     "CollectionDistances",
     "class_summary",
     "collection_distances",
+    "colour_limit",
     "default_kind",
     "descriptor_title",
     "figure_html",
@@ -569,6 +570,20 @@ def neighbour_strip_plotly(meshes, names, distances, *, labels=None, title=None,
 
 
 # =========================================================================== overview
+def colour_limit(D, outliers) -> float:
+    """Top of a distance matrix's colour range: the largest distance between two shapes
+    that are not outliers (their rows would otherwise take the whole range, leaving the
+    rest one colour), or the largest distance when there is no outlier.
+
+    >>> colour_limit([[0, 1, 9], [1, 0, 9], [9, 9, 0]], [False, False, True])
+    1.0
+    """
+    A = check_square(D, "D")
+    keep = ~np.asarray(outliers, dtype=bool)
+    inner = A[np.ix_(keep, keep)] if keep.sum() > 1 else A
+    return float(inner.max()) or float(A.max()) or 1.0
+
+
 def _class_order(labels):
     """Rows ordered by class (first-seen order of the classes), stable within a class."""
     codes = check_labels(labels, len(labels))
@@ -622,9 +637,12 @@ def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_o
     top, bottom = fig.subfigures(2, 1, height_ratios=[5.2, 0.22 * (len(shown) + 2) + 0.3])
     ax1, ax2 = top.subplots(1, 2)
     order = _class_order(labels)
+    out = mds_layout(Y)["outliers"]
+    vmax = colour_limit(A, out)
     plot_distance_matrix(A[np.ix_(order, order)], ax=ax2, names=[names[i] for i in order],
-                         labels=[labels[i] for i in order],
-                         title="distances, scaled to [0, 255], by class")
+                         labels=[labels[i] for i in order], scale=False, vmax=vmax,
+                         title="distances, by class" + (
+                             " (colours saturate at the outliers)" if out.any() else ""))
     head = f"{title}: " if title else ""
     n_classes = len(rows)
     sup = f"{head}{p} shapes, {n_classes} classes, compared by {descriptor}"
@@ -654,7 +672,7 @@ def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_o
     return fig
 
 
-def _matrix_figure(A, names, labels, descriptor):
+def _matrix_figure(A, names, labels, descriptor, vmax=None):
     import plotly.graph_objects as go
 
     p = len(A)
@@ -677,6 +695,7 @@ def _matrix_figure(A, names, labels, descriptor):
         what = (f"median distance between every two classes ({p} shapes are more than "
                 f"{HTML_MATRIX_MAX}, the shape-by-shape matrix would be too large)")
     fig = go.Figure(go.Heatmap(z=z, x=ticks, y=ticks, colorscale="Jet", hovertemplate=hover,
+                               zmin=0.0, zmax=vmax,
                                colorbar={"title": {"text": "distance"}}))
     fig.update_layout(title={"text": html.escape(f"{what}; {descriptor}"), "x": 0.5},
                       height=700, template="plotly_white",
@@ -739,7 +758,9 @@ def overview_html(D, names, labels, *, Y=None, descriptor="", title=None, left_o
                      "border, pointing their way; the rest is drawn at its own scale.</p>")
     parts += [figure_html(mds, full_html=False, include_plotlyjs=True),
               "<h2>Distance matrix</h2>",
-              figure_html(_matrix_figure(A, names, labels, descriptor), full_html=False,
+              figure_html(_matrix_figure(A, names, labels, descriptor,
+                                         colour_limit(A, mds_layout(Y)["outliers"])),
+                          full_html=False,
                           include_plotlyjs=False),
               "<h2>Classes</h2>",
               "<table><tr><th>class</th><th>shapes</th><th>median distance within</th>"
