@@ -9,7 +9,6 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import warnings
 from types import SimpleNamespace
 
 import numpy as np
@@ -180,46 +179,46 @@ def test_descriptor_title():
     assert descriptor_title("cshape", M=16) == "cShape-DNA M=16 (33 values)"
     assert descriptor_title("cshape", M=8, transform="log-weyl") == (
         "cShape-DNA M=8, log-weyl (17 values)")
-    assert descriptor_title("shape_dna", N=50) == "Shape-DNA N=50 (50 values)"
+    assert descriptor_title("shape-dna", N=50) == "Shape-DNA N=50 (50 values)"
     assert descriptor_title("f1", N=50) == "F1 N=50 (48 values)"
 
 
 def test_collection_distances_of_a_table():
     table = spectra_table()
-    c = collection_distances(table, "truncated_log")
-    assert np.allclose(c.D, table.distance_matrix("truncated_log"))
+    c = collection_distances(table, "truncated-log")
+    assert np.allclose(c.D, table.distance_matrix("truncated-log"))
     assert c.rows.tolist() == list(range(8)) and c.left_out == [] and c.names == table.names
     assert c.descriptor == "truncated log spectrum (first 9 eigenvalues)"
 
 
 def test_collection_distances_leaves_out_what_cannot_be_described():
+    """Any object with the table's attributes; a row without a positive area is left out."""
     t = spectra_table(p=5)
-    lam = [row for row in t.lam]
-    lam[2] = lam[2][:10]  # too few eigenvalues for N=30
-    ragged = SimpleNamespace(names=t.names, labels=t.labels, lam=lam, areas=t.areas, M=4,
-                             N=30, transform="weyl")
+    areas = t.areas.copy()
+    areas[2] = 0.0
+    plain = SimpleNamespace(names=t.names, labels=t.labels, lam=t.lam, areas=areas, M=4,
+                            N=30, transform="weyl")
     with pytest.warns(CShapeWarning, match=r"1 of 5 shapes cannot be described by "
                                            r"Shape-DNA N=30 .* left out .*: shape2"):
-        c = collection_distances(ragged, "shape_dna")
+        c = collection_distances(plain, "shape-dna")
     assert c.rows.tolist() == [0, 1, 3, 4] and [n for n, _ in c.left_out] == ["shape2"]
-    keep = [0, 1, 3, 4]
-    assert np.allclose(c.D, distance_matrix(t.lam[keep] * 1.0))
+    assert c.names == ["shape0", "shape1", "shape3", "shape4"]
+    assert np.allclose(c.D, distance_matrix(t.lam[[0, 1, 3, 4]]))
 
 
-def test_collection_distances_with_a_mesh_of_two_pieces():
-    """Two zero eigenvalues (two components): the row is either described or left out with
-    a warning naming it; the rest is answered."""
+def test_collection_distances_with_meshes_of_several_pieces():
+    """Zero eigenvalues (pieces) are dropped: two pieces are described; a mesh of so many
+    pieces that too few non-zero eigenvalues remain is left out, named in the warning."""
     t = spectra_table(p=5)
     lam = t.lam.copy()
-    lam[1, 1] = 0.0
+    lam[1, 1] = 0.0  # two pieces
+    lam[3, :25] = 0.0  # 25 pieces: 5 non-zero eigenvalues, truncated-log M=4 needs 10
     table = DescriptorTable(t.names, lam, t.areas, t.labels, M=4)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        c = collection_distances(table, "f1")
-    assert len(c.D) in (4, 5) and c.D.shape == (len(c.rows),) * 2
-    if len(c.D) == 4:
-        assert c.left_out[0][0] == "shape1"
-        assert any("shape1" in str(w.message) for w in caught)
+    with pytest.warns(CShapeWarning, match=r"1 of 5 shapes cannot be described .*: shape3"):
+        c = collection_distances(table, "truncated-log")
+    assert c.rows.tolist() == [0, 1, 2, 4] and [n for n, _ in c.left_out] == ["shape3"]
+    assert np.allclose(c.D, distance_matrix(
+        table.select([0, 1, 2, 4]).descriptors("truncated-log")))
 
 
 def test_collection_distances_errors():
@@ -296,7 +295,7 @@ def test_neighbour_strips_return_figures():
 
 def test_overview_png_and_html_name_the_descriptor_and_left_out():
     table = spectra_table(p=10, n_classes=3)
-    c = collection_distances(table, "shape_dna")
+    c = collection_distances(table, "shape-dna")
     fig = plot_overview(c.D, c.names, c.labels, descriptor=c.descriptor, title="t.csv",
                         left_out=[("broken", "two pieces")])
     sup = fig._suptitle.get_text()
@@ -351,7 +350,7 @@ def described(tmp_path_factory):
 def test_cli_overview_writes_html_and_png(described, tmp_path, capsys):
     html, png = tmp_path / "o.html", tmp_path / "o.png"
     rc = main(["overview", str(described / "t.csv"), "--out", str(html), "--out", str(png),
-               "--kind", "truncated_log"])
+               "--kind", "truncated-log"])
     err = capsys.readouterr().err
     assert rc == 0, err
     assert "4 shapes, 2 classes, compared by truncated log spectrum (first 9 eigenvalues)" in err
@@ -386,6 +385,12 @@ def test_cli_query_plot_png_and_html(described, tmp_path, capsys):
         assert f"wrote {out}" in cap.err and "nearest to 'small'" in cap.out
         assert out.stat().st_size > 1000
     assert "big" in (tmp_path / "strip.html").read_text()
+    # a mesh file as the query: drawn first, under its file name
+    out = tmp_path / "file.png"
+    rc = main(["query", str(described / "t.csv"), str(described / "meshes" / "ring" / "fat.off"),
+               "-k", "1", "--plot", str(out), "--meshes", str(described / "meshes")])
+    assert rc == 0, capsys.readouterr().err
+    assert out.read_bytes()[:4] == b"\x89PNG"
 
 
 @pytest.mark.parametrize("extra, match", [

@@ -9,7 +9,9 @@
   change, from :mod:`cshape.mesh` (:class:`cshape.Mesh`, :func:`cshape.repair_mesh`) and
   :func:`cshape.variants.mesh_quality`;
 * ``cshape query TABLE MESH_OR_NAME -k 5`` - the nearest shapes of a table, with their
-  distances (:class:`cshape.DescriptorIndex`);
+  distances (:class:`cshape.DescriptorIndex`); with ``--plot FILE --meshes PATH`` also the
+  query and its neighbours as thumbnails (:func:`cshape.plots.explore.plot_neighbour_strip`,
+  .png/.svg/.pdf, or :func:`~cshape.plots.explore.neighbour_strip_plotly`, .html);
 * ``cshape data {list, build NAME, path NAME}`` - the shape collections of
   :mod:`cshape.data`.
 
@@ -31,10 +33,10 @@ import warnings
 from collections import Counter
 from pathlib import Path
 
-from . import pictures
 from .output import CommandError, print_warnings
 
-__all__ = ["add_describe", "add_info", "add_query", "collect_mesh_files", "mesh_report"]
+__all__ = ["add_describe", "add_info", "add_query", "check_figure_path", "collect_mesh_files",
+           "mesh_report", "write_neighbour_strip"]
 
 # ============================================================================ inputs
 def _mesh_suffixes() -> tuple[str, ...]:
@@ -477,7 +479,7 @@ def _cmd_query(args) -> int:
                          f"use -N {table.N} or less")
     if args.k < 1:
         raise ValueError(f"-k must be at least 1, got {args.k}")
-    pictures.check_plot_options(args)
+    check_plot_options(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
@@ -532,7 +534,7 @@ def _cmd_query(args) -> int:
     if args.plot is not None:
         from ..plots.explore import descriptor_title
 
-        wrote = pictures.write_neighbour_strip(
+        wrote = write_neighbour_strip(
             args, table, hits, None if exclude is not None else target,
             descriptor_title(args.kind, r["M"], r["N"], r["transform"]))
         print(f"cshape query: wrote {wrote}", file=sys.stderr)
@@ -575,5 +577,104 @@ def add_query(sub):
     p.add_argument("--cache-dir", default=None, help="eigenvalue cache for a mesh file query")
     p.add_argument("--no-cache", action="store_true", help="do not use the eigenvalue cache")
     p.add_argument("--json", action="store_true", help="print the neighbours as JSON")
-    pictures.add_plot_options(p)
+    add_plot_options(p)
     p.set_defaults(func=_cmd_query)
+
+
+# ============================================================================ query --plot
+#: Figure files: matplotlib's images and plotly's HTML.
+IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
+HTML_SUFFIXES = (".html", ".htm")
+
+
+def check_figure_path(path, option: str) -> Path:
+    """The figure file of ``option`` checked before any work: a known suffix, an existing
+    folder, not a folder itself."""
+    p = Path(path).expanduser()
+    if p.is_dir():
+        raise CommandError(f"{option} {str(path)!r} is a folder; give a file name such as "
+                           f"{str(p / ('overview' + '.html'))!r}")
+    if p.suffix.lower() not in IMAGE_SUFFIXES + HTML_SUFFIXES:
+        raise CommandError(
+            f"{option} {str(path)!r}: the file name must end in .html (interactive, offline) or "
+            f"{', '.join(IMAGE_SUFFIXES)} (image)")
+    folder = p.parent
+    if not folder.is_dir():
+        raise CommandError(f"{option} {str(path)!r}: the folder {str(folder)!r} does not "
+                           "exist; create it first or write elsewhere")
+    return p
+
+
+def add_plot_options(p) -> None:
+    """``--plot``, ``--meshes`` and ``--up`` of ``cshape query``."""
+    p.add_argument("--plot", metavar="FILE", default=None,
+                   help="draw the query and its neighbours as thumbnails with their distances "
+                   "into FILE (.png, .svg, .pdf; .html: interactive, offline); needs --meshes")
+    p.add_argument("--meshes", metavar="PATH", nargs="+", default=None,
+                   help="with --plot: the mesh files or folders the table was described from "
+                   "(as given to cshape describe; the table keeps no file paths)")
+    p.add_argument("--up", default="auto", choices=("auto", "x", "y", "z"),
+                   help="with --plot: the axis drawn upwards (default auto: y for OBJ, glTF "
+                   "and COLLADA files, z for the rest)")
+
+
+def check_plot_options(args) -> None:
+    """Fail before the query's work when ``--plot`` cannot be written."""
+    if args.plot is None:
+        if args.meshes is not None:
+            raise CommandError("--meshes is only used with --plot FILE")
+        return
+    check_figure_path(args.plot, "--plot")
+    if not args.meshes:
+        raise CommandError(
+            "--plot draws the meshes: pass --meshes with the folders or files given to "
+            "cshape describe (the table keeps no file paths)")
+
+
+def write_neighbour_strip(args, table, hits, query_path, descriptor) -> Path:
+    """Draw ``cshape query``'s answer (``hits``: ``[(distance, row)]``) into ``args.plot``.
+
+    ``query_path`` is the mesh file of a query given as a file, else None (the query is the
+    table's shape ``args.target``).
+    """
+    from ..plots.explore import (
+        guess_vertical_axis,
+        neighbour_strip_plotly,
+        plot_neighbour_strip,
+        save_figure,
+    )
+    from ..readers import load_mesh
+
+    out = check_figure_path(args.plot, "--plot")
+    files = {name: path for name, _, path in collect_mesh_files(args.meshes)}
+    names = [table.names[i] for _, i in hits]
+    if query_path is None:
+        names.insert(0, args.target)
+        labels = [table.labels[table.index(args.target)]]
+    else:
+        names.insert(0, _stem(Path(query_path)))
+        labels = ["(mesh file)"]
+    labels += [table.labels[i] for _, i in hits]
+    missing = [n for n in names[1 if query_path is not None else 0:] if n not in files]
+    if missing:
+        shown = ", ".join(repr(n) for n in missing[:5]) + (" ..." if len(missing) > 5 else "")
+        raise CommandError(
+            f"--meshes holds no mesh named {shown} ({len(files)} meshes found there); pass "
+            "the folders or files given to cshape describe")
+    paths = ([Path(query_path)] if query_path is not None else [])
+    paths += [files[n] for n in names[len(paths):]]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the repairs were reported when it was described
+        meshes = [load_mesh(p) for p in paths]
+    up = ([guess_vertical_axis(p) for p in paths] if args.up == "auto"
+          else args.up)
+    dist = [d for d, _ in hits]
+    title = (f"nearest to {names[0]} by {descriptor}, among the {len(table)} shapes of "
+             f"{Path(args.table).name}")
+    if out.suffix.lower() in HTML_SUFFIXES:
+        fig = neighbour_strip_plotly(meshes, names, dist, labels=labels, title=title,
+                                     vertical_axis=up)
+    else:
+        fig = plot_neighbour_strip(meshes, names, dist, labels=labels, title=title,
+                                   vertical_axis=up)
+    return save_figure(fig, out)

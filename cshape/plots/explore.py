@@ -22,7 +22,6 @@ from __future__ import annotations
 import html
 import os
 import warnings
-from collections import Counter
 from pathlib import Path
 from typing import NamedTuple
 
@@ -30,7 +29,7 @@ import numpy as np
 
 from .._checks import check_choice, check_labels, check_square
 from .._files import atomic_write
-from ..compare import DESCRIPTOR_KINDS, descriptor_matrix, distance_matrix
+from ..compare import DESCRIPTOR_KINDS, descriptor_matrix, distance_matrix, row_problems
 from ..mesh import CShapeWarning, as_mesh
 from .collection import (
     class_styles,
@@ -87,17 +86,20 @@ def default_kind() -> str:
 def descriptor_title(kind, M=16, N=100, transform="weyl") -> str:
     """What a figure compared, in words: ``'cShape-DNA M=16 (33 values)'``.
 
-    >>> descriptor_title("truncated_log", M=8)
+    >>> descriptor_title("truncated-log", M=8)
     'truncated log spectrum (first 17 eigenvalues)'
     """
+    from .._checks import OLD_SPELLINGS
+
+    kind = OLD_SPELLINGS.get(kind, kind)
     n = 2 * M + 1
     tr = "" if transform == "weyl" else f", {transform}"
     names = {
         "cshape": f"cShape-DNA M={M}{tr} ({n} values)",
-        "cshape_complex": f"cShape-DNA M={M}{tr} ({n} values)",
-        "shape_dna": f"Shape-DNA N={N} ({N} values)",
+        "cshape-complex": f"cShape-DNA M={M}{tr} ({n} values)",
+        "shape-dna": f"Shape-DNA N={N} ({N} values)",
         "truncated": f"truncated Shape-DNA (first {n} eigenvalues)",
-        "truncated_log": f"truncated log spectrum (first {n} eigenvalues)",
+        "truncated-log": f"truncated log spectrum (first {n} eigenvalues)",
         "f1": f"F1 N={N} ({N - 2} values)",
     }
     return names.get(kind, f"{kind} M={M} N={N}{tr}")
@@ -166,58 +168,26 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
     title = descriptor_title(kind, recipe["M"], recipe["N"], recipe["transform"])
     p = len(table.names)
     areas = np.asarray(table.areas, dtype=np.float64).reshape(-1)
-    X, first_error = None, None
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        try:
-            X = descriptor_matrix(table.lam, areas, **recipe)
-        except ValueError as exc:
-            first_error = exc
-    if X is not None and len(X) == p:
-        for w in caught:  # the warnings of a complete matrix are the caller's
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        rows, left_out = np.arange(p), []
-    else:
-        rows, left_out, sizes = [], [], {}
-        for i in range(p):  # one by one: which rows cannot be described
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                try:
-                    x = descriptor_matrix([table.lam[i]], areas[i:i + 1], **recipe)
-                    why = None if len(x) == 1 else (
-                        "; ".join(str(w.message) for w in caught) or "left out")
-                except ValueError as exc:
-                    why = str(exc)
-            if why is None:
-                rows.append(i)
-                sizes[i] = x.shape[1]
-            else:
-                left_out.append((table.names[i], " ".join(why.split())))
-        if len(set(sizes.values())) > 1:  # F1 of a mesh of several pieces: a shorter row
-            usual = Counter(sizes.values()).most_common(1)[0][0]
-            for i in rows:
-                if sizes[i] != usual:
-                    left_out.append((table.names[i], (
-                        f"its descriptor has {sizes[i]} values, the others {usual}: several "
-                        "zero eigenvalues (a mesh of several pieces?)")))
-            rows = [i for i in rows if sizes[i] == usual]
-            order = {n: k for k, n in enumerate(table.names)}
-            left_out.sort(key=lambda item: order[item[0]])
-        if not rows and first_error is not None:
-            raise first_error
-        rows = np.asarray(rows, dtype=np.int64)
-        if left_out:
-            shown = ", ".join(n for n, _ in left_out[:10])
-            more = f" and {len(left_out) - 10} more" if len(left_out) > 10 else ""
-            warnings.warn(
-                f"{len(left_out)} of {p} shapes cannot be described by {title} and are left "
-                f"out of the figures: {shown}{more} ({left_out[0][1]})",
-                CShapeWarning, stacklevel=2)
-        if len(rows) < 2:
-            raise ValueError(
-                f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "
-                "needs two or more: choose another kind (kind=...)")
-        X = descriptor_matrix([table.lam[i] for i in rows], areas[rows], **recipe)
+    zero_modes = getattr(table, "zero_modes", None)
+    if zero_modes is not None:
+        zero_modes = np.asarray(zero_modes)
+    bad = row_problems(table.lam, areas, zero_modes=zero_modes, **recipe)
+    rows = np.array([i for i in range(p) if i not in bad], dtype=np.int64)
+    left_out = [(table.names[i], " ".join(str(why).split())) for i, why in bad.items()]
+    if left_out:
+        shown = ", ".join(n for n, _ in left_out[:10])
+        more = f" and {len(left_out) - 10} more" if len(left_out) > 10 else ""
+        warnings.warn(
+            f"{len(left_out)} of {p} shapes cannot be described by {title} and are left "
+            f"out of the figures: {shown}{more} ({left_out[0][1]})",
+            CShapeWarning, stacklevel=2)
+    if len(rows) < 2:
+        raise ValueError(
+            f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "
+            "needs two or more: choose another kind (kind=...)")
+    X = descriptor_matrix([table.lam[i] for i in rows], areas[rows],
+                          zero_modes=None if zero_modes is None else zero_modes[rows],
+                          names=[table.names[i] for i in rows], **recipe)
     D = distance_matrix(X)
     return CollectionDistances(D, rows, [table.names[i] for i in rows],
                                [table.labels[i] for i in rows], left_out, title, kind)
