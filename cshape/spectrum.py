@@ -153,7 +153,8 @@ def _check_N(N, n_unknowns, bc):
         raise ValueError(
             f"N={N} eigenvalues requested but the {bc} problem has only {n_unknowns} unknowns "
             f"(mesh vertices{' not on the boundary' if bc == 'dirichlet' else ''}); use "
-            f"N <= {n_unknowns} or a finer mesh (e.g. cshape subdivision/remeshing)"
+            f"N <= {n_unknowns} or a finer mesh (e.g. cshape.variants.subdivide(mesh) or "
+            "cshape.variants.remesh(mesh))"
         )
     return N
 

@@ -80,12 +80,14 @@ def test_reproduce_writes_a_report(tmp_path):
     assert data_["3.1"]["std"] == pytest.approx(r31["std"])
     assert 0 < r31["mean"] < 255
     # retrieval on the benchmark folder, not on the Section 3 shapes
-    assert res["benchmark"]["name"] == "bench" and res["benchmark"]["n_shapes"] == 6
-    assert res["benchmark"]["left_out"] == ["two"] and "several connected components" in rep
+    # the two spheres are described too (zero modes dropped, issue 19): nothing left out
+    assert res["benchmark"]["name"] == "bench" and res["benchmark"]["n_shapes"] == 7
+    assert res["benchmark"]["left_out"] == [] and "Left out" not in rep
+    # 7 queries, all scored (no class of one); the verdict says how many
+    assert data_["sizes"]["n_queries"] == 7 and "(7 queries;" in " ".join(data_["verdict"])
     assert "## Retrieval on bench" in rep
     btable = DescriptorTable.load(tmp_path / "rep" / "table_benchmark.npz")
     assert sorted(btable.labels) == ["ellipsoid"] * 4 + ["torus"] * 3
-    btable = btable.select([i for i, n in enumerate(btable.names) if n != "two"])
     by_title = {r["descriptor"]: r for r in data_["retrieval"]}
     for title in ("Shape-DNA", "cShape-DNA (paper) M=4", "log-Weyl DFT M=4", "log-Weyl DCT M=2",
                   "truncated Shape-DNA 9", "truncated log spectrum 5", "truncated F1 3"):
@@ -134,7 +136,7 @@ def test_experiment_sizes_picks_the_best_family_by_its_scores():
 
 def test_experiment_sizes_skips_a_family_it_cannot_compute():
     lam = np.tile(4 * np.pi * np.arange(30.0), (4, 1))
-    lam[:, 1] = 0.0  # a second zero eigenvalue: no logarithm for the log-Weyl families
+    lam[:, 1:25] = 0.0  # 25 zero modes: 5 non-zero eigenvalues, fewer than 2M+1 = 7
     lam[:, 2:] *= np.array([1.0, 1.1, 1.2, 1.3])[:, None]
     sz = experiment_sizes(_table(lam, ["a", "a", "b", "b"]), Ms=(3,), N=30)
     assert "log-Weyl DFT" in sz["skipped"] and "log-Weyl DFT" not in sz["families"]
@@ -201,3 +203,12 @@ def test_cli_reproduce_on_a_folder(tmp_path):
     assert res.returncode == 0, res.stderr[-2000:]
     assert (tmp_path / "rep" / "report.md").exists()
     assert "retrieval on bench, 6 shapes" in res.stdout and "Verdict on bench" in res.stdout
+
+
+def test_sizes_and_verdict_count_only_the_queries_scored():
+    rng = np.random.default_rng(1)
+    lam = 4 * np.pi * np.arange(30.0) * (1 + 0.05 * rng.random((5, 30)))
+    sz = experiment_sizes(_table(lam, ["a", "a", "b", "b", "c"]), Ms=(3,), N=30)
+    assert sz["n_queries"] == 4  # the shape of class c has no relevant answer
+    verdict = " ".join(size_verdict(sz, name="X"))
+    assert "4 queries scored of 5 shapes: 1 in classes of one" in verdict

@@ -108,8 +108,12 @@ def _reproduce(args) -> int:
             n_jobs=args.jobs, progress=True, benchmark=benchmark,
         )
     print_warnings(caught, "reproduce", args.verbose)
+    b, sizes = res["benchmark"], res.get("sizes") or {}
+    scored = (f", {sizes['n_queries']} queries scored" if "n_queries" in sizes
+              and sizes["n_queries"] != b["n_shapes"] else
+              (f", {sizes['n_queries']} queries" if "n_queries" in sizes else ""))
     print(f"report written to {args.out}/report.md ({res['n_shapes']} shapes; retrieval on "
-          f"{res['benchmark']['name']}, {res['benchmark']['n_shapes']} shapes)")
+          f"{b['name']}, {b['n_shapes']} shapes{scored})")
     for line in res["verdict"]:
         print(line)
     return 0

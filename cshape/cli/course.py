@@ -61,15 +61,31 @@ def _cmd_assignments(args) -> int:
     return 0
 
 
+def _installed(module) -> bool:
+    import importlib.util
+
+    return importlib.util.find_spec(module) is not None
+
+
 def _cmd_lessons(args) -> int:
     from ..course.assignments import ASSIGNMENT, copy_lessons
 
+    if not _installed("nbformat"):
+        raise ImportError('cshape lessons reads the notebooks with nbformat, which is not '
+                          'installed: pip install "cshape[notebooks]" (or "cshape[course]" '
+                          "to grade them with nbgrader too)")
     files = copy_lessons(args.dir)
     lessons = [f for f in files if f.parent == Path(".") and f.suffix == ".ipynb"]
     print(f"{len(lessons)} lessons, {sum(f.parts[0] == 'student' for f in files)} student "
           f"versions and an nbgrader course (source/{ASSIGNMENT}/) in {args.dir}")
-    print(f"open them: jupyter lab {args.dir}    release: cd {args.dir} && nbgrader "
-          f"generate_assignment {ASSIGNMENT}")
+    lab = "" if _installed("jupyterlab") else ' (needs pip install "cshape[notebooks]")'
+    print(f"open them: jupyter lab {args.dir}{lab}")
+    if _installed("nbgrader"):
+        print(f"release: cd {args.dir} && nbgrader generate_assignment {ASSIGNMENT}")
+    else:
+        print('release and grade them with nbgrader, which is not installed: pip install '
+              f'"cshape[course]", then cd {args.dir} && nbgrader generate_assignment '
+              f"{ASSIGNMENT}")
     return 0
 
 

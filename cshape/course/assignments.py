@@ -36,6 +36,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from .._files import atomic_write, umask
+
 __all__ = [
     "ASSIGNMENT",
     "NBGRADER_CONFIG",
@@ -155,7 +157,8 @@ def write_course(dest, lessons, *, assignment=ASSIGNMENT) -> Path:
     dest = Path(dest)
     source = dest / "source" / assignment
     source.mkdir(parents=True, exist_ok=True)
-    (dest / "nbgrader_config.py").write_text(NBGRADER_CONFIG, encoding="utf-8")
+    atomic_write(dest / "nbgrader_config.py", lambda f: f.write(NBGRADER_CONFIG),
+                 binary=False)
     for path in lessons:
         shutil.copyfile(path, source / Path(path).name)
     return dest
@@ -212,7 +215,7 @@ def update_folder(wanted, dest, *, check=False) -> list[Path]:
         return sorted(changed) + stale
     dest.mkdir(parents=True, exist_ok=True)
     for p in changed:
-        p.write_text(wanted[p], encoding="utf-8")
+        atomic_write(p, lambda f, text=wanted[p]: f.write(text), binary=False)
     for p in stale:
         p.unlink()
     return sorted(changed)
@@ -294,6 +297,7 @@ def copy_lessons(dest, *, src=None) -> list[Path]:
         write_course(tmp, [p for p in lessons if is_graded(p)])
         if dest.exists():
             dest.rmdir()
+        os.chmod(tmp, 0o777 & ~umask())  # mkdtemp makes 0700
         tmp.rename(dest)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)

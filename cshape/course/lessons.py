@@ -30,6 +30,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .._files import atomic_write
+
 __all__ = [
     "RunResult",
     "default_notebook_dir",
@@ -216,9 +218,10 @@ def offline_mathjax(out_dir):
     local = dest / "config" / "local" / "cshape.js"
     if not (local.is_file() and (dest / "MathJax.js").stat().st_size
             == (src / "MathJax.js").stat().st_size):
-        shutil.copytree(src, dest, dirs_exist_ok=True)
+        # copies with the user's permissions (copy2 would keep the package files' modes)
+        shutil.copytree(src, dest, dirs_exist_ok=True, copy_function=shutil.copyfile)
         local.parent.mkdir(parents=True, exist_ok=True)
-        local.write_text(_MATHJAX_LOCAL, encoding="utf-8")
+        atomic_write(local, lambda f: f.write(_MATHJAX_LOCAL), binary=False)
     return f"{MATHJAX_DIR}/MathJax.js?config={_MATHJAX_CONFIG}"
 
 
@@ -308,10 +311,11 @@ def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         res.ipynb = out / path.name
-        nbformat.write(nb, res.ipynb)
+        atomic_write(res.ipynb, lambda f: nbformat.write(nb, f), binary=False)
         if html:
             res.html = out / f"{path.stem}.html"
-            res.html.write_text(_html(nb, offline_mathjax(out)), encoding="utf-8")
+            page = _html(nb, offline_mathjax(out))
+            atomic_write(res.html, lambda f: f.write(page), binary=False)
     return res
 
 
@@ -335,7 +339,7 @@ def _index(results, out: Path, small: bool) -> Path:
         + "".join(rows) + "</table>"
     )
     path = out / "index.html"
-    path.write_text(page, encoding="utf-8")
+    atomic_write(path, lambda f: f.write(page), binary=False)
     return path
 
 

@@ -5,6 +5,7 @@ retrieval tables of every descriptor.
 from __future__ import annotations
 
 import time
+from collections import Counter
 
 import numpy as np
 
@@ -64,7 +65,7 @@ def experiment_3_2(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     extensions beyond the paper of the same size (the log-Weyl DFT and DCT crops,
     :func:`cshape.compact_shape_dna` ``transform=``, and the truncated log spectrum); F1
     (``N``) once.  A descriptor that cannot be computed for the table (a log-Weyl one on a
-    spectrum with a second zero eigenvalue) is left out.
+    shape with too few non-zero eigenvalues) is left out.
 
     Returns
     -------
@@ -171,18 +172,29 @@ def family_descriptors(table: DescriptorTable, family, M, N=100) -> np.ndarray:
     ------
     ValueError
         Unknown family, or the family cannot be computed (``2M+1`` too large for ``N``, or
-        a log-Weyl family on a spectrum with a zero eigenvalue after ``lam_0``).
+        a shape with fewer non-zero eigenvalues than the family needs: a mesh of many
+        pieces).
     """
     if family not in FAMILIES:
         raise ValueError(f"family must be one of {list(FAMILIES)}, got {family!r}")
     kind, kw = FAMILIES[family]
     if kind == "f1":
-        X = table.descriptors("f1", N=N)
+        X = _every_row(table, "f1", N=N)
         if X.shape[1] < 2 * M + 1:
             raise ValueError(f"F1 of N={N} has {X.shape[1]} values, fewer than 2M+1 = "
                              f"{2 * M + 1}; use a larger N")
         return X[:, : 2 * M + 1]
-    return table.descriptors(kind, M=M, N=N, **kw)
+    return _every_row(table, kind, M=M, N=N, **kw)
+
+
+def _every_row(table, kind, **kw):
+    """``table.descriptors(kind, ...)``, or a ValueError if it cannot describe every shape
+    (the measures need every shape)."""
+    ok = table.usable(kind, **kw)
+    if not ok.all():
+        bad = [table.names[i] for i in np.flatnonzero(~ok)]
+        raise ValueError(f"{kind!r} cannot describe {len(bad)} shapes: {', '.join(bad[:5])}")
+    return table.descriptors(kind, **kw)
 
 
 def _retrieval_specs(Ms, N):
@@ -215,7 +227,7 @@ def experiment_retrieval(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     rows = []
     for title, fam, M, kind, kw in _retrieval_specs(Ms, N):
         try:
-            X = (table.descriptors(kind, **kw) if fam is None
+            X = (_every_row(table, kind, **kw) if fam is None
                  else family_descriptors(table, fam, M, N))
         except ValueError:
             continue
@@ -246,7 +258,9 @@ def experiment_sizes(table: DescriptorTable, *, Ms=None, N=100, measure="ft"):
     -------
     dict
         ``measure``, ``Ms``, ``families`` (computed), ``skipped`` ({family: reason}),
-        ``reference`` (the measures of Shape-DNA with ``N`` values) and ``rows``: one per
+        ``reference`` (the measures of Shape-DNA with ``N`` values), ``n_queries`` (the
+        queries scored: shapes of classes of one have no relevant answer and are not) and
+        ``rows``: one per
         ``M`` with ``M``, ``size``, ``scores`` ({family: {measure: value}}), ``best``
         (families tied at the best value), ``runner_up``, ``lead``, ``lead_se``.
     """
@@ -257,6 +271,8 @@ def experiment_sizes(table: DescriptorTable, *, Ms=None, N=100, measure="ft"):
     Ms = [int(m) for m in Ms]
     labels = table.labels
     ref = retrieval_scores(table.distance_matrix("shape-dna", N=N), labels)
+    sizes = Counter(labels)
+    n_queries = sum(sizes[x] >= 2 for x in labels)
     rows, skipped = [], {}
     for M in Ms:
         scores, per = {}, {}
@@ -285,7 +301,8 @@ def experiment_sizes(table: DescriptorTable, *, Ms=None, N=100, measure="ft"):
         rows.append(row)
     families = [f for f in FAMILIES if f not in skipped]
     return {"measure": measure, "Ms": Ms, "families": families, "skipped": skipped,
-            "reference": ref, "N": N, "n_shapes": len(table), "rows": rows}
+            "reference": ref, "N": N, "n_shapes": len(table), "n_queries": n_queries,
+            "rows": rows}
 
 
 _MEASURES = {"nn": "nearest neighbour", "ft": "first tier", "st": "second tier",
@@ -320,7 +337,11 @@ def size_verdict(sizes, *, name="this collection") -> list:
         return []
     mname = _MEASURES[meas]
     n = len(rows)
-    out = [f"Verdict on {name} by {mname} ({sizes['n_shapes']} queries; a lead is given "
+    nq, ns = sizes.get("n_queries", sizes["n_shapes"]), sizes["n_shapes"]
+    scored = (f"{nq} queries" if nq == ns else
+              f"{nq} queries scored of {ns} shapes: {ns - nq} in classes of one, which have "
+              "no relevant answer")
+    out = [f"Verdict on {name} by {mname} ({scored}; a lead is given "
            "with its paired standard error over the queries, and a lead below two "
            "standard errors is not clear):"]
     wins = {f: [r["M"] for r in rows if f in r["best"]] for f in sizes["families"]}

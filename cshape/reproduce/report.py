@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._files import atomic_write
 from ..batch import describe
 from ..compare import (
     difference_matrix,
@@ -173,9 +174,9 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         btable = describe(brecords, **kw)
         _need(btable)
         btable.save(out / "table_benchmark.npz")
-    keep = _single_zero_rows(btable)
+    keep = _describable_rows(btable, max([*all_Ms, *(size_Ms or [16])]), N)
     left_out = [btable.names[i] for i in range(len(btable)) if i not in set(keep.tolist())]
-    if left_out:  # the log-Weyl ratios and F1 need lam_1 > 0: one component per mesh
+    if left_out:  # too few non-zero eigenvalues for some descriptor (a mesh of many pieces)
         btable = btable.select(keep)
     results["benchmark"] = {"name": bname, "n_shapes": len(btable),
                             "classes": sorted(set(btable.labels)),
@@ -211,7 +212,7 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         same_rows = all(len(noise[lv]["diff_cshape"]) == len(table) for lv in levels)
         noise_ticks = ticks if same_rows else {}
         figs["fig7_noise_shape_dna"] = plots.plot_matrices(
-            [noise[lv]["diff_shape_dna"] for lv in levels],
+            [noise[lv]["diff_shape-dna"] for lv in levels],
             [f"lam={lv:g}: {noise[lv]['shape-dna'][0]:.1f} / {noise[lv]['shape-dna'][1]:.1f}"
              for lv in levels], **noise_ticks)
         figs["fig7_noise_cshape"] = plots.plot_matrices(
@@ -237,18 +238,28 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
                               "relative": float(D_cs[a, b] / np.median(off))}
 
     for name, fig in figs.items():
-        fig.savefig(out / f"{name}.png", dpi=110)
+        atomic_write(out / f"{name}.png",
+                     lambda f, fig=fig: fig.savefig(f, format="png", dpi=110))
     results["seconds"] = time.perf_counter() - t_start
-    (out / "results.json").write_text(json.dumps(_jsonable(results), indent=1))
-    (out / "report.md").write_text(_report(results, figs, title))
+    atomic_write(out / "results.json",
+                 lambda f: f.write(json.dumps(_jsonable(results), indent=1)), binary=False)
+    report = _report(results, figs, title)
+    atomic_write(out / "report.md", lambda f: f.write(report), binary=False)
     return results
 
 
-def _single_zero_rows(table) -> np.ndarray:
-    """Rows whose spectrum has one zero eigenvalue (``lam_1 > 0``: a connected mesh)."""
-    lam = np.asarray(table.lam)
-    tol = 1e-8 * np.abs(lam).max(axis=1)
-    return np.flatnonzero(lam[:, 1] > tol)
+def _describable_rows(table, M, N) -> np.ndarray:
+    """Rows that every descriptor of the tables can describe at the largest size ``M``.
+
+    Meshes of several pieces are described (their zero modes dropped); one of so many
+    pieces that fewer than ``2M+1`` non-zero eigenvalues are left cannot be.
+    """
+    N = min(N, table.N)
+    M = min(M, (N - 2) // 2)
+    ok = table.usable("truncated-log", M=M, N=N)
+    ok &= table.usable("cshape", M=M, N=N, transform="log-weyl-dct")
+    ok &= table.usable("f1", N=N)
+    return np.flatnonzero(ok)
 
 
 def _collection_name(coll):
@@ -281,9 +292,9 @@ def _retrieval_report(res) -> list:
     if b.get("failures"):
         s += [f"Skipped (failed): {', '.join(n for n, _ in b['failures'])}", ""]
     if b.get("left_out"):
-        s += [f"Left out of the retrieval tables ({len(b['left_out'])}: a second zero "
-              "eigenvalue, i.e. several connected components, which the log-Weyl ratios and "
-              f"F1 cannot take): {', '.join(b['left_out'])}.", ""]
+        s += [f"Left out of the retrieval tables ({len(b['left_out'])}: so many connected "
+              "components, hence zero eigenvalues, that fewer than 2M+1 non-zero ones are "
+              f"left): {', '.join(b['left_out'])}.", ""]
     s += [_md_table(["descriptor", "size", "NN", "FT", "ST", "E", "DCG", "MAP"],
                     [[r["descriptor"] + ("*" if r["family"] in EXTENSIONS
                                          or r["descriptor"].startswith("log spectrum") else ""),
