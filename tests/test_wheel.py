@@ -7,6 +7,7 @@ The wheel is built and installed once per session by the ``installed_wheel_env``
 from __future__ import annotations
 
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,13 +20,13 @@ pytestmark = pytest.mark.slow
 
 
 def test_the_packaged_manifest_is_the_top_level_file():
-    """One file to edit: cshape/data_manifest.yaml links to the top-level manifest, and
+    """One file to edit: cshape/data/data_manifest.yaml links to the top-level manifest, and
     the package reads it by default."""
-    packaged = REPO / "cshape" / "data_manifest.yaml"
+    packaged = REPO / "cshape" / "data" / "data_manifest.yaml"
     top = REPO / "data_manifest.yaml"
     assert packaged.is_symlink() and packaged.resolve() == top.resolve(), (
-        "cshape/data_manifest.yaml must be a symbolic link to ../data_manifest.yaml; "
-        "recreate it with: ln -sf ../data_manifest.yaml cshape/data_manifest.yaml"
+        "cshape/data/data_manifest.yaml must be a symbolic link to ../../data_manifest.yaml; "
+        "recreate it with: ln -sf ../../data_manifest.yaml cshape/data/data_manifest.yaml"
     )
     assert data.manifest._DEFAULT_MANIFEST.read_bytes() == top.read_bytes()
     default = data.manifest._DEFAULT_MANIFEST
@@ -38,10 +39,12 @@ def test_the_packaged_manifest_is_the_top_level_file():
 def test_wheel_ships_the_manifest_and_every_module(installed_wheel_env):
     with zipfile.ZipFile(installed_wheel_env.wheel) as zf:
         names = set(zf.namelist())
-        shipped = zf.read("cshape/data_manifest.yaml")
+        shipped = zf.read("cshape/data/data_manifest.yaml")
     assert shipped == (REPO / "data_manifest.yaml").read_bytes()
-    modules = {f"cshape/{p.name}" for p in (REPO / "cshape").glob("*.py")}
+    modules = {f"cshape/{p.relative_to(REPO / 'cshape').as_posix()}"
+               for p in (REPO / "cshape").rglob("*.py")}
     assert modules <= names, f"missing from the wheel: {sorted(modules - names)}"
+    assert "cshape/py.typed" in names
 
 
 def test_installed_cshape_data_list(installed_wheel_env):
@@ -94,7 +97,7 @@ def test_installed_cshape_describe_on_a_folder(installed_wheel_env, tmp_path):
 
 def test_sdist_stores_the_manifest_itself(tmp_path):
     """The source distribution (what `python -m build` turns into the wheel) holds the
-    manifest's contents at cshape/data_manifest.yaml, not a link that would dangle."""
+    manifest's contents at cshape/data/data_manifest.yaml, not a link that would dangle."""
     import shutil
     import subprocess
     import sys
@@ -110,6 +113,87 @@ def test_sdist_stores_the_manifest_itself(tmp_path):
     assert r.returncode == 0, r.stderr[-2000:]
     sdist = src / "dist" / r.stdout.strip().splitlines()[-1]
     with tarfile.open(sdist) as tf:
-        member = tf.getmember(f"{sdist.name[:-len('.tar.gz')]}/cshape/data_manifest.yaml")
+        member = tf.getmember(f"{sdist.name[:-len('.tar.gz')]}/cshape/data/data_manifest.yaml")
         assert member.isfile()
         assert tf.extractfile(member).read() == (REPO / "data_manifest.yaml").read_bytes()
+
+
+def _core_distributions(wheel) -> set[str]:
+    """The distributions the wheel requires and theirs, transitively (extras not followed)."""
+    import importlib.metadata as md
+    import re
+
+    def names(reqs):
+        return [re.split(r"[\s;<>=!~\[(]", r, maxsplit=1)[0] for r in reqs if "extra ==" not in r]
+
+    with zipfile.ZipFile(wheel) as zf:
+        meta = next(n for n in zf.namelist() if n.endswith(".dist-info/METADATA"))
+        direct = [line.split(":", 1)[1].strip() for line in zf.read(meta).decode().splitlines()
+                  if line.startswith("Requires-Dist:")]
+    stack, seen = names(direct), set()
+    while stack:
+        name = stack.pop()
+        key = re.sub(r"[-_.]+", "-", name).lower()
+        if key in seen:
+            continue
+        seen.add(key)
+        try:
+            stack += names(md.requires(name) or [])
+        except md.PackageNotFoundError:
+            pass
+    return seen
+
+
+@pytest.mark.slow
+def test_wheel_without_extras_describes_and_queries(installed_wheel_env, tmp_path):
+    """`pip install cshape` without extras: a site folder that holds only cshape's required
+    distributions (numpy, scipy, PyMeshLab, ...; no matplotlib, plotly, Jupyter, nbgrader, Dask,
+    pooch) runs `cshape describe` and `cshape query`, and `import cshape.plots` names its extra."""
+    import importlib.metadata as md
+    import re
+    import subprocess
+    import sys
+
+    env = installed_wheel_env
+    lean = tmp_path / "lean-site"
+    lean.mkdir()
+    wanted = _core_distributions(env.wheel)
+    for dist in md.distributions():
+        key = re.sub(r"[-_.]+", "-", dist.metadata["Name"]).lower()
+        if key not in wanted or dist.files is None:
+            continue
+        for top in {f.parts[0] for f in dist.files if not f.parts[0].startswith("..")}:
+            src = Path(dist.locate_file(top))
+            if src.exists() and not (lean / top).exists():
+                (lean / top).symlink_to(src)
+    for heavy in ("matplotlib", "plotly", "nbformat", "nbgrader", "dask", "pooch", "ipywidgets"):
+        assert not (lean / heavy).exists(), heavy
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
+    py = venv / "bin" / "python"
+    where = "import sysconfig; print(sysconfig.get_paths()['purelib'])"
+    site = subprocess.run([str(py), "-c", where], capture_output=True, text=True,
+                          check=True).stdout.strip()
+    with zipfile.ZipFile(env.wheel) as zf:
+        zf.extractall(site)
+    (Path(site) / "_lean.pth").write_text(str(lean) + "\n")
+    folder = tmp_path / "meshes"
+    for i, level in enumerate((2, 3)):
+        save_mesh(folder / "spheres" / f"s{i}.ply", shapes.icosphere(level))
+    save_mesh(folder / "tori" / "t0.ply", shapes.torus(24, 12))
+    save_mesh(folder / "tori" / "t1.ply", shapes.torus(32, 16))
+    run_env = dict(env.env, CSHAPE_CACHE=str(tmp_path / "cache"))
+
+    def run(*args):
+        return subprocess.run([str(py), "-m", "cshape", *args], capture_output=True, text=True,
+                              cwd=tmp_path, env=run_env, timeout=600)
+
+    r = run("describe", str(folder), "--out", str(tmp_path / "t.csv"), "-N", "40")
+    assert r.returncode == 0, r.stderr
+    r = run("query", str(tmp_path / "t.csv"), "s0", "-k", "1")
+    assert r.returncode == 0, r.stderr
+    assert "s1" in r.stdout
+    r = subprocess.run([str(py), "-c", "import cshape.plots"], capture_output=True, text=True,
+                       env=run_env)
+    assert r.returncode != 0
+    assert "pip install 'cshape[plots]'" in r.stderr.strip().splitlines()[-1]

@@ -21,7 +21,7 @@ LAYOUTS = ("mcgill", "tosca", "shrec07")
 #: Bumped whenever a recipe's output changes, so stale cache files are not reused.
 RECIPES_VERSION = 1
 
-#: The manifest shipped inside the package.  In a source checkout ``cshape/data_manifest.yaml``
+#: The manifest shipped inside the package.  In a source checkout ``cshape/data/data_manifest.yaml``
 #: is a symbolic link to the top-level ``data_manifest.yaml`` (the one file to edit); the
 #: wheel stores the file itself (``[tool.setuptools.package-data]`` in pyproject.toml).
 _DEFAULT_MANIFEST = Path(__file__).resolve().parent / "data_manifest.yaml"
