@@ -2,8 +2,11 @@
 
 * :mod:`cshape.plots.figures`    - the lessons' matplotlib figures (meshes, eigenfunctions,
   the paper's Fig. 1-2 and 9, the DFT, convergence, the M-sweep panels);
-* :mod:`cshape.plots.collection` - pictures of a collection: MDS scatter plots (Fig. 4-5) and
-  distance-matrix images (Fig. 3, 6) with readable labels;
+* :mod:`cshape.plots.collection` - pictures of a collection: MDS scatter plots (Fig. 4-5, with
+  outliers marked on the border) and distance-matrix images (Fig. 3, 6) with readable labels;
+* :mod:`cshape.plots.explore`    - exploring one's own collection: the interactive MDS (names
+  and nearest neighbours on hover), the nearest-neighbour strip of thumbnails, the overview
+  page (offline HTML or PNG);
 * :mod:`cshape.plots.viewer`     - interactive 3-D views (plotly), offline in exported HTML;
 * :mod:`cshape.plots.widgets`    - the M-sweep widget (ipywidgets) over pure functions.
 
@@ -21,10 +24,21 @@ require_extra("cshape.plots", "plots", ("matplotlib", "plotly"))
 from .collection import (  # noqa: E402
     annotate_points,
     matrix_ticks,
+    mds_outliers,
+    nearest_neighbours,
     plot_distance_matrix,
     plot_mds,
     short_label,
     short_labels,
+)
+from .explore import (  # noqa: E402
+    collection_distances,
+    interactive_mds,
+    neighbour_strip_plotly,
+    overview_html,
+    plot_neighbour_strip,
+    plot_overview,
+    save_figure,
 )
 from .figures import (  # noqa: E402
     new_figure,
@@ -43,9 +57,15 @@ from .viewer import eigenfunction_explorer, view_mesh, view_meshes  # noqa: E402
 
 __all__ = [
     "annotate_points",
+    "collection_distances",
     "eigenfunction_explorer",
+    "interactive_mds",
     "matrix_ticks",
+    "mds_outliers",
+    "nearest_neighbours",
+    "neighbour_strip_plotly",
     "new_figure",
+    "overview_html",
     "plot_convergence",
     "plot_cshape_dna",
     "plot_dft",
@@ -55,9 +75,12 @@ __all__ = [
     "plot_matrices",
     "plot_mds",
     "plot_mesh",
+    "plot_neighbour_strip",
+    "plot_overview",
     "plot_reconstruction_error",
     "plot_shape_dna_stages",
     "plot_weyl",
+    "save_figure",
     "short_label",
     "short_labels",
     "view_mesh",
