@@ -45,6 +45,12 @@ def test_wheel_ships_the_manifest_and_every_module(installed_wheel_env):
                for p in (REPO / "cshape").rglob("*.py")}
     assert modules <= names, f"missing from the wheel: {sorted(modules - names)}"
     assert "cshape/py.typed" in names
+    # the licence travels with the wheel (PEP 639: .dist-info/licenses/LICENSE)
+    with zipfile.ZipFile(installed_wheel_env.wheel) as zf:
+        lic = [n for n in zf.namelist() if n.endswith(".dist-info/licenses/LICENSE")]
+        assert lic and zf.read(lic[0]) == (REPO / "LICENSE").read_bytes()
+        meta = zf.read(next(n for n in zf.namelist() if n.endswith(".dist-info/METADATA")))
+    assert b"License-Expression: BSD-3-Clause" in meta and b"License-File: LICENSE" in meta
 
 
 def test_installed_cshape_data_list(installed_wheel_env):
