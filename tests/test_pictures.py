@@ -420,3 +420,22 @@ def test_cli_overview_and_query_plot_as_subprocesses(described, tmp_path):
     res = run("overview", described / "t.csv", "--out", tmp_path / "o.doc")
     assert res.returncode == 2 and "Traceback" not in res.stderr
     assert len(res.stderr.strip().splitlines()) == 1
+
+
+def test_the_default_descriptor_follows_compare_default_kind(monkeypatch, described, tmp_path,
+                                                              capsys):
+    """Without a kind the pictures compare cshape.compare.DEFAULT_KIND (when the package
+    defines one), and say so."""
+    import cshape.compare
+
+    monkeypatch.setattr(cshape.compare, "DEFAULT_KIND", "shape-dna", raising=False)
+    assert collection_distances(spectra_table()).kind == "shape-dna"
+    rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
+    assert rc == 0 and "compared by Shape-DNA N=20 (20 values)" in capsys.readouterr().err
+
+
+def test_guess_vertical_axis_by_format():
+    from cshape.plots.explore import guess_vertical_axis
+
+    assert [guess_vertical_axis(f) for f in ("a/spot.obj", "b.OBJ.gz", "c.ply", "d.off",
+                                             "e.stl", "f.glb")] == ["y", "y", "z", "z", "z", "y"]
