@@ -37,6 +37,7 @@ from .descriptors import (
 __all__ = [
     "DESCRIPTOR_KINDS",
     "descriptor_matrix",
+    "descriptor_rows",
     "descriptor_size",
     "difference_matrix",
     "distance_matrix",
@@ -167,26 +168,50 @@ default='cshape'
         or rows that cannot be described (all of them named, with the reason; see
         :func:`row_problems`).
     """
+    X, problems = descriptor_rows(lams, areas, kind, M, N, normalization=normalization,
+                                  transform=transform, zero_modes=zero_modes)
+    if problems:
+        p = len(X) + len(problems)
+        labels = _row_names(names, p)
+        shown = "; ".join(f"{labels[i]}: {m}" for i, m in list(problems.items())[:5])
+        more = f"; and {len(problems) - 5} more" if len(problems) > 5 else ""
+        raise ValueError(
+            f"kind={_check_kind(kind)!r} cannot describe {len(problems)} of {p} shapes "
+            f"({shown}{more}); leave them out (cshape.compare.row_problems lists them; "
+            "a DescriptorTable leaves them out with a warning) or choose another kind")
+    if names is not None:
+        _row_names(names, len(X))
+    return X
+
+
+def descriptor_rows(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
+                    transform="weyl", zero_modes=None):
+    """The descriptors of the rows that can be described, and why the others cannot.
+
+    Takes the arguments of :func:`descriptor_matrix`.
+
+    Returns
+    -------
+    X : ndarray, shape (q, d)
+        The descriptors of the ``q`` rows that can be described, in order (``q = 0``:
+        shape ``(0, 0)``).
+    problems : dict of int to str
+        ``{row: reason}`` of the others (see :func:`row_problems`).
+    """
     rows, a, zm, recipe = _prepare_rows(lams, areas, kind, M, N, normalization, transform,
                                         zero_modes)
-    labels = _row_names(names, len(rows))
     out, problems = [], {}
     for i, r in enumerate(rows):
         try:
             out.append(_one_row(r, a[i], zm[i], **recipe))
         except ValueError as exc:
             problems[i] = str(exc)
-    if problems:
-        shown = "; ".join(f"{labels[i]}: {m}" for i, m in list(problems.items())[:5])
-        more = f"; and {len(problems) - 5} more" if len(problems) > 5 else ""
-        raise ValueError(
-            f"kind={recipe['kind']!r} cannot describe {len(problems)} of {len(rows)} shapes "
-            f"({shown}{more}); leave them out (cshape.compare.row_problems lists them; "
-            "a DescriptorTable leaves them out with a warning) or choose another kind")
+    if not out:
+        return np.zeros((0, 0)), problems
     lengths = {len(x) for x in out}
     if len(lengths) > 1:  # pragma: no cover - every kind has a fixed length
         raise ValueError(f"the {kind!r} descriptors have different lengths {sorted(lengths)}")
-    return np.vstack(out)
+    return np.vstack(out), problems
 
 
 def row_problems(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
@@ -204,15 +229,8 @@ def row_problems(lams, areas=None, kind="cshape", M=16, N=100, *, normalization=
     dict of int to str
         ``{row: reason}``; empty when every row can be described.
     """
-    rows, a, zm, recipe = _prepare_rows(lams, areas, kind, M, N, normalization, transform,
-                                        zero_modes)
-    problems = {}
-    for i, r in enumerate(rows):
-        try:
-            _one_row(r, a[i], zm[i], **recipe)
-        except ValueError as exc:
-            problems[i] = str(exc)
-    return problems
+    return descriptor_rows(lams, areas, kind, M, N, normalization=normalization,
+                           transform=transform, zero_modes=zero_modes)[1]
 
 
 def _row_names(names, p):

@@ -15,7 +15,7 @@ import numpy as np
 
 from .._checks import check_choice
 from .._files import atomic_write
-from ..compare import descriptor_matrix, distance_matrix, row_problems
+from ..compare import descriptor_rows, distance_matrix, row_problems
 from ..descriptors import TRANSFORMS, count_zero_modes
 from ..mesh import CShapeWarning
 
@@ -177,9 +177,8 @@ class DescriptorTable:
         mask[list(bad)] = False
         return mask
 
-    def _kept_rows(self, recipe, stacklevel=3):
-        """Rows that can be described; a warning names the others."""
-        bad = row_problems(self.lam, self.areas, zero_modes=self.zero_modes, **recipe)
+    def _warn_left_out(self, recipe, bad, stacklevel=3):
+        """A warning that names the rows left out."""
         if bad:
             shown = "; ".join(f"{self.names[i]} ({m})" for i, m in list(bad.items())[:5])
             more = f"; and {len(bad) - 5} more" if len(bad) > 5 else ""
@@ -187,7 +186,6 @@ class DescriptorTable:
                 f"kind={recipe['kind']!r} cannot describe {len(bad)} of {len(self)} shapes, "
                 f"left out: {shown}{more}",
                 CShapeWarning, stacklevel=stacklevel)
-        return np.array([i for i in range(len(self)) if i not in bad], dtype=np.int64)
 
     def descriptors(self, kind="cshape", M=None, N=None, *, transform=None,
                     **kwargs) -> np.ndarray:
@@ -211,14 +209,13 @@ class DescriptorTable:
             with a :class:`cshape.CShapeWarning` naming them; :meth:`usable` marks them).
         """
         recipe = self._recipe(kind, M, N, transform, kwargs)
-        keep = self._kept_rows(recipe)
-        if len(keep) == 0:
+        X, bad = descriptor_rows(self.lam, self.areas, zero_modes=self.zero_modes, **recipe)
+        self._warn_left_out(recipe, bad)
+        if len(X) == 0:
             raise ValueError(
                 f"kind={recipe['kind']!r} cannot describe any of the {len(self)} shapes "
                 "(see the warning); choose another kind or compute more eigenvalues")
-        return descriptor_matrix(self.lam[keep], self.areas[keep],
-                                 zero_modes=self.zero_modes[keep],
-                                 names=[self.names[i] for i in keep], **recipe)
+        return X
 
     def distance_matrix(self, kind="cshape", M=None, N=None, *, transform=None,
                         **kwargs) -> np.ndarray:
