@@ -283,3 +283,15 @@ def test_rayleigh_ritz_schedule_finds_every_copy_for_any_N(sparse_path, N):
     assert np.max(np.abs(lam - lam_ref) / scale) < 1e-9
     assert spectrum._first_check(N) >= N
     assert spectrum._next_check(200, 3, 8) == 208 and spectrum._next_check(200, 10, 8) == 232
+
+
+@pytest.mark.slow
+def test_icosphere_2562_default_path_matches_dense_lapack_to_1e9():
+    # The default path as users call it (sparse at 2562 unknowns, Rayleigh-Ritz only where
+    # predicted): every eigenvalue of the icosahedral multiplets within 1e-9 of LAPACK.
+    mesh = shapes.icosphere(4)
+    K, B = _KB(mesh)
+    ref = la.eigh(K.toarray(), B.toarray(), eigvals_only=True, subset_by_index=[0, 99])
+    lam = cshape.shape_dna(mesh, N=100)
+    assert lam[0] == 0.0
+    np.testing.assert_allclose(lam[1:], ref[1:], rtol=1e-9)
