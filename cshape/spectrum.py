@@ -350,6 +350,14 @@ def _empty_basis(n, m):
     return np.empty((n, m), order="F")
 
 
+def _triangular_inverse(R):
+    """The inverse of an invertible upper triangular matrix (LAPACK ``trtri``)."""
+    Rinv, info = la.lapack.dtrtri(R, lower=0)
+    if info != 0:  # pragma: no cover - R comes from a successful, well-conditioned Cholesky
+        raise la.LinAlgError(f"singular triangular factor (trtri info {info})")
+    return Rinv
+
+
 def _b_orthonormalize(W, B, scale, split=None):
     """B-orthonormalise the columns of ``W`` (Cholesky-QR, repeated if ill-conditioned).
 
@@ -368,7 +376,6 @@ def _b_orthonormalize(W, B, scale, split=None):
     R : ndarray, shape (r, b)
         ``W = Q R`` up to the dropped directions; ``r < b`` if ``W`` is rank deficient.
     """
-    b = W.shape[1]
     if split is None:
         split = _RowSplit(W.shape[0], B)
     BW = split.bmul(W)
@@ -392,14 +399,14 @@ def _b_orthonormalize(W, B, scale, split=None):
             return Q, BQ, R
         Q, BQ, R2 = _b_orthonormalize(Q, B, 1.0, split)
         return Q, BQ, R2 @ R
-    Rinv = la.solve_triangular(R, np.eye(b), lower=False)
+    Rinv = _triangular_inverse(R)
     # Q column-major (it is copied into the column-major basis as one contiguous block),
     # BQ in the order the solver takes without a copy (the next block of right-hand sides)
     Q, BQ = split.times(W, Rinv, "F"), split.times(BW, Rinv, split.rhs_order)
     if cond > 1e2:  # Cholesky-QR loses eps * cond^2 of orthogonality: repeat
         G = split.tdot(Q, BQ)
         R2 = la.cholesky(0.5 * (G + G.T), lower=False)  # G ~ I: well conditioned
-        R2inv = la.solve_triangular(R2, np.eye(b), lower=False)
+        R2inv = _triangular_inverse(R2)
         Q, BQ, R = (split.times(Q, R2inv, "F"), split.times(BQ, R2inv, split.rhs_order),
                     R2 @ R)
     return Q, BQ, R
@@ -601,8 +608,10 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         band[ucols - urows, m + urows] = R[urows, ucols]
         if not due:
             continue
+        # (the band is finite: its entries come from products checked by la.cholesky)
         theta, Y = la.eig_banded(
-            band[:, :m], lower=False, select="i", select_range=(m - N, m - 1)
+            band[:, :m], lower=False, select="i", select_range=(m - N, m - 1),
+            check_finite=False,
         )
         theta = theta[::-1]
         Y = Y[:, ::-1]
