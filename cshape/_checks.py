@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "OLD_SPELLINGS",
@@ -32,6 +33,7 @@ __all__ = [
     "check_descriptors",
     "check_int",
     "check_labels",
+    "check_n_jobs",
     "check_path",
     "check_real",
     "check_square",
@@ -190,6 +192,24 @@ def check_real(name: str, value: object, *, min: float | None = None,
     return v
 
 
+def check_n_jobs(value: object, name: str = "n_jobs") -> int | None:
+    """``None`` or a worker count: a positive integer, or -1 for all cores (joblib's rule).
+
+    Raises
+    ------
+    TypeError
+        ``"n_jobs must be an integer, got float 2.0"``.
+    ValueError
+        ``"n_jobs must be a positive integer or -1 (all cores), got 0"``.
+    """
+    if value is None:
+        return None
+    n = check_int(name, value)
+    if n == 0 or n < -1:
+        raise ValueError(f"{name} must be a positive integer or -1 (all cores), got {n}")
+    return n
+
+
 def check_bool(name: str, value: object) -> bool:
     """Return ``value`` as a Python ``bool`` (``True``/``False``, NumPy bools accepted).
 
@@ -243,7 +263,7 @@ def require_extra(layer: str, extra: str, modules: tuple[str, ...]) -> None:
 
 
 # --------------------------------------------------------------------------- validation
-def check_descriptors(X, name="X") -> np.ndarray:
+def check_descriptors(X: ArrayLike, name: str = "X") -> NDArray[np.float64]:
     """(p, d) real array from real or complex descriptors (complex -> [Re, Im] columns)."""
     try:
         A = np.asarray(X)
@@ -274,7 +294,8 @@ def check_descriptors(X, name="X") -> np.ndarray:
     return A
 
 
-def check_square(D, name="D", *, nonnegative=True) -> np.ndarray:
+def check_square(D: ArrayLike, name: str = "D", *, nonnegative: bool = True
+                 ) -> NDArray[np.float64]:
     try:
         A = np.asarray(D, dtype=np.float64)
     except (TypeError, ValueError):
@@ -300,7 +321,7 @@ def check_square(D, name="D", *, nonnegative=True) -> np.ndarray:
     return A
 
 
-def check_labels(labels, p, name="labels") -> np.ndarray:
+def check_labels(labels: Any, p: int, name: str = "labels") -> NDArray[np.int64]:
     """Integer class codes (p,) from any sequence of hashable labels."""
     if isinstance(labels, (str, bytes)):
         raise ValueError(f"{name} must be a sequence of one label per model, got a string")
@@ -310,7 +331,7 @@ def check_labels(labels, p, name="labels") -> np.ndarray:
             f"{name} has {len(lab)} entries but the distance matrix has {p} rows; "
             "pass one class label per model, in the order of the rows"
         )
-    codes = {}
+    codes: dict[object, int] = {}
     try:
         return np.array([codes.setdefault(x, len(codes)) for x in lab], dtype=np.int64)
     except TypeError:

@@ -21,10 +21,22 @@ Every function takes and returns plain NumPy arrays.
 
 from __future__ import annotations
 
-import numpy as np
+from collections.abc import Hashable, Sequence
+from typing import Any, cast
 
-from ._checks import check_choice, check_descriptors, check_int, check_labels, check_square
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._checks import (
+    check_bool,
+    check_choice,
+    check_descriptors,
+    check_int,
+    check_labels,
+    check_square,
+)
 from .descriptors import (
+    NORMALIZATIONS,
     TRANSFORMS,
     compact_shape_dna,
     count_zero_modes,
@@ -63,7 +75,7 @@ E_MEASURE_DEPTH = 32
 
 
 # --------------------------------------------------------------------------- descriptors
-def descriptor_size(kind, M=16, N=100) -> int:
+def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
     """Number of values of a descriptor of the given kind (its storage, in numbers).
 
     Parameters
@@ -81,16 +93,21 @@ def descriptor_size(kind, M=16, N=100) -> int:
         :func:`descriptor_matrix` for meshes of several pieces).
     """
     kind = _check_kind(kind)
+    M = check_int("M", M, min=0)
+    N = check_int("N", N, min=1)
     return {"shape-dna": N, "truncated": 2 * M + 1, "cshape": 2 * M + 1,
             "cshape-complex": 2 * M + 1, "f1": N - 2, "truncated-log": 2 * M + 1}[kind]
 
 
-def _check_kind(kind):
+def _check_kind(kind: object) -> str:
     return check_choice("kind", kind, DESCRIPTOR_KINDS)
 
 
-def descriptor_matrix(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
-                      transform="weyl", zero_modes=None, names=None):
+def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
+                      kind: str = "cshape", M: int = 16, N: int = 100, *,
+                      normalization: str = "area", transform: str = "weyl",
+                      zero_modes: ArrayLike | None = None,
+                      names: Sequence[str] | None = None) -> NDArray[Any]:
     """Descriptors of many shapes from their eigenvalues, one row per shape.
 
     The four descriptors of the paper's Section 3.1, and one beyond it:
@@ -214,8 +231,10 @@ def descriptor_rows(lams, areas=None, kind="cshape", M=16, N=100, *, normalizati
     return np.vstack(out), problems
 
 
-def row_problems(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
-                 transform="weyl", zero_modes=None) -> dict:
+def row_problems(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
+                 kind: str = "cshape", M: int = 16, N: int = 100, *,
+                 normalization: str = "area", transform: str = "weyl",
+                 zero_modes: ArrayLike | None = None) -> dict[int, str]:
     """The rows of :func:`descriptor_matrix` that cannot be described, with the reason.
 
     Takes the arguments of :func:`descriptor_matrix`.  A row cannot be described when it
@@ -246,7 +265,7 @@ def _prepare_rows(lams, areas, kind, M, N, normalization, transform, zero_modes)
     """Checked rows, areas (None where unused), zero modes (None: count) and the recipe."""
     kind = _check_kind(kind)
     transform = check_choice("transform", transform, TRANSFORMS)
-    normalization = check_choice("normalization", normalization, ("area", "fiedler", "weyl"))
+    normalization = check_choice("normalization", normalization, NORMALIZATIONS)
     M = check_int("M", M, min=0)
     N = check_int("N", N, min=1)
     if isinstance(lams, np.ndarray) and lams.ndim == 2:
@@ -257,7 +276,7 @@ def _prepare_rows(lams, areas, kind, M, N, normalization, transform, zero_modes)
             f"{type(lams).__name__} of shape {np.shape(lams)}"
         )
     else:
-        rows = [np.asarray(r, dtype=np.float64) for r in lams]
+        rows = [np.asarray(r, dtype=np.float64) for r in cast("Sequence[ArrayLike]", lams)]
     p = len(rows)
     if p == 0:
         raise ValueError("lams is empty; it needs the eigenvalues of at least one shape")
@@ -331,7 +350,7 @@ def _one_row(r, area, k, *, kind, M, N, normalization, transform):
 
 
 # --------------------------------------------------------------------------- distances
-def distance_matrix(X):
+def distance_matrix(X: ArrayLike) -> NDArray[np.float64]:
     """Euclidean distances between descriptors (Section 3.1).
 
     Parameters
@@ -360,7 +379,7 @@ def distance_matrix(X):
     return squareform(pdist(A, metric="euclidean"))
 
 
-def scale_255(D):
+def scale_255(D: ArrayLike) -> NDArray[np.float64]:
     """Scale a distance matrix into ``[0, 255]`` (Section 3.1, Fig. 3 a-b).
 
     ``D_255 = 255 * D / max(D)``.  The minimum is *not* subtracted: a distance of 0
@@ -390,7 +409,7 @@ def scale_255(D):
     return A * (255.0 / top)
 
 
-def difference_matrix(D1, D2):
+def difference_matrix(D1: ArrayLike, D2: ArrayLike) -> NDArray[np.float64]:
     """``|scale_255(D1) - scale_255(D2)|``, the difference image of Fig. 3c, 6 e-h and 7.
 
     Parameters
@@ -413,7 +432,8 @@ def difference_matrix(D1, D2):
     return np.abs(scale_255(A) - scale_255(B))
 
 
-def scaled_difference(D1, D2, *, include_diagonal=True):
+def scaled_difference(D1: ArrayLike, D2: ArrayLike, *, include_diagonal: bool = True
+                      ) -> tuple[float, float]:
     """Mean and standard deviation of ``|scale_255(D1) - scale_255(D2)|`` (Section 3.1-3.3).
 
     The statistics the paper quotes for its difference images (mean 0.68, standard
@@ -440,6 +460,7 @@ def scaled_difference(D1, D2, *, include_diagonal=True):
     ValueError
         If the matrices are not square, differ in shape, or hold negative / NaN values.
     """
+    include_diagonal = check_bool("include_diagonal", include_diagonal)
     diff = difference_matrix(D1, D2)
     if not include_diagonal:
         if len(diff) < 2:
@@ -449,13 +470,14 @@ def scaled_difference(D1, D2, *, include_diagonal=True):
 
 
 # --------------------------------------------------------------------------- retrieval
-def _ranking(D, i):
+def _ranking(D: NDArray[np.float64], i: int) -> NDArray[np.int64]:
     """Indices of the other models, nearest first; ties by index (stable sort)."""
     order = np.argsort(D[i], kind="stable")
     return order[order != i]
 
 
-def retrieval_per_query(D, labels, *, min_class_size=2):
+def retrieval_per_query(D: ArrayLike, labels: Sequence[Hashable] | ArrayLike, *,
+                        min_class_size: int = 2) -> dict[str, NDArray[np.float64]]:
     """Per-query retrieval measures; see :func:`retrieval_scores` for the definitions.
 
     Parameters
@@ -500,7 +522,8 @@ def retrieval_per_query(D, labels, *, min_class_size=2):
     return out
 
 
-def retrieval_scores(D, labels, *, min_class_size=2):
+def retrieval_scores(D: ArrayLike, labels: Sequence[Hashable] | ArrayLike, *,
+                     min_class_size: int = 2) -> dict[str, float]:
     """Retrieval measures of the Princeton Shape Benchmark, averaged over all queries.
 
     Every model is used once as the query; the remaining ``p - 1`` models are ranked by
@@ -560,7 +583,8 @@ def retrieval_scores(D, labels, *, min_class_size=2):
 
 
 # --------------------------------------------------------------------------- MDS
-def mds_embedding(D, *, n_components=2, random_state=0, n_init=4, max_iter=300):
+def mds_embedding(D: ArrayLike, *, n_components: int = 2, random_state: Any = 0,
+                  n_init: int = 4, max_iter: int = 300) -> NDArray[np.float64]:
     """Metric multidimensional scaling of a distance matrix (Fig. 4-5).
 
     Parameters
@@ -590,6 +614,9 @@ def mds_embedding(D, *, n_components=2, random_state=0, n_init=4, max_iter=300):
 
     from sklearn.manifold import MDS
 
+    n_components = check_int("n_components", n_components, min=1)
+    n_init = check_int("n_init", n_init, min=1)
+    max_iter = check_int("max_iter", max_iter, min=1)
     A = check_square(D, "D")
     if len(A) < 2:
         raise ValueError(f"D needs at least 2 models for an embedding, got {len(A)}")

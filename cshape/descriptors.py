@@ -63,10 +63,13 @@ All three give ``2M+1`` real numbers in :func:`real_form`, so sizes compare one 
 
 from __future__ import annotations
 
-import numpy as np
+from typing import Any
 
-from ._checks import check_choice
-from .mesh import Mesh
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._checks import check_bool, check_choice, check_int, check_real
+from .mesh import Mesh, MeshLike
 
 __all__ = [
     "normalize",
@@ -96,10 +99,10 @@ FOUR_PI = 4.0 * np.pi
 ZERO_RTOL = 1e-8
 
 
-def _as_lam(lam, name="lam", min_len=1) -> np.ndarray:
+def _as_lam(lam: Any, name: str = "lam", min_len: int = 1) -> NDArray[np.float64]:
     try:
         is_complex = np.iscomplexobj(lam)
-        x = None if is_complex else np.asarray(lam, dtype=np.float64)
+        x = np.empty(0) if is_complex else np.asarray(lam, dtype=np.float64)
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be a 1-D array of real eigenvalues") from None
     if is_complex:
@@ -116,7 +119,7 @@ def _as_lam(lam, name="lam", min_len=1) -> np.ndarray:
     return x
 
 
-def _first_nonzero(lam: np.ndarray) -> int:
+def _first_nonzero(lam: NDArray[np.float64]) -> int:
     # relative to the spectrum: eigenvalues scale as 1/length^2, so a large mesh (in mm or
     # um) has all of them far below any absolute threshold
     tol = 1e-8 * float(np.abs(lam).max())
@@ -126,7 +129,8 @@ def _first_nonzero(lam: np.ndarray) -> int:
     return int(nz[0])
 
 
-def normalize(lam, area=None, method="area"):
+def normalize(lam: ArrayLike, area: float | None = None,
+              method: str = "area") -> NDArray[np.float64]:
     """Scale-normalise a Shape-DNA (Section 2.1).
 
     Parameters
@@ -145,6 +149,14 @@ def normalize(lam, area=None, method="area"):
     Returns
     -------
     lam_norm : ndarray, shape (N,)
+
+    Raises
+    ------
+    TypeError
+        Complex or non-numeric ``lam``; ``area`` not a real number; ``method`` not a string.
+    ValueError
+        ``lam`` not 1-D, empty or not finite; ``area`` not positive and finite, or missing
+        for ``method='area'``; an unknown ``method``.
     """
     x = _as_lam(lam)
     method = check_choice("method", method, NORMALIZATIONS)
@@ -154,15 +166,7 @@ def normalize(lam, area=None, method="area"):
                 "method='area' needs the surface area: pass area=mesh.area "
                 "(or use method='weyl', which needs no area)"
             )
-        try:
-            a = float(area)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"area must be a positive finite number, got {type(area).__name__} {area!r}"
-            ) from None
-        if isinstance(area, bool) or not np.isfinite(a) or a <= 0:
-            raise ValueError(f"area must be a positive finite number, got {area!r}")
-        return x * a
+        return x * check_real("area", area, positive=True)
     if method == "fiedler":
         return x / x[_first_nonzero(x)]
     i = np.arange(len(x), dtype=np.float64)
@@ -172,7 +176,7 @@ def normalize(lam, area=None, method="area"):
     return x * (FOUR_PI / s)
 
 
-def weyl_subtract(lam_norm):
+def weyl_subtract(lam_norm: ArrayLike) -> NDArray[np.float64]:
     """Subtract the Weyl line from a normalised Shape-DNA, Eq. (8).
 
     ``lam'_i = lam_i^norm - 4 pi i`` for ``i = 0, ..., N-1``.
@@ -190,7 +194,7 @@ def weyl_subtract(lam_norm):
     return x - FOUR_PI * np.arange(len(x))
 
 
-def count_zero_modes(lam, *, rtol=ZERO_RTOL) -> int:
+def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
     """Number of zero modes of an ascending spectrum: one per connected component.
 
     Parameters
@@ -218,12 +222,7 @@ def _zero_modes(x, zero_modes, tol) -> int:
     if zero_modes is None:
         above = np.flatnonzero(x > tol)
         return int(above[0]) if len(above) else len(x)
-    if isinstance(zero_modes, bool) or not isinstance(zero_modes, (int, np.integer)) \
-            or zero_modes < 0:
-        raise ValueError(
-            f"zero_modes must be an integer >= 0 (the number of zero eigenvalues, one per "
-            f"connected component), got {zero_modes!r}")
-    k = int(zero_modes)
+    k = check_int("zero_modes", zero_modes, min=0)
     if k > len(x):
         raise ValueError(f"zero_modes={k} is more than the {len(x)} eigenvalues given")
     big = np.flatnonzero(np.abs(x[:k]) > tol)
@@ -262,7 +261,8 @@ def _weyl_extend(mu, length):
     return np.concatenate([mu, mu[-1] * i / L])
 
 
-def nonzero_eigenvalues(lam, zero_modes=None, *, length=None):
+def nonzero_eigenvalues(lam: ArrayLike, zero_modes: int | None = None, *,
+                        length: int | None = None) -> NDArray[np.float64]:
     """The eigenvalues after the zero modes, indexed from 1: ``mu_i = lam_{k-1+i}``.
 
     The rule for meshes of several pieces (see the module notes): a mesh of ``k``
@@ -296,7 +296,8 @@ def nonzero_eigenvalues(lam, zero_modes=None, *, length=None):
     return _weyl_extend(_after(x, k, tol, "nonzero_eigenvalues"), length)
 
 
-def log_weyl_ratio(lam_norm, zero_modes=None, *, length=None):
+def log_weyl_ratio(lam_norm: ArrayLike, zero_modes: int | None = None, *,
+                   length: int | None = None) -> NDArray[np.float64]:
     """The log-Weyl ratio of a normalised Shape-DNA (an extension beyond the paper).
 
     ``r_i = log(lam_i^norm / (4 pi i))`` for ``i = 1, ..., N-1``: the relative deviation
@@ -347,21 +348,17 @@ def log_weyl_ratio(lam_norm, zero_modes=None, *, length=None):
     return np.concatenate([r, np.full(length - len(r), r[-1])])  # Weyl: mu_i ~ mu_L i / L
 
 
-def _check_transform(transform):
+def _check_transform(transform: object) -> str:
     return check_choice("transform", transform, TRANSFORMS)
 
 
-def _sequence_length(N, transform):
+def _sequence_length(N: int, transform: str) -> int:
     """Length of the sequence that is transformed: N (Eq. 8) or N-1 (log-Weyl)."""
     return N if transform == "weyl" else N - 1
 
 
-def _check_M(M, N, transform="weyl"):
-    if isinstance(M, bool) or not isinstance(M, (int, np.integer)):
-        raise TypeError(f"M must be an integer, got {type(M).__name__} {M!r}")
-    M = int(M)
-    if M < 0:
-        raise ValueError(f"M must be >= 0 (the descriptor has 2M+1 values), got {M}")
+def _check_M(M: object, N: int, transform: str = "weyl") -> int:
+    M = check_int("M", M, min=0)
     L = _sequence_length(N, transform)
     if 2 * M + 1 > L:
         if transform == "weyl":
@@ -382,27 +379,27 @@ def _check_M(M, N, transform="weyl"):
     return M
 
 
-def _check_N(N):
-    if isinstance(N, bool) or not isinstance(N, (int, np.integer)):
-        raise TypeError(f"N must be an integer, got {type(N).__name__} {N!r}")
-    if N < 1:
-        raise ValueError(f"N must be at least 1 (the number of eigenvalues), got {N}")
-    return int(N)
+def _check_N(N: object) -> int:
+    return check_int("N", N, min=1)
 
 
-def _is_mesh(x) -> bool:
+def _is_mesh(x: object) -> bool:
     return isinstance(x, Mesh) or (
         isinstance(x, (tuple, list)) and len(x) == 2 and np.ndim(x[0]) == 2
     )
 
 
-def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized=False):
-    """Return the normalised Shape-DNA (N,) from a mesh or from eigenvalues."""
+def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
+                         normalization: str, normalized: bool = False
+                         ) -> tuple[NDArray[np.float64], int | None]:
+    """The normalised Shape-DNA (N,) from a mesh or from eigenvalues, and the mesh's number
+    of components (None for eigenvalues)."""
     N = _check_N(N)
     normalization = check_choice("normalization", normalization, NORMALIZATIONS)
     check_choice("bc", bc, ("neumann", "dirichlet"))
-    if not isinstance(normalized, (bool, np.bool_)):
-        raise TypeError(f"normalized must be True or False, got {normalized!r}")
+    normalized = check_bool("normalized", normalized)
+    if area is not None:
+        area = check_real("area", area, positive=True)
     if normalized and area is not None:
         raise ValueError(
             "pass either area=... (raw eigenvalues, multiplied by it) or normalized=True "
@@ -448,7 +445,7 @@ def _spectrum_from_input(mesh_or_lam, N, area, bc, normalization, normalized=Fal
     return normalize(lam, area=area, method=normalization), None
 
 
-def _dft_crop(x, M):
+def _dft_crop(x: NDArray[np.float64], M: int) -> NDArray[np.complex128]:
     """Eq. (9)-(10) on any real sequence: DFT, shift, the 2M+1 values around the centre."""
     Lam = np.fft.fft(x)  # Eq. (9)
     shifted = np.fft.fftshift(Lam)  # zero frequency at index len(x) // 2
@@ -456,15 +453,17 @@ def _dft_crop(x, M):
     return shifted[c - M : c + M + 1].copy()  # Eq. (10)
 
 
-def _dct(x):
+def _dct(x: NDArray[np.float64]) -> NDArray[np.float64]:
     from scipy.fft import dct
 
     return dct(x, type=2, norm="ortho")
 
 
-def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
-                      normalization="area", transform="weyl", normalized=False,
-                      zero_modes=None):
+def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 100,
+                      area: float | None = None, *, bc: str = "neumann",
+                      normalization: str = "area", transform: str = "weyl",
+                      normalized: bool = False, zero_modes: int | None = None
+                      ) -> NDArray[Any]:
     """Compact Shape-DNA (cShape-DNA), Eq. (8)-(10), and its log-Weyl extensions.
 
     ``transform='weyl'`` (the default) is the paper, bit for bit: normalise (multiply by
@@ -531,13 +530,15 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
     Raises
     ------
     TypeError
-        If ``N`` or ``M`` is not an integer (bools are refused), or the eigenvalues are
+        If ``N`` or ``M`` is not an integer (bools are refused), ``area`` not a real
+        number, ``normalized`` not a bool, a mode not a string, or the eigenvalues are
         complex.
     ValueError
-        If ``N < 1``, ``M < 0``, ``2M+1`` exceeds the sequence length, ``bc``,
-        ``normalization`` or ``transform`` is unknown, fewer than ``N`` eigenvalues are
-        given, both ``area`` and ``normalized=True`` are given (checked before any
-        eigensolve), or, for the log-Weyl transforms, some ``lam_i <= 0`` with ``i >= 1``.
+        If ``N < 1``, ``M < 0``, ``2M+1`` exceeds the sequence length, ``area`` is not
+        positive, ``bc``, ``normalization`` or ``transform`` is unknown, fewer than ``N``
+        eigenvalues are given, both ``area`` and ``normalized=True`` are given (all
+        checked before any eigensolve), or, for the log-Weyl transforms, some
+        ``lam_i <= 0`` with ``i >= 1``.
 
     Warns
     -----
@@ -552,34 +553,12 @@ def compact_shape_dna(mesh_or_lam, M=16, N=100, area=None, *, bc="neumann",
 
     Notes
     -----
-    **Which transform.**  ``'weyl'`` to reproduce the paper.  To retrieve shapes,
-    ``'log-weyl-dct'``.  Chosen with ``python benchmarks/bench_descriptors.py`` on the
-    development collection ``creatures-dev`` and then measured once on the held-out
-    ``creatures`` (``--collection creatures``; 120 shapes in 12 classes each; results in
-    ``benchmarks/results/descriptors_creatures*.md``).  First tier, dev / held out:
-
-    ==================================== ============= =============
-    descriptor (N = 100)                  17 numbers    33 numbers
-    ==================================== ============= =============
-    ``'weyl'`` (the paper)                0.277 / 0.342 0.278 / 0.339
-    ``'log-weyl'`` (DFT)                  0.431 / 0.465 0.479 / 0.544
-    ``'log-weyl-dct'``                    0.427 / 0.478 0.494 / 0.559
-    ==================================== ============= =============
-
-    The log-Weyl ratio weighs every index alike, where Eq. (8) lets the largest
-    eigenvalues (mesh detail) dominate the distance: +0.12 to +0.22 first tier.  The DCT
-    ties the DFT at 17 numbers on dev (paired difference -0.004 +- 0.006; held out
-    +0.013 +- 0.006) and wins at 33 (+0.016 +- 0.005; held out +0.015 +- 0.006) and at
-    every smaller ``N``: its even extension has no jump between ``r_{N-1}`` and ``r_1`` to
-    spread over all frequencies.  Below 9 numbers (``M <= 3``) the DFT is better.
-
-    **Which N.**  It matters more than the transform: the fewer eigenvalues beyond
-    ``2M+1``, the better on these collections (17 numbers, held out: first tier 0.48 at
-    ``N = 100``, 0.57 at ``N = 50``, 0.59 at ``N = 18``).  At ``N = 2M+2`` nothing is
-    cropped and both log-Weyl transforms have the distances of the first ``2M+1`` log-Weyl
-    ratios (the truncated log spectrum, kind ``'truncated-log'`` of
-    :func:`cshape.compare.descriptor_matrix`), the best descriptor of 17 and of 33 numbers
-    there.  Keep ``N > 2M+2`` where higher eigenvalues carry shape information.
+    ``'weyl'`` reproduces the paper; ``'log-weyl-dct'`` is the transform to retrieve
+    shapes with.  Fewer eigenvalues beyond ``2M+1`` (a smaller ``N``) retrieve better on the
+    benchmark collections; at ``N = 2M+2`` nothing is cropped and both log-Weyl transforms
+    have the distances of the first ``2M+1`` log-Weyl ratios (kind ``'truncated-log'`` of
+    :func:`cshape.compare.descriptor_matrix`).  The measurements behind these choices are
+    in ``benchmarks/README.md`` ("Which transform, which N").
     """
     transform = _check_transform(transform)
     M = _check_M(M, _check_N(N), transform)  # before the eigensolve
@@ -608,7 +587,7 @@ def _log_weyl_sequence(lam_norm, M, zero_modes, transform):
     return log_weyl_ratio(x, k0, length=N - 1)
 
 
-def real_form(S_c):
+def real_form(S_c: ArrayLike) -> NDArray[np.float64]:
     """Real form of a cShape-DNA: ``2M+1`` reals with the same Euclidean distances.
 
     Because the Shape-DNA is real, ``Lambda_{-k} = conj(Lambda_k)``, so
@@ -645,7 +624,8 @@ def real_form(S_c):
     return out
 
 
-def compact_shape_dna_real(mesh_or_lam, M=16, N=100, area=None, **kwargs):
+def compact_shape_dna_real(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 100,
+                           area: float | None = None, **kwargs: Any) -> NDArray[np.float64]:
     """:func:`compact_shape_dna` in its :func:`real_form`: shape (2M+1,), float64.
 
     Takes the same keywords (``bc``, ``normalization``, ``transform``, ``normalized``).
@@ -653,7 +633,8 @@ def compact_shape_dna_real(mesh_or_lam, M=16, N=100, area=None, **kwargs):
     return real_form(compact_shape_dna(mesh_or_lam, M=M, N=N, area=area, **kwargs))
 
 
-def inverse_compact_shape_dna(S_c, N, *, add_weyl=True, transform="weyl"):
+def inverse_compact_shape_dna(S_c: ArrayLike, N: int, *, add_weyl: bool = True,
+                              transform: str = "weyl") -> NDArray[np.float64]:
     """Rebuild the smoothed normalised Shape-DNA from the cropped coefficients.
 
     The ``2M+1`` coefficients are put back into a zero vector of the sequence's length
@@ -683,9 +664,8 @@ def inverse_compact_shape_dna(S_c, N, *, add_weyl=True, transform="weyl"):
         (N even; ``lam_0`` excepted).
     """
     transform = _check_transform(transform)
-    if isinstance(N, bool) or not isinstance(N, (int, np.integer)):
-        raise TypeError(f"N must be an integer, got {N!r}")
-    N = int(N)
+    N = _check_N(N)
+    add_weyl = check_bool("add_weyl", add_weyl)
     if transform == "log-weyl-dct":
         if np.iscomplexobj(S_c):
             raise ValueError(
@@ -718,7 +698,8 @@ def inverse_compact_shape_dna(S_c, N, *, add_weyl=True, transform="weyl"):
     return np.concatenate([[0.0], FOUR_PI * np.arange(1, N) * np.exp(seq)])
 
 
-def f1_feature(lam, zero_modes=None, *, length=None):
+def f1_feature(lam: ArrayLike, zero_modes: int | None = None, *,
+               length: int | None = None) -> NDArray[np.float64]:
     """The F1 feature vector ``(lam_1/lam_2, lam_1/lam_3, ..., lam_1/lam_{N-1})`` (Fig. 5f).
 
     ``lam_1`` is the first non-zero eigenvalue (the one after ``lam_0 = 0`` for a

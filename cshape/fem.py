@@ -23,9 +23,10 @@ import warnings
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import NDArray
 
-from ._checks import check_choice
-from .mesh import CShapeWarning, as_mesh, repair_mesh
+from ._checks import check_bool, check_choice
+from .mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
 __all__ = ["fem_matrices", "FEM", "assemble"]
 
@@ -63,7 +64,8 @@ class FEM:
         zero-area triangles).
     """
 
-    def __init__(self, A, B, free, n_vertices, area, bc, mollified):
+    def __init__(self, A: sp.csr_matrix, B: sp.csr_matrix, free: NDArray[np.int64],
+                 n_vertices: int, area: float, bc: str, mollified: float) -> None:
         self.A = A
         self.B = B
         self.free = free
@@ -77,7 +79,7 @@ class FEM:
         """Number of unknowns ``k`` (rows of A and B)."""
         return int(self.A.shape[0])
 
-    def to_vertices(self, f: np.ndarray) -> np.ndarray:
+    def to_vertices(self, f: NDArray[np.float64]) -> NDArray[np.float64]:
         """Extend functions on the unknowns, (k,) or (k, p), to all n vertices (0 elsewhere)."""
         f = np.asarray(f)
         out = np.zeros((self.n_vertices,) + f.shape[1:], dtype=f.dtype)
@@ -85,7 +87,7 @@ class FEM:
         return out
 
 
-def _edge_lengths(mesh):
+def _edge_lengths(mesh: Mesh) -> NDArray[np.float64]:
     """Lengths (m, 3): column c is the length of the edge opposite corner c.
 
     Read from the mesh's unique edge lengths (computed once for ``mean_edge_length``):
@@ -161,7 +163,7 @@ def _mollify(lengths, mean_edge):
 MAX_EDGE_RATIO = 1e150
 
 
-def _check_positive_area(mesh):
+def _check_positive_area(mesh: Mesh) -> None:
     """Raise if the surface has (numerically) zero area, which mollification would invent.
 
     The message tells the causes apart: coordinates too large for float64 (rescale),
@@ -210,7 +212,8 @@ def _check_positive_area(mesh):
     )
 
 
-def assemble(mesh, mass="consistent"):
+def assemble(mesh: MeshLike, mass: str = "consistent"
+             ) -> tuple[sp.csr_matrix, sp.csr_matrix, float, int]:
     """Assemble the full (Neumann) matrices ``A`` and ``B`` over all vertices.
 
     Parameters
@@ -301,13 +304,17 @@ def assemble(mesh, mass="consistent"):
     return A, B, eps, n_degenerate
 
 
-def fem(mesh, bc="neumann", mass="consistent", *, repair=True) -> FEM:
+def fem(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent", *,
+        repair: bool = True) -> FEM:
     """Assemble the FEM problem of a mesh, returning an :class:`FEM` with its bookkeeping.
 
-    See :func:`fem_matrices` for the parameters.
+    See :func:`fem_matrices` for the parameters and errors; ``repair=False`` skips
+    :func:`cshape.repair_mesh` (for a mesh that was repaired already).
     """
-    mesh = as_mesh(mesh)
     bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
+    mass = check_choice("mass", mass, MASS_TYPES)
+    repair = check_bool("repair", repair)
+    mesh = as_mesh(mesh)
     if repair:
         mesh = repair_mesh(mesh)
     A, B, eps, nbad = assemble(mesh, mass=mass)
@@ -335,7 +342,8 @@ def fem(mesh, bc="neumann", mass="consistent", *, repair=True) -> FEM:
     return FEM(A, B, free, n, mesh.area, bc, eps)
 
 
-def fem_matrices(mesh, bc="neumann", mass="consistent"):
+def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"
+                 ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
     """Stiffness ``A`` and mass ``B`` of the linear FEM discretisation, Eq. (4)-(7).
 
     The Laplace-Beltrami eigenproblem ``Delta f = -lam f`` (Eq. 2) becomes the
@@ -359,6 +367,8 @@ def fem_matrices(mesh, bc="neumann", mass="consistent"):
 
     Raises
     ------
+    TypeError
+        If ``bc`` or ``mass`` is not a string, or ``mesh`` is not a mesh.
     ValueError
         If ``bc`` or ``mass`` is unknown, the mesh has zero total area (every triangle
         degenerate: vertices coincident or collinear), or ``bc='dirichlet'`` leaves no

@@ -3,12 +3,33 @@
 
 from __future__ import annotations
 
-import numbers
+from collections.abc import Sequence
+from typing import Any, Protocol
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
-from ._checks import check_descriptors
+from ._checks import check_choice, check_descriptors, check_int, check_n_jobs
 from .compare import _check_kind, descriptor_matrix
+
+#: The exact search methods of :class:`sklearn.neighbors.NearestNeighbors` (its spelling).
+ALGORITHMS = ("auto", "brute", "kd_tree", "ball_tree")
+
+
+class TableLike(Protocol):
+    """What :meth:`DescriptorIndex.from_table` reads of a :class:`cshape.DescriptorTable`."""
+
+    lam: NDArray[np.float64]
+    areas: NDArray[np.float64]
+    M: int
+    transform: str
+
+    @property
+    def N(self) -> int: ...
+
+    def descriptors(self, *args: Any, **kwargs: Any) -> NDArray[Any]: ...
+
+    def usable(self, *args: Any, **kwargs: Any) -> NDArray[np.bool_]: ...
 
 
 # --------------------------------------------------------------------------- index
@@ -21,13 +42,19 @@ class DescriptorIndex:
         The database, one descriptor per row; real or complex (complex rows are stored as
         ``[Re, Im]``, which keeps the Euclidean distances).
     algorithm : {'auto', 'brute', 'kd_tree', 'ball_tree'}, default='auto'
-        Passed to :class:`sklearn.neighbors.NearestNeighbors`; all are exact.  Measured on
-        this project's 2-core machine (100 000 descriptors, 1000 queries, k=10): 'auto'
-        picks a k-d tree up to 15 values (3 values: 0.01 s, 9: 0.2 s) and a brute-force
-        scan above (33 values: 0.5 s, 100 values: 1.3 s; trees took 2-24 s there), so the
-        default is the right choice for every descriptor size of the paper.
+        Passed to :class:`sklearn.neighbors.NearestNeighbors` (scikit-learn's spelling);
+        all are exact.  'auto' picks a k-d tree for short descriptors and a brute-force
+        scan for long ones (timings in ``benchmarks/SCALE.md``, "Nearest-neighbour
+        queries").
     n_jobs : int, optional
         Parallel queries (scikit-learn convention, -1 for all cores).
+
+    Raises
+    ------
+    TypeError
+        ``algorithm`` not a string, ``n_jobs`` not an integer, ``X`` not numeric.
+    ValueError
+        Unknown ``algorithm``, ``n_jobs`` 0 or below -1, ``X`` empty, not 2-D or not finite.
 
     Attributes
     ----------
@@ -53,22 +80,25 @@ class DescriptorIndex:
     [[1, 0]]
     """
 
-    def __init__(self, X, *, algorithm="auto", n_jobs=None):
+    def __init__(self, X: ArrayLike, *, algorithm: str = "auto",
+                 n_jobs: int | None = None) -> None:
         from sklearn.neighbors import NearestNeighbors
 
-        self.algorithm = algorithm
-        self.n_jobs = n_jobs
+        self.algorithm = check_choice("algorithm", algorithm, ALGORITHMS)
+        self.n_jobs = check_n_jobs(n_jobs)
         self._complex = np.iscomplexobj(np.asarray(X))
         self.X_ = check_descriptors(X, "X")
         if len(self.X_) == 0:
             raise ValueError("X is empty; the index needs at least one descriptor")
-        self.nn_ = NearestNeighbors(algorithm=algorithm, n_jobs=n_jobs).fit(self.X_)
-        self.recipe_ = None
+        self.nn_ = NearestNeighbors(algorithm=self.algorithm, n_jobs=self.n_jobs).fit(self.X_)
+        self.recipe_: dict[str, Any] | None = None
         self.rows_ = np.arange(len(self.X_))
 
     @classmethod
-    def from_table(cls, table, kind="cshape", M=None, N=None, *, transform=None,
-                   normalization="area", algorithm="auto", n_jobs=None):
+    def from_table(cls, table: TableLike, kind: str = "cshape", M: int | None = None,
+                   N: int | None = None, *, transform: str | None = None,
+                   normalization: str = "area", algorithm: str = "auto",
+                   n_jobs: int | None = None) -> DescriptorIndex:
         """An index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
 
         Parameters
@@ -91,7 +121,7 @@ class DescriptorIndex:
             shapes the kind cannot describe (a mesh of many pieces with too few non-zero
             eigenvalues) are left out with a :class:`cshape.CShapeWarning` naming them.
         """
-        recipe = {"kind": _check_kind(kind), "M": table.M if M is None else M,
+        recipe: dict[str, Any] = {"kind": _check_kind(kind), "M": table.M if M is None else M,
                   "N": table.N if N is None else N, "normalization": normalization,
                   "transform": table.transform if transform is None else transform}
         X = table.descriptors(**recipe)  # warns about and leaves out what it cannot describe
@@ -100,7 +130,10 @@ class DescriptorIndex:
         index.rows_ = np.flatnonzero(table.usable(**recipe))
         return index
 
-    def query_spectra(self, lams, areas=None, k=1, *, zero_modes=None, names=None):
+    def query_spectra(self, lams: ArrayLike, areas: ArrayLike | None = None, k: int = 1, *,
+                      zero_modes: ArrayLike | None = None,
+                      names: Sequence[str] | None = None
+                      ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
         """Nearest database rows of shapes given by their eigenvalues.
 
         The queries are described exactly as the database was (:attr:`recipe_`: kind,
@@ -138,10 +171,11 @@ class DescriptorIndex:
         Y = descriptor_matrix(L, a, zero_modes=zm, names=names, **self.recipe_)
         return self.query(Y, k=k)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.X_)
 
-    def query(self, Y=None, k=1):
+    def query(self, Y: ArrayLike | None = None, k: int = 1
+              ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
         """The ``k`` nearest database descriptors of each query.
 
         Parameters
@@ -162,7 +196,8 @@ class DescriptorIndex:
         """
         n = len(self.X_)
         limit = n - 1 if Y is None else n
-        if isinstance(k, bool) or not isinstance(k, numbers.Integral) or not 1 <= k <= limit:
+        k = check_int("k", k, min=1)
+        if k > limit:
             raise ValueError(
                 f"k must be an integer in [1, {limit}] for a database of {n} descriptors"
                 f"{' queried with itself' if Y is None else ''}, got {k!r}"

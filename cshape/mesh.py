@@ -18,14 +18,19 @@ from __future__ import annotations
 import os
 import warnings
 from functools import cached_property
+from typing import Any, TypeAlias
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.csgraph import connected_components
+
+from ._checks import check_bool, check_real
 
 __all__ = [
     "CShapeWarning",
     "Mesh",
+    "MeshLike",
     "as_mesh",
     "repair_mesh",
     "largest_component",
@@ -48,10 +53,13 @@ class Mesh:
 
     Raises
     ------
+    TypeError
+        If ``vertices`` is not a real array (complex, strings, ragged rows) or ``faces``
+        not an integer array (bool, object, fractional floats).
     ValueError
         If an array has the wrong shape, a coordinate is NaN or infinite, or a face
-        index is negative, out of range or not an integer.  The message names the
-        argument, the bad value and how to fix it.
+        index is negative or out of range.  The message names the argument, the bad
+        value and how to fix it.
 
     Notes
     -----
@@ -69,7 +77,10 @@ class Mesh:
     (4, 4, True)
     """
 
-    def __init__(self, vertices, faces):
+    vertices: NDArray[np.float64]
+    faces: NDArray[np.int64]
+
+    def __init__(self, vertices: ArrayLike, faces: ArrayLike) -> None:
         self.vertices = _check_vertices(vertices)
         self.faces = _check_faces(faces, len(self.vertices))
         self.vertices.setflags(write=False)
@@ -280,12 +291,17 @@ def _row_norms(x: np.ndarray) -> np.ndarray:
     return out
 
 
+#: A mesh argument: a :class:`Mesh` or a ``(vertices, faces)`` pair of arrays.
+MeshLike: TypeAlias = Mesh | tuple[ArrayLike, ArrayLike]
+
+
 # ---------------------------------------------------------------------- validation
-def _check_vertices(vertices) -> np.ndarray:
+def _check_vertices(vertices: Any) -> NDArray[np.float64]:
     try:
         is_complex = np.iscomplexobj(vertices)
         # a copy: the Mesh freezes its arrays, which must not freeze the caller's
-        v = None if is_complex else np.array(vertices, dtype=np.float64, copy=True)
+        v = (np.empty((0, 3)) if is_complex
+             else np.array(vertices, dtype=np.float64, copy=True))
     except (TypeError, ValueError) as exc:
         raise TypeError(
             "vertices must be a real array of shape (n, 3); "
@@ -312,7 +328,7 @@ def _check_vertices(vertices) -> np.ndarray:
     return np.ascontiguousarray(v)
 
 
-def _check_faces(faces, n_vertices: int) -> np.ndarray:
+def _check_faces(faces: Any, n_vertices: int) -> NDArray[np.int64]:
     try:
         f0 = np.asarray(faces)
     except (TypeError, ValueError):
@@ -353,7 +369,7 @@ def _check_faces(faces, n_vertices: int) -> np.ndarray:
     return np.ascontiguousarray(f)
 
 
-def as_mesh(mesh_or_vf) -> Mesh:
+def as_mesh(mesh_or_vf: MeshLike) -> Mesh:
     """Return a :class:`Mesh` from a ``Mesh`` or a ``(vertices, faces)`` pair.
 
     Parameters
@@ -380,7 +396,7 @@ def as_mesh(mesh_or_vf) -> Mesh:
 
 
 # ---------------------------------------------------------------------- repair
-def repair_mesh(mesh, *, merge_tol: float = 0.0, warn: bool = True) -> Mesh:
+def repair_mesh(mesh: MeshLike, *, merge_tol: float = 0.0, warn: bool = True) -> Mesh:
     """Return a cleaned copy of a mesh; what changed is reported in one warning.
 
     The repairs, in order:
@@ -408,14 +424,21 @@ def repair_mesh(mesh, *, merge_tol: float = 0.0, warn: bool = True) -> Mesh:
     -------
     Mesh
         The repaired mesh (the input itself when nothing needed repair).
+
+    Raises
+    ------
+    TypeError
+        ``merge_tol`` not a real number, ``warn`` not a bool, ``mesh`` not a mesh.
+    ValueError
+        ``merge_tol`` negative or not finite; no triangle left after the repair.
     """
+    merge_tol = check_real("merge_tol", merge_tol, min=0)
+    warn = check_bool("warn", warn)
     mesh = as_mesh(mesh)
     V = mesh.vertices
     F = mesh.faces
     notes = []
     # 1. weld coincident vertices
-    if merge_tol < 0:
-        raise ValueError(f"merge_tol must be >= 0, got {merge_tol}")
     if merge_tol > 0:
         # clusters of vertices chained by distances <= tol (a grid snap would miss close
         # pairs on either side of a cell boundary)
@@ -501,7 +524,7 @@ def _all_rows_distinct(X) -> bool:
     return bool(np.any(Xs[1:] != Xs[:-1], axis=1).all())
 
 
-def largest_component(mesh) -> Mesh:
+def largest_component(mesh: MeshLike) -> Mesh:
     """Return the connected component with the largest surface area.
 
     Parameters

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._checks import check_bool, check_path
 from .mesh import CShapeWarning, Mesh, repair_mesh
 
 __all__ = ["load_mesh", "split_mesh_name", "MESH_SUFFIXES", "GZIP_MAX_BYTES", "PLY_MAX_LIST_BYTES"]
@@ -36,20 +37,20 @@ MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
 GZIP_MAX_BYTES = 4 * 2**30
 
 
-def split_mesh_name(path) -> tuple[str, str]:
+def split_mesh_name(path: str | os.PathLike[str]) -> tuple[str, str]:
     """``(stem, format suffix)`` of a mesh file name, looking through ``.gz``.
 
     ``bunny.off`` and ``bunny.off.gz`` both give ``("bunny", ".off")``; the suffix is
     lower-case (``""`` when there is none).
     """
-    name = Path(path).name
+    name = check_path("path", path).name
     if name.lower().endswith(".gz"):
         name = name[:-3]
     inner = Path(name)
     return inner.stem, inner.suffix.lower()
 
 
-def load_mesh(path, *, repair: bool = True) -> Mesh:
+def load_mesh(path: str | os.PathLike[str], *, repair: bool = True) -> Mesh:
     """Read a triangle mesh from any format PyMeshLab reads (OFF, PLY, OBJ, STL, ...).
 
     Polygons are triangulated.  OBJ texture coordinates and normals are ignored, keeping
@@ -72,6 +73,8 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
 
     Raises
     ------
+    TypeError
+        If ``path`` is not a str or os.PathLike, or ``repair`` not a bool.
     FileNotFoundError
         If ``path`` does not exist.
     ValueError
@@ -88,7 +91,8 @@ def load_mesh(path, *, repair: bool = True) -> Mesh:
     ``.gz`` file is decompressed, in bounded chunks, to a temporary file that goes through
     the same checks.
     """
-    p = Path(path)
+    p = check_path("path", path)
+    repair = check_bool("repair", repair)
     if not p.exists():
         raise FileNotFoundError(f"no mesh file at {str(p)!r}")
     if p.is_dir():

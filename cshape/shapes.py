@@ -14,40 +14,30 @@ unit hemisphere    l(l+1) with l+m even (Neumann) or odd        :func:`hemispher
                    (Dirichlet), m = -l..l
 =================  ===========================================  ==============================
 
-Each function returns a :class:`cshape.Mesh`.
+Each function returns a :class:`cshape.Mesh`.  Resolutions are integers in a range whose
+upper bound keeps the mesh within memory, lengths positive finite numbers: a value out of
+range is a ``ValueError``, one of the wrong type (a bool, a float resolution, a string) a
+``TypeError``.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
+from ._checks import check_int, check_real
 from .mesh import Mesh, repair_mesh
 
 __all__ = ["icosphere", "square", "disk", "hemisphere", "torus", "cube", "sphere_spectrum"]
 
 
-def _check_level(name, value, lo, hi):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
-    return int(value)
-
-
-def _check_length(name, value):
-    """A positive finite real number (not a bool), as float."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name} must be a positive number, got {type(value).__name__} {value!r}")
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-    return float(value)
-
-
-def icosphere(subdivisions=4, radius=1.0) -> Mesh:
+def icosphere(subdivisions: int = 4, radius: float = 1.0) -> Mesh:
     """Icosphere: an icosahedron subdivided ``subdivisions`` times, projected to the sphere.
 
     Vertex counts ``10 * 4**s + 2``: 642 (s=3), 2562 (4), 10242 (5), 40962 (6), 163842 (7).
     """
-    s = _check_level("subdivisions", subdivisions, 0, 8)
-    radius = _check_length("radius", radius)
+    s = check_int("subdivisions", subdivisions, min=0, max=8)
+    radius = check_real("radius", radius, positive=True)
     t = (1.0 + 5**0.5) / 2.0
     V = np.array(
         [
@@ -87,11 +77,11 @@ def _midpoint_subdivide(V, F):
     return np.vstack([V, mids]), F2
 
 
-def square(n=32, size=1.0) -> Mesh:
+def square(n: int = 32, size: float = 1.0) -> Mesh:
     """Flat square ``[0, size]^2`` in the z=0 plane, an ``n x n`` grid of cells, each cut
     into two triangles along alternating diagonals.  ``(n+1)^2`` vertices."""
-    n = _check_level("n", n, 1, 4096)
-    size = _check_length("size", size)
+    n = check_int("n", n, min=1, max=4096)
+    size = check_real("size", size, positive=True)
     x = np.linspace(0.0, size, n + 1)
     X, Y = np.meshgrid(x, x, indexing="ij")
     V = np.stack([X.ravel(), Y.ravel(), np.zeros(X.size)], 1)
@@ -145,20 +135,20 @@ def _disk_param(rings):
     return np.concatenate(r), np.concatenate(th), np.array(faces, dtype=np.int64)
 
 
-def disk(rings=24, radius=1.0) -> Mesh:
+def disk(rings: int = 24, radius: float = 1.0) -> Mesh:
     """Flat disk of the given radius: ``1 + 3 rings (rings + 1)`` vertices on concentric rings."""
-    rings = _check_level("rings", rings, 1, 2048)
-    radius = _check_length("radius", radius)
+    rings = check_int("rings", rings, min=1, max=2048)
+    radius = check_real("radius", radius, positive=True)
     r, th, F = _disk_param(rings)
     V = np.stack([r * np.cos(th), r * np.sin(th), np.zeros_like(r)], 1) * radius
     return _orient_up(Mesh(V, F))
 
 
-def hemisphere(rings=24, radius=1.0) -> Mesh:
+def hemisphere(rings: int = 24, radius: float = 1.0) -> Mesh:
     """Upper unit hemisphere ``z >= 0``, the disk triangulation mapped by polar angle
     ``phi = r pi / 2``; its boundary is the equator."""
-    rings = _check_level("rings", rings, 1, 2048)
-    radius = _check_length("radius", radius)
+    rings = check_int("rings", rings, min=1, max=2048)
+    radius = check_real("radius", radius, positive=True)
     r, th, F = _disk_param(rings)
     phi = r * (np.pi / 2)
     V = np.stack([np.sin(phi) * np.cos(th), np.sin(phi) * np.sin(th), np.cos(phi)], 1)
@@ -174,11 +164,11 @@ def _orient_up(mesh):
     return Mesh(V, F)
 
 
-def torus(n_major=64, n_minor=32, R=1.0, r=0.4) -> Mesh:
+def torus(n_major: int = 64, n_minor: int = 32, R: float = 1.0, r: float = 0.4) -> Mesh:
     """Torus of revolution with major radius ``R`` and tube radius ``r`` (genus 1)."""
-    n_major = _check_level("n_major", n_major, 3, 8192)
-    n_minor = _check_level("n_minor", n_minor, 3, 8192)
-    R, r = _check_length("R", R), _check_length("r", r)
+    n_major = check_int("n_major", n_major, min=3, max=8192)
+    n_minor = check_int("n_minor", n_minor, min=3, max=8192)
+    R, r = check_real("R", R, positive=True), check_real("r", r, positive=True)
     if not 0 < r < R:
         raise ValueError(f"torus needs 0 < r < R, got R={R}, r={r}")
     u = 2 * np.pi * np.arange(n_major) / n_major
@@ -196,13 +186,14 @@ def torus(n_major=64, n_minor=32, R=1.0, r=0.4) -> Mesh:
     return Mesh(V, F)
 
 
-def cube(n=16, size=1.0) -> Mesh:
+def cube(n: int = 16, size: float = 1.0) -> Mesh:
     """Surface of the cube ``[0, size]^3``, each face an ``n x n`` grid (closed, welded)."""
-    n = _check_level("n", n, 1, 1024)
-    size = _check_length("size", size)
+    n = check_int("n", n, min=1, max=1024)
+    size = check_real("size", size, positive=True)
     sq = square(n, size)
     V0, F0 = sq.vertices, sq.faces
-    parts_v, parts_f = [], []
+    parts_v: list[NDArray[np.float64]] = []
+    parts_f: list[NDArray[np.int64]] = []
     s = float(size)
     # six faces as (axes permutation, offset, flip)
     for axis in range(3):
@@ -219,11 +210,11 @@ def cube(n=16, size=1.0) -> Mesh:
     return repair_mesh(mesh, merge_tol=1e-9, warn=False)
 
 
-def sphere_spectrum(N, radius=1.0) -> np.ndarray:
+def sphere_spectrum(N: int, radius: float = 1.0) -> NDArray[np.float64]:
     """The first ``N`` exact eigenvalues of the sphere: ``l(l+1)/radius^2``, each ``2l+1`` times."""
-    N = _check_level("N", N, 0, 10**8)
-    radius = _check_length("radius", radius)
-    out = []
+    N = check_int("N", N, min=0, max=10**8)
+    radius = check_real("radius", radius, positive=True)
+    out: list[float] = []
     ell = 0
     while len(out) < N:
         out.extend([ell * (ell + 1) / radius**2] * (2 * ell + 1))

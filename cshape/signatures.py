@@ -433,7 +433,7 @@ def si_hks_tau(step: float = 1 / 8) -> np.ndarray:
     -------
     ndarray, shape (40 / step + 1,)
     """
-    step = _check_positive("step", step, allow_none=False)
+    step = check_real("step", step, positive=True)
     return np.arange(-24.0, 16.0 + step / 2, step)
 
 
@@ -475,7 +475,7 @@ def si_hks(lam: ArrayLike, phi: ArrayLike, tau: ArrayLike | None = None, *, base
     ndarray, shape (n, n_freqs)
     """
     lam, phi = _check_pairs(lam, phi)
-    base = _check_positive("base", base, allow_none=False)
+    base = check_real("base", base, positive=True)
     if base == 1.0:
         raise ValueError("base must differ from 1 (t = base^tau), got 1.0")
     n_freqs = check_int("n_freqs", n_freqs, min=1)

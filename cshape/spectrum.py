@@ -13,17 +13,16 @@ of one sparse Cholesky factorisation:
 2. The operator ``OP = S^{-1} B`` is self-adjoint in the B-inner product and has the
    eigenvalues ``theta = 1 / (lam - sigma)``: the N smallest ``lam`` are its N largest
    ``theta``.  A block Krylov space of ``OP`` is grown from a fixed random block of
-   ``b = BLOCK_SIZE = 8`` vectors.  Each step applies ``S^{-1}`` to ``b`` right-hand sides
-   at once (one multi-right-hand-side CHOLMOD solve, about twice as fast per column as
-   ``b`` single solves) and B-orthonormalises the new block with dense matrix products:
-   classical Gram-Schmidt twice against the two newest blocks (the block Lanczos
-   recurrence), Cholesky-QR inside the block, and *partial re-orthogonalisation* against
-   the older blocks.  In exact arithmetic the recurrence alone keeps the basis
-   orthogonal; in floating point orthogonality is lost gradually along the converged
-   Ritz vectors.  The pass over the older blocks therefore runs only every one to few
-   steps: its coefficients measure the loss accumulated since the previous pass, and the
-   interval adapts to keep it below 1e-9, under ``sqrt(eps)`` (semi-orthogonality, which
-   keeps the Ritz values accurate to rounding; Simon 1984).
+   ``b = BLOCK_SIZE = 8`` vectors.  Each step applies ``S^{-1}`` to ``b`` right-hand sides at
+   once (one multi-right-hand-side CHOLMOD solve) and B-orthonormalises the new block with
+   dense matrix products: classical Gram-Schmidt twice against the two newest blocks (the
+   block Lanczos recurrence), Cholesky-QR inside the block, and *partial
+   re-orthogonalisation* against the older blocks.  In exact arithmetic the recurrence
+   alone keeps the basis orthogonal; in floating point orthogonality is lost gradually
+   along the converged Ritz vectors.  The pass over the older blocks therefore runs only
+   every one to few steps: its coefficients measure the loss accumulated since the previous
+   pass, and the interval adapts to keep it below 1e-9, under ``sqrt(eps)``
+   (semi-orthogonality, which keeps the Ritz values accurate to rounding; Simon 1984).
 3. The projection of ``OP`` onto the basis is block tridiagonal (bandwidth ``b``); its
    top eigenpairs (Rayleigh-Ritz, LAPACK's banded solver) give Ritz values ``theta_i``
    and, from the Lanczos relation, the residual norms ``||OP x_i - theta_i x_i||_B`` at no
@@ -31,8 +30,7 @@ of one sparse Cholesky factorisation:
    ``RESIDUAL_TOL * theta_i`` (1e-6).  The projected problem is solved only where the
    pairs may have converged (first at a Krylov dimension of about ``2.3 N + 70``, from
    measurements, then where the missing ones are predicted to have converged; about two
-   times per solve): on meshes of a few thousand vertices one such solve costs as much as
-   ten Lanczos steps.  Ritz values of a self-adjoint operator are accurate
+   times per solve).  Ritz values of a self-adjoint operator are accurate
    to the *square* of the residual over the spectral gap, so the eigenvalues agree with
    ARPACK's full-accuracy ones to about 1e-12 relative.  Eigenvectors, when asked for,
    get a last Rayleigh-Ritz step with ``(K, B)`` that makes them B-orthonormal to rounding.
@@ -42,16 +40,15 @@ in shift-invert mode, as used by LaPy): for N = 100 both need about 3.5 N solves
 here they come in blocks, and ARPACK's vector-at-a-time re-orthogonalisation against its
 whole basis plus its restarts, which dominate on large meshes, become a few memory-bound
 matrix products over a basis that is re-orthogonalised only when needed.  See
-``benchmarks/bench_spectrum.py`` and ``benchmarks/README.md`` for measurements.
+``benchmarks/bench_spectrum.py``, ``benchmarks/README.md`` and ``benchmarks/SCALE.md``
+("The eigensolver") for measurements.
 
-Threads.  The factorisation and the solves run on one core: the solves are bound by
-reading the factor (two threads solving half of the right-hand sides each took as long as
-one thread solving all of them, 151 vs 150 ms for 8 columns at 163,842 unknowns), and one
-BLAS thread keeps them deterministic.  The products of the Lanczos loop over
-the basis (``n`` rows) are split, for ``n >= THREADS_MIN_UNKNOWNS``, into ``ROW_PARTS``
-fixed row ranges that threads may compute at once, each with one BLAS thread; the partial
-sums are added in a fixed order, so the eigenvalues are the same bits with any number of
-threads.  How many is decided by :func:`solver_threads`: the environment variable
+Threads.  The factorisation and the solves run on one core: the solves are bound by reading
+the factor, and one BLAS thread keeps them deterministic.  The products of the Lanczos loop
+over the basis (``n`` rows) are split, for ``n >= THREADS_MIN_UNKNOWNS``, into
+``ROW_PARTS`` fixed row ranges that threads may compute at once, each with one BLAS thread;
+the partial sums are added in a fixed order, so the eigenvalues are the same bits with any
+number of threads.  How many is decided by :func:`solver_threads`: the environment variable
 ``CSHAPE_THREADS`` if set, else one in worker processes (``describe(n_jobs=...)``, Dask)
 and for small meshes, else the cores that look free by the load average.
 
@@ -78,16 +75,19 @@ import multiprocessing
 import os
 import threading
 import warnings
+from typing import Literal, overload
 
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
+from numpy.typing import NDArray
 
 from . import _cholmod
+from ._checks import check_bool, check_int, check_real
 from .fem import fem
-from .mesh import CShapeWarning, as_mesh, repair_mesh
+from .mesh import CShapeWarning, MeshLike, as_mesh, repair_mesh
 
 __all__ = ["eigenpairs", "estimate_seconds", "shape_dna", "solve_eigenproblem",
            "solver_threads"]
@@ -143,12 +143,8 @@ def _one_blas_thread():
     return controller.limit(limits=1, user_api="blas")
 
 
-def _check_N(N, n_unknowns, bc):
-    if isinstance(N, bool) or not isinstance(N, (int, np.integer)):
-        raise TypeError(f"N must be an integer, got {type(N).__name__} {N!r}")
-    N = int(N)
-    if N < 1:
-        raise ValueError(f"N must be at least 1 (the number of eigenvalues), got {N}")
+def _check_N(N: object, n_unknowns: int, bc: str) -> int:
+    N = check_int("N", N, min=1)
     if N > n_unknowns:
         raise ValueError(
             f"N={N} eigenvalues requested but the {bc} problem has only {n_unknowns} unknowns "
@@ -213,7 +209,7 @@ THREADS_MIN_UNKNOWNS = 50_000
 ROW_PARTS = 4
 
 
-def solver_threads(n):
+def solver_threads(n: int) -> int:
     """Threads for the Lanczos products of a problem with ``n`` unknowns (the policy).
 
     * ``CSHAPE_THREADS`` (environment), a positive integer, decides if set;
@@ -238,6 +234,7 @@ def solver_threads(n):
     int
         At least 1.
     """
+    n = check_int("n", n, min=0)
     env = os.environ.get("CSHAPE_THREADS", "").strip()
     if env:
         if not env.isdigit() or int(env) < 1:
@@ -718,7 +715,17 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     return lam[order], (phi[:, order] if phi is not None else None)
 
 
-def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
+@overload
+def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *,
+                       return_vectors: Literal[True] = ..., sigma: float | None = ...
+                       ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+@overload
+def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *,
+                       return_vectors: Literal[False], sigma: float | None = ...
+                       ) -> NDArray[np.float64]: ...
+def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *, return_vectors: bool = True,
+                       sigma: float | None = None
+                       ) -> NDArray[np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The ``N`` smallest eigenpairs of ``A f = -lam B f`` (Eq. 3).
 
     Parameters
@@ -751,6 +758,9 @@ def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
     module docstring), falling back to ARPACK (``eigsh``, ``tol=0``) if it does not
     converge.  The result is deterministic: fixed random seeds.
     """
+    return_vectors = check_bool("return_vectors", return_vectors)
+    if sigma is not None:
+        sigma = check_real("sigma", sigma)
     K = (-sp.csr_matrix(A)).tocsr()
     B = sp.csr_matrix(B)
     k = K.shape[0]
@@ -777,11 +787,12 @@ def solve_eigenproblem(A, B, N, *, return_vectors=True, sigma=None):
     lam[np.abs(lam) < 1e-10 * scale] = 0.0
     lam = np.maximum(lam, 0.0)
     if return_vectors:
-        return lam, phi
+        return lam, phi  # type: ignore[return-value]  # phi is set when return_vectors
     return lam
 
 
-def eigenpairs(mesh, N=100, bc="neumann", mass="consistent"):
+def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The ``N`` smallest Laplace-Beltrami eigenvalues and B-orthonormal eigenfunctions.
 
     Parameters
@@ -802,13 +813,23 @@ def eigenpairs(mesh, N=100, bc="neumann", mass="consistent"):
         over the unknowns; zero on fixed vertices for ``bc='dirichlet'``.  If the mesh
         was repaired (duplicate or unreferenced vertices), ``n`` is the vertex count of
         the repaired mesh.
+
+    Raises
+    ------
+    TypeError
+        ``N`` not an integer (bools are refused), ``bc`` or ``mass`` not a string, ``mesh``
+        not a mesh.
+    ValueError
+        ``N < 1`` or more than the unknowns, an unknown ``bc`` or ``mass``, an invalid or
+        zero-area mesh.
     """
     problem = _prepare(mesh, N, bc, mass)
     lam, phi = solve_eigenproblem(problem.A, problem.B, N, return_vectors=True)
     return lam, problem.to_vertices(phi)
 
 
-def shape_dna(mesh, N=100, bc="neumann", mass="consistent"):
+def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
+              ) -> NDArray[np.float64]:
     """Shape-DNA: the ``N`` smallest Laplace-Beltrami eigenvalues of a mesh (Section 2.1).
 
     Parameters
@@ -826,6 +847,11 @@ def shape_dna(mesh, N=100, bc="neumann", mass="consistent"):
     lam : ndarray, shape (N,)
         Ascending eigenvalues; ``lam[0] == 0`` for a closed (or Neumann) mesh.  A mesh
         with ``c`` connected components has ``c`` zero eigenvalues (a warning says so).
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`eigenpairs`.
 
     Notes
     -----

@@ -224,3 +224,14 @@ def installed_wheel_env(tmp_path_factory) -> InstalledWheel:
         f"the venv imports cshape from {where.stdout.strip()}, not from its own site-packages"
     )
     return installed
+
+
+@pytest.fixture
+def private_tmpdir(tmp_path, monkeypatch):
+    """A temporary folder of our own for load_mesh's decompressed copies (to see them go)."""
+    import tempfile
+
+    d = tmp_path / "tmpdir"
+    d.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(d))
+    return d

@@ -6,12 +6,17 @@ For every such mesh: the Shape-DNA is finite, ascending and non-negative with la
 orientation flips; the normalised descriptors do not change under uniform scaling; the
 distance of a shape to itself is 0 and distance matrices are symmetric metrics.  Meshes are
 small (at most 20 unknowns used), so the whole file runs in well under a minute.
+
+At the end, for one torus and every transform of ``compact_shape_dna`` (the paper's and the
+log-Weyl extensions): invariance to rigid motions, vertex permutation, face orientation
+flips and (after area normalisation) uniform scaling.
 """
 
 from __future__ import annotations
 
 import struct
 import warnings
+from functools import lru_cache
 
 import numpy as np
 import pytest
@@ -443,3 +448,84 @@ def test_arbitrary_arrays_give_a_mesh_or_a_clear_error(VF):
         A, B = cshape.fem_matrices(cshape.repair_mesh(mesh))
     stiffness = abs(A).max() / B.diagonal().min()
     assert lam[0] <= max(1e-6 * max(lam[1], 1.0), 1e-14 * stiffness)
+
+
+# ------------------------------------------------------------------ every transform, one torus
+# (formerly test_invariance.py) descriptors are invariant to rigid motions, vertex
+# permutation, face orientation flips and (after area normalisation) uniform scaling, for
+# every transform of compact_shape_dna (the paper's and the log-Weyl extensions).
+INV_N, INV_M = 24, 5
+TRANSFORMS = cshape.descriptors.TRANSFORMS
+
+
+@lru_cache(maxsize=1)
+def torus_reference():
+    """The base torus and its descriptors (one per transform), computed once, on first use."""
+    base = shapes.torus(16, 8, R=1.0, r=0.35)
+    lam = cshape.shape_dna(base, N=INV_N)
+    return base, lam, {t: cshape.compact_shape_dna(lam, M=INV_M, N=INV_N, area=base.area,
+                                                   transform=t)
+                       for t in TRANSFORMS}
+
+
+def rotation_matrix(q):
+    q = np.asarray(q, float)
+    q = q / np.linalg.norm(q)
+    w, x, y, z = q
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def check_descriptor_invariance(mesh, scale=1.0):
+    _, LAM0, S0 = torus_reference()
+    lam = cshape.shape_dna(mesh, N=INV_N)
+    np.testing.assert_allclose(lam * scale**2, LAM0, rtol=1e-8, atol=1e-8)
+    assert set(S0) == {"weyl", "log-weyl", "log-weyl-dct"}
+    for transform, ref in S0.items():
+        S = cshape.compact_shape_dna(lam, M=INV_M, N=INV_N, area=mesh.area, transform=transform)
+        # the log-Weyl values are O(1) where the paper's are O(100): same relative tolerance
+        atol = 1e-6 if transform == "weyl" else 1e-8
+        np.testing.assert_allclose(S, ref, rtol=1e-7, atol=atol, err_msg=transform)
+
+
+unit_float = st.floats(-1, 1, allow_nan=False)
+
+
+@settings(max_examples=8, deadline=None)
+@given(q=st.tuples(unit_float, unit_float, unit_float, unit_float)
+       .filter(lambda q: np.linalg.norm(q) > 0.1),
+       t=st.tuples(*[st.floats(-100, 100, allow_nan=False)] * 3),
+       mirror=st.booleans())
+def test_descriptors_invariant_to_rigid_motions(q, t, mirror):
+    BASE = torus_reference()[0]
+    R = rotation_matrix(q)
+    if mirror:
+        R = R @ np.diag([1, 1, -1])
+    check_descriptor_invariance(cshape.Mesh(BASE.vertices @ R.T + np.array(t), BASE.faces))
+
+
+@settings(max_examples=8, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_descriptors_invariant_to_vertex_permutation_and_face_flips(seed):
+    BASE = torus_reference()[0]
+    rng = np.random.default_rng(seed)
+    perm = rng.permutation(BASE.n_vertices)
+    inv = np.argsort(perm)
+    V = BASE.vertices[perm]
+    F = inv[BASE.faces]
+    flip = rng.random(len(F)) < 0.5
+    F[flip] = F[flip][:, ::-1]
+    F = F[rng.permutation(len(F))]
+    check_descriptor_invariance(cshape.Mesh(V, F))
+
+
+@settings(max_examples=8, deadline=None)
+@given(s=st.floats(1e-3, 1e3))
+def test_descriptors_invariant_to_uniform_scaling(s):
+    BASE = torus_reference()[0]
+    check_descriptor_invariance(cshape.Mesh(BASE.vertices * s, BASE.faces), scale=s)

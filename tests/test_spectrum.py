@@ -132,7 +132,7 @@ def test_N_validation():
     m = shapes.icosphere(1)  # 42 vertices
     with pytest.raises(ValueError, match=r"N=50 eigenvalues requested.*only 42 unknowns"):
         cshape.shape_dna(m, N=50)
-    with pytest.raises(ValueError, match="N must be at least 1"):
+    with pytest.raises(ValueError, match="N must be an integer >= 1, got 0"):
         cshape.shape_dna(m, N=0)
     with pytest.raises(TypeError, match="N must be an integer"):
         cshape.shape_dna(m, N=2.5)

@@ -4,7 +4,6 @@ resumable, in worker processes or on a Dask cluster) into a :class:`DescriptorTa
 
 from __future__ import annotations
 
-import numbers
 import os
 import warnings
 from collections import Counter, deque
@@ -13,9 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_choice
+from .._checks import check_bool, check_choice, check_int, check_n_jobs, check_path
 from .._files import atomic_write
 from ..descriptors import TRANSFORMS, count_zero_modes
+from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning, Mesh
 from ..spectrum import components_message, estimate_seconds, long_solve_message
 from ._dask import _run_dask
@@ -147,18 +147,14 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         ``'tcp://10.0.0.5:8786'`` (a client is opened and closed for the run).  The workers
         need cshape installed; the cache is read and written by this process only, so it
         need not be on a shared file system (workers given *paths* must be able to read
-        them).  Takes precedence over ``n_jobs``.  On its first task each worker process
-        undoes its nanny's ``MALLOC_TRIM_THRESHOLD_``, which made eigensolves about 1.35x
-        slower (glibc's allocator thresholds set back to a plain process's), and while
-        describe runs, each worker's statistical profiler and 20 ms event-loop tick are
-        paused (they took the GIL from the eigensolves: about 10 % of their time) and
-        restarted at the end; clusters need no other setup.
+        them).  Takes precedence over ``n_jobs``.  Clusters need no setup: describe tunes
+        each worker for the eigensolves while it runs and restores it afterwards (what it
+        changes, and why, is in ``benchmarks/SCALE.md``, "Dask workers").
     blas_threads : int or None, default=1
         BLAS / OpenMP threads for each eigensolve, in this process (``n_jobs=1``) and in
         every local worker process; ``None`` leaves the library default.  One thread is
-        the right choice for many small and medium meshes: on a busy 2-core machine two
-        OpenBLAS threads made the dense eigensolve of 1000-vertex meshes about 100 times
-        slower.  Dask workers started by a nanny already use one thread.
+        the right choice for many small and medium meshes (measurements in
+        ``benchmarks/SCALE.md``).  Dask workers started by a nanny already use one thread.
     progress : bool, default=True
         Show a tqdm progress bar.
     on_error : {'warn', 'raise'}, default='warn'
@@ -201,24 +197,26 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
     are reported as failures; the finished ones are already cached, so calling
     ``describe`` again computes only what is missing.
     """
-    N = _check_pos_int(N, "N")
-    M = _check_pos_int(M, "M", lo=0)
+    N = check_int("N", N, min=1)
+    M = check_int("M", M, min=0)
     transform = check_choice("transform", transform, TRANSFORMS)
     if 2 * M + 1 > N:
         raise ValueError(f"M={M} needs 2M+1 = {2 * M + 1} <= N = {N}; use M <= {(N - 1) // 2}")
     if transform != "weyl" and 2 * M + 1 > N - 1:
         raise ValueError(f"M={M} with transform={transform!r} needs 2M+1 = {2 * M + 1} <= N-1 "
                          f"= {N - 1} (lam_0 has no logarithm); use M <= {(N - 2) // 2}")
-    bc = check_choice("bc", bc, ("neumann", "dirichlet"))
-    mass = check_choice("mass", mass, ("consistent", "lumped"))
-    n_jobs = _check_n_jobs(n_jobs)
+    bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
+    mass = check_choice("mass", mass, MASS_TYPES)
+    n_jobs = check_n_jobs(n_jobs)
+    n_jobs = 1 if n_jobs is None else (os.cpu_count() or 1) if n_jobs == -1 else n_jobs
     if blas_threads is not None:
-        blas_threads = _check_pos_int(blas_threads, "blas_threads")
+        blas_threads = check_int("blas_threads", blas_threads, min=1)
+    progress = check_bool("progress", progress)
     on_error = check_choice("on_error", on_error, ("warn", "raise"))
     if cache_dir is False:
         cache = None
     else:
-        cache = Path(default_cache_dir() if cache_dir is None else cache_dir)
+        cache = default_cache_dir() if cache_dir is None else check_path("cache_dir", cache_dir)
         cache.mkdir(parents=True, exist_ok=True)
     records = collection_records(collection)
     p = len(records)
@@ -364,21 +362,6 @@ def _warn_long_run(tasks, records, N):
 
 #: How the warning of :func:`_warn_long_run` starts (the command line shows it at once).
 LONG_RUN_PREFIX = "long run ahead:"
-
-
-def _check_pos_int(value, name, lo=1):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < lo:
-        raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
-    return int(value)
-
-
-def _check_n_jobs(n_jobs):
-    if n_jobs is None:
-        return 1
-    if isinstance(n_jobs, bool) or not isinstance(n_jobs, numbers.Integral) or n_jobs == 0 \
-            or n_jobs < -1:
-        raise ValueError(f"n_jobs must be a positive integer or -1 (all cores), got {n_jobs!r}")
-    return (os.cpu_count() or 1) if n_jobs == -1 else int(n_jobs)
 
 
 def _run_processes(tasks, n_jobs, finish, failures, blas_threads):

@@ -13,10 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_choice
+from .._checks import check_choice, check_int, check_path
 from .._files import atomic_write
 from ..compare import descriptor_rows, distance_matrix, row_problems
 from ..descriptors import TRANSFORMS, count_zero_modes
+from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
 
 _FORMAT = "cshape-descriptor-table"
@@ -97,10 +98,10 @@ class DescriptorTable:
         self.labels = [""] * p if labels is None else ["" if x is None else str(x) for x in labels]
         if len(self.labels) != p:
             raise ValueError(f"labels has {len(self.labels)} entries for {p} names")
-        self.M = int(M)
+        self.M = check_int("M", M, min=0)
         self.transform = check_choice("transform", transform, TRANSFORMS)
-        self.bc = str(bc)
-        self.mass = str(mass)
+        self.bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
+        self.mass = check_choice("mass", mass, MASS_TYPES)
         self.seconds = (np.full(p, np.nan) if seconds is None
                         else np.asarray(seconds, dtype=np.float64).reshape(-1))
         self.cached = (np.zeros(p, bool) if cached is None
@@ -194,7 +195,8 @@ class DescriptorTable:
         Parameters
         ----------
         kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
-            Default 'cshape'.
+            Default 'cshape'; the old spellings ('shape_dna', ...) work with a
+            DeprecationWarning.
         M : int, optional
             Default: the table's ``M``.
         N : int, optional
@@ -264,7 +266,7 @@ class DescriptorTable:
         -------
         Path
         """
-        path = Path(path)
+        path = check_path("path", path)
         suffix = path.suffix.lower()
         if suffix not in (".npz", ".csv"):
             raise ValueError(f"path must end in .npz or .csv, got {str(path)!r}")
@@ -309,7 +311,7 @@ class DescriptorTable:
             If the file is not a readable cshape descriptor table (wrong format or version,
             truncated, corrupt); the message names the file.
         """
-        path = Path(path)
+        path = check_path("path", path)
         if not path.is_file():
             raise FileNotFoundError(f"no descriptor table at {str(path)!r}")
         if path.suffix.lower() not in (".npz", ".csv"):

@@ -1,0 +1,82 @@
+"""Count the public parameters of the core modules that carry a type hint.
+
+    python tools/typed_fraction.py [REV]
+
+Public: module-level functions and classes not starting with '_', and the public methods
+(plus ``__init__``) of public classes; ``self``/``cls`` are not counted; ``*args`` and
+``**kwargs`` are; ``typing.overload`` stubs are not (their implementation is).  With REV,
+the modules are read from that git revision.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+CORE = ["mesh", "readers", "fem", "spectrum", "descriptors", "compare", "index", "signatures",
+        "shapes"]
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def source(module: str, rev: str | None) -> str:
+    path = f"cshape/{module}.py"
+    if rev is None:
+        return (ROOT / path).read_text()
+    return subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:{path}"], check=True,
+                          capture_output=True, text=True).stdout
+
+
+def params(fn: ast.FunctionDef | ast.AsyncFunctionDef, method: bool):
+    a = fn.args
+    every = a.posonlyargs + a.args + a.kwonlyargs
+    if method and every and every[0].arg in ("self", "cls"):
+        every = every[1:]
+    every += [x for x in (a.vararg, a.kwarg) if x is not None]
+    return every
+
+
+def count(module: str, rev: str | None) -> tuple[int, int, int, int]:
+    tree = ast.parse(source(module, rev))
+    n = typed = n_ret = typed_ret = 0
+
+    def visit(fn, method):
+        nonlocal n, typed, n_ret, typed_ret
+        if any(ast.unparse(d).endswith("overload") for d in fn.decorator_list):
+            return  # typing.overload stubs: the implementation is counted
+        ps = params(fn, method)
+        n += len(ps)
+        typed += sum(p.annotation is not None for p in ps)
+        if fn.name != "__init__":
+            n_ret += 1
+            typed_ret += fn.returns is not None
+
+    for node in tree.body:
+        public = not node.name.startswith("_") if hasattr(node, "name") else False
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and public:
+            visit(node, False)
+        elif isinstance(node, ast.ClassDef) and not node.name.startswith("_"):
+            for sub in node.body:
+                if isinstance(sub, (ast.FunctionDef, ast.AsyncFunctionDef)) and (
+                        not sub.name.startswith("_") or sub.name == "__init__"):
+                    visit(sub, True)
+    return n, typed, n_ret, typed_ret
+
+
+def main(argv: list[str]) -> int:
+    rev = argv[0] if argv else None
+    tot = [0, 0, 0, 0]
+    print(f"{'module':<12} {'params':>7} {'typed':>6} {'returns':>8} {'typed':>6}")
+    for m in CORE:
+        c = count(m, rev)
+        tot = [a + b for a, b in zip(tot, c, strict=True)]
+        print(f"{m:<12} {c[0]:>7} {c[1]:>6} {c[2]:>8} {c[3]:>6}")
+    print(f"{'total':<12} {tot[0]:>7} {tot[1]:>6} {tot[2]:>8} {tot[3]:>6}")
+    print(f"typed parameters: {tot[1]}/{tot[0]} = {100 * tot[1] / max(tot[0], 1):.1f} %; "
+          f"typed returns: {tot[3]}/{tot[2]} = {100 * tot[3] / max(tot[2], 1):.1f} %")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
