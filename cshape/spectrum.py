@@ -871,18 +871,16 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
     return solve_eigenproblem(problem.A, problem.B, N, return_vectors=False)
 
 
-def estimate_seconds(n, N) -> float:
+def estimate_seconds(n: int, N: int) -> float:
     """A rough wall time of the eigensolve of ``N`` eigenvalues with ``n`` unknowns, in s.
 
     ``1e-9 n^3`` for the dense path (``n <= DENSE_LIMIT`` or ``3 N >= n``), else
     ``1e-8 n N^2`` (the Lanczos basis of about ``3 N`` vectors of length ``n``, kept
-    orthogonal), plus ``2e-5 n`` (FEM, factorisation).  Fitted on one core of this
-    project's 2-core machine under load (tori of 5K and 11.5K vertices, N = 100-800:
-    0.7-31 s within 30 %; icosphere of 2562 vertices, N = 900, dense: 18 s; a user's
-    11.5K-vertex mesh with N = 2000: 396 s, estimated 461 s).  A faster machine is
-    faster: the estimate is for warnings, not for planning to the minute.
+    orthogonal), plus ``2e-5 n`` (FEM, factorisation), fitted on one core of a 2-core
+    machine (the fit: ``benchmarks/SCALE.md``, "The eigensolver").  The estimate is for
+    warnings, not for planning to the minute.
     """
-    n, N = float(n), float(N)
+    n, N = float(check_int("n", n, min=0)), float(check_int("N", N, min=1))
     if n <= DENSE_LIMIT or 3 * N >= n:
         return 1e-9 * n**3 + 2e-5 * n
     return 1e-8 * n * N**2 + 2e-5 * n
@@ -896,7 +894,7 @@ def _duration(seconds) -> str:
     return f"{seconds / 3600:.1f} h"
 
 
-def long_solve_message(n, N):
+def long_solve_message(n: int, N: int) -> str | None:
     """The warning of an eigensolve estimated to take long, or None (see
     :func:`estimate_seconds` and ``LONG_SOLVE_SECONDS``)."""
     t = estimate_seconds(n, N)
@@ -910,7 +908,7 @@ def long_solve_message(n, N):
             f"take about {_duration(t)} on one core (a rough estimate, 1e-8 n N^2 s){hint}")
 
 
-def components_message(ncomp) -> str:
+def components_message(ncomp: int) -> str:
     """The warning about a mesh of ``ncomp`` connected components (also shown by a batch
     run whose eigenvalues come from the cache)."""
     return (f"mesh has {ncomp} connected components: its spectrum is the union of theirs, "

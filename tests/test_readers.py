@@ -41,6 +41,7 @@ def test_valid_binary_ply_reads_in_both_byte_orders(tmp_path):
         assert (m.n_vertices, m.n_faces) == (4, 4) and m.is_closed
 
 
+@pytest.mark.slow  # a subprocess
 def test_hostile_files_do_not_kill_or_exhaust_the_interpreter(tmp_path):
     """Load every malformed file in a child process limited to 3 GB of address space.
 
@@ -176,6 +177,7 @@ def test_failed_load_restores_the_working_folder(tmp_path, monkeypatch):
     assert cshape.load_mesh("meshes/good.off").n_faces == 4  # relative paths still work
 
 
+@pytest.mark.slow  # a subprocess
 def test_fuzzed_files_never_crash_the_interpreter(tmp_path):
     """600 corrupted files loaded in one memory-limited child process: each one loads or
     raises ValueError.  (Found this way: PyMeshLab segfaults on an out-of-range index in a
