@@ -352,11 +352,13 @@ def _warn_long_run(tasks, records, N):
     one = long_solve_message(n_big, N)
     if one is None and total < 2 * 60.0:
         return
-    largest = one.split(": ", 1)[1] if one else "under a minute"
+    big = estimate_seconds(n_big, N)
+    hint = one.split("; ", 1)[1] if one and "; " in one else ""
     warnings.warn(
         f"{LONG_RUN_PREFIX} {len(sizes)} eigensolve{'s' if len(sizes) > 1 else ''} of "
         f"N={N}, about {total / 60:.0f} min in all on one core (a rough estimate, "
-        f"1e-8 n N^2 s); the largest, {name} ({n_big} vertices), {largest}",
+        f"1e-8 n N^2 s); the largest, {name} ({n_big} vertices), about "
+        f"{big / 60:.0f} min" + (f"; {hint}" if hint else ""),
         CShapeWarning, stacklevel=3)
 
 
