@@ -212,6 +212,7 @@ def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
         eigenvalues to see past them), ``0`` for a Dirichlet spectrum of open pieces.
     """
     x = _as_lam(lam)
+    rtol = check_real("rtol", rtol, min=0)
     tol = rtol * float(np.abs(x).max())
     above = np.flatnonzero(x > tol)
     return int(above[0]) if len(above) else len(x)
@@ -248,6 +249,10 @@ def _after(x, k, tol, what):
             f"{what} needs lam_i > 0 after the {k} zero mode{'s' if k != 1 else ''}, but "
             f"lam_{i} = {x[i]:.3g}: lam must be ascending")
     return mu
+
+
+def _check_length(length: object) -> int | None:
+    return None if length is None else check_int("length", length, min=1)
 
 
 def _weyl_extend(mu, length):
@@ -293,7 +298,7 @@ def nonzero_eigenvalues(lam: ArrayLike, zero_modes: int | None = None, *,
     x = _as_lam(lam)
     tol = ZERO_RTOL * float(np.abs(x).max())
     k = _zero_modes(x, zero_modes, tol)
-    return _weyl_extend(_after(x, k, tol, "nonzero_eigenvalues"), length)
+    return _weyl_extend(_after(x, k, tol, "nonzero_eigenvalues"), _check_length(length))
 
 
 def log_weyl_ratio(lam_norm: ArrayLike, zero_modes: int | None = None, *,
@@ -337,6 +342,7 @@ def log_weyl_ratio(lam_norm: ArrayLike, zero_modes: int | None = None, *,
         (lam not ascending).
     """
     x = _as_lam(lam_norm, "lam_norm", min_len=2)
+    length = _check_length(length)
     tol = ZERO_RTOL * float(np.abs(x).max())
     k = max(_zero_modes(x, zero_modes, tol), 1)
     mu = _after(x, k, tol, "the log-Weyl ratio")
@@ -562,6 +568,8 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
     """
     transform = _check_transform(transform)
     M = _check_M(M, _check_N(N), transform)  # before the eigensolve
+    if zero_modes is not None:
+        zero_modes = check_int("zero_modes", zero_modes, min=0)
     lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization,
                                             normalized)
     if transform == "weyl":
@@ -730,5 +738,6 @@ def f1_feature(lam: ArrayLike, zero_modes: int | None = None, *,
     mu = _after(x, _zero_modes(x, zero_modes, tol), tol, "F1")
     if len(mu) < 2:
         raise ValueError("lam needs at least one eigenvalue after the first non-zero one")
+    length = _check_length(length)
     mu = _weyl_extend(mu, None if length is None else length + 1)
     return mu[0] / mu[1:]

@@ -228,6 +228,20 @@ TAKES = {
         "DescriptorTable.distance_matrix": lambda v: table().distance_matrix(v),
         "DescriptorIndex.from_table": lambda v: DescriptorIndex.from_table(table(), v),
     },
+    "length": {
+        "nonzero_eigenvalues": lambda v: cshape.nonzero_eigenvalues(LAM, length=v),
+        "log_weyl_ratio": lambda v: cshape.log_weyl_ratio(LAM, length=v),
+        "f1_feature": lambda v: cshape.f1_feature(LAM, length=v),
+    },
+    "zero_modes": {
+        "nonzero_eigenvalues": lambda v: cshape.nonzero_eigenvalues(LAM, v),
+        "log_weyl_ratio": lambda v: cshape.log_weyl_ratio(LAM, v),
+        "f1_feature": lambda v: cshape.f1_feature(LAM, v),
+        "compact_shape_dna": lambda v: cshape.compact_shape_dna(
+            LAM, M=1, N=5, normalized=True, transform="log-weyl", zero_modes=v),
+        "compact_shape_dna(weyl)": lambda v: cshape.compact_shape_dna(
+            LAM, M=1, N=5, normalized=True, zero_modes=v),
+    },
     "n_jobs": {
         "describe": lambda v: _describe(n_jobs=v),
         "DescriptorIndex": lambda v: DescriptorIndex(np.eye(3), n_jobs=v),
@@ -295,6 +309,10 @@ SAME_ERROR = [
     ("transform", 1, TypeError, _TR + "int 1$"),
     ("kind", "heat", ValueError, _KIND + "'heat'$"),
     ("kind", None, TypeError, _KIND + "NoneType$"),
+    ("length", 0, ValueError, r"^length must be an integer >= 1, got 0$"),
+    ("length", 2.5, TypeError, r"^length must be an integer, got float 2\.5$"),
+    ("zero_modes", -1, ValueError, r"^zero_modes must be an integer >= 0, got -1$"),
+    ("zero_modes", True, TypeError, r"^zero_modes must be an integer, got bool True$"),
     ("n_jobs", 0, ValueError, _JOBS + "0$"),
     ("n_jobs", -2, ValueError, _JOBS + "-2$"),
     ("n_jobs", 2.0, TypeError, r"^n_jobs must be an integer, got float 2\.0$"),
