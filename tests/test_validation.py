@@ -575,6 +575,33 @@ def test_compare(call, kwargs, exc, match):
     _raises(call, kwargs, exc, match)
 
 
+# ====================================================================== batch runs and tables
+BATCH = [
+    pytest.param(_describe, dict(progress=1), TypeError,
+                 r"^progress must be True or False, got int 1$", id="describe-progress"),
+    pytest.param(_describe, dict(cache_dir=3), TypeError,
+                 r"^cache_dir must be a path \(str or os\.PathLike\), got int 3$",
+                 id="describe-cache_dir"),
+    pytest.param(_describe, dict(blas_threads=0), ValueError,
+                 r"^blas_threads must be an integer >= 1, got 0$", id="describe-blas_threads"),
+    pytest.param(_describe, dict(on_error="ignore"), ValueError,
+                 r"^on_error must be one of \{'warn', 'raise'\}, got 'ignore'$",
+                 id="describe-on_error"),
+    pytest.param(_describe, dict(N=9, M=5), ValueError, r"M=5 needs 2M\+1 = 11 <= N = 9",
+                 id="describe-M-too-large"),
+    pytest.param(lambda path: table().save(path), dict(path=3), TypeError,
+                 r"^path must be a path \(str or os\.PathLike\), got int 3$", id="save-path"),
+    pytest.param(DescriptorTable.load, dict(path=None), TypeError,
+                 r"^path must be a path \(str or os\.PathLike\), got NoneType$",
+                 id="load-path"),
+]
+
+
+@pytest.mark.parametrize("call, kwargs, exc, match", BATCH)
+def test_batch(no_eigensolve, call, kwargs, exc, match):
+    _raises(call, kwargs, exc, match)
+
+
 # ====================================================================== shapes
 SHAPES = [
     pytest.param(shapes.icosphere, dict(subdivisions=True), TypeError,
@@ -860,3 +887,19 @@ def test_cli_query_accepts_the_old_kind_with_a_warning(tmp_path, capsys):
     out, err = capsys.readouterr()
     assert "--kind shape_dna is deprecated; write --kind shape-dna" in err
     assert "by Shape-DNA N=20" in out
+
+
+def test_a_saved_table_with_an_old_transform_spelling_still_loads(tmp_path):
+    import json
+
+    from cshape.batch.table import sidecar_path
+
+    path = _old_kinds_table().save(tmp_path / "t.csv")
+    side = sidecar_path(path)
+    meta = json.loads(side.read_text())
+    meta["transform"] = "log_weyl_dct"  # an underscore spelling of a mode name
+    side.write_text(json.dumps(meta))
+    with pytest.warns(DeprecationWarning, match="transform='log_weyl_dct' is deprecated"):
+        back = DescriptorTable.load(path)
+    assert back.transform == "log-weyl-dct"
+    np.testing.assert_array_equal(back.lam, _old_kinds_table().lam)

@@ -173,6 +173,17 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         ``lam`` (p, N), ``areas`` (p,), ``seconds``, ``cached`` and ``failures``;
         descriptors through :meth:`DescriptorTable.descriptors`.
 
+    Raises
+    ------
+    TypeError
+        An argument of the wrong type (``N=2.5``, ``M=True``, ``progress=1``,
+        ``cache_dir=3``), with the message every other function gives for it.
+    ValueError
+        An argument out of range (``N=0``, ``M`` too large for ``N``, an unknown ``bc``,
+        ``mass``, ``transform`` or ``on_error``, ``n_jobs=0``), before any mesh is read.
+    RuntimeError
+        With ``on_error='raise'``, the first mesh that fails.
+
     Warns
     -----
     CShapeWarning
