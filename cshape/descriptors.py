@@ -247,7 +247,8 @@ def _after(x, k, tol, what):
         i = int(bad[0]) + k
         raise ValueError(
             f"{what} needs lam_i > 0 after the {k} zero mode{'s' if k != 1 else ''}, but "
-            f"lam_{i} = {x[i]:.3g}: lam must be ascending")
+            f"lam_{i} = {x[i]:.3g}: lam must be ascending, with no more zero eigenvalues "
+            "than the mesh has components")
     return mu
 
 
