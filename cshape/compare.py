@@ -201,8 +201,11 @@ default='cshape'
     return X
 
 
-def descriptor_rows(lams, areas=None, kind="cshape", M=16, N=100, *, normalization="area",
-                    transform="weyl", zero_modes=None):
+def descriptor_rows(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
+                    kind: str = "cshape", M: int = 16, N: int = 100, *,
+                    normalization: str = "area", transform: str = "weyl",
+                    zero_modes: ArrayLike | None = None
+                    ) -> tuple[NDArray[Any], dict[int, str]]:
     """The descriptors of the rows that can be described, and why the others cannot.
 
     Takes the arguments of :func:`descriptor_matrix`.
@@ -217,7 +220,8 @@ def descriptor_rows(lams, areas=None, kind="cshape", M=16, N=100, *, normalizati
     """
     rows, a, zm, recipe = _prepare_rows(lams, areas, kind, M, N, normalization, transform,
                                         zero_modes)
-    out, problems = [], {}
+    out: list[NDArray[Any]] = []
+    problems: dict[int, str] = {}
     for i, r in enumerate(rows):
         try:
             out.append(_one_row(r, a[i], zm[i], **recipe))

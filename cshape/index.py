@@ -73,7 +73,7 @@ class DescriptorIndex:
     Examples
     --------
     >>> import numpy as np
-    >>> from cshape.compare import DescriptorIndex
+    >>> from cshape.index import DescriptorIndex
     >>> index = DescriptorIndex(np.array([[0.0, 0], [1, 0], [5, 5]]))
     >>> dist, ind = index.query([[0.9, 0.1]], k=2)
     >>> ind.tolist()

@@ -37,7 +37,10 @@ def params(fn: ast.FunctionDef | ast.AsyncFunctionDef, method: bool):
     return every
 
 
-def count(module: str, rev: str | None) -> tuple[int, int, int, int]:
+def count(module: str, rev: str | None, missing: list[str] | None = None
+          ) -> tuple[int, int, int, int]:
+    """(parameters, typed, returns, typed) of the public names of ``cshape/<module>.py``;
+    the untyped ones are appended to ``missing`` as ``module.function(parameter)``."""
     tree = ast.parse(source(module, rev))
     n = typed = n_ret = typed_ret = 0
 
@@ -48,9 +51,13 @@ def count(module: str, rev: str | None) -> tuple[int, int, int, int]:
         ps = params(fn, method)
         n += len(ps)
         typed += sum(p.annotation is not None for p in ps)
+        if missing is not None:
+            missing.extend(f"{module}.{fn.name}({p.arg})" for p in ps if p.annotation is None)
         if fn.name != "__init__":
             n_ret += 1
             typed_ret += fn.returns is not None
+            if missing is not None and fn.returns is None:
+                missing.append(f"{module}.{fn.name} -> ?")
 
     for node in tree.body:
         public = not node.name.startswith("_") if hasattr(node, "name") else False
