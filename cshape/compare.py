@@ -47,7 +47,15 @@ from .descriptors import (
 )
 
 __all__ = [
+    "DEFAULT_DESCRIPTOR",
+    "DEFAULT_KIND",
+    "DEFAULT_M",
+    "DEFAULT_NORMALIZATION",
+    "DEFAULT_TRANSFORM",
     "DESCRIPTOR_KINDS",
+    "PAPER_DESCRIPTOR",
+    "default_descriptor",
+    "descriptor_label",
     "descriptor_matrix",
     "descriptor_rows",
     "descriptor_size",
@@ -66,6 +74,25 @@ DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", 
 
 #: The E-measure of the Princeton Shape Benchmark looks at the first 32 results.
 E_MEASURE_DEPTH = 32
+
+#: The exploration default: the descriptor that :meth:`cshape.DescriptorTable.descriptors`
+#: and ``.distance_matrix()`` with no kind, :class:`cshape.DescriptorIndex`, ``cshape query``,
+#: ``cshape describe``'s summary, the MDS of one's own collection and lesson 06 compare.
+#: Chosen on the development instances of the benchmark suite (category, instance and
+#: resolution level) by its *worst* first tier; see ``benchmarks/results/suite.md``.
+DEFAULT_KIND = "truncated-log"
+#: Its crop half-width: ``2M+1`` values.
+DEFAULT_M = 24
+#: Its transform (used by the 'cshape' kinds only).
+DEFAULT_TRANSFORM = "weyl"
+#: Its scale normalisation (:func:`cshape.normalize`).
+DEFAULT_NORMALIZATION = "weyl"
+#: The default as keyword arguments of :func:`descriptor_matrix` (see :func:`default_descriptor`).
+DEFAULT_DESCRIPTOR = {"kind": DEFAULT_KIND, "M": DEFAULT_M, "transform": DEFAULT_TRANSFORM,
+                      "normalization": DEFAULT_NORMALIZATION}
+#: The paper's cShape-DNA (Eq. 8-10, ``M = 16`` of ``N = 100``, area-normalised): ``--kind
+#: cshape`` everywhere.
+PAPER_DESCRIPTOR = {"kind": "cshape", "M": 16, "transform": "weyl", "normalization": "area"}
 
 
 
@@ -97,6 +124,66 @@ def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
     N = check_int("N", N, min=1)
     return {"shape-dna": N, "truncated": 2 * M + 1, "cshape": 2 * M + 1,
             "cshape-complex": 2 * M + 1, "f1": N - 2, "truncated-log": 2 * M + 1}[kind]
+
+
+def default_descriptor(N=100) -> dict:
+    """The exploration default (:data:`DEFAULT_DESCRIPTOR`) for shapes with ``N`` eigenvalues.
+
+    Parameters
+    ----------
+    N : int, default=100
+        Eigenvalues available per shape.  With fewer than the default needs, ``M`` is
+        lowered to the largest the kind allows (the label says so).
+
+    Returns
+    -------
+    dict
+        ``{'kind', 'M', 'N', 'transform', 'normalization'}``, keyword arguments of
+        :func:`descriptor_matrix`.
+    """
+    N = check_int("N", N, min=1)
+    kind, M, tr = DEFAULT_KIND, DEFAULT_M, DEFAULT_TRANSFORM
+    top = {"truncated-log": (N - 2) // 2, "truncated": (N - 1) // 2,
+           "cshape": (N - 1) // 2 if tr == "weyl" else (N - 2) // 2}.get(kind, M)
+    if top < 0:
+        raise ValueError(f"the default descriptor ({kind!r}) needs at least 2 eigenvalues "
+                         f"per shape, got N = {N}")
+    return {"kind": kind, "M": min(M, top), "N": N, "transform": tr,
+            "normalization": DEFAULT_NORMALIZATION}
+
+
+def descriptor_label(kind, M=16, N=100, transform="weyl", normalization="area") -> str:
+    """What a descriptor compares, in words, e.g. for a query header or a figure title.
+
+    The normalisation is named when it is not the paper's (the area).
+
+    >>> descriptor_label("truncated-log", M=16)
+    'truncated log spectrum (33 values)'
+    >>> descriptor_label("truncated-log", M=8, normalization="weyl")
+    'truncated log spectrum, Weyl-normalised (17 values)'
+    >>> descriptor_label("cshape", M=16, N=100)
+    "paper's cShape-DNA (M=16 of N=100, 33 values)"
+    """
+    kind = _check_kind(kind)
+    norm = check_choice("normalization", normalization, NORMALIZATIONS)
+    size = 2 * M + 1
+    if norm != "area" and kind != "f1":
+        name = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised"}[norm]
+        base = descriptor_label(kind, M=M, N=N, transform=transform)
+        head, _, tail = base.partition(" (")
+        return f"{head}, {name} ({tail}"
+    if kind in ("cshape", "cshape-complex"):
+        name = {"weyl": "paper's cShape-DNA", "log-weyl": "log-Weyl DFT cShape-DNA",
+                "log-weyl-dct": "log-Weyl DCT cShape-DNA"}[check_choice(
+                    "transform", transform, TRANSFORMS)]
+        return f"{name} (M={M} of N={N}, {size} values)"
+    if kind == "shape-dna":
+        return f"Shape-DNA ({N} values)"
+    if kind == "f1":
+        return f"F1 (N={N}, {N - 2} values)"
+    if kind == "truncated":
+        return f"truncated Shape-DNA ({size} values)"
+    return f"truncated log spectrum ({size} values)"
 
 
 def _check_kind(kind: object) -> str:

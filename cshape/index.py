@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._checks import check_choice, check_descriptors, check_int, check_n_jobs
-from .compare import _check_kind, descriptor_matrix
+from .compare import _check_kind, descriptor_label, descriptor_matrix
 
 #: The exact search methods of :class:`sklearn.neighbors.NearestNeighbors` (its spelling).
 ALGORITHMS = ("auto", "brute", "kd_tree", "ball_tree")
@@ -30,6 +30,8 @@ class TableLike(Protocol):
     def descriptors(self, *args: Any, **kwargs: Any) -> NDArray[Any]: ...
 
     def usable(self, *args: Any, **kwargs: Any) -> NDArray[np.bool_]: ...
+
+    def recipe(self, *args: Any, **kwargs: Any) -> dict[str, Any]: ...
 
 
 # --------------------------------------------------------------------------- index
@@ -95,22 +97,27 @@ class DescriptorIndex:
         self.rows_ = np.arange(len(self.X_))
 
     @classmethod
-    def from_table(cls, table: TableLike, kind: str = "cshape", M: int | None = None,
+    def from_table(cls, table: TableLike, kind: str | None = None, M: int | None = None,
                    N: int | None = None, *, transform: str | None = None,
-                   normalization: str = "area", algorithm: str = "auto",
+                   normalization: str | None = None, algorithm: str = "auto",
                    n_jobs: int | None = None) -> DescriptorIndex:
         """An index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
 
         Parameters
         ----------
         table : DescriptorTable
-        kind : str, default='cshape'
-            See :func:`descriptor_matrix`.
+        kind : str, optional
+            See :func:`descriptor_matrix`.  Default: the exploration default
+            :data:`cshape.compare.DEFAULT_DESCRIPTOR` (``'cshape'`` is the paper's).
         M, N : int, optional
-            Default: the table's.
+            Default: the default descriptor's ``M`` when ``kind`` is None, else the table's;
+            the table's ``N``.
         transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
-            Default: the table's ``transform`` (see :func:`cshape.compact_shape_dna`).
-        normalization : {'area', 'fiedler', 'weyl'}, default='area'
+            Default: the table's ``transform`` (see :func:`cshape.compact_shape_dna`) for a
+            named kind.
+        normalization : {'area', 'fiedler', 'weyl'}, optional
+            Default: the default descriptor's when ``kind`` is None, else 'area' (the
+            paper's).
         algorithm, n_jobs
             As for the constructor.
 
@@ -121,9 +128,8 @@ class DescriptorIndex:
             shapes the kind cannot describe (a mesh of many pieces with too few non-zero
             eigenvalues) are left out with a :class:`cshape.CShapeWarning` naming them.
         """
-        recipe: dict[str, Any] = {"kind": _check_kind(kind), "M": table.M if M is None else M,
-                  "N": table.N if N is None else N, "normalization": normalization,
-                  "transform": table.transform if transform is None else transform}
+        recipe: dict[str, Any] = table.recipe(
+            None if kind is None else _check_kind(kind), M, N, transform, normalization)
         X = table.descriptors(**recipe)  # warns about and leaves out what it cannot describe
         index = cls(X, algorithm=algorithm, n_jobs=n_jobs)
         index.recipe_ = recipe
@@ -173,6 +179,16 @@ class DescriptorIndex:
 
     def __len__(self) -> int:
         return len(self.X_)
+
+    @property
+    def descriptor(self) -> str | None:
+        """What the rows are, in words (:func:`cshape.compare.descriptor_label`), when built
+        with :meth:`from_table`; None otherwise."""
+        if self.recipe_ is None:
+            return None
+        r = self.recipe_
+        return descriptor_label(r["kind"], M=r["M"], N=r["N"], transform=r["transform"],
+                                normalization=r["normalization"])
 
     def query(self, Y: ArrayLike | None = None, k: int = 1
               ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:

@@ -16,7 +16,7 @@
 # 1. point cshape at a folder of meshes (one sub-folder per class) and get names and labels;
 # 2. compute every shape's eigenvalues once, with a cache that makes the next run (or an interrupted one) fast,
 #    in parallel processes or on a Dask cluster;
-# 3. query the nearest neighbours of a new shape with `DescriptorIndex`;
+# 3. query the nearest neighbours of a new shape with `DescriptorIndex`, and say which descriptor compared them;
 # 4. save the table (CSV or NPZ) and load it back;
 # 5. find the downloadable benchmarks cshape knows about.
 
@@ -139,20 +139,46 @@ else:
 # `cshape.DescriptorIndex` answers nearest-neighbour queries against a database of descriptors. We query a
 # shape the collection has never seen: a noisy, rotated, larger copy of one of the tori (rotation and scale do
 # not change the normalised spectrum; the noise does, a little).
+#
+# With no `kind`, the index (like `table.descriptors()`, `table.distance_matrix()` and `cshape query`)
+# compares the **exploration default**, `cshape.compare.DEFAULT_DESCRIPTOR`: the descriptor whose *worst*
+# first tier over cshape's benchmark suite (classes, identities in many poses, the same shape at several
+# resolutions) was highest. The paper's cShape-DNA is one argument away: `kind="cshape"`. Always print
+# which descriptor compared your shapes (`index.descriptor`).
 
 # %%
-
-index = cshape.DescriptorIndex(table.descriptors("cshape", M=M))
+print("default:", cshape.compare.DEFAULT_DESCRIPTOR)
 base = coll["torus1"].mesh
 c, s_ = np.cos(0.7), np.sin(0.7)
 R = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])
 query = cshape.Mesh(1.7 * base.vertices @ R.T, base.faces)
 query = variants.add_normal_noise(query, 0.3, random_state=1)
-q = cshape.compact_shape_dna_real(query, M=M, N=N)
-dist, ind = index.query(q, k=3)
-for d, i in zip(dist[0], ind[0], strict=True):
-    print(f"{table.names[i]:10s} ({table.labels[i]:7s}) distance {d:8.3f}")
+lam_q = cshape.shape_dna(query, N=N)
+for index in (cshape.DescriptorIndex.from_table(table),  # the default
+              cshape.DescriptorIndex.from_table(table, "cshape", M=M)):  # the paper's
+    dist, ind = index.query_spectra(lam_q, query.area, k=3)
+    print("nearest by the", index.descriptor)
+    for d, i in zip(dist[0], ind[0], strict=True):
+        print(f"    {table.names[i]:10s} ({table.labels[i]:7s}) distance {d:8.3f}")
 plots.plot_mesh(query, title="the query: a noisy, rotated, scaled torus", edges=False)
+
+# %% [markdown]
+# ## A picture of the collection
+#
+# Multidimensional scaling of the distance matrix (notebook 4) places similar shapes close together. The title
+# says which descriptor was compared; the paper's cShape-DNA is drawn beside it.
+
+# %%
+import matplotlib.pyplot as plt
+
+from cshape import compare
+
+fig, axs = plt.subplots(1, 2, figsize=(10, 4.5))
+for ax, kind in zip(axs, (None, "cshape"), strict=True):
+    Y = compare.mds_embedding(table.distance_matrix(kind))
+    plots.plot_mds(Y, table.names, table.labels, ax=ax,
+                   title=f"MDS by the {table.describe_recipe(kind)}")
+fig.tight_layout()
 
 # %% [markdown]
 # ## Save the table, load it back
@@ -200,3 +226,5 @@ print("removed", work, "| exists:", work.exists())
 # 3. Measure the time of `describe` for `n_jobs=1` and `n_jobs=2` on 20 meshes of 5000 vertices. Where is the
 #    time spent: FEM assembly or the eigensolve? (`cshape.fem_matrices` vs `cshape.shape_dna`.)
 # 4. Build a `DescriptorIndex` of the F1 features and of the cShape-DNA with $M = 2$. Which one finds the torus?
+# 5. `cshape.compare.DEFAULT_DESCRIPTOR` was chosen on generated benchmarks. Score it against the paper's
+#    cShape-DNA on your own labelled folder with `compare.retrieval_scores(table.distance_matrix(kind), table.labels)`.

@@ -176,9 +176,10 @@ def test_query_by_name_and_by_mesh_file(table_file, folder, tmp_path):
     # a mesh file not in the table: a sphere at a third scale matches both spheres
     ico = shapes.icosphere(2)
     q = write_off(tmp_path / "q.off", (0.5 * ico.vertices, ico.faces))
-    res = cli("query", table_file, q, "-k", "3", cache=tmp_path / "c", check=True)
+    res = cli("query", table_file, q, "-k", "3", "--kind", "cshape", cache=tmp_path / "c",
+              check=True)
     lines = res.stdout.splitlines()
-    assert lines[0].startswith("nearest to") and "cShape-DNA M=4" in lines[0]
+    assert lines[0].startswith("nearest to") and "paper's cShape-DNA (M=4 of N=20" in lines[0]
     ranked = [line.split() for line in lines[2:]]
     assert [r[0] for r in ranked] == ["1", "2", "3"]
     assert {ranked[0][2], ranked[1][2]} == {"small", "big"} and ranked[2][2] == "ring"

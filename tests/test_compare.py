@@ -396,12 +396,12 @@ def test_index_from_table_queries_spectra_with_the_tables_transform(spectra):
 
     lams, areas = spectra
     table = DescriptorTable(["a", "b", "c"], lams, areas, M=4, transform="log-weyl-dct")
-    index = DescriptorIndex.from_table(table)
+    index = DescriptorIndex.from_table(table, "cshape")
     assert index.recipe_["transform"] == "log-weyl-dct" and index.recipe_["M"] == 4
     np.testing.assert_array_equal(index.X_, table.descriptors("cshape"))
     dist, ind = index.query_spectra(lams[2] * 2.0, areas[2] / 2.0, k=2)  # same normalised lam
     assert ind[0, 0] == 2 and dist[0, 0] < 1e-12
-    other = DescriptorIndex.from_table(table, transform="weyl", M=2)
+    other = DescriptorIndex.from_table(table, "cshape", transform="weyl", M=2)
     np.testing.assert_allclose(other.X_, descriptor_matrix(lams, areas, "cshape", M=2, N=30))
     with pytest.raises(ValueError, match="build it with DescriptorIndex.from_table"):
         DescriptorIndex(index.X_).query_spectra(lams, areas)

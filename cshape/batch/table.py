@@ -15,7 +15,13 @@ import numpy as np
 
 from .._checks import check_choice, check_int, check_path
 from .._files import atomic_write
-from ..compare import descriptor_rows, distance_matrix, row_problems
+from ..compare import (
+    default_descriptor,
+    descriptor_label,
+    descriptor_rows,
+    distance_matrix,
+    row_problems,
+)
 from ..descriptors import TRANSFORMS, count_zero_modes
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
@@ -160,11 +166,43 @@ class DescriptorTable:
             transform=self.transform, components=self.components[idx])
 
     # ------------------------------------------------------------------ descriptors
-    def _recipe(self, kind, M, N, transform, kwargs):
-        return dict(kind=kind, M=self.M if M is None else M, N=self.N if N is None else N,
-                    transform=self.transform if transform is None else transform, **kwargs)
+    def recipe(self, kind=None, M=None, N=None, transform=None, normalization=None) -> dict:
+        """The descriptor these arguments select, as keyword arguments of
+        :func:`cshape.compare.descriptor_matrix`.
 
-    def usable(self, kind="cshape", M=None, N=None, *, transform=None,
+        ``kind=None`` selects the exploration default
+        (:data:`cshape.compare.DEFAULT_DESCRIPTOR`, with its own ``M``, transform and
+        normalisation unless given); a kind given by name takes the table's ``M`` and
+        ``transform`` and the paper's area normalisation unless given (``kind='cshape'`` is
+        the paper's cShape-DNA with the table's ``M``).
+
+        Returns
+        -------
+        dict
+            ``{'kind', 'M', 'N', 'transform', 'normalization'}``.
+        """
+        N = self.N if N is None else N
+        if kind is None:
+            d = default_descriptor(N)
+            return {"kind": d["kind"], "M": d["M"] if M is None else M, "N": N,
+                    "transform": d["transform"] if transform is None else transform,
+                    "normalization": (d["normalization"] if normalization is None
+                                      else normalization)}
+        return {"kind": kind, "M": self.M if M is None else M, "N": N,
+                "transform": self.transform if transform is None else transform,
+                "normalization": "area" if normalization is None else normalization}
+
+    def describe_recipe(self, kind=None, M=None, N=None, transform=None,
+                        normalization=None) -> str:
+        """The descriptor :meth:`recipe` selects, in words (for titles and headers)."""
+        return descriptor_label(**self.recipe(kind, M, N, transform, normalization))
+
+    def _recipe(self, kind, M, N, transform, kwargs):
+        kwargs = dict(kwargs)
+        norm = kwargs.pop("normalization", None)
+        return {**self.recipe(kind, M, N, transform, norm), **kwargs}
+
+    def usable(self, kind=None, M=None, N=None, *, transform=None,
                **kwargs) -> np.ndarray:
         """Which shapes can be described under a kind: boolean mask, shape (p,).
 
@@ -188,21 +226,25 @@ class DescriptorTable:
                 f"left out: {shown}{more}",
                 CShapeWarning, stacklevel=stacklevel)
 
-    def descriptors(self, kind="cshape", M=None, N=None, *, transform=None,
+    def descriptors(self, kind=None, M=None, N=None, *, transform=None,
                     **kwargs) -> np.ndarray:
         """Descriptor matrix, one row per shape; see :func:`cshape.compare.descriptor_matrix`.
 
         Parameters
         ----------
         kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
-            Default 'cshape'; the old spellings ('shape_dna', ...) work with a
-            DeprecationWarning.
+            Optional.  Default: the exploration default :data:`cshape.compare.DEFAULT_KIND`
+            with its ``M`` (:data:`cshape.compare.DEFAULT_M`); ``'cshape'`` is the paper's
+            cShape-DNA.  The old spellings ('shape_dna', ...) work with a DeprecationWarning.
         M : int, optional
-            Default: the table's ``M``.
+            Default: the default descriptor's ``M`` when ``kind`` is None, else the table's.
         N : int, optional
             Default: the table's ``N``; a smaller ``N`` uses the first ``N`` eigenvalues.
         transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
             Default: the table's ``transform`` (used by the 'cshape' kinds).
+        **kwargs
+            ``normalization`` ({'area', 'fiedler', 'weyl'}; default: the default
+            descriptor's when ``kind`` is None, else 'area', the paper's).
 
         Returns
         -------
@@ -219,9 +261,10 @@ class DescriptorTable:
                 "(see the warning); choose another kind or compute more eigenvalues")
         return X
 
-    def distance_matrix(self, kind="cshape", M=None, N=None, *, transform=None,
+    def distance_matrix(self, kind=None, M=None, N=None, *, transform=None,
                         **kwargs) -> np.ndarray:
-        """Euclidean distance matrix (q, q) of :meth:`descriptors` (the same rows)."""
+        """Euclidean distance matrix (q, q) of :meth:`descriptors` (the same rows and
+        defaults)."""
         return distance_matrix(self.descriptors(kind, M=M, N=N, transform=transform, **kwargs))
 
     @property

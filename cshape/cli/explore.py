@@ -216,7 +216,8 @@ def _cmd_describe(args) -> int:
                        "zero modes are dropped by the log descriptors)")
         print(f"cshape describe: {len(table)} meshes ({n_cached} from the cache"
               f"{f', {n_fail} failed' if n_fail else ''}) in {seconds:.1f} s, "
-              f"N={table.N}, M={table.M}{several}{where}", file=sys.stderr)
+              f"N={table.N}, M={table.M}{several}{where}; `cshape query` compares the "
+              f"{table.describe_recipe()} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
 
 
@@ -255,18 +256,19 @@ def _pieces(table):
 
 def _print_table(table, width=4):
     """One line per shape on stdout: name, label, area, components and the first values of
-    the table's cShape-DNA ('-' for a shape it cannot describe)."""
+    the default descriptor (:data:`cshape.compare.DEFAULT_DESCRIPTOR`, the one `cshape query`
+    compares; '-' for a shape it cannot describe)."""
     import numpy as np
 
-    keep = table.usable("cshape")
+    keep = table.usable()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the rows left out are marked below
-        S = table.descriptors("cshape") if keep.any() else np.zeros((0, 2 * table.M + 1))
+        S = table.descriptors() if keep.any() else np.zeros((0, 1))
     rows = dict(zip(np.flatnonzero(keep).tolist(), S, strict=True))
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
-    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  cShape-DNA (first {width} of "
-          f"{S.shape[1]} values, real form)")
+    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {table.describe_recipe()}: "
+          f"first {min(width, S.shape[1])} values")
     pieces = _pieces(table)
     for i, name in enumerate(table.names):
         vals = (" ".join(f"{x: .4e}" for x in rows[i][:width]) if i in rows
@@ -467,6 +469,13 @@ def _kind_arg(value: str) -> str:
     return new
 
 
+def _default_label(N=100) -> str:
+    """The exploration default (cshape.compare.DEFAULT_DESCRIPTOR) in words."""
+    from ..compare import default_descriptor, descriptor_label
+
+    return descriptor_label(**default_descriptor(N))
+
+
 def _cmd_query(args) -> int:
     from ..batch import DescriptorTable, describe
     from ..index import DescriptorIndex
@@ -485,6 +494,8 @@ def _cmd_query(args) -> int:
         index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
                                            transform=args.transform)
     print_warnings(caught, "query", False)
+    by = (f"--kind {args.kind}" if args.kind
+          else f"the default descriptor ({index.descriptor})")
     target = args.target
     if target in table.names:
         row = table.index(target)
@@ -509,11 +520,11 @@ def _cmd_query(args) -> int:
                          f" nor a mesh file{hint}")
     rows = index.rows_  # the table rows the kind describes
     if exclude is not None and exclude not in rows:
-        raise ValueError(f"--kind {args.kind} cannot describe {target!r} (the warning above "
+        raise ValueError(f"{by} cannot describe {target!r} (the warning above "
                          "says why); choose another --kind, or a smaller -M")
     available = len(rows) - (exclude is not None and exclude in rows)
     if available == 0:
-        which = f" that --kind {args.kind} describes" if len(rows) < len(table) else ""
+        which = f" that {by} describes" if len(rows) < len(table) else ""
         raise ValueError(f"table {args.table!r} holds no other shape{which} than {target!r}")
     k = min(args.k, available)
     dist, ind = index.query_spectra(lam, area, k=min(k + 1, len(rows)), zero_modes=[pieces],
@@ -522,14 +533,10 @@ def _cmd_query(args) -> int:
             if rows[i] != exclude]
     hits = hits[:k]
     r = index.recipe_
-    tr = "" if r["transform"] == "weyl" else f", {r['transform']}"
-    desc = {"cshape": f"cShape-DNA M={r['M']}{tr}", "shape-dna": f"Shape-DNA N={r['N']}",
-            "truncated": f"the first {2 * r['M'] + 1} eigenvalues",
-            "truncated-log": f"the first {2 * r['M'] + 1} log-Weyl ratios",
-            "f1": f"F1 N={r['N']}"}[args.kind]
+    desc = index.descriptor
     if k < args.k:
         print(f"cshape query: only {k} other shapes in the table"
-              f"{' that --kind ' + args.kind + ' describes' if len(rows) < len(table) else ''}",
+              f"{' that ' + by + ' describes' if len(rows) < len(table) else ''}",
               file=sys.stderr)
     if args.plot is not None:
         from ..plots.explore import descriptor_title
@@ -539,15 +546,15 @@ def _cmd_query(args) -> int:
             descriptor_title(args.kind, r["M"], r["N"], r["transform"]))
         print(f"cshape query: wrote {wrote}", file=sys.stderr)
     if args.json:
-        print(json.dumps({"query": target, **r,
+        print(json.dumps({"query": target, **r, "descriptor": desc,
                           "neighbours": [{"rank": j + 1, "name": table.names[i],
                                           "label": table.labels[i], "distance": d}
                                          for j, (d, i) in enumerate(hits)]}))
         return 0
     among = (f"the {len(table)} shapes" if len(rows) == len(table)
              else f"the {len(rows)} of {len(table)} shapes it describes")
-    print(f"nearest to {what} by {desc} ({index.X_.shape[1]} values, Euclidean distance), "
-          f"among {among} of {args.table}:")
+    print(f"nearest to {what} by the {desc}, Euclidean distance, among {among} of "
+          f"{args.table}:")
     w = max([len(table.names[i]) for _, i in hits] + [4])
     print(f"{'rank':>4}  {'distance':>11}  {'name':<{w}}  label")
     for j, (d, i) in enumerate(hits, 1):
@@ -567,9 +574,12 @@ def add_query(sub):
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")
     p.add_argument("target", metavar="MESH_OR_NAME", help="a shape name of TABLE or a mesh file")
     p.add_argument("-k", type=int, default=5, help="number of neighbours (default 5)")
-    p.add_argument("--kind", default="cshape", choices=_KINDS, type=_kind_arg,
-                   help="descriptor compared (default cshape)")
-    p.add_argument("-M", type=int, default=None, help="cShape-DNA M (default: the table's)")
+    p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
+                   help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
+                   "paper's cShape-DNA)")
+    p.add_argument("-M", type=int, default=None,
+                   help="crop half-width, 2M+1 values (default: the default descriptor's, or "
+                   "the table's M with --kind)")
     p.add_argument("-N", type=int, default=None,
                    help="use the first N eigenvalues (default: the table's N)")
     p.add_argument("--transform", default=None, choices=_transforms(),

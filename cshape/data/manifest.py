@@ -124,6 +124,7 @@ def _recipes() -> dict:
     from . import variants as v
     from .creatures import creature
     from .poses import pose, pose_template
+    from .suite import identity_pose, resolution_shape
 
     return {
         # name: (function, takes a base mesh, takes a seed)
@@ -138,6 +139,8 @@ def _recipes() -> dict:
         "creature": (creature, False, True),
         "pose-template": (pose_template, False, False),
         "pose": (pose, True, True),
+        "identity": (identity_pose, False, True),
+        "resolution": (resolution_shape, False, True),
     }
 
 
@@ -155,11 +158,21 @@ RECIPES = {
     "creature": "cshape.creatures.creature (seed -> random_state)",
     "pose-template": "cshape.data.poses.pose_template",
     "pose": "cshape.data.poses.pose (base: the template, seed -> random_state)",
+    "identity": "cshape.data.suite.identity_pose (seed -> random_state: the identity)",
+    "resolution": "cshape.data.suite.resolution_shape (seed -> random_state: the creature)",
 }
 
-#: Fields of a generated collection's ``generate`` mapping: the arguments of
-#: :func:`cshape.creatures.creature_items`, which lists the items in place of ``items``.
-GENERATE_FIELDS = ("seed", "members", "kinds", "params")
+#: Fields of a generated collection's ``generate`` mapping, per ``benchmark`` (default
+#: 'creatures'): the arguments of the function that lists the items in place of ``items``
+#: (:func:`cshape.data.creatures.creature_items`, :func:`cshape.data.suite.identity_items`,
+#: :func:`cshape.data.suite.resolution_items`).
+GENERATE_BENCHMARKS = {
+    "creatures": ("seed", "members", "kinds", "params"),
+    "identities": ("seed", "identities", "poses", "resolutions", "kinds", "params"),
+    "resolutions": ("seed", "members", "kinds", "levels", "params"),
+}
+GENERATE_FIELDS = ("benchmark", *dict.fromkeys(
+    f for fields in GENERATE_BENCHMARKS.values() for f in fields))
 
 
 # ====================================================================== manifest schema
@@ -288,7 +301,7 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
             if ("items" in entry) == ("generate" in entry):
                 raise ValueError(
                     f"{where}: a generated collection needs either 'items' (one recipe per "
-                    "item) or 'generate' (a creature benchmark: seed, members, kinds, "
+                    "item) or 'generate' (a generated benchmark: benchmark, seed, members, kinds, "
                     "params), not both or none"
                 )
             if "generate" in entry:
@@ -345,17 +358,28 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
 
 
 def _generate_items(spec, where) -> list:
-    """The items of a ``generate`` mapping (:func:`cshape.creatures.creature_items`)."""
+    """The items of a ``generate`` mapping (see :data:`GENERATE_BENCHMARKS`)."""
     from .creatures import creature_items
+    from .suite import identity_items, resolution_items
 
-    bad = sorted(set(spec) - set(GENERATE_FIELDS))
+    spec = dict(spec)
+    benchmark = spec.pop("benchmark", "creatures")
+    if benchmark not in GENERATE_BENCHMARKS:
+        raise ValueError(
+            f"{where}: field 'generate': benchmark must be one of "
+            f"{sorted(GENERATE_BENCHMARKS)}, got {benchmark!r}"
+        )
+    fields = GENERATE_BENCHMARKS[benchmark]
+    bad = sorted(set(spec) - set(fields))
     if bad:
         raise ValueError(
             f"{where}: field 'generate' has unknown key(s) {bad}; its keys are "
-            f"{list(GENERATE_FIELDS)}"
+            f"{['benchmark', *fields]}"
         )
+    make = {"creatures": creature_items, "identities": identity_items,
+            "resolutions": resolution_items}[benchmark]
     try:
-        return creature_items(**spec)
+        return make(**spec)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{where}: field 'generate': {exc}") from None
 

@@ -191,8 +191,12 @@ def skin_weights(kind, vertices, *, width=BLEND_WIDTH) -> np.ndarray:
     farther than ``width`` from every other bone's region follows its bone rigidly; near a
     joint it blends the bones that meet there.
     """
+    return _blend_weights(_skeleton(kind), vertices, width)
+
+
+def _blend_weights(bones, vertices, width=BLEND_WIDTH) -> np.ndarray:
+    """:func:`skin_weights` for any skeleton (a list of ``_Bone``)."""
     x = np.asarray(vertices, dtype=float)
-    bones = _skeleton(kind)
     D = np.stack([
         np.min([_segment_distance(x, c.a, c.b) - c.radius for c in b.capsules], axis=0)
         for b in bones

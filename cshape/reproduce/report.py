@@ -63,7 +63,8 @@ def _jsonable(obj):
 def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NOISE_LEVELS,
               noise_seed=0, quality=None, example=None, cache_dir=None, n_jobs=1, client=None,
               progress=True, random_state=0, title="cshape: the paper's Section 3 on our data",
-              benchmark=None, benchmark_name=None, benchmark_info=None, size_Ms=None):
+              benchmark=None, benchmark_name=None, benchmark_info=None, size_Ms=None,
+              suite=None):
     """Run Section 3 on a collection and write a report folder.
 
     Two collections may take part: ``records`` for the parts of Section 3 that compare a
@@ -107,6 +108,12 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         Its name and a description for the report (default: the collection's).
     size_Ms : sequence of int, optional
         The sizes of the equal-size table (:func:`experiment_sizes`; default 16 .. 1).
+    suite : dict of str to iterable, optional
+        The benchmark suite (:data:`cshape.data.suite.SUITE`), benchmark name -> labelled
+        shapes (e.g. the held-out instances): every descriptor of
+        :data:`cshape.reproduce.suite.CANDIDATES` on every benchmark, with the exploration
+        default (:data:`cshape.compare.DEFAULT_DESCRIPTOR`) marked
+        (:func:`cshape.reproduce.suite.suite_scores`).
 
     Returns
     -------
@@ -188,6 +195,21 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
     results["sizes"] = experiment_sizes(btable, Ms=size_Ms, N=N) if labelled else None
     results["verdict"] = size_verdict(results["sizes"], name=bname) if labelled else []
     results["cost"] = experiment_cost(table, Ms=all_Ms, N=N)
+
+    # -- the benchmark suite: every descriptor on every benchmark
+    results["suite"] = None
+    if suite:
+        from .suite import default_row, suite_scores
+
+        tables = {}
+        for bname_, recs in suite.items():
+            tables[bname_] = describe(list(recs), **kw)
+            _need(tables[bname_])
+        rows = suite_scores(tables)
+        results["suite"] = {"benchmarks": {k: {"n_shapes": len(t),
+                                               "n_classes": len(set(t.labels))}
+                                           for k, t in tables.items()},
+                            "rows": rows, "default": default_row(rows)}
 
     # -- 3.3 noise
     results["3.3"] = None
@@ -332,6 +354,27 @@ def _retrieval_report(res) -> list:
     return s
 
 
+def _suite_report(res) -> list:
+    """The report's suite section: every descriptor on every benchmark of the suite."""
+    st = res.get("suite")
+    if not st:
+        return []
+    from .suite import suite_markdown
+
+    bench = ", ".join(f"{k} ({v['n_shapes']} shapes, {v['n_classes']} classes)"
+                      for k, v in st["benchmarks"].items())
+    d = st["default"]
+    s = ["## The benchmark suite", "",
+         f"Every descriptor on every benchmark: {bench}. Bold: the exploration default "
+         "(`cshape.compare.DEFAULT_DESCRIPTOR`, chosen by its worst first tier on the "
+         "development instances; see benchmarks/results/suite.md)"
+         + (f", here worst {d['worst']:.3f}, mean {d['mean']:.3f}." if d else "."), ""]
+    for m in ("ft", "nn"):
+        s += [suite_markdown(st["rows"], title="Suite", measure=m,
+                             mark=d["title"] if d else None), ""]
+    return s
+
+
 def _report(res, figs, title):
     N, M = res["N"], res["M"]
     p31 = PAPER["3.1"]
@@ -375,6 +418,7 @@ def _report(res, figs, title):
           "![](fig4_mds_cshape.png)", "", "![](fig5_mds_truncated_f1.png)", "",
           "![](fig6_matrices.png)", "", "![](fig6_differences.png)", ""]
     s += _retrieval_report(res)
+    s += _suite_report(res)
     s += ["## Size and comparison time", "",
           f"Paper: cShape-DNA saves \"up to {PAPER['saving']:.0%}\" of space and time "
           f"(3 values instead of 100 at M=1). Times (best of 5): the full distance matrix "
