@@ -16,7 +16,7 @@ import pytest
 import cshape
 from cshape import compare, shapes
 from cshape.batch import DescriptorTable
-from cshape.cli.main import main as cli_main
+from cshape.cli import main as cli_main
 from cshape.compare import (
     DEFAULT_DESCRIPTOR,
     default_descriptor,
