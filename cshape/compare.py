@@ -82,11 +82,13 @@ E_MEASURE_DEPTH = 32
 #: resolution level) by its *worst* first tier; see ``benchmarks/results/suite.md``.
 DEFAULT_KIND = "truncated-log"
 #: Its crop half-width: ``2M+1`` values.
-DEFAULT_M = 24
+DEFAULT_M = 8
 #: Its transform (used by the 'cshape' kinds only).
 DEFAULT_TRANSFORM = "weyl"
-#: Its scale normalisation (:func:`cshape.normalize`).
-DEFAULT_NORMALIZATION = "weyl"
+#: Its scale normalisation (:func:`cshape.normalize`): divide by ``lam_1``, so the row is
+#: ``log(lam_i / lam_1) - log(4 pi i)``, ``i = 1 .. 2M+1`` (no area: a coarse mesh's area is
+#: a little off, and in log space any normalisation is one shift of the whole row).
+DEFAULT_NORMALIZATION = "fiedler"
 #: The default as keyword arguments of :func:`descriptor_matrix` (see :func:`default_descriptor`).
 DEFAULT_DESCRIPTOR = {"kind": DEFAULT_KIND, "M": DEFAULT_M, "transform": DEFAULT_TRANSFORM,
                       "normalization": DEFAULT_NORMALIZATION}

@@ -163,6 +163,19 @@ def test_describe_summary_shows_the_default(table, capsys, other_default):
     assert descriptor_label(**other_default) in head
 
 
+def test_collection_pictures_default_to_the_constant(table, other_default):
+    """The MDS and overview of one's own collection (cshape.plots, `cshape overview`)."""
+    pytest.importorskip("matplotlib")
+    from cshape.plots.explore import collection_distances
+
+    c = collection_distances(table)
+    np.testing.assert_allclose(c.D, table.distance_matrix())
+    assert c.kind == "cshape"
+    assert "log-weyl-dct" in c.descriptor and "lam_1-normalised" in c.descriptor
+    paper = collection_distances(table, "cshape")
+    np.testing.assert_allclose(paper.D, table.distance_matrix("cshape"))
+
+
 def test_lesson_06_uses_the_default_and_the_paper_beside_it():
     from pathlib import Path
 

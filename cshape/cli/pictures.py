@@ -22,12 +22,11 @@ from .output import CommandError, print_warnings
 __all__ = ["add_overview"]
 
 # ============================================================================ overview
-def _default_kind() -> str:
-    """``cshape.compare.DEFAULT_KIND`` when defined, else 'cshape' (as
-    :func:`cshape.plots.explore.default_kind`, without importing the plots layer)."""
-    from .. import compare
+def _default_label() -> str:
+    """The exploration default (``cshape.compare.DEFAULT_DESCRIPTOR``) in words."""
+    from ..compare import default_descriptor, descriptor_label
 
-    return str(getattr(compare, "DEFAULT_KIND", "cshape"))
+    return descriptor_label(**default_descriptor(100))
 
 
 def _cmd_overview(args) -> int:
@@ -97,8 +96,11 @@ def add_overview(sub):
                    help="write FILE: .html (interactive, offline) or .png/.svg/.pdf; repeat "
                    "for several")
     p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
-                   help=f"descriptor compared (default {_default_kind()})")
-    p.add_argument("-M", type=int, default=None, help="cShape-DNA M (default: the table's)")
+                   help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
+                   "paper's cShape-DNA)")
+    p.add_argument("-M", type=int, default=None,
+                   help="crop half-width, 2M+1 values (default: the default descriptor's, or "
+                   "the table's M with --kind)")
     p.add_argument("-N", type=int, default=None,
                    help="use the first N eigenvalues (default: the table's N)")
     p.add_argument("--transform", default=None, choices=_transforms(),

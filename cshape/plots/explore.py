@@ -76,19 +76,26 @@ _PLOTLY_SYMBOLS = {"o": "circle", "s": "square", "^": "triangle-up", "D": "diamo
 
 # =========================================================================== descriptors
 def default_kind() -> str:
-    """The descriptor compared when none is asked for: ``cshape.compare.DEFAULT_KIND`` when
-    the package defines one, else ``'cshape'``."""
+    """The descriptor compared when none is asked for: ``cshape.compare.DEFAULT_KIND`` (with
+    its ``M`` and normalisation, :func:`cshape.compare.default_descriptor`)."""
     from .. import compare
 
-    return str(getattr(compare, "DEFAULT_KIND", "cshape"))
+    return compare.DEFAULT_KIND
 
 
-def descriptor_title(kind, M=16, N=100, transform="weyl") -> str:
+def descriptor_title(kind, M=16, N=100, transform="weyl", normalization="area") -> str:
     """What a figure compared, in words: ``'cShape-DNA M=16 (33 values)'``.
 
     >>> descriptor_title("truncated-log", M=8)
     'truncated log spectrum (first 17 eigenvalues)'
+    >>> descriptor_title("truncated-log", M=8, normalization="weyl")
+    'truncated log spectrum, Weyl-normalised (first 17 eigenvalues)'
     """
+    if normalization != "area" and kind != "f1":
+        head, _, tail = descriptor_title(kind, M, N, transform).partition(" (")
+        name = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised"}.get(
+            normalization, f"normalization={normalization}")
+        return f"{head}, {name} ({tail}"
     from .._checks import OLD_SPELLINGS
 
     kind = OLD_SPELLINGS.get(kind, kind)
@@ -133,7 +140,7 @@ class CollectionDistances(NamedTuple):
 
 
 def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
-                         normalization="area") -> CollectionDistances:
+                         normalization=None) -> CollectionDistances:
     """Distances between the shapes of a described collection, under one descriptor.
 
     One shape never fails the collection: a row that cannot be described under ``kind``
@@ -146,10 +153,13 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
         Or any object with ``names``, ``labels``, ``lam`` (p, n), ``areas`` (p,), ``M``,
         ``N`` and ``transform``.
     kind : str, optional
-        See :func:`cshape.compare.descriptor_matrix`; default :func:`default_kind`.
+        See :func:`cshape.compare.descriptor_matrix`; default: the exploration default
+        :data:`cshape.compare.DEFAULT_DESCRIPTOR` (kind, ``M`` and normalisation).
     M, N, transform : optional
-        Default: the table's.
-    normalization : {'area', 'fiedler', 'weyl'}, default='area'
+        Default: the default descriptor's ``M`` and transform when ``kind`` is None, else
+        the table's; the table's ``N``.
+    normalization : {'area', 'fiedler', 'weyl'}, optional
+        Default: the default descriptor's when ``kind`` is None, else 'area' (the paper's).
 
     Returns
     -------
@@ -161,11 +171,20 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
         If no shape (or a single one) can be described under ``kind``, or ``kind`` is
         unknown.
     """
-    kind = check_choice("kind", default_kind() if kind is None else kind, DESCRIPTOR_KINDS)
-    recipe = {"kind": kind, "M": table.M if M is None else M, "N": table.N if N is None else N,
-              "transform": table.transform if transform is None else transform,
-              "normalization": normalization}
-    title = descriptor_title(kind, recipe["M"], recipe["N"], recipe["transform"])
+    from ..compare import default_descriptor
+
+    N = table.N if N is None else N
+    if kind is None:  # the exploration default, whole: kind, M, transform, normalisation
+        d = default_descriptor(N)
+        kind, M = d["kind"], d["M"] if M is None else M
+        transform = d["transform"] if transform is None else transform
+        normalization = d["normalization"] if normalization is None else normalization
+    transform = table.transform if transform is None else transform
+    kind = check_choice("kind", kind, DESCRIPTOR_KINDS)
+    recipe = {"kind": kind, "M": table.M if M is None else M, "N": N, "transform": transform,
+              "normalization": "area" if normalization is None else normalization}
+    title = descriptor_title(kind, recipe["M"], recipe["N"], recipe["transform"],
+                             recipe["normalization"])
     p = len(table.names)
     areas = np.asarray(table.areas, dtype=np.float64).reshape(-1)
     zero_modes = getattr(table, "zero_modes", None)
