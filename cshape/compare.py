@@ -128,7 +128,7 @@ def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
             "cshape-complex": 2 * M + 1, "f1": N - 2, "truncated-log": 2 * M + 1}[kind]
 
 
-def default_descriptor(N=100) -> dict:
+def default_descriptor(N: int = 100) -> dict[str, Any]:
     """The exploration default (:data:`DEFAULT_DESCRIPTOR`) for shapes with ``N`` eigenvalues.
 
     Parameters
@@ -154,7 +154,8 @@ def default_descriptor(N=100) -> dict:
             "normalization": DEFAULT_NORMALIZATION}
 
 
-def descriptor_label(kind, M=16, N=100, transform="weyl", normalization="area") -> str:
+def descriptor_label(kind: str, M: int = 16, N: int = 100, transform: str = "weyl",
+                     normalization: str = "area") -> str:
     """What a descriptor compares, in words, e.g. for a query header or a figure title.
 
     The normalisation is named when it is not the paper's (the area).

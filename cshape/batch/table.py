@@ -166,7 +166,8 @@ class DescriptorTable:
             transform=self.transform, components=self.components[idx])
 
     # ------------------------------------------------------------------ descriptors
-    def recipe(self, kind=None, M=None, N=None, transform=None, normalization=None) -> dict:
+    def recipe(self, kind: str | None = None, M: int | None = None, N: int | None = None,
+               transform: str | None = None, normalization: str | None = None) -> dict:
         """The descriptor these arguments select, as keyword arguments of
         :func:`cshape.compare.descriptor_matrix`.
 
@@ -192,8 +193,9 @@ class DescriptorTable:
                 "transform": self.transform if transform is None else transform,
                 "normalization": "area" if normalization is None else normalization}
 
-    def describe_recipe(self, kind=None, M=None, N=None, transform=None,
-                        normalization=None) -> str:
+    def describe_recipe(self, kind: str | None = None, M: int | None = None,
+                        N: int | None = None, transform: str | None = None,
+                        normalization: str | None = None) -> str:
         """The descriptor :meth:`recipe` selects, in words (for titles and headers)."""
         return descriptor_label(**self.recipe(kind, M, N, transform, normalization))
 
