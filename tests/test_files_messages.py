@@ -252,6 +252,7 @@ def test_describe_command_announces_a_long_run_at_once(tmp_path, capsys, monkeyp
     assert "cshape describe: warning: long run ahead: 1 eigensolve of N=6, about 10 min" \
         in order[0]  # printed before the eigensolve started
     assert "ball (162 vertices), about 10 min" in order[0]
+    assert "long run ahead" not in capsys.readouterr().err  # once, not again at the end
 
 
 def test_no_estimate_for_small_n(tmp_path):
