@@ -108,15 +108,17 @@ def main(argv=None):
     with open(RESULTS / f"{args.out}.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["instance", "benchmark", "descriptor", "kind", "M", "N", "transform",
-                    "size", *MEASURES])
+                    "normalization", "size", *MEASURES])
         for inst, rows in (("dev", dev), ("held-out", held)):
             for r in rows:
                 for bench, s in r["scores"].items():
                     w.writerow([inst, bench, r["title"], r["kind"], r["M"] or "", r["N"],
-                                r["transform"], r["size"], *(f"{s[k]:.4f}" for k in MEASURES)])
+                                r["transform"], r["normalization"], r["size"],
+                                *(f"{s[k]:.4f}" for k in MEASURES)])
     cmd = " ".join(["benchmarks/bench_suite.py", *(argv if argv is not None else sys.argv[1:])])
-    paper = next(r for r in dev if r["title"] == "cShape-DNA (paper) 33")
-    paper_held = next(r for r in held if r["title"] == "cShape-DNA (paper) 33")
+    paper_rows = [r for r in dev if r["family"] == "cShape-DNA (paper)"]
+    paper = next((r for r in paper_rows if r["M"] == 16), paper_rows[-1])  # the paper's M
+    paper_held = next(r for r in held if r["title"] == paper["title"])
     lines = [
         f"# The benchmark suite: every descriptor on every benchmark (N = {args.N})", "",
         f"`{cmd}`; {machine_summary()}", "",
@@ -128,7 +130,7 @@ def main(argv=None):
         f"**Chosen: {chosen['title']}** = {chosen['label']}: worst first tier "
         f"{chosen['worst']:.3f} (mean {chosen['mean']:.3f}) on the development instances; "
         f"held out: worst {held_chosen['worst']:.3f}, mean {held_chosen['mean']:.3f}.  The "
-        f"paper's cShape-DNA (M=16): worst {paper['worst']:.3f} dev, "
+        f"paper's cShape-DNA (M={paper['M']}): worst {paper['worst']:.3f} dev, "
         f"{paper_held['worst']:.3f} held out.", "",
         f"Runner-up: {runner['title']} (worst {runner['worst']:.3f}, mean "
         f"{runner['mean']:.3f}); chosen minus runner-up, first tier paired over the queries "

@@ -362,3 +362,30 @@ def test_reproduce_reports_the_suite_with_the_default_marked(tmp_path, monkeypat
     assert "## The benchmark suite" in rep
     assert f"| **{st['default']['title']}** |" in rep
     assert "| Shape-DNA 30 | 30 |" in rep
+
+
+def test_bench_suite_script_chooses_on_dev_and_reports_held_out(table, tmp_path, monkeypatch):
+    """benchmarks/bench_suite.py on two tiny 'benchmarks' (the script's core cannot rot)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_suite.py"
+    spec = importlib.util.spec_from_file_location("bench_suite", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    by_res = DescriptorTable(table.names, table.lam, table.areas,
+                             [n.rsplit("-", 1)[0] for n in table.names], M=4)
+    held = table.select(list(range(0, len(table), 2)) + list(range(1, len(table), 2)))
+    fake = {"dev": {"creatures": table, "identities": by_res, "resolutions": table},
+            "held-out": {"creatures": held, "identities": by_res, "resolutions": held}}
+    monkeypatch.setattr(bench, "tables", lambda inst, N, jobs: fake[inst])
+    monkeypatch.setattr(bench, "RESULTS", tmp_path)
+    rc = bench.main(["-N", str(N)])
+    md = (tmp_path / "suite.md").read_text()
+    rows = suite_scores(fake["dev"])
+    chosen = choose_default(rows)
+    assert f"**Chosen: {chosen['title']}**" in md and f"| **{chosen['title']}** |" in md
+    assert "### Held-out instances (reported, not chosen on): first tier" in md
+    assert rc == (0 if "the descriptor chosen here" in md else 1)
+    lines = (tmp_path / "suite.csv").read_text().splitlines()
+    assert len(lines) == 1 + 2 * 3 * len(rows)  # header, instance x benchmark x descriptor
