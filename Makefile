@@ -5,19 +5,21 @@
 #   make test-fast - the fast tier only (plain `pytest`: the developer's loop, under 2 minutes)
 #   make notebooks - after editing a lesson's source notebooks/NN_topic.py: rewrite its .ipynb
 #   make assignments - nbgrader's student versions of the graded lessons into notebooks/student/
+#   make docs    - the documentation site into out/docs/ (renders the executed lessons of
+#                  out/notebooks/, running at small size those that are missing or stale)
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test test-fast bench reproduce notebooks assignments lint setup clean
+.PHONY: demo test test-fast bench reproduce notebooks assignments docs lint setup clean
 
 setup: $(STAMP)
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade "pip>=25.1"
-	$(PY) -m pip install --quiet -e ".[all]" --group test --group bench
+	$(PY) -m pip install --quiet -e ".[all]" --group test --group bench --group docs
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -40,6 +42,12 @@ assignments: $(STAMP)
 	$(PY) tools/sync_notebooks.py
 	$(PY) -m cshape assignments
 
+docs: $(STAMP)
+	@stale="$$($(PY) docs/_ext/lessonpages.py stale out/notebooks)"; \
+	if [ -n "$$stale" ]; then $(PY) -m cshape notebooks --small --out out/notebooks $$stale; fi
+	$(PY) -m sphinx -W --keep-going -q -b html docs out/docs
+	@echo "the site is in out/docs/ ; open out/docs/index.html"
+
 bench: $(STAMP)
 	$(PY) benchmarks/bench_spectrum.py
 
@@ -47,4 +55,5 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff check .
 
 clean:
-	rm -rf $(VENV) .pytest_cache build *.egg-info out test-artifacts
+	rm -rf $(VENV) .pytest_cache build *.egg-info out test-artifacts docs/api/generated \
+		docs/api/*.rst docs/lessons/[0-9][0-9]_*.ipynb docs/jupyter_execute

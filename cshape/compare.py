@@ -202,24 +202,24 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
 
     The four descriptors of the paper's Section 3.1, and one beyond it:
 
-    ============== ============ =========================================================
-    kind           row length   definition
-    ============== ============ =========================================================
-    'shape-dna'    N            normalised Shape-DNA: ``lam[:N] * area`` (Section 2.1)
-    'truncated'    2M+1         the first ``2M+1`` values of the normalised Shape-DNA
-                                (Fig. 5 a-e: "the first 33, 17, 9, 5 and 3 eigenvalues")
-    'cshape'       2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10, or the ``transform``
-                                given) in its real form (:func:`cshape.real_form`: same
-                                Euclidean distances)
-    'cshape-complex' 2M+1       the cShape-DNA as :func:`cshape.compact_shape_dna` returns
-                                it (complex for the DFT transforms, real for the DCT)
-    'f1'           N-2          F1 feature ``lam_1 / lam_i`` of ``lam[:N]`` (Fig. 5f)
-    'truncated-log' 2M+1        the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
-                                (:func:`cshape.log_weyl_ratio`; needs ``2M+2`` eigenvalues).
-                                Its distances equal those of the truncated *log spectrum*
-                                ``log lam_1^norm .. log lam_{2M+1}^norm``: ``log 4 pi i``
-                                is the same for every shape
-    ============== ============ =========================================================
+    ================ ============ =========================================================
+    kind             row length   definition
+    ================ ============ =========================================================
+    'shape-dna'      N            normalised Shape-DNA: ``lam[:N] * area`` (Section 2.1)
+    'truncated'      2M+1         the first ``2M+1`` values of the normalised Shape-DNA
+                                  (Fig. 5 a-e: "the first 33, 17, 9, 5 and 3 eigenvalues")
+    'cshape'         2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10, or the ``transform``
+                                  given) in its real form (:func:`cshape.real_form`: same
+                                  Euclidean distances)
+    'cshape-complex' 2M+1         the cShape-DNA as :func:`cshape.compact_shape_dna` returns
+                                  it (complex for the DFT transforms, real for the DCT)
+    'f1'             N-2          F1 feature ``lam_1 / lam_i`` of ``lam[:N]`` (Fig. 5f)
+    'truncated-log'  2M+1         the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
+                                  (:func:`cshape.log_weyl_ratio`; needs ``2M+2`` eigenvalues).
+                                  Its distances equal those of the truncated *log spectrum*
+                                  ``log lam_1^norm .. log lam_{2M+1}^norm``: ``log 4 pi i``
+                                  is the same for every shape
+    ================ ============ =========================================================
 
     **Meshes of several pieces** (``k`` components, ``k`` zero eigenvalues), by kind:
     'shape-dna', 'truncated' and 'cshape' with the paper's ``transform='weyl'`` take the

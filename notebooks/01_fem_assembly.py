@@ -9,7 +9,7 @@
 # %% [markdown]
 # # 1 · Laplace-Beltrami eigenvalues with linear finite elements
 #
-# **Paper:** *A Compact Shape Descriptor for Triangular Surface Meshes*, Section 2.1-2.2, Eq. (3)-(7).
+# **Paper:** Gao, Yu and Pang, *A compact shape descriptor for triangular surface meshes*, Computer-Aided Design 53 (2014) 62-69; Section 2.1-2.2, Eq. (3)-(7).
 #
 # **Learning goals.** After this notebook you can
 #
@@ -40,14 +40,12 @@
 
 # %%
 # %matplotlib inline
-import os
-
 import numpy as np
 
 import cshape
 from cshape import plots, shapes
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
-SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
@@ -184,7 +182,7 @@ check_close("mass_matrix(square(3))", mass_matrix(_sq.vertices, _sq.faces),
 # area, $A \preceq 0$ and $B \succ 0$.
 
 # %%
-mesh = shapes.icosphere(2 if SMALL else 3)
+mesh = shapes.icosphere(size(2, 3))
 A, B = cshape.fem_matrices(mesh)
 Ad, Bd = A.toarray(), B.toarray()
 print("vertices:", mesh.n_vertices)
@@ -238,7 +236,7 @@ def hemisphere_spectrum(N, bc):
     return np.array(out[:N], dtype=float)
 
 
-hemi = shapes.hemisphere(8 if SMALL else 24)
+hemi = shapes.hemisphere(size(8, 24))
 N = 12
 for bc in ("neumann", "dirichlet"):
     A_bc, _ = cshape.fem_matrices(hemi, bc=bc)
@@ -267,7 +265,7 @@ fig
 # divide the error by about four. Each level of the icosphere halves $h$.
 
 # %%
-levels = [1, 2, 3] if SMALL else [1, 2, 3, 4, 5]
+levels = size([1, 2, 3], [1, 2, 3, 4, 5])
 N = 16  # lam_0 .. lam_15: the harmonics of degree 0 to 3
 exact = shapes.sphere_spectrum(N)
 h, errors = [], []

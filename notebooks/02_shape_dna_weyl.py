@@ -9,7 +9,7 @@
 # %% [markdown]
 # # 2 · Shape-DNA and the Weyl line
 #
-# **Paper:** Section 2.1 and 2.3, Fig. 1 and Fig. 2 (a)-(d), Eq. (8).
+# **Paper:** Gao, Yu and Pang, *A compact shape descriptor for triangular surface meshes*, Computer-Aided Design 53 (2014) 62-69; Section 2.1 and 2.3, Fig. 1 and Fig. 2 (a)-(d), Eq. (8).
 #
 # **Learning goals.** After this notebook you can
 #
@@ -26,34 +26,32 @@
 
 # %%
 # %matplotlib inline
-import os
-
 import numpy as np
 
 import cshape
 from cshape import plots, shapes
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
-SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 
 # %%
-from cshape.course.teaching import real_mesh  # Spot the cow, else PyMeshLab's cow, else a torus
+from cshape.course.teaching import real_mesh  # Spot the cow, shipped with cshape
 
 # %% [markdown]
 # ## Three shapes, three lines (Fig. 1)
 #
-# The paper's Fig. 1 uses the *bimba* statue, a cube and a sphere. We use a real mesh (Spot the cow when the
-# project's shared meshes are there), a cube and a sphere.
+# The paper's Fig. 1 uses the *bimba* statue, a cube and a sphere. We use a real mesh, Spot the cow (by Keenan
+# Crane, public domain; a small copy ships with cshape), a cube and a sphere.
 
 # %%
-N = 50 if SMALL else 100
-real, real_name = real_mesh(SMALL)
+N = size(50, 100)
+real, real_name = real_mesh()
 models = {
     real_name.split(" ")[0]: real,
-    "cube": shapes.cube(8 if SMALL else 16),
-    "sphere": shapes.icosphere(3 if SMALL else 4),
+    "cube": shapes.cube(size(8, 16)),
+    "sphere": shapes.icosphere(size(3, 4)),
 }
 spectra = {name: cshape.shape_dna(m, N) for name, m in models.items()}
 areas = {name: m.area for name, m in models.items()}
@@ -65,7 +63,7 @@ for name, m in models.items():
 fig = plots.new_figure((9, 3))
 for k, (name, m) in enumerate(models.items()):
     plots.plot_mesh(m, ax=fig.add_subplot(1, 3, k + 1, projection="3d"), title=name, elev=15,
-                    vertical_axis="y" if m is real else "z")
+                    azim=-120 if m is real else -60, vertical_axis="y" if m is real else "z")
 fig
 
 # %%
@@ -170,7 +168,7 @@ for _name, _lam in spectra.items():
 
 # %%
 lam, phi = cshape.eigenpairs(real, N)
-plots.plot_mesh(real, phi[:, 6], title=f"(a) {real_name.split(' (')[0]}: phi_6", elev=15, azim=30,
+plots.plot_mesh(real, phi[:, 6], title=f"(a) {real_name.split(' (')[0]}: phi_6", elev=15, azim=-120,
                 vertical_axis="y", figsize=(5, 5))
 
 # %%
@@ -181,7 +179,7 @@ plots.plot_shape_dna_stages(lam, real.area, name=real_name.split(" ")[0])
 # ones oscillate faster. That is why the first eigenvalues already describe the shape.
 
 # %%
-plots.plot_eigenfunctions(real, phi, [1, 2, 3, 5, 10, 20, 30, N - 1], lam, elev=15, azim=30,
+plots.plot_eigenfunctions(real, phi, [1, 2, 3, 5, 10, 20, 30, N - 1], lam, elev=15, azim=-120,
                           vertical_axis="y")
 
 # %% [markdown]
@@ -232,6 +230,7 @@ fig
 #    (Hint: multiplicities $2\ell+1$.)
 # 3. **Without the area.** Compute the `'weyl'` normalisation of the real mesh and compare it with the `'area'` one.
 #    When would you prefer it?
-# 4. **Resolution.** If the shared meshes are available, compare `spot_low_resolution` and `spot` (same shape,
-#    different triangulations): how far apart are their normalised Shape-DNAs, relative to the distance to the
-#    cube?
+# 4. **Resolution.** `cshape.course.teaching.spot()` is the shipped Spot (829 vertices); make two other
+#    triangulations of the same shape, `cshape.data.variants.subdivide(spot(), 1)` (Loop subdivision, about 4x the
+#    triangles) and `cshape.data.variants.remesh(spot(), target_vertices=2000)` (isotropic remeshing). How far apart
+#    are the three normalised Shape-DNAs, relative to their distance to the cube's?

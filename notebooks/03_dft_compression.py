@@ -9,7 +9,7 @@
 # %% [markdown]
 # # 3 · Compressing the Shape-DNA with the DFT: the compact Shape-DNA
 #
-# **Paper:** Section 2.3, Eq. (8)-(10), Fig. 2 (e)-(f).
+# **Paper:** Gao, Yu and Pang, *A compact shape descriptor for triangular surface meshes*, Computer-Aided Design 53 (2014) 62-69; Section 2.3, Eq. (8)-(10), Fig. 2 (e)-(f).
 #
 # **Learning goals.** After this notebook you can
 #
@@ -32,20 +32,18 @@
 
 # %%
 # %matplotlib inline
-import os
-
 import numpy as np
 
 import cshape
 from cshape import plots, shapes
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
-SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 
 # %%
-from cshape.course.teaching import real_mesh  # Spot the cow, else PyMeshLab's cow, else a torus
+from cshape.course.teaching import real_mesh  # Spot the cow, shipped with cshape
 
 
 # %% nbgrader={"grade": false, "grade_id": "check_close", "locked": true, "schema_version": 3, "solution": false, "task": false}
@@ -63,9 +61,9 @@ def check_close(name, got, want, hint="", rtol=1e-9):
     print(f"{name}: correct")
 
 
-N = 50 if SMALL else 100
-M = 8 if SMALL else 16
-real, real_name = real_mesh(SMALL)
+N = size(50, 100)
+M = size(8, 16)
+real, real_name = real_mesh()
 lam = cshape.shape_dna(real, N)
 lam_norm = cshape.normalize(lam, real.area)  # the area normalisation of Section 2.1
 print(real_name, "- N =", N, ", M =", M)
@@ -192,9 +190,9 @@ fig
 # %%
 models = {real_name.split(" ")[0]: lam_norm}
 others = {
-    "sphere": shapes.icosphere(3 if SMALL else 4),
-    "cube": shapes.cube(8 if SMALL else 16),
-    "torus": shapes.torus(48, 24) if SMALL else shapes.torus(96, 48),
+    "sphere": shapes.icosphere(size(3, 4)),
+    "cube": shapes.cube(size(8, 16)),
+    "torus": shapes.torus(*size((48, 24), (96, 48))),
 }
 for name, m in others.items():
     models[name] = cshape.normalize(cshape.shape_dna(m, N), m.area)

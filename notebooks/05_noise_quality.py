@@ -9,7 +9,7 @@
 # %% [markdown]
 # # 5 · Sensitivity to noise and to mesh quality
 #
-# **Paper:** Section 3.3, Fig. 7 (difference matrices under noise), Fig. 8 (descriptor differences per model),
+# **Paper:** Gao, Yu and Pang, *A compact shape descriptor for triangular surface meshes*, Computer-Aided Design 53 (2014) 62-69; Section 3.3, Fig. 7 (difference matrices under noise), Fig. 8 (descriptor differences per model),
 # Fig. 9 (cShape-DNA of a marching-cubes mesh and of its remesh).
 #
 # **Learning goals.** After this notebook you can
@@ -26,14 +26,12 @@
 
 # %%
 # %matplotlib inline
-import os
-
 import numpy as np
 
 import cshape
 from cshape import plots, shapes
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
-SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
@@ -44,12 +42,12 @@ from cshape import batch
 from cshape.course.teaching import demo_collection
 from cshape.data import variants
 
-collection = demo_collection(SMALL)
+collection = demo_collection()
 if not SMALL:  # leave out the largest meshes: every model is solved once per noise level
     collection = [c for c in collection if c[0] not in ("S2", "S3", "D2")]
-N = 30 if SMALL else 100
-M = 8 if SMALL else 16
-levels = [0.5, 2.0, 10.0] if SMALL else [0.5, 1.0, 2.0, 4.0, 10.0]
+N = size(30, 100)
+M = size(8, 16)
+levels = size([0.5, 2.0, 10.0], [0.5, 1.0, 2.0, 4.0, 10.0])
 print(len(collection), "models, noise levels", levels)
 
 # %% [markdown]
@@ -224,7 +222,7 @@ def normal_noise_mine(mesh, lam, rng):
 
 
 # %% nbgrader={"grade": true, "grade_id": "test_normal_noise_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
-_ball = shapes.icosphere(2 if SMALL else 3)
+_ball = shapes.icosphere(size(2, 3))
 _L, _n = _ball.mean_edge_length, variants.vertex_normals(_ball)
 _V = normal_noise_mine(_ball, 1.0, np.random.default_rng(0))
 assert np.shape(_V) == _ball.vertices.shape, f"return the vertices, shape {_ball.vertices.shape}"

@@ -9,7 +9,7 @@
 # %% [markdown]
 # # 7 · The parameter $M$, interactively
 #
-# **Paper:** Section 3.2, Fig. 6 (and Fig. 3-4).
+# **Paper:** Gao, Yu and Pang, *A compact shape descriptor for triangular surface meshes*, Computer-Aided Design 53 (2014) 62-69; Section 3.2, Fig. 6 (and Fig. 3-4).
 #
 # **Learning goals.** After this notebook you can
 #
@@ -24,14 +24,12 @@
 
 # %%
 # %matplotlib inline
-import os
-
 import numpy as np
 
 import cshape
 from cshape import plots
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
-SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
@@ -41,8 +39,8 @@ from cshape import batch
 # a few classes made in code (small) or paper-models + articulated (full size)
 from cshape.course.teaching import demo_collection
 
-N = 40 if SMALL else 100
-table = batch.describe(demo_collection(SMALL), N=N, progress=not SMALL)
+N = size(40, 100)
+table = batch.describe(demo_collection(), N=N, progress=not SMALL)
 table
 
 # %% [markdown]

@@ -9,7 +9,7 @@
 # %% [markdown]
 # # 8 · Beyond the paper: which eigenvalues make the distance
 #
-# **Paper:** Section 2.1 (area normalisation, Weyl's law), Section 2.3, Eq. (8)-(10), and the retrieval
+# **Paper:** Gao, Yu and Pang, *A compact shape descriptor for triangular surface meshes*, Computer-Aided Design 53 (2014) 62-69; Section 2.1 (area normalisation, Weyl's law), Section 2.3, Eq. (8)-(10), and the retrieval
 # measures of Section 3.1. This lesson goes *beyond* the paper: it shows where the cShape-DNA falls short on
 # retrieval, and compact variants that do better on the benchmarks used here.
 #
@@ -44,33 +44,30 @@
 
 # %%
 # %matplotlib inline
-import os
-
 import numpy as np
-from IPython.display import Markdown, display
 
 import cshape
 from cshape import batch, compare, plots
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
-SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small collection, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 
 # %%
 import cshape.data
+from cshape.course.teaching import retrieval_collection
 
 N = 100  # the paper's Shape-DNA length, also in the small run (small meshes keep it cheap)
 
 
-def describe_collection(name, small=SMALL):
-    """Eigenvalues of a collection (a name of `cshape data list` or a loaded collection).
+def describe_collection(coll):
+    """Eigenvalues of a collection (cshape.data.Collection), N of them per shape.
 
     Generated meshes are built with PyMeshLab once, then cached, and so are the eigenvalues.
     Shapes whose mesh has several components (lam_1 = 0: no logarithm) are left out, and said so.
     """
-    coll = cshape.data.load_collection(name, progress=not small) if isinstance(name, str) else name
-    table = batch.describe(coll, N=N, progress=not small)
+    table = batch.describe(coll, N=N, progress=not SMALL)
     ok = table.lam[:, 1] > 1e-8 * table.lam[:, -1]
     if not ok.all():
         print(f"{coll.name}: left out (several components, lam_1 = 0):",
@@ -78,17 +75,10 @@ def describe_collection(name, small=SMALL):
     return table.select(ok)
 
 
-# The creature benchmark (cshape.data.creatures, 12 classes): 'creatures-dev' (seed 0) is the instance to
-# look at and choose on, 'creatures' (seed 1) the held-out one.  The small run takes 6 of the 12
-# classes of 'creatures-small' (3 coarse members each, seed 0), chosen for their build time.
-if SMALL:
-    DEV = "creatures-small, 6 classes"
-    kinds = ["human", "quadruped", "bird", "spider", "hand", "snake"]
-    dev = cshape.data.load_creatures(0, members=3, kinds=kinds, vertices=[500, 1000],
-                                     voxelsize=0.03, progress=False)
-    HELD_OUT = None
-else:
-    DEV, dev, HELD_OUT = "creatures-dev", "creatures-dev", "creatures"
+# The creature benchmark (cshape.data.creatures, 12 classes): its development instance, the one to
+# look at and choose on ('creatures-dev'; the small run: 6 classes x 3 coarse members, same seed).
+DEV = size("creatures-small, 6 classes", "creatures-dev")
+dev = retrieval_collection()
 table = describe_collection(dev)
 labels = np.array(table.labels)
 classes = sorted(set(table.labels))
@@ -100,7 +90,7 @@ print("classes:", ", ".join(classes))
 # little noise vary within a class (`cshape data list` describes the variation).
 
 # %%
-coll = cshape.data.load_collection(dev, progress=False) if isinstance(dev, str) else dev
+coll = dev
 ncols = 6
 fig = plots.new_figure((2.2 * ncols, 2.3 * (-(-len(classes) // ncols) + 1)))
 nrows = -(-len(classes) // ncols) + 1
@@ -322,90 +312,30 @@ fig
 # coarse members per class of the development instance); the full run scores both instances.
 
 # %%
+from cshape import reproduce
+
 SIZES = (17, 33)  # numbers per shape: M = 8 and M = 16
-
-
-def descriptor_rows(table):
-    """(name, size, distance matrix) of every descriptor of the comparison."""
-    rows = [(f"Shape-DNA N={table.N}", table.N, table.distance_matrix("shape-dna"))]
-    for size in SIZES:
-        M = (size - 1) // 2
-        rows += [
-            ("cShape-DNA (paper)", size,
-             table.distance_matrix("cshape", M=M, transform="weyl")),
-            ("truncated Shape-DNA", size, table.distance_matrix("truncated", M=M)),
-            ("truncated log spectrum", size, table.distance_matrix("truncated-log", M=M)),
-            ("log-Weyl DFT", size, table.distance_matrix("cshape", M=M, transform="log-weyl")),
-            ("log-Weyl DCT", size, table.distance_matrix("cshape", M=M, transform="log-weyl-dct")),
-        ]
-    return rows
-
-
-def score(table):
-    """[(descriptor, numbers, {'nn': .., 'ft': .., ...})] of every descriptor on one table."""
-    return [(name, size, compare.retrieval_scores(D, table.labels))
-            for name, size, D in descriptor_rows(table)]
-
-
-def verdict(scores, size):
-    """One sentence, computed from the numbers: which descriptor has the best first tier."""
-    at = [(name, s) for name, sz, s in scores if sz == size]
-    top = max(s["ft"] for _, s in at)
-    best = [name for name, s in at if s["ft"] >= top - 1e-9]
-    if len(best) == len(at):
-        return f"every descriptor has first tier {top:.3f} (the collection cannot tell them apart)"
-    return " = ".join(f"**{b}**" for b in best) + f" ({top:.3f})"
-
-
-def show_scores(results, names):
-    """A Markdown table of {role: scores} (nearest neighbour, first and second tier), the
-    collection behind each role (``names``), and the best first tier at each size."""
-    cols = list(results)
-    lines = [", ".join(f"*{c}*: {names[c]}" for c in cols), "",
-             "| descriptor | numbers | " + " | ".join(f"{c} NN | {c} FT | {c} ST" for c in cols)
-             + " |", "|---|---:|" + "---:|" * (3 * len(cols))]
-    for k, (name, size, _) in enumerate(results[cols[0]]):
-        vals = " | ".join(f"{results[c][k][2]['nn']:.3f} | {results[c][k][2]['ft']:.3f} | "
-                          f"{results[c][k][2]['st']:.3f}" for c in cols)
-        lines.append(f"| {name} | {size} | {vals} |")
-    lines.append("")
-    lines += [f"- {c}, {size} numbers: best first tier {verdict(results[c], size)}"
-              for c in cols for size in SIZES]
-    display(Markdown("\n".join(lines)))
-
-
-results = {"dev": score(table)}
-names = {"dev": f"{DEV} ({len(table)} shapes, development seed 0)"}
-if HELD_OUT:
-    held_out = describe_collection(HELD_OUT)
-    results["held out"] = score(held_out)
-    names["held out"] = f"{HELD_OUT} ({len(held_out)} shapes, held-out seed 1)"
-show_scores(results, names)
-
+rows = reproduce.experiment_retrieval(table, Ms=(8, 16), N=N)
+print(f"{DEV}, {len(table)} shapes")
+print(f"{'descriptor':42s} {'size':>4s} {'NN':>6s} {'FT':>6s} {'ST':>6s}")
+for row in rows:
+    print(f"{row['descriptor']:42s} {row['size']:4d} "
+          + " ".join(f"{row[k]:6.3f}" for k in ("nn", "ft", "st")))
 
 # %%
-def plot_scores(results, names, measure="ft"):
-    """Grouped bars of one measure, one panel per collection."""
-    fig = plots.new_figure((5.5 * len(results), 3.6))
-    for ax, (title, scores) in zip(np.atleast_1d(fig.subplots(1, len(results))), results.items(),
-                                   strict=True):
-        descs = list(dict.fromkeys(name for name, size, _ in scores if size in SIZES))
-        x = np.arange(len(descs))
-        for k, size in enumerate(SIZES):
-            vals = [next(s[measure] for nm, sz, s in scores if nm == name and sz == size)
-                    for name in descs]
-            ax.bar(x + (k - 0.5) * 0.38, vals, width=0.38, label=f"{size} numbers")
-        full = next(s[measure] for nm, sz, s in scores if sz not in SIZES)
-        ax.axhline(full, color="k", ls="--", lw=1, label=f"Shape-DNA N={N}")
-        ax.set_xticks(x, [nm.replace(" (paper)", "\n(paper)") for nm in descs],
-                      rotation=30, ha="right", fontsize="small")
-        ax.set(ylabel={"ft": "first tier", "nn": "nearest neighbour", "st": "second tier"}[measure],
-               ylim=(0, 1.0), title=f"{title}: {names[title]}")
-        ax.legend(fontsize="small")
-    return fig
-
-
-plot_scores(results, names)
+fig = plots.new_figure((9, 3.6))
+ax = fig.add_subplot()
+families = list(reproduce.FAMILIES)
+x = np.arange(len(families))
+for k, n_values in enumerate(SIZES):
+    ft = [next((r["ft"] for r in rows if r["family"] == fam and r["size"] == n_values), np.nan)
+          for fam in families]
+    ax.bar(x + (k - 0.5) * 0.38, ft, width=0.38, label=f"{n_values} numbers")
+ax.axhline(rows[0]["ft"], color="k", ls="--", lw=1, label=f"Shape-DNA, N={N}")
+ax.set_xticks(x, families, rotation=25, ha="right", fontsize="small")
+ax.set(ylabel="first tier", ylim=(0, 1), title=f"first tier on {DEV}")
+ax.legend(fontsize="small")
+fig
 
 # %% [markdown]
 # ### How many eigenvalues should the crop see?
@@ -417,26 +347,21 @@ plot_scores(results, names)
 # spectrum.
 
 # %%
-tables = {"dev": table}
-if HELD_OUT:
-    tables["held out"] = held_out
-fig = plots.new_figure((5.5 * len(tables), 3.6))
-for ax, (role, tab) in zip(np.atleast_1d(fig.subplots(1, len(tables))), tables.items(),
-                           strict=True):
-    for size, ls in zip(SIZES, ("-", "--"), strict=True):
-        M = (size - 1) // 2
-        Ns = [n for n in (size + 1, 25, 34, 50, 75, 100) if size + 1 <= n <= tab.N]
-        for tr, color in (("log-weyl", "C1"), ("log-weyl-dct", "C0")):
-            ft = [compare.retrieval_scores(tab.distance_matrix("cshape", M=M, N=n, transform=tr),
-                                           tab.labels)["ft"] for n in Ns]
-            ax.plot(Ns, ft, ls, color=color, marker=".", label=f"{tr}, {size} numbers")
-        paper = compare.retrieval_scores(tab.distance_matrix("cshape", M=M, transform="weyl"),
-                                         tab.labels)["ft"]
-        ax.plot([tab.N], [paper], "k" + ("o" if size == SIZES[0] else "s"), mfc="none",
-                label=f"paper, {size} numbers, N={tab.N}")
-    ax.set(xlabel="N (eigenvalues the crop sees)", ylabel="first tier", ylim=(0, 1),
-           title=f"{role}: {names[role]}")
-    ax.legend(fontsize="x-small")
+fig = plots.new_figure((6.5, 3.8))
+ax = fig.add_subplot()
+for n_values, ls in zip(SIZES, ("-", "--"), strict=True):
+    M = (n_values - 1) // 2
+    Ns = [n for n in (n_values + 1, 25, 34, 50, 75, 100) if n_values + 1 <= n <= table.N]
+    for tr, color in (("log-weyl", "C1"), ("log-weyl-dct", "C0")):
+        ft = [compare.retrieval_scores(table.distance_matrix("cshape", M=M, N=n, transform=tr),
+                                       table.labels)["ft"] for n in Ns]
+        ax.plot(Ns, ft, ls, color=color, marker=".", label=f"{tr}, {n_values} numbers")
+    paper = compare.retrieval_scores(table.distance_matrix("cshape", M=M, transform="weyl"),
+                                     table.labels)["ft"]
+    ax.plot([table.N], [paper], "k" + ("o" if n_values == SIZES[0] else "s"), mfc="none",
+            label=f"paper, {n_values} numbers, N={table.N}")
+ax.set(xlabel="N (eigenvalues the crop sees)", ylabel="first tier", ylim=(0, 1), title=DEV)
+ax.legend(fontsize="x-small")
 fig
 
 # %% [markdown]
@@ -445,55 +370,16 @@ fig
 # - *Development numbers are not held-out numbers.* The log-Weyl variants (and cshape's recommendation of the
 #   DCT) were chosen after looking at retrieval results, on the development instance among others; numbers on a
 #   collection used for choosing are optimistic by construction. The sizes 17 and 33 are the paper's $M = 8$ and
-#   $16$, not a choice. The held-out columns (full run) come from an instance on which nothing was chosen: quote
-#   those. Picking the best $N$ from the dev panel of the last figure would be one more choice; the held-out
-#   panel says whether it carries over. It is still one family of generated shapes; real meshes are Section 5.
+#   $16$, not a choice. The held-out instance `creatures` (seed 1), on which nothing was chosen, is scored by
+#   `cshape reproduce`; its table is in the documentation's benchmarks guide, with the real benchmarks
+#   (SHREC'07 watertight, McGill, TOSCA) that cshape reads but cannot ship.
 # - *Small classes, coarse numbers.* With three members per class (the small run) one query more or less moves the
 #   first tier by several hundredths: do not read small differences.
 # - *What the paper does not say.* The cShape-DNA tracks the Shape-DNA $N = 100$ (it was built to), weighting
 #   included, and both can retrieve worse than the first 17 normalised eigenvalues alone (truncated Shape-DNA):
 #   compact, but not better than computing fewer eigenvalues. The log-Weyl sequences give the low indices back
-#   their weight. Whether a DFT or DCT crop of $r$ or simply its first $2M+1$ values (the truncated log
-#   spectrum) retrieves best is what the verdict lines under the table say *for this collection*; on yours it may
-#   differ, so measure it there (`cshape reproduce` makes the table for every size $2M+1$ = 3 ... 33).
-#
-# ## 5 · On a real benchmark, if you have one
-#
-# cshape knows three labelled benchmarks it cannot ship (their licences): SHREC'07 watertight (400 meshes,
-# 20 classes), the McGill 3D shape benchmark (the paper's database) and TOSCA. Nothing is downloaded here; the
-# cell only looks whether you have unpacked one, and says how to get it otherwise.
-
-# %%
-REAL = ("shrec07-watertight", "mcgill-3dsb", "tosca")
-available = []
-for name in REAL:
-    entry = cshape.data.info(name)
-    folder = cshape.data.collection_path(name)
-    if folder.is_dir() and any(folder.iterdir()):
-        available.append(name)
-        print(f"{name}: found in {folder}")
-    else:
-        env = f" (or set ${entry['path_env']})" if entry.get("path_env") else ""
-        print(f"{name}: not found. Get it from {entry['page']} and unpack it into {folder}{env}; "
-              f"`cshape data path {name}` prints that folder.")
-
-if available and SMALL:
-    print("small run: the real benchmark is skipped (its eigenvalues take minutes); "
-          "run without CSHAPE_SMALL")
-for name in available if not SMALL else []:
-    real_table = describe_collection(name, small=False)
-    real = {"real": score(real_table)}
-    show_scores(real, {"real": f"{name} ({len(real_table)} shapes)"})
-    display(plot_scores(real, {"real": name}))
-
-# %% [markdown]
-# A real benchmark on which nobody tuned these descriptors is the closest this lesson gets to an independent test.
-# For reference: on one real labelled benchmark of 400 closed meshes in 20 classes (spectra computed independently
-# of cshape; the run behind cshape's log-Weyl variants), nearest neighbour / first tier were 0.635 / 0.359 for the
-# Shape-DNA $N = 100$, 0.627 / 0.355 for the paper's cShape-DNA $M = 8$, 0.780 / 0.414 for the truncated
-# Shape-DNA of 17 values and 0.787 / 0.489 for the log-Weyl DFT of 17 values. That run is where the log-Weyl idea
-# came from, so those are development numbers as well; with the benchmark unpacked, the cell above recomputes
-# them.
+#   their weight. Which of them retrieves best on *your* collection is a measurement to make there
+#   (`cshape reproduce --collections NAME` makes the table for every size $2M+1$ = 3 ... 33).
 
 # %% [markdown]
 # ## Exercises
@@ -504,8 +390,8 @@ for name in available if not SMALL else []:
 # 2. **Weighting by hand.** Divide each column of `lam_norm[:, 1:]` by its standard deviation over the collection
 #    (a z-score per index) and score the first 17 columns. Is it better or worse than the truncated log spectrum?
 #    Why is it less honest to report (hint: the weights are learned from the very collection you score)?
-# 3. **Choose on one, report on another.** On the development instance (`creatures-dev`)
-#    pick the size $2M+1$, $M = 1, \dots, 16$, at which the log-Weyl DCT has its best first tier
+# 3. **Choose on one, report on another.** On the development instance (`creatures-dev`,
+#    `cshape.data.load_collection("creatures-dev")`, about ten minutes to build the first time) pick the size $2M+1$, $M = 1, \dots, 16$, at which the log-Weyl DCT has its best first tier
 #    (`table.distance_matrix("cshape", M=m, transform="log-weyl-dct")`). Report that descriptor's first tier on the
 #    held-out `creatures`. Is it lower than on the instance you chose on? Do the same for the truncated log
 #    spectrum. (`cshape reproduce` makes the table for every size.)

@@ -42,7 +42,9 @@ def test_notebook_is_a_lesson(path):
     assert "Eq." in md[0] or "Section" in md[0], f"{path.name}: name the paper's equations"
     assert md[-1].lstrip().startswith("## Exercises"), f"{path.name} must end with exercises"
     code = "\n".join(c.source for c in nb.cells if c.cell_type == "code")
-    assert "CSHAPE_SMALL" in code, f"{path.name} must honour the small-size switch"
+    # the one size switch: `from cshape.course.teaching import SMALL, size` (CSHAPE_SMALL=1)
+    assert "from cshape.course.teaching import SMALL" in code or "CSHAPE_SMALL" in code, (
+        f"{path.name} must honour the small-size switch")
 
 
 @pytest.fixture(scope="module")
@@ -137,12 +139,33 @@ def test_unknown_notebook_name():
         find_notebooks(NB_DIR, ["99"])
 
 
-@pytest.mark.filterwarnings("ignore:cow.obj. repaired mesh")
-def test_real_mesh_falls_back_without_the_shared_folder(tmp_path, monkeypatch, capsys):
-    """Notebooks 2-3 work for a user without ../shared/meshes: PyMeshLab's sample cow."""
-    from cshape.course.teaching import real_mesh
+def test_real_mesh_is_shipped_spot_without_the_shared_folder(tmp_path, monkeypatch, capsys):
+    """Lessons 02-03 read Spot from the package: no shared folder, no message about one."""
+    from cshape.course.teaching import real_mesh, spot
 
     monkeypatch.setenv("CSHAPE_SHARED_MESHES", str(tmp_path / "no-such-folder"))
-    mesh, name = real_mesh(small=True)
-    assert "cow" in name and mesh.n_vertices > 1000
-    assert "shared meshes not available" in capsys.readouterr().out
+    small, credit = real_mesh(small=True)
+    assert (small.n_vertices, small.n_faces) == (829, 1654) == (spot().n_vertices,
+                                                                spot().n_faces)
+    assert "Spot" in credit and "public domain" in credit
+    full, _ = real_mesh(small=False)  # one Loop subdivision: V + E vertices, 4x the faces
+    assert full.n_faces == 4 * small.n_faces
+    assert full.n_vertices == small.n_vertices + small.n_faces * 3 // 2
+    assert abs(full.area - small.area) < 0.05 * small.area  # the same shape, smoothed
+    assert "shared" not in capsys.readouterr().out
+
+
+def test_size_switch_follows_cshape_small(monkeypatch):
+    """`size(small, full)` of the lessons follows CSHAPE_SMALL as it was at import."""
+    import importlib
+
+    import cshape.course.teaching as teaching
+
+    try:
+        monkeypatch.setenv("CSHAPE_SMALL", "1")
+        assert importlib.reload(teaching).SMALL and teaching.size(50, 100) == 50
+        monkeypatch.setenv("CSHAPE_SMALL", "0")
+        assert not importlib.reload(teaching).SMALL and teaching.size(50, 100) == 100
+    finally:
+        monkeypatch.delenv("CSHAPE_SMALL")
+        importlib.reload(teaching)

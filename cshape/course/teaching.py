@@ -1,57 +1,105 @@
-"""Shared helpers of the lessons: the meshes several notebooks start from.
+"""What the lessons import: their size switch, the paper's reference and their meshes.
 
-* :func:`real_mesh`       - the real mesh of lessons 02 and 03 (Spot the cow, else a fallback);
-* :func:`demo_collection` - the labelled collection of lessons 04, 05 and 07.
+* :data:`SMALL` and :func:`size` - the one size switch of every lesson (``CSHAPE_SMALL=1``,
+  which ``cshape notebooks --small`` and the test suite set, makes meshes and ``N`` small);
+* :data:`PAPER`                  - the reference of the paper the lessons follow;
+* :func:`spot`, :func:`real_mesh` - the real mesh of lessons 02 and 03, shipped in the package;
+* :func:`demo_collection`        - the labelled collection of lessons 04, 05 and 07;
+* :func:`retrieval_collection`   - a collection whose descriptors differ (lessons 04 and 08).
 
-Kept here, once, so that each lesson imports the same meshes instead of carrying its own copy.
+A lesson starts with one line, ``from cshape.course.teaching import SMALL, size``, and writes
+``N = size(50, 100)`` where it used to write ``50 if SMALL else 100``.
 """
 
 from __future__ import annotations
 
-import warnings
+import os
+from importlib import resources
 
 from .. import data, shapes
 from ..data import variants
-from ..mesh import CShapeWarning
+from ..mesh import Mesh
+from ..readers import load_mesh
 
-__all__ = ["real_mesh", "demo_collection"]
+__all__ = [
+    "PAPER",
+    "SMALL",
+    "demo_collection",
+    "real_mesh",
+    "retrieval_collection",
+    "size",
+    "spot",
+]
+
+#: True when the environment has ``CSHAPE_SMALL=1``: the lessons then use small meshes and
+#: few eigenvalues (the test suite, ``cshape notebooks --small``, the documentation site).
+SMALL = os.environ.get("CSHAPE_SMALL") == "1"
+
+#: The paper the lessons follow.
+PAPER = ("Z. Gao, Z. Yu and X. Pang, A compact shape descriptor for triangular surface "
+         "meshes, Computer-Aided Design 53 (2014) 62-69")
 
 
-def real_mesh(small=False):
-    """``(mesh, credit)``: a real scanned-style mesh.
+def size(small, full):
+    """``small`` when the lessons run at small size (:data:`SMALL`), else ``full``.
 
-    Spot the cow (Keenan Crane, public domain) from the project's shared meshes when that
-    folder is there (``spot_low_resolution`` when ``small``), else PyMeshLab's sample cow,
-    else a built-in torus.
+    Examples
+    --------
+    >>> N = size(50, 100)  # 50 eigenvalues in the test suite, 100 otherwise
     """
-    try:
-        name = "spot_low_resolution" if small else "spot"
-        credit = f"{name} (Spot by Keenan Crane, public domain)"
-        return data.load("shared-meshes", name), credit
-    except (FileNotFoundError, KeyError, ValueError) as exc:
-        print(f"shared meshes not available ({exc}); using PyMeshLab's sample cow instead")
-    try:
-        # PyMeshLab's cow stores one vertex twice; loading welds the copies into one (the FEM
-        # would otherwise see a crack there). Say so here, once, instead of a warning box.
-        with warnings.catch_warnings(record=True) as repairs:
-            warnings.simplefilter("always", CShapeWarning)
-            cow = data.load("pymeshlab-samples", "cow")
-        for w in repairs:
-            print(f"note: {str(w.message).replace('repaired mesh', 'repaired on loading')}")
-        return cow, "cow (PyMeshLab sample)"
-    except (FileNotFoundError, KeyError, ValueError) as exc:
-        print(f"PyMeshLab samples not available ({exc}); using a built-in torus")
-        return shapes.torus(64, 32), "torus (built-in)"
+    return small if SMALL else full
 
 
-def demo_collection(small=False):
+#: Credit line of :func:`spot`, for figure titles.
+SPOT_CREDIT = "spot (Spot the cow by Keenan Crane, public domain)"
+
+
+def spot() -> Mesh:
+    """Spot the cow, low resolution: 829 vertices, 1,654 triangles, closed, genus 0.
+
+    Shipped in the package (``cshape/data/meshes/spot_low_resolution.obj.gz``, public domain:
+    Keenan Crane's Spot, remeshed by the odedstein/meshes collection; see the README there).
+
+    Returns
+    -------
+    Mesh
+    """
+    ref = resources.files("cshape.data") / "meshes" / "spot_low_resolution.obj.gz"
+    with resources.as_file(ref) as path:
+        return load_mesh(path)
+
+
+def real_mesh(small=None):
+    """``(mesh, credit)``: the lessons' real mesh, Spot the cow.
+
+    Parameters
+    ----------
+    small : bool, optional
+        The shipped mesh as it is (829 vertices); else refined once by Loop subdivision
+        (3,312 vertices, the same shape, smoother).  Default :data:`SMALL`.
+
+    Returns
+    -------
+    mesh : Mesh
+    credit : str
+        ``"spot (Spot the cow by Keenan Crane, public domain)"``.
+    """
+    small = SMALL if small is None else bool(small)
+    mesh = spot()
+    return (mesh if small else variants.subdivide(mesh, 1)), SPOT_CREDIT
+
+
+def demo_collection(small=None):
     """``(name, label, mesh)`` triples: a few classes of shapes, all made in code.
 
-    Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a snake
-    figure.  Full: cshape's "paper-models" (spheres S1-S3, cube, torus, eight, the
+    Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a
+    snake figure.  Full: cshape's "paper-models" (spheres S1-S3, cube, torus, eight, the
     marching-cubes quadruped CM and its remesh CS, the human D1 and its refinement D2) and
     "articulated" (four classes x five poses), built with PyMeshLab once and then cached.
+    Every class is a shape and its remeshings or poses, so Shape-DNA tells them apart
+    perfectly: the collection of the paper's Section 3.1.  Default size :data:`SMALL`.
     """
+    small = SMALL if small is None else bool(small)
     if not small:
         return [(it.name, it.label, it.mesh)
                 for coll in ("paper-models", "articulated")
@@ -64,3 +112,33 @@ def demo_collection(small=False):
             fig = variants.articulated_figure(kind, seed, voxelsize=0.05, target_vertices=500)
             items.append((f"{kind}-{seed}", kind, fig))
     return items
+
+
+#: The classes of the small :func:`retrieval_collection`, chosen for their build time.
+SMALL_CREATURES = ("human", "quadruped", "bird", "spider", "hand", "snake")
+
+
+def retrieval_collection(small=None):
+    """A collection where retrieval is not trivial: cshape's creature benchmark.
+
+    Its classes (human, centaur, teddy, quadruped, bird, spider, ...) have members that
+    differ in proportions, pose, resolution and noise, so descriptors score differently
+    (on :func:`demo_collection` every descriptor retrieves perfectly).
+
+    Parameters
+    ----------
+    small : bool, optional
+        Six classes of three coarse members (500-1000 vertices, about 30 s to build, then
+        cached); else the development instance ``creatures-dev`` (12 classes x 10 members,
+        about ten minutes on two cores the first time, then cached).  Default :data:`SMALL`.
+
+    Returns
+    -------
+    cshape.data.Collection
+        Iterate for :class:`cshape.data.Item` (``name``, ``label``, ``mesh``).
+    """
+    small = SMALL if small is None else bool(small)
+    if not small:
+        return data.load_collection("creatures-dev", progress=False)
+    return data.load_creatures(0, members=3, kinds=list(SMALL_CREATURES), vertices=[500, 1000],
+                               voxelsize=0.03, progress=False)

@@ -65,6 +65,11 @@ def _axes(ax, figsize, projection=None):
 
 
 # ------------------------------------------------------------------------------ meshes
+#: Zoom of the 3-D axes of :func:`plot_mesh`: matplotlib's default leaves the mesh in the
+#: middle third of its panel, this one lets it fill the panel in any direction of view.
+_ZOOM = 1.3
+
+
 def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, edges=None,
               shade=True, symmetric=None, colorbar=False, title=None, figsize=(4.0, 4.0),
               vertical_axis="z"):
@@ -142,12 +147,14 @@ def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, ed
     coll = Poly3DCollection(tris, facecolors=rgba, edgecolors=(0, 0, 0, 0.25) if edges else "none",
                             linewidths=0.3 if edges else 0.0)
     ax.add_collection3d(coll)
+    # a cube around the mesh (equal scales: nothing is stretched), seen from close up: the
+    # bounding cube's corners may leave the picture, the mesh does not
     lo3, hi3 = V.min(axis=0), V.max(axis=0)
     ctr, half = (lo3 + hi3) / 2, max(float((hi3 - lo3).max()) / 2, 1e-12)
     ax.set_xlim(ctr[0] - half, ctr[0] + half)
     ax.set_ylim(ctr[1] - half, ctr[1] + half)
     ax.set_zlim(ctr[2] - half, ctr[2] + half)
-    ax.set_box_aspect((1, 1, 1))
+    ax.set_box_aspect((1, 1, 1), zoom=_ZOOM)
     ax.view_init(elev=elev, azim=azim, vertical_axis=vertical_axis)
     ax.set_axis_off()
     if title:
@@ -309,9 +316,10 @@ def plot_dft(lam, area, M, *, N=None, figsize=(11.0, 3.4)):
     Returns
     -------
     matplotlib.figure.Figure
-        (e) ``|Lambda^shift|`` over the shifted index with the kept band shaded,
-        (f) the cropped magnitudes over the frequencies ``-M..M``, and the normalised
-        Shape-DNA minus the Weyl line with its reconstruction from the ``2M+1`` values.
+        Panels: Fig. 2 (e), ``|Lambda^shift|`` over the shifted index with the kept band
+        shaded; Fig. 2 (f), the cropped magnitudes over the frequencies ``-M..M``, and the
+        normalised Shape-DNA minus the Weyl line with its reconstruction from the ``2M+1``
+        values.
     """
     from ..descriptors import compact_shape_dna
 

@@ -31,6 +31,7 @@ from .._checks import check_choice
 from ..mesh import as_mesh, repair_mesh
 
 __all__ = [
+    "default_eye",
     "eigenfunction_explorer",
     "mesh3d_arrays",
     "mode_data",
@@ -170,8 +171,16 @@ def _check_height(height):
 
 
 # ------------------------------------------------------------------------------ figures
-def _trace(go, mesh, f, *, cmap, symmetric, showscale, scene, colorbar_x=None):
+def _upright_arrays(mesh, vertical_axis):
     kw = mesh3d_arrays(mesh)
+    cols = [kw["x"], kw["y"], kw["z"]]
+    a, b, c = _TO_Z_UP[vertical_axis]
+    return dict(kw, x=cols[a], y=cols[b], z=cols[c])
+
+
+def _trace(go, mesh, f, *, cmap, symmetric, showscale, scene, colorbar_x=None,
+           vertical_axis="z"):
+    kw = _upright_arrays(mesh, vertical_axis)
     common = dict(_SHADING, scene=scene)
     if f is None:
         return go.Mesh3d(**kw, color=_GREY, **common)
@@ -191,13 +200,51 @@ def _trace(go, mesh, f, *, cmap, symmetric, showscale, scene, colorbar_x=None):
                      cmin=lo, cmax=hi, showscale=showscale, colorbar=cb, **common)
 
 
-def _scene(vertical_axis):
-    up = dict(zip("xyz", _UP[vertical_axis], strict=True))
-    eye = {"z": dict(x=1.0, y=-1.0, z=0.6), "y": dict(x=1.0, y=0.6, z=1.0),
-           "x": dict(x=0.6, y=1.0, z=1.0)}[vertical_axis]
+#: The cyclic permutation of the coordinate columns that brings the vertical axis to z (a
+#: rotation, so nothing is mirrored): plotly's turntable rotation keeps z up whatever
+#: ``camera.up`` says, so a y-up model is turned rather than the camera.
+_TO_Z_UP = {"z": (0, 1, 2), "y": (2, 0, 1), "x": (1, 2, 0)}
+#: Default eye: 20 degrees above the horizon, 2.2 scene units away (plotly's own default is
+#: 2.17 and clips an elongated model), from 60 degrees off the longest horizontal axis (a
+#: three-quarter view of an animal's flank rather than its rump or a cube's edge).
+_EYE_DISTANCE, _EYE_ELEVATION, _EYE_AZIMUTH = 2.2, 20.0, 60.0
+
+
+def _upright(V, vertical_axis):
+    """Vertex coordinates with the vertical axis as z (a rotation: columns permuted cyclically)."""
+    return np.asarray(V)[:, list(_TO_Z_UP[vertical_axis])]
+
+
+def default_eye(vertices, vertical_axis="z"):
+    """The camera's eye of the 3-D views: the whole mesh in view, upright, in three-quarter view.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (n, 3)
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+
+    Returns
+    -------
+    dict
+        ``x, y, z`` of plotly's ``scene.camera.eye`` in the figure's (upright) coordinates:
+        2.2 scene units from the centre, 20 degrees above the horizon, 60 degrees off the
+        mesh's longest horizontal axis, from its negative side.
+    """
+    V = _upright(np.asarray(vertices, dtype=np.float64), vertical_axis)
+    ext = np.ptp(V, axis=0) if len(V) else np.ones(3)
+    el, az = np.radians(_EYE_ELEVATION), np.radians(_EYE_AZIMUTH)
+    h = _EYE_DISTANCE * np.cos(el)
+    along, across = -h * np.cos(az), -h * np.sin(az)
+    x, y = (along, across) if ext[0] >= ext[1] else (across, along)
+    return {"x": float(x), "y": float(y), "z": float(_EYE_DISTANCE * np.sin(el))}
+
+
+def _scene(vertices, vertical_axis):
     axis = dict(visible=False, showbackground=False)
     return dict(aspectmode="data", xaxis=axis, yaxis=axis, zaxis=axis,
-                camera=dict(up=up, eye=eye), dragmode="turntable")
+                camera=dict(up=dict(x=0, y=0, z=1), eye=default_eye(vertices, vertical_axis),
+                            center=dict(x=0, y=0, z=0)),
+                dragmode="turntable")
 
 
 def view_meshes(meshes, scalars=None, *, cmap=None, symmetric=None, edges=None,
@@ -218,7 +265,9 @@ def view_meshes(meshes, scalars=None, *, cmap=None, symmetric=None, edges=None,
     edges : bool, optional
         Draw the triangle edges; default: for meshes of at most 2000 triangles.
     vertical_axis : {'z', 'y', 'x'}, default='z'
-        The axis that points up (``'y'`` for the many models stored y-up, e.g. Spot).
+        The axis that points up (``'y'`` for the many models stored y-up, e.g. Spot).  The
+        view opens upright, the whole mesh in view, from :func:`default_eye`; the figure's
+        coordinates are the mesh's with this axis as z (its columns permuted cyclically).
     title : str, optional
     height : int, default=420
         Pixels.
@@ -252,13 +301,14 @@ def view_meshes(meshes, scalars=None, *, cmap=None, symmetric=None, edges=None,
         scene = "scene" if c == 0 else f"scene{c + 1}"
         fig.add_trace(_trace(go, mesh, f, cmap=cmap, symmetric=symmetric,
                              showscale=f is not None, scene=scene,
-                             colorbar_x=(c + 1) / n - 0.01 if n > 1 else None))
+                             colorbar_x=(c + 1) / n - 0.01 if n > 1 else None,
+                             vertical_axis=vertical_axis))
         if edges if edges is not None else mesh.n_faces <= 2000:
-            P = _edge_lines(mesh)
+            P = _upright(_edge_lines(mesh), vertical_axis)
             fig.add_trace(go.Scatter3d(x=P[:, 0], y=P[:, 1], z=P[:, 2], mode="lines",
                                        line=dict(color="rgba(0,0,0,0.6)", width=2),
                                        hoverinfo="skip", showlegend=False, scene=scene))
-        fig.update_layout({scene: _scene(vertical_axis)})
+        fig.update_layout({scene: _scene(mesh.vertices, vertical_axis)})
     fig.update_layout(height=height, margin=dict(l=0, r=0, t=40 if (title or n > 1) else 10, b=0),
                       title=dict(text=title) if title else None, showlegend=False)
     return fig
@@ -346,7 +396,8 @@ def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=D
             )
     modes = mode_data(lam[:n_modes], phi[:, :n_modes])
     first = modes[int(start)]
-    trace = go.Mesh3d(**mesh3d_arrays(mesh), intensity=first["values"], intensitymode="vertex",
+    trace = go.Mesh3d(**_upright_arrays(mesh, vertical_axis), intensity=first["values"],
+                      intensitymode="vertex",
                       colorscale=cmap, cmin=first["cmin"], cmax=first["cmax"],
                       colorbar=dict(thickness=14, len=0.75, title=dict(text="φ")),
                       **_SHADING)
@@ -363,5 +414,5 @@ def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=D
                   pad=dict(t=10, b=10), len=0.9, x=0.05)
     fig = go.Figure(data=[trace], frames=frames)
     fig.update_layout(title=dict(text=first["title"]), sliders=[slider], height=height,
-                      scene=_scene(vertical_axis), margin=dict(l=0, r=0, t=40, b=0))
+                      scene=_scene(mesh.vertices, vertical_axis), margin=dict(l=0, r=0, t=40, b=0))
     return fig
