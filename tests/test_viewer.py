@@ -156,3 +156,31 @@ def test_view_meshes_side_by_side(sphere):
 def test_view_rejects_bad_arguments(sphere, call, match):
     with pytest.raises((ValueError, TypeError), match=match):
         call(sphere)
+
+
+def test_views_open_upright_with_the_whole_mesh_in_view():
+    """The view is turned so that the vertical axis is plotly's z (turntable rotation keeps z
+    up), by a rotation (cyclic column permutation, nothing mirrored), and the eye looks from
+    20 degrees above, 2.2 scene units away, 60 degrees off the longest horizontal axis."""
+    from cshape.plots.viewer import default_eye
+
+    box = shapes.cube(2)
+    V = box.vertices * np.array([1.0, 3.0, 0.5])  # long along y, short along z
+    mesh = cshape.Mesh(V, box.faces)
+    fig = plots.view_mesh(mesh, vertical_axis="y")
+    tr = fig.data[0]
+    np.testing.assert_allclose(np.c_[tr.x, tr.y, tr.z], V[:, [2, 0, 1]], rtol=1e-6)
+    cam = fig.layout.scene.camera
+    assert (cam.up.x, cam.up.y, cam.up.z) == (0, 0, 1)
+    eye = np.array([cam.eye.x, cam.eye.y, cam.eye.z])
+    assert np.isclose(np.linalg.norm(eye), 2.2)
+    assert np.isclose(np.degrees(np.arcsin(eye[2] / 2.2)), 20.0)
+    # upright coordinates (z, x, y): the longest horizontal axis is the second one (old x)
+    # against the first (old z, half as long): the eye sits mostly across it, 60 degrees off
+    horizontal = np.hypot(eye[0], eye[1])
+    assert np.isclose(abs(eye[1]), horizontal * np.cos(np.radians(60)))
+    assert np.isclose(abs(eye[0]), horizontal * np.sin(np.radians(60)))
+    assert default_eye(V, "y") == {"x": cam.eye.x, "y": cam.eye.y, "z": cam.eye.z}
+    # z-up meshes keep their coordinates
+    fig = plots.view_mesh(mesh)
+    np.testing.assert_allclose(np.c_[fig.data[0].x, fig.data[0].y, fig.data[0].z], V, rtol=1e-6)

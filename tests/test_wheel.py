@@ -53,6 +53,18 @@ def test_wheel_ships_the_manifest_and_every_module(installed_wheel_env):
     assert b"License-Expression: BSD-3-Clause" in meta and b"License-File: LICENSE" in meta
 
 
+def test_installed_cshape_ships_the_lessons_mesh(installed_wheel_env):
+    """Lessons 02-03 read Spot from the package (no folder outside it), with its licence."""
+    with zipfile.ZipFile(installed_wheel_env.wheel) as zf:
+        names = set(zf.namelist())
+    assert {"cshape/data/meshes/spot_low_resolution.obj.gz",
+            "cshape/data/meshes/README.md"} <= names
+    r = installed_wheel_env.run("python", "-c", "from cshape.course.teaching import spot; "
+                                "m = spot(); print(m.n_vertices, m.n_faces)")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["829", "1654"]
+
+
 def test_installed_cshape_data_list(installed_wheel_env):
     """The issue's first failure: `cshape data list` from a pip-installed copy."""
     r = installed_wheel_env.run("cshape", "data", "list")

@@ -21,8 +21,8 @@ REPO = Path(__file__).resolve().parents[2]
 SOURCES = REPO / "notebooks"
 EXECUTED = REPO / "out" / "notebooks"
 PATTERN = "[0-9][0-9]_*.ipynb"
-#: The site's MathJax (2.7, from jupyter-server-mathjax), under _static/, and its config.
-MATHJAX_URL = "_static/mathjax/MathJax.js?config=TeX-AMS-MML_HTMLorMML-full,Safe,local/cshape"
+#: The site's MathJax (2.7, from jupyter-server-mathjax), relative to _static/, and its config.
+MATHJAX_URL = "mathjax/MathJax.js?config=TeX-AMS-MML_HTMLorMML-full,Safe,local/cshape"
 _CDN_SCRIPT = re.compile(r'<script[^>]*src="https?://[^"]*mathjax[^"]*"[^>]*></script>', re.I)
 
 
