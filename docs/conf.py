@@ -70,9 +70,15 @@ nb_mime_priority_overrides = [("html", "application/vnd.plotly.v1+json", None)]
 suppress_warnings = ["mystnb.unknown_mime_type", "myst.header"]
 
 # ---------------------------------------------------------------- math, offline
+# MathJax 2: myst marks the page body tex2jax_ignore and every equation with the class
+# "math"; MathJax processes those (and notebook outputs) only.  myst's MathJax 3 settings
+# are off: they would overwrite these.
 mathjax_path = lessonpages.MATHJAX_URL
-mathjax2_config = {"tex2jax": {"inlineMath": [["\\(", "\\)"]],
-                               "displayMath": [["\\[", "\\]"]], "processEscapes": True}}
+myst_update_mathjax = False
+mathjax2_config = {"tex2jax": {
+    "inlineMath": [["\\(", "\\)"]], "displayMath": [["\\[", "\\]"]],
+    "processEscapes": True, "ignoreClass": "tex2jax_ignore|mathjax_ignore",
+    "processClass": "tex2jax_process|mathjax_process|math|output_area"}}
 
 # ---------------------------------------------------------------- HTML
 html_theme = "pydata_sphinx_theme"
