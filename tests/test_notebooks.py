@@ -4,6 +4,7 @@ student version up to its first exercise stub.  A cell error fails the test."""
 from __future__ import annotations
 
 import importlib.util
+import os
 import sys
 
 import nbformat
@@ -156,16 +157,18 @@ def test_real_mesh_is_shipped_spot_without_the_shared_folder(tmp_path, monkeypat
 
 
 def test_size_switch_follows_cshape_small(monkeypatch):
-    """`size(small, full)` of the lessons follows CSHAPE_SMALL as it was at import."""
-    import importlib
+    """`size(small, full)` of the lessons picks by SMALL, which is CSHAPE_SMALL=1 at import."""
+    import subprocess
 
     import cshape.course.teaching as teaching
 
-    try:
-        monkeypatch.setenv("CSHAPE_SMALL", "1")
-        assert importlib.reload(teaching).SMALL and teaching.size(50, 100) == 50
-        monkeypatch.setenv("CSHAPE_SMALL", "0")
-        assert not importlib.reload(teaching).SMALL and teaching.size(50, 100) == 100
-    finally:
-        monkeypatch.delenv("CSHAPE_SMALL")
-        importlib.reload(teaching)
+    monkeypatch.setattr(teaching, "SMALL", True)
+    assert teaching.size(50, 100) == 50 and teaching.size("a", "b") == "a"
+    monkeypatch.setattr(teaching, "SMALL", False)
+    assert teaching.size(50, 100) == 100
+    code = "from cshape.course.teaching import SMALL, size; print(SMALL, size(50, 100))"
+    for value, want in (("1", "True 50"), ("0", "False 100"), ("", "False 100")):
+        env = dict(os.environ, CSHAPE_SMALL=value)
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                             text=True, timeout=120, check=True).stdout.strip()
+        assert out == want, (value, out)
