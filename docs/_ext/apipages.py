@@ -142,8 +142,45 @@ def write(out: Path) -> dict[str, str]:
              "every function that takes a mesh also takes a pair ``(vertices, faces)``.", "",
              ".. toctree::", "   :maxdepth: 1", ""]
     index += [f"   {section_page[s.module]}" for s in sections]
+    index += ["   cli"]
+    write_cli(out)
     _write_if_changed(out / "index.rst", "\n".join(index) + "\n")
     return pages
+
+
+def write_cli(out: Path) -> None:
+    """``out/cli.rst``: the help of ``cshape`` and of every subcommand, from the parser itself."""
+    import argparse
+    import os
+
+    from cshape.cli.registry import build_parser
+
+    columns = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = "96"  # argparse wraps to the terminal: the same page everywhere
+    try:
+        parser = build_parser()
+        text = _cli_text(parser, argparse)
+    finally:
+        if columns is None:
+            os.environ.pop("COLUMNS", None)
+        else:
+            os.environ["COLUMNS"] = columns
+    _write_if_changed(out / "cli.rst", text)
+
+
+def _cli_text(parser, argparse) -> str:
+    parser.prog = "cshape"
+    lines = ["Command line", "============", "",
+             "The ``cshape`` command (also ``python -m cshape``): its help and the help of every "
+             "subcommand, as the installed version prints them.  Every expected failure ends in "
+             "one line on stderr, ``cshape <command>: error: ...``, and exit status 2.", "",
+             ".. code-block:: text", ""]
+    lines += ["   " + ln for ln in parser.format_help().splitlines()] + [""]
+    subs = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    for name, sub in (subs[0].choices.items() if subs else []):
+        lines += [f"cshape {name}", "-" * len(f"cshape {name}"), "", ".. code-block:: text", ""]
+        lines += ["   " + ln for ln in sub.format_help().splitlines()] + [""]
+    return "\n".join(lines)
 
 
 def _write_if_changed(path: Path, text: str) -> None:
