@@ -172,3 +172,11 @@ def test_size_switch_follows_cshape_small(monkeypatch):
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                              text=True, timeout=120, check=True).stdout.strip()
         assert out == want, (value, out)
+
+
+def test_index_page_names_each_lesson_by_its_title():
+    from cshape.course.lessons import lesson_title
+
+    assert lesson_title(NB_DIR / "02_shape_dna_weyl.ipynb") == "2 · Shape-DNA and the Weyl line"
+    titles = [lesson_title(p) for p in NOTEBOOKS]
+    assert all(t[0].isdigit() and " · " in t for t in titles), titles

@@ -319,11 +319,26 @@ def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
     return res
 
 
+def lesson_title(path) -> str:
+    """The title of a lesson: its first Markdown heading (``# 2 · Shape-DNA ...``), else its
+    file name."""
+    import nbformat
+
+    nb = nbformat.read(path, as_version=4)
+    for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            for line in cell.source.splitlines():
+                if line.startswith("# "):
+                    return line[2:].strip()
+    return Path(path).stem
+
+
 def _index(results, out: Path, small: bool) -> Path:
     rows = []
     for r in results:
-        link = (f'<a href="{html.escape(r.html.name)}">{html.escape(r.name)}</a>'
-                if r.html else html.escape(r.name))
+        title = lesson_title(r.ipynb) if r.ipynb is not None else r.name
+        label = f"{html.escape(title)} <small>({html.escape(r.name)})</small>"
+        link = f'<a href="{html.escape(r.html.name)}">{label}</a>' if r.html else label
         if not r.ok:
             status = f"FAILED: {html.escape(r.error)}"
         else:
@@ -335,7 +350,7 @@ def _index(results, out: Path, small: bool) -> Path:
         "<h1>cshape walkthrough notebooks, executed</h1>"
         f"<p>{'Small sizes (CSHAPE_SMALL=1).' if small else 'Full sizes.'} "
         "Open a notebook's HTML, or the executed <code>.ipynb</code> next to it in Jupyter.</p>"
-        "<table border=1 cellpadding=4><tr><th>notebook</th><th>time</th><th>status</th></tr>"
+        "<table border=1 cellpadding=4><tr><th>lesson</th><th>time</th><th>status</th></tr>"
         + "".join(rows) + "</table>"
     )
     path = out / "index.html"
