@@ -97,12 +97,6 @@ DEFAULT_DESCRIPTOR = {"kind": DEFAULT_KIND, "M": DEFAULT_M, "transform": DEFAULT
 PAPER_DESCRIPTOR = {"kind": "cshape", "M": 16, "transform": "weyl", "normalization": "area"}
 
 
-
-
-
-
-
-
 # --------------------------------------------------------------------------- descriptors
 def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
     """Number of values of a descriptor of the given kind (its storage, in numbers).

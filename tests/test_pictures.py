@@ -175,12 +175,18 @@ def test_colour_limit_leaves_the_outliers_out():
 
 
 # ------------------------------------------------------------------------------ descriptors
-def test_descriptor_title():
-    assert descriptor_title("cshape", M=16) == "cShape-DNA M=16 (33 values)"
+def test_descriptor_title_is_the_query_headers_label():
+    """Figures and the query header name a descriptor in the same words."""
+    from cshape.compare import descriptor_label
+
+    assert descriptor_title("cshape", M=16) == "paper's cShape-DNA (M=16 of N=100, 33 values)"
     assert descriptor_title("cshape", M=8, transform="log-weyl") == (
-        "cShape-DNA M=8, log-weyl (17 values)")
-    assert descriptor_title("shape-dna", N=50) == "Shape-DNA N=50 (50 values)"
-    assert descriptor_title("f1", N=50) == "F1 N=50 (48 values)"
+        "log-Weyl DFT cShape-DNA (M=8 of N=100, 17 values)")
+    assert descriptor_title("shape-dna", N=50) == "Shape-DNA (50 values)"
+    assert descriptor_title("f1", N=50) == "F1 (N=50, 48 values)"
+    for kw in ({"kind": "truncated-log", "M": 8, "normalization": "fiedler"},
+               {"kind": "truncated", "M": 3}):
+        assert descriptor_title(**kw) == descriptor_label(**kw)
 
 
 def test_collection_distances_of_a_table():
@@ -188,7 +194,7 @@ def test_collection_distances_of_a_table():
     c = collection_distances(table, "truncated-log")
     assert np.allclose(c.D, table.distance_matrix("truncated-log"))
     assert c.rows.tolist() == list(range(8)) and c.left_out == [] and c.names == table.names
-    assert c.descriptor == "truncated log spectrum (first 9 eigenvalues)"
+    assert c.descriptor == "truncated log spectrum (9 values)"
 
 
 def test_collection_distances_leaves_out_what_cannot_be_described():
@@ -199,7 +205,7 @@ def test_collection_distances_leaves_out_what_cannot_be_described():
     plain = SimpleNamespace(names=t.names, labels=t.labels, lam=t.lam, areas=areas, M=4,
                             N=30, transform="weyl")
     with pytest.warns(CShapeWarning, match=r"1 of 5 shapes cannot be described by "
-                                           r"Shape-DNA N=30 .* left out .*: shape2"):
+                                           r"Shape-DNA \(30 values\) .* left out .*: shape2"):
         c = collection_distances(plain, "shape-dna")
     assert c.rows.tolist() == [0, 1, 3, 4] and [n for n, _ in c.left_out] == ["shape2"]
     assert c.names == ["shape0", "shape1", "shape3", "shape4"]
@@ -299,10 +305,10 @@ def test_overview_png_and_html_name_the_descriptor_and_left_out():
     fig = plot_overview(c.D, c.names, c.labels, descriptor=c.descriptor, title="t.csv",
                         left_out=[("broken", "two pieces")])
     sup = fig._suptitle.get_text()
-    assert "10 shapes, 3 classes, compared by Shape-DNA N=30" in sup and "broken" in sup
+    assert "10 shapes, 3 classes, compared by Shape-DNA (30 values)" in sup and "broken" in sup
     page = overview_html(c.D, c.names, c.labels, descriptor=c.descriptor,
                          left_out=[("broken", "two pieces")])
-    assert "Shape-DNA N=30" in page and "broken: two pieces" in page
+    assert "Shape-DNA (30 values)" in page and "broken: two pieces" in page
     assert page.count("<tr>") == 1 + 3  # header and one row per class
     assert '<script src="http' not in page and "cdn.plot.ly/plotly" not in page
 
@@ -353,7 +359,7 @@ def test_cli_overview_writes_html_and_png(described, tmp_path, capsys):
                "--kind", "truncated-log"])
     err = capsys.readouterr().err
     assert rc == 0, err
-    assert "4 shapes, 2 classes, compared by truncated log spectrum (first 9 eigenvalues)" in err
+    assert "4 shapes, 2 classes, compared by truncated log spectrum (9 values)" in err
     page = html.read_text()
     assert all(n in page for n in ("small", "big", "thin", "fat"))
     assert png.read_bytes()[:4] == b"\x89PNG"
@@ -432,10 +438,10 @@ def test_the_default_descriptor_follows_compare_default_kind(monkeypatch, descri
     monkeypatch.setattr(cshape.compare, "DEFAULT_NORMALIZATION", "area")
     assert collection_distances(spectra_table()).kind == "shape-dna"
     rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
-    assert rc == 0 and "compared by Shape-DNA N=20 (20 values)" in capsys.readouterr().err
+    assert rc == 0 and "compared by Shape-DNA (20 values)" in capsys.readouterr().err
     monkeypatch.setattr(cshape.compare, "DEFAULT_NORMALIZATION", "fiedler")
     rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
-    assert rc == 0 and "by Shape-DNA N=20, lam_1-normalised" in capsys.readouterr().err
+    assert rc == 0 and "by Shape-DNA, lam_1-normalised" in capsys.readouterr().err
 
 
 def test_guess_vertical_axis_by_format():

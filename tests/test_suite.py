@@ -171,7 +171,7 @@ def test_collection_pictures_default_to_the_constant(table, other_default):
     c = collection_distances(table)
     np.testing.assert_allclose(c.D, table.distance_matrix())
     assert c.kind == "cshape"
-    assert "log-weyl-dct" in c.descriptor and "lam_1-normalised" in c.descriptor
+    assert "log-Weyl DCT" in c.descriptor and "lam_1-normalised" in c.descriptor
     paper = collection_distances(table, "cshape")
     np.testing.assert_allclose(paper.D, table.distance_matrix("cshape"))
 

@@ -542,11 +542,8 @@ def _cmd_query(args) -> int:
               f"{' that ' + by + ' describes' if len(rows) < len(table) else ''}",
               file=sys.stderr)
     if args.plot is not None:
-        from ..plots.explore import descriptor_title
-
-        wrote = write_neighbour_strip(
-            args, table, hits, None if exclude is not None else target,
-            descriptor_title(args.kind, r["M"], r["N"], r["transform"]))
+        wrote = write_neighbour_strip(args, table, hits, None if exclude is not None else target,
+                                      desc)
         print(f"cshape query: wrote {wrote}", file=sys.stderr)
     if args.json:
         print(json.dumps({"query": target, **r, "descriptor": desc,

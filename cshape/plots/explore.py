@@ -84,32 +84,17 @@ def default_kind() -> str:
 
 
 def descriptor_title(kind, M=16, N=100, transform="weyl", normalization="area") -> str:
-    """What a figure compared, in words: ``'cShape-DNA M=16 (33 values)'``.
+    """What a figure compared, in words: the same as :func:`cshape.compare.descriptor_label`,
+    which the query header and ``cshape describe`` use too.
 
     >>> descriptor_title("truncated-log", M=8)
-    'truncated log spectrum (first 17 eigenvalues)'
+    'truncated log spectrum (17 values)'
     >>> descriptor_title("truncated-log", M=8, normalization="weyl")
-    'truncated log spectrum, Weyl-normalised (first 17 eigenvalues)'
+    'truncated log spectrum, Weyl-normalised (17 values)'
     """
-    if normalization != "area" and kind != "f1":
-        head, _, tail = descriptor_title(kind, M, N, transform).partition(" (")
-        name = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised"}.get(
-            normalization, f"normalization={normalization}")
-        return f"{head}, {name} ({tail}"
-    from .._checks import OLD_SPELLINGS
+    from ..compare import descriptor_label
 
-    kind = OLD_SPELLINGS.get(kind, kind)
-    n = 2 * M + 1
-    tr = "" if transform == "weyl" else f", {transform}"
-    names = {
-        "cshape": f"cShape-DNA M={M}{tr} ({n} values)",
-        "cshape-complex": f"cShape-DNA M={M}{tr} ({n} values)",
-        "shape-dna": f"Shape-DNA N={N} ({N} values)",
-        "truncated": f"truncated Shape-DNA (first {n} eigenvalues)",
-        "truncated-log": f"truncated log spectrum (first {n} eigenvalues)",
-        "f1": f"F1 N={N} ({N - 2} values)",
-    }
-    return names.get(kind, f"{kind} M={M} N={N}{tr}")
+    return descriptor_label(kind, M=M, N=N, transform=transform, normalization=normalization)
 
 
 class CollectionDistances(NamedTuple):
