@@ -498,6 +498,16 @@ def _block_lanczos(
         split.close()
 
 
+def _band_to_dense(band, m):
+    """The symmetric (m, m) matrix whose upper triangle ``band[:, :m]`` stores (LAPACK)."""
+    b = band.shape[0] - 1
+    T = np.zeros((m, m))
+    for d in range(min(b, m - 1) + 1):  # d-th superdiagonal: band[b - d, d:m]
+        i = np.arange(m - d)
+        T[i, i + d] = T[i + d, i] = band[b - d, d:m]
+    return T
+
+
 def _first_check(N, b=8, n=None):
     """Krylov dimension of the first Rayleigh-Ritz step of :func:`_lanczos_loop`.
 
@@ -605,13 +615,13 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         band[ucols - urows, m + urows] = R[urows, ucols]
         if not due:
             continue
-        # (the band is finite: its entries come from products checked by la.cholesky)
-        theta, Y = la.eig_banded(
-            band[:, :m], lower=False, select="i", select_range=(m - N, m - 1),
-            check_finite=False,
-        )
-        theta = theta[::-1]
-        Y = Y[:, ::-1]
+        # All eigenpairs of the dense T by divide and conquer (LAPACK syevd), the N largest
+        # kept: 10-11 ms at m = 320 on real meshes against 17-20 ms for the N wanted ones
+        # from the banded solver (sbevx, slow on T's clusters of close eigenvalues).
+        # (T is finite: its entries come from products checked by la.cholesky.)
+        theta, Y = la.eigh(_band_to_dense(band, m), driver="evd", check_finite=False)
+        theta = theta[::-1][:N]
+        Y = Y[:, ::-1][:, :N]
         res = np.linalg.norm(R @ Y[m0:m], axis=0)
         nconv = int(np.sum(res <= tol * np.abs(theta)))
         if nconv == N and theta[-1] > 0:
