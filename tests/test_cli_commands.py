@@ -100,16 +100,24 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     bad.parent.mkdir()
     bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")  # truncated: one vertex and the face missing
     out = tmp_path / "t.csv"
-    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M,
+    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M, "--strict",
               cache=tmp_path / "c")
     assert_one_line_error(res, "1 of 2 meshes failed")
-    assert "failed: bad:" in res.stderr
+    assert "failed: bad:" in res.stderr and "leave out --strict" in res.stderr
     assert not out.exists()
-    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M,
-              "--keep-going", cache=tmp_path / "c", check=True)
-    table = DescriptorTable.load(out)
-    assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
-    assert table.cached.all()  # the first, failed run cached the good mesh
+    # by default one mesh never fails the table: it is listed by name and left out
+    for extra in ((), ("--keep-going",)):
+        out.unlink(missing_ok=True)
+        res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M, *extra,
+                  cache=tmp_path / "c", check=True)
+        assert "failed: bad:" in res.stderr
+        table = DescriptorTable.load(out)
+        assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
+        assert table.cached.all()  # the first, failed run cached the good mesh
+    # every mesh failing is still an error
+    res = cli("describe", bad, "--out", out.with_name("u.csv"), "-N", N, "-M", M,
+              cache=tmp_path / "c")
+    assert_one_line_error(res, "1 of 1 meshes failed")
 
 
 @pytest.mark.parametrize("args, match", [
@@ -213,11 +221,13 @@ def test_real_meshes_describe_info_query(shared_meshes, tmp_path):
     """The real meshes: a torus, a coarse unit sphere, and cubes too coarse for N=30."""
     out = tmp_path / "real.csv"
     dirs = [shared_meshes / d for d in ("torus", "sphere", "cube")]
-    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, cache=tmp_path / "c")
+    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, "--strict",
+              cache=tmp_path / "c")
     assert_one_line_error(res, "2 of 4 meshes failed")  # cube.obj has 26 vertices, 30 > 26
     assert "failed: cube: ValueError: N=30 eigenvalues requested" in res.stderr
-    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, "--keep-going",
-              cache=tmp_path / "c", check=True)
+    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, cache=tmp_path / "c",
+              check=True)  # by default the cubes are listed and left out
+    assert "failed: cube: ValueError: N=30 eigenvalues requested" in res.stderr
     table = DescriptorTable.load(out)
     assert sorted(zip(table.names, table.labels, strict=True)) == [
         ("sphere", "sphere"), ("torus", "torus")]

@@ -196,9 +196,9 @@ def _cmd_describe(args) -> int:
     for name, msg in table.failures:
         print(f"cshape describe: failed: {name}: {' '.join(msg.split())}", file=sys.stderr)
     n_fail, p = len(table.failures), len(records)
-    if n_fail and (not args.keep_going or len(table) == 0):
+    if n_fail and (args.strict or len(table) == 0):
         what = "the table was not written" if out is not None else "nothing was printed"
-        hint = ("; fix or remove them, or pass --keep-going to keep the others"
+        hint = ("; fix or remove them, or leave out --strict to keep the others"
                 if len(table) else "")
         raise CommandError(f"{n_fail} of {p} meshes failed (listed above); {what}{hint}")
     n_cached = int(table.cached.sum())
@@ -310,8 +310,11 @@ def add_describe(sub):
                    help="eigenvalue cache (default: $CSHAPE_CACHE/eigenvalues or "
                    "~/.cache/cshape/eigenvalues)")
     p.add_argument("--no-cache", action="store_true", help="neither read nor write the cache")
+    p.add_argument("--strict", action="store_true",
+                   help="write nothing and exit 2 when any mesh fails (default: the meshes "
+                   "that fail are listed and left out, the others are written)")
     p.add_argument("--keep-going", action="store_true",
-                   help="write the table of the meshes that worked and exit 0 when some fail")
+                   help="the default since 0.1: keep the meshes that worked when some fail")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="no progress bar and no summary line")
     p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
