@@ -22,14 +22,12 @@
 
 # %%
 # %matplotlib inline
-import os
-
 import numpy as np
 
 import cshape
 from cshape import plots, shapes
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
-SMALL = os.environ.get("CSHAPE_SMALL") == "1"  # small meshes and N, for the test suite
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
 print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
@@ -65,13 +63,12 @@ def write_obj(mesh, path):
 tmp = tempfile.TemporaryDirectory(prefix="cshape-own-")  # removed at the end of the notebook
 work = Path(tmp.name)
 folder = work / "my_meshes"
-s = 2 if SMALL else 4
 for k in range(3):
-    write_obj(shapes.icosphere(s, radius=1 + 0.5 * k), folder / "spheres" / f"sphere{k}.obj")
+    write_obj(shapes.icosphere(size(2, 4), radius=1 + 0.5 * k), folder / "spheres" / f"sphere{k}.obj")
     write_obj(shapes.torus(16 * (k + 2), 8 * (k + 2)), folder / "tori" / f"torus{k}.obj")
-    write_obj(shapes.cube(4 + 2 * k + (0 if SMALL else 6)), folder / "cubes" / f"cube{k}.obj")
-    human = variants.articulated_figure("human", k, voxelsize=0.05 if SMALL else 0.03,
-                                        target_vertices=500 if SMALL else 2000)
+    write_obj(shapes.cube(4 + 2 * k + size(0, 6)), folder / "cubes" / f"cube{k}.obj")
+    human = variants.articulated_figure("human", k, voxelsize=size(0.05, 0.03),
+                                        target_vertices=size(500, 2000))
     write_obj(human, folder / "humans" / f"human{k}.obj")
 print(sorted(str(p.relative_to(folder)) for p in folder.rglob("*.obj")))
 
@@ -94,7 +91,7 @@ import time
 
 from cshape import batch
 
-N, M = (30, 8) if SMALL else (100, 16)
+N, M = size(30, 100), size(8, 16)
 cache = work / "cache"
 t0 = time.perf_counter()
 table = batch.describe(coll, N=N, M=M, cache_dir=cache, progress=False)
@@ -219,8 +216,9 @@ print("removed", work, "| exists:", work.exists())
 # %% [markdown]
 # ## Exercises
 #
-# 1. Point `folder` at your own meshes (or at the project's `../shared/meshes` if you have it: labels come from the
-#    sub-folders) and draw the MDS plot of notebook 4 for them.
+# 1. Point `folder` at a folder of your own meshes (labels come from the sub-folders; no meshes at hand? write
+#    `cshape.course.teaching.spot()`, its `cshape.variants.subdivide` and its `cshape.variants.remesh` into a
+#    folder `cow/`, beside this notebook's `spheres/` and `tori/`) and draw the MDS plot of notebook 4 for them.
 # 2. Interrupt a `describe` run on a large collection (Kernel > Interrupt) and run it again: how many meshes
 #    come from the cache?
 # 3. Measure the time of `describe` for `n_jobs=1` and `n_jobs=2` on 20 meshes of 5000 vertices. Where is the
