@@ -24,7 +24,7 @@ of one sparse Cholesky factorisation:
    pass, and the interval adapts to keep it below 1e-9, under ``sqrt(eps)``
    (semi-orthogonality, which keeps the Ritz values accurate to rounding; Simon 1984).
 3. The projection of ``OP`` onto the basis is block tridiagonal (bandwidth ``b``); its
-   top eigenpairs (Rayleigh-Ritz, LAPACK's banded solver) give Ritz values ``theta_i``
+   top eigenpairs (Rayleigh-Ritz, LAPACK's divide and conquer) give Ritz values ``theta_i``
    and, from the Lanczos relation, the residual norms ``||OP x_i - theta_i x_i||_B`` at no
    cost.  The iteration stops when all N wanted pairs have a residual at most
    ``RESIDUAL_TOL * theta_i`` (1e-6).  The projected problem is solved only where the
@@ -512,7 +512,7 @@ def _first_check(N, b=8, n=None):
     """Krylov dimension of the first Rayleigh-Ritz step of :func:`_lanczos_loop`.
 
     The projected problem is solved only when the wanted pairs may have converged: one
-    such solve (LAPACK's banded eigensolver, about 10 ms at a dimension of 320) costs as
+    such solve (LAPACK, about 10 ms at a dimension of 320) costs as
     much as several Lanczos steps on a mesh of a few thousand vertices.  Measured on ten
     real meshes of 2K-22K vertices and icospheres (block size 8), all ``N`` pairs
     converged at a Krylov dimension between ``2.4 N + 40`` and ``2.4 N + 112`` for
