@@ -316,13 +316,15 @@ def wks_energies(lam: ArrayLike, n_energies: int = 100, *,
 
     With ``e_1 = log lam_1`` (first non-zero) and ``e_N = log lam_max``, the step is
     ``delta = (e_N - e_1) / n_energies`` and ``sigma = 7 delta``; the energies are
-    ``n_energies`` values evenly spaced over ``[e_1 + 2 sigma, e_N - 2 sigma]``.
+    ``n_energies`` values evenly spaced over ``[e_1 + 2 sigma, e_N - 2 sigma]`` (not empty for
+    ``n_energies >= 29``).
 
     Parameters
     ----------
     lam : array_like, shape (N,)
         At least two distinct non-zero eigenvalues.
     n_energies : int, default=100
+        At least 29 (``4 sigma`` must fit in the range).
     area : float, optional
         Energies of the shape scaled to unit area (``log(lam * area)``).
 
@@ -341,6 +343,12 @@ def wks_energies(lam: ArrayLike, n_energies: int = 100, *,
         raise ValueError(
             "lam needs two distinct non-zero eigenvalues for the default WKS energies; "
             "compute more eigenpairs or pass energies= and sigma="
+        )
+    if 4 * WKS_WIDTH >= n_energies:
+        raise ValueError(
+            f"n_energies must be at least {int(4 * WKS_WIDTH) + 1} for the default width "
+            f"sigma = {WKS_WIDTH:g} steps (the energies keep 2 sigma from both ends of the "
+            f"spectrum), got {n_energies}; use more energies, or pass energies= and sigma="
         )
     sigma = WKS_WIDTH * (eN - e1) / n_energies
     return np.linspace(e1 + 2 * sigma, eN - 2 * sigma, n_energies), float(sigma)

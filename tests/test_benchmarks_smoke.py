@@ -156,8 +156,8 @@ def test_signatures_bench_on_small_meshes(tmp_path, monkeypatch):
     monkeypatch.setattr(bs, "RESULTS", tmp_path)
     mesh = bs.torus_mesh(2000)
     assert abs(mesh.n_vertices - 2000) < 100
-    sig = bs.time_signatures(mesh, N=20, n_scales=10, n_match=50)
-    assert sig["hks_shape"] == (mesh.n_vertices, 10) and sig["si_hks_shape"] == (mesh.n_vertices, 6)
+    sig = bs.time_signatures(mesh, N=20, n_scales=30, n_match=50)
+    assert sig["hks_shape"] == (mesh.n_vertices, 30) and sig["si_hks_shape"] == (mesh.n_vertices, 6)
     assert sig["match_dist"] < 1e-6 and all(sig[k] > 0 for k in ("eigenpairs", "hks", "wks"))
     from cshape import shapes
 

@@ -78,7 +78,7 @@ def test_hks_integrates_to_heat_trace_with_lumped_mass():
                                cshape.heat_trace(lam, t), rtol=1e-10)
     ht = cshape.hks(lam, phi, t, normalization="trace")
     np.testing.assert_allclose((B @ ht).sum(axis=0), 1.0, rtol=1e-10)
-    w = cshape.wks(lam, phi, n_energies=10)
+    w = cshape.wks(lam, phi, n_energies=30)
     np.testing.assert_allclose((B @ w).sum(axis=0), 1.0, rtol=1e-10)
 
 
@@ -92,10 +92,10 @@ def test_hks_times_are_sun_et_al_defaults():
 
 def test_wks_energies_are_aubry_et_al_defaults():
     lam = np.array([0.0, 1.0, 3.0, np.e**4])
-    e, sigma = sg.wks_energies(lam, 8)
-    assert sigma == pytest.approx(7 * 4.0 / 8)
-    assert e[0] == pytest.approx(2 * sigma) and e[-1] == pytest.approx(4.0 - 2 * sigma)
-    assert len(e) == 8
+    e, sigma = sg.wks_energies(lam, 40)
+    assert sigma == pytest.approx(7 * 4.0 / 40)
+    assert e[0] == pytest.approx(1.4) and e[-1] == pytest.approx(2.6)  # 2 sigma from the ends
+    assert len(e) == 40 and (np.diff(e) > 0).all()
 
 
 def test_wks_by_hand():
@@ -166,7 +166,7 @@ def test_invariant_to_rigid_motion_and_vertex_order(ellipsoid):
     t = sg.hks_times(lam, 20)
     np.testing.assert_allclose(cshape.hks(lam2, phi2, t), cshape.hks(lam, phi, t)[perm],
                                rtol=1e-6)
-    e, s = sg.wks_energies(lam, 20)
+    e, s = sg.wks_energies(lam, 30)
     np.testing.assert_allclose(cshape.wks(lam2, phi2, e, s), cshape.wks(lam, phi, e, s)[perm],
                                rtol=1e-6)
     np.testing.assert_allclose(cshape.si_hks(lam2, phi2), cshape.si_hks(lam, phi)[perm],
@@ -215,7 +215,7 @@ def test_stable_under_refinement():
     pairs = [cshape.eigenpairs(m, 30) for m in meshes]
     n3 = meshes[0].n_vertices
     t = sg.hks_times(pairs[-1][0], 20)
-    e, sigma = sg.wks_energies(pairs[-1][0], 20)
+    e, sigma = sg.wks_energies(pairs[-1][0], 30)
     h = [cshape.hks(lam, phi, t)[:n3] for lam, phi in pairs]
     w = [cshape.wks(lam, phi, e, sigma)[:n3] for lam, phi in pairs]
     assert np.abs(h[0] / h[2] - 1).max() < 1e-2
@@ -278,6 +278,8 @@ PHI = np.ones((4, 3))
         (lambda: cshape.wks(LAM, PHI, n_energies=-1), ValueError,
          "n_energies must be an integer >= 1, got -1"),
         (lambda: cshape.wks([0.0, 1.0, 1.0], PHI), ValueError, "two distinct non-zero"),
+        (lambda: cshape.wks(LAM, PHI, n_energies=20), ValueError,
+         "n_energies must be at least 29 for the default width"),
         (lambda: cshape.si_hks(LAM, PHI, [0.0, 1.0, 3.0]), ValueError, "tau must be evenly"),
         (lambda: cshape.si_hks(LAM, PHI, [0.0, 1.0]), ValueError, "at least 3 log-times"),
         (lambda: cshape.si_hks(LAM, PHI, np.arange(-1, 1, 0.125)), ValueError,
