@@ -173,7 +173,7 @@ def test_correspondence_bench_on_a_small_template(tmp_path):
     pytest.importorskip("pymeshlab")
     bc = _load("bench_correspondence")
     small = {"voxelsize": 0.03, "target_vertices": 800}
-    rows = bc.evaluate("quadruped", [None, 1], N=30, n_scales=20, template=small)
+    rows = bc.evaluate("quadruped", [None, 1], N=30, n_scales=30, template=small)
     assert len(rows) == 2 * len(bc.DESCRIPTORS)
     assert all(0 <= r["acc"] <= r["acc_mirror"] <= 1 for r in rows)
     assert all(r["mean_err_mirror"] <= r["mean_err"] for r in rows)
