@@ -53,7 +53,13 @@ from .figures import (  # noqa: E402
     plot_shape_dna_stages,
     plot_weyl,
 )
-from .viewer import eigenfunction_explorer, view_mesh, view_meshes  # noqa: E402
+from .viewer import (  # noqa: E402
+    eigenfunction_explorer,
+    signature_explorer,
+    view_correspondence,
+    view_mesh,
+    view_meshes,
+)
 
 __all__ = [
     "annotate_points",
@@ -83,6 +89,8 @@ __all__ = [
     "save_figure",
     "short_label",
     "short_labels",
+    "signature_explorer",
+    "view_correspondence",
     "view_mesh",
     "view_meshes",
 ]

@@ -4,6 +4,10 @@
 * :func:`view_meshes`            - several meshes side by side (a noisy mesh beside the clean one);
 * :func:`eigenfunction_explorer` - a mesh coloured by ``phi_i``, with a slider over ``i`` and
                                    ``lam_i`` in the title (Eq. 3); the eigenpairs are computed once.
+* :func:`signature_explorer`     - a mesh coloured by its HKS or WKS (:mod:`cshape.signatures`),
+                                   with a slider over the time or the energy;
+* :func:`view_correspondence`    - two shapes side by side, the second coloured through a point
+                                   map from the first (matched points share a colour).
 
 Both return a :class:`plotly.graph_objects.Figure` and never display it: in a notebook the
 figure shows as a cell's last expression.  Drag to rotate, scroll to zoom.
@@ -415,4 +419,233 @@ def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=D
     fig = go.Figure(data=[trace], frames=frames)
     fig.update_layout(title=dict(text=first["title"]), sliders=[slider], height=height,
                       scene=_scene(mesh.vertices, vertical_axis), margin=dict(l=0, r=0, t=40, b=0))
+    return fig
+
+
+# ------------------------------------------------------------------------------ signatures
+#: The signatures :func:`signature_explorer` shows: (function, scale name, scale symbol).
+_SIGNATURES = {"hks": ("HKS", "time", "t"), "wks": ("WKS", "log-energy", "e")}
+
+
+def scale_data(sig, scales, *, signature="hks", log=True):
+    """What the signature explorer shows at each scale (time or energy).
+
+    Parameters
+    ----------
+    sig : array_like, shape (n, k)
+        A signature on the vertices, one column per scale (:func:`cshape.hks`,
+        :func:`cshape.wks`).
+    scales : array_like, shape (k,)
+        The times or log-energies of the columns.
+    signature : {'hks', 'wks'}, default='hks'
+        For the titles.
+    log : bool, default=True
+        Colour by ``log10`` of the values: a signature spans orders of magnitude between
+        the tips of the limbs and the body at small times.
+
+    Returns
+    -------
+    list of dict
+        One per column, with ``j`` (int), ``scale`` (float), ``values`` (ndarray, shape (n,),
+        float32), ``cmin``, ``cmax`` (the range of that column: each scale uses the whole
+        colour map) and ``title`` (str).
+    """
+    from .._checks import check_bool
+
+    signature = check_choice("signature", signature, tuple(_SIGNATURES))
+    log = check_bool("log", log)
+    a = np.asarray(sig, dtype=np.float64)
+    sc = np.asarray(scales, dtype=np.float64).reshape(-1)
+    if a.ndim != 2 or a.shape[1] != len(sc) or a.shape[0] == 0:
+        raise ValueError(
+            f"sig must have shape (n_vertices, k) with k = len(scales) = {len(sc)}, got "
+            f"{a.shape}; pass the signature and the times or energies it was computed at"
+        )
+    if not np.all(np.isfinite(a)) or (log and not np.all(a > 0)):
+        raise ValueError(
+            "sig has NaN, infinite" + (" or non-positive values (log=True needs values > 0; "
+                                       "pass log=False)" if log else " values")
+        )
+    name, _, sym = _SIGNATURES[signature]
+    out = []
+    for j in range(a.shape[1]):
+        v = np.log10(a[:, j]) if log else a[:, j]
+        lo, hi = float(v.min()), float(v.max())
+        hi = hi if hi > lo else lo + 1.0
+        label = f"log<sub>10</sub> {name}" if log else name
+        out.append({"j": j, "scale": float(sc[j]), "values": v.astype(np.float32),
+                    "cmin": lo, "cmax": hi, "title": f"{label} at {sym} = {sc[j]:.4g}"})
+    return out
+
+
+def signature_explorer(mesh, signature="hks", *, eigenpairs=None, N=100, n_scales=20,
+                       log=True, start=None, cmap=SEQUENTIAL, vertical_axis="z", height=520):
+    """A mesh coloured by its heat or wave kernel signature, with a slider over the scale.
+
+    The eigenpairs are computed once, the signature at the default scales of
+    :mod:`cshape.signatures` (100 times of Sun et al. for the HKS, 100 energies of Aubry et
+    al. for the WKS), and ``n_scales`` of them, evenly spread, go on the slider; every
+    scale's colours travel with the figure as a plotly frame, so the slider works without a
+    kernel, also in exported HTML.  Each scale is coloured over its own range.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+        Repaired first (:func:`cshape.repair_mesh`) when it needs it.
+    signature : {'hks', 'wks'}, default='hks'
+    eigenpairs : (lam, phi), optional
+        Already computed ``cshape.eigenpairs(mesh, N)`` of the (repaired) mesh.
+    N : int, default=100
+        Eigenpairs to compute when ``eigenpairs`` is not given.
+    n_scales : int, default=20
+        Steps of the slider (at most 100).
+    log : bool, default=True
+        Colour by ``log10`` of the signature (:func:`scale_data`).
+    start : int, optional
+        The step shown first (default: the middle one).
+    cmap : str, default='Viridis'
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+    height : int, default=520
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Never displayed here.
+    """
+    import plotly.graph_objects as go
+
+    from .. import signatures as sg
+    from .._checks import check_int
+    from ..spectrum import eigenpairs as _eigenpairs
+
+    signature = check_choice("signature", signature, tuple(_SIGNATURES))
+    n_scales = check_int("n_scales", n_scales, min=1, max=100)
+    vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
+    height = _check_height(height)
+    mesh = repair_mesh(as_mesh(mesh))
+    if eigenpairs is None:
+        lam, phi = _eigenpairs(mesh, check_int("N", N, min=2))
+    else:
+        lam, phi = (np.asarray(a, dtype=np.float64) for a in eigenpairs)
+        if phi.ndim != 2 or phi.shape[0] != mesh.n_vertices:
+            raise ValueError(
+                f"eigenpairs must be (lam, phi) with phi of shape (n_vertices, N) = "
+                f"({mesh.n_vertices}, N), got phi {phi.shape}; pass cshape.eigenpairs(mesh, N) "
+                "of the same (repaired) mesh"
+            )
+    if signature == "hks":
+        scales = sg.hks_times(lam)
+        sig = sg.hks(lam, phi, scales)
+    else:
+        scales, sigma = sg.wks_energies(lam)
+        sig = sg.wks(lam, phi, scales, sigma)
+    cols = np.unique(np.round(np.linspace(0, len(scales) - 1, n_scales)).astype(int))
+    steps_data = scale_data(sig[:, cols], scales[cols], signature=signature, log=log)
+    start = len(steps_data) // 2 if start is None else check_int(
+        "start", start, min=0, max=len(steps_data) - 1)
+    first = steps_data[start]
+    name, scale_name, sym = _SIGNATURES[signature]
+    trace = go.Mesh3d(**mesh3d_arrays(mesh), intensity=first["values"], intensitymode="vertex",
+                      colorscale=cmap, cmin=first["cmin"], cmax=first["cmax"],
+                      colorbar=dict(thickness=14, len=0.75,
+                                    title=dict(text=f"log10 {name}" if log else name)),
+                      **_SHADING)
+    frames = [go.Frame(name=str(d["j"]), traces=[0],
+                       data=[go.Mesh3d(intensity=d["values"], cmin=d["cmin"], cmax=d["cmax"])],
+                       layout=dict(title=dict(text=d["title"])))
+              for d in steps_data]
+    steps = [dict(method="animate", label=f"{d['scale']:.3g}",
+                  args=[[str(d["j"])], dict(mode="immediate", frame=dict(duration=0, redraw=True),
+                                            transition=dict(duration=0))])
+             for d in steps_data]
+    slider = dict(active=start, steps=steps, currentvalue=dict(prefix=f"{sym} = "),
+                  pad=dict(t=10, b=10), len=0.9, x=0.05)
+    fig = go.Figure(data=[trace], frames=frames)
+    fig.update_layout(title=dict(text=first["title"]), sliders=[slider], height=height,
+                      scene=_scene(mesh.vertices, vertical_axis), margin=dict(l=0, r=0, t=40, b=0))
+    return fig
+
+
+# ------------------------------------------------------------------------------ correspondence
+def transfer_colours(values_a, match_ba):
+    """Values on shape b taken from shape a through a point map.
+
+    Parameters
+    ----------
+    values_a : array_like, shape (n_a,)
+        A function on the vertices of a.
+    match_ba : array_like of int, shape (n_b,)
+        For each vertex of b its matched vertex of a (``cshape.match_points(sig_b, sig_a)``);
+        ``-1`` (not matched, ``mutual=True``) gives NaN.
+
+    Returns
+    -------
+    ndarray, shape (n_b,)
+        ``values_a[match_ba]``: matched points share a value (and a colour).
+    """
+    f = np.asarray(values_a, dtype=np.float64).reshape(-1)
+    m = np.asarray(match_ba)
+    if m.ndim != 1 or m.dtype.kind not in "iu":
+        raise ValueError(f"match_ba must be a 1-D integer array of vertex indices, got {m.dtype} "
+                         f"shape {m.shape}")
+    if m.size and (m.max() >= len(f) or m.min() < -1):
+        raise ValueError(
+            f"match_ba holds {int(m.max() if m.max() >= len(f) else m.min())}, outside "
+            f"[-1, {len(f) - 1}] (vertices of a, -1 for unmatched); pass "
+            "cshape.match_points(sig_b, sig_a), b first"
+        )
+    out = np.full(len(m), np.nan)
+    ok = m >= 0
+    out[ok] = f[m[ok]]
+    return out
+
+
+def view_correspondence(mesh_a, mesh_b, match_ba, *, values_a=None, titles=("a", "b"),
+                        cmap="Turbo", vertical_axis="z", height=420):
+    """Two shapes side by side; b is coloured by a's colours carried over by a point map.
+
+    Parameters
+    ----------
+    mesh_a, mesh_b : Mesh or (vertices, faces)
+    match_ba : array_like of int, shape (n_b,)
+        For each vertex of b its matched vertex of a (:func:`transfer_colours`); unmatched
+        vertices (``-1``) take the mean colour, and b's title says how many there are.
+    values_a : array_like, shape (n_a,), optional
+        The colours on a; default: the position along a's longest axis (principal
+        direction), a smooth ramp from one end to the other, so that a wrong match shows
+        as a colour out of place on b.
+    titles : (str, str), default=('a', 'b')
+    cmap : str, default='Turbo'
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+    height : int, default=420
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Never displayed here.
+    """
+    a, b = as_mesh(mesh_a), as_mesh(mesh_b)
+    if values_a is None:
+        X = a.vertices - a.vertices.mean(axis=0)
+        axis = np.linalg.svd(X, full_matrices=False)[2][0]
+        values_a = X @ axis
+    fa = _scalars(a, values_a, name="values_a")
+    fb = transfer_colours(fa, match_ba)
+    if len(fb) != b.n_vertices:
+        raise ValueError(
+            f"match_ba has {len(fb)} entries but mesh_b has {b.n_vertices} vertices; pass one "
+            "matched vertex of a per vertex of b"
+        )
+    # unmatched vertices (NaN) cannot be drawn by Mesh3d: the mean colour, counted in the title
+    unmatched = int(np.isnan(fb).sum())
+    fb = np.where(np.isnan(fb), np.nanmean(fb) if unmatched < len(fb) else 0.0, fb)
+    ta, tb = (str(t) for t in titles)
+    if unmatched:
+        tb = f"{tb} ({unmatched} unmatched)"
+    fig = view_meshes({ta: a, tb: b}, {ta: fa, tb: fb}, cmap=cmap, symmetric=False,
+                      edges=False, vertical_axis=vertical_axis, height=height)
+    # one colour range for both panels: the same value, the same colour
+    lo, hi = float(fa.min()), float(fa.max())
+    fig.update_traces(cmin=lo, cmax=hi, selector=dict(type="mesh3d"))
+    fig.update_traces(showscale=False, selector=dict(type="mesh3d"))
     return fig
