@@ -565,6 +565,21 @@ def _cmd_query(args) -> int:
     return 0
 
 
+def add_descriptor_options(p) -> None:
+    """``--kind``, ``-M``, ``-N`` and ``--transform``: which descriptor a command compares
+    (``cshape query`` and ``cshape overview``)."""
+    p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
+                   help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
+                   "paper's cShape-DNA)")
+    p.add_argument("-M", type=int, default=None,
+                   help="crop half-width, 2M+1 values (default: the default descriptor's, or "
+                   "the table's M with --kind)")
+    p.add_argument("-N", type=int, default=None,
+                   help="use the first N eigenvalues (default: the table's N)")
+    p.add_argument("--transform", default=None, choices=_transforms(),
+                   help="cShape-DNA transform (default: the table's)")
+
+
 def add_query(sub):
     p = sub.add_parser(
         "query",
@@ -577,16 +592,7 @@ def add_query(sub):
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")
     p.add_argument("target", metavar="MESH_OR_NAME", help="a shape name of TABLE or a mesh file")
     p.add_argument("-k", type=int, default=5, help="number of neighbours (default 5)")
-    p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
-                   help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
-                   "paper's cShape-DNA)")
-    p.add_argument("-M", type=int, default=None,
-                   help="crop half-width, 2M+1 values (default: the default descriptor's, or "
-                   "the table's M with --kind)")
-    p.add_argument("-N", type=int, default=None,
-                   help="use the first N eigenvalues (default: the table's N)")
-    p.add_argument("--transform", default=None, choices=_transforms(),
-                   help="cShape-DNA transform (default: the table's)")
+    add_descriptor_options(p)
     p.add_argument("--cache-dir", default=None, help="eigenvalue cache for a mesh file query")
     p.add_argument("--no-cache", action="store_true", help="do not use the eigenvalue cache")
     p.add_argument("--json", action="store_true", help="print the neighbours as JSON")

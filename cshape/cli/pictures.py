@@ -16,19 +16,12 @@ import sys
 import warnings
 from pathlib import Path
 
-from .explore import _KINDS, HTML_SUFFIXES, _kind_arg, check_figure_path
+from .explore import HTML_SUFFIXES, add_descriptor_options, check_figure_path
 from .output import CommandError, print_warnings
 
 __all__ = ["add_overview"]
 
 # ============================================================================ overview
-def _default_label() -> str:
-    """The exploration default (``cshape.compare.DEFAULT_DESCRIPTOR``) in words."""
-    from ..compare import default_descriptor, descriptor_label
-
-    return descriptor_label(**default_descriptor(100))
-
-
 def _cmd_overview(args) -> int:
     from ..batch import DescriptorTable
     from ..compare import mds_embedding
@@ -95,25 +88,10 @@ def add_overview(sub):
     p.add_argument("--out", metavar="FILE", action="append", required=True,
                    help="write FILE: .html (interactive, offline) or .png/.svg/.pdf; repeat "
                    "for several")
-    p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
-                   help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
-                   "paper's cShape-DNA)")
-    p.add_argument("-M", type=int, default=None,
-                   help="crop half-width, 2M+1 values (default: the default descriptor's, or "
-                   "the table's M with --kind)")
-    p.add_argument("-N", type=int, default=None,
-                   help="use the first N eigenvalues (default: the table's N)")
-    p.add_argument("--transform", default=None, choices=_transforms(),
-                   help="cShape-DNA transform (default: the table's)")
+    add_descriptor_options(p)
     p.add_argument("-k", type=int, default=3,
                    help="nearest neighbours listed on hover (default 3)")
     p.add_argument("--seed", type=int, default=0, help="seed of the MDS (default 0)")
     p.add_argument("-q", "--quiet", action="store_true", help="no summary line")
     p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
     p.set_defaults(func=_cmd_overview)
-
-
-def _transforms() -> tuple[str, ...]:
-    from ..descriptors import TRANSFORMS
-
-    return TRANSFORMS

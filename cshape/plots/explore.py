@@ -568,6 +568,21 @@ def _fmt(x, spec=".4g"):
     return "-" if x is None or (isinstance(x, float) and np.isnan(x)) else format(x, spec)
 
 
+def _overview_inputs(D, names, labels, Y, random_state):
+    """The checked distance matrix, the labels as text and the MDS coordinates (computed when
+    ``Y`` is None) of :func:`plot_overview` and :func:`overview_html`."""
+    from ..compare import mds_embedding
+
+    A = check_square(D, "D")
+    p = len(A)
+    labels = [str(x) for x in labels]
+    if len(names) != p or len(labels) != p:
+        raise ValueError(f"names and labels need {p} entries (one per row of D)")
+    if Y is None:
+        Y = mds_embedding(A, random_state=random_state)
+    return A, labels, Y
+
+
 def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_out=(),
                   random_state=0, table_rows=OVERVIEW_TABLE_ROWS):
     """The overview of a described collection on one page: MDS, distance matrix, classes.
@@ -596,15 +611,8 @@ def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_o
     """
     from matplotlib.figure import Figure
 
-    from ..compare import mds_embedding
-
-    A = check_square(D, "D")
+    A, labels, Y = _overview_inputs(D, names, labels, Y, random_state)
     p = len(A)
-    labels = [str(x) for x in labels]
-    if len(names) != p or len(labels) != p:
-        raise ValueError(f"names and labels need {p} entries (one per row of D)")
-    if Y is None:
-        Y = mds_embedding(A, random_state=random_state)
     rows = sorted(class_summary(A, labels), key=lambda r: (-r["n"], r["label"]))
     shown = rows[:table_rows]
     fig = Figure(figsize=(12.0, 5.2 + 0.22 * (len(shown) + 2)), layout="constrained")
@@ -700,15 +708,8 @@ def overview_html(D, names, labels, *, Y=None, descriptor="", title=None, left_o
     -------
     str
     """
-    from ..compare import mds_embedding
-
-    A = check_square(D, "D")
+    A, labels, Y = _overview_inputs(D, names, labels, Y, random_state)
     p = len(A)
-    labels = [str(x) for x in labels]
-    if len(names) != p or len(labels) != p:
-        raise ValueError(f"names and labels need {p} entries (one per row of D)")
-    if Y is None:
-        Y = mds_embedding(A, random_state=random_state)
     rows = class_summary(A, labels)
     head = f"{title}: " if title else ""
     mds = interactive_mds(Y, names, labels, D=A, k=k, outliers="auto",
