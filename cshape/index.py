@@ -27,9 +27,8 @@ class TableLike(Protocol):
     @property
     def N(self) -> int: ...
 
-    def descriptors(self, *args: Any, **kwargs: Any) -> NDArray[Any]: ...
-
-    def usable(self, *args: Any, **kwargs: Any) -> NDArray[np.bool_]: ...
+    def described(self, *args: Any, **kwargs: Any
+                  ) -> tuple[NDArray[Any], NDArray[np.int64]]: ...
 
     def recipe(self, *args: Any, **kwargs: Any) -> dict[str, Any]: ...
 
@@ -130,10 +129,15 @@ class DescriptorIndex:
         """
         recipe: dict[str, Any] = table.recipe(
             None if kind is None else _check_kind(kind), M, N, transform, normalization)
-        X = table.descriptors(**recipe)  # warns about and leaves out what it cannot describe
+        # warns about and leaves out what it cannot describe
+        X, rows = table.described(**recipe, stacklevel=4)
+        if len(X) == 0:
+            raise ValueError(
+                f"kind={recipe['kind']!r} cannot describe any of the {len(table.lam)} shapes "
+                "(see the warning); choose another kind or compute more eigenvalues")
         index = cls(X, algorithm=algorithm, n_jobs=n_jobs)
         index.recipe_ = recipe
-        index.rows_ = np.flatnonzero(table.usable(**recipe))
+        index.rows_ = rows
         return index
 
     def query_spectra(self, lams: ArrayLike, areas: ArrayLike | None = None, k: int = 1, *,

@@ -254,14 +254,35 @@ class DescriptorTable:
             One row per shape that can be described (``q = p`` unless some are left out,
             with a :class:`cshape.CShapeWarning` naming them; :meth:`usable` marks them).
         """
-        recipe = self._recipe(kind, M, N, transform, kwargs)
-        X, bad = descriptor_rows(self.lam, self.areas, zero_modes=self.zero_modes, **recipe)
-        self._warn_left_out(recipe, bad)
+        X, _rows = self.described(kind, M, N, transform=transform, stacklevel=4, **kwargs)
         if len(X) == 0:
+            recipe = self._recipe(kind, M, N, transform, kwargs)
             raise ValueError(
                 f"kind={recipe['kind']!r} cannot describe any of the {len(self)} shapes "
                 "(see the warning); choose another kind or compute more eigenvalues")
         return X
+
+    def described(self, kind=None, M=None, N=None, *, transform=None, warn: bool = True,
+                  stacklevel: int = 3, **kwargs) -> tuple[np.ndarray, np.ndarray]:
+        """The descriptors and the table rows they belong to, computed once.
+
+        Takes the arguments of :meth:`descriptors`; with ``warn`` (default) the rows left out
+        are named in a :class:`cshape.CShapeWarning`.  Unlike :meth:`descriptors`, no row at
+        all is not an error.
+
+        Returns
+        -------
+        X : ndarray, shape (q, d)
+            As :meth:`descriptors`.
+        rows : ndarray of int, shape (q,)
+            The table row of each row of ``X`` (those :meth:`usable` marks).
+        """
+        recipe = self._recipe(kind, M, N, transform, kwargs)
+        X, bad = descriptor_rows(self.lam, self.areas, zero_modes=self.zero_modes, **recipe)
+        if warn:
+            self._warn_left_out(recipe, bad, stacklevel=stacklevel)
+        rows = np.setdiff1d(np.arange(len(self)), np.fromiter(bad, dtype=np.int64))
+        return X, rows
 
     def distance_matrix(self, kind=None, M=None, N=None, *, transform=None,
                         **kwargs) -> np.ndarray:

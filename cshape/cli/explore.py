@@ -263,11 +263,10 @@ def _print_table(table, width=4):
     compares; '-' for a shape it cannot describe)."""
     import numpy as np
 
-    keep = table.usable()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the rows left out are marked below
-        S = table.descriptors() if keep.any() else np.zeros((0, 1))
-    rows = dict(zip(np.flatnonzero(keep).tolist(), S, strict=True))
+    S, kept = table.described(warn=False)  # the rows left out are marked below
+    if len(S) == 0:
+        S = np.zeros((0, 1))
+    rows = dict(zip(kept.tolist(), S, strict=True))
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
     print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {table.describe_recipe()}: "

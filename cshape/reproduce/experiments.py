@@ -190,11 +190,11 @@ def family_descriptors(table: DescriptorTable, family, M, N=100) -> np.ndarray:
 def _every_row(table, kind, **kw):
     """``table.descriptors(kind, ...)``, or a ValueError if it cannot describe every shape
     (the measures need every shape)."""
-    ok = table.usable(kind, **kw)
-    if not ok.all():
-        bad = [table.names[i] for i in np.flatnonzero(~ok)]
+    X, rows = table.described(kind, warn=False, **kw)
+    if len(rows) < len(table):
+        bad = [table.names[i] for i in np.setdiff1d(np.arange(len(table)), rows)]
         raise ValueError(f"{kind!r} cannot describe {len(bad)} shapes: {', '.join(bad[:5])}")
-    return table.descriptors(kind, **kw)
+    return X
 
 
 def _retrieval_specs(Ms, N):
