@@ -156,6 +156,7 @@ class _TimedFactor:
     def __init__(self, factor, clock):
         self._factor, self._clock = factor, clock
         self.name, self.rhs_order = factor.name, factor.rhs_order
+        self.inertia = getattr(factor, "inertia", None)
 
     def solve(self, X):
         t = time.perf_counter()

@@ -102,8 +102,12 @@ def _cholmod_library():
     return lib
 
 
-def _start(lib):
+def _start(lib, simplicial=False):
     """A ``cholmod_common`` set to always factorise ``L L^T`` (supernodal) and to print nothing.
+
+    With ``simplicial=True`` it is set to factorise ``L D L^T`` (simplicial, CHOLMOD's
+    default final form), which also exists for a symmetric *indefinite* matrix whose
+    leading blocks are all invertible (CHOLMOD does not pivot).
 
     ``cholmod_common`` is a large structure whose layout depends on the CHOLMOD version; its
     first fields are checked against CHOLMOD's documented defaults before two of them are
@@ -121,7 +125,7 @@ def _start(lib):
             and np.array_equal(relax, [0.8, 0.1, 0.05]) and flags[36] == 3):
         lib.cholmod_finish(common)
         raise OSError("unknown cholmod_common layout (CHOLMOD version)")
-    flags[12] = 2  # supernodal = CHOLMOD_SUPERNODAL (offset 48)
+    flags[12] = 0 if simplicial else 2  # supernodal = CHOLMOD_SIMPLICIAL / _SUPERNODAL
     flags[36] = 0  # print = 0 (offset 144)
     return common
 
@@ -137,12 +141,18 @@ def _release(lib, common, factor, dense):
 
 
 class _CholmodFactor:
-    """CHOLMOD's factorisation of a symmetric positive definite matrix, through ctypes."""
+    """CHOLMOD's factorisation of a symmetric matrix, through ctypes.
+
+    Positive definite: supernodal ``L L^T``.  ``indefinite=True``: simplicial ``L D L^T``
+    without pivoting, and :attr:`inertia`, the number of negative entries of ``D``, which by
+    Sylvester's law of inertia is the number of negative eigenvalues of the matrix.
+    """
 
     name = "cholmod"
     rhs_order = "F"
+    inertia: int | None = None
 
-    def __init__(self, lib, S):
+    def __init__(self, lib, S, indefinite=False):
         n = S.shape[0]
         # The rows of the upper triangle in CSR are the columns of the lower one in CSC.
         U = sp.triu(S, format="csr")
@@ -153,7 +163,7 @@ class _CholmodFactor:
         A = _Sparse(n, n, U.nnz, ip.ctypes.data, ix.ctypes.data, None, x.ctypes.data, None,
                     -1, 0, _CHOLMOD_REAL, 0, 1, 1)
         self.n, self._lib = n, lib
-        self._common = _start(lib)
+        self._common = _start(lib, simplicial=indefinite)
         self._factor = ctypes.c_void_p(lib.cholmod_analyze(ctypes.byref(A), self._common))
         self._work = [_DENSE_P(), _DENSE_P(), _DENSE_P()]  # X, Y, E of cholmod_solve2
         weakref.finalize(self, _release, lib, self._common, self._factor, self._work)
@@ -162,11 +172,39 @@ class _CholmodFactor:
         lib.cholmod_factorize(ctypes.byref(A), self._factor, self._common)
         # cholmod_factor starts with (size_t n, size_t minor); minor < n: not positive definite
         minor = ctypes.cast(self._factor, ctypes.POINTER(ctypes.c_size_t))[1]
-        if minor < n:
+        if indefinite:
+            if minor < n:
+                raise la.LinAlgError("K - sigma B has a zero pivot at this shift (L D L^T)")
+            self.inertia = self._ldl_inertia()
+        elif minor < n:
             raise la.LinAlgError(
                 f"the shifted matrix K - sigma B is not positive definite (its leading "
                 f"{minor + 1} x {minor + 1} block is not): the shift sigma must lie below "
                 "the smallest eigenvalue")
+
+    def _ldl_inertia(self):
+        """The number of negative entries of ``D`` of a simplicial ``L D L^T``.
+
+        ``cholmod_factor`` (CHOLMOD 3 to 5) starts with ``n, minor, Perm, ColCount, IPerm,
+        nzmax, p, i, x``: column ``j`` of a simplicial factor starts at ``x[p[j]]`` with its
+        diagonal entry, ``D[j]`` for ``L D L^T`` (unit diagonal of ``L`` not stored).
+        ``is_ll`` and ``is_super`` follow at bytes 180 and 184; a layout that does not say
+        "simplicial L D L^T" there raises OSError (the caller then does without).
+        """
+        head = ctypes.cast(self._factor, ctypes.POINTER(ctypes.c_void_p))
+        sizes = ctypes.cast(self._factor, ctypes.POINTER(ctypes.c_size_t))
+        flags = ctypes.cast(self._factor, ctypes.POINTER(ctypes.c_int))
+        is_ll, is_super, xtype = flags[45], flags[46], flags[49]
+        if (is_ll, is_super, xtype) != (0, 0, _CHOLMOD_REAL) or not head[6] or not head[8]:
+            raise OSError("unknown cholmod_factor layout (CHOLMOD version)")
+        n, nzmax = self.n, int(sizes[5])
+        p = np.ctypeslib.as_array(ctypes.cast(head[6], ctypes.POINTER(ctypes.c_int)),
+                                  shape=(n + 1,))
+        x = np.ctypeslib.as_array(ctypes.cast(head[8], ctypes.POINTER(ctypes.c_double)),
+                                  shape=(nzmax,))
+        if p[n] > nzmax or p[0] != 0:
+            raise OSError("unknown cholmod_factor layout (CHOLMOD version)")
+        return int(np.count_nonzero(x[p[:-1]] < 0))
 
     def solve(self, X):
         """``S^{-1} X`` for X of shape (n,) or (n, b); returns a new array of X's shape."""
@@ -281,13 +319,17 @@ def backend():
     return wanted
 
 
-def factorize(S):
+def factorize(S, indefinite=False):
     """Factorise a symmetric positive definite sparse matrix with :func:`backend`.
 
     Parameters
     ----------
     S : scipy.sparse matrix, shape (n, n)
         Symmetric positive definite (both triangles stored).
+    indefinite : bool, default=False
+        ``S`` may be indefinite: factorise ``L D L^T`` (CHOLMOD, simplicial, no pivoting)
+        and count its negative eigenvalues (the factor's ``inertia``).  Only the ``'cholmod'`` backend can: with another one this
+        raises ValueError.
 
     Returns
     -------
@@ -299,8 +341,18 @@ def factorize(S):
     Raises
     ------
     scipy.linalg.LinAlgError
-        If ``S`` is not positive definite (CHOLMOD backend).
+        If ``S`` is not positive definite (CHOLMOD backend), or with ``indefinite=True``
+        has a zero pivot.
+    ValueError
+        With ``indefinite=True`` if the backend is not ``'cholmod'``.
+    OSError
+        With ``indefinite=True`` if the CHOLMOD factor's layout is not the known one.
     """
     S = sp.csr_matrix(S)
     S.sum_duplicates()
-    return _make(backend(), S)
+    name = backend()
+    if indefinite:
+        if name != "cholmod":
+            raise ValueError(f"the {name!r} backend has no indefinite factorisation")
+        return _CholmodFactor(_cholmod_library(), S, indefinite=True)
+    return _make(name, S)
