@@ -1,0 +1,253 @@
+"""The eigensolver with its shift inside the spectrum, and the split solves of big meshes.
+
+Known answers: Sylvester's inertia against dense LAPACK's eigenvalue counts, the inside
+path against dense LAPACK (every icosahedral copy) and against a tight one-sided
+reference on real meshes; properties: each fallback gives the same eigenvalues, split
+solves give the same bits, one and two threads agree to a stated tolerance.  No
+timings here: benchmarks/bench_sweep.py measures the speed.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+import scipy.linalg as la
+
+import cshape
+from cshape import _cholmod, shapes, spectrum
+
+
+def _KB(mesh):
+    A, B = cshape.fem_matrices(mesh)
+    return (-A).tocsr(), B.tocsr()
+
+
+@pytest.fixture
+def sparse_path(monkeypatch):
+    monkeypatch.setattr(spectrum, "DENSE_LIMIT", 0)
+
+
+@pytest.fixture
+def spy(monkeypatch):
+    """Record the shifts the eigensolver factorises and whether the inside path answered."""
+    seen = {"indefinite": [], "definite": 0, "inside": []}
+    factorize, inside = _cholmod.factorize, spectrum._solve_inside
+
+    def fact(S, indefinite=False):
+        f = factorize(S, indefinite=indefinite)
+        if indefinite:
+            seen["indefinite"].append(f.inertia)
+        else:
+            seen["definite"] += 1
+        return f
+
+    def ins(*args, **kwargs):
+        out = inside(*args, **kwargs)
+        seen["inside"].append(out is not None)
+        return out
+
+    monkeypatch.setattr(_cholmod, "factorize", fact)
+    monkeypatch.setattr(spectrum, "_solve_inside", ins)
+    return seen
+
+
+@pytest.fixture(scope="module")
+def ico3():
+    mesh = shapes.icosphere(3)  # 642 vertices, icosahedral multiplets 1, 3, 4, 5
+    K, B = _KB(mesh)
+    return mesh, K, B, la.eigh(K.toarray(), B.toarray(), eigvals_only=True)
+
+
+def test_inertia_of_the_indefinite_factor_counts_the_eigenvalues_below_the_shift(ico3):
+    _, K, B, lam = ico3
+    mids = 0.5 * (lam[1:] + lam[:-1])
+    for k in (1, 9, 40, 100, 250):
+        sigma = mids[k - 1]  # between lam_{k-1} and lam_k: exactly k eigenvalues below
+        S = spectrum._shifted(K, B, sigma, same=True)
+        f = _cholmod.factorize(S, indefinite=True)
+        assert f.inertia == k
+        X = np.asfortranarray(np.random.default_rng(0).standard_normal((K.shape[0], 3)))
+        np.testing.assert_allclose(S @ f.solve(X), X, atol=1e-8)
+    assert _cholmod.factorize(K + B, indefinite=True).inertia == 0  # positive definite
+
+
+def test_refined_solve_is_at_least_as_accurate(ico3):
+    _, K, B, lam = ico3
+    S = spectrum._shifted(K, B, 0.5 * (lam[60] + lam[61]), same=True)
+    f = _cholmod.factorize(S, indefinite=True)
+    X = np.asfortranarray(np.random.default_rng(2).standard_normal((K.shape[0], 4)))
+    plain = np.abs(S @ f.solve(X) - X).max()
+    refined = np.abs(S @ spectrum._refined_solve(S, f, X) - X).max()
+    assert refined <= plain
+
+
+@pytest.mark.parametrize("N", [10, 30, 100, 150])
+def test_inside_path_finds_every_icosahedral_copy(sparse_path, spy, ico3, N):
+    mesh, K, B, ref = ico3
+    lam = cshape.shape_dna(mesh, N=N)
+    assert spy["inside"] == [True] and spy["definite"] == 0
+    p = spy["indefinite"][-1]
+    assert 0 < p < N  # the shift lies inside the wanted part of the spectrum
+    np.testing.assert_allclose(lam[1:], ref[1:N], rtol=1e-9)
+    assert lam[0] == 0.0
+
+
+def test_inside_path_eigenvectors_are_b_orthonormal_eigenvectors(sparse_path, spy, ico3):
+    mesh, K, B, ref = ico3
+    lam, phi = cshape.eigenpairs(mesh, N=60)
+    assert spy["inside"] == [True]
+    np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(60), atol=1e-10)
+    resid = K @ phi - (B @ phi) * lam
+    assert np.abs(resid).max() < 1e-7 * lam.max()
+    np.testing.assert_allclose(lam[1:], ref[1:60], rtol=1e-9)
+
+
+def test_a_shift_with_a_large_backward_error_is_replaced(sparse_path, spy, ico3,
+                                                         monkeypatch):
+    mesh, K, B, ref = ico3
+    calls = []
+    backward = spectrum._backward_error
+
+    def first_bad(S, factor):
+        calls.append(factor.inertia)
+        return 1.0 if len(calls) == 1 else backward(S, factor)
+
+    monkeypatch.setattr(spectrum, "_backward_error", first_bad)
+    lam = cshape.shape_dna(mesh, N=100)
+    assert len(calls) == 2 and spy["inside"] == [True]  # the second shift of INSIDE_SHIFTS
+    np.testing.assert_allclose(lam[1:], ref[1:100], rtol=1e-9)
+
+
+@pytest.mark.parametrize("why", ["backward error", "shift too high", "no LDL^T backend"])
+def test_without_a_usable_inside_shift_the_shift_goes_below(sparse_path, spy, ico3,
+                                                            monkeypatch, why):
+    mesh, K, B, ref = ico3
+    if why == "backward error":
+        monkeypatch.setattr(spectrum, "INSIDE_BACKWARD_MAX", 0.0)
+    elif why == "shift too high":
+        monkeypatch.setattr(spectrum, "INSIDE_SHIFTS", (3.0,))  # N or more below it
+    else:
+        monkeypatch.setenv("CSHAPE_CHOLESKY", "cholespy")
+    lam = cshape.shape_dna(mesh, N=100)
+    assert spy["inside"] == [False] and spy["definite"] == 1
+    if why == "shift too high":
+        assert spy["indefinite"] and min(spy["indefinite"]) >= 100
+    np.testing.assert_allclose(lam[1:], ref[1:100], rtol=1e-9)
+
+
+def test_a_given_shift_and_big_meshes_keep_the_shift_below(sparse_path, spy, ico3,
+                                                         monkeypatch):
+    mesh, K, B, ref = ico3
+    A = -K
+    lam = spectrum.solve_eigenproblem(A, B, 50, return_vectors=False, sigma=-1.0)
+    assert spy["inside"] == [] and spy["definite"] == 1
+    monkeypatch.setattr(spectrum, "INSIDE_LIMIT", 500)
+    lam2 = spectrum.solve_eigenproblem(A, B, 50, return_vectors=False)
+    assert spy["inside"] == [] and spy["definite"] == 2
+    np.testing.assert_allclose(lam[1:], ref[1:50], rtol=1e-9)
+    np.testing.assert_allclose(lam2[1:], ref[1:50], rtol=1e-9)
+
+
+def test_residual_tolerance_is_tighter_only_far_below_an_inside_shift():
+    B = np.eye(3)  # area 3: eigenvalue spacing s = 4 pi / 3
+    assert spectrum._pair_tolerance(B, 100, -1.0, None)(np.array([1.0])) == 1.0
+    sigma = 0.65 * 4 * np.pi * 100 / 3
+    f = spectrum._pair_tolerance(B, 100, sigma, 60)
+    lam = np.array([0.0, 4 * np.pi / 3, 0.3 * sigma, 0.9 * sigma, 1.1 * sigma, 1.5 * sigma])
+    factors = f(1.0 / (lam - sigma))
+    assert np.all((factors > 0) & (factors <= 1.0))
+    assert np.all(np.diff(factors[:4]) >= 0)  # looser towards the shift
+    assert factors[0] < 0.2 and factors[3] == factors[4] == 1.0
+
+
+def test_first_look_at_the_projected_problem_comes_earlier_with_an_inside_shift():
+    for N in (20, 100, 200):
+        inside = spectrum._first_check(N, 8, 5000, inside=True)
+        assert N <= inside <= spectrum._first_check(N, 8, 5000)
+    assert spectrum._first_check(1, 8, 5000, inside=True) >= 1
+    # near the end an inside shift converges a pair per 1.2 dimensions, not 2.5
+    assert spectrum._next_check(232, 13, 8, inside=True) == 248
+    assert spectrum._next_check(232, 13, 8) == 272
+
+
+def test_split_solves_agree_with_one_solve_and_are_deterministic():
+    K, B = _KB(shapes.icosphere(4))
+    X = np.asfortranarray(np.random.default_rng(1).standard_normal((K.shape[0], 16)))
+    f = _cholmod.factorize(K + B)
+    one = f.solve(X)
+    for parts in (2, 3):
+        split = f.solve_split(X, parts)
+        np.testing.assert_allclose(split, one, rtol=0, atol=1e-12 * np.abs(one).max())
+        np.testing.assert_array_equal(f.solve_split(X, parts), split)
+    np.testing.assert_array_equal(f.solve_split(X[:, :3], 2), f.solve(X[:, :3]))  # too few
+
+
+def test_one_and_two_threads_agree_on_a_big_mesh_to_rounding(monkeypatch):
+    # from THREADS_MIN_UNKNOWNS unknowns two threads take blocks of 16 solved as two
+    # halves at once: another Krylov space, so equal eigenvalues up to rounding (1e-10)
+    monkeypatch.setattr(spectrum, "THREADS_MIN_UNKNOWNS", 2000)
+    monkeypatch.setattr(spectrum, "INSIDE_LIMIT", 0)
+    mesh = shapes.icosphere(4)
+    sizes = []
+    block = spectrum._block_lanczos
+
+    def spy_block(*args, **kwargs):
+        sizes.append(kwargs.get("block_size"))
+        return block(*args, **kwargs)
+
+    monkeypatch.setattr(spectrum, "_block_lanczos", spy_block)
+    runs = {}
+    for t in ("1", "2"):
+        monkeypatch.setenv("CSHAPE_THREADS", t)
+        runs[t] = cshape.shape_dna(mesh, N=100)
+    assert sizes == [spectrum.BLOCK_SIZE, spectrum.BLOCK_SIZE_THREADED]
+    np.testing.assert_allclose(runs["2"][1:], runs["1"][1:], rtol=1e-10)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("N", [20, 100, 200])
+def test_inside_path_matches_a_tight_reference_on_real_meshes(shared_meshes, N):
+    # The accuracy contract of the default path on real meshes: every eigenvalue within
+    # 1e-9 relative of the one-sided method run to a 1e-10 residual (dense LAPACK is no
+    # tight reference for the smallest eigenvalues: off by up to 5e-11 on penguin).
+    worst = 0.0
+    for name in ("goathead/goathead.obj", "penguin/penguin.obj", "sword/sword.obj",
+                 "wingnut/wingnut.obj", "fish/fish.obj"):
+        path = shared_meshes / name
+        if not path.exists():
+            pytest.skip(f"{path} not found")
+        mesh = cshape.load_mesh(path)
+        K, B = _KB(mesh)
+        s0 = spectrum._default_sigma(B, N)
+        op = spectrum._CholeskyOperator(K - s0 * B)
+        ref, _ = spectrum._block_lanczos(K, B, N, op.matmat, s0, tol=1e-10,
+                                         return_vectors=False, rhs_order=op.rhs_order)
+        ref = np.sort(ref)
+        lam = cshape.shape_dna(mesh, N=N)
+        scale = np.where(ref > 1e-9 * ref.max(), ref, ref.max())
+        worst = max(worst, float((np.abs(lam - ref) / scale).max()))
+    assert worst < 1e-9
+
+
+def test_refine_argument_is_partial_of_the_refined_solve():
+    # _solve_inside hands _block_lanczos an accurate solve for the last Rayleigh-Ritz step
+    K, B = _KB(shapes.icosphere(2))
+    S = spectrum._shifted(K, B, 5.0, same=True)
+    f = _cholmod.factorize(S, indefinite=True)
+    refine = functools.partial(spectrum._refined_solve, S, f)
+    X = np.asfortranarray(np.eye(K.shape[0])[:, :4])
+    np.testing.assert_allclose(S @ refine(X), X, atol=1e-12)
+
+
+def test_a_solve_result_is_not_overwritten_by_the_next_solve():
+    # CHOLMOD reuses its output buffer: every solve must return a copy, one column too
+    K, B = _KB(shapes.icosphere(2))
+    f = _cholmod.factorize(K + B)
+    x = np.ones(K.shape[0])
+    for X in (x, x[:, None], np.asfortranarray(np.stack([x, 2 * x], axis=1))):
+        first = f.solve(X)
+        kept = first.copy()
+        f.solve(5.0 * X)
+        np.testing.assert_array_equal(first, kept)
