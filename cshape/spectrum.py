@@ -115,18 +115,23 @@ __all__ = ["eigenpairs", "estimate_seconds", "shape_dna", "solve_eigenproblem",
 DENSE_LIMIT = 700
 
 #: Problems with at most this many unknowns put the shift inside the spectrum
-#: (:func:`_solve_inside`): below it the indefinite factorisation costs about as much as
-#: the positive definite one and a third of the Krylov space is saved; at 163,842
-#: unknowns it takes 4.7 s against 0.44 s (no supernodes).
-INSIDE_LIMIT = 60_000
+#: (:func:`_solve_inside`).  Its factorisation is simplicial (CHOLMOD has no supernodal
+#: ``L D L^T``) and grows faster with the size than the supernodal ``L L^T`` of the shift
+#: below: CPU time of the shift below over the inside shift (one thread, N = 100), 1.2-1.6
+#: at 1K-3K unknowns, 1.1-1.4 at 8K-13K (real meshes, icosphere, torus), 1.15-1.19 on the
+#: 22K real meshes but 0.89 on a 22K torus and 0.92 at 30K; at 41K 0.6, at 163,842
+#: unknowns the factorisation alone takes 4.7 s against 0.44 s.
+INSIDE_LIMIT = 25_000
 
 #: Inside shifts tried in turn, as fractions of Weyl's estimate ``4 pi N / area`` of
 #: ``lam_N`` (fewest Krylov dimensions at 0.6-0.7 on five meshes, N = 20, 50, 100, 200).
 INSIDE_SHIFTS = (0.65, 0.6, 0.7)
 
 #: Largest componentwise backward error of the indefinite factorisation's solve for which
-#: an inside shift is used (:func:`_backward_error`).
-INSIDE_BACKWARD_MAX = 1e-11
+#: an inside shift is used (:func:`_backward_error`).  Measured: eigenvalues within 6e-11
+#: of a tight reference up to 5e-11 (with the refined smallest eigenvalues and their
+#: tighter tolerance), 2e-9 without those at 1e-11.
+INSIDE_BACKWARD_MAX = 1e-10
 
 #: An eigensolve estimated (:func:`estimate_seconds`) to take longer warns before it starts.
 LONG_SOLVE_SECONDS = 60.0
@@ -891,11 +896,16 @@ def _solve_inside(K, B, N, same, return_vectors):
     negative Ritz values have converged, so no copy of an eigenvalue below the shift can
     be missed.
 
-    Without pivoting the factorisation can lose accuracy (element growth at a nearly
-    singular leading block; eigenvalues then off by up to 7e-9 relative, measured).  A
-    shift is used only if the backward error of a solve is at most
-    :data:`INSIDE_BACKWARD_MAX` (eigenvalues within 1e-10 of a tight reference there,
-    measured on real meshes); the next shift of :data:`INSIDE_SHIFTS` is tried otherwise.
+    Accuracy.  ``lam = sigma + 1/theta`` turns a relative error of ``theta`` into one about
+    ``sigma / lam`` times larger for the smallest eigenvalues, and the factorisation does
+    not pivot (element growth at a nearly singular leading block; plain, the eigenvalues
+    were off by up to 7e-9 relative, measured).  Three measures: a shift is used only if
+    the backward error of a solve is at most :data:`INSIDE_BACKWARD_MAX` (else the next
+    of :data:`INSIDE_SHIFTS`); the residual tolerance of the pairs far below the shift is
+    tightened (:func:`_pair_tolerance`); the ``b`` smallest eigenvalues get a last
+    Rayleigh-Ritz step with a refined solve (:func:`_refined_solve`).  Measured against
+    the shift below run to a 1e-10 residual on 15 meshes, N = 20, 50, 100, 200: within
+    4e-12 relative.
 
     Returns None (the caller takes the shift below the spectrum) if the backend has no
     indefinite factorisation, if no shift passes (or ``N`` or more eigenvalues lie below
