@@ -195,7 +195,7 @@ def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
     monkeypatch.setattr(sw, "RESULTS", tmp_path)
     monkeypatch.setitem(sw.SIZES, "tiny", ("torus", 40, 20))  # 800 vertices: sparse path
     r = sw.compare(sw.make_mesh("tiny"), 20, repeats=1, threads=(1, 2))
-    assert r["n"] == 800 and r["maxrel"] < 1e-8 and r["same_bits"]
+    assert r["n"] == 800 and r["maxrel"] < 1e-8 and r["same_bits"] and r["threads_maxrel"] < 1e-10
     assert set(r["cshape"]) == {1, 2} and r["lapy"] > r["lapy_assembly"] > 0
     st = r["stages"]
     assert all(st[k] > 0 for k in ("prepare", "factorise", "solves", "rayleigh_ritz"))
