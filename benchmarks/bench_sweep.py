@@ -158,17 +158,17 @@ class _TimedFactor:
         self.name, self.rhs_order = factor.name, factor.rhs_order
         self.inertia = getattr(factor, "inertia", None)
 
-    def solve(self, X):
+    def _timed(self, fn, *args):
         t = time.perf_counter()
-        out = self._factor.solve(X)
+        out = fn(*args)
         self._clock["solves"] += time.perf_counter() - t
         return out
 
+    def solve(self, X):
+        return self._timed(self._factor.solve, X)
+
     def solve_split(self, X, parts=2):
-        t = time.perf_counter()
-        out = self._factor.solve_split(X, parts)
-        self._clock["solves"] += time.perf_counter() - t
-        return out
+        return self._timed(self._factor.solve_split, X, parts)
 
 
 @contextlib.contextmanager

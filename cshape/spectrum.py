@@ -863,11 +863,7 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
             return out
     if sigma is None:
         sigma = _default_sigma(B, N)
-    if same:  # S = K - sigma B on the shared pattern, without a sparse addition
-        op = _CholeskyOperator(sp.csr_matrix((K.data - sigma * B.data, K.indices, K.indptr),
-                                             shape=K.shape))
-    else:
-        op = _CholeskyOperator(K - sigma * B)
+    op = _CholeskyOperator(_shifted(K, B, sigma, same))
     threads = solver_threads(k)
     solve, b = op.matmat, BLOCK_SIZE
     if threads >= 2 and k >= THREADS_MIN_UNKNOWNS:
