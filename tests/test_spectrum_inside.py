@@ -177,6 +177,10 @@ def test_first_look_at_the_projected_problem_comes_earlier_with_an_inside_shift(
     # near the end an inside shift converges a pair per 1.2 dimensions, not 2.5
     assert spectrum._next_check(232, 13, 8, inside=True) == 248
     assert spectrum._next_check(232, 13, 8) == 272
+    # big problems look at every step after the first look (a look costs little there)
+    big = spectrum.CHECK_EVERY_STEP_UNKNOWNS
+    assert spectrum._next_check(416, 8, 16, n=big) == 432
+    assert spectrum._next_check(416, 8, 16, n=big - 1) == 448
 
 
 def test_split_solves_agree_with_one_solve_and_are_deterministic():
