@@ -329,7 +329,10 @@ class _RowSplit:
         parts = ROW_PARTS if n >= THREADS_MIN_UNKNOWNS else 1
         edges = np.linspace(0, n, parts + 1).astype(int)
         self.ranges = list(zip(edges[:-1], edges[1:], strict=True))
-        self.B_rows = [B[a:b] for a, b in self.ranges] if parts > 1 else [B]
+        # row ranges of B in CSC: the same sums in the same order (same bits) as CSR, but
+        # faster for blocks of vectors (163,842 unknowns, 16 columns, two threads: 5.2-6.5
+        # ms against 7.0-7.8 ms)
+        self.B_rows = [B[a:b].tocsc() for a, b in self.ranges] if parts > 1 else [B]
         self.single = parts == 1  # one range: the plain products, without dispatch
         self.pool = None
         if threads > 1 and parts > 1:
