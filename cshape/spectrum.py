@@ -799,7 +799,7 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         next_check = max(next_check, _next_check(m, N - nconv, b, negatives is not None, n))
     else:
         raise _NoConvergence(f"no convergence within a Krylov dimension of {nblocks * b}")
-    if negatives and refine is not None:
+    if negatives and refine is not None and not return_vectors:
         # The smallest eigenvalues lie farthest below an inside shift: lam = sigma + 1/theta
         # turns a relative error of theta into one about sigma/lam times larger.  Their
         # block of Ritz vectors gets a Rayleigh-Ritz step with the solve made accurate by
