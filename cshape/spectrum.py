@@ -21,8 +21,11 @@ of one sparse Cholesky factorisation:
    alone keeps the basis orthogonal; in floating point orthogonality is lost gradually
    along the converged Ritz vectors.  The pass over the older blocks therefore runs only
    every one to few steps: its coefficients measure the loss accumulated since the previous
-   pass, and the interval adapts to keep it below 1e-8, under ``sqrt(eps)``
-   (semi-orthogonality, which keeps the Ritz values accurate to rounding; Simon 1984).
+   pass, and the interval adapts to keep it below 1e-7 (a pass at every step once it is
+   exceeded).  Semi-orthogonality, a loss under ``sqrt(eps) ~ 1.5e-8``, keeps the Ritz
+   values accurate to rounding (Simon 1984); 1e-7 is a measured choice a little above it:
+   the same eigenvalues within 1e-10 relative of a tight reference on 15 meshes, N = 20,
+   100 and 200, for up to a third fewer passes.
    **Shift inside the spectrum** (at most :data:`INSIDE_LIMIT` unknowns, the default
    shift): ``sigma = 0.65 * 4 pi N / area`` instead, near the middle of the wanted
    eigenvalues, and ``S`` is factorised as ``L D L^T`` (CHOLMOD, simplicial, no
@@ -163,10 +166,11 @@ RESIDUAL_TOL = 1e-6
 #: Largest loss of B-orthogonality (``|V_i^T B q|`` for a new Lanczos vector ``q`` against
 #: the older basis) tolerated between two full re-orthogonalisation passes.
 _OMEGA_MAX = 1e-7
-# Measured on 15 meshes (N = 100) against a reference run at 1e-9 with the shift below:
-# 1e-8 and 1e-7 both within 5e-11; 1e-7 takes 16 instead of 25 full passes on fish.obj,
-# 14 instead of 18-24 on five others (an inside shift close to an eigenvalue loses
-# orthogonality fastest).  At 3e-7 the error grew to 2.6e-10 on an icosphere.
+# Measured on 15 meshes against a reference run at 1e-9 with the shift below: 1e-8 and
+# 1e-7 both within 5e-11 for N = 100 (1e-7: within 9.3e-11 for N = 20, 100, 200); 1e-7
+# takes 16 instead of 25 full passes on fish.obj and 14 instead of 17-24 on five other
+# meshes (an inside shift close to an eigenvalue loses orthogonality fastest): 5-15 %
+# less time there.  At 3e-7 the error grew to 2.6e-10 on a 10K-vertex icosphere.
 
 
 @functools.cache
@@ -692,6 +696,23 @@ def _pair_tolerance(B, N, sigma, negatives):
     return factor
 
 
+def _next_skip(skip, omega):
+    """Local-only Lanczos steps before the next full re-orthogonalisation pass.
+
+    ``omega`` is the loss of orthogonality the last pass measured after ``skip`` such
+    steps.  Above :data:`_OMEGA_MAX` the passes run at every step until it is back under
+    the bound: the loss spreads from the blocks that carry it to every new one (with one
+    step fewer at a time instead, it grew to 2e-5 on a 10K-vertex icosphere).  Far below
+    it (1e-3 of it; the loss grows by about 100-700x a step) one more step is allowed,
+    at most 4.
+    """
+    if omega > _OMEGA_MAX:
+        return 0
+    if omega < 1e-3 * _OMEGA_MAX:
+        return min(skip + 1, 4)
+    return skip
+
+
 def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, seed,
                   return_vectors, negatives=None, refine=None):
     """The iteration of :func:`_block_lanczos` (its arguments, checked and allocated)."""
@@ -708,8 +729,8 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
     # converged Ritz vectors, about 100x per step here).  The pass over the older blocks
     # runs after every ``skip`` local-only steps; its coefficients measure the loss
     # ``omega`` accumulated since the last pass, and ``skip`` adapts so that omega stays
-    # below _OMEGA_MAX, below sqrt(eps) (semi-orthogonality keeps the Ritz values accurate
-    # to rounding, Simon 1984).
+    # below _OMEGA_MAX (near sqrt(eps): semi-orthogonality keeps the Ritz values accurate
+    # to rounding, Simon 1984; see _OMEGA_MAX for the measured choice).
     skip, since = 0, 0
     next_check = _first_check(N, b, n, inside=negatives is not None)
     pair_tol = _pair_tolerance(B, N, sigma, negatives)
@@ -760,13 +781,7 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
             segment = m
         elif omega is not None:  # adapt the re-orthogonalisation interval
             omega /= max(float(np.abs(np.diag(R)).min()), 1e-300)
-            if omega > _OMEGA_MAX:
-                # a pass at every step until the loss is back under the bound: it spreads
-                # from the blocks that carry it to every new one (with one step fewer at
-                # a time the loss grew to 2e-5 on a 10K-vertex icosphere)
-                skip = 0
-            elif omega < 1e-3 * _OMEGA_MAX:
-                skip = min(skip + 1, 4)
+            skip = _next_skip(skip, omega)
         split.copy_into(V[:, m : m + b], Q)
         BVprev, BVcur = BVcur, BQ
         # diagonal block (symmetrised) and sub-diagonal block R into the band

@@ -231,3 +231,17 @@ def test_signature_retrieval_bench_descriptors_are_scale_invariant():
     rows = br.score(descs, ["sphere", "sphere", "torus", "torus"])
     assert all(r["nn"] == 1.0 and r["map"] == 1.0 for r in rows)
     assert br.markdown(rows, "tiny", 4, 2, "h", "f").count("\n| ") == 4
+
+
+def test_revisions_bench_compares_two_trees_in_alternating_children(tmp_path, monkeypatch):
+    br = _load("bench_revisions")
+    monkeypatch.setattr(br, "RESULTS", tmp_path)
+    root = str(BENCH.parent)
+    assert br.main(["--old", root, "--new", root, "--sizes", "1k", "--no-real", "-N", "10",
+                    "--rounds", "2", "--repeats", "1", "--out", "t"]) == 0
+    text = (tmp_path / "t.md").read_text()
+    row = [line for line in text.splitlines() if line.startswith("| 1k | 1,000 |")]
+    assert len(row) == 1 and row[0].endswith("| 0.0e+00 |")  # the same tree: the same bits
+    with pytest.raises(SystemExit) as err:  # not a source tree: argparse's exit status 2
+        br.main(["--old", str(tmp_path), "--sizes", "1k", "--no-real"])
+    assert err.value.code == 2

@@ -295,3 +295,14 @@ def test_icosphere_2562_default_path_matches_dense_lapack_to_1e9():
     lam = cshape.shape_dna(mesh, N=100)
     assert lam[0] == 0.0
     np.testing.assert_allclose(lam[1:], ref[1:], rtol=1e-9)
+
+
+def test_a_loss_of_orthogonality_above_the_bound_brings_a_pass_at_every_step():
+    bound = spectrum._OMEGA_MAX
+    assert spectrum._next_skip(3, 2 * bound) == 0  # not 2: the loss spreads
+    assert spectrum._next_skip(0, 0.5 * bound) == 0
+    assert spectrum._next_skip(1, 0.5 * bound) == 1
+    assert spectrum._next_skip(1, 1e-4 * bound) == 2
+    assert spectrum._next_skip(4, 1e-4 * bound) == 4
+    # the bound stays near sqrt(eps), where the Ritz values keep their accuracy
+    assert 1e-9 <= bound <= 1e-7
