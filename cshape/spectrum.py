@@ -63,13 +63,15 @@ matrix products over a basis that is re-orthogonalised only when needed.  See
 Threads.  The factorisation runs on one core.  The solves are bound by reading the factor:
 with two threads on a big mesh (``THREADS_MIN_UNKNOWNS``) the block grows to
 ``BLOCK_SIZE_THREADED = 16`` vectors whose solve runs as two halves of 8 at once, each
-reading the factor once for 8 vectors (the columns' solves are independent).  The products of the Lanczos loop over the basis (``n`` rows) are split, for ``n >= THREADS_MIN_UNKNOWNS``, into
-``ROW_PARTS`` fixed row ranges that threads may compute at once, each with one BLAS thread;
-the partial sums are added in a fixed order, so with a given block size the eigenvalues are
-the same bits with any number of threads (one thread and two differ by the block size: by
-rounding, about 1e-12 relative).  How many is decided by :func:`solver_threads`: the
-environment variable ``CSHAPE_THREADS`` if set, else one in worker processes (``describe(n_jobs=...)``, Dask)
-and for small meshes, else the cores that look free by the load average.
+reading the factor once for 8 vectors (the columns' solves are independent).  The products
+of the Lanczos loop over the basis (``n`` rows) are split, for
+``n >= THREADS_MIN_UNKNOWNS``, into ``ROW_PARTS`` fixed row ranges that threads may compute
+at once, each with one BLAS thread; the partial sums are added in a fixed order, so with a
+given block size the eigenvalues are the same bits with any number of threads (one thread
+and two differ by the block size: by rounding, about 1e-12 relative).  How many is decided
+by :func:`solver_threads`: the environment variable ``CSHAPE_THREADS`` if set, else one in
+worker processes (``describe(n_jobs=...)``, Dask) and for small meshes, else the cores that
+look free by the load average.
 
 Completeness.  Below an inside shift the count is exact: the iteration stops only when all
 ``p`` negative Ritz values (the inertia) have converged.  Above it, as with a shift below
