@@ -235,7 +235,8 @@ class _CholmodFactor:
             weakref.finalize(self, self._pool.shutdown)
         edges = np.linspace(0, X.shape[1], parts + 1).astype(int)
         futures = [self._pool.submit(self._solve, X[:, a:b], *handle)
-                   for (a, b), handle in zip(zip(edges[1:-1], edges[2:]), self._handles)]
+                   for (a, b), handle in zip(zip(edges[1:-1], edges[2:], strict=True),
+                                             self._handles, strict=False)]  # handles >= groups
         first = self._solve(X[:, : edges[1]], self._common, self._work)
         return np.hstack([first] + [f.result() for f in futures])
 
@@ -370,8 +371,8 @@ def factorize(S, indefinite=False):
         Symmetric positive definite (both triangles stored).
     indefinite : bool, default=False
         ``S`` may be indefinite: factorise ``L D L^T`` (CHOLMOD, simplicial, no pivoting)
-        and count its negative eigenvalues (the factor's ``inertia``).  Only the ``'cholmod'`` backend can: with another one this
-        raises ValueError.
+        and count its negative eigenvalues (the factor's ``inertia``).  Only the
+        ``'cholmod'`` backend can: with another one this raises ValueError.
 
     Returns
     -------
