@@ -83,7 +83,8 @@ def run_tree(tree, spec, threads):
     env = dict(os.environ, PYTHONPATH=str(tree))
     if threads:
         env["CSHAPE_THREADS"] = str(threads)
-    proc = subprocess.run([sys.executable, "-c", CHILD, json.dumps(spec)], env=env,
+    # run in the tree: ``python -c`` puts the working folder first on sys.path
+    proc = subprocess.run([sys.executable, "-c", CHILD, json.dumps(spec)], env=env, cwd=tree,
                           capture_output=True, text=True, check=False)
     if proc.returncode != 0:
         raise SystemExit(f"the child for {tree} failed:\n{proc.stderr[-2000:]}")
