@@ -94,6 +94,18 @@ def run_tree(tree, spec, threads):
     return result
 
 
+def describe_tree(tree):
+    """``path (commit abc1234[, with local changes])``, or the path alone outside git."""
+    git = ["git", "-C", str(tree)]
+    head = subprocess.run([*git, "rev-parse", "--short", "HEAD"], capture_output=True,
+                          text=True, check=False)
+    if head.returncode != 0:
+        return f"`{tree}`"
+    dirty = subprocess.run([*git, "status", "--porcelain", "--untracked-files=no"],
+                           capture_output=True, text=True, check=False).stdout.strip()
+    return f"`{tree}` (commit {head.stdout.strip()}{', with local changes' if dirty else ''})"
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--old", required=True, help="source tree of the old revision")
@@ -135,7 +147,8 @@ def main(argv=None):
         print(f"round {r + 1} of {args.rounds} done", flush=True)
     what = "eigenpairs" if args.eigenpairs else "shape_dna"
     lines = [f"# cshape {what}(N={args.N}): two source trees", "", head, "",
-             f"old: `{args.old}`, new: `{args.new}`; {args.rounds} rounds of alternating "
+             f"old: {describe_tree(args.old)}, new: {describe_tree(args.new)}; "
+             f"{args.rounds} rounds of alternating "
              f"child processes, best of {args.repeats} calls per child, BLAS one thread, "
              f"CSHAPE_THREADS={args.threads}; ratio = old / new.", "",
              "| mesh | vertices | old CPU [ms] | new CPU [ms] | CPU old / new | "

@@ -21,11 +21,11 @@ of one sparse Cholesky factorisation:
    alone keeps the basis orthogonal; in floating point orthogonality is lost gradually
    along the converged Ritz vectors.  The pass over the older blocks therefore runs only
    every one to few steps: its coefficients measure the loss accumulated since the previous
-   pass, and the interval adapts to keep it below 1e-7 (a pass at every step once it is
-   exceeded).  Semi-orthogonality, a loss under ``sqrt(eps) ~ 1.5e-8``, keeps the Ritz
-   values accurate to rounding (Simon 1984); 1e-7 is a measured choice a little above it:
-   the same eigenvalues within 1e-10 relative of a tight reference on 15 meshes, N = 20,
-   100 and 200, for up to a third fewer passes.
+   pass, and the interval adapts to keep it below 1e-8 (a pass at every step once it is
+   exceeded), under ``sqrt(eps) ~ 1.5e-8`` (semi-orthogonality, which keeps the Ritz values
+   accurate to rounding; Simon 1984).  With the shift inside the spectrum (below) the bound
+   is 1e-7, a measured choice a little above it: the same eigenvalues within 1e-10 relative
+   of a tight reference on 15 meshes, N = 20, 100 and 200, for up to a third fewer passes.
    **Shift inside the spectrum** (at most :data:`INSIDE_LIMIT` unknowns, the default
    shift): ``sigma = 0.65 * 4 pi N / area`` instead, near the middle of the wanted
    eigenvalues, and ``S`` is factorised as ``L D L^T`` (CHOLMOD, simplicial, no
@@ -166,13 +166,21 @@ MIN_BLOCK_SIZE = 6
 RESIDUAL_TOL = 1e-6
 
 #: Largest loss of B-orthogonality (``|V_i^T B q|`` for a new Lanczos vector ``q`` against
-#: the older basis) tolerated between two full re-orthogonalisation passes.
-_OMEGA_MAX = 1e-7
-# Measured on 15 meshes against a reference run at 1e-9 with the shift below: 1e-8 and
-# 1e-7 both within 5e-11 for N = 100 (1e-7: within 9.3e-11 for N = 20, 100, 200); 1e-7
-# takes 16 instead of 25 full passes on fish.obj and 14 instead of 17-24 on five other
-# meshes (an inside shift close to an eigenvalue loses orthogonality fastest): 5-15 %
-# less time there.  At 3e-7 the error grew to 2.6e-10 on a 10K-vertex icosphere.
+#: the older basis) tolerated between two full re-orthogonalisation passes, with the shift
+#: below the spectrum (:data:`_OMEGA_MAX_INSIDE` with the shift inside it).
+_OMEGA_MAX = 1e-8
+# (1e-9 before session 5: 22 % more full passes on 15 meshes for the same eigenvalues.
+# 1e-7 here put one eigenvalue of penguin.obj, N = 200, 1.7e-9 off, against 3e-15 at 1e-8.)
+
+#: The same bound with the shift inside the spectrum.  Measured on 15 meshes (the 12 real
+#: ones of ``../shared/meshes`` above 700 vertices, icospheres of 2.5K and 10K, a 1K torus)
+#: against the shift below run at 1e-9 to a residual of 1e-10: within 9.3e-11 for N = 20,
+#: 100 and 200, within 2.1e-10 for N = 50, 150 and 300 (the largest: N = 300 on the 1K torus,
+#: 1.2e-13 at 1e-8; the pairs far from the shift get tightened tolerances and the smallest
+#: a refined Rayleigh-Ritz step); 16 instead of 25 full passes on fish.obj, 14 instead of
+#: 17-24 on five other meshes (a shift close to an eigenvalue loses orthogonality fastest),
+#: 5-15 % less time there.  At 3e-7 one icosphere went to 2.6e-10.
+_OMEGA_MAX_INSIDE = 1e-7
 
 
 @functools.cache
@@ -698,19 +706,18 @@ def _pair_tolerance(B, N, sigma, negatives):
     return factor
 
 
-def _next_skip(skip, omega):
+def _next_skip(skip, omega, bound=_OMEGA_MAX):
     """Local-only Lanczos steps before the next full re-orthogonalisation pass.
 
     ``omega`` is the loss of orthogonality the last pass measured after ``skip`` such
-    steps.  Above :data:`_OMEGA_MAX` the passes run at every step until it is back under
-    the bound: the loss spreads from the blocks that carry it to every new one (with one
-    step fewer at a time instead, it grew to 2e-5 on a 10K-vertex icosphere).  Far below
-    it (1e-3 of it; the loss grows by about 100-700x a step) one more step is allowed,
-    at most 4.
+    steps.  Above ``bound`` the passes run at every step until it is back under it: the
+    loss spreads from the blocks that carry it to every new one (with one step fewer at a
+    time instead, it grew to 2e-5 on a 10K-vertex icosphere).  Far below it (1e-3 of it;
+    the loss grows by about 100-700x a step) one more step is allowed, at most 4.
     """
-    if omega > _OMEGA_MAX:
+    if omega > bound:
         return 0
-    if omega < 1e-3 * _OMEGA_MAX:
+    if omega < 1e-3 * bound:
         return min(skip + 1, 4)
     return skip
 
@@ -731,9 +738,11 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
     # converged Ritz vectors, about 100x per step here).  The pass over the older blocks
     # runs after every ``skip`` local-only steps; its coefficients measure the loss
     # ``omega`` accumulated since the last pass, and ``skip`` adapts so that omega stays
-    # below _OMEGA_MAX (near sqrt(eps): semi-orthogonality keeps the Ritz values accurate
-    # to rounding, Simon 1984; see _OMEGA_MAX for the measured choice).
+    # below _OMEGA_MAX, or _OMEGA_MAX_INSIDE with the shift inside the spectrum (near
+    # sqrt(eps): semi-orthogonality keeps the Ritz values accurate to rounding, Simon 1984;
+    # see those constants for the measured choices).
     skip, since = 0, 0
+    omega_max = _OMEGA_MAX if negatives is None else _OMEGA_MAX_INSIDE
     next_check = _first_check(N, b, n, inside=negatives is not None)
     pair_tol = _pair_tolerance(B, N, sigma, negatives)
     segment = 0  # start of the current Krylov sequence (0, or the last breakdown)
@@ -783,7 +792,7 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
             segment = m
         elif omega is not None:  # adapt the re-orthogonalisation interval
             omega /= max(float(np.abs(np.diag(R)).min()), 1e-300)
-            skip = _next_skip(skip, omega)
+            skip = _next_skip(skip, omega, omega_max)
         split.copy_into(V[:, m : m + b], Q)
         BVprev, BVcur = BVcur, BQ
         # diagonal block (symmetrised) and sub-diagonal block R into the band
