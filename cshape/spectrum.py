@@ -24,8 +24,9 @@ of one sparse Cholesky factorisation:
    pass, and the interval adapts to keep it below 1e-8 (a pass at every step once it is
    exceeded), under ``sqrt(eps) ~ 1.5e-8`` (semi-orthogonality, which keeps the Ritz values
    accurate to rounding; Simon 1984).  With the shift inside the spectrum (below) the bound
-   is 1e-7, a measured choice a little above it: the same eigenvalues within 1e-10 relative
-   of a tight reference on 15 meshes, N = 20, 100 and 200, for up to a third fewer passes.
+   is 3e-8, a measured choice a little above it (:data:`_OMEGA_MAX_INSIDE`): the same
+   eigenvalues within 1e-10 relative of a tight reference on 15 meshes for N = 20 to 300,
+   for up to a fifth fewer passes.
    **Shift inside the spectrum** (at most :data:`INSIDE_LIMIT` unknowns, the default
    shift): ``sigma = 0.65 * 4 pi N / area`` instead, near the middle of the wanted
    eigenvalues, and ``S`` is factorised as ``L D L^T`` (CHOLMOD, simplicial, no
@@ -172,15 +173,17 @@ _OMEGA_MAX = 1e-8
 # (1e-9 before session 5: 22 % more full passes on 15 meshes for the same eigenvalues.
 # 1e-7 here put one eigenvalue of penguin.obj, N = 200, 1.7e-9 off, against 3e-15 at 1e-8.)
 
-#: The same bound with the shift inside the spectrum.  Measured on 15 meshes (the 12 real
-#: ones of ``../shared/meshes`` above 700 vertices, icospheres of 2.5K and 10K, a 1K torus)
-#: against the shift below run at 1e-9 to a residual of 1e-10: within 9.3e-11 for N = 20,
-#: 100 and 200, within 2.1e-10 for N = 50, 150 and 300 (the largest: N = 300 on the 1K torus,
-#: 1.2e-13 at 1e-8; the pairs far from the shift get tightened tolerances and the smallest
-#: a refined Rayleigh-Ritz step); 16 instead of 25 full passes on fish.obj, 14 instead of
-#: 17-24 on five other meshes (a shift close to an eigenvalue loses orthogonality fastest),
-#: 5-15 % less time there.  At 3e-7 one icosphere went to 2.6e-10.
-_OMEGA_MAX_INSIDE = 1e-7
+#: The same bound with the shift inside the spectrum, a little above ``sqrt(eps)``.
+#: Measured on 15 meshes (the 12 real ones of ``../shared/meshes`` above 700 vertices,
+#: icospheres of 2.5K and 10K, a 1K torus) against the shift below run at 1e-9 to a
+#: residual of 1e-10, N = 20, 50, 100, 150, 200, 300: within 5.9e-11 up to N = 200 and
+#: 2.1e-10 at N = 300 (penguin.obj; the same at 1e-8).  The pairs far from the shift get
+#: tightened tolerances, the smallest a refined Rayleigh-Ritz step.  Full passes
+#: for N = 100: fish.obj 25 -> 20, wingnut 18 -> 15, penguin 19 -> 17, sword 24 -> 22 (a
+#: shift close to an eigenvalue loses orthogonality fastest).  Higher bounds save more
+#: (1e-7: fish 16 passes) but come near a cliff: on the 1K torus the error was 2e-10 at
+#: 6e-8 (N = 300) and 8.4e-9 at 2e-7 (N = 200), against 1e-12 at 3e-8.
+_OMEGA_MAX_INSIDE = 3e-8
 
 
 @functools.cache
