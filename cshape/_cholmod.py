@@ -231,6 +231,8 @@ class _CholmodFactor:
                 common, work = _start(self._lib), [_DENSE_P(), _DENSE_P(), _DENSE_P()]
                 weakref.finalize(self, _release, self._lib, common, ctypes.c_void_p(), work)
                 self._handles.append((common, work))
+            if self._pool is not None:  # too few workers for this many groups
+                self._pool.shutdown()
             self._pool = ThreadPoolExecutor(parts - 1)
             weakref.finalize(self, self._pool.shutdown)
         edges = np.linspace(0, X.shape[1], parts + 1).astype(int)

@@ -404,8 +404,8 @@ class _RowSplit:
         return out
 
     def bmul(self, X):
-        """``B @ X`` (the rows of a CSR product are independent: same bits)."""
-        if len(self.ranges) == 1:
+        """``B @ X`` (the rows of a sparse product are independent: same bits)."""
+        if self.single:
             return self.B_rows[0] @ X
         out = np.empty((X.shape[0], X.shape[1]))
 
@@ -438,15 +438,14 @@ def _empty_basis(n, m, touch=0):
     the iteration took 0.4-0.8 s of page faults, zeroing them at once 0.07 s.
     """
     nbytes = 8 * n * m
+    V = None
     if nbytes >= 2**26 and hasattr(mmap, "MADV_HUGEPAGE"):
         try:
             buf = mmap.mmap(-1, nbytes, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
             buf.madvise(mmap.MADV_HUGEPAGE)
             V = np.frombuffer(buf, dtype=np.float64).reshape(m, n).T
         except (OSError, ValueError, AttributeError):  # pragma: no cover - no THP
-            V = None
-    else:
-        V = None
+            pass
     if V is None:
         V = np.empty((n, m), order="F")
     if touch:
