@@ -83,6 +83,36 @@ def test_refined_solve_is_at_least_as_accurate(ico3):
     assert refined <= plain
 
 
+def test_refined_solve_from_a_first_guess(ico3):
+    # the refined Rayleigh-Ritz step starts from the Lanczos relation's guess, which is off
+    # by up to about 1e-6 (the coefficients dropped at re-orthogonalisation passes)
+    _, K, B, lam = ico3
+    S = spectrum._shifted(K, B, 0.5 * (lam[60] + lam[61]), same=True)
+    f = _cholmod.factorize(S, indefinite=True)
+    X = np.asfortranarray(np.random.default_rng(3).standard_normal((K.shape[0], 4)))
+    exact = np.linalg.solve(S.toarray(), X)
+    guess = exact * (1.0 + 1e-6 * np.random.default_rng(4).standard_normal(exact.shape))
+    Z = spectrum._refined_solve(S, f, X, guess)
+    assert np.abs(S @ Z - X).max() <= np.abs(S @ f.solve(X) - X).max()  # as a plain solve
+    two_steps = spectrum._refined_solve(S, f, X)
+    assert np.abs(Z - two_steps).max() <= 1e-11 * np.abs(exact).max()
+    assert np.abs(guess - exact).max() > 1e-8 * np.abs(exact).max()  # the guess was off
+
+
+def test_eigenpairs_keep_the_eigenvalues_of_shape_dna(sparse_path, spy, ico3):
+    # the vectors are orthonormalised (Loewdin), the eigenvalues stay those of the
+    # iteration: the same bits as shape_dna's, except the 2 b smallest below the inside
+    # shift (Rayleigh quotients of their vectors instead of a refined Rayleigh-Ritz step)
+    mesh, K, B, ref = ico3
+    lam_dna = cshape.shape_dna(mesh, N=100)
+    lam, phi = cshape.eigenpairs(mesh, N=100)
+    assert spy["inside"] == [True, True]
+    k = 2 * spectrum.BLOCK_SIZE
+    np.testing.assert_array_equal(lam[k:], lam_dna[k:])
+    np.testing.assert_allclose(lam[1:k], ref[1:k], rtol=1e-10)
+    np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(100), atol=1e-12)
+
+
 def test_few_wanted_eigenvalues_keep_the_shift_below(sparse_path, spy, ico3):
     mesh, K, B, ref = ico3
     lam = cshape.shape_dna(mesh, N=spectrum.INSIDE_MIN_N - 1)
