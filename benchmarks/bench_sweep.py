@@ -14,7 +14,10 @@ Three tables, each with the load average, every ratio from runs interleaved in t
 1. **Size sweep** (``--sizes``; unit icospheres of 2.5K-655K vertices, tori of revolution for
    1K and 1M): ``cshape.shape_dna((v, f), N)`` against
    ``lapy.Solver(TriaMesh(v, f), use_cholmod=True).eigs(k=N)`` (LaPy's fastest setting; BLAS
-   limited to one thread for both, see SCALE.md), best of ``--repeats``.  With
+   limited to one thread for both, see SCALE.md), best of ``--repeats``, and the *paired*
+   ratio: the median over the repeats of LaPy's time over cshape's in the same repeat (the
+   two run next to each other and see the same speed of a machine whose speed drifts; the
+   ratio of the bests can pair a fast moment of one with a slow one of the other).  With
    ``--cshape-threads 1,2`` cshape is timed once per value of ``CSHAPE_THREADS``.  Each row
    also splits one further, instrumented cshape run into stages: preparation (checks,
    repair, FEM assembly), factorisation, the block solves, Rayleigh-Ritz (banded and dense
@@ -211,7 +214,10 @@ def compare(mesh, N, repeats=3, vectors=False, threads=(None,)):
     """Best-of-``repeats`` times of cshape (per thread setting) and LaPy, interleaved.
 
     Returns a dict with ``n``, ``cshape`` (thread setting -> seconds), ``lapy``,
-    ``lapy_assembly``, ``maxrel`` (against LaPy), ``stages`` (one instrumented cshape run),
+    ``lapy_assembly``, ``paired`` (thread setting -> the median over the repeats of LaPy's
+    time over cshape's in the same repeat: run next to each other, the two see the same
+    speed of the machine, which drifts by 25-50 % within minutes here), ``maxrel``
+    (against LaPy), ``stages`` (one instrumented cshape run),
     ``load1`` (1-minute load average at the start), ``same_bits`` (the runs of each thread
     setting, and those of all settings from 2 threads on, gave the same eigenvalues bit
     for bit) and ``threads_maxrel`` (the largest relative difference between the
@@ -220,21 +226,27 @@ def compare(mesh, N, repeats=3, vectors=False, threads=(None,)):
     """
     load1 = load_average()[0]
     best = {t: np.inf for t in threads}
+    paired = {t: [] for t in threads}  # LaPy / cshape within each repeat
     lapy_best = lapy_asm = np.inf
     lam = ref = None
     first = {}  # thread setting -> eigenvalues of its first run
     same_bits = True
     for _ in range(repeats):
+        seconds = {}
         for t in threads:
             s, lam_t = run_cshape(mesh, N, vectors, t)
             key = "many" if t is not None and t >= 2 else t
             same_bits = same_bits and np.array_equal(first.setdefault(key, lam_t), lam_t)
             lam = lam_t
             best[t] = min(best[t], s)
+            seconds[t] = s
         s, a, ref = run_lapy(mesh, N)
         if s < lapy_best:
             lapy_best, lapy_asm = s, a
+        for t in threads:
+            paired[t].append(s / seconds[t])
     return {"n": mesh.n_vertices, "cshape": best, "lapy": lapy_best, "lapy_assembly": lapy_asm,
+            "paired": {t: float(np.median(v)) for t, v in paired.items()},
             "maxrel": max_relative_difference(np.sort(lam), np.sort(ref)),
             "stages": stages(mesh, N, vectors, threads[-1]), "load1": load1,
             "same_bits": same_bits,
@@ -303,11 +315,12 @@ def sweep_lines(rows, threads, title):
     """Markdown lines of a sweep / real-mesh table."""
     tcols = " | ".join(f"cshape [s] (threads {_thread_label(t)})" for t in threads)
     rcols = " | ".join(f"LaPy / cshape ({_thread_label(t)})" for t in threads)
+    pcols = " | ".join(f"paired ({_thread_label(t)})" for t in threads)
     lines = [f"### {title}", "",
-             f"| mesh | vertices | {tcols} | LaPy [s] | {rcols} | max rel. diff | load | "
-             "cshape stages: prepare / factorise / solves / Rayleigh-Ritz / rest [s] | "
+             f"| mesh | vertices | {tcols} | LaPy [s] | {rcols} | {pcols} | max rel. diff | "
+             "load | cshape stages: prepare / factorise / solves / Rayleigh-Ritz / rest [s] | "
              "LaPy: assembly / eigs [s] |",
-             "|---|---:|" + "---:|" * (2 * len(threads) + 3) + "---|---|"]
+             "|---|---:|" + "---:|" * (3 * len(threads) + 3) + "---|---|"]
     for label, r in rows:
         st = r["stages"]
         lines.append(
@@ -315,6 +328,7 @@ def sweep_lines(rows, threads, title):
             + " | ".join(f"{r['cshape'][t]:.3f}" for t in threads)
             + f" | {r['lapy']:.3f} | "
             + " | ".join(f"**{r['lapy'] / r['cshape'][t]:.2f}**" for t in threads)
+            + " | " + " | ".join(f"{r['paired'][t]:.2f}" for t in threads)
             + f" | {r['maxrel']:.1e} | {r['load1']:.2f} | "
             + " / ".join(f"{st[k]:.3f}" for k in STAGES)
             + f" | {r['lapy_assembly']:.3f} / {r['lapy'] - r['lapy_assembly']:.3f} |")
@@ -328,10 +342,12 @@ def summary_lines(rows, threads):
         cs = np.array([r["cshape"][t] for _, r in rows])
         lp = np.array([r["lapy"] for _, r in rows])
         ratios = lp / cs
+        paired = np.array([r["paired"][t] for _, r in rows])
         out.append(f"threads {_thread_label(t)}: sum cshape {cs.sum():.2f} s, LaPy "
                    f"{lp.sum():.2f} s, ratio of sums **{lp.sum() / cs.sum():.2f}**; per mesh "
                    f"median **{np.median(ratios):.2f}**, smallest {ratios.min():.2f}, largest "
-                   f"{ratios.max():.2f}")
+                   f"{ratios.max():.2f}; paired per mesh: median {np.median(paired):.2f}, "
+                   f"smallest {paired.min():.2f}")
     return out
 
 
@@ -402,6 +418,7 @@ def main(argv=None):
               + " ".join(f"{r['cshape'][t]:8.3f}" for t in threads)
               + f" {r['lapy']:8.3f} "
               + " ".join(f"{r['lapy'] / r['cshape'][t]:6.2f}" for t in threads)
+              + " (paired " + " ".join(f"{r['paired'][t]:.2f}" for t in threads) + ")"
               + f" {r['maxrel']:8.1e} {r['load1']:5.2f}  "
               + "/".join(f"{st[k]:.3f}" for k in STAGES), flush=True)
 

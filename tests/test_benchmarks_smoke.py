@@ -197,6 +197,9 @@ def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
     r = sw.compare(sw.make_mesh("tiny"), 20, repeats=1, threads=(1, 2))
     assert r["n"] == 800 and r["maxrel"] < 1e-8 and r["same_bits"] and r["threads_maxrel"] < 1e-10
     assert set(r["cshape"]) == {1, 2} and r["lapy"] > r["lapy_assembly"] > 0
+    # one repeat: the paired ratio is that repeat's, the ratio of the bests
+    assert set(r["paired"]) == {1, 2}
+    assert all(r["paired"][t] == pytest.approx(r["lapy"] / r["cshape"][t]) for t in (1, 2))
     st = r["stages"]
     assert all(st[k] > 0 for k in ("prepare", "factorise", "solves", "rayleigh_ritz"))
     assert sum(st[k] for k in sw.STAGES) == pytest.approx(st["total"])
