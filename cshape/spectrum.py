@@ -841,25 +841,26 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         next_check = max(next_check, _next_check(m, N - nconv, b, negatives is not None, n))
     else:
         raise _NoConvergence(f"no convergence within a Krylov dimension of {nblocks * b}")
+    # the 2 b smallest eigenvalues below an inside shift: theta[:p] is ascending, lam_0 is
+    # theta[p - 1]
+    smallest = slice(negatives - min(2 * b, negatives), negatives) if negatives else None
     if negatives and refine is not None and not return_vectors:
         # The smallest eigenvalues lie farthest below an inside shift: lam = sigma + 1/theta
         # turns a relative error of theta into one about sigma/lam times larger.  Their
         # block of Ritz vectors gets a Rayleigh-Ritz step with the solve made accurate by
         # refinement (errors of the Ritz vectors enter it squared).  With eigenvectors the
         # Rayleigh quotients of the orthonormalised vectors below take their place.
-        k = min(2 * b, negatives)
-        sub = slice(negatives - k, negatives)  # theta[:p] ascending: lam_0 is theta[p-1]
-        X = split.times(V[:, :m], np.ascontiguousarray(Y[:, sub]), "F")
+        X = split.times(V[:, :m], np.ascontiguousarray(Y[:, smallest]), "F")
         BX = np.asfortranarray(B @ X)
         # The Lanczos relation gives OP X = X diag(theta) + V_{m+1} R Y_m up to the
         # coefficients dropped at the re-orthogonalisation passes (the loss of
         # orthogonality): a first guess of S^{-1} B X, measured within 2e-12 to 9e-7 of it
         # on 14 meshes, that one step of refinement makes as accurate as two steps from a
         # plain solve (to 1e-14), one solve fewer.
-        Z0 = X * theta[sub] + _times(V[:, m:m + b], R @ Y[m0:m, sub])
+        Z0 = X * theta[smallest] + _times(V[:, m:m + b], R @ Y[m0:m, smallest])
         G = BX.T @ refine(BX, Z0)
         M = X.T @ BX
-        theta[sub] = la.eigh(0.5 * (G + G.T), 0.5 * (M + M.T), eigvals_only=True)
+        theta[smallest] = la.eigh(0.5 * (G + G.T), 0.5 * (M + M.T), eigvals_only=True)
     lam = sigma + 1.0 / theta
     if not return_vectors:
         return lam, None
@@ -881,8 +882,7 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         raise _NoConvergence("the Ritz vectors are not numerically independent")
     X = split.times(X, (U / np.sqrt(D)) @ U.T, "C")
     if negatives:
-        sub = slice(negatives - min(2 * b, negatives), negatives)
-        lam[sub] = np.einsum("ij,ij->j", X[:, sub], K @ X[:, sub])
+        lam[smallest] = np.einsum("ij,ij->j", X[:, smallest], K @ X[:, smallest])
     return lam, X
 
 
