@@ -150,7 +150,7 @@ class Mesh:
         a = np.concatenate([f[:, 0], f[:, 1], f[:, 2]])
         b = np.concatenate([f[:, 1], f[:, 2], f[:, 0]])
         key = np.minimum(a, b) * n + np.maximum(a, b)  # n**2 < 2**63 for n < 3e9
-        order = np.argsort(key, kind="stable")
+        order = np.argsort(key)  # the order among equal keys does not matter below
         skey = key[order]
         first = np.empty(len(skey), dtype=bool)
         first[:1] = True
