@@ -39,9 +39,9 @@ of one sparse Cholesky factorisation:
    orthogonalisation.  The factorisation does not pivot, so its accuracy is checked (the
    backward error of a solve; another shift otherwise), the smallest eigenvalues, farthest
    from the shift, get a tighter residual tolerance and a last Rayleigh-Ritz step with a
-   refined solve (:func:`_solve_inside`; with eigenvectors, the Rayleigh quotients of
-   their orthonormalised vectors instead).  Measured against a tight reference on 15
-   meshes for N = 20 to 300: within 6e-11 relative up to N = 200, 2.1e-10 at N = 300.
+   refined solve (:func:`_solve_inside`; with or without eigenvectors: both give the
+   same eigenvalues).  Measured against a tight reference on 15 meshes for N = 20 to
+   300: within 6e-11 relative up to N = 200, 2.1e-10 at N = 300.
 3. The projection of ``OP`` onto the basis is block tridiagonal (bandwidth ``b``); its
    top eigenpairs (Rayleigh-Ritz, LAPACK's divide and conquer) give Ritz values ``theta_i``
    and, from the Lanczos relation, the residual norms ``||OP x_i - theta_i x_i||_B`` at no
@@ -600,8 +600,8 @@ def _block_lanczos(
         Default: ``sigma`` lies below the spectrum (the N largest ``theta``).
     refine : callable, optional
         With ``negatives``: an accurate ``X -> (K - sigma B)^{-1} X`` (e.g. ``solve`` with
-        a step of iterative refinement), used once at the end for the ``b`` smallest
-        eigenvalues (``2 b`` of them), whose relative accuracy an inside shift reduces.
+        a step of iterative refinement), used once at the end for the ``2 b`` smallest
+        eigenvalues, whose relative accuracy an inside shift reduces.
 
     Returns
     -------
@@ -844,12 +844,15 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
     # the 2 b smallest eigenvalues below an inside shift: theta[:p] is ascending, lam_0 is
     # theta[p - 1]
     smallest = slice(negatives - min(2 * b, negatives), negatives) if negatives else None
-    if negatives and refine is not None and not return_vectors:
+    if negatives and refine is not None:
         # The smallest eigenvalues lie farthest below an inside shift: lam = sigma + 1/theta
         # turns a relative error of theta into one about sigma/lam times larger.  Their
         # block of Ritz vectors gets a Rayleigh-Ritz step with the solve made accurate by
-        # refinement (errors of the Ritz vectors enter it squared).  With eigenvectors the
-        # Rayleigh quotients of the orthonormalised vectors below take their place.
+        # refinement (errors of the Ritz vectors enter it squared), with or without
+        # eigenvectors, so that both give the same eigenvalues.  (The Rayleigh quotients
+        # x^T K x of the orthonormalised vectors, used for eigenpairs in session 7, weigh
+        # the vectors' errors by the large eigenvalues: 5.8e-10 off on the swords at
+        # N = 15, against 3.3e-12 here.)
         X = split.times(V[:, :m], np.ascontiguousarray(Y[:, smallest]), "F")
         BX = np.asfortranarray(B @ X)
         # The Lanczos relation gives OP X = X diag(theta) + V_{m+1} R Y_m up to the
@@ -860,18 +863,20 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         Z0 = X * theta[smallest] + _times(V[:, m:m + b], R @ Y[m0:m, smallest])
         G = BX.T @ refine(BX, Z0)
         M = X.T @ BX
-        theta[smallest] = la.eigh(0.5 * (G + G.T), 0.5 * (M + M.T), eigvals_only=True)
+        G, M = 0.5 * (G + G.T), 0.5 * (M + M.T)
+        theta[smallest] = la.eigh(G, M, eigvals_only=True)
+        if return_vectors:  # the Ritz vectors of this step (their values computed above)
+            Y = Y.copy()
+            Y[:, smallest] = Y[:, smallest] @ la.eigh(G, M)[1]
     lam = sigma + 1.0 / theta
     if not return_vectors:
         return lam, None
     # Ritz vectors, made B-orthonormal to rounding (the basis is only semi-orthogonal) by
     # Loewdin's symmetric orthonormalisation X G^(-1/2), G = X^T B X = I + O(1e-8): it
-    # changes each vector least.  The eigenvalues stay those of the iteration (the same as
-    # without vectors), except the smallest ones below an inside shift, which are the
-    # Rayleigh quotients x^T K x of their vectors (see the refined step above; measured
-    # within 6e-11 of a tight reference on 15 meshes, N = 20 to 200).  A Rayleigh-Ritz step
-    # with the pencil (K, B) instead cost 3-8 % more of the whole solve (K X, a second
-    # Gram matrix, a generalised eigenproblem) for the same accuracy.
+    # changes each vector least.  The eigenvalues stay those computed without vectors (the
+    # same bits).  A Rayleigh-Ritz step with the pencil (K, B) instead cost 3-8 % more of
+    # the whole solve (K X, a second Gram matrix, a generalised eigenproblem) for the same
+    # accuracy.
     # The products over the n rows run on the row ranges of ``split`` (threaded on big
     # meshes, the same bits with any number of threads): at 163,842 unknowns V @ Y alone
     # is 11 GFlop.
@@ -881,8 +886,6 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
     if not D.min() > 0.5:  # pragma: no cover - semi-orthogonality keeps G within 1e-7 of I
         raise _NoConvergence("the Ritz vectors are not numerically independent")
     X = split.times(X, (U / np.sqrt(D)) @ U.T, "C")
-    if negatives:
-        lam[smallest] = np.einsum("ij,ij->j", X[:, smallest], K @ X[:, smallest])
     return lam, X
 
 
