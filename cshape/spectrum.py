@@ -1155,7 +1155,9 @@ def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
     Returns
     -------
     lam : ndarray, shape (N,)
-        Ascending eigenvalues of ``A f = -lam B f`` (Eq. 3).
+        Ascending eigenvalues of ``A f = -lam B f`` (Eq. 3): those of :func:`shape_dna`
+        for the same arguments (the same bits from the block Lanczos solver; on the
+        dense path of small problems, LAPACK with and without vectors, to rounding).
     phi : ndarray, shape (n, N)
         Eigenfunctions on the mesh vertices, ``phi[:, i]`` for ``lam[i]``; B-orthonormal
         over the unknowns; zero on fixed vertices for ``bc='dirichlet'``.  If the mesh
