@@ -105,6 +105,22 @@ def test_mds_panel_square_bounded_labels(p, n_classes):
         assert [t.get_text() for t in ax.texts].count(count) == 1
 
 
+def test_overlapping_names_are_dropped_by_their_drawn_extents():
+    from matplotlib.figure import Figure
+
+    from cshape.reproduce.figures import _drop_overlapping_texts
+
+    fig = Figure(figsize=(3, 3), layout="constrained")
+    ax = fig.subplots()
+    ax.set(xlim=(0, 1), ylim=(0, 1))
+    for x, y, text in ((0.2, 0.5, "first_name"), (0.21, 0.51, "second_name"),
+                       (0.2, 0.1, "far_away"), (0.7, 0.9, "")):
+        ax.annotate(text, (x, y), fontsize="small")
+    assert _drop_overlapping_texts(fig) == 1
+    assert [t.get_text() for t in ax.texts] == ["first_name", "far_away", ""]
+    assert_no_overlap(drawn(fig).axes[0].texts)
+
+
 @pytest.mark.parametrize("p, n_classes", [(3, 3), (60, 6)])
 def test_report_mds_figure_panels_square_with_one_legend(p, n_classes):
     table = synthetic_table(p, n_classes)
