@@ -865,7 +865,9 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         M = X.T @ BX
         G, M = 0.5 * (G + G.T), 0.5 * (M + M.T)
         theta[smallest] = la.eigh(G, M, eigvals_only=True)
-        if return_vectors:  # the Ritz vectors of this step (their values computed above)
+        if return_vectors:  # the Ritz vectors of this step; their values stay those of
+            # the call above without vectors (LAPACK's two drivers may differ in the last
+            # bit, and shape_dna makes that call only)
             Y = Y.copy()
             Y[:, smallest] = Y[:, smallest] @ la.eigh(G, M)[1]
     lam = sigma + 1.0 / theta
