@@ -28,8 +28,39 @@ def load_average():
         return (float("nan"),) * 3
 
 
+def cpu_summary():
+    """The processor as Linux reports it: model, clock, L2 / L3 per core, widest vector unit.
+
+    Ratios against LaPy moved by up to 1.5x between the virtual machines this project's
+    sessions ran on (``SCALE.md``, "Session 9"): runs are comparable only on one processor.
+    ``''`` where ``/proc/cpuinfo`` does not exist.
+    """
+    try:
+        with open("/proc/cpuinfo") as fh:
+            info = fh.read()
+    except OSError:  # pragma: no cover - not Linux
+        return ""
+    fields = {}
+    for line in info.splitlines():
+        key, _, value = line.partition(":")
+        fields.setdefault(key.strip(), value.strip())
+    caches = []
+    for index, name in (("index2", "L2"), ("index3", "L3")):
+        try:
+            with open(f"/sys/devices/system/cpu/cpu0/cache/{index}/size") as fh:
+                caches.append(f"{name} {fh.read().strip()}")
+        except OSError:
+            pass
+    flags = set(fields.get("flags", "").split())
+    simd = next((f for f in ("avx512f", "avx2", "avx", "sse4_2") if f in flags), "")
+    mhz = fields.get("cpu MHz", "")
+    parts = [fields.get("model name", "")] + ([f"{float(mhz):.0f} MHz"] if mhz else [])
+    return ", ".join(p for p in parts + caches + [simd] if p)
+
+
 def machine_summary(libs=("scipy",)):
-    """One line: date, machine, memory, versions of numpy, ``libs`` and cshape, and the load."""
+    """One line: date, machine, processor, memory, versions of numpy, ``libs`` and cshape,
+    and the load."""
     import cshape
 
     try:
@@ -46,7 +77,8 @@ def machine_summary(libs=("scipy",)):
     la = load_average()
     return (
         f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.machine()}, {os.cpu_count()} cores, {mem:.0f} GiB, "
+        f"{platform.machine()}, {os.cpu_count()} cores ({cpu_summary() or '?'}), "
+        f"{mem:.0f} GiB, "
         f"Python {platform.python_version()}, {', '.join(versions)}, "
         f"cshape {cshape.__version__}; load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}"
     )

@@ -248,3 +248,24 @@ def test_revisions_bench_compares_two_trees_in_alternating_children(tmp_path, mo
     with pytest.raises(SystemExit) as err:  # not a source tree: argparse's exit status 2
         br.main(["--old", str(tmp_path), "--sizes", "1k", "--no-real"])
     assert err.value.code == 2
+
+
+def test_machine_summary_names_the_processor(monkeypatch, tmp_path):
+    """Every benchmark header names the processor (ratios moved 1.6x between processors)."""
+    common = _load("_common")
+    cpuinfo = tmp_path / "cpuinfo"
+    cpuinfo.write_text("processor\t: 0\nmodel name\t: Test CPU 9000\ncpu MHz\t\t: 2599.998\n"
+                       "flags\t\t: fpu sse4_2 avx avx2 fma\n\nprocessor\t: 1\n"
+                       "model name\t: Other\n")
+    real_open = open
+
+    def fake_open(path, *args, **kwargs):
+        if str(path) == "/proc/cpuinfo":
+            return real_open(cpuinfo, *args, **kwargs)
+        if str(path).startswith("/sys/devices/system/cpu/cpu0/cache/"):
+            raise OSError("no cache information")
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr("builtins.open", fake_open)
+    assert common.cpu_summary() == "Test CPU 9000, 2600 MHz, avx2"
+    assert "cores (Test CPU 9000, 2600 MHz, avx2), " in common.machine_summary()
