@@ -222,3 +222,21 @@ def test_quality_of_equilateral_and_degenerate():
     assert q["min_angle"] == pytest.approx(0, abs=1e-9)
     assert q["n_degenerate"] == 1 and q["aspect_max"] == np.inf
     assert np.isfinite(q["aspect_mean"])
+
+
+def test_remesh_does_not_depend_on_earlier_pymeshlab_calls():
+    """``remesh`` passes every parameter of PyMeshLab's filter: one left out takes the value
+    of the previous call in the process (uninitialised in a new one), which made creatures
+    open or of other sizes depending on what the process had run before."""
+    import pymeshlab
+
+    src = v.sphere(3)
+    before = v.remesh(src, 0.15)
+    ms = v._meshset(src)  # another user of the filter in this process, with other flags
+    ms.meshing_isotropic_explicit_remeshing(
+        iterations=2, adaptive=True, swapflag=False, smoothflag=False, reprojectflag=False,
+        checksurfdist=False, targetlen=pymeshlab.PureValue(0.3))
+    after = v.remesh(src, 0.15)
+    np.testing.assert_array_equal(before.faces, after.faces)
+    np.testing.assert_array_equal(before.vertices, after.vertices)
+    assert after.is_closed and after.n_components == 1

@@ -269,8 +269,13 @@ def _fine_surface(kind, seed, voxelsize):
 
 def _decimate(mesh, vertices):
     ms = _meshset(mesh)
-    ms.meshing_decimation_quadric_edge_collapse(targetfacenum=int(2 * vertices),
-                                                preservenormal=True, qualitythr=0.3)
+    # every parameter given, the others at PyMeshLab's defaults (see variants.remesh: one
+    # left out may take an earlier call's value)
+    ms.meshing_decimation_quadric_edge_collapse(
+        targetfacenum=int(2 * vertices), targetperc=0.0, qualitythr=0.3,
+        preserveboundary=False, boundaryweight=1.0, preservenormal=True,
+        preservetopology=False, optimalplacement=True, planarquadric=False,
+        planarweight=0.001, qualityweight=False, autoclean=True, selected=False)
     return _from_meshset(ms, what="quadric decimation")
 
 

@@ -334,10 +334,26 @@ def remesh(
     import pymeshlab
 
     ms = _meshset(mesh)
+    # Every parameter is given, those we do not choose at PyMeshLab's documented defaults:
+    # a parameter left out takes its default from the filter plugin, which (PyMeshLab
+    # 2025.7) reads it from a member that is uninitialised in a new process and holds the
+    # previous call's value afterwards (valgrind: "uninitialised value ... created by
+    # qt_plugin_instance").  Left out, the same input gave a closed 418-vertex mesh in
+    # most processes and an open 263-vertex one in some, depending on what the process had
+    # done before.
     ms.meshing_isotropic_explicit_remeshing(
         iterations=iterations,
+        adaptive=False,
+        selectedonly=False,
         targetlen=pymeshlab.PureValue(target_length),
         featuredeg=feature_angle,
+        checksurfdist=True,
+        maxsurfdist=pymeshlab.PercentageValue(1.0),
+        splitflag=True,
+        collapseflag=True,
+        swapflag=True,
+        smoothflag=True,
+        reprojectflag=True,
     )
     return _from_meshset(ms, what="isotropic remeshing")
 
@@ -381,10 +397,13 @@ def subdivide(mesh, iterations=1, method="loop") -> Mesh:
 
     ms = _meshset(mesh)
     zero = pymeshlab.PercentageValue(0.0)  # split every edge, however short
+    # every parameter given (see remesh: one left out may take an earlier call's value)
     if method == "loop":
-        ms.meshing_surface_subdivision_loop(iterations=iterations, threshold=zero)
+        ms.meshing_surface_subdivision_loop(loopweight="Loop", iterations=iterations,
+                                            threshold=zero, selected=False)
     else:
-        ms.meshing_surface_subdivision_midpoint(iterations=iterations, threshold=zero)
+        ms.meshing_surface_subdivision_midpoint(iterations=iterations, threshold=zero,
+                                                selected=False)
     return _from_meshset(ms, what=f"{method} subdivision")
 
 
