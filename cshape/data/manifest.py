@@ -18,8 +18,10 @@ from ..mesh import Mesh
 KINDS = ("generated", "package", "download", "local")
 LAYOUTS = ("mcgill", "tosca", "shrec07")
 
-#: Bumped whenever a recipe's output changes, so stale cache files are not reused.
-RECIPES_VERSION = 1
+#: Bumped whenever a recipe's output changes, so stale cache files are not reused.  2: the
+#: remeshing passes every PyMeshLab parameter (a mesh generated before could depend on what
+#: the process had run before it, see :func:`cshape.data.variants.remesh`).
+RECIPES_VERSION = 2
 
 #: The manifest shipped inside the package.  In a source checkout ``cshape/data/data_manifest.yaml``
 #: is a symbolic link to the top-level ``data_manifest.yaml`` (the one file to edit); the
