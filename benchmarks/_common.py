@@ -31,7 +31,7 @@ def load_average():
 def cpu_summary():
     """The processor as Linux reports it: model, clock, L2 / L3 per core, widest vector unit.
 
-    Ratios against LaPy moved by up to 1.5x between the virtual machines this project's
+    Ratios against LaPy moved by up to 1.7x between the virtual machines this project's
     sessions ran on (``SCALE.md``, "Session 9"): runs are comparable only on one processor.
     ``''`` where ``/proc/cpuinfo`` does not exist.
     """

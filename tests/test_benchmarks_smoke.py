@@ -251,7 +251,7 @@ def test_revisions_bench_compares_two_trees_in_alternating_children(tmp_path, mo
 
 
 def test_machine_summary_names_the_processor(monkeypatch, tmp_path):
-    """Every benchmark header names the processor (ratios moved 1.6x between processors)."""
+    """Every benchmark header names the processor (ratios moved up to 1.7x with it)."""
     common = _load("_common")
     cpuinfo = tmp_path / "cpuinfo"
     cpuinfo.write_text("processor\t: 0\nmodel name\t: Test CPU 9000\ncpu MHz\t\t: 2599.998\n"
