@@ -13,7 +13,8 @@ import scipy.sparse as sp
 
 import cshape
 from cshape import _cholmod
-from cshape.spectrum import _CholeskyOperator, solve_eigenproblem
+from cshape._shift import CholeskyOperator
+from cshape.spectrum import solve_eigenproblem
 
 WORKING = [name for name in _cholmod.BACKENDS if _cholmod._probe(name)[0]]
 
@@ -78,7 +79,7 @@ def test_cholmod_refuses_a_matrix_that_is_not_positive_definite(monkeypatch):
     for n in (30, 3000):  # CHOLMOD's simplicial L D L^T would accept the small one
         S = sp.diags([-np.ones(n - 1), np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")
         with pytest.raises(la.LinAlgError, match="not positive definite.*below the smallest"):
-            _CholeskyOperator(S)
+            CholeskyOperator(S)
 
 
 def test_a_shift_above_the_spectrum_is_refused_not_answered():

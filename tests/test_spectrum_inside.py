@@ -16,7 +16,7 @@ import pytest
 import scipy.linalg as la
 
 import cshape
-from cshape import _cholmod, shapes, spectrum
+from cshape import _cholmod, _lanczos, _shift, _threads, shapes, spectrum
 
 
 def _KB(mesh):
@@ -33,7 +33,7 @@ def sparse_path(monkeypatch):
 def spy(monkeypatch):
     """Record the shifts the eigensolver factorises and whether the inside path answered."""
     seen = {"indefinite": [], "definite": 0, "inside": []}
-    factorize, inside = _cholmod.factorize, spectrum._solve_inside
+    factorize, inside = _cholmod.factorize, _shift.solve_inside
 
     def fact(S, indefinite=False):
         f = factorize(S, indefinite=indefinite)
@@ -49,7 +49,7 @@ def spy(monkeypatch):
         return out
 
     monkeypatch.setattr(_cholmod, "factorize", fact)
-    monkeypatch.setattr(spectrum, "_solve_inside", ins)
+    monkeypatch.setattr(_shift, "solve_inside", ins)
     return seen
 
 
@@ -65,7 +65,7 @@ def test_inertia_of_the_indefinite_factor_counts_the_eigenvalues_below_the_shift
     mids = 0.5 * (lam[1:] + lam[:-1])
     for k in (1, 9, 40, 100, 250):
         sigma = mids[k - 1]  # between lam_{k-1} and lam_k: exactly k eigenvalues below
-        S = spectrum._shifted(K, B, sigma, same=True)
+        S = _shift.shifted(K, B, sigma, same=True)
         f = _cholmod.factorize(S, indefinite=True)
         assert f.inertia == k
         X = np.asfortranarray(np.random.default_rng(0).standard_normal((K.shape[0], 3)))
@@ -75,11 +75,11 @@ def test_inertia_of_the_indefinite_factor_counts_the_eigenvalues_below_the_shift
 
 def test_refined_solve_is_at_least_as_accurate(ico3):
     _, K, B, lam = ico3
-    S = spectrum._shifted(K, B, 0.5 * (lam[60] + lam[61]), same=True)
+    S = _shift.shifted(K, B, 0.5 * (lam[60] + lam[61]), same=True)
     f = _cholmod.factorize(S, indefinite=True)
     X = np.asfortranarray(np.random.default_rng(2).standard_normal((K.shape[0], 4)))
     plain = np.abs(S @ f.solve(X) - X).max()
-    refined = np.abs(S @ spectrum._refined_solve(S, f, X) - X).max()
+    refined = np.abs(S @ _shift.refined_solve(S, f, X) - X).max()
     assert refined <= plain
 
 
@@ -87,14 +87,14 @@ def test_refined_solve_from_a_first_guess(ico3):
     # the refined Rayleigh-Ritz step starts from the Lanczos relation's guess, which is off
     # by up to about 1e-6 (the coefficients dropped at re-orthogonalisation passes)
     _, K, B, lam = ico3
-    S = spectrum._shifted(K, B, 0.5 * (lam[60] + lam[61]), same=True)
+    S = _shift.shifted(K, B, 0.5 * (lam[60] + lam[61]), same=True)
     f = _cholmod.factorize(S, indefinite=True)
     X = np.asfortranarray(np.random.default_rng(3).standard_normal((K.shape[0], 4)))
     exact = np.linalg.solve(S.toarray(), X)
     guess = exact * (1.0 + 1e-6 * np.random.default_rng(4).standard_normal(exact.shape))
-    Z = spectrum._refined_solve(S, f, X, guess)
+    Z = _shift.refined_solve(S, f, X, guess)
     assert np.abs(S @ Z - X).max() <= np.abs(S @ f.solve(X) - X).max()  # as a plain solve
-    two_steps = spectrum._refined_solve(S, f, X)
+    two_steps = _shift.refined_solve(S, f, X)
     assert np.abs(Z - two_steps).max() <= 1e-11 * np.abs(exact).max()
     assert np.abs(guess - exact).max() > 1e-8 * np.abs(exact).max()  # the guess was off
 
@@ -118,9 +118,9 @@ def test_eigenpairs_keep_the_eigenvalues_of_shape_dna(sparse_path, spy, ico3, N)
 
 def test_few_wanted_eigenvalues_keep_the_shift_below(sparse_path, spy, ico3):
     mesh, K, B, ref = ico3
-    lam = cshape.shape_dna(mesh, N=spectrum.INSIDE_MIN_N - 1)
+    lam = cshape.shape_dna(mesh, N=_shift.INSIDE_MIN_N - 1)
     assert spy["inside"] == [] and spy["definite"] == 1
-    np.testing.assert_allclose(lam[1:], ref[1:spectrum.INSIDE_MIN_N - 1], rtol=1e-9)
+    np.testing.assert_allclose(lam[1:], ref[1:_shift.INSIDE_MIN_N - 1], rtol=1e-9)
 
 
 @pytest.mark.parametrize("N", [10, 30, 100, 150])
@@ -148,13 +148,13 @@ def test_a_shift_with_a_large_backward_error_is_replaced(sparse_path, spy, ico3,
                                                          monkeypatch):
     mesh, K, B, ref = ico3
     calls = []
-    backward = spectrum._backward_error
+    backward = _shift.backward_error
 
     def first_bad(S, factor):
         calls.append(factor.inertia)
         return 1.0 if len(calls) == 1 else backward(S, factor)
 
-    monkeypatch.setattr(spectrum, "_backward_error", first_bad)
+    monkeypatch.setattr(_shift, "backward_error", first_bad)
     lam = cshape.shape_dna(mesh, N=100)
     assert len(calls) == 2 and spy["inside"] == [True]  # the second shift of INSIDE_SHIFTS
     np.testing.assert_allclose(lam[1:], ref[1:100], rtol=1e-9)
@@ -165,9 +165,9 @@ def test_without_a_usable_inside_shift_the_shift_goes_below(sparse_path, spy, ic
                                                             monkeypatch, why):
     mesh, K, B, ref = ico3
     if why == "backward error":
-        monkeypatch.setattr(spectrum, "INSIDE_BACKWARD_MAX", 0.0)
+        monkeypatch.setattr(_shift, "INSIDE_BACKWARD_MAX", 0.0)
     elif why == "shift too high":
-        monkeypatch.setattr(spectrum, "INSIDE_SHIFTS", (3.0,))  # N or more below it
+        monkeypatch.setattr(_shift, "INSIDE_SHIFTS", (3.0,))  # N or more below it
     else:
         monkeypatch.setenv("CSHAPE_CHOLESKY", "cholespy")
     lam = cshape.shape_dna(mesh, N=100)
@@ -183,7 +183,7 @@ def test_a_given_shift_and_big_meshes_keep_the_shift_below(sparse_path, spy, ico
     A = -K
     lam = spectrum.solve_eigenproblem(A, B, 50, return_vectors=False, sigma=-1.0)
     assert spy["inside"] == [] and spy["definite"] == 1
-    monkeypatch.setattr(spectrum, "INSIDE_LIMIT", 500)
+    monkeypatch.setattr(_shift, "INSIDE_LIMIT", 500)
     lam2 = spectrum.solve_eigenproblem(A, B, 50, return_vectors=False)
     assert spy["inside"] == [] and spy["definite"] == 2
     np.testing.assert_allclose(lam[1:], ref[1:50], rtol=1e-9)
@@ -192,9 +192,9 @@ def test_a_given_shift_and_big_meshes_keep_the_shift_below(sparse_path, spy, ico
 
 def test_residual_tolerance_is_tighter_only_far_below_an_inside_shift():
     B = np.eye(3)  # area 3: eigenvalue spacing s = 4 pi / 3
-    assert spectrum._pair_tolerance(B, 100, -1.0, None)(np.array([1.0])) == 1.0
+    assert _lanczos.pair_tolerance(B, 100, -1.0, None)(np.array([1.0])) == 1.0
     sigma = 0.65 * 4 * np.pi * 100 / 3
-    f = spectrum._pair_tolerance(B, 100, sigma, 60)
+    f = _lanczos.pair_tolerance(B, 100, sigma, 60)
     lam = np.array([0.0, 4 * np.pi / 3, 0.3 * sigma, 0.9 * sigma, 1.1 * sigma, 1.5 * sigma])
     factors = f(1.0 / (lam - sigma))
     assert np.all((factors > 0) & (factors <= 1.0))
@@ -204,16 +204,16 @@ def test_residual_tolerance_is_tighter_only_far_below_an_inside_shift():
 
 def test_first_look_at_the_projected_problem_comes_earlier_with_an_inside_shift():
     for N in (20, 100, 200):
-        inside = spectrum._first_check(N, 8, 5000, inside=True)
-        assert N <= inside <= spectrum._first_check(N, 8, 5000)
-    assert spectrum._first_check(1, 8, 5000, inside=True) >= 1
+        inside = _lanczos.first_check(N, 8, 5000, inside=True)
+        assert N <= inside <= _lanczos.first_check(N, 8, 5000)
+    assert _lanczos.first_check(1, 8, 5000, inside=True) >= 1
     # near the end an inside shift converges a pair per 1.2 dimensions, not 2.5
-    assert spectrum._next_check(232, 13, 8, inside=True) == 248
-    assert spectrum._next_check(232, 13, 8) == 272
+    assert _lanczos.next_check(232, 13, 8, inside=True) == 248
+    assert _lanczos.next_check(232, 13, 8) == 272
     # big problems look at every step after the first look (a look costs little there)
-    big = spectrum.CHECK_EVERY_STEP_UNKNOWNS
-    assert spectrum._next_check(416, 8, 16, n=big) == 432
-    assert spectrum._next_check(416, 8, 16, n=big - 1) == 448
+    big = _lanczos.CHECK_EVERY_STEP_UNKNOWNS
+    assert _lanczos.next_check(416, 8, 16, n=big) == 432
+    assert _lanczos.next_check(416, 8, 16, n=big - 1) == 448
 
 
 def test_split_solves_agree_with_one_solve_and_are_deterministic():
@@ -231,22 +231,22 @@ def test_split_solves_agree_with_one_solve_and_are_deterministic():
 def test_one_and_two_threads_agree_on_a_big_mesh_to_rounding(monkeypatch):
     # from THREADS_MIN_UNKNOWNS unknowns two threads take blocks of 16 solved as two
     # halves at once: another Krylov space, so equal eigenvalues up to rounding (1e-10)
-    monkeypatch.setattr(spectrum, "THREADS_MIN_UNKNOWNS", 2000)
-    monkeypatch.setattr(spectrum, "INSIDE_LIMIT", 0)
+    monkeypatch.setattr(_threads, "THREADS_MIN_UNKNOWNS", 2000)
+    monkeypatch.setattr(_shift, "INSIDE_LIMIT", 0)
     mesh = shapes.icosphere(4)
     sizes = []
-    block = spectrum._block_lanczos
+    block = _lanczos.block_lanczos
 
     def spy_block(*args, **kwargs):
         sizes.append(kwargs.get("block_size"))
         return block(*args, **kwargs)
 
-    monkeypatch.setattr(spectrum, "_block_lanczos", spy_block)
+    monkeypatch.setattr(_lanczos, "block_lanczos", spy_block)
     runs = {}
     for t in ("1", "2"):
         monkeypatch.setenv("CSHAPE_THREADS", t)
         runs[t] = cshape.shape_dna(mesh, N=100)
-    assert sizes == [spectrum.BLOCK_SIZE, spectrum.BLOCK_SIZE_THREADED]
+    assert sizes == [_lanczos.BLOCK_SIZE, _lanczos.BLOCK_SIZE_THREADED]
     np.testing.assert_allclose(runs["2"][1:], runs["1"][1:], rtol=1e-10)
 
 
@@ -271,15 +271,15 @@ def _error_to_tight_reference(mesh, N):
     spectrum run to a 1e-10 residual with a 1e-9 bound on the loss of orthogonality
     (zero eigenvalues on the scale of the largest)."""
     K, B = _KB(mesh)
-    s0 = spectrum._default_sigma(B, N)
-    op = spectrum._CholeskyOperator(K - s0 * B)
-    bound = spectrum._OMEGA_MAX
-    spectrum._OMEGA_MAX = 1e-9
+    s0 = _shift.default_sigma(B, N)
+    op = _shift.CholeskyOperator(K - s0 * B)
+    bound = _lanczos.OMEGA_MAX
+    _lanczos.OMEGA_MAX = 1e-9
     try:
-        ref, _ = spectrum._block_lanczos(K, B, N, op.matmat, s0, tol=1e-10,
+        ref, _ = _lanczos.block_lanczos(K, B, N, op.matmat, s0, tol=1e-10,
                                          return_vectors=False, rhs_order=op.rhs_order)
     finally:
-        spectrum._OMEGA_MAX = bound
+        _lanczos.OMEGA_MAX = bound
     ref = np.sort(ref)
     lam = cshape.shape_dna(mesh, N=N)
     scale = np.where(ref > 1e-9 * ref.max(), ref, ref.max())
@@ -289,9 +289,9 @@ def _error_to_tight_reference(mesh, N):
 def test_refine_argument_is_partial_of_the_refined_solve():
     # _solve_inside hands _block_lanczos an accurate solve for the last Rayleigh-Ritz step
     K, B = _KB(shapes.icosphere(2))
-    S = spectrum._shifted(K, B, 5.0, same=True)
+    S = _shift.shifted(K, B, 5.0, same=True)
     f = _cholmod.factorize(S, indefinite=True)
-    refine = functools.partial(spectrum._refined_solve, S, f)
+    refine = functools.partial(_shift.refined_solve, S, f)
     X = np.asfortranarray(np.eye(K.shape[0])[:, :4])
     np.testing.assert_allclose(S @ refine(X), X, atol=1e-12)
 
@@ -313,6 +313,6 @@ def test_inside_bound_on_orthogonality_keeps_the_contract_where_it_is_tightest()
     # 1000-vertex torus (N = 300: the largest N / n the sparse path takes, from 3 N >= n the
     # dense one does) 6e-8 gave 2e-10 and 2e-7 gave 8.4e-9 (N = 200); 3e-8 about 1e-12.
     mesh = shapes.torus(50, 20)
-    assert 3 * 300 < mesh.n_vertices <= spectrum.INSIDE_LIMIT
+    assert 3 * 300 < mesh.n_vertices <= _shift.INSIDE_LIMIT
     assert _error_to_tight_reference(mesh, 300) < 1e-10
     assert _error_to_tight_reference(mesh, 200) < 1e-10

@@ -1,4 +1,4 @@
-"""The sparse eigensolver of cshape/spectrum.py: block shift-invert Lanczos and its fallback.
+"""The sparse eigensolver: block shift-invert Lanczos (cshape/_lanczos.py) and its fallback.
 
 Known answers (dense LAPACK, ARPACK with ``tol=0``, exact sphere multiplicities) and
 properties (B-orthonormal vectors, determinism, several components).  No timings here:
@@ -13,7 +13,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 
 import cshape
-from cshape import shapes, spectrum
+from cshape import _lanczos, _shift, _threads, shapes, spectrum
 from cshape.mesh import CShapeWarning
 
 
@@ -67,10 +67,10 @@ def test_sparse_path_agrees_with_dense_lapack(sparse_path, mesh, kw):
 def test_block_lanczos_agrees_with_arpack_tol0():
     mesh = shapes.icosphere(4)  # 2562 vertices: sparse path
     K, B = _KB(mesh)
-    sigma = spectrum._default_sigma(B, 100)
-    op = spectrum._CholeskyOperator(K - sigma * B)
-    lam_b, _ = spectrum._block_lanczos(K, B, 100, op.matmat, sigma, return_vectors=False)
-    lam_a, _ = spectrum._arpack(K, B, 100, op, sigma, return_vectors=False)
+    sigma = _shift.default_sigma(B, 100)
+    op = _shift.CholeskyOperator(K - sigma * B)
+    lam_b, _ = _lanczos.block_lanczos(K, B, 100, op.matmat, sigma, return_vectors=False)
+    lam_a, _ = _shift.arpack(K, B, 100, op, sigma, return_vectors=False)
     lam_b, lam_a = np.sort(lam_b), np.sort(lam_a)
     np.testing.assert_allclose(lam_b[1:], lam_a[1:], rtol=1e-10)
     assert abs(lam_b[0]) < 1e-10 and abs(lam_a[0]) < 1e-10
@@ -124,9 +124,9 @@ def test_fallback_to_arpack_when_block_lanczos_fails(monkeypatch):
     lam_block = cshape.shape_dna(mesh, N=40)
 
     def fail(*args, **kwargs):
-        raise spectrum._NoConvergence("forced by the test")
+        raise _lanczos.NoConvergence("forced by the test")
 
-    monkeypatch.setattr(spectrum, "_block_lanczos", fail)
+    monkeypatch.setattr(_lanczos, "block_lanczos", fail)
     lam_arpack, phi = cshape.eigenpairs(mesh, N=40)
     np.testing.assert_allclose(lam_arpack[1:], lam_block[1:], rtol=1e-10)
     _, B = _KB(mesh)
@@ -135,10 +135,10 @@ def test_fallback_to_arpack_when_block_lanczos_fails(monkeypatch):
 
 def test_block_lanczos_gives_up_beyond_its_dimension_budget():
     K, B = _KB(shapes.icosphere(4))
-    sigma = spectrum._default_sigma(B, 100)
-    op = spectrum._CholeskyOperator(K - sigma * B)
-    with pytest.raises(spectrum._NoConvergence):
-        spectrum._block_lanczos(K, B, 100, op.matmat, sigma, max_dim=120)
+    sigma = _shift.default_sigma(B, 100)
+    op = _shift.CholeskyOperator(K - sigma * B)
+    with pytest.raises(_lanczos.NoConvergence):
+        _lanczos.block_lanczos(K, B, 100, op.matmat, sigma, max_dim=120)
 
 
 def test_invariant_krylov_space_and_multiplicity_above_block_size():
@@ -149,15 +149,15 @@ def test_invariant_krylov_space_and_multiplicity_above_block_size():
     K = sp.diags(d[perm]).tocsr()
     B = sp.identity(len(d), format="csr")
     sigma = -0.5
-    op = spectrum._CholeskyOperator(K - sigma * B)
-    lam, phi = spectrum._block_lanczos(K, B, 20, op.matmat, sigma, block_size=8)
+    op = _shift.CholeskyOperator(K - sigma * B)
+    lam, phi = _lanczos.block_lanczos(K, B, 20, op.matmat, sigma, block_size=8)
     np.testing.assert_allclose(np.sort(lam), [1.0] * 12 + [2.0] * 8, atol=1e-10)
     np.testing.assert_allclose(phi.T @ phi, np.eye(20), atol=1e-10)
 
 
 def test_default_shift_is_below_the_spectrum_on_its_scale():
     _, B = _KB(shapes.icosphere(3))
-    sigma = spectrum._default_sigma(B, 100)
+    sigma = _shift.default_sigma(B, 100)
     # Weyl: lam_100 ~ 4 pi 100 / area = 100 on the unit sphere
     assert -2.0 < sigma < -0.5
 
@@ -169,10 +169,10 @@ def test_block_lanczos_agrees_with_arpack_on_a_real_mesh(shared_meshes):
         pytest.skip(f"{path} not found")
     K, B = _KB(cshape.load_mesh(path))
     lam = spectrum.solve_eigenproblem(-K, B, 100, return_vectors=False)
-    sigma = spectrum._default_sigma(B, 100)
-    op = spectrum._CholeskyOperator(K - sigma * B)
-    with spectrum._one_blas_thread():
-        ref, _ = spectrum._arpack(K, B, 100, op, sigma, return_vectors=False)
+    sigma = _shift.default_sigma(B, 100)
+    op = _shift.CholeskyOperator(K - sigma * B)
+    with _threads.one_blas_thread():
+        ref, _ = _shift.arpack(K, B, 100, op, sigma, return_vectors=False)
     ref = np.sort(ref)
     np.testing.assert_allclose(lam[1:], ref[1:], rtol=1e-10)
 
@@ -182,14 +182,14 @@ def test_block_size_below_the_largest_symmetry_multiplicity_is_refused():
     K = -cshape.fem_matrices(mesh)[0]
     B = cshape.fem_matrices(mesh)[1]
     with pytest.raises(ValueError, match="block_size must be at least 6"):
-        spectrum._block_lanczos(K, B, 20, lambda X: X, -0.1, block_size=4)
+        _lanczos.block_lanczos(K, B, 20, lambda X: X, -0.1, block_size=4)
 
 
 # ------------------------------------------------------------------ row-split products
 @pytest.fixture
 def split_path(monkeypatch):
     """Small problems take the row-split (threadable) products of big ones."""
-    monkeypatch.setattr(spectrum, "THREADS_MIN_UNKNOWNS", 500)
+    monkeypatch.setattr(_threads, "THREADS_MIN_UNKNOWNS", 500)
 
 
 @pytest.mark.parametrize("threads", [1, 3])
@@ -201,10 +201,10 @@ def test_split_products_keep_dense_lapack_eigenvalues_and_icosahedral_copies(
     K, B = _KB(mesh)
     N = 100
     lam_ref = la.eigh(K.toarray(), B.toarray(), eigvals_only=True, subset_by_index=[0, N - 1])
-    sigma = spectrum._default_sigma(B, N)
-    op = spectrum._CholeskyOperator(K - sigma * B)
-    with spectrum._one_blas_thread():
-        lam, phi = spectrum._block_lanczos(K, B, N, op.matmat, sigma, threads=threads)
+    sigma = _shift.default_sigma(B, N)
+    op = _shift.CholeskyOperator(K - sigma * B)
+    with _threads.one_blas_thread():
+        lam, phi = _lanczos.block_lanczos(K, B, N, op.matmat, sigma, threads=threads)
     lam = np.sort(lam)
     np.testing.assert_allclose(lam[1:], lam_ref[1:], rtol=1e-10)
     # the exact multiplicities: groups of eigenvalues equal to 1e-8
@@ -216,24 +216,24 @@ def test_split_products_keep_dense_lapack_eigenvalues_and_icosahedral_copies(
 
 def test_split_products_give_the_same_bits_with_any_number_of_threads(split_path):
     K, B = _KB(shapes.icosphere(4))
-    sigma = spectrum._default_sigma(B, 100)
-    op = spectrum._CholeskyOperator(K - sigma * B)
-    with spectrum._one_blas_thread():
-        runs = [spectrum._block_lanczos(K, B, 100, op.matmat, sigma, threads=t)
+    sigma = _shift.default_sigma(B, 100)
+    op = _shift.CholeskyOperator(K - sigma * B)
+    with _threads.one_blas_thread():
+        runs = [_lanczos.block_lanczos(K, B, 100, op.matmat, sigma, threads=t)
                 for t in (1, 3)]
     for lam, phi in runs[1:]:
         np.testing.assert_array_equal(lam, runs[0][0])
         np.testing.assert_array_equal(phi, runs[0][1])
     # and the same eigenvalues as ARPACK with tol=0
-    ref, _ = spectrum._arpack(K, B, 100, op, sigma, return_vectors=False)
+    ref, _ = _shift.arpack(K, B, 100, op, sigma, return_vectors=False)
     np.testing.assert_allclose(np.sort(runs[0][0])[1:], np.sort(ref)[1:], rtol=1e-10)
 
 
 def test_thread_policy_and_its_environment_override(monkeypatch):
     monkeypatch.delenv("CSHAPE_THREADS", raising=False)
     assert spectrum.solver_threads(1000) == 1  # small: never threaded
-    big = spectrum.THREADS_MIN_UNKNOWNS
-    assert 1 <= spectrum.solver_threads(big) <= spectrum.ROW_PARTS
+    big = _threads.THREADS_MIN_UNKNOWNS
+    assert 1 <= spectrum.solver_threads(big) <= _threads.ROW_PARTS
     # off the main thread (a threads-only Dask cluster, a user's thread pool): one thread
     from concurrent.futures import ThreadPoolExecutor
 
@@ -273,7 +273,7 @@ def test_results_are_identical_across_processes():
 @pytest.mark.parametrize("N", [1, 7, 30, 150])
 def test_rayleigh_ritz_schedule_finds_every_copy_for_any_N(sparse_path, N):
     # The projected problem is solved only where the pairs are predicted to have
-    # converged (spectrum._first_check, _next_check): for small and large N alike the
+    # converged (_lanczos.first_check, _next_check): for small and large N alike the
     # result is dense LAPACK's, every icosahedral copy included (groups of 1, 3, 4, 5).
     mesh = shapes.icosphere(3)
     K, B = _KB(mesh)
@@ -281,8 +281,8 @@ def test_rayleigh_ritz_schedule_finds_every_copy_for_any_N(sparse_path, N):
     lam = cshape.shape_dna(mesh, N=N)
     scale = np.maximum(lam_ref, 1.0)  # unit sphere: lam_0 = 0, then lam >= 2
     assert np.max(np.abs(lam - lam_ref) / scale) < 1e-9
-    assert spectrum._first_check(N) >= N
-    assert spectrum._next_check(200, 3, 8) == 208 and spectrum._next_check(200, 10, 8) == 232
+    assert _lanczos.first_check(N) >= N
+    assert _lanczos.next_check(200, 3, 8) == 208 and _lanczos.next_check(200, 10, 8) == 232
 
 
 @pytest.mark.slow
@@ -298,12 +298,12 @@ def test_icosphere_2562_default_path_matches_dense_lapack_to_1e9():
 
 
 def test_a_loss_of_orthogonality_above_the_bound_brings_a_pass_at_every_step():
-    bound = spectrum._OMEGA_MAX
-    assert spectrum._next_skip(3, 2 * bound) == 0  # not 2: the loss spreads
-    assert spectrum._next_skip(0, 0.5 * bound) == 0
-    assert spectrum._next_skip(1, 0.5 * bound) == 1
-    assert spectrum._next_skip(1, 1e-4 * bound) == 2
-    assert spectrum._next_skip(4, 1e-4 * bound) == 4
-    assert spectrum._next_skip(1, 0.5 * bound, bound=1e-3 * bound) == 0  # another bound
+    bound = _lanczos.OMEGA_MAX
+    assert _lanczos.next_skip(3, 2 * bound) == 0  # not 2: the loss spreads
+    assert _lanczos.next_skip(0, 0.5 * bound) == 0
+    assert _lanczos.next_skip(1, 0.5 * bound) == 1
+    assert _lanczos.next_skip(1, 1e-4 * bound) == 2
+    assert _lanczos.next_skip(4, 1e-4 * bound) == 4
+    assert _lanczos.next_skip(1, 0.5 * bound, bound=1e-3 * bound) == 0  # another bound
     # the bounds stay near sqrt(eps), where the Ritz values keep their accuracy
-    assert 1e-9 <= bound <= 1.5e-8 and bound <= spectrum._OMEGA_MAX_INSIDE <= 3e-8
+    assert 1e-9 <= bound <= 1.5e-8 and bound <= _lanczos.OMEGA_MAX_INSIDE <= 3e-8
