@@ -13,9 +13,9 @@ one sparse Cholesky factorisation of ``S = K - sigma B`` plus the triangular sol
 * ``total``: ``cshape.shape_dna(mesh, N)``, everything a user pays (best of ``--repeats``);
 * the stages, each timed on its own: repair checks and FEM assembly (``spectrum._prepare``),
   the connected-components check, the factorisation as the solver does it
-  (``spectrum._CholeskyOperator``), the bare factorisation of the backend in use
+  (``_shift.CholeskyOperator``), the bare factorisation of the backend in use
   (``cshape._cholmod.factorize``) and cholespy's (LaPy's) on ready arrays, and the
-  block Lanczos iteration ``spectrum._block_lanczos`` with its solves counted and timed;
+  block Lanczos iteration ``_lanczos.block_lanczos`` with its solves counted and timed;
 * ``floor (method)``: bare factorisation + as many multi-right-hand-side solves (blocks of
   ``b`` columns) as the Lanczos iteration used; ``floor (ideal)``: bare factorisation +
   ``N`` solve columns in blocks of ``b`` (no Krylov method finds N eigenpairs with fewer);
@@ -23,7 +23,7 @@ one sparse Cholesky factorisation of ``S = K - sigma B`` plus the triangular sol
 * a ``cProfile`` of ``shape_dna`` grouped into FEM, factorisation, solves, sparse
   products with ``B``, dense orthogonalisation (the self time of the Lanczos loop),
   Cholesky-QR, Rayleigh-Ritz and the rest;
-* ``_block_lanczos`` with other block sizes (``--block-sizes``) on the same factorisation:
+* ``_lanczos.block_lanczos`` with other block sizes (``--block-sizes``) on the same factorisation:
   time, solve columns, and the largest relative eigenvalue difference from block size 8
   (must be at most 1e-8 to count).
 
@@ -104,7 +104,7 @@ class CountingSolve:
 
 
 class CountingProducts:
-    """Counts the products ``B @ X`` of the Lanczos loop (``spectrum._RowSplit.bmul``).
+    """Counts the products ``B @ X`` of the Lanczos loop (``_threads.RowSplit.bmul``).
 
     Each Lanczos step multiplies by ``B`` once in its Cholesky-QR and once more when it runs
     the full re-orthogonalisation pass against the older blocks, so the number of passes is
@@ -115,22 +115,22 @@ class CountingProducts:
         self.products = 0
 
     def __enter__(self):
-        from cshape import spectrum
+        from cshape import _threads
 
-        self._orig = spectrum._RowSplit.bmul
+        self._orig = _threads.RowSplit.bmul
         counter = self
 
         def bmul(split, X):
             counter.products += 1
             return counter._orig(split, X)
 
-        spectrum._RowSplit.bmul = bmul
+        _threads.RowSplit.bmul = bmul
         return self
 
     def __exit__(self, *exc):
-        from cshape import spectrum
+        from cshape import _threads
 
-        spectrum._RowSplit.bmul = self._orig
+        _threads.RowSplit.bmul = self._orig
 
 
 # ----------------------------------------------------------------------------- analysis
@@ -145,7 +145,7 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     repeats : int, default=1
         Timings are the best of this many runs.
     block_sizes : sequence of int, default=(8,)
-        Block sizes of ``_block_lanczos`` to try besides the default.
+        Block sizes of ``_lanczos.block_lanczos`` to try besides the default.
 
     Returns
     -------
@@ -161,7 +161,7 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     import scipy.sparse.csgraph as csgraph
 
     import cshape
-    from cshape import _cholmod, spectrum
+    from cshape import _cholmod, _lanczos, _shift, _threads, spectrum
 
     cshape.shape_dna(make_mesh("tiny"), N=min(N, 100))  # warm-up: imports, first calls
     b0 = spectrum.BLOCK_SIZE
@@ -174,9 +174,9 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     B = sp.csr_matrix(problem.B)
     out["components"], _ = _best(
         lambda: csgraph.connected_components(B, directed=False), repeats)
-    sigma = spectrum._default_sigma(B, N)
+    sigma = _shift.default_sigma(B, N)
     S = K - sigma * B
-    out["factor_solver"], op = _best(lambda: spectrum._CholeskyOperator(S), repeats)
+    out["factor_solver"], op = _best(lambda: _shift.CholeskyOperator(S), repeats)
     Sc = sp.csr_matrix(S)
     Sc.sum_duplicates()
     ip, ix, dx = Sc.indptr.astype(np.int32), Sc.indices.astype(np.int32), Sc.data.copy()
@@ -198,7 +198,7 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     out["solve_per_column"] = {m: min(solve_cols(m, reps) for _ in range(repeats))
                                for m in (1, 8, 16, 32)}
 
-    with spectrum._one_blas_thread():
+    with _threads.one_blas_thread():
         variants = []
         for b in [b0] + [int(x) for x in block_sizes if int(x) != b0]:
             runs = []
@@ -208,10 +208,10 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
                 t0 = time.perf_counter()
                 try:
                     with Bc:
-                        lam, _ = spectrum._block_lanczos(K, B, N, counter, sigma, block_size=b,
-                                                         return_vectors=False, threads=threads,
-                                                         rhs_order=op.rhs_order)
-                except spectrum._NoConvergence as exc:
+                        lam, _ = _lanczos.block_lanczos(K, B, N, counter, sigma, block_size=b,
+                                                        return_vectors=False, threads=threads,
+                                                        rhs_order=op.rhs_order)
+                except _lanczos.NoConvergence as exc:
                     runs.append({"block_size": b, "seconds": float("nan"),
                                  "columns": counter.columns, "calls": counter.calls,
                                  "full_passes": -1, "maxrel": float("nan"),
@@ -240,14 +240,20 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     return out
 
 
+#: The functions of the block Lanczos iteration outside its solves and Cholesky-QR.
+_LANCZOS_LOOP = ("block_lanczos", "__init__", "run", "step", "_orthogonalize",
+                 "rayleigh_ritz", "refine_smallest", "ritz_vectors")
+
 #: Profile groups: (label, predicate on (file, function name)).
 GROUPS = [
     ("FEM assembly, repair and checks",
      lambda f, fn: "cshape/fem.py" in f or "cshape/mesh.py" in f),
-    ("factorisation (CHOLMOD)", lambda f, fn: fn == "__init__" and "spectrum.py" in f),
-    ("triangular solves (CHOLMOD)", lambda f, fn: fn in ("_matmat", "_matvec")),
-    ("Cholesky-QR (_b_orthonormalize)", lambda f, fn: fn == "_b_orthonormalize"),
-    ("dense orthogonalisation (Lanczos loop)", lambda f, fn: fn == "_block_lanczos"),
+    ("factorisation (CHOLMOD)", lambda f, fn: fn == "factorize" and "_cholmod.py" in f),
+    ("triangular solves (CHOLMOD)",
+     lambda f, fn: fn in ("solve", "solve_split") and "_cholmod.py" in f),
+    ("Cholesky-QR (b_orthonormalize)", lambda f, fn: fn == "b_orthonormalize"),
+    ("dense orthogonalisation (Lanczos loop)",
+     lambda f, fn: "_lanczos.py" in f and fn in _LANCZOS_LOOP),
     ("Rayleigh-Ritz (LAPACK eigh, eig_banded before issue 22)",
      lambda f, fn: fn in ("eig_banded", "eigh")),
     ("sparse products (B @ X, K - sigma B)",
