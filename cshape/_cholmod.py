@@ -1,4 +1,4 @@
-"""Sparse Cholesky factorisations for the eigensolver (plumbing of :mod:`cshape.spectrum`).
+"""Sparse Cholesky factorisations for the eigensolver (plumbing of :mod:`cshape._shift`).
 
 The shift-invert eigensolver factorises ``S = K - sigma B`` once and then solves with ``S``
 for blocks of right-hand sides.  Both steps are CHOLMOD (SuiteSparse's supernodal sparse
@@ -7,10 +7,10 @@ Cholesky).  Which build of CHOLMOD does the work decides most of the solve time:
 ``'cholmod'``
     the CHOLMOD library that the ``cvxopt`` wheel ships (a core dependency), linked to an
     optimised BLAS (ATLAS, one thread), called directly through :mod:`ctypes` with
-    multi-right-hand-side solves.  Measured on a 163,842-vertex sphere: factorisation
-    about 1.0 s instead of 4.8 s, a solve with 8 right-hand sides 127 ms instead of 169 ms
-    (``benchmarks/bench_floor.py``).  The GIL is released during both.  cvxopt's own Python
-    interface is not used: it solves one right-hand side at a time (3x slower).
+    multi-right-hand-side solves: the fastest factorisation and solves of the three
+    (measured figures: ``benchmarks/bench_floor.py``, ``benchmarks/SCALE.md``).  The GIL is
+    released during both.  cvxopt's own Python interface is not used: it solves one
+    right-hand side at a time.
 ``'cholespy'``
     the ``cholespy`` wheel (CHOLMOD with the reference BLAS), as LaPy uses it;
 ``'splu'``
@@ -216,10 +216,9 @@ class _CholmodFactor:
 
         Deterministic, and equal to :meth:`solve` up to rounding (the BLAS kernels may
         depend on the number of columns; with 16 columns in two halves of 8, the
-        eigensolver's use, they gave the same bits here).  A solve reads the whole factor
-        once for all its columns; with
-        16 columns at 163,842 unknowns two groups of 8 took 80 ms against 102 ms in one
-        thread (and no gain with 8 columns: the solve is bound by reading the factor).
+        eigensolver's use, they gave the same bits).  A solve reads the whole factor once
+        for all its columns and is bound by reading it: two groups at once gain with 16
+        columns, not with 8.
         """
         X = np.asarray(X, dtype=np.float64)
         if X.ndim != 2 or parts < 2 or X.shape[1] < 2 * parts:

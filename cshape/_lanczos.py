@@ -11,9 +11,12 @@ vectors (:meth:`~BlockLanczos.ritz_vectors`).  The derivation: docs/guides/eigen
 from __future__ import annotations
 
 import mmap
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as la
+import scipy.sparse as sp
 
 from ._threads import RowSplit, times
 
@@ -332,44 +335,55 @@ def block_lanczos(
         raise NoConvergence("Krylov dimension budget below N")
     split = RowSplit(K.shape[0], B, threads, rhs_order)
     try:
-        state = BlockLanczos(K, B, N, solve, sigma, b, nblocks, split, tol, seed,
-                             negatives, refine)
+        state = BlockLanczos(B, N, solve, sigma, b, nblocks, split, tol=tol, seed=seed,
+                             negatives=negatives, refine=refine)
         return state.run(return_vectors)
     finally:
         split.close()
 
 
+@dataclass(eq=False)
 class BlockLanczos:
     """The state of one block shift-invert Lanczos iteration (see :func:`block_lanczos`).
 
-    The basis ``V`` (column-major, ``(nblocks + 1) b`` columns) holds the B-orthonormal
-    blocks; only the B-images of the two newest blocks are kept (``BVprev``, ``BVcur``),
-    and ``B @ W`` is recomputed where an inner product with older blocks is needed.  The
-    projection ``T`` of ``OP = (K - sigma B)^{-1} B`` onto the basis is block tridiagonal,
-    stored in LAPACK upper banded form (``band``, bandwidth ``b``).  ``R`` is the newest
-    sub-diagonal block; ``skip`` and ``since`` schedule the partial re-orthogonalisation;
-    ``segment`` is the start of the current Krylov sequence (0, or the last breakdown);
-    ``check`` the Krylov dimension of the next Rayleigh-Ritz step.
+    The fields are the problem and the settings, checked by :func:`block_lanczos`; the
+    rest is the state the iteration grows.  The basis ``V`` (column-major,
+    ``(nblocks + 1) b`` columns) holds the B-orthonormal blocks; only the B-images of the
+    two newest blocks are kept (``BVprev``, ``BVcur``), and ``B @ W`` is recomputed where
+    an inner product with older blocks is needed.  The projection ``T`` of
+    ``OP = (K - sigma B)^{-1} B`` onto the basis is block tridiagonal, stored in LAPACK
+    upper banded form (``band``, bandwidth ``b``).  ``R`` is the newest sub-diagonal
+    block; ``skip`` and ``since`` schedule the partial re-orthogonalisation; ``segment``
+    is the start of the current Krylov sequence (0, or the last breakdown); ``check`` the
+    Krylov dimension of the next Rayleigh-Ritz step; ``theta``, ``Y`` the wanted Ritz
+    pairs of the last Rayleigh-Ritz step.
     """
 
-    def __init__(self, K, B, N, solve, sigma, b, nblocks, split, tol, seed, negatives,
-                 refine):
-        n = K.shape[0]
-        self.B, self.N, self.solve, self.sigma, self.b = B, N, solve, sigma, b
-        self.n, self.nblocks, self.split, self.tol = n, nblocks, split, tol
-        self.negatives, self.refine = negatives, refine
-        self.inside = negatives is not None
-        cap = (nblocks + 1) * b
+    B: sp.csr_matrix
+    N: int
+    solve: Callable[[np.ndarray], np.ndarray]
+    sigma: float
+    b: int
+    nblocks: int
+    split: RowSplit
+    tol: float = RESIDUAL_TOL
+    seed: int = 0
+    negatives: int | None = None
+    refine: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+
+    def __post_init__(self):
+        n, N, b, cap = self.B.shape[0], self.N, self.b, (self.nblocks + 1) * self.b
+        self.n, self.inside = n, self.negatives is not None
         self.V = empty_basis(n, cap, touch=min(cap, first_check(N, b, n, self.inside) + 2 * b))
         self.band = np.zeros((b + 1, cap))
-        self.rng = np.random.default_rng(seed)
+        self.rng = np.random.default_rng(self.seed)
         self.skip, self.since, self.segment = 0, 0, 0
-        self.omega_max = OMEGA_MAX if negatives is None else OMEGA_MAX_INSIDE
+        self.omega_max = OMEGA_MAX_INSIDE if self.inside else OMEGA_MAX
         self.check = first_check(N, b, n, inside=self.inside)
-        self.pair_tol = pair_tolerance(B, N, sigma, negatives)
+        self.pair_tol = pair_tolerance(self.B, N, self.sigma, self.negatives)
         self.urows, self.ucols = np.triu_indices(b)  # entries (r, c), r <= c, of a block
         self.R = self.theta = self.Y = None
-        Q, BQ, _ = b_orthonormalize(self.rng.standard_normal((n, b)), B, 1.0, split)
+        Q, BQ, _ = b_orthonormalize(self.rng.standard_normal((n, b)), self.B, 1.0, self.split)
         if Q.shape[1] < b:  # pragma: no cover - a random block is full rank
             raise NoConvergence("random start block is rank deficient")
         self.V[:, :b] = Q

@@ -208,7 +208,7 @@ def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *, return_vectors
     lam[np.abs(lam) < 1e-10 * scale] = 0.0
     lam = np.maximum(lam, 0.0)
     if return_vectors:
-        return lam, phi  # type: ignore[return-value]  # phi is set when return_vectors
+        return lam, phi  # phi is set when return_vectors
     return lam
 
 
