@@ -287,7 +287,8 @@ def _error_to_tight_reference(mesh, N):
 
 
 def test_refine_argument_is_partial_of_the_refined_solve():
-    # _solve_inside hands _block_lanczos an accurate solve for the last Rayleigh-Ritz step
+    # _shift.solve_inside hands _lanczos.block_lanczos an accurate solve for the last
+    # Rayleigh-Ritz step
     K, B = _KB(shapes.icosphere(2))
     S = _shift.shifted(K, B, 5.0, same=True)
     f = _cholmod.factorize(S, indefinite=True)
