@@ -171,7 +171,7 @@ RESIDUAL_TOL = 1e-6
 #: the older basis) tolerated between two full re-orthogonalisation passes, with the shift
 #: below the spectrum (:data:`_OMEGA_MAX_INSIDE` with the shift inside it).
 _OMEGA_MAX = 1e-8
-# (1e-9 before session 5: 22 % more full passes on 15 meshes for the same eigenvalues.
+# (1e-9 instead: 22 % more full passes on 15 meshes for the same eigenvalues.
 # 1e-7 here put one eigenvalue of penguin.obj, N = 200, 1.7e-9 off, against 3e-15 at 1e-8.)
 
 #: The same bound with the shift inside the spectrum, a little above ``sqrt(eps)``.
@@ -850,7 +850,7 @@ def _lanczos_loop(K, B, N, solve, sigma, b, nblocks, cap, V, band, split, tol, s
         # block of Ritz vectors gets a Rayleigh-Ritz step with the solve made accurate by
         # refinement (errors of the Ritz vectors enter it squared), with or without
         # eigenvectors, so that both give the same eigenvalues.  (The Rayleigh quotients
-        # x^T K x of the orthonormalised vectors, used for eigenpairs in session 7, weigh
+        # x^T K x of the orthonormalised vectors, once used for eigenpairs, weigh
         # the vectors' errors by the large eigenvalues: 5.8e-10 off on the swords at
         # N = 15, against 3.3e-12 here.)
         X = split.times(V[:, :m], np.ascontiguousarray(Y[:, smallest]), "F")
