@@ -31,8 +31,8 @@ def load_average():
 def cpu_summary():
     """The processor as Linux reports it: model, clock, L2 / L3 per core, widest vector unit.
 
-    Ratios against LaPy moved by up to 1.7x between the virtual machines this project's
-    sessions ran on (``SCALE.md``, "Session 9"): runs are comparable only on one processor.
+    Ratios against LaPy moved by up to 1.7x between the virtual machines measured
+    (``SCALE.md``, "Machines"): runs are comparable only on one processor.
     ``''`` where ``/proc/cpuinfo`` does not exist.
     """
     try:

@@ -33,7 +33,10 @@ Three tables, each with the load average, every ratio from runs interleaved in t
 
 Eigenvalues are checked against LaPy's (relative difference at most ``--rtol``, 1e-8,
 zeros on the scale of the largest value); the exit status is 1 if a check fails, 2 if LaPy
-is missing (``pip install --group bench``).  Tables go to ``benchmarks/results/sweep*.md``.
+is missing (``pip install --group bench``).  Tables go to ``benchmarks/results/``, named by
+what the run measures (:func:`results_stem`): ``sweep_sizes.md``, ``sweep_real_meshes.md``,
+``sweep_big_meshes.md`` (650K and 1M), ``sweep_eigenpairs.md``, ``sweep_collection.md``,
+``sweep.md`` (sizes and real meshes together), ``sweep_quick.md``.
 Nothing here asserts a time.
 """
 
@@ -351,6 +354,21 @@ def summary_lines(rows, threads):
     return out
 
 
+def results_stem(quick, eigenpairs, sweep, sizes, real, collection):
+    """The name of a run's results file in ``benchmarks/results``, by what the run measures."""
+    if quick:
+        return "sweep_quick"
+    if eigenpairs:
+        return "sweep_eigenpairs"
+    if sweep and set(sizes) <= {"650k", "1m"} and not real:
+        return "sweep_big_meshes"
+    if sweep:
+        return "sweep" if real else "sweep_sizes"
+    if real:
+        return "sweep_real_meshes"
+    return "sweep_collection" if collection else "sweep"
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true",
@@ -372,7 +390,8 @@ def main(argv=None):
                         help="time cshape.eigenpairs (eigenvalues and eigenfunctions)")
     parser.add_argument("-N", type=int, default=100)
     parser.add_argument("--rtol", type=float, default=1e-8)
-    parser.add_argument("--out", default=None, help="results stem (default sweep[_quick])")
+    parser.add_argument("--out", default=None,
+                        help="results stem (default: named by what is measured, see results_stem)")
     args = parser.parse_args(argv)
     try:
         import lapy  # noqa: F401
@@ -466,7 +485,8 @@ def main(argv=None):
     print(f"\nat the end: {end}")
     md += [f"At the end: {end}", ""]
     RESULTS.mkdir(parents=True, exist_ok=True)
-    stem = args.out or ("sweep_quick" if args.quick else "sweep")
+    stem = args.out or results_stem(args.quick, args.eigenpairs, not args.no_sweep, sizes, real,
+                                    args.collection)
     (RESULTS / f"{stem}.md").write_text("\n".join(md))
     print(f"results: {RESULTS / stem}.md")
     return 0 if ok else 1

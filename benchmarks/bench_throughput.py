@@ -31,8 +31,8 @@ It prints meshes per minute and the speed-up over ``serial`` (2 would be perfect
 on 2 cores; other processes running on the machine take their share, hence the load
 average next to the figures and the *free cores* probe of :func:`free_cores` before and
 after), and writes ``benchmarks/results/throughput.{csv,md}``
-(``throughput_quick.*`` with ``--quick``, ``throughput_<count>.*`` for another
-``--count``).  Nothing here asserts a time.
+(``throughput_quick.*`` with ``--quick``; the number of meshes is in the table).  Nothing
+here asserts a time.
 """
 
 from __future__ import annotations
@@ -301,8 +301,7 @@ def main(argv=None):
     print(f"\nfree cores at the end: {cores_after:.2f}; at the end: {summary_end}")
 
     RESULTS.mkdir(parents=True, exist_ok=True)
-    stem = ("throughput_quick" if args.quick else
-            f"throughput_{count}" if args.count and count != 300 else "throughput")
+    stem = "throughput_quick" if args.quick else "throughput"
     keys = ["mode", "label", "meshes", "failed", "seconds", "per_minute", "speedup", "startup",
             "solve_seconds", "load1"]
     with open(RESULTS / f"{stem}.csv", "w", newline="") as fh:

@@ -214,6 +214,21 @@ def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
     assert (tmp_path / "t.md").read_text().count("| 1k | 1,000 |") == 1
 
 
+def test_sweep_results_are_named_by_what_they_measure():
+    sw = _load("bench_sweep")
+    stem = sw.results_stem
+    assert stem(False, False, True, ["1k", "160k"], False, 0) == "sweep_sizes"
+    assert stem(False, False, True, ["650k", "1m"], False, 0) == "sweep_big_meshes"
+    assert stem(False, False, True, ["1k"], True, 0) == "sweep"
+    assert stem(False, False, False, ["1k"], True, 0) == "sweep_real_meshes"
+    assert stem(False, False, False, ["1k"], False, 30) == "sweep_collection"
+    assert stem(False, True, True, ["160k"], False, 0) == "sweep_eigenpairs"
+    assert stem(True, True, True, ["1k"], True, 0) == "sweep_quick"
+    tracked = {p.stem for p in (BENCH / "results").glob("sweep*.md")}
+    assert {"sweep_sizes", "sweep_big_meshes", "sweep_real_meshes", "sweep_collection",
+            "sweep_eigenpairs"} <= tracked
+
+
 @pytest.mark.slow
 def test_signature_retrieval_bench_descriptors_are_scale_invariant():
     from cshape import shapes
