@@ -16,67 +16,12 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 
 
-#: Tests in the slow tier by their measured time (`pytest --durations`: each took 5-90 s on
-#: a loaded 2-core machine; subprocesses, process pools, real meshes, Hypothesis searches),
-#: by function name so that a test keeps its tier when its file is reorganised.
-SLOW_BY_DURATION = frozenset({
-    "test_arbitrary_arrays_give_a_mesh_or_a_clear_error",
-    "test_articulated_poses_near_isometric_and_seeded",
-    "test_backends_give_the_same_eigenvalues_and_every_sphere_copy",
-    "test_bigmesh_measure_and_report",
-    "test_block_lanczos_agrees_with_arpack_on_a_real_mesh",
-    "test_block_lanczos_agrees_with_arpack_tol0",
-    "test_cli_reports_bad_arguments_cleanly",
-    "test_committed_student_notebooks_are_nbgraders_release",
-    "test_dask_nanny_malloc_variable_is_undone_in_the_worker",
-    "test_demo_command_prints_descriptors",
-    "test_describe_failure_list_exit_status_and_keep_going",
-    "test_describe_folder_then_glob_reads_the_cache",
-    "test_describe_on_a_dask_cluster_and_an_unreachable_one",
-    "test_docs_example_runs",
-    "test_every_real_mesh_loads_and_has_a_finite_spectrum",
-    "test_exact_sphere_multiplicities_at_10k_vertices",
-    "test_expected_failures_end_in_one_line",
-    "test_failed_reproduce_leaves_no_report_folder",
-    "test_failing_cell_is_reported",
-    "test_floor_stages_and_profile",
-    "test_fuzzed_files_never_crash_the_interpreter",
-    "test_generate_releases_only_graded_lessons",
-    "test_hostile_files_do_not_kill_or_exhaust_the_interpreter",
-    "test_hull_area_normalised_descriptor_is_scale_invariant",
-    "test_hull_invariances",
-    "test_hull_shape_dna_is_finite_ascending_with_one_zero",
-    "test_hulls_with_slivers_still_give_finite_descriptors",
-    "test_interrupt_ends_in_one_line_and_leaves_complete_cache_entries",
-    "test_load_creatures_is_cached_and_reproducible",
-    "test_matrix_figures_square_with_class_ticks",
-    "test_nbgrader_refuses_markers_outside_nbgrader_cells",
-    "test_parallel_describe_from_a_plain_script_without_main_guard",
-    "test_perturbed_shapes_give_valid_spectra",
-    "test_perturbed_shapes_invariances",
-    "test_process_pool_equals_serial",
-    "test_queries_descriptors_and_exact_search",
-    "test_query_by_name_and_by_mesh_file",
-    "test_real_meshes_describe_info_query",
-    "test_report_mds_figure_panels_square_with_one_legend",
-    "test_reproduce_writes_a_report",
-    "test_results_are_identical_across_processes",
-    "test_resume_after_a_worker_is_killed",
-    "test_resume_after_the_run_is_killed",
-    "test_shape_dna_is_the_same_bits_in_a_new_process_with_each_backend",
-    "test_split_products_give_the_same_bits_with_any_number_of_threads",
-    "test_split_products_keep_dense_lapack_eigenvalues_and_icosahedral_copies",
-    "test_two_processes_building_the_same_item_do_not_corrupt_it",
-})
-
-
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection
 def pytest_collection_modifyitems(config, items):
-    """A browser test, and every test of :data:`SLOW_BY_DURATION`, is in the slow tier."""
+    """A browser test is in the slow tier (the other slow tests carry ``@pytest.mark.slow``:
+    those that take 5-90 s on a loaded 2-core machine, by ``pytest --durations``)."""
     for item in items:
-        if item.get_closest_marker("slow"):
-            continue
-        if item.get_closest_marker("browser") or item.originalname in SLOW_BY_DURATION:
+        if item.get_closest_marker("browser") and not item.get_closest_marker("slow"):
             item.add_marker(pytest.mark.slow)
 
 

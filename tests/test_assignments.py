@@ -64,6 +64,7 @@ def released():
     return asg.release_notebooks()
 
 
+@pytest.mark.slow
 def test_committed_student_notebooks_are_nbgraders_release(released):
     assert sorted(released) == [p.name for p in GRADED]
     stale = asg.update_folder(released, NB_DIR / "student", check=True)
@@ -93,6 +94,7 @@ def test_update_folder_writes_checks_and_removes_stale(tmp_path):
     assert (dest / "01_a.ipynb").read_text() == "A\n"
 
 
+@pytest.mark.slow
 def test_generate_releases_only_graded_lessons(tmp_path):
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
     src = tmp_path / "nb"
@@ -108,6 +110,7 @@ def test_generate_releases_only_graded_lessons(tmp_path):
             == (NB_DIR / "student" / "03_dft_compression.ipynb").read_text())
 
 
+@pytest.mark.slow
 def test_nbgrader_refuses_markers_outside_nbgrader_cells(tmp_path):
     """The failure of issue 12 stays caught: a solution region without metadata."""
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")

@@ -241,6 +241,7 @@ def test_table_load_rejects(tmp_path):
 
 
 # ------------------------------------------------------------------ parallel runs
+@pytest.mark.slow
 def test_process_pool_equals_serial(tmp_path, reference):
     table = run(small_collection(), cache_dir=tmp_path, n_jobs=2)
     assert table.names == reference.names
@@ -309,6 +310,7 @@ print(ok, resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
 """
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's mallopt")
 def test_dask_nanny_malloc_variable_is_undone_in_the_worker():
     # MALLOC_TRIM_THRESHOLD_ (set by the Dask nanny) freezes glibc's mmap threshold at
@@ -380,6 +382,7 @@ def check_resume(cache):
     np.testing.assert_array_equal(table.lam[:3], fresh.lam)
 
 
+@pytest.mark.slow
 def test_resume_after_the_run_is_killed(tmp_path):
     proc, cache = start_describe(tmp_path, n_jobs=1)
     proc.send_signal(signal.SIGKILL)
@@ -389,6 +392,7 @@ def test_resume_after_the_run_is_killed(tmp_path):
     check_resume(cache)
 
 
+@pytest.mark.slow
 def test_resume_after_a_worker_is_killed(tmp_path):
     psutil = pytest.importorskip("psutil")
     proc, cache = start_describe(tmp_path, n_jobs=2)
@@ -421,6 +425,7 @@ print(json.dumps({"ok": t.names, "failures": t.failures, "lam": t.lam.tolist()})
 """
 
 
+@pytest.mark.slow
 def test_parallel_describe_from_a_plain_script_without_main_guard(tmp_path):
     """The usual script, no ``if __name__ == "__main__":``: the workers must not re-run it
     (with multiprocessing's spawn/forkserver every mesh 'failed' as a dead worker)."""

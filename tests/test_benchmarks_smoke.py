@@ -34,6 +34,7 @@ def results(tmp_path, monkeypatch):
     return tmp_path
 
 
+@pytest.mark.slow
 def test_bigmesh_measure_and_report(results):
     bm = _load("bench_bigmesh")
     r = bm.measure("cshape", 50, 30, N=10)  # 1500 vertices: the sparse (Lanczos) path
@@ -73,6 +74,7 @@ def test_throughput_collection_and_serial_mode(results):
     assert 0 < tp.free_cores(2, n=10_000) < 10
 
 
+@pytest.mark.slow
 def test_queries_descriptors_and_exact_search(results):
     q = _load("bench_queries")
     from cshape.compare import descriptor_matrix
@@ -97,6 +99,7 @@ def test_queries_descriptors_and_exact_search(results):
     assert dist.shape == (7, 3) and res["single_ms"] > 0 and res["db_mib"] > 0
 
 
+@pytest.mark.slow
 def test_floor_stages_and_profile(results):
     fl = _load("bench_floor")
     mesh = fl.make_mesh("tiny")

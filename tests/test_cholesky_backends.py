@@ -56,6 +56,7 @@ def test_each_backend_solves_known_systems(name, order, monkeypatch):
         assert np.array_equal(factor.solve(X), Y)  # workspace reuse changes nothing
 
 
+@pytest.mark.slow
 def test_backends_give_the_same_eigenvalues_and_every_sphere_copy(monkeypatch):
     mesh = cshape.shapes.icosphere(5)  # 10242 vertices: sparse path, icosahedral clusters
     lams = {}
@@ -112,6 +113,7 @@ def test_a_backend_that_does_not_work_is_named_with_its_reason(monkeypatch):
     assert _cholmod.backend() == "cholespy"
 
 
+@pytest.mark.slow
 def test_shape_dna_is_the_same_bits_in_a_new_process_with_each_backend(tmp_path):
     code = ("import sys, numpy as np, cshape; "
             "np.save(sys.argv[1], cshape.shape_dna(cshape.shapes.icosphere(5), N=30))")

@@ -62,6 +62,7 @@ def folder(tmp_path_factory):
     return root
 
 
+@pytest.mark.slow
 def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
     out = tmp_path / "table.csv"
     res = cli("describe", folder, "--out", out, "-N", N, "-M", M, "--jobs", 2,
@@ -95,6 +96,7 @@ def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
     np.testing.assert_array_equal(again.lam[again.index("ring")], table.lam[table.index("ring")])
 
 
+@pytest.mark.slow
 def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     bad = tmp_path / "in" / "bad.off"
     bad.parent.mkdir()
@@ -120,6 +122,7 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     assert_one_line_error(res, "1 of 1 meshes failed")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, match", [
     (["describe", "no/such/folder"], "no file or folder 'no/such/folder'"),
     (["describe", "MESHES", "--out", "table.txt"], "--out must end in .csv or .npz"),
@@ -173,6 +176,7 @@ def table_file(folder, tmp_path_factory):
     return out
 
 
+@pytest.mark.slow
 def test_query_by_name_and_by_mesh_file(table_file, folder, tmp_path):
     res = cli("query", table_file, "small", "-k", "5", "--json", check=True)
     got = json.loads(res.stdout)
@@ -216,6 +220,7 @@ def test_offline_download_ends_in_one_line_and_leaves_no_folder(tmp_path):
     assert list(cache.iterdir()) == []  # no empty downloads/odedstein-meshes/cube/ left
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 def test_real_meshes_describe_info_query(shared_meshes, tmp_path):
     """The real meshes: a torus, a coarse unit sphere, and cubes too coarse for N=30."""
@@ -246,6 +251,7 @@ def test_real_meshes_describe_info_query(shared_meshes, tmp_path):
     assert hit["name"] == "sphere" and hit["distance"] == 0.0  # the same file, cached
 
 
+@pytest.mark.slow
 def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
     distributed = pytest.importorskip("distributed")
     out = tmp_path / "t.npz"
@@ -266,6 +272,7 @@ def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
     assert_one_line_error(res, f"Timed out trying to connect to tcp://127.0.0.1:{port}")
 
 
+@pytest.mark.slow
 def test_interrupt_ends_in_one_line_and_leaves_complete_cache_entries(tmp_path):
     import signal
     import time
@@ -316,6 +323,7 @@ def test_collect_mesh_files_names_labels_and_globs(tmp_path):
         collect_mesh_files([f"{tmp_path}/b/*.txt"])
 
 
+@pytest.mark.slow
 def test_failed_reproduce_leaves_no_report_folder(folder, tmp_path):
     """Two shapes are too few for Section 3: one line, exit 2, and no folder created."""
     out = tmp_path / "new" / "report"

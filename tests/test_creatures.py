@@ -158,6 +158,7 @@ def test_generate_field_is_validated(mutate, match):
         data.validate_manifest(copy.deepcopy({"version": 1, "collections": [e]}))
 
 
+@pytest.mark.slow
 def test_load_creatures_is_cached_and_reproducible(tmp_path):
     kw = {"members": 2, "kinds": ["snake", "teddy"], **FAST}
     a = data.load_creatures(3, cache_dir=tmp_path / "a", progress=False, **kw)

@@ -543,6 +543,7 @@ def test_cli_help_mentions_data(capsys):
     assert "build" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_docs_example_runs(tmp_path):
     """The module docstring's example, on the tiny manifest."""
     man = _write_manifest(tmp_path, [TINY])

@@ -121,6 +121,7 @@ def test_overlapping_names_are_dropped_by_their_drawn_extents():
     assert_no_overlap(drawn(fig).axes[0].texts)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("p, n_classes", [(3, 3), (60, 6)])
 def test_report_mds_figure_panels_square_with_one_legend(p, n_classes):
     table = synthetic_table(p, n_classes)
@@ -136,6 +137,7 @@ def test_report_mds_figure_panels_square_with_one_legend(p, n_classes):
     assert len(fig.legends) == 1 and len(fig.legends[0].get_texts()) == n_classes
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("p, n_classes", [(3, 3), (30, 3), (1000, 300)])
 def test_matrix_figures_square_with_class_ticks(p, n_classes):
     table = synthetic_table(p, n_classes)

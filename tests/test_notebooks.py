@@ -127,6 +127,7 @@ def test_stderr_outputs_are_reported_unless_expected(tmp_path):
     assert run_notebook(path, html=False).stderr == []
 
 
+@pytest.mark.slow
 def test_failing_cell_is_reported(tmp_path):
     path = _tiny(tmp_path, "raise RuntimeError('boom')")
     res = run_notebook(path, html=False)

@@ -120,6 +120,7 @@ def assert_valid_shape_dna(lam, N):
 
 
 # ------------------------------------------------------------------ convex hulls
+@pytest.mark.slow
 @settings(max_examples=60, **SETTINGS)
 @given(mesh=convex_hulls())
 def test_hull_shape_dna_is_finite_ascending_with_one_zero(mesh):
@@ -135,6 +136,7 @@ def test_hull_shape_dna_is_finite_ascending_with_one_zero(mesh):
     np.testing.assert_allclose(S[M + 1:], np.conj(S[:M][::-1]), atol=1e-9 * np.abs(S).max())
 
 
+@pytest.mark.slow
 @settings(max_examples=40, **SETTINGS)
 @given(mesh=convex_hulls(slivers=True))
 def test_hulls_with_slivers_still_give_finite_descriptors(mesh):
@@ -149,6 +151,7 @@ def test_hulls_with_slivers_still_give_finite_descriptors(mesh):
     assert lam[0] == 0.0 and np.all(np.isfinite(S))
 
 
+@pytest.mark.slow
 @settings(max_examples=40, **SETTINGS)
 @given(mesh=convex_hulls(), data=st.data())
 def test_hull_invariances(mesh, data):
@@ -174,6 +177,7 @@ def test_hull_invariances(mesh, data):
     assert D[0, 1] <= 1e-6 * max(1.0, np.abs(S[0]).max())
 
 
+@pytest.mark.slow
 @settings(max_examples=30, **SETTINGS)
 @given(mesh=convex_hulls(), log_s=st.floats(-3, 3))
 def test_hull_area_normalised_descriptor_is_scale_invariant(mesh, log_s):
@@ -210,6 +214,7 @@ def test_distance_matrices_are_symmetric_metrics(meshes):
 
 
 # ------------------------------------------------------------------ perturbed shapes
+@pytest.mark.slow
 @settings(max_examples=50, **SETTINGS)
 @given(shape=perturbed_shapes(), bc=st.sampled_from(["neumann", "dirichlet"]),
        mass=st.sampled_from(["consistent", "lumped"]))
@@ -232,6 +237,7 @@ def test_perturbed_shapes_give_valid_spectra(shape, bc, mass):
         assert B.sum() == pytest.approx(mesh.area, rel=1e-12)
 
 
+@pytest.mark.slow
 @settings(max_examples=30, **SETTINGS)
 @given(shape=perturbed_shapes(), data=st.data())
 def test_perturbed_shapes_invariances(shape, data):
@@ -416,6 +422,7 @@ def _near_valid_pairs(draw):
     return V, F
 
 
+@pytest.mark.slow
 @settings(max_examples=200, **SETTINGS)
 @given(VF=st.one_of(st.tuples(_any_array, _any_array), _near_valid_pairs()))
 def test_arbitrary_arrays_give_a_mesh_or_a_clear_error(VF):

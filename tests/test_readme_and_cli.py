@@ -6,6 +6,7 @@ import re
 import subprocess
 import sys
 
+import pytest
 from conftest import REPO
 
 
@@ -17,6 +18,7 @@ def test_readme_python_snippets_run():
         exec(compile(code, "README.md", "exec"), {})
 
 
+@pytest.mark.slow
 def test_demo_command_prints_descriptors():
     out = subprocess.run(
         [sys.executable, "-m", "cshape", "demo", "-N", "20", "-M", "2"],
@@ -25,6 +27,7 @@ def test_demo_command_prints_descriptors():
     assert "unit sphere" in out and "cShape-DNA" in out
 
 
+@pytest.mark.slow
 def test_cli_reports_bad_arguments_cleanly():
     res = subprocess.run(
         [sys.executable, "-m", "cshape", "demo", "-N", "20", "-M", "10"],

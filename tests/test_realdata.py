@@ -22,6 +22,7 @@ ALL = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("rel", ALL)
 def test_every_real_mesh_loads_and_has_a_finite_spectrum(shared_meshes, rel):
     with warnings.catch_warnings():

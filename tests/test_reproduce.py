@@ -58,6 +58,7 @@ def _folder_benchmark(root):
     return data.load_folder(root)
 
 
+@pytest.mark.slow
 def test_reproduce_writes_a_report(tmp_path):
     bench = _folder_benchmark(tmp_path / "bench")
     with pytest.warns(CShapeWarning, match="two: mesh has 2 connected components"):

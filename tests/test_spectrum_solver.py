@@ -65,6 +65,7 @@ def test_sparse_path_agrees_with_dense_lapack(sparse_path, mesh, kw):
     np.testing.assert_allclose(np.linalg.svd(overlap[:, :50], compute_uv=False), 1.0, atol=1e-7)
 
 
+@pytest.mark.slow
 def test_block_lanczos_agrees_with_arpack_tol0():
     mesh = shapes.icosphere(4)  # 2562 vertices: sparse path
     K, B = _KB(mesh)
@@ -99,6 +100,7 @@ def test_both_shifts_agree_with_scipy_arpack_tol0_and_keep_the_torus_pairs(shift
     assert sizes == _clusters(ref, rel_gap=1e-8) and set(sizes) == {1, 2}
 
 
+@pytest.mark.slow
 def test_exact_sphere_multiplicities_at_10k_vertices():
     lam = cshape.shape_dna(shapes.icosphere(5), N=100)  # 10242 vertices, l = 0..9
     assert lam[0] == 0.0
@@ -185,6 +187,7 @@ def test_default_shift_is_below_the_spectrum_on_its_scale():
     assert -2.0 < sigma < -0.5
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 def test_block_lanczos_agrees_with_arpack_on_a_real_mesh(shared_meshes):
     path = shared_meshes / "spot" / "spot.obj"
@@ -215,6 +218,7 @@ def split_path(monkeypatch):
     monkeypatch.setattr(_threads, "THREADS_MIN_UNKNOWNS", 500)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("threads", [1, 3])
 def test_split_products_keep_dense_lapack_eigenvalues_and_icosahedral_copies(
         sparse_path, split_path, threads):
@@ -237,6 +241,7 @@ def test_split_products_keep_dense_lapack_eigenvalues_and_icosahedral_copies(
     np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(N), atol=1e-10)
 
 
+@pytest.mark.slow
 def test_split_products_give_the_same_bits_with_any_number_of_threads(split_path):
     K, B = _KB(shapes.icosphere(4))
     sigma = _shift.default_sigma(B, 100)
@@ -279,6 +284,7 @@ sys.stdout.write(lam.tobytes().hex())
 """
 
 
+@pytest.mark.slow
 def test_results_are_identical_across_processes():
     # fixed seeds, no dependence on threads or on the state of the process: a fresh
     # interpreter (here with 2 threads allowed for the products) gives the same bits

@@ -435,6 +435,7 @@ def test_interrupt_mid_write_removes_the_temporary(tmp_path, monkeypatch):
     assert list(_cache_folder(tmp_path).iterdir()) == []
 
 
+@pytest.mark.slow
 def test_two_processes_building_the_same_item_do_not_corrupt_it(tmp_path):
     man = _manifest(tmp_path, [TINY])
     start = tmp_path / "go"

@@ -132,6 +132,7 @@ def test_articulated_figure_is_closed_genus0(kind):
     assert 900 < m.n_vertices < 1600
 
 
+@pytest.mark.slow
 def test_articulated_poses_near_isometric_and_seeded():
     a = v.articulated_figure("human", 0, voxelsize=0.03, target_vertices=1000)
     b = v.articulated_figure("human", 3, voxelsize=0.03, target_vertices=1000)
