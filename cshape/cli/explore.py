@@ -259,7 +259,7 @@ def _pieces(table):
 
 def _print_table(table, width=4):
     """One line per shape on stdout: name, label, area, components and the first values of
-    the default descriptor (:data:`cshape.compare.DEFAULT_DESCRIPTOR`, the one `cshape query`
+    the default descriptor (:data:`cshape.DEFAULT`, the one `cshape query`
     compares; '-' for a shape it cannot describe)."""
     import numpy as np
 
@@ -475,10 +475,16 @@ def _kind_arg(value: str) -> str:
 
 
 def _default_label(N=100) -> str:
-    """The exploration default (cshape.compare.DEFAULT_DESCRIPTOR) in words."""
-    from ..compare import default_descriptor, descriptor_label
+    """The exploration default (cshape.DEFAULT) in words."""
+    from ..descriptor import select_descriptor
 
-    return descriptor_label(**default_descriptor(N))
+    return select_descriptor(N=N).label
+
+
+def chosen_descriptor(args, table):
+    """The :class:`cshape.Descriptor` of ``--kind``, ``-M``, ``-N`` and ``--transform``,
+    with the table's ``M``, ``N`` and transform where not given."""
+    return table.descriptor_for(args.kind, args.M, args.N, args.transform)
 
 
 def _cmd_query(args) -> int:
@@ -496,8 +502,7 @@ def _cmd_query(args) -> int:
     check_plot_options(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
-                                           transform=args.transform)
+        index = DescriptorIndex.from_table(table, descriptor=chosen_descriptor(args, table))
     print_warnings(caught, "query", False)
     by = (f"--kind {args.kind}" if args.kind
           else f"the default descriptor ({index.descriptor})")
