@@ -245,3 +245,21 @@ def test_descriptor_and_fields_are_not_both_given(table):
         select_descriptor(PAPER.as_dict())  # type: ignore[arg-type]
     with pytest.raises(TypeError, match=r"unexpected keyword argument 'zero_mode'"):
         table.descriptors(zero_mode=1)
+
+
+def test_reproduce_takes_the_papers_descriptor_and_refuses_another(tmp_path):
+    from cshape.reproduce import reproduce
+    from cshape.reproduce.report import _paper_descriptor
+
+    assert _paper_descriptor(None, 30, 4) == PAPER.replace(N=30, M=4)
+    assert _paper_descriptor(None, None, None) == PAPER
+    assert _paper_descriptor(PAPER.replace(M=8), None, None) == PAPER.replace(M=8)
+    out = tmp_path / "report"
+    with pytest.raises(ValueError, match=r"^reproduce compares the paper's cShape-DNA, got "
+                                         r"truncated log spectrum, lam_1-normalised"):
+        reproduce([], out, descriptor=DEFAULT)
+    with pytest.raises(ValueError, match=r"^pass either descriptor= or N and M, not both"):
+        reproduce([], out, N=30, descriptor=PAPER)
+    with pytest.raises(TypeError, match=r"^descriptor must be a cshape.Descriptor"):
+        reproduce([], out, descriptor="paper")
+    assert not out.exists()  # refused before any work
