@@ -487,8 +487,35 @@ def chosen_descriptor(args, table):
     return table.descriptor_for(args.kind, args.M, args.N, args.transform)
 
 
+def _query_target(args, table):
+    """The query's eigenvalues, area, table row to exclude (None for a file), name in the
+    header and component count: a shape of the table, or a mesh file described now."""
+    from ..batch import describe
+
+    target = args.target
+    if target in table.names:
+        row = table.index(target)
+        return (table.lam[row], table.areas[row], row, f"{target!r}",
+                int(table.zero_modes[row]))
+    if Path(target).is_file():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N, M=table.M,
+                           bc=table.bc, mass=table.mass, transform=table.transform,
+                           cache_dir=False if args.no_cache else args.cache_dir,
+                           progress=False, on_error="warn")
+        print_warnings(caught, "query", False, skip=("describe: ",))
+        if one.failures:
+            raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
+        return one.lam[0], one.areas[0], None, repr(target), int(one.zero_modes[0])
+    close = [n for n in table.names if target.lower() in n.lower()][:5]
+    hint = f"; names containing it: {close}" if close else ""
+    raise ValueError(f"{target!r} is neither a shape of the table ({len(table)} shapes)"
+                     f" nor a mesh file{hint}")
+
+
 def _cmd_query(args) -> int:
-    from ..batch import DescriptorTable, describe
+    from ..batch import DescriptorTable
     from ..index import DescriptorIndex
 
     table = DescriptorTable.load(args.table)
@@ -507,27 +534,7 @@ def _cmd_query(args) -> int:
     by = (f"--kind {args.kind}" if args.kind
           else f"the default descriptor ({index.descriptor})")
     target = args.target
-    if target in table.names:
-        row = table.index(target)
-        lam, area, exclude, what = table.lam[row], table.areas[row], row, f"{target!r}"
-        pieces = int(table.zero_modes[row])
-    elif Path(target).is_file():
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N, M=table.M,
-                           bc=table.bc, mass=table.mass, transform=table.transform,
-                           cache_dir=False if args.no_cache else args.cache_dir,
-                           progress=False, on_error="warn")
-        print_warnings(caught, "query", False, skip=("describe: ",))
-        if one.failures:
-            raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
-        lam, area, exclude, what = one.lam[0], one.areas[0], None, repr(target)
-        pieces = int(one.zero_modes[0])
-    else:
-        close = [n for n in table.names if target.lower() in n.lower()][:5]
-        hint = f"; names containing it: {close}" if close else ""
-        raise ValueError(f"{target!r} is neither a shape of the table ({len(table)} shapes)"
-                         f" nor a mesh file{hint}")
+    lam, area, exclude, what, pieces = _query_target(args, table)
     rows = index.rows_  # the table rows the kind describes
     if exclude is not None and exclude not in rows:
         raise ValueError(f"{by} cannot describe {target!r} (the warning above "

@@ -462,6 +462,31 @@ def _suite_report(res) -> list:
     return s
 
 
+def _section_3_2_report(res) -> list:
+    """The report's Section 3.2: every M against Shape-DNA, beside the paper's numbers."""
+    N, p31 = res["N"], PAPER["3.1"]
+    s = []
+    r32 = res["3.2"]
+    ext = [(k, t) for k, t in (("log-weyl", "log-Weyl DFT*"), ("log-weyl-dct", "log-Weyl DCT*"),
+                               ("truncated-log", "truncated log spectrum*")) if r32.get(k)]
+    rows = []
+    for m in r32["cshape"]:
+        paper = PAPER["3.2"].get(m)
+        if paper is None and m == p31["M"]:
+            paper = (p31["mean"], p31["std"])
+        rows.append([m, 2 * m + 1, _pair(r32["cshape"][m]), _pair(r32["truncated"][m])]
+                    + [_pair(r32[k].get(m)) for k, _ in ext] + [_pair(paper)])
+    s += [_md_table(["M", "size", "cShape-DNA", "truncated Shape-DNA"] + [t for _, t in ext]
+                    + ["paper cShape-DNA"], rows), "",
+          f"F1 (N={N}): {_fmt(r32['f1'][0])} / {_fmt(r32['f1'][1])}."
+          + (" * Extensions beyond the paper (cshape's `transform=` and the truncated log "
+             "spectrum): they are not meant to be faithful to Shape-DNA's distances, so a "
+             "large difference here is expected." if ext else ""), "",
+          "![](fig4_mds_cshape.png)", "", "![](fig5_mds_truncated_f1.png)", "",
+          "![](fig6_matrices.png)", "", "![](fig6_differences.png)", ""]
+    return s
+
+
 def _report(res, figs, title):
     N, M = res["N"], res["M"]
     p31 = PAPER["3.1"]
@@ -486,24 +511,7 @@ def _report(res, figs, title):
           "", "![](fig3_matrices.png)", "", "![](fig3_difference.png)", "",
           "## 3.2 The parameter M, and equal-size descriptors", "",
           f"Difference statistics against Shape-DNA N={N} (mean / std).", ""]
-    r32 = res["3.2"]
-    ext = [(k, t) for k, t in (("log-weyl", "log-Weyl DFT*"), ("log-weyl-dct", "log-Weyl DCT*"),
-                               ("truncated-log", "truncated log spectrum*")) if r32.get(k)]
-    rows = []
-    for m in r32["cshape"]:
-        paper = PAPER["3.2"].get(m)
-        if paper is None and m == p31["M"]:
-            paper = (p31["mean"], p31["std"])
-        rows.append([m, 2 * m + 1, _pair(r32["cshape"][m]), _pair(r32["truncated"][m])]
-                    + [_pair(r32[k].get(m)) for k, _ in ext] + [_pair(paper)])
-    s += [_md_table(["M", "size", "cShape-DNA", "truncated Shape-DNA"] + [t for _, t in ext]
-                    + ["paper cShape-DNA"], rows), "",
-          f"F1 (N={N}): {_fmt(r32['f1'][0])} / {_fmt(r32['f1'][1])}."
-          + (" * Extensions beyond the paper (cshape's `transform=` and the truncated log "
-             "spectrum): they are not meant to be faithful to Shape-DNA's distances, so a "
-             "large difference here is expected." if ext else ""), "",
-          "![](fig4_mds_cshape.png)", "", "![](fig5_mds_truncated_f1.png)", "",
-          "![](fig6_matrices.png)", "", "![](fig6_differences.png)", ""]
+    s += _section_3_2_report(res)
     s += _retrieval_report(res)
     s += _suite_report(res)
     s += ["## Size and comparison time", "",
