@@ -18,7 +18,7 @@ instance and a held-out one (other seeds).  The script
    (:func:`cshape.reproduce.suite.choose_default`);
 3. scores the same descriptors on the **held-out** instances, where the chosen one is only
    reported, never chosen again;
-4. checks that :data:`cshape.compare.DEFAULT_DESCRIPTOR` is the descriptor chosen, and
+4. checks that :data:`cshape.DEFAULT` is the descriptor chosen, and
    writes ``benchmarks/results/suite.md`` and ``suite.csv``.
 
 Meshes and eigenvalues are cached: the first run builds 4 x 12 identity templates and
@@ -82,7 +82,7 @@ def main(argv=None):
     ap.add_argument("--out", default="suite", help="file stem in benchmarks/results")
     args = ap.parse_args(argv)
 
-    from cshape.compare import DEFAULT_DESCRIPTOR, descriptor_label
+    from cshape import descriptor
     from cshape.data.suite import BENCHMARKS, SUITE
     from cshape.reproduce.suite import (
         MEASURES,
@@ -100,7 +100,7 @@ def main(argv=None):
     margin = paired_margin(dev_tables, chosen, runner)
     held = suite_scores(tables("held-out", args.N, args.jobs))
     held_chosen = next(r for r in held if r["title"] == chosen["title"])
-    const = DEFAULT_DESCRIPTOR
+    const = descriptor.DEFAULT
     const_row = default_row(dev)
     agrees = const_row is not None and const_row["title"] == chosen["title"]
 
@@ -138,8 +138,7 @@ def main(argv=None):
         + "; ".join(f"{k} {m:+.3f} +- {se:.3f}" for k, (m, se) in margin.items())
         + ".  A lead within two standard errors is a tie that the rule breaks, not a "
         "measured advantage.", "",
-        f"`cshape.compare.DEFAULT_DESCRIPTOR` = `{const}` "
-        f"({descriptor_label(**{k: v for k, v in const.items()}, N=args.N)}): "
+        f"`cshape.DEFAULT` = `{const}` ({const.for_N(args.N).label}): "
         + ("the descriptor chosen here." if agrees else
            f"**differs from the choice above ({chosen['title']})**; update it."), "",
     ]
@@ -160,7 +159,7 @@ def main(argv=None):
     (RESULTS / f"{args.out}.md").write_text(md)
     print(md)
     if not agrees:
-        print(f"DEFAULT_DESCRIPTOR {const} is not the choice {chosen['title']}",
+        print(f"cshape.DEFAULT {const} is not the choice {chosen['title']}",
               file=sys.stderr)
         return 1
     return 0

@@ -9,7 +9,9 @@ The core is the method, one module per stage, in pipeline order (data flows one 
 4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
    :func:`compact_shape_dna` (Eq. 9-10), :func:`log_weyl_ratio`, :func:`real_form`,
    :func:`inverse_compact_shape_dna`, :func:`f1_feature`; :func:`count_zero_modes` and
-   :func:`nonzero_eigenvalues` (the rule for meshes of several pieces)
+   :func:`nonzero_eigenvalues` (the rule for meshes of several pieces);
+   :mod:`cshape.descriptor`  - :class:`Descriptor`, one recipe as a frozen value:
+   :data:`PAPER` (the paper's cShape-DNA) and :data:`DEFAULT` (the exploration default)
 5. :mod:`cshape.compare`     - :func:`descriptor_matrix`, :func:`distance_matrix`,
    :func:`scale_255`, :func:`retrieval_scores`, :func:`mds_embedding`;
    :mod:`cshape.index`       - :class:`DescriptorIndex` (nearest neighbours in a database)
@@ -49,6 +51,7 @@ from .compare import (
     scale_255,
     scaled_difference,
 )
+from .descriptor import DEFAULT, PAPER, Descriptor
 from .descriptors import (
     compact_shape_dna,
     compact_shape_dna_real,
@@ -109,6 +112,8 @@ __all__ = [
     "heat_trace",
     "heat_kernel",
     "CShapeWarning",
+    "DEFAULT",
+    "Descriptor",
     "DescriptorIndex",
     "DescriptorTable",
     "Mesh",
@@ -132,6 +137,7 @@ __all__ = [
     "mds_embedding",
     "nonzero_eigenvalues",
     "normalize",
+    "PAPER",
     "real_form",
     "repair_mesh",
     "retrieval_scores",

@@ -30,6 +30,7 @@ __all__ = [
     "OLD_SPELLINGS",
     "check_bool",
     "check_choice",
+    "check_crop",
     "check_descriptors",
     "check_int",
     "check_labels",
@@ -190,6 +191,53 @@ def check_real(name: str, value: object, *, min: float | None = None,
             rule = f"a {what}"
         raise ValueError(f"{name} must be {rule}, got {v!r}")
     return v
+
+
+def check_crop(M: object, N: object, *, log: bool = False) -> int:
+    """The one M-versus-N rule: ``2M+1`` values are kept from a sequence of ``N`` (or ``N-1``).
+
+    The crop of Eq. (10) keeps the ``2M+1`` values of frequencies ``-M .. M`` of a sequence
+    (or, for the truncated descriptors, its first ``2M+1`` values).  The sequence is the
+    Shape-DNA ``lam_0 .. lam_{N-1}`` (``N`` values, Eq. 8) or, with ``log=True``, the
+    log-Weyl ratios ``r_1 .. r_{N-1}`` (``N-1`` values: ``lam_0`` has no logarithm).
+
+    Parameters
+    ----------
+    M : int
+        Crop half-width, ``M >= 0``.
+    N : int
+        Shape-DNA length, ``N >= 1``.
+    log : bool, default=False
+        The sequence is the ``N-1`` log-Weyl ratios.
+
+    Returns
+    -------
+    int
+        ``M``, as a Python ``int``.
+
+    Raises
+    ------
+    TypeError
+        ``M`` or ``N`` not an integer.
+    ValueError
+        ``M < 0``, ``N < 1``, or ``2M+1`` more than the sequence holds:
+        ``"M=8: 2M+1 = 17 values cannot be kept from N = 12 eigenvalues; use M <= 5 or
+        N >= 17"``.
+    """
+    M = check_int("M", M, min=0)
+    N = check_int("N", N, min=1)
+    L = N - 1 if log else N
+    if 2 * M + 1 <= L:
+        return M
+    if L < 1:
+        raise ValueError(
+            f"the log-Weyl ratios need N >= 2 (the log-Weyl ratio starts at lam_1; lam_0 has "
+            f"no logarithm), got N = {N}")
+    source = (f"the N-1 = {L} log-Weyl ratios (lam_0 has no logarithm)" if log
+              else f"N = {N} eigenvalues")
+    raise ValueError(
+        f"M={M}: 2M+1 = {2 * M + 1} values cannot be kept from {source}; use "
+        f"M <= {(L - 1) // 2} or N >= {2 * M + 1 + (N - L)}")
 
 
 def check_n_jobs(value: object, name: str = "n_jobs") -> int | None:

@@ -22,36 +22,22 @@ Every function takes and returns plain NumPy arrays.
 from __future__ import annotations
 
 from collections.abc import Hashable, Sequence
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._checks import (
     check_bool,
-    check_choice,
     check_descriptors,
     check_int,
     check_labels,
     check_square,
 )
-from .descriptors import (
-    NORMALIZATIONS,
-    TRANSFORMS,
-    compact_shape_dna,
-    count_zero_modes,
-    f1_feature,
-    log_weyl_ratio,
-    normalize,
-    real_form,
-)
+from .descriptor import DEFAULT, DESCRIPTOR_KINDS, PAPER, Descriptor
 
 __all__ = [
     "DEFAULT_DESCRIPTOR",
-    "DEFAULT_KIND",
-    "DEFAULT_M",
-    "DEFAULT_NORMALIZATION",
-    "DEFAULT_TRANSFORM",
     "DESCRIPTOR_KINDS",
     "PAPER_DESCRIPTOR",
     "default_descriptor",
@@ -69,37 +55,21 @@ __all__ = [
     "scaled_difference",
 ]
 
-#: The descriptor kinds of :func:`descriptor_matrix`.
-DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log")
-
 #: The E-measure of the Princeton Shape Benchmark looks at the first 32 results.
 E_MEASURE_DEPTH = 32
 
-#: The exploration default: the descriptor that :meth:`cshape.DescriptorTable.descriptors`
-#: and ``.distance_matrix()`` with no kind, :class:`cshape.DescriptorIndex`, ``cshape query``,
-#: ``cshape describe``'s summary, the MDS of one's own collection and lesson 06 compare.
-#: Chosen on the development instances of the benchmark suite (category, instance and
-#: resolution level) by its *worst* first tier; see ``benchmarks/results/suite.md``.
-DEFAULT_KIND = "truncated-log"
-#: Its crop half-width: ``2M+1`` values.
-DEFAULT_M = 8
-#: Its transform (used by the 'cshape' kinds only).
-DEFAULT_TRANSFORM = "weyl"
-#: Its scale normalisation (:func:`cshape.normalize`): divide by ``lam_1``, so the row is
-#: ``log(lam_i / lam_1) - log(4 pi i)``, ``i = 1 .. 2M+1`` (no area: a coarse mesh's area is
-#: a little off, and in log space any normalisation is one shift of the whole row).
-DEFAULT_NORMALIZATION = "fiedler"
-#: The default as keyword arguments of :func:`descriptor_matrix` (see :func:`default_descriptor`).
-DEFAULT_DESCRIPTOR = {"kind": DEFAULT_KIND, "M": DEFAULT_M, "transform": DEFAULT_TRANSFORM,
-                      "normalization": DEFAULT_NORMALIZATION}
-#: The paper's cShape-DNA (Eq. 8-10, ``M = 16`` of ``N = 100``, area-normalised): ``--kind
-#: cshape`` everywhere.
-PAPER_DESCRIPTOR = {"kind": "cshape", "M": 16, "transform": "weyl", "normalization": "area"}
+#: The exploration default, :data:`cshape.DEFAULT` (a :class:`cshape.Descriptor`; the same
+#: object).  The surfaces read :data:`cshape.descriptor.DEFAULT` when they are called.
+DEFAULT_DESCRIPTOR = DEFAULT
+#: The paper's cShape-DNA, :data:`cshape.PAPER` (the same object): ``--kind cshape``.
+PAPER_DESCRIPTOR = PAPER
 
 
 # --------------------------------------------------------------------------- descriptors
 def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
     """Number of values of a descriptor of the given kind (its storage, in numbers).
+
+    ``Descriptor(kind, M, N).size`` (:attr:`cshape.Descriptor.size`).
 
     Parameters
     ----------
@@ -115,15 +85,11 @@ def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
         every transform), ``N - 2`` for 'f1' (for every mesh: see
         :func:`descriptor_matrix` for meshes of several pieces).
     """
-    kind = _check_kind(kind)
-    M = check_int("M", M, min=0)
-    N = check_int("N", N, min=1)
-    return {"shape-dna": N, "truncated": 2 * M + 1, "cshape": 2 * M + 1,
-            "cshape-complex": 2 * M + 1, "f1": N - 2, "truncated-log": 2 * M + 1}[kind]
+    return Descriptor(kind, M=M, N=N).size
 
 
 def default_descriptor(N: int = 100) -> dict[str, Any]:
-    """The exploration default (:data:`DEFAULT_DESCRIPTOR`) for shapes with ``N`` eigenvalues.
+    """The exploration default (:data:`cshape.DEFAULT`) for shapes with ``N`` eigenvalues.
 
     Parameters
     ----------
@@ -135,22 +101,16 @@ def default_descriptor(N: int = 100) -> dict[str, Any]:
     -------
     dict
         ``{'kind', 'M', 'N', 'transform', 'normalization'}``, keyword arguments of
-        :func:`descriptor_matrix`.
+        :func:`descriptor_matrix`: ``select_descriptor(N=N).as_dict()``.
     """
-    N = check_int("N", N, min=1)
-    kind, M, tr = DEFAULT_KIND, DEFAULT_M, DEFAULT_TRANSFORM
-    top = {"truncated-log": (N - 2) // 2, "truncated": (N - 1) // 2,
-           "cshape": (N - 1) // 2 if tr == "weyl" else (N - 2) // 2}.get(kind, M)
-    if top < 0:
-        raise ValueError(f"the default descriptor ({kind!r}) needs at least 2 eigenvalues "
-                         f"per shape, got N = {N}")
-    return {"kind": kind, "M": min(M, top), "N": N, "transform": tr,
-            "normalization": DEFAULT_NORMALIZATION}
+    from .descriptor import select_descriptor
+
+    return select_descriptor(N=check_int("N", N, min=1)).as_dict()
 
 
 def descriptor_label(kind: str, M: int = 16, N: int = 100, transform: str = "weyl",
                      normalization: str = "area") -> str:
-    """What a descriptor compares, in words, e.g. for a query header or a figure title.
+    """What a descriptor compares, in words: ``Descriptor(...).label``.
 
     The normalisation is named when it is not the paper's (the area).
 
@@ -161,37 +121,15 @@ def descriptor_label(kind: str, M: int = 16, N: int = 100, transform: str = "wey
     >>> descriptor_label("cshape", M=16, N=100)
     "paper's cShape-DNA (M=16 of N=100, 33 values)"
     """
-    kind = _check_kind(kind)
-    norm = check_choice("normalization", normalization, NORMALIZATIONS)
-    size = 2 * M + 1
-    if norm != "area" and kind != "f1":
-        name = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised"}[norm]
-        base = descriptor_label(kind, M=M, N=N, transform=transform)
-        head, _, tail = base.partition(" (")
-        return f"{head}, {name} ({tail}"
-    if kind in ("cshape", "cshape-complex"):
-        name = {"weyl": "paper's cShape-DNA", "log-weyl": "log-Weyl DFT cShape-DNA",
-                "log-weyl-dct": "log-Weyl DCT cShape-DNA"}[check_choice(
-                    "transform", transform, TRANSFORMS)]
-        return f"{name} (M={M} of N={N}, {size} values)"
-    if kind == "shape-dna":
-        return f"Shape-DNA ({N} values)"
-    if kind == "f1":
-        return f"F1 (N={N}, {N - 2} values)"
-    if kind == "truncated":
-        return f"truncated Shape-DNA ({size} values)"
-    return f"truncated log spectrum ({size} values)"
-
-
-def _check_kind(kind: object) -> str:
-    return check_choice("kind", kind, DESCRIPTOR_KINDS)
+    return Descriptor(kind, M=M, N=N, transform=transform, normalization=normalization).label
 
 
 def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
                       kind: str = "cshape", M: int = 16, N: int = 100, *,
                       normalization: str = "area", transform: str = "weyl",
                       zero_modes: ArrayLike | None = None,
-                      names: Sequence[str] | None = None) -> NDArray[Any]:
+                      names: Sequence[str] | None = None,
+                      descriptor: Descriptor | None = None) -> NDArray[Any]:
     """Descriptors of many shapes from their eigenvalues, one row per shape.
 
     The four descriptors of the paper's Section 3.1, and one beyond it:
@@ -215,6 +153,11 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
                                   is the same for every shape
     ================ ============ =========================================================
 
+    The recipe (kind, ``M``, ``N``, normalisation, transform) is a :class:`cshape.Descriptor`
+    (``descriptor=``, or built from the keywords); this function is its
+    :meth:`~cshape.Descriptor.matrix`.  ``2M+1`` values must fit in ``N`` eigenvalues (the
+    ``N-1`` log-Weyl ratios for 'truncated-log' and the log-Weyl transforms).
+
     **Meshes of several pieces** (``k`` components, ``k`` zero eigenvalues), by kind:
     'shape-dna', 'truncated' and 'cshape' with the paper's ``transform='weyl'`` take the
     spectrum as it is, its ``k`` zeros included (Eq. 8 needs no logarithm).
@@ -231,7 +174,8 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
     ----------
     lams : array_like, shape (p, n), or sequence of p 1-D arrays
         Ascending eigenvalues of each shape (``lam_0`` first); each needs at least
-        ``N`` values (``2M+1`` for 'truncated').  Ragged rows are allowed.
+        ``N`` values (``2M+1`` for 'truncated', ``2M+2`` for 'truncated-log').  Ragged rows
+        are allowed.
     areas : array_like, shape (p,), optional
         Surface areas, used by ``normalization='area'`` (the paper's choice) for all kinds
         but 'f1' (scale invariant already).  For eigenvalues that are already normalised
@@ -255,6 +199,9 @@ default='cshape'
         from that row's eigenvalues (:func:`cshape.count_zero_modes`).
     names : sequence of str, length p, optional
         Shape names, for the error messages (default: ``row <i>``).
+    descriptor : Descriptor, optional
+        The recipe as one value (e.g. :data:`cshape.PAPER`); then ``kind``, ``M``, ``N``,
+        ``normalization`` and ``transform`` are not used.
 
     Returns
     -------
@@ -265,34 +212,24 @@ default='cshape'
     Raises
     ------
     ValueError
-        Unknown ``kind``, too few eigenvalues in a row, missing or wrong-length ``areas``,
-        or rows that cannot be described (all of them named, with the reason; see
-        :func:`row_problems`).
+        Unknown ``kind``, ``2M+1`` more than ``N`` allows, too few eigenvalues in a row,
+        missing or wrong-length ``areas``, or rows that cannot be described (all of them
+        named, with the reason; see :func:`row_problems`).
     """
-    X, problems = descriptor_rows(lams, areas, kind, M, N, normalization=normalization,
-                                  transform=transform, zero_modes=zero_modes)
-    if problems:
-        p = len(X) + len(problems)
-        labels = _row_names(names, p)
-        shown = "; ".join(f"{labels[i]}: {m}" for i, m in list(problems.items())[:5])
-        more = f"; and {len(problems) - 5} more" if len(problems) > 5 else ""
-        raise ValueError(
-            f"kind={_check_kind(kind)!r} cannot describe {len(problems)} of {p} shapes "
-            f"({shown}{more}); leave them out (cshape.compare.row_problems lists them; "
-            "a DescriptorTable leaves them out with a warning) or choose another kind")
-    if names is not None:
-        _row_names(names, len(X))
-    return X
+    d = descriptor if descriptor is not None else Descriptor(
+        kind, M=M, N=N, transform=transform, normalization=normalization)
+    return d.matrix(lams, areas, zero_modes, names=names)
 
 
 def descriptor_rows(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
                     kind: str = "cshape", M: int = 16, N: int = 100, *,
                     normalization: str = "area", transform: str = "weyl",
-                    zero_modes: ArrayLike | None = None
+                    zero_modes: ArrayLike | None = None,
+                    descriptor: Descriptor | None = None
                     ) -> tuple[NDArray[Any], dict[int, str]]:
     """The descriptors of the rows that can be described, and why the others cannot.
 
-    Takes the arguments of :func:`descriptor_matrix`.
+    Takes the arguments of :func:`descriptor_matrix` (:meth:`cshape.Descriptor.rows`).
 
     Returns
     -------
@@ -302,27 +239,16 @@ def descriptor_rows(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | No
     problems : dict of int to str
         ``{row: reason}`` of the others (see :func:`row_problems`).
     """
-    rows, a, zm, recipe = _prepare_rows(lams, areas, kind, M, N, normalization, transform,
-                                        zero_modes)
-    out: list[NDArray[Any]] = []
-    problems: dict[int, str] = {}
-    for i, r in enumerate(rows):
-        try:
-            out.append(_one_row(r, a[i], zm[i], **recipe))
-        except ValueError as exc:
-            problems[i] = str(exc)
-    if not out:
-        return np.zeros((0, 0)), problems
-    lengths = {len(x) for x in out}
-    if len(lengths) > 1:  # pragma: no cover - every kind has a fixed length
-        raise ValueError(f"the {kind!r} descriptors have different lengths {sorted(lengths)}")
-    return np.vstack(out), problems
+    d = descriptor if descriptor is not None else Descriptor(
+        kind, M=M, N=N, transform=transform, normalization=normalization)
+    return d.rows(lams, areas, zero_modes)
 
 
 def row_problems(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
                  kind: str = "cshape", M: int = 16, N: int = 100, *,
                  normalization: str = "area", transform: str = "weyl",
-                 zero_modes: ArrayLike | None = None) -> dict[int, str]:
+                 zero_modes: ArrayLike | None = None,
+                 descriptor: Descriptor | None = None) -> dict[int, str]:
     """The rows of :func:`descriptor_matrix` that cannot be described, with the reason.
 
     Takes the arguments of :func:`descriptor_matrix`.  A row cannot be described when it
@@ -337,104 +263,8 @@ def row_problems(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None 
         ``{row: reason}``; empty when every row can be described.
     """
     return descriptor_rows(lams, areas, kind, M, N, normalization=normalization,
-                           transform=transform, zero_modes=zero_modes)[1]
-
-
-def _row_names(names, p):
-    if names is None:
-        return [f"row {i}" for i in range(p)]
-    names = [str(n) for n in names]
-    if len(names) != p:
-        raise ValueError(f"names has {len(names)} entries but lams has {p} rows")
-    return names
-
-
-def _prepare_rows(lams, areas, kind, M, N, normalization, transform, zero_modes):
-    """Checked rows, areas (None where unused), zero modes (None: count) and the recipe."""
-    kind = _check_kind(kind)
-    transform = check_choice("transform", transform, TRANSFORMS)
-    normalization = check_choice("normalization", normalization, NORMALIZATIONS)
-    M = check_int("M", M, min=0)
-    N = check_int("N", N, min=1)
-    if isinstance(lams, np.ndarray) and lams.ndim == 2:
-        rows = list(np.asarray(lams, dtype=np.float64))
-    elif isinstance(lams, np.ndarray) or not hasattr(lams, "__len__"):
-        raise ValueError(
-            "lams must be a (p, n) array or a sequence of p 1-D eigenvalue arrays, got "
-            f"{type(lams).__name__} of shape {np.shape(lams)}"
-        )
-    else:
-        rows = [np.asarray(r, dtype=np.float64) for r in cast("Sequence[ArrayLike]", lams)]
-    p = len(rows)
-    if p == 0:
-        raise ValueError("lams is empty; it needs the eigenvalues of at least one shape")
-    need = {"truncated": 2 * M + 1, "truncated-log": 2 * M + 2}.get(kind, N)
-    if kind in ("cshape", "cshape-complex"):
-        L = N if transform == "weyl" else N - 1  # lam_0 has no logarithm
-        if 2 * M + 1 > L:
-            raise ValueError(
-                f"2M+1 = {2 * M + 1} values cannot be kept from "
-                + (f"N = {N} eigenvalues" if transform == "weyl"
-                   else f"the N-1 = {L} log-Weyl ratios of transform={transform!r}")
-                + f"; use M <= {(L - 1) // 2} or a larger N"
-            )
-    for i, r in enumerate(rows):
-        if r.ndim != 1 or len(r) < need:
-            raise ValueError(
-                f"lams[{i}] has shape {r.shape} but kind={kind!r} needs at least {need} "
-                "eigenvalues per shape; compute more eigenvalues or lower N / M"
-            )
-    needs_area = kind != "f1" and normalization == "area"
-    if needs_area:
-        if areas is None:
-            raise ValueError(
-                f"kind={kind!r} with normalization='area' needs areas (one surface area "
-                "per shape); pass areas=np.ones(p) if lams are already normalised, or "
-                "normalization='weyl'"
-            )
-        a = np.asarray(areas, dtype=np.float64).reshape(-1)
-        if len(a) != p:
-            raise ValueError(f"areas has {len(a)} entries but lams has {p} rows")
-        a = [float(x) for x in a]
-    else:
-        a = [None] * p
-    if zero_modes is None:
-        zm = [None] * p
-    else:
-        z = np.asarray(zero_modes).reshape(-1)
-        if len(z) != p or not np.issubdtype(z.dtype, np.integer):
-            raise ValueError(
-                f"zero_modes must hold one integer per row ({p}), got {np.shape(zero_modes)} "
-                f"of {z.dtype}")
-        zm = [None if x < 0 else int(x) for x in z]
-    recipe = {"kind": kind, "M": M, "N": N, "normalization": normalization,
-              "transform": transform}
-    return rows, a, zm, recipe
-
-
-def _one_row(r, area, k, *, kind, M, N, normalization, transform):
-    """One descriptor; ValueError if this row cannot be described under the kind."""
-    if kind == "shape-dna":
-        return normalize(r[:N], area=area, method=normalization)
-    if kind == "truncated":
-        return normalize(r[: 2 * M + 1], area=area, method=normalization)
-    if kind == "f1":
-        return f1_feature(r[:N], k, length=N - 2)
-    if kind == "truncated-log":  # r_1 .. r_{2M+1} of the eigenvalues after the zero modes
-        k0 = count_zero_modes(r) if k is None else k
-        kk = max(k0, 1)
-        if len(r) - kk < 2 * M + 1:
-            raise ValueError(
-                f"{kk} of its {len(r)} eigenvalues are zero modes (a mesh of {kk} "
-                f"components): {len(r) - kk} non-zero ones are left and 2M+1 = {2 * M + 1} "
-                f"are needed (compute N >= {2 * M + 1 + kk} eigenvalues, or use "
-                f"M <= {max(len(r) - kk - 1, 0) // 2})")
-        lam_norm = normalize(r[: 2 * M + 1 + kk], area=area, method=normalization)
-        return log_weyl_ratio(lam_norm, k0)
-    lam_norm = normalize(r[:N], area=area, method=normalization)
-    S = compact_shape_dna(lam_norm, M=M, N=N, normalized=True, transform=transform,
-                          zero_modes=k)
-    return S if kind == "cshape-complex" else real_form(S)
+                           transform=transform, zero_modes=zero_modes,
+                           descriptor=descriptor)[1]
 
 
 # --------------------------------------------------------------------------- distances

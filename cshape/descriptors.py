@@ -68,7 +68,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import check_bool, check_choice, check_int, check_real
+from ._checks import check_bool, check_choice, check_crop, check_int, check_real
 from .mesh import Mesh, MeshLike
 
 __all__ = [
@@ -87,7 +87,8 @@ __all__ = [
     "TRANSFORMS",
 ]
 
-NORMALIZATIONS = ("area", "fiedler", "weyl")
+#: The ``normalization=`` options (:func:`normalize`); ``'none'``: already normalised.
+NORMALIZATIONS = ("area", "fiedler", "weyl", "none")
 #: The ``transform=`` options of :func:`compact_shape_dna`; ``'weyl'`` is the paper's.
 TRANSFORMS = ("weyl", "log-weyl", "log-weyl-dct")
 FOUR_PI = 4.0 * np.pi
@@ -139,12 +140,14 @@ def normalize(lam: ArrayLike, area: float | None = None,
         Ascending eigenvalues, lam_0 first.
     area : float, optional
         Surface area of the mesh; required for ``method='area'``.
-    method : {'area', 'fiedler', 'weyl'}, default='area'
+    method : {'area', 'fiedler', 'weyl', 'none'}, default='area'
         ``'area'`` multiplies by the surface area (the paper's choice); afterwards the
         values lie around the Weyl line ``4 pi i``.  ``'fiedler'`` divides by the first
         non-zero eigenvalue.  ``'weyl'`` multiplies by ``4 pi / s`` where ``s`` is the
         least-squares slope of ``lam_i ~ s i`` (through the origin), so the result lies
         around ``4 pi i`` like the area normalisation, without needing the area.
+        ``'none'``: the eigenvalues are normalised already and are returned as they are
+        (a copy).
 
     Returns
     -------
@@ -169,6 +172,8 @@ def normalize(lam: ArrayLike, area: float | None = None,
         return x * check_real("area", area, positive=True)
     if method == "fiedler":
         return x / x[_first_nonzero(x)]
+    if method == "none":
+        return x.copy()
     i = np.arange(len(x), dtype=np.float64)
     s = float(i @ x) / float(i @ i) if len(x) > 1 else 0.0
     if s <= 0:
@@ -365,25 +370,7 @@ def _sequence_length(N: int, transform: str) -> int:
 
 
 def _check_M(M: object, N: int, transform: str = "weyl") -> int:
-    M = check_int("M", M, min=0)
-    L = _sequence_length(N, transform)
-    if 2 * M + 1 > L:
-        if transform == "weyl":
-            raise ValueError(
-                f"2M+1 = {2 * M + 1} values cannot be kept from N = {N} eigenvalues; "
-                f"use M <= {(N - 1) // 2} or a larger N"
-            )
-        if L < 1:
-            raise ValueError(
-                f"transform={transform!r} needs N >= 2 (the log-Weyl ratio starts at lam_1; "
-                f"lam_0 has no logarithm), got N = {N}"
-            )
-        raise ValueError(
-            f"2M+1 = {2 * M + 1} values cannot be kept from the N-1 = {L} log-Weyl ratios "
-            f"of transform={transform!r} (lam_0 has no logarithm); use M <= {(L - 1) // 2} "
-            f"or N >= {2 * M + 2}"
-        )
-    return M
+    return check_crop(M, N, log=transform != "weyl")  # the one M-versus-N rule
 
 
 def _check_N(N: object) -> int:
@@ -397,26 +384,24 @@ def _is_mesh(x: object) -> bool:
 
 
 def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
-                         normalization: str, normalized: bool = False
-                         ) -> tuple[NDArray[np.float64], int | None]:
+                         normalization: str) -> tuple[NDArray[np.float64], int | None]:
     """The normalised Shape-DNA (N,) from a mesh or from eigenvalues, and the mesh's number
     of components (None for eigenvalues)."""
     N = _check_N(N)
     normalization = check_choice("normalization", normalization, NORMALIZATIONS)
     check_choice("bc", bc, ("neumann", "dirichlet"))
-    normalized = check_bool("normalized", normalized)
     if area is not None:
         area = check_real("area", area, positive=True)
-    if normalized and area is not None:
+    if normalization == "none" and area is not None:
         raise ValueError(
-            "pass either area=... (raw eigenvalues, multiplied by it) or normalized=True "
-            "(eigenvalues already normalised), not both"
+            "pass either area=... (raw eigenvalues, multiplied by it) or "
+            "normalization='none' (eigenvalues already normalised), not both"
         )
     if _is_mesh(mesh_or_lam):
-        if normalized:
+        if normalization == "none":
             raise ValueError(
-                "normalized=True is for eigenvalues that are already normalised; a mesh is "
-                "normalised by its own area: drop normalized=True"
+                "normalization='none' is for eigenvalues that are already normalised; a mesh "
+                "is normalised by its own area: use normalization='area' (the default)"
             )
         from .mesh import as_mesh, repair_mesh
         from .spectrum import shape_dna
@@ -434,7 +419,7 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
             f"got {len(lam)} eigenvalues but N={N}; pass N={len(lam)} or compute more eigenvalues"
         )
     lam = lam[:N]
-    if normalized:
+    if normalization == "none":
         return lam, None
     if normalization == "area" and area is None:
         import warnings
@@ -445,7 +430,7 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
             "compact_shape_dna got eigenvalues without area=: they are taken as already "
             "normalised. Pass area=mesh.area for raw eigenvalues (Section 2.1 multiplies "
             "them by the area; without it the descriptor is off by that factor), or "
-            "normalized=True to say they are normalised already",
+            "normalization='none' to say they are normalised already",
             CShapeWarning, stacklevel=3,
         )
         return lam, None
@@ -469,8 +454,7 @@ def _dct(x: NDArray[np.float64]) -> NDArray[np.float64]:
 def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 100,
                       area: float | None = None, *, bc: str = "neumann",
                       normalization: str = "area", transform: str = "weyl",
-                      normalized: bool = False, zero_modes: int | None = None
-                      ) -> NDArray[Any]:
+                      zero_modes: int | None = None) -> NDArray[Any]:
     """Compact Shape-DNA (cShape-DNA), Eq. (8)-(10), and its log-Weyl extensions.
 
     ``transform='weyl'`` (the default) is the paper, bit for bit: normalise (multiply by
@@ -499,7 +483,7 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
     mesh_or_lam : Mesh, (vertices, faces) or array_like of shape (>= N,)
         A mesh (everything is computed: Shape-DNA with ``N`` eigenvalues, its area), or
         eigenvalues.  Raw eigenvalues need ``area`` (they are multiplied by it); already
-        normalised ones need ``normalized=True``.  Eigenvalues with neither are taken as
+        normalised ones need ``normalization='none'``.  Eigenvalues with neither are taken as
         normalised, with a :class:`cshape.CShapeWarning` (a raw spectrum would silently be
         off by the area factor).  Only the first ``N`` are used.
     M : int, default=16
@@ -511,12 +495,11 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
         Surface area used for the normalisation (default for a mesh: ``mesh.area``).
     bc : {'neumann', 'dirichlet'}, default='neumann'
         Boundary condition, when a mesh is given.
-    normalization : {'area', 'fiedler', 'weyl'}, default='area'
-        See :func:`normalize`.
+    normalization : {'area', 'fiedler', 'weyl', 'none'}, default='area'
+        See :func:`normalize`; ``'none'``: the eigenvalues are already normalised
+        (``lam^norm``) and are used as they are (no ``area``; not for a mesh).
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
         The sequence and transform, as above.
-    normalized : bool, default=False
-        ``True``: the eigenvalues are already normalised (``lam^norm``); no ``area``.
     zero_modes : int, optional
         Log-Weyl transforms only: the number ``k`` of zero eigenvalues (the mesh's
         connected components).  Default: the mesh's component count (Neumann), else
@@ -538,19 +521,19 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
     ------
     TypeError
         If ``N`` or ``M`` is not an integer (bools are refused), ``area`` not a real
-        number, ``normalized`` not a bool, a mode not a string, or the eigenvalues are
-        complex.
+        number, a mode not a string, or the eigenvalues are complex.
     ValueError
         If ``N < 1``, ``M < 0``, ``2M+1`` exceeds the sequence length, ``area`` is not
         positive, ``bc``, ``normalization`` or ``transform`` is unknown, fewer than ``N``
-        eigenvalues are given, both ``area`` and ``normalized=True`` are given (all
-        checked before any eigensolve), or, for the log-Weyl transforms, some
-        ``lam_i <= 0`` with ``i >= 1``.
+        eigenvalues are given, both ``area`` and ``normalization='none'`` are given, or
+        ``normalization='none'`` with a mesh (all checked before any eigensolve), or, for
+        the log-Weyl transforms, some ``lam_i <= 0`` with ``i >= 1``.
 
     Warns
     -----
     CShapeWarning
-        Eigenvalues without ``area`` or ``normalized=True`` (``normalization='area'``).
+        Eigenvalues without ``area`` under ``normalization='area'`` (say
+        ``normalization='none'`` for normalised ones).
 
     See Also
     --------
@@ -571,8 +554,7 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
     M = _check_M(M, _check_N(N), transform)  # before the eigensolve
     if zero_modes is not None:
         zero_modes = check_int("zero_modes", zero_modes, min=0)
-    lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization,
-                                            normalized)
+    lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
     if transform == "weyl":
         return _dft_crop(weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
     r = _log_weyl_sequence(lam_norm, M, pieces if zero_modes is None else zero_modes,
@@ -637,7 +619,7 @@ def compact_shape_dna_real(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: in
                            area: float | None = None, **kwargs: Any) -> NDArray[np.float64]:
     """:func:`compact_shape_dna` in its :func:`real_form`: shape (2M+1,), float64.
 
-    Takes the same keywords (``bc``, ``normalization``, ``transform``, ``normalized``).
+    Takes the same keywords (``bc``, ``normalization``, ``transform``, ``zero_modes``).
     """
     return real_form(compact_shape_dna(mesh_or_lam, M=M, N=N, area=area, **kwargs))
 

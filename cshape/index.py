@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._checks import check_choice, check_descriptors, check_int, check_n_jobs
-from .compare import _check_kind, descriptor_label, descriptor_matrix
+from .descriptor import Descriptor, select_descriptor
 
 #: The exact search methods of :class:`sklearn.neighbors.NearestNeighbors` (its spelling).
 ALGORITHMS = ("auto", "brute", "kd_tree", "ball_tree")
@@ -30,7 +30,6 @@ class TableLike(Protocol):
     def described(self, *args: Any, **kwargs: Any
                   ) -> tuple[NDArray[Any], NDArray[np.int64]]: ...
 
-    def recipe(self, *args: Any, **kwargs: Any) -> dict[str, Any]: ...
 
 
 # --------------------------------------------------------------------------- index
@@ -63,10 +62,11 @@ class DescriptorIndex:
         The stored (real) database.
     nn_ : sklearn.neighbors.NearestNeighbors
         The fitted index.
-    recipe_ : dict or None
-        How the rows were made from eigenvalues (``kind``, ``M``, ``N``, ``normalization``,
-        ``transform``), when built with :meth:`from_table`; :meth:`query_spectra` describes
-        queries with the same recipe, so a query can never use another transform.
+    descriptor_ : Descriptor or None
+        How the rows were made from eigenvalues (:class:`cshape.Descriptor`: ``kind``,
+        ``M``, ``N``, ``normalization``, ``transform``), when built with :meth:`from_table`;
+        :meth:`query_spectra` describes queries with it, so a query can never use another
+        transform.  :attr:`recipe_` is the same as a dict, :attr:`descriptor` in words.
     rows_ : ndarray of int, shape (n,)
         The table row of each database row (:meth:`from_table` leaves out the shapes the
         kind cannot describe); ``arange(n)`` for an index built from descriptors.
@@ -92,14 +92,20 @@ class DescriptorIndex:
         if len(self.X_) == 0:
             raise ValueError("X is empty; the index needs at least one descriptor")
         self.nn_ = NearestNeighbors(algorithm=self.algorithm, n_jobs=self.n_jobs).fit(self.X_)
-        self.recipe_: dict[str, Any] | None = None
+        self.descriptor_: Descriptor | None = None
         self.rows_ = np.arange(len(self.X_))
+
+    @property
+    def recipe_(self) -> dict[str, Any] | None:
+        """:attr:`descriptor_` as keyword arguments of :func:`cshape.compare.descriptor_matrix`
+        (``kind``, ``M``, ``N``, ``transform``, ``normalization``); None without one."""
+        return None if self.descriptor_ is None else self.descriptor_.as_dict()
 
     @classmethod
     def from_table(cls, table: TableLike, kind: str | None = None, M: int | None = None,
                    N: int | None = None, *, transform: str | None = None,
-                   normalization: str | None = None, algorithm: str = "auto",
-                   n_jobs: int | None = None) -> DescriptorIndex:
+                   normalization: str | None = None, descriptor: Descriptor | None = None,
+                   algorithm: str = "auto", n_jobs: int | None = None) -> DescriptorIndex:
         """An index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
 
         Parameters
@@ -117,26 +123,31 @@ class DescriptorIndex:
         normalization : {'area', 'fiedler', 'weyl'}, optional
             Default: the default descriptor's when ``kind`` is None, else 'area' (the
             paper's).
+        descriptor : Descriptor, optional
+            The descriptor as one value (e.g. :data:`cshape.PAPER`), instead of ``kind``,
+            ``M``, ``N``, ``transform`` and ``normalization``
+            (:func:`cshape.descriptor.select_descriptor`).
         algorithm, n_jobs
             As for the constructor.
 
         Returns
         -------
         DescriptorIndex
-            With :attr:`recipe_` set, for :meth:`query_spectra`, and :attr:`rows_`: the
+            With :attr:`descriptor_` set, for :meth:`query_spectra`, and :attr:`rows_`: the
             shapes the kind cannot describe (a mesh of many pieces with too few non-zero
             eigenvalues) are left out with a :class:`cshape.CShapeWarning` naming them.
         """
-        recipe: dict[str, Any] = table.recipe(
-            None if kind is None else _check_kind(kind), M, N, transform, normalization)
+        d = select_descriptor(descriptor, kind=kind, M=M, N=N, transform=transform,
+                              normalization=normalization, base_M=table.M, base_N=table.N,
+                              base_transform=table.transform)
         # warns about and leaves out what it cannot describe
-        X, rows = table.described(**recipe, stacklevel=4)
+        X, rows = table.described(descriptor=d, stacklevel=4)
         if len(X) == 0:
             raise ValueError(
-                f"kind={recipe['kind']!r} cannot describe any of the {len(table.lam)} shapes "
-                "(see the warning); choose another kind or compute more eigenvalues")
+                f"kind={d.kind!r} cannot describe any of the {len(table.lam)} shapes (see the "
+                "warning); choose another kind or compute more eigenvalues")
         index = cls(X, algorithm=algorithm, n_jobs=n_jobs)
-        index.recipe_ = recipe
+        index.descriptor_ = d
         index.rows_ = rows
         return index
 
@@ -146,7 +157,7 @@ class DescriptorIndex:
                       ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
         """Nearest database rows of shapes given by their eigenvalues.
 
-        The queries are described exactly as the database was (:attr:`recipe_`: kind,
+        The queries are described exactly as the database was (:attr:`descriptor_`: kind,
         ``M``, ``N``, normalisation and transform).
 
         Parameters
@@ -167,7 +178,7 @@ class DescriptorIndex:
             As for :meth:`query`: ``ind`` are database rows (:attr:`rows_` maps them to
             the table's rows).
         """
-        if self.recipe_ is None:
+        if self.descriptor_ is None:
             raise ValueError(
                 "this index does not know how its descriptors were made; build it with "
                 "DescriptorIndex.from_table(table, ...) to query by eigenvalues, or pass "
@@ -178,7 +189,7 @@ class DescriptorIndex:
             L = L[None, :]
         a = None if areas is None else np.atleast_1d(np.asarray(areas, dtype=np.float64))
         zm = None if zero_modes is None else np.atleast_1d(np.asarray(zero_modes))
-        Y = descriptor_matrix(L, a, zero_modes=zm, names=names, **self.recipe_)
+        Y = self.descriptor_.matrix(L, a, zero_modes=zm, names=names)
         return self.query(Y, k=k)
 
     def __len__(self) -> int:
@@ -186,13 +197,9 @@ class DescriptorIndex:
 
     @property
     def descriptor(self) -> str | None:
-        """What the rows are, in words (:func:`cshape.compare.descriptor_label`), when built
-        with :meth:`from_table`; None otherwise."""
-        if self.recipe_ is None:
-            return None
-        r = self.recipe_
-        return descriptor_label(r["kind"], M=r["M"], N=r["N"], transform=r["transform"],
-                                normalization=r["normalization"])
+        """What the rows are, in words (:attr:`cshape.Descriptor.label`), when built with
+        :meth:`from_table`; None otherwise."""
+        return None if self.descriptor_ is None else self.descriptor_.label
 
     def query(self, Y: ArrayLike | None = None, k: int = 1
               ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:

@@ -155,7 +155,7 @@ check_close("S_c", S_mine, S, hint="Length 2M+1, centred on index N // 2 of the 
 for _n in (9, 10):
     _x = np.arange(_n, dtype=float) ** 1.5
     check_close(f"crop_mine(N={_n}, M=2)", crop_mine(np.fft.fft(cshape.weyl_subtract(_x)), 2),
-                cshape.compact_shape_dna(_x, M=2, N=_n, normalized=True))
+                cshape.compact_shape_dna(_x, M=2, N=_n, normalization="none"))
 ### END HIDDEN TESTS
 
 # %% [markdown]
@@ -180,7 +180,7 @@ ax = fig.add_subplot()
 i = np.arange(N)
 ax.plot(i, cshape.weyl_subtract(lam_norm), "k.", ms=4, label="lam'")
 for m in [1, 2, 4, M]:
-    S_m = cshape.compact_shape_dna(lam_norm, M=m, N=N, normalized=True)
+    S_m = cshape.compact_shape_dna(lam_norm, M=m, N=N, normalization="none")
     rec = cshape.inverse_compact_shape_dna(S_m, N)
     ax.plot(i, cshape.weyl_subtract(rec), lw=1.2, label=f"M={m} ({2 * m + 1} values)")
 ax.set(xlabel="i", ylabel="lam'_i", title=f"reconstructions, {real_name.split(' ')[0]}")
@@ -201,7 +201,7 @@ errors = []
 for ln in models.values():
     lp = cshape.weyl_subtract(ln)
     errors.append([np.linalg.norm(cshape.inverse_compact_shape_dna(
-        cshape.compact_shape_dna(ln, M=int(m), N=N, normalized=True), N, add_weyl=False) - lp)
+        cshape.compact_shape_dna(ln, M=int(m), N=N, normalization="none"), N, add_weyl=False) - lp)
         / np.linalg.norm(lp) for m in Ms])
 plots.plot_reconstruction_error(Ms, errors, labels=list(models), N=N)
 
@@ -213,8 +213,8 @@ plots.plot_reconstruction_error(Ms, errors, labels=list(models), N=N)
 # $\Lambda_1..\Lambda_M$: $2M+1$ reals, with exactly the Euclidean distances of the complex descriptors.
 
 # %%
-S_a = cshape.compact_shape_dna(models["sphere"], M=M, N=N, normalized=True)
-S_b = cshape.compact_shape_dna(models["cube"], M=M, N=N, normalized=True)
+S_a = cshape.compact_shape_dna(models["sphere"], M=M, N=N, normalization="none")
+S_b = cshape.compact_shape_dna(models["cube"], M=M, N=N, normalization="none")
 print("conjugate symmetric:", np.allclose(S_a[::-1], np.conj(S_a)))
 print("complex distance:", np.linalg.norm(S_a - S_b))
 print("real-form distance:", np.linalg.norm(cshape.real_form(S_a) - cshape.real_form(S_b)))

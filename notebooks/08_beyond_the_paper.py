@@ -265,7 +265,7 @@ ax1.legend(fontsize="small")
 
 def reconstruction_error(lam_norm_row, M, transform):
     """Relative error of the sequence rebuilt from the 2M+1 kept numbers (notebook 3, for r)."""
-    S = cshape.compact_shape_dna(lam_norm_row, M=M, N=N, normalized=True, transform=transform)
+    S = cshape.compact_shape_dna(lam_norm_row, M=M, N=N, normalization="none", transform=transform)
     rec = cshape.inverse_compact_shape_dna(S, N, add_weyl=False, transform=transform)
     x = cshape.log_weyl_ratio(lam_norm_row)
     return np.linalg.norm(rec - x) / np.linalg.norm(x - x.mean()), rec

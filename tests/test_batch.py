@@ -184,7 +184,8 @@ def test_invalid_parameters():
     col = small_collection()[:1]
     with pytest.raises(ValueError, match=r"n_jobs must be a positive integer or -1"):
         run(col, cache_dir=False, n_jobs=0)
-    with pytest.raises(ValueError, match=r"M=10 needs 2M\+1 = 21 <= N = 20"):
+    with pytest.raises(ValueError, match=r"^M=10: 2M\+1 = 21 values cannot be kept from N = 20 "
+                       r"eigenvalues; use M <= 9 or N >= 21$"):
         run(col, cache_dir=False, M=10)
     with pytest.raises(ValueError, match=r"bc must be one of"):
         run(col, cache_dir=False, bc="robin")
@@ -531,7 +532,8 @@ def test_describe_transform(reference):
     np.testing.assert_array_equal(t.lam, reference.lam[:2])
     with pytest.raises(ValueError, match=r"transform must be one of"):
         run(small_collection()[:1], cache_dir=False, transform="log")
-    with pytest.raises(ValueError, match=r"needs 2M\+1 = 21 <= N-1 = 20.*use M <= 9"):
+    with pytest.raises(ValueError, match=r"M=10: 2M\+1 = 21 values cannot be kept from the "
+                       r"N-1 = 20 log-Weyl ratios.*use M <= 9 or N >= 22"):
         run(small_collection()[:1], cache_dir=False, transform="log-weyl", M=10, N=21)
     with pytest.raises(ValueError, match="transform must be one of"):
         DescriptorTable(["a"], np.ones((1, 3)), [1.0], transform="fft")

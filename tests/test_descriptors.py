@@ -26,20 +26,20 @@ def test_hand_computed_dft_crop_N8_M1():
     # Eq. (10): after the shift the centre <N/2> = 4 holds frequency 0; keep -1, 0, 1.
     r2 = np.sqrt(2.0)
     expected = np.array([1 + 2.5 * r2 - 0.5j * r2, 4.0, 1 + 2.5 * r2 + 0.5j * r2])
-    S = cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalized=True)
+    S = cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalization="none")
     assert S.dtype == np.complex128 and S.shape == (3,)
     np.testing.assert_allclose(S, expected, atol=1e-12)
     # raw eigenvalues with an area are multiplied by it first
     np.testing.assert_allclose(cshape.compact_shape_dna(LAM_NORM / 2.0, M=1, N=8, area=2.0), S)
     # only the first N eigenvalues are used
     longer = np.concatenate([LAM_NORM, [1e6, 2e6]])
-    np.testing.assert_allclose(cshape.compact_shape_dna(longer, M=1, N=8, normalized=True), S)
+    np.testing.assert_allclose(cshape.compact_shape_dna(longer, M=1, N=8, normalization="none"), S)
 
 
 def test_odd_N_centre_and_conjugate_symmetry():
     rng = np.random.default_rng(1)
     lam = np.sort(rng.uniform(0, 100, 9))
-    S = cshape.compact_shape_dna(lam, M=4, N=9, normalized=True)
+    S = cshape.compact_shape_dna(lam, M=4, N=9, normalization="none")
     np.testing.assert_allclose(S, np.conj(S[::-1]), atol=1e-10)
     np.testing.assert_allclose(S[4], cshape.weyl_subtract(lam).sum())
 
@@ -47,7 +47,7 @@ def test_odd_N_centre_and_conjugate_symmetry():
 def test_real_form_preserves_distances():
     rng = np.random.default_rng(0)
     lams = np.sort(rng.uniform(0, 1000, (5, 40)), axis=1)
-    S = np.array([cshape.compact_shape_dna(x, M=6, N=40, normalized=True) for x in lams])
+    S = np.array([cshape.compact_shape_dna(x, M=6, N=40, normalization="none") for x in lams])
     R = cshape.real_form(S)
     assert R.shape == (5, 13) and R.dtype == np.float64
     for i in range(5):
@@ -56,7 +56,7 @@ def test_real_form_preserves_distances():
                 np.linalg.norm(S[i] - S[j]), rel=1e-12, abs=1e-9
             )
     np.testing.assert_allclose(
-        cshape.compact_shape_dna_real(lams[0], M=6, N=40, normalized=True), R[0])
+        cshape.compact_shape_dna_real(lams[0], M=6, N=40, normalization="none"), R[0])
     with pytest.raises(ValueError, match="odd last dimension"):
         cshape.real_form(np.zeros(4, complex))
 
@@ -64,7 +64,7 @@ def test_real_form_preserves_distances():
 def test_inverse_reproduces_input_when_all_frequencies_kept():
     rng = np.random.default_rng(2)
     lam = np.sort(rng.uniform(0, 500, 41))
-    S = cshape.compact_shape_dna(lam, M=20, N=41, normalized=True)  # 2M+1 = N
+    S = cshape.compact_shape_dna(lam, M=20, N=41, normalization="none")  # 2M+1 = N
     np.testing.assert_allclose(cshape.inverse_compact_shape_dna(S, 41), lam, atol=1e-9)
     np.testing.assert_allclose(
         cshape.inverse_compact_shape_dna(S, 41, add_weyl=False), cshape.weyl_subtract(lam),
@@ -128,21 +128,22 @@ def test_normalisations():
          r"2M\+1 = 9 values cannot be kept from the N-1 = 8 log-Weyl ratios"),
         (lambda: cshape.compact_shape_dna(LAM_NORM, M=4, N=8, transform="log-weyl-dct"),
          ValueError, r"use M <= 3 or N >= 10"),
-        (lambda: cshape.compact_shape_dna([0.0, 0.0, 30.0, 40.0], M=1, N=4, normalized=True,
+        (lambda: cshape.compact_shape_dna([0.0, 0.0, 30.0, 40.0], M=1, N=4, normalization="none",
                                           transform="log-weyl"), ValueError,
          r"needs 2M\+1 = 3 non-zero eigenvalues, but 2 of the N = 4 are zero modes \(a mesh "
          r"of 2 components\) and 2 are left: use N >= 5 or M <= 0"),
-        (lambda: cshape.compact_shape_dna([0.0, 20.0, -3.0, 40.0], M=1, N=4, normalized=True,
+        (lambda: cshape.compact_shape_dna([0.0, 20.0, -3.0, 40.0], M=1, N=4, normalization="none",
                                           transform="log-weyl-dct"), ValueError,
          r"needs lam_i > 0 after the 1 zero mode, but lam_2 = -3.*ascending"),
         (lambda: cshape.log_weyl_ratio([0.0]), ValueError, "at least 2 eigenvalues"),
-        (lambda: cshape.compact_shape_dna([0.0], M=0, N=1, normalized=True, transform="log-weyl"),
-         ValueError, r"needs N >= 2 \(the log-Weyl ratio starts at lam_1"),
-        (lambda: cshape.compact_shape_dna(LAM_NORM, M=1, N=8, area=2.0, normalized=True),
+        (lambda: cshape.compact_shape_dna([0.0], M=0, N=1, normalization="none",
+                                          transform="log-weyl"),
+         ValueError, r"the log-Weyl ratios need N >= 2 \(the log-Weyl ratio starts at lam_1"),
+        (lambda: cshape.compact_shape_dna(LAM_NORM, M=1, N=8, area=2.0, normalization="none"),
          ValueError, "not both"),
-        (lambda: cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalized="yes"), TypeError,
-         "normalized must be True or False"),
-        (lambda: cshape.compact_shape_dna(shapes.icosphere(1), M=1, N=8, normalized=True),
+        (lambda: cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalization=True), TypeError,
+         r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}, got bool True"),
+        (lambda: cshape.compact_shape_dna(shapes.icosphere(1), M=1, N=8, normalization="none"),
          ValueError, "a mesh is normalised by its own area"),
         (lambda: cshape.inverse_compact_shape_dna(np.ones(3, complex), 8,
                                                   transform="log-weyl-dct"),
@@ -205,7 +206,7 @@ def test_default_transform_is_the_paper_bit_for_bit(N):
             assert np.array_equal(
                 cshape.compact_shape_dna(lam, M=M, N=N, area=area, transform="weyl"), ref)
             assert np.array_equal(cshape.compact_shape_dna(lam * area, M=M, N=N,
-                                                           normalized=True), ref)
+                                                           normalization="none"), ref)
 
 
 def _lam_from_r(r):
@@ -231,7 +232,7 @@ def test_log_weyl_dft_crop_by_hand_N5_M1():
     #   R_0 = 0.2 + 0 - 0.1 + 0.1 = 0.2
     #   R_1 = 0.2 + 0 (-j) - 0.1 (-1) + 0.1 (j) = 0.3 + 0.1j,   R_{-1} = conj(R_1)
     # fftshift puts R_0 at L // 2 = 2; keep frequencies -1, 0, 1
-    S = cshape.compact_shape_dna(_lam_from_r(R_HAND), M=1, N=5, normalized=True,
+    S = cshape.compact_shape_dna(_lam_from_r(R_HAND), M=1, N=5, normalization="none",
                                  transform="log-weyl")
     assert S.dtype == np.complex128 and S.shape == (3,)
     np.testing.assert_allclose(S, [0.3 - 0.1j, 0.2, 0.3 + 0.1j], atol=1e-14)
@@ -244,7 +245,7 @@ def test_log_weyl_dct_by_hand_N5_M1():
     #   C_1 = sqrt(1/2) (0.2 c1 + 0.1 c3 - 0.1 c1) = sqrt(1/2) 0.1 (c1 + c3)
     #   C_2 = sqrt(1/2) (0.2 + 0.1 + 0.1) cos(pi/4) = 0.2
     c1, c3 = np.cos(np.pi / 8), np.cos(3 * np.pi / 8)
-    S = cshape.compact_shape_dna(_lam_from_r(R_HAND), M=1, N=5, normalized=True,
+    S = cshape.compact_shape_dna(_lam_from_r(R_HAND), M=1, N=5, normalization="none",
                                  transform="log-weyl-dct")
     assert S.dtype == np.float64 and S.shape == (3,)
     np.testing.assert_allclose(S, [0.1, np.sqrt(0.5) * 0.1 * (c1 + c3), 0.2], atol=1e-14)
@@ -258,7 +259,7 @@ def test_paper_dft_crop_by_hand_N5_M1():
     lam_prime = np.array([0.0, 1.0, 0.0, -1.0, 0.0])
     a, b = 2 * np.pi / 5, 6 * np.pi / 5
     L1 = (np.cos(a) - np.cos(b)) - 1j * (np.sin(a) - np.sin(b))
-    S = cshape.compact_shape_dna(lam_prime + FOUR_PI * np.arange(5), M=1, N=5, normalized=True)
+    S = cshape.compact_shape_dna(lam_prime + FOUR_PI * np.arange(5), M=1, N=5, normalization="none")
     np.testing.assert_allclose(S, [np.conj(L1), 0.0, L1], atol=1e-14)
 
 
@@ -268,13 +269,13 @@ def test_largest_M_conjugate_symmetric_for_odd_and_even_length(transform, N):
     rng = np.random.default_rng(N)
     lam = np.concatenate([[0.0], np.sort(rng.uniform(5, 400, N - 1))])
     M = (N - 1) // 2 if transform == "weyl" else (N - 2) // 2
-    S = cshape.compact_shape_dna(lam, M=M, N=N, normalized=True, transform=transform)
+    S = cshape.compact_shape_dna(lam, M=M, N=N, normalization="none", transform=transform)
     assert S.shape == (2 * M + 1,)
     if transform != "log-weyl-dct":
         np.testing.assert_allclose(S[M + 1:], np.conj(S[:M][::-1]), atol=1e-12)
         assert abs(S[M].imag) < 1e-12
     with pytest.raises(ValueError, match="cannot be kept"):
-        cshape.compact_shape_dna(lam, M=M + 1, N=N, normalized=True, transform=transform)
+        cshape.compact_shape_dna(lam, M=M + 1, N=N, normalization="none", transform=transform)
 
 
 @pytest.mark.parametrize("transform", TRANSFORMS)
@@ -282,7 +283,7 @@ def test_real_form_distance_identity_for_every_transform(transform):
     rng = np.random.default_rng(3)
     lams = np.sort(rng.uniform(1, 1000, (6, 40)), axis=1)
     lams[:, 0] = 0.0
-    S = np.array([cshape.compact_shape_dna(x, M=6, N=40, normalized=True, transform=transform)
+    S = np.array([cshape.compact_shape_dna(x, M=6, N=40, normalization="none", transform=transform)
                   for x in lams])
     R = cshape.real_form(S)
     assert R.shape == (6, 13) and R.dtype == np.float64
@@ -291,7 +292,8 @@ def test_real_form_distance_identity_for_every_transform(transform):
             assert np.linalg.norm(R[i] - R[j]) == pytest.approx(
                 np.linalg.norm(S[i] - S[j]), rel=1e-12, abs=1e-12)
     np.testing.assert_array_equal(
-        cshape.compact_shape_dna_real(lams[0], M=6, N=40, normalized=True, transform=transform),
+        cshape.compact_shape_dna_real(lams[0], M=6, N=40, normalization="none",
+                                      transform=transform),
         R[0])
 
 
@@ -299,7 +301,7 @@ def test_real_form_distance_identity_for_every_transform(transform):
 def test_log_weyl_inverse_is_exact_when_nothing_is_cropped(transform):
     rng = np.random.default_rng(4)
     lam = np.concatenate([[0.0], np.sort(rng.uniform(10, 500, 41))])  # N = 42, L = 41
-    S = cshape.compact_shape_dna(lam, M=20, N=42, normalized=True, transform=transform)
+    S = cshape.compact_shape_dna(lam, M=20, N=42, normalization="none", transform=transform)
     rec = cshape.inverse_compact_shape_dna(S, 42, transform=transform)
     assert rec.shape == (42,) and rec[0] == 0.0
     np.testing.assert_allclose(rec, lam, rtol=1e-12)
@@ -320,7 +322,7 @@ def test_log_weyl_inverse_error_is_the_dropped_energy(transform):
         full = dct(r, type=2, norm="ortho")
     errs = []
     for M in range(0, 19):
-        S = cshape.compact_shape_dna(lam, M=M, N=40, normalized=True, transform=transform)
+        S = cshape.compact_shape_dna(lam, M=M, N=40, normalization="none", transform=transform)
         rec = cshape.inverse_compact_shape_dna(S, 40, add_weyl=False, transform=transform)
         keep = np.zeros(39, bool)
         if transform == "log-weyl":
@@ -334,7 +336,7 @@ def test_log_weyl_inverse_error_is_the_dropped_energy(transform):
         errs.append(err2)
     assert np.all(np.diff(errs) <= 1e-15)
     # with add_weyl the result is 4 pi i exp(r_smooth), lam_0 = 0
-    S = cshape.compact_shape_dna(lam, M=5, N=40, normalized=True, transform=transform)
+    S = cshape.compact_shape_dna(lam, M=5, N=40, normalization="none", transform=transform)
     rs = cshape.inverse_compact_shape_dna(S, 40, add_weyl=False, transform=transform)
     np.testing.assert_allclose(cshape.inverse_compact_shape_dna(S, 40, transform=transform),
                                np.concatenate([[0], FOUR_PI * np.arange(1, 40) * np.exp(rs)]))
@@ -347,7 +349,7 @@ def test_transforms_from_a_mesh_equal_from_eigenvalues(transform):
     S1 = cshape.compact_shape_dna(mesh, M=3, N=30, transform=transform)
     S2 = cshape.compact_shape_dna(lam, M=3, N=30, area=mesh.area, transform=transform)
     np.testing.assert_array_equal(S1, S2)
-    S3 = cshape.compact_shape_dna(lam * mesh.area, M=3, N=30, normalized=True,
+    S3 = cshape.compact_shape_dna(lam * mesh.area, M=3, N=30, normalization="none",
                                   transform=transform)
     np.testing.assert_allclose(S3, S2, rtol=1e-14, atol=1e-12)
 
@@ -355,10 +357,10 @@ def test_transforms_from_a_mesh_equal_from_eigenvalues(transform):
 def test_log_weyl_ignores_lam_0_and_takes_dirichlet_spectra():
     lam = _lam_from_r(R_HAND)
     for transform in ("log-weyl", "log-weyl-dct"):
-        a = cshape.compact_shape_dna(lam, M=1, N=5, normalized=True, transform=transform)
+        a = cshape.compact_shape_dna(lam, M=1, N=5, normalization="none", transform=transform)
         lam_d = lam.copy()
         lam_d[0] = 7.0  # a Dirichlet spectrum's first eigenvalue is positive
-        b = cshape.compact_shape_dna(lam_d, M=1, N=5, normalized=True, transform=transform)
+        b = cshape.compact_shape_dna(lam_d, M=1, N=5, normalization="none", transform=transform)
         np.testing.assert_array_equal(a, b)
     S = cshape.compact_shape_dna(shapes.disk(12), M=3, N=20, bc="dirichlet",
                                  transform="log-weyl")
@@ -368,12 +370,12 @@ def test_log_weyl_ignores_lam_0_and_takes_dirichlet_spectra():
 def test_eigenvalues_without_area_warn_and_explicit_choices_do_not():
     import warnings
 
-    with pytest.warns(cshape.CShapeWarning, match="without area=.*normalized=True"):
+    with pytest.warns(cshape.CShapeWarning, match="without area=.*normalization='none'"):
         S = cshape.compact_shape_dna(LAM_NORM, M=1, N=8)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         np.testing.assert_array_equal(
-            cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalized=True), S)
+            cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalization="none"), S)
         cshape.compact_shape_dna(LAM_NORM / 3, M=1, N=8, area=3.0)
         cshape.compact_shape_dna(LAM_NORM, M=1, N=8, normalization="weyl")  # needs no area
         cshape.compact_shape_dna(shapes.icosphere(1), M=1, N=8)  # a mesh has its area

@@ -117,7 +117,7 @@ def test_fixed_length_descriptors_extend_by_weyls_law(spectra):
     np.testing.assert_allclose(f[:-1], mu[0] / mu[1:])
     assert f[-1] == pytest.approx(mu[0] / (mu[-1] * (N - 1) / (N - 2)))
     for transform in ("log-weyl", "log-weyl-dct"):
-        S = cshape.compact_shape_dna(x, M=M, N=N, normalized=True, transform=transform)
+        S = cshape.compact_shape_dna(x, M=M, N=N, normalization="none", transform=transform)
         assert S.shape == (2 * M + 1,) and np.all(np.isfinite(S))
 
 
@@ -159,7 +159,7 @@ def test_the_zero_threshold_is_relative(spectra):
     (lambda lam: cshape.nonzero_eigenvalues(np.zeros(5)), r"all 5 are zero modes.*N > 5"),
     (lambda lam: cshape.log_weyl_ratio(np.r_[0.0, 0.0, 3.0, 0.0]),
      r"lam_i > 0 after the 2 zero modes, but lam_3 = 0.*ascending"),
-    (lambda lam: cshape.compact_shape_dna(lam[:10], M=4, N=10, normalized=True,
+    (lambda lam: cshape.compact_shape_dna(lam[:10], M=4, N=10, normalization="none",
                                           transform="log-weyl"),
      r"2M\+1 = 9 non-zero eigenvalues, but 2 of the N = 10 are zero modes .* use N >= 11"),
     (lambda lam: cshape.f1_feature(np.r_[0.0, 0.0, 3.0]), r"at least one eigenvalue after"),

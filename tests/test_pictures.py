@@ -430,16 +430,16 @@ def test_cli_overview_and_query_plot_as_subprocesses(described, tmp_path):
 
 def test_the_default_descriptor_follows_compare_default_kind(monkeypatch, described, tmp_path,
                                                               capsys):
-    """Without a kind the pictures compare cshape.compare.DEFAULT_DESCRIPTOR (kind, M and
-    normalisation), and say so."""
-    import cshape.compare
+    """Without a kind the pictures compare cshape.DEFAULT (kind, M and normalisation), and
+    say so."""
+    import cshape.descriptor
 
-    monkeypatch.setattr(cshape.compare, "DEFAULT_KIND", "shape-dna")
-    monkeypatch.setattr(cshape.compare, "DEFAULT_NORMALIZATION", "area")
+    monkeypatch.setattr(cshape.descriptor, "DEFAULT", cshape.Descriptor("shape-dna", M=8))
     assert collection_distances(spectra_table()).kind == "shape-dna"
     rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
     assert rc == 0 and "compared by Shape-DNA (20 values)" in capsys.readouterr().err
-    monkeypatch.setattr(cshape.compare, "DEFAULT_NORMALIZATION", "fiedler")
+    monkeypatch.setattr(cshape.descriptor, "DEFAULT",
+                        cshape.Descriptor("shape-dna", M=8, normalization="fiedler"))
     rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
     assert rc == 0 and "by Shape-DNA, lam_1-normalised" in capsys.readouterr().err
 

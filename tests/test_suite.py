@@ -1,8 +1,9 @@
 """The benchmark suite (identities, resolutions) and the exploration default it chose.
 
-The default descriptor is one constant, :data:`cshape.compare.DEFAULT_DESCRIPTOR`; every
-surface that compares shapes with no kind given must read it (the tests change the constant
-and check that each surface follows), and the paper's cShape-DNA stays one option away.
+The default descriptor is one constant, :data:`cshape.DEFAULT` (a :class:`cshape.Descriptor`);
+every surface that compares shapes with no kind given must read it (the tests change the
+constant and check that each surface follows), and the paper's cShape-DNA stays one option
+away.
 """
 
 from __future__ import annotations
@@ -14,11 +15,10 @@ import numpy as np
 import pytest
 
 import cshape
-from cshape import compare, shapes
+from cshape import compare, descriptor, shapes
 from cshape.batch import DescriptorTable
 from cshape.cli import main as cli_main
 from cshape.compare import (
-    DEFAULT_DESCRIPTOR,
     default_descriptor,
     descriptor_label,
     descriptor_matrix,
@@ -51,13 +51,8 @@ def table():
 def other_default(monkeypatch):
     """Replace the exploration default by the paper's cShape-DNA with M=3 (log-Weyl DCT):
     a surface that copied the constant instead of reading it would not follow."""
-    monkeypatch.setattr(compare, "DEFAULT_KIND", "cshape")
-    monkeypatch.setattr(compare, "DEFAULT_M", 3)
-    monkeypatch.setattr(compare, "DEFAULT_TRANSFORM", "log-weyl-dct")
-    monkeypatch.setattr(compare, "DEFAULT_NORMALIZATION", "fiedler")
-    monkeypatch.setattr(compare, "DEFAULT_DESCRIPTOR",
-                        {"kind": "cshape", "M": 3, "transform": "log-weyl-dct",
-                         "normalization": "fiedler"})
+    monkeypatch.setattr(descriptor, "DEFAULT", cshape.Descriptor(
+        "cshape", M=3, N=100, transform="log-weyl-dct", normalization="fiedler"))
     return {"kind": "cshape", "M": 3, "N": N, "transform": "log-weyl-dct",
             "normalization": "fiedler"}
 
@@ -65,9 +60,10 @@ def other_default(monkeypatch):
 # ---------------------------------------------------------------------- the constant
 def test_default_is_one_constant_and_not_the_papers_form_of_compact_shape_dna():
     d = default_descriptor(100)
-    assert {k: d[k] for k in DEFAULT_DESCRIPTOR} == DEFAULT_DESCRIPTOR
-    assert compare.DEFAULT_KIND == DEFAULT_DESCRIPTOR["kind"]
-    assert compare.DEFAULT_M == DEFAULT_DESCRIPTOR["M"]
+    assert d == cshape.DEFAULT.as_dict() == {"kind": "truncated-log", "M": 8, "N": 100,
+                                             "transform": "weyl", "normalization": "fiedler"}
+    assert compare.DEFAULT_DESCRIPTOR is cshape.DEFAULT is descriptor.DEFAULT
+    assert compare.PAPER_DESCRIPTOR is cshape.PAPER
     # compact_shape_dna keeps the paper's Eq. (8)-(10) as its default, bit for bit
     lam = cshape.shape_dna(shapes.icosphere(2), N=40)
     area = shapes.icosphere(2).area
@@ -79,10 +75,10 @@ def test_default_is_one_constant_and_not_the_papers_form_of_compact_shape_dna():
 
 def test_default_lowers_M_to_what_N_allows(table):
     d = default_descriptor(N)
-    assert d["N"] == N and d["M"] <= DEFAULT_DESCRIPTOR["M"]
+    assert d["N"] == N and d["M"] <= cshape.DEFAULT.M
     X = descriptor_matrix(table.lam, table.areas, **d)  # computable from N eigenvalues
     assert X.shape == (len(table), 2 * d["M"] + 1)
-    assert default_descriptor(1000)["M"] == DEFAULT_DESCRIPTOR["M"]
+    assert default_descriptor(1000)["M"] == cshape.DEFAULT.M
     with pytest.raises(ValueError, match="N must be an integer >= 1"):
         default_descriptor(0)
 
@@ -343,8 +339,8 @@ def test_resolution_shape_is_one_surface_meshed_three_ways():
 def test_reproduce_reports_the_suite_with_the_default_marked(tmp_path, monkeypatch):
     from cshape.reproduce import reproduce
 
-    monkeypatch.setattr(compare, "DEFAULT_M", 8)  # a size the N = 30 candidates have
-    monkeypatch.setattr(compare, "DEFAULT_DESCRIPTOR", {**DEFAULT_DESCRIPTOR, "M": 8})
+    # a size the N = 30 candidates have
+    monkeypatch.setattr(descriptor, "DEFAULT", cshape.DEFAULT.replace(M=8))
     recs = []
     for k, (a, b) in enumerate([(1.0, 1.0), (2.0, 1.0), (3.0, 2.0)]):
         for sub in (2, 3):
@@ -357,7 +353,7 @@ def test_reproduce_reports_the_suite_with_the_default_marked(tmp_path, monkeypat
     st = res["suite"]
     assert st["benchmarks"] == {"shapes": {"n_shapes": 6, "n_classes": 3},
                                 "resolution": {"n_shapes": 6, "n_classes": 2}}
-    assert st["default"]["kind"] == DEFAULT_DESCRIPTOR["kind"] and st["default"]["M"] == 8
+    assert st["default"]["kind"] == cshape.DEFAULT.kind and st["default"]["M"] == 8
     rep = (tmp_path / "rep" / "report.md").read_text()
     assert "## The benchmark suite" in rep
     assert f"| **{st['default']['title']}** |" in rep

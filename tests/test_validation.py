@@ -157,9 +157,9 @@ TAKES = {
         "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=v),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=0, N=v),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=0, N=v,
-                                                                     normalized=True),
+                                                                     normalization="none"),
         "compact_shape_dna_real": lambda v: cshape.compact_shape_dna_real(LAM, M=0, N=v,
-                                                                          normalized=True),
+                                                                          normalization="none"),
         "inverse_compact_shape_dna": lambda v: cshape.inverse_compact_shape_dna(S1, N=v),
         "descriptor_matrix": lambda v: descriptor_matrix(table().lam, table().areas,
                                                          "shape-dna", N=v),
@@ -172,7 +172,7 @@ TAKES = {
     "M": {
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=v, N=9),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=v, N=9,
-                                                                     normalized=True),
+                                                                     normalization="none"),
         "descriptor_matrix": lambda v: descriptor_matrix(table().lam, table().areas, M=v, N=9),
         "descriptor_size": lambda v: descriptor_size("cshape", M=v),
         "DescriptorTable": lambda v: _bad_table(M=v),
@@ -238,9 +238,9 @@ TAKES = {
         "log_weyl_ratio": lambda v: cshape.log_weyl_ratio(LAM, v),
         "f1_feature": lambda v: cshape.f1_feature(LAM, v),
         "compact_shape_dna": lambda v: cshape.compact_shape_dna(
-            LAM, M=1, N=5, normalized=True, transform="log-weyl", zero_modes=v),
+            LAM, M=1, N=5, normalization="none", transform="log-weyl", zero_modes=v),
         "compact_shape_dna(weyl)": lambda v: cshape.compact_shape_dna(
-            LAM, M=1, N=5, normalized=True, zero_modes=v),
+            LAM, M=1, N=5, normalization="none", zero_modes=v),
     },
     "n_jobs": {
         "describe": lambda v: _describe(n_jobs=v),
@@ -269,7 +269,7 @@ RANGE_DIFFERS = {("N", "sphere_spectrum")}
 
 _BC = r"bc must be one of \{'neumann', 'dirichlet'\}, got "
 _MASS = r"mass must be one of \{'consistent', 'lumped'\}, got "
-_NORM = r"normalization must be one of \{'area', 'fiedler', 'weyl'\}, got "
+_NORM = r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}, got "
 _TR = r"transform must be one of \{'weyl', 'log-weyl', 'log-weyl-dct'\}, got "
 _KIND = (r"kind must be one of \{'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', "
          r"'truncated-log'\}, got ")
@@ -510,19 +510,21 @@ DESCRIPTORS = [
         match, id=f"M-too-large-{src}-N{N}")
       for src in ("mesh", "lam")
       for M, N, match in [(5, 9, r"2M\+1 = 11 values cannot be kept from N = 9.*use M <= 4"),
-                          (5, 10, r"use M <= 4 or a larger N")]],
+                          (5, 10, r"^M=5: 2M\+1 = 11 values cannot be kept from N = 10 "
+                                  r"eigenvalues; use M <= 4 or N >= 11$")]],
     pytest.param(lambda: cshape.compact_shape_dna(sphere(), M=1, N=1), {}, ValueError,
                  r"2M\+1 = 3 values cannot be kept from N = 1", id="M1-N1"),
     pytest.param(lambda: cshape.inverse_compact_shape_dna(
-        cshape.compact_shape_dna(LAM, M=2, N=9, normalized=True), N=3), {}, ValueError,
+        cshape.compact_shape_dna(LAM, M=2, N=9, normalization="none"), N=3), {}, ValueError,
         r"use M <= 1", id="inverse-M-too-large"),
     pytest.param(lambda: cshape.inverse_compact_shape_dna(
-        cshape.compact_shape_dna(LAM, M=2, N=9, normalized=True)[:4], N=9), {}, ValueError,
+        cshape.compact_shape_dna(LAM, M=2, N=9, normalization="none")[:4], N=9), {}, ValueError,
         "odd length", id="inverse-even-length"),
     pytest.param(cshape.inverse_compact_shape_dna, dict(S_c=S9, N=9, add_weyl="no"), TypeError,
                  r"^add_weyl must be True or False, got str 'no'$", id="inverse-add_weyl"),
-    pytest.param(cshape.compact_shape_dna, dict(mesh_or_lam=LAM, M=1, N=5, normalized=1),
-                 TypeError, r"^normalized must be True or False, got int 1$", id="normalized"),
+    pytest.param(cshape.compact_shape_dna, dict(mesh_or_lam=LAM, M=1, N=5, normalization=1),
+                 TypeError, r"^normalization must be one of \{'area', 'fiedler', 'weyl', "
+                 r"'none'\}, got int 1$", id="normalization-none-type"),
     *[pytest.param(fn, dict(lam_or=lam), exc, match, id=f"{fn_name}-{name}")
       for name, lam, exc, match in [
           ("complex", LAM + 1j, TypeError, "real eigenvalues, got a complex array"),
@@ -533,7 +535,8 @@ DESCRIPTORS = [
       for fn_name, fn in [("normalize", lambda lam_or: cshape.normalize(lam_or, area=1.0)),
                           ("weyl_subtract", lambda lam_or: cshape.weyl_subtract(lam_or))]],
     *[pytest.param(cshape.normalize, dict(lam=LAM, area=1.0, method=m), exc,
-                   r"method must be one of \{'area', 'fiedler', 'weyl'\}", id=f"method-{m!r}")
+                   r"method must be one of \{'area', 'fiedler', 'weyl', 'none'\}",
+                   id=f"method-{m!r}")
       for m, exc in [("max", ValueError), ("", ValueError), (None, TypeError), (1, TypeError)]],
     pytest.param(cshape.real_form, dict(S_c=np.ones(4, complex)), ValueError,
                  "odd last dimension", id="real_form-even"),
@@ -590,7 +593,9 @@ BATCH = [
     pytest.param(_describe, dict(on_error="ignore"), ValueError,
                  r"^on_error must be one of \{'warn', 'raise'\}, got 'ignore'$",
                  id="describe-on_error"),
-    pytest.param(_describe, dict(N=9, M=5), ValueError, r"M=5 needs 2M\+1 = 11 <= N = 9",
+    pytest.param(_describe, dict(N=9, M=5), ValueError,
+                 r"^M=5: 2M\+1 = 11 values cannot be kept from N = 9 eigenvalues; use M <= 4 "
+                 r"or N >= 11$",
                  id="describe-M-too-large"),
     pytest.param(lambda path: table().save(path), dict(path=3), TypeError,
                  r"^path must be a path \(str or os\.PathLike\), got int 3$", id="save-path"),
@@ -775,16 +780,16 @@ def test_N_equal_1_is_legal_for_shape_dna_and_for_compact_with_M_0():
 
 
 def test_only_the_first_N_eigenvalues_are_used():
-    S = cshape.compact_shape_dna(LAM, M=2, N=5, normalized=True)
+    S = cshape.compact_shape_dna(LAM, M=2, N=5, normalization="none")
     assert S.shape == (5,)
     np.testing.assert_array_equal(S, cshape.compact_shape_dna(LAM[:5], M=2, N=5,
-                                                              normalized=True))
+                                                              normalization="none"))
 
 
 @pytest.mark.parametrize("N", [9, 10])
 def test_largest_legal_M(N):
     M = (N - 1) // 2
-    S = cshape.compact_shape_dna(LAM, M=M, N=N, normalized=True)
+    S = cshape.compact_shape_dna(LAM, M=M, N=N, normalization="none")
     assert S.shape == (2 * M + 1,)
     np.testing.assert_allclose(S[M + 1:], np.conj(S[:M][::-1]))  # conjugate symmetric
 

@@ -12,7 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_bool, check_choice, check_int, check_n_jobs, check_path
+from .._checks import (
+    check_bool,
+    check_choice,
+    check_crop,
+    check_int,
+    check_n_jobs,
+    check_path,
+)
 from .._files import atomic_write
 from ..descriptors import TRANSFORMS, count_zero_modes
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
@@ -22,18 +29,6 @@ from ._dask import _run_dask
 from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
 from .table import DescriptorTable
 from .work import _blas_limit, _init_worker, _work
-
-# =========================================================================== the work
-
-
-
-
-
-
-
-
-
-
 
 
 # =========================================================================== records
@@ -211,11 +206,7 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
     N = check_int("N", N, min=1)
     M = check_int("M", M, min=0)
     transform = check_choice("transform", transform, TRANSFORMS)
-    if 2 * M + 1 > N:
-        raise ValueError(f"M={M} needs 2M+1 = {2 * M + 1} <= N = {N}; use M <= {(N - 1) // 2}")
-    if transform != "weyl" and 2 * M + 1 > N - 1:
-        raise ValueError(f"M={M} with transform={transform!r} needs 2M+1 = {2 * M + 1} <= N-1 "
-                         f"= {N - 1} (lam_0 has no logarithm); use M <= {(N - 2) // 2}")
+    M = check_crop(M, N, log=transform != "weyl")  # the one M-versus-N rule
     bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
     mass = check_choice("mass", mass, MASS_TYPES)
     n_jobs = check_n_jobs(n_jobs)
@@ -224,110 +215,162 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
         blas_threads = check_int("blas_threads", blas_threads, min=1)
     progress = check_bool("progress", progress)
     on_error = check_choice("on_error", on_error, ("warn", "raise"))
-    if cache_dir is False:
-        cache = None
-    else:
-        cache = default_cache_dir() if cache_dir is None else check_path("cache_dir", cache_dir)
-        cache.mkdir(parents=True, exist_ok=True)
-    records = collection_records(collection)
-    p = len(records)
-    results = [None] * p
-    failures = {}
-
+    cache = _cache_folder(cache_dir)
     from tqdm.auto import tqdm
 
-    bar = tqdm(total=p, desc="describe", unit="mesh", disable=not progress)
-    aliases = {}  # row -> alias file of a mesh given by path (see the module notes)
-
-    def finish(i, res):
-        name = records[i][0]
-        for msg in res.get("warnings", ()):
-            warnings.warn(f"{name}: {msg}", CShapeWarning, stacklevel=3)
-        if res["ok"]:
-            if res["cached"]:  # the warnings the eigensolve gave, again
-                pieces = res.get("components", -1)
-                if pieces < 0 and bc == "neumann":  # an entry older than the count
-                    pieces = count_zero_modes(res["lam"])
-                if pieces > 1:
-                    warnings.warn(f"{name}: {components_message(pieces)}", CShapeWarning,
-                                  stacklevel=3)
-            if cache is not None and not res["cached"]:
-                try:
-                    _write_entry(cache, res)
-                except OSError as exc:  # a full or read-only disk must not lose the result
-                    warnings.warn(f"{name}: could not write its cache entry ({exc}); the "
-                                  "result is kept but will be recomputed next time",
-                                  CShapeWarning, stacklevel=3)
-            alias = aliases.get(i)
-            if alias is not None and _read_alias(alias) != res["key"]:
-                try:
-                    alias.parent.mkdir(exist_ok=True)
-                    atomic_write(alias, lambda f: f.write(res["key"]), binary=False)
-                except OSError:
-                    pass  # only the shortcut is lost: the file is read again next time
-            results[i] = res
-        else:
-            if on_error == "raise":
-                raise RuntimeError(f"describe: mesh {name!r} failed: {res['error']}")
-            failures[i] = res["error"]
-        bar.update(1)
-
+    run = _Run(collection_records(collection), N, bc, mass, cache, on_error)
+    run.bar = tqdm(total=len(run.records), desc="describe", unit="mesh",
+                   disable=not progress)
     try:
-        # meshes in memory, and files seen before unchanged: look them up in the cache here,
-        # before any task is sent
-        tasks = []
-        for i, (_name, _label, src) in enumerate(records):
-            key = None
-            if isinstance(src, _Failed):
-                finish(i, {"ok": False, "error": src.message})
-                continue
-            if isinstance(src, (str, os.PathLike)) and cache is not None:
-                alias = aliases[i] = _file_alias(cache, src, bc, mass)
-                known = None if alias is None else _read_alias(alias)
-                hit = None if known is None else _read_entry(cache, known, N)
-                if hit is not None:
-                    finish(i, {**hit, "ok": True})
-                    continue
-            if not isinstance(src, (str, os.PathLike)):
-                try:
-                    key = mesh_key(src, bc, mass)
-                except (TypeError, ValueError) as exc:
-                    finish(i, {"ok": False, "error": f"{type(exc).__name__}: {exc}"})
-                    continue
-                hit = None if cache is None else _read_entry(cache, key, N)
-                if hit is not None:
-                    finish(i, {**hit, "ok": True})
-                    continue
-            tasks.append((i, src, N, bc, mass, None if cache is None else str(cache), key))
-
-        _warn_long_run(tasks, records, N)
+        tasks = run.tasks()  # what the cache does not hold
+        _warn_long_run(tasks, run.records, N)
         if client is not None:
-            _run_dask(tasks, client, finish)
+            _run_dask(tasks, client, run.finish)
         elif n_jobs == 1 or len(tasks) <= 1:
             with _blas_limit(blas_threads):
                 for t in tasks:
-                    finish(t[0], _work(t))
+                    run.finish(t[0], _work(t))
         else:
-            _run_processes(tasks, n_jobs, finish, failures, blas_threads)
+            _run_processes(tasks, n_jobs, run.finish, run.failures, blas_threads)
     finally:
-        bar.close()
+        run.bar.close()
+    return run.table(M, transform)
 
-    ok = [i for i in range(p) if results[i] is not None]
-    fail_list = [(records[i][0], failures[i]) for i in sorted(failures)]
-    if fail_list:
-        shown = "; ".join(f"{n} ({m})" for n, m in fail_list[:5])
-        more = f"; and {len(fail_list) - 5} more" if len(fail_list) > 5 else ""
-        warnings.warn(
-            f"describe: {len(fail_list)} of {p} meshes failed and were skipped "
-            f"(see table.failures): {shown}{more}", CShapeWarning, stacklevel=2)
-    return DescriptorTable(
-        [records[i][0] for i in ok],
-        np.array([results[i]["lam"][:N] for i in ok]).reshape(len(ok), N),
-        [results[i]["area"] for i in ok],
-        [records[i][1] for i in ok], M=M, bc=bc, mass=mass,
-        seconds=[results[i]["seconds"] for i in ok],
-        cached=[results[i]["cached"] for i in ok], failures=fail_list, transform=transform,
-        components=[results[i].get("components", -1) for i in ok])
+
+def _cache_folder(cache_dir):
+    """The cache folder of ``cache_dir`` (created), or None when caching is off."""
+    if cache_dir is False:
+        return None
+    cache = default_cache_dir() if cache_dir is None else check_path("cache_dir", cache_dir)
+    cache.mkdir(parents=True, exist_ok=True)
+    return cache
+
+
+class _Run:
+    """The state of one :func:`describe` call: the records, their results and failures.
+
+    :meth:`tasks` looks each mesh up in the cache (finishing the hits) and returns the
+    eigensolves left to do; :meth:`finish` takes a result as it comes back (from this
+    process, a worker process or a Dask worker); :meth:`table` makes the
+    :class:`DescriptorTable` of the successful meshes.
+    """
+
+    def __init__(self, records, N, bc, mass, cache, on_error):
+        self.records, self.N, self.bc, self.mass = records, N, bc, mass
+        self.cache, self.on_error = cache, on_error
+        self.results = [None] * len(records)
+        self.failures = {}
+        self.aliases = {}  # row -> alias file of a mesh given by path (see the module notes)
+        self.bar = None
+
+    # ------------------------------------------------------------------ before the work
+    def tasks(self):
+        """Meshes in memory, and files seen before unchanged: looked up in the cache here,
+        before any task is sent; the tasks of the others."""
+        tasks = []
+        for i, (_name, _label, src) in enumerate(self.records):
+            key = self._lookup(i, src)
+            if key is not False:
+                tasks.append((i, src, self.N, self.bc, self.mass,
+                              None if self.cache is None else str(self.cache), key))
+        return tasks
+
+    def _lookup(self, i, src):
+        """False when row ``i`` is finished (a cache hit or a failure), else its cache key
+        (None for a mesh given by path: the worker reads the file and computes it)."""
+        cache, N = self.cache, self.N
+        if isinstance(src, _Failed):
+            self.finish(i, {"ok": False, "error": src.message})
+            return False
+        if isinstance(src, (str, os.PathLike)):
+            if cache is not None:
+                alias = self.aliases[i] = _file_alias(cache, src, self.bc, self.mass)
+                known = None if alias is None else _read_alias(alias)
+                hit = None if known is None else _read_entry(cache, known, N)
+                if hit is not None:
+                    self.finish(i, {**hit, "ok": True})
+                    return False
+            return None
+        try:
+            key = mesh_key(src, self.bc, self.mass)
+        except (TypeError, ValueError) as exc:
+            self.finish(i, {"ok": False, "error": f"{type(exc).__name__}: {exc}"})
+            return False
+        hit = None if cache is None else _read_entry(cache, key, N)
+        if hit is not None:
+            self.finish(i, {**hit, "ok": True})
+            return False
+        return key
+
+    # ------------------------------------------------------------------ as results come
+    def finish(self, i, res):
+        """Take the result of row ``i``: warn, cache, keep (or record the failure)."""
+        name = self.records[i][0]
+        for msg in res.get("warnings", ()):
+            warnings.warn(f"{name}: {msg}", CShapeWarning, stacklevel=3)
+        if res["ok"]:
+            if res["cached"]:
+                self._warn_pieces_again(name, res)
+            else:
+                self._write_cache(name, res)
+            self._write_alias(i, res)
+            self.results[i] = res
+        else:
+            if self.on_error == "raise":
+                raise RuntimeError(f"describe: mesh {name!r} failed: {res['error']}")
+            self.failures[i] = res["error"]
+        self.bar.update(1)
+
+    def _warn_pieces_again(self, name, res):
+        """The warning the eigensolve gave for a mesh of several pieces, again."""
+        pieces = res.get("components", -1)
+        if pieces < 0 and self.bc == "neumann":  # an entry older than the count
+            pieces = count_zero_modes(res["lam"])
+        if pieces > 1:
+            warnings.warn(f"{name}: {components_message(pieces)}", CShapeWarning,
+                          stacklevel=4)
+
+    def _write_cache(self, name, res):
+        if self.cache is None:
+            return
+        try:
+            _write_entry(self.cache, res)
+        except OSError as exc:  # a full or read-only disk must not lose the result
+            warnings.warn(f"{name}: could not write its cache entry ({exc}); the result is "
+                          "kept but will be recomputed next time", CShapeWarning, stacklevel=4)
+
+    def _write_alias(self, i, res):
+        alias = self.aliases.get(i)
+        if alias is not None and _read_alias(alias) != res["key"]:
+            try:
+                alias.parent.mkdir(exist_ok=True)
+                atomic_write(alias, lambda f: f.write(res["key"]), binary=False)
+            except OSError:
+                pass  # only the shortcut is lost: the file is read again next time
+
+    # ------------------------------------------------------------------ the table
+    def table(self, M, transform) -> DescriptorTable:
+        """The successful meshes in the order of the collection; one warning lists the
+        failures."""
+        records, results, N = self.records, self.results, self.N
+        p = len(records)
+        ok = [i for i in range(p) if results[i] is not None]
+        fail_list = [(records[i][0], self.failures[i]) for i in sorted(self.failures)]
+        if fail_list:
+            shown = "; ".join(f"{n} ({m})" for n, m in fail_list[:5])
+            more = f"; and {len(fail_list) - 5} more" if len(fail_list) > 5 else ""
+            warnings.warn(
+                f"describe: {len(fail_list)} of {p} meshes failed and were skipped "
+                f"(see table.failures): {shown}{more}", CShapeWarning, stacklevel=3)
+        return DescriptorTable(
+            [records[i][0] for i in ok],
+            np.array([results[i]["lam"][:N] for i in ok]).reshape(len(ok), N),
+            [results[i]["area"] for i in ok],
+            [records[i][1] for i in ok], M=M, bc=self.bc, mass=self.mass,
+            seconds=[results[i]["seconds"] for i in ok],
+            cached=[results[i]["cached"] for i in ok], failures=fail_list,
+            transform=transform,
+            components=[results[i].get("components", -1) for i in ok])
 
 
 #: Below this N no eigensolve of a mesh that fits in memory is estimated to take long

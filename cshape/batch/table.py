@@ -15,13 +15,8 @@ import numpy as np
 
 from .._checks import check_choice, check_int, check_path
 from .._files import atomic_write
-from ..compare import (
-    default_descriptor,
-    descriptor_label,
-    descriptor_rows,
-    distance_matrix,
-    row_problems,
-)
+from ..compare import distance_matrix
+from ..descriptor import Descriptor, select_descriptor
 from ..descriptors import TRANSFORMS, count_zero_modes
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
@@ -166,43 +161,52 @@ class DescriptorTable:
             transform=self.transform, components=self.components[idx])
 
     # ------------------------------------------------------------------ descriptors
-    def recipe(self, kind: str | None = None, M: int | None = None, N: int | None = None,
-               transform: str | None = None, normalization: str | None = None) -> dict:
-        """The descriptor these arguments select, as keyword arguments of
-        :func:`cshape.compare.descriptor_matrix`.
+    def descriptor_for(self, kind: str | None = None, M: int | None = None,
+                       N: int | None = None, transform: str | None = None,
+                       normalization: str | None = None, *,
+                       descriptor: Descriptor | None = None) -> Descriptor:
+        """The :class:`cshape.Descriptor` these arguments select (the rule of every surface,
+        :func:`cshape.descriptor.select_descriptor`, with the table's ``M``, ``N`` and
+        ``transform`` as the base).
 
-        ``kind=None`` selects the exploration default
-        (:data:`cshape.compare.DEFAULT_DESCRIPTOR`, with its own ``M``, transform and
-        normalisation unless given); a kind given by name takes the table's ``M`` and
+        ``descriptor`` given: it.  ``kind=None``: the exploration default
+        :data:`cshape.DEFAULT` at the table's ``N`` (its own ``M``, transform and
+        normalisation unless given).  A kind given by name takes the table's ``M`` and
         ``transform`` and the paper's area normalisation unless given (``kind='cshape'`` is
         the paper's cShape-DNA with the table's ``M``).
+        """
+        return select_descriptor(descriptor, kind=kind, M=M, N=N, transform=transform,
+                                 normalization=normalization, base_M=self.M, base_N=self.N,
+                                 base_transform=self.transform)
+
+    def recipe(self, kind: str | None = None, M: int | None = None, N: int | None = None,
+               transform: str | None = None, normalization: str | None = None) -> dict:
+        """:meth:`descriptor_for` as keyword arguments of
+        :func:`cshape.compare.descriptor_matrix`.
 
         Returns
         -------
         dict
             ``{'kind', 'M', 'N', 'transform', 'normalization'}``.
         """
-        N = self.N if N is None else N
-        if kind is None:
-            d = default_descriptor(N)
-            return {"kind": d["kind"], "M": d["M"] if M is None else M, "N": N,
-                    "transform": d["transform"] if transform is None else transform,
-                    "normalization": (d["normalization"] if normalization is None
-                                      else normalization)}
-        return {"kind": kind, "M": self.M if M is None else M, "N": N,
-                "transform": self.transform if transform is None else transform,
-                "normalization": "area" if normalization is None else normalization}
+        return self.descriptor_for(kind, M, N, transform, normalization).as_dict()
 
     def describe_recipe(self, kind: str | None = None, M: int | None = None,
                         N: int | None = None, transform: str | None = None,
                         normalization: str | None = None) -> str:
-        """The descriptor :meth:`recipe` selects, in words (for titles and headers)."""
-        return descriptor_label(**self.recipe(kind, M, N, transform, normalization))
+        """The descriptor :meth:`descriptor_for` selects, in words (its
+        :attr:`~cshape.Descriptor.label`, for titles and headers)."""
+        return self.descriptor_for(kind, M, N, transform, normalization).label
 
-    def _recipe(self, kind, M, N, transform, kwargs):
+    def _descriptor(self, kind, M, N, transform, kwargs) -> Descriptor:
         kwargs = dict(kwargs)
         norm = kwargs.pop("normalization", None)
-        return {**self.recipe(kind, M, N, transform, norm), **kwargs}
+        descriptor = kwargs.pop("descriptor", None)
+        if kwargs:
+            raise TypeError(f"unexpected keyword argument {next(iter(kwargs))!r}; the "
+                            "descriptor is chosen by kind, M, N, transform, normalization "
+                            "or descriptor")
+        return self.descriptor_for(kind, M, N, transform, norm, descriptor=descriptor)
 
     def usable(self, kind=None, M=None, N=None, *, transform=None,
                **kwargs) -> np.ndarray:
@@ -212,19 +216,19 @@ class DescriptorTable:
         (a mesh of many pieces), see :func:`cshape.compare.row_problems`.  Takes the
         arguments of :meth:`descriptors`; warns nothing.
         """
-        bad = row_problems(self.lam, self.areas, zero_modes=self.zero_modes,
-                           **self._recipe(kind, M, N, transform, kwargs))
+        d = self._descriptor(kind, M, N, transform, kwargs)
+        _X, bad = d.rows(self.lam, self.areas, self.zero_modes)
         mask = np.ones(len(self), dtype=bool)
         mask[list(bad)] = False
         return mask
 
-    def _warn_left_out(self, recipe, bad, stacklevel=3):
+    def _warn_left_out(self, d, bad, stacklevel=3):
         """A warning that names the rows left out."""
         if bad:
             shown = "; ".join(f"{self.names[i]} ({m})" for i, m in list(bad.items())[:5])
             more = f"; and {len(bad) - 5} more" if len(bad) > 5 else ""
             warnings.warn(
-                f"kind={recipe['kind']!r} cannot describe {len(bad)} of {len(self)} shapes, "
+                f"kind={d.kind!r} cannot describe {len(bad)} of {len(self)} shapes, "
                 f"left out: {shown}{more}",
                 CShapeWarning, stacklevel=stacklevel)
 
@@ -235,9 +239,9 @@ class DescriptorTable:
         Parameters
         ----------
         kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
-            Optional.  Default: the exploration default :data:`cshape.compare.DEFAULT_KIND`
-            with its ``M`` (:data:`cshape.compare.DEFAULT_M`); ``'cshape'`` is the paper's
-            cShape-DNA.  The old spellings ('shape_dna', ...) work with a DeprecationWarning.
+            Optional.  Default: the exploration default :data:`cshape.DEFAULT` (at the
+            table's ``N``); ``'cshape'`` is the paper's cShape-DNA.  The old spellings
+            ('shape_dna', ...) work with a DeprecationWarning.
         M : int, optional
             Default: the default descriptor's ``M`` when ``kind`` is None, else the table's.
         N : int, optional
@@ -246,7 +250,9 @@ class DescriptorTable:
             Default: the table's ``transform`` (used by the 'cshape' kinds).
         **kwargs
             ``normalization`` ({'area', 'fiedler', 'weyl'}; default: the default
-            descriptor's when ``kind`` is None, else 'area', the paper's).
+            descriptor's when ``kind`` is None, else 'area', the paper's), or
+            ``descriptor``: a :class:`cshape.Descriptor` (e.g. :data:`cshape.PAPER`)
+            instead of all of these.
 
         Returns
         -------
@@ -256,9 +262,9 @@ class DescriptorTable:
         """
         X, _rows = self.described(kind, M, N, transform=transform, stacklevel=4, **kwargs)
         if len(X) == 0:
-            recipe = self._recipe(kind, M, N, transform, kwargs)
+            d = self._descriptor(kind, M, N, transform, kwargs)
             raise ValueError(
-                f"kind={recipe['kind']!r} cannot describe any of the {len(self)} shapes "
+                f"kind={d.kind!r} cannot describe any of the {len(self)} shapes "
                 "(see the warning); choose another kind or compute more eigenvalues")
         return X
 
@@ -277,10 +283,10 @@ class DescriptorTable:
         rows : ndarray of int, shape (q,)
             The table row of each row of ``X`` (those :meth:`usable` marks).
         """
-        recipe = self._recipe(kind, M, N, transform, kwargs)
-        X, bad = descriptor_rows(self.lam, self.areas, zero_modes=self.zero_modes, **recipe)
+        d = self._descriptor(kind, M, N, transform, kwargs)
+        X, bad = d.rows(self.lam, self.areas, self.zero_modes)
         if warn:
-            self._warn_left_out(recipe, bad, stacklevel=stacklevel)
+            self._warn_left_out(d, bad, stacklevel=stacklevel)
         rows = np.setdiff1d(np.arange(len(self)), np.fromiter(bad, dtype=np.int64))
         return X, rows
 

@@ -259,7 +259,7 @@ def _pieces(table):
 
 def _print_table(table, width=4):
     """One line per shape on stdout: name, label, area, components and the first values of
-    the default descriptor (:data:`cshape.compare.DEFAULT_DESCRIPTOR`, the one `cshape query`
+    the default descriptor (:data:`cshape.DEFAULT`, the one `cshape query`
     compares; '-' for a shape it cannot describe)."""
     import numpy as np
 
@@ -475,14 +475,47 @@ def _kind_arg(value: str) -> str:
 
 
 def _default_label(N=100) -> str:
-    """The exploration default (cshape.compare.DEFAULT_DESCRIPTOR) in words."""
-    from ..compare import default_descriptor, descriptor_label
+    """The exploration default (cshape.DEFAULT) in words."""
+    from ..descriptor import select_descriptor
 
-    return descriptor_label(**default_descriptor(N))
+    return select_descriptor(N=N).label
+
+
+def chosen_descriptor(args, table):
+    """The :class:`cshape.Descriptor` of ``--kind``, ``-M``, ``-N`` and ``--transform``,
+    with the table's ``M``, ``N`` and transform where not given."""
+    return table.descriptor_for(args.kind, args.M, args.N, args.transform)
+
+
+def _query_target(args, table):
+    """The query's eigenvalues, area, table row to exclude (None for a file), name in the
+    header and component count: a shape of the table, or a mesh file described now."""
+    from ..batch import describe
+
+    target = args.target
+    if target in table.names:
+        row = table.index(target)
+        return (table.lam[row], table.areas[row], row, f"{target!r}",
+                int(table.zero_modes[row]))
+    if Path(target).is_file():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N, M=table.M,
+                           bc=table.bc, mass=table.mass, transform=table.transform,
+                           cache_dir=False if args.no_cache else args.cache_dir,
+                           progress=False, on_error="warn")
+        print_warnings(caught, "query", False, skip=("describe: ",))
+        if one.failures:
+            raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
+        return one.lam[0], one.areas[0], None, repr(target), int(one.zero_modes[0])
+    close = [n for n in table.names if target.lower() in n.lower()][:5]
+    hint = f"; names containing it: {close}" if close else ""
+    raise ValueError(f"{target!r} is neither a shape of the table ({len(table)} shapes)"
+                     f" nor a mesh file{hint}")
 
 
 def _cmd_query(args) -> int:
-    from ..batch import DescriptorTable, describe
+    from ..batch import DescriptorTable
     from ..index import DescriptorIndex
 
     table = DescriptorTable.load(args.table)
@@ -496,33 +529,12 @@ def _cmd_query(args) -> int:
     check_plot_options(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        index = DescriptorIndex.from_table(table, args.kind, M=args.M, N=args.N,
-                                           transform=args.transform)
+        index = DescriptorIndex.from_table(table, descriptor=chosen_descriptor(args, table))
     print_warnings(caught, "query", False)
     by = (f"--kind {args.kind}" if args.kind
           else f"the default descriptor ({index.descriptor})")
     target = args.target
-    if target in table.names:
-        row = table.index(target)
-        lam, area, exclude, what = table.lam[row], table.areas[row], row, f"{target!r}"
-        pieces = int(table.zero_modes[row])
-    elif Path(target).is_file():
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N, M=table.M,
-                           bc=table.bc, mass=table.mass, transform=table.transform,
-                           cache_dir=False if args.no_cache else args.cache_dir,
-                           progress=False, on_error="warn")
-        print_warnings(caught, "query", False, skip=("describe: ",))
-        if one.failures:
-            raise ValueError(f"cannot describe {target!r}: {one.failures[0][1]}")
-        lam, area, exclude, what = one.lam[0], one.areas[0], None, repr(target)
-        pieces = int(one.zero_modes[0])
-    else:
-        close = [n for n in table.names if target.lower() in n.lower()][:5]
-        hint = f"; names containing it: {close}" if close else ""
-        raise ValueError(f"{target!r} is neither a shape of the table ({len(table)} shapes)"
-                         f" nor a mesh file{hint}")
+    lam, area, exclude, what, pieces = _query_target(args, table)
     rows = index.rows_  # the table rows the kind describes
     if exclude is not None and exclude not in rows:
         raise ValueError(f"{by} cannot describe {target!r} (the warning above "

@@ -16,7 +16,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from .explore import HTML_SUFFIXES, add_descriptor_options, check_figure_path
+from .explore import HTML_SUFFIXES, add_descriptor_options, check_figure_path, chosen_descriptor
 from .output import CommandError, print_warnings
 
 __all__ = ["add_overview"]
@@ -42,8 +42,7 @@ def _cmd_overview(args) -> int:
                            f"use -N {table.N} or less")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        c = collection_distances(table, args.kind, M=args.M, N=args.N,
-                                 transform=args.transform)
+        c = collection_distances(table, descriptor=chosen_descriptor(args, table))
         Y = mds_embedding(c.D, random_state=args.seed)
     print_warnings(caught, "overview", args.verbose)
     name = Path(args.table).name

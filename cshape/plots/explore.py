@@ -27,9 +27,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._checks import check_choice, check_labels, check_square
+from .._checks import check_labels, check_square
 from .._files import atomic_write
-from ..compare import DESCRIPTOR_KINDS, descriptor_matrix, distance_matrix, row_problems
+from ..compare import distance_matrix
+from ..descriptor import Descriptor, select_descriptor
 from ..mesh import CShapeWarning, as_mesh
 from .collection import (
     class_styles,
@@ -76,25 +77,24 @@ _PLOTLY_SYMBOLS = {"o": "circle", "s": "square", "^": "triangle-up", "D": "diamo
 
 # =========================================================================== descriptors
 def default_kind() -> str:
-    """The descriptor compared when none is asked for: ``cshape.compare.DEFAULT_KIND`` (with
-    its ``M`` and normalisation, :func:`cshape.compare.default_descriptor`)."""
-    from .. import compare
+    """The kind compared when none is asked for: that of :data:`cshape.DEFAULT` (with its
+    ``M`` and normalisation)."""
+    from .. import descriptor
 
-    return compare.DEFAULT_KIND
+    return descriptor.DEFAULT.kind
 
 
-def descriptor_title(kind, M=16, N=100, transform="weyl", normalization="area") -> str:
-    """What a figure compared, in words: the same as :func:`cshape.compare.descriptor_label`,
-    which the query header and ``cshape describe`` use too.
+def descriptor_title(kind: str, M: int = 16, N: int = 100, transform: str = "weyl",
+                     normalization: str = "area") -> str:
+    """What a figure compared, in words: the :attr:`cshape.Descriptor.label`, which the
+    query header and ``cshape describe`` use too.
 
     >>> descriptor_title("truncated-log", M=8)
     'truncated log spectrum (17 values)'
     >>> descriptor_title("truncated-log", M=8, normalization="weyl")
     'truncated log spectrum, Weyl-normalised (17 values)'
     """
-    from ..compare import descriptor_label
-
-    return descriptor_label(kind, M=M, N=N, transform=transform, normalization=normalization)
+    return Descriptor(kind, M=M, N=N, transform=transform, normalization=normalization).label
 
 
 class CollectionDistances(NamedTuple):
@@ -111,7 +111,7 @@ class CollectionDistances(NamedTuple):
     left_out : list of (str, str)
         ``(name, reason)`` of every row that could not be described.
     descriptor : str
-        :func:`descriptor_title` of the descriptor compared.
+        The :attr:`~cshape.Descriptor.label` of the descriptor compared.
     kind : str
     """
 
@@ -124,8 +124,10 @@ class CollectionDistances(NamedTuple):
     kind: str
 
 
-def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
-                         normalization=None) -> CollectionDistances:
+def collection_distances(table, kind: str | None = None, *, M: int | None = None,
+                         N: int | None = None, transform: str | None = None,
+                         normalization: str | None = None,
+                         descriptor: Descriptor | None = None) -> CollectionDistances:
     """Distances between the shapes of a described collection, under one descriptor.
 
     One shape never fails the collection: a row that cannot be described under ``kind``
@@ -139,12 +141,15 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
         ``N`` and ``transform``.
     kind : str, optional
         See :func:`cshape.compare.descriptor_matrix`; default: the exploration default
-        :data:`cshape.compare.DEFAULT_DESCRIPTOR` (kind, ``M`` and normalisation).
+        :data:`cshape.DEFAULT` (kind, ``M`` and normalisation).
     M, N, transform : optional
         Default: the default descriptor's ``M`` and transform when ``kind`` is None, else
         the table's; the table's ``N``.
     normalization : {'area', 'fiedler', 'weyl'}, optional
         Default: the default descriptor's when ``kind`` is None, else 'area' (the paper's).
+    descriptor : Descriptor, optional
+        The descriptor as one value (e.g. :data:`cshape.PAPER`) instead of ``kind``, ``M``,
+        ``N``, ``transform`` and ``normalization``.
 
     Returns
     -------
@@ -156,26 +161,16 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
         If no shape (or a single one) can be described under ``kind``, or ``kind`` is
         unknown.
     """
-    from ..compare import default_descriptor
-
-    N = table.N if N is None else N
-    if kind is None:  # the exploration default, whole: kind, M, transform, normalisation
-        d = default_descriptor(N)
-        kind, M = d["kind"], d["M"] if M is None else M
-        transform = d["transform"] if transform is None else transform
-        normalization = d["normalization"] if normalization is None else normalization
-    transform = table.transform if transform is None else transform
-    kind = check_choice("kind", kind, DESCRIPTOR_KINDS)
-    recipe = {"kind": kind, "M": table.M if M is None else M, "N": N, "transform": transform,
-              "normalization": "area" if normalization is None else normalization}
-    title = descriptor_title(kind, recipe["M"], recipe["N"], recipe["transform"],
-                             recipe["normalization"])
+    d = select_descriptor(descriptor, kind=kind, M=M, N=N, transform=transform,
+                          normalization=normalization, base_M=table.M, base_N=table.N,
+                          base_transform=table.transform)
+    title = d.label
     p = len(table.names)
     areas = np.asarray(table.areas, dtype=np.float64).reshape(-1)
     zero_modes = getattr(table, "zero_modes", None)
     if zero_modes is not None:
         zero_modes = np.asarray(zero_modes)
-    bad = row_problems(table.lam, areas, zero_modes=zero_modes, **recipe)
+    X, bad = d.rows(table.lam, areas, zero_modes)
     rows = np.array([i for i in range(p) if i not in bad], dtype=np.int64)
     left_out = [(table.names[i], " ".join(str(why).split())) for i, why in bad.items()]
     if left_out:
@@ -189,12 +184,9 @@ def collection_distances(table, kind=None, *, M=None, N=None, transform=None,
         raise ValueError(
             f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "
             "needs two or more: choose another kind (kind=...)")
-    X = descriptor_matrix([table.lam[i] for i in rows], areas[rows],
-                          zero_modes=None if zero_modes is None else zero_modes[rows],
-                          names=[table.names[i] for i in rows], **recipe)
     D = distance_matrix(X)
     return CollectionDistances(D, rows, [table.names[i] for i in rows],
-                               [table.labels[i] for i in rows], left_out, title, kind)
+                               [table.labels[i] for i in rows], left_out, title, d.kind)
 
 
 # =========================================================================== classes

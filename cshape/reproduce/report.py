@@ -5,15 +5,16 @@ from __future__ import annotations
 
 import json
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .._files import atomic_write
 from ..batch import describe
-from ..compare import (
-    difference_matrix,
-)
+from ..compare import difference_matrix
+from ..descriptor import PAPER as PAPER_DESCRIPTOR  # PAPER here: the paper's numbers
+from ..descriptor import Descriptor, select_descriptor
 from .experiments import (
     _MEASURES,
     EXTENSIONS,
@@ -60,11 +61,12 @@ def _jsonable(obj):
     return obj
 
 
-def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NOISE_LEVELS,
-              noise_seed=0, quality=None, example=None, cache_dir=None, n_jobs=1, client=None,
-              progress=True, random_state=0, title="cshape: the paper's Section 3 on our data",
-              benchmark=None, benchmark_name=None, benchmark_info=None, size_Ms=None,
-              suite=None):
+def reproduce(records, out_dir, *, N=None, M=None, Ms=(8, 4, 2, 1),
+              noise_levels=NOISE_LEVELS, noise_seed=0, quality=None, example=None,
+              cache_dir=None, n_jobs=1, client=None, progress=True, random_state=0,
+              title="cshape: the paper's Section 3 on our data", benchmark=None,
+              benchmark_name=None, benchmark_info=None, size_Ms=None, suite=None,
+              descriptor: Descriptor | None = None):
     """Run Section 3 on a collection and write a report folder.
 
     Two collections may take part: ``records`` for the parts of Section 3 that compare a
@@ -82,8 +84,9 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
     out_dir : str or os.PathLike
         Report folder (created): ``report.md``, ``results.json``, ``fig*.png``,
         ``table.npz`` (clean descriptors) and ``table_noise_<lam>.npz``.
-    N, M : int, default=100, 16
-        The paper's Shape-DNA length and cShape-DNA half-width.
+    N, M : int, optional
+        The paper's Shape-DNA length and cShape-DNA half-width (default: those of
+        ``descriptor``, else of :data:`cshape.PAPER`, 100 and 16).
     Ms : sequence of int, default=(8, 4, 2, 1)
         The smaller ``M`` of Section 3.2.
     noise_levels : sequence of float, default=(0.5, 1, 2, 4, 10)
@@ -112,58 +115,207 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         The benchmark suite (:data:`cshape.data.suite.SUITE`), benchmark name -> labelled
         shapes (e.g. the held-out instances): every descriptor of
         :data:`cshape.reproduce.suite.CANDIDATES` on every benchmark, with the exploration
-        default (:data:`cshape.compare.DEFAULT_DESCRIPTOR`) marked
+        default (:data:`cshape.DEFAULT`) marked
         (:func:`cshape.reproduce.suite.suite_scores`).
+    descriptor : Descriptor, optional
+        The cShape-DNA of Section 3 as one value (:data:`cshape.PAPER` with another ``M`` or
+        ``N``, e.g. ``cshape.PAPER.replace(M=8)``); instead of ``N`` and ``M``.  Section 3
+        compares the paper's descriptor, so its kind, transform and normalisation must be
+        the paper's.
 
     Returns
     -------
     dict
         Every number of the report (also written to ``results.json``).
-    """
-    from .. import plots
 
+    Notes
+    -----
+    Three steps: the numbers (:func:`_compute`: every table and experiment), the figures
+    (:func:`_figures`) and the files (:func:`_write`: figures, ``results.json``,
+    ``report.md``).
+    """
+    d = _paper_descriptor(descriptor, N, M)
+    run = _Run(N=d.N, M=d.M, Ms=(d.M, *[m for m in Ms if m != d.M]), smaller_Ms=tuple(Ms),
+               noise_levels=tuple(noise_levels), noise_seed=noise_seed, quality=quality,
+               example=example, random_state=random_state, size_Ms=size_Ms,
+               describe={"N": d.N, "M": d.M, "cache_dir": cache_dir, "n_jobs": n_jobs,
+                         "client": client, "progress": progress})
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     t_start = time.perf_counter()
-    records = list(records)
-    kw = {"N": N, "M": M, "cache_dir": cache_dir, "n_jobs": n_jobs, "client": client,
-          "progress": progress}
-    table = describe(records, **kw)
+    results, parts = _compute(list(records), out, run, benchmark=benchmark,
+                              benchmark_name=benchmark_name, benchmark_info=benchmark_info,
+                              suite=suite)
+    figs = _figures(parts, results, run)
+    results["seconds"] = time.perf_counter() - t_start
+    _write(out, results, figs, title)
+    return results
+
+
+@dataclass(frozen=True)
+class _Run:
+    """The settings of one :func:`reproduce`: the paper's ``N`` and ``M``, every ``M`` of
+    Section 3.2 (``Ms``, ``M`` first; ``smaller_Ms`` as given), the noise and figure options
+    and the keyword arguments of :func:`cshape.describe`."""
+
+    N: int
+    M: int
+    Ms: tuple
+    smaller_Ms: tuple
+    noise_levels: tuple
+    noise_seed: int
+    quality: tuple | None
+    example: str | None
+    random_state: int
+    size_Ms: tuple | None
+    describe: dict
+
+
+def _paper_descriptor(descriptor, N, M) -> Descriptor:
+    """The cShape-DNA of Section 3: ``descriptor``, or :data:`cshape.PAPER` with N and M."""
+    if descriptor is None:
+        given = {k: v for k, v in (("N", N), ("M", M)) if v is not None}
+        return PAPER_DESCRIPTOR.replace(**given)
+    d = select_descriptor(descriptor)
+    if N is not None or M is not None:
+        raise ValueError("pass either descriptor= or N and M, not both "
+                         "(descriptor.replace(M=...) changes M)")
+    if (d.kind, d.transform, d.normalization) != ("cshape", "weyl", "area"):
+        raise ValueError(
+            f"reproduce compares the paper's cShape-DNA, got {d.label}: pass "
+            f"cshape.PAPER.replace(M={d.M}, N={d.N}) (only M and N may change)")
+    return d
+
+
+# --------------------------------------------------------------------------- the numbers
+def _compute(records, out, run, *, benchmark, benchmark_name, benchmark_info, suite):
+    """Every table and experiment: the results dict, and what the figures need besides."""
+    table = describe(records, **run.describe)
     _need(table)
     table.save(out / "table.npz")
     results = {"n_shapes": len(table), "classes": sorted(set(table.labels)),
-               "failures": table.failures, "N": N, "M": M}
-    all_Ms = (M, *[m for m in Ms if m != M])
-
-    # -- Fig. 1 and 2
+               "failures": table.failures, "N": run.N, "M": run.M}
     sel, results["fig1_note"] = fig1_selection(table)
-    figs = {}
-    figs["fig1_weyl"] = plots.plot_weyl({n: table.lam[table.index(n)] for n in sel},
-                                        {n: table.areas[table.index(n)] for n in sel})
-    ex = table.index(example) if example is not None else 0
+    r31 = experiment_3_1(table, N=run.N, M=run.M)
+    results["3.1"] = {"mean": r31["mean"], "std": r31["std"]}
+    results["3.2"] = experiment_3_2(table, Ms=run.Ms, N=run.N)
+    results.update(_compute_retrieval(table, out, run, benchmark, benchmark_name,
+                                      benchmark_info))
+    results["cost"] = experiment_cost(table, Ms=run.Ms, N=run.N)
+    results["suite"] = _compute_suite(suite, run) if suite else None
+    results["3.3"] = _compute_noise(records, table, out, run) if run.noise_levels else None
+    results["quality"] = None
+    if run.quality is not None:
+        D_cs = r31["D_cshape"]
+        a, b = (table.index(q) for q in run.quality)
+        off = D_cs[~np.eye(len(D_cs), dtype=bool)]
+        results["quality"] = {"pair": list(run.quality), "distance": float(D_cs[a, b]),
+                              "median_distance": float(np.median(off)),
+                              "relative": float(D_cs[a, b] / np.median(off))}
+    return results, {"table": table, "fig1": sel, "3.1": r31}
+
+
+def _compute_retrieval(table, out, run, benchmark, benchmark_name, benchmark_info) -> dict:
+    """The retrieval tables (every descriptor, every size) on the benchmark, or the shapes."""
+    btable, bname = table, "the shapes above"
+    if benchmark is not None:
+        bname = benchmark_name or _collection_name(benchmark) or "the benchmark"
+        benchmark_info = benchmark_info or _collection_info(benchmark)
+        btable = describe(list(benchmark), **run.describe)
+        _need(btable)
+        btable.save(out / "table_benchmark.npz")
+    keep = _describable_rows(btable, max([*run.Ms, *(run.size_Ms or [16])]), run.N)
+    left_out = [btable.names[i] for i in range(len(btable)) if i not in set(keep.tolist())]
+    if left_out:  # too few non-zero eigenvalues for some descriptor (a mesh of many pieces)
+        btable = btable.select(keep)
+    labelled = len(set(btable.labels)) < len(btable) and all(btable.labels)
+    sizes = experiment_sizes(btable, Ms=run.size_Ms, N=run.N) if labelled else None
+    return {
+        "benchmark": {"name": bname, "n_shapes": len(btable),
+                      "classes": sorted(set(btable.labels)),
+                      "failures": btable.failures if benchmark is not None else [],
+                      "left_out": left_out, "info": " ".join((benchmark_info or "").split())},
+        "retrieval": experiment_retrieval(btable, Ms=run.Ms, N=run.N) if labelled else None,
+        "sizes": sizes,
+        "verdict": size_verdict(sizes, name=bname) if labelled else [],
+    }
+
+
+def _compute_suite(suite, run) -> dict:
+    """The benchmark suite: every descriptor on every benchmark, the default marked."""
+    from .suite import default_row, suite_scores
+
+    tables = {}
+    for name, recs in suite.items():
+        tables[name] = describe(list(recs), **run.describe)
+        _need(tables[name])
+    rows = suite_scores(tables)
+    return {"benchmarks": {k: {"n_shapes": len(t), "n_classes": len(set(t.labels))}
+                           for k, t in tables.items()},
+            "rows": rows, "default": default_row(rows)}
+
+
+def _compute_noise(records, table, out, run) -> dict:
+    """Section 3.3: a noisy copy of every shape per level, described and compared."""
+    from ..batch.work import load_source
+    from ..data.variants import add_normal_noise
+
+    by_name = {name: src for name, _label, src in _named(records, table)}
+    noisy_tables, pairs = {}, {}
+    for lv in run.noise_levels:
+        recs = [(f"{n}@{lv:g}", table.labels[table.index(n)],
+                 add_normal_noise(load_source(by_name[n]), lam=lv,
+                                  random_state=run.noise_seed))
+                for n in table.names]
+        noisy_tables[lv] = describe(recs, **run.describe)
+        noisy_tables[lv].save(out / f"table_noise_{lv:g}.npz")
+        pairs[lv] = [(n, f"{n}@{lv:g}") for n in table.names]
+    return experiment_noise(table, noisy_tables, pairs=pairs, N=run.N, M=run.M)
+
+
+# --------------------------------------------------------------------------- the figures
+def _figures(parts, results, run) -> dict:
+    """The figures of the paper's Fig. 1-9, by name (``fig1_weyl``, ...)."""
+    from .. import plots
+
+    table, r31, N, M = parts["table"], parts["3.1"], run.N, run.M
+    sel = parts["fig1"]
+    figs = {"fig1_weyl": plots.plot_weyl({n: table.lam[table.index(n)] for n in sel},
+                                         {n: table.areas[table.index(n)] for n in sel})}
+    ex = table.index(run.example) if run.example is not None else 0
     figs["fig2_stages"] = plots.plot_shape_dna_stages(table.lam[ex], table.areas[ex],
                                                       name=table.names[ex])
     figs["fig2_dft"] = plots.plot_dft(table.lam[ex], table.areas[ex], M, N=N)
+    figs.update(_section_3_figures(plots, table, r31, results["3.2"], run))
+    if results["3.3"]:
+        figs.update(_noise_figures(plots, table, results["3.3"]))
+    if run.quality is not None:
+        a, b = (table.index(q) for q in run.quality)
+        S = PAPER_DESCRIPTOR.replace(kind="cshape-complex", M=M, N=N).matrix(
+            table.lam[[a, b]], table.areas[[a, b]])
+        figs["fig9_quality"] = plots.plot_cshape_dna({run.quality[0]: S[0],
+                                                      run.quality[1]: S[1]})
+    return figs
 
-    # -- 3.1 and 3.2
-    r31 = experiment_3_1(table, N=N, M=M)
-    r32 = experiment_3_2(table, Ms=all_Ms, N=N)
-    results["3.1"] = {"mean": r31["mean"], "std": r31["std"]}
-    results["3.2"] = r32
+
+def _section_3_figures(plots, table, r31, r32, run) -> dict:
+    """Fig. 3-6: the distance matrices, their differences and the MDS panels."""
+    N, M, Ms = run.N, run.M, run.smaller_Ms
     D_sd = r31["D_shape_dna"]
     ticks = {"names": table.names, "labels": table.labels}
-    figs["fig3_matrices"] = plots.plot_matrices(
-        [D_sd, r31["D_cshape"]], [f"(a) Shape-DNA N={N}", f"(b) cShape-DNA M={M}"], scale=True,
-        **ticks)
+    figs = {"fig3_matrices": plots.plot_matrices(
+        [D_sd, r31["D_cshape"]], [f"(a) Shape-DNA N={N}", f"(b) cShape-DNA M={M}"],
+        scale=True, **ticks)}
     figs["fig3_difference"] = plots.plot_matrices(
         [difference_matrix(D_sd, r31["D_cshape"])],
         [f"(c) difference: mean {r31['mean']:.2f}, std {r31['std']:.2f}"], **ticks)
     figs["fig4_mds_cshape"] = _mds_figure(
         table, [(f"Shape-DNA N={N}", "shape-dna", {"N": N})]
-        + [(f"cShape-DNA M={m}", "cshape", {"M": m, "N": N}) for m in all_Ms], random_state)
+        + [(f"cShape-DNA M={m}", "cshape", {"M": m, "N": N}) for m in run.Ms],
+        run.random_state)
     figs["fig5_mds_truncated_f1"] = _mds_figure(
-        table, [(f"truncated N={2 * m + 1}", "truncated", {"M": m}) for m in all_Ms]
-        + [(f"F1 N={N}", "f1", {"N": N})], random_state)
+        table, [(f"truncated N={2 * m + 1}", "truncated", {"M": m}) for m in run.Ms]
+        + [(f"F1 N={N}", "f1", {"N": N})], run.random_state)
     D_ms = [table.distance_matrix("cshape", M=m, N=N) for m in Ms]
     figs["fig6_matrices"] = plots.plot_matrices(D_ms, [f"cShape-DNA M={m}" for m in Ms],
                                                 scale=True, **ticks)
@@ -171,103 +323,38 @@ def reproduce(records, out_dir, *, N=100, M=16, Ms=(8, 4, 2, 1), noise_levels=NO
         [difference_matrix(D_sd, D) for D in D_ms],
         [f"M={m}: mean {r32['cshape'][m][0]:.2f}, std {r32['cshape'][m][1]:.2f}" for m in Ms],
         **ticks)
+    return figs
 
-    # -- retrieval (every descriptor, every size) on the benchmark, and cost
-    btable, bname = table, "the shapes above"
-    if benchmark is not None:
-        brecords = list(benchmark)
-        bname = benchmark_name or _collection_name(benchmark) or "the benchmark"
-        benchmark_info = benchmark_info or _collection_info(benchmark)
-        btable = describe(brecords, **kw)
-        _need(btable)
-        btable.save(out / "table_benchmark.npz")
-    keep = _describable_rows(btable, max([*all_Ms, *(size_Ms or [16])]), N)
-    left_out = [btable.names[i] for i in range(len(btable)) if i not in set(keep.tolist())]
-    if left_out:  # too few non-zero eigenvalues for some descriptor (a mesh of many pieces)
-        btable = btable.select(keep)
-    results["benchmark"] = {"name": bname, "n_shapes": len(btable),
-                            "classes": sorted(set(btable.labels)),
-                            "failures": btable.failures if benchmark is not None else [],
-                            "left_out": left_out,
-                            "info": " ".join((benchmark_info or "").split())}
-    labelled = len(set(btable.labels)) < len(btable) and all(btable.labels)
-    results["retrieval"] = experiment_retrieval(btable, Ms=all_Ms, N=N) if labelled else None
-    results["sizes"] = experiment_sizes(btable, Ms=size_Ms, N=N) if labelled else None
-    results["verdict"] = size_verdict(results["sizes"], name=bname) if labelled else []
-    results["cost"] = experiment_cost(table, Ms=all_Ms, N=N)
 
-    # -- the benchmark suite: every descriptor on every benchmark
-    results["suite"] = None
-    if suite:
-        from .suite import default_row, suite_scores
-
-        tables = {}
-        for bname_, recs in suite.items():
-            tables[bname_] = describe(list(recs), **kw)
-            _need(tables[bname_])
-        rows = suite_scores(tables)
-        results["suite"] = {"benchmarks": {k: {"n_shapes": len(t),
-                                               "n_classes": len(set(t.labels))}
-                                           for k, t in tables.items()},
-                            "rows": rows, "default": default_row(rows)}
-
-    # -- 3.3 noise
-    results["3.3"] = None
-    if noise_levels:
-        from ..batch.work import load_source
-        from ..data.variants import add_normal_noise
-
-        by_name = {}
-        for name, _label, src in _named(records, table):
-            by_name[name] = src
-        noisy_tables, pairs = {}, {}
-        for lv in noise_levels:
-            recs = [(f"{n}@{lv:g}", table.labels[table.index(n)],
-                     add_normal_noise(load_source(by_name[n]), lam=lv, random_state=noise_seed))
-                    for n in table.names]
-            noisy_tables[lv] = describe(recs, **{**kw, "progress": progress})
-            noisy_tables[lv].save(out / f"table_noise_{lv:g}.npz")
-            pairs[lv] = [(n, f"{n}@{lv:g}") for n in table.names]
-        noise = experiment_noise(table, noisy_tables, pairs=pairs, N=N, M=M)
-        results["3.3"] = noise
-        levels = sorted(noise)
-        same_rows = all(len(noise[lv]["diff_cshape"]) == len(table) for lv in levels)
-        noise_ticks = ticks if same_rows else {}
-        figs["fig7_noise_shape_dna"] = plots.plot_matrices(
+def _noise_figures(plots, table, noise) -> dict:
+    """Fig. 7-8: clean against noisy distance matrices, and how the descriptors change."""
+    levels = sorted(noise)
+    same_rows = all(len(noise[lv]["diff_cshape"]) == len(table) for lv in levels)
+    ticks = {"names": table.names, "labels": table.labels} if same_rows else {}
+    return {
+        "fig7_noise_shape_dna": plots.plot_matrices(
             [noise[lv]["diff_shape-dna"] for lv in levels],
             [f"lam={lv:g}: {noise[lv]['shape-dna'][0]:.1f} / {noise[lv]['shape-dna'][1]:.1f}"
-             for lv in levels], **noise_ticks)
-        figs["fig7_noise_cshape"] = plots.plot_matrices(
+             for lv in levels], **ticks),
+        "fig7_noise_cshape": plots.plot_matrices(
             [noise[lv]["diff_cshape"] for lv in levels],
             [f"lam={lv:g}: {noise[lv]['cshape'][0]:.1f} / {noise[lv]['cshape'][1]:.1f}"
-             for lv in levels], **noise_ticks)
-        figs["fig8_noise_change"] = _noise_change_figure(
-            noise, [lv for lv in levels if lv in (0.5, 1.0, 10.0)] or levels)
+             for lv in levels], **ticks),
+        "fig8_noise_change": _noise_change_figure(
+            noise, [lv for lv in levels if lv in (0.5, 1.0, 10.0)] or levels),
+    }
 
-    # -- 3.3 mesh quality
-    results["quality"] = None
-    if quality is not None:
-        from ..compare import descriptor_matrix
 
-        a, b = (table.index(q) for q in quality)
-        S = descriptor_matrix(table.lam[[a, b]], table.areas[[a, b]], "cshape-complex",
-                              M=M, N=N)
-        figs["fig9_quality"] = plots.plot_cshape_dna({quality[0]: S[0], quality[1]: S[1]})
-        D_cs = r31["D_cshape"]
-        off = D_cs[~np.eye(len(D_cs), dtype=bool)]
-        results["quality"] = {"pair": list(quality), "distance": float(D_cs[a, b]),
-                              "median_distance": float(np.median(off)),
-                              "relative": float(D_cs[a, b] / np.median(off))}
-
+# --------------------------------------------------------------------------- the files
+def _write(out, results, figs, title) -> None:
+    """The figures as PNG, ``results.json`` and ``report.md``, each written atomically."""
     for name, fig in figs.items():
         atomic_write(out / f"{name}.png",
                      lambda f, fig=fig: fig.savefig(f, format="png", dpi=110))
-    results["seconds"] = time.perf_counter() - t_start
     atomic_write(out / "results.json",
                  lambda f: f.write(json.dumps(_jsonable(results), indent=1)), binary=False)
     report = _report(results, figs, title)
     atomic_write(out / "report.md", lambda f: f.write(report), binary=False)
-    return results
 
 
 def _describable_rows(table, M, N) -> np.ndarray:
@@ -375,6 +462,31 @@ def _suite_report(res) -> list:
     return s
 
 
+def _section_3_2_report(res) -> list:
+    """The report's Section 3.2: every M against Shape-DNA, beside the paper's numbers."""
+    N, p31 = res["N"], PAPER["3.1"]
+    s = []
+    r32 = res["3.2"]
+    ext = [(k, t) for k, t in (("log-weyl", "log-Weyl DFT*"), ("log-weyl-dct", "log-Weyl DCT*"),
+                               ("truncated-log", "truncated log spectrum*")) if r32.get(k)]
+    rows = []
+    for m in r32["cshape"]:
+        paper = PAPER["3.2"].get(m)
+        if paper is None and m == p31["M"]:
+            paper = (p31["mean"], p31["std"])
+        rows.append([m, 2 * m + 1, _pair(r32["cshape"][m]), _pair(r32["truncated"][m])]
+                    + [_pair(r32[k].get(m)) for k, _ in ext] + [_pair(paper)])
+    s += [_md_table(["M", "size", "cShape-DNA", "truncated Shape-DNA"] + [t for _, t in ext]
+                    + ["paper cShape-DNA"], rows), "",
+          f"F1 (N={N}): {_fmt(r32['f1'][0])} / {_fmt(r32['f1'][1])}."
+          + (" * Extensions beyond the paper (cshape's `transform=` and the truncated log "
+             "spectrum): they are not meant to be faithful to Shape-DNA's distances, so a "
+             "large difference here is expected." if ext else ""), "",
+          "![](fig4_mds_cshape.png)", "", "![](fig5_mds_truncated_f1.png)", "",
+          "![](fig6_matrices.png)", "", "![](fig6_differences.png)", ""]
+    return s
+
+
 def _report(res, figs, title):
     N, M = res["N"], res["M"]
     p31 = PAPER["3.1"]
@@ -399,24 +511,7 @@ def _report(res, figs, title):
           "", "![](fig3_matrices.png)", "", "![](fig3_difference.png)", "",
           "## 3.2 The parameter M, and equal-size descriptors", "",
           f"Difference statistics against Shape-DNA N={N} (mean / std).", ""]
-    r32 = res["3.2"]
-    ext = [(k, t) for k, t in (("log-weyl", "log-Weyl DFT*"), ("log-weyl-dct", "log-Weyl DCT*"),
-                               ("truncated-log", "truncated log spectrum*")) if r32.get(k)]
-    rows = []
-    for m in r32["cshape"]:
-        paper = PAPER["3.2"].get(m)
-        if paper is None and m == p31["M"]:
-            paper = (p31["mean"], p31["std"])
-        rows.append([m, 2 * m + 1, _pair(r32["cshape"][m]), _pair(r32["truncated"][m])]
-                    + [_pair(r32[k].get(m)) for k, _ in ext] + [_pair(paper)])
-    s += [_md_table(["M", "size", "cShape-DNA", "truncated Shape-DNA"] + [t for _, t in ext]
-                    + ["paper cShape-DNA"], rows), "",
-          f"F1 (N={N}): {_fmt(r32['f1'][0])} / {_fmt(r32['f1'][1])}."
-          + (" * Extensions beyond the paper (cshape's `transform=` and the truncated log "
-             "spectrum): they are not meant to be faithful to Shape-DNA's distances, so a "
-             "large difference here is expected." if ext else ""), "",
-          "![](fig4_mds_cshape.png)", "", "![](fig5_mds_truncated_f1.png)", "",
-          "![](fig6_matrices.png)", "", "![](fig6_differences.png)", ""]
+    s += _section_3_2_report(res)
     s += _retrieval_report(res)
     s += _suite_report(res)
     s += ["## Size and comparison time", "",

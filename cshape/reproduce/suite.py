@@ -125,17 +125,18 @@ def choose_default(rows) -> dict:
 
 
 def default_row(rows) -> dict | None:
-    """The row of the exploration default :data:`cshape.compare.DEFAULT_DESCRIPTOR`."""
-    from ..compare import DEFAULT_DESCRIPTOR as d
+    """The row of the exploration default :data:`cshape.DEFAULT`."""
+    from .. import descriptor
 
+    d = descriptor.DEFAULT
     for r in rows:
-        if r["kind"] != d["kind"]:
+        if r["kind"] != d.kind:
             continue
-        if r["kind"] in ("cshape", "cshape-complex") and r["transform"] != d["transform"]:
+        if r["kind"] in ("cshape", "cshape-complex") and r["transform"] != d.transform:
             continue
-        if r["kind"] != "f1" and r["normalization"] != d.get("normalization", "area"):
+        if r["kind"] != "f1" and r["normalization"] != d.normalization:
             continue
-        if r["kind"] == "shape-dna" or r["M"] == d["M"]:
+        if r["kind"] == "shape-dna" or r["M"] == d.M:
             return r
     return None
 

@@ -1,0 +1,452 @@
+"""The :class:`Descriptor`: which descriptor to compute from a Shape-DNA, as one frozen value.
+
+A descriptor is a recipe of five fields, checked once when it is made:
+
+* ``kind``          - what is computed (Section 3.1 of the paper, and one beyond it):
+                      ``'shape-dna'``, ``'truncated'``, ``'cshape'``, ``'cshape-complex'``,
+                      ``'f1'``, ``'truncated-log'`` (see :func:`cshape.compare.descriptor_matrix`);
+* ``M``, ``N``      - the crop half-width (``2M+1`` values) and the Shape-DNA length; the one
+                      M-versus-N rule is :func:`cshape._checks.check_crop`;
+* ``transform``     - the cShape-DNA transform (:func:`cshape.compact_shape_dna`);
+* ``normalization`` - the scale normalisation (:func:`cshape.normalize`).
+
+It knows its :attr:`~Descriptor.size` and its :attr:`~Descriptor.label`, and builds a
+:meth:`~Descriptor.row` from one spectrum or a :meth:`~Descriptor.matrix` from many.  Two are
+shipped: :data:`PAPER`, the paper's cShape-DNA (Eq. 8-10, ``M = 16`` of ``N = 100``,
+area-normalised), and :data:`DEFAULT`, the exploration default that tables, the index, the
+figures and the command line compare when no descriptor is asked for.
+
+>>> from cshape import PAPER, DEFAULT
+>>> PAPER.label
+"paper's cShape-DNA (M=16 of N=100, 33 values)"
+>>> DEFAULT.label, DEFAULT.size
+('truncated log spectrum, lam_1-normalised (17 values)', 17)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, cast
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._checks import check_choice, check_crop, check_int
+from .descriptors import (
+    NORMALIZATIONS,
+    TRANSFORMS,
+    compact_shape_dna,
+    count_zero_modes,
+    f1_feature,
+    log_weyl_ratio,
+    normalize,
+    real_form,
+)
+
+__all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor", "select_descriptor"]
+
+#: The descriptor kinds (see :func:`cshape.compare.descriptor_matrix`).
+DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log")
+
+_NORMALISED = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised",
+               "none": "eigenvalues as given"}
+_TRANSFORM_NAMES = {"weyl": "paper's cShape-DNA", "log-weyl": "log-Weyl DFT cShape-DNA",
+                    "log-weyl-dct": "log-Weyl DCT cShape-DNA"}
+
+
+@dataclass(frozen=True, init=False)
+class Descriptor:
+    """A descriptor recipe: kind, ``M``, ``N``, transform and normalisation, checked once.
+
+    Parameters
+    ----------
+    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
+default='cshape'
+        What is computed; the table of :func:`cshape.compare.descriptor_matrix`.  The old
+        spellings ('shape_dna', ...) work with a ``DeprecationWarning``.
+    M : int, default=16
+        Crop half-width: ``2M+1`` values for 'truncated', 'truncated-log' and the 'cshape'
+        kinds (the others do not use it).
+    N : int, default=100
+        Shape-DNA length: the eigenvalues ``lam_0 .. lam_{N-1}`` used.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        The cShape-DNA transform of the 'cshape' kinds (:func:`cshape.compact_shape_dna`).
+    normalization : {'area', 'fiedler', 'weyl', 'none'}, default='area'
+        Scale normalisation (:func:`cshape.normalize`; ``'none'``: the eigenvalues are
+        normalised already and used as given).  'f1' is scale invariant and ignores it.
+
+    Raises
+    ------
+    TypeError
+        A mode that is not a string, ``M`` or ``N`` not an integer.
+    ValueError
+        An unknown mode, ``M < 0``, ``N < 1``, or ``2M+1`` more values than the kind's
+        sequence holds (:func:`cshape._checks.check_crop`: ``N`` eigenvalues for
+        'truncated' and the paper's transform, the ``N-1`` log-Weyl ratios for
+        'truncated-log' and the log-Weyl transforms).
+
+    Examples
+    --------
+    >>> from cshape import Descriptor
+    >>> d = Descriptor("cshape", M=8, N=50, transform="log-weyl-dct")
+    >>> d.size, d.label
+    (17, 'log-Weyl DCT cShape-DNA (M=8 of N=50, 17 values)')
+    >>> d.replace(M=4).size
+    9
+    """
+
+    kind: str = "cshape"
+    M: int = 16
+    N: int = 100
+    transform: str = "weyl"
+    normalization: str = "area"
+
+    def __init__(self, kind: str = "cshape", M: int = 16, N: int = 100,
+                 transform: str = "weyl", normalization: str = "area") -> None:
+        # written out (not the dataclass's generated __init__) so that a deprecation
+        # warning of an old spelling points at the caller's line
+        kind = check_choice("kind", kind, DESCRIPTOR_KINDS)
+        transform = check_choice("transform", transform, TRANSFORMS)
+        normalization = check_choice("normalization", normalization, NORMALIZATIONS)
+        M = check_int("M", M, min=0)
+        N = check_int("N", N, min=1)
+        if kind == "truncated":
+            check_crop(M, N)
+        elif kind == "truncated-log":
+            check_crop(M, N, log=True)
+        elif kind in ("cshape", "cshape-complex"):
+            check_crop(M, N, log=transform != "weyl")
+        for name, value in (("kind", kind), ("M", M), ("N", N), ("transform", transform),
+                            ("normalization", normalization)):
+            object.__setattr__(self, name, value)  # the checked, current spelling
+
+    # ------------------------------------------------------------------ what it is
+    @property
+    def size(self) -> int:
+        """Number of values of a row: ``N`` for 'shape-dna', ``N - 2`` for 'f1', else
+        ``2M+1`` (complex numbers counted once, as the paper does)."""
+        return {"shape-dna": self.N, "f1": self.N - 2}.get(self.kind, 2 * self.M + 1)
+
+    @property
+    def label(self) -> str:
+        """What the descriptor compares, in words (query headers, figure titles, summaries).
+
+        The normalisation is named when it is not the paper's (the area).
+
+        >>> Descriptor("truncated-log", M=8, normalization="weyl").label
+        'truncated log spectrum, Weyl-normalised (17 values)'
+        """
+        size = self.size
+        if self.kind in ("cshape", "cshape-complex"):
+            base = f"{_TRANSFORM_NAMES[self.transform]} (M={self.M} of N={self.N}, {size} values)"
+        elif self.kind == "shape-dna":
+            base = f"Shape-DNA ({size} values)"
+        elif self.kind == "f1":
+            return f"F1 (N={self.N}, {size} values)"  # scale invariant: no normalisation
+        elif self.kind == "truncated":
+            base = f"truncated Shape-DNA ({size} values)"
+        else:
+            base = f"truncated log spectrum ({size} values)"
+        if self.normalization == "area":
+            return base
+        head, _, tail = base.partition(" (")
+        return f"{head}, {_NORMALISED[self.normalization]} ({tail}"
+
+    @property
+    def needs_area(self) -> bool:
+        """Whether a row needs the shape's surface area (``normalization='area'``, not F1)."""
+        return self.kind != "f1" and self.normalization == "area"
+
+    @property
+    def min_eigenvalues(self) -> int:
+        """Eigenvalues a spectrum needs: ``2M+1`` ('truncated'), ``2M+2``
+        ('truncated-log'), else ``N``."""
+        return {"truncated": 2 * self.M + 1, "truncated-log": 2 * self.M + 2}.get(self.kind,
+                                                                               self.N)
+
+    def as_dict(self) -> dict[str, Any]:
+        """``{'kind', 'M', 'N', 'transform', 'normalization'}``: keyword arguments of
+        :func:`cshape.compare.descriptor_matrix`."""
+        return dataclasses.asdict(self)
+
+    def replace(self, **changes: Any) -> Descriptor:
+        """A copy with some fields changed (checked again)."""
+        return Descriptor(**{**self.as_dict(), **changes})
+
+    def for_N(self, N: int) -> Descriptor:
+        """The same descriptor for spectra of ``N`` eigenvalues: ``N`` replaced and ``M``
+        lowered to the largest the kind allows (the label says so).
+
+        Raises
+        ------
+        ValueError
+            If ``N`` is too small for any ``M`` of the kind.
+        """
+        N = check_int("N", N, min=1)
+        top = {"truncated-log": (N - 2) // 2, "truncated": (N - 1) // 2,
+               "cshape": (N - 1) // 2 if self.transform == "weyl" else (N - 2) // 2,
+               "cshape-complex": (N - 1) // 2 if self.transform == "weyl" else (N - 2) // 2,
+               }.get(self.kind, self.M)
+        if top < 0:
+            raise ValueError(f"the descriptor {self.label!r} needs at least 2 eigenvalues "
+                             f"per shape, got N = {N}")
+        return self.replace(N=N, M=min(self.M, top))
+
+    # ------------------------------------------------------------------ rows
+    def row(self, lam: ArrayLike, area: float | None = None,
+            zero_modes: int | None = None) -> NDArray[Any]:
+        """The descriptor of one shape.
+
+        Parameters
+        ----------
+        lam : array_like, shape (n,)
+            Ascending eigenvalues, ``lam_0`` first; ``n >=`` :attr:`min_eigenvalues`.
+        area : float, optional
+            Surface area; needed when :attr:`needs_area`.
+        zero_modes : int, optional
+            Zero eigenvalues of the shape (its connected components); default: counted
+            (:func:`cshape.count_zero_modes`).
+
+        Returns
+        -------
+        ndarray, shape (:attr:`size`,)
+            float64, or complex128 for 'cshape-complex' with a DFT transform.
+
+        Raises
+        ------
+        ValueError
+            The spectrum cannot be described (too few eigenvalues or non-zero ones, not
+            ascending, a missing or bad area).
+        """
+        r = np.asarray(lam, dtype=np.float64)
+        if r.ndim != 1 or len(r) < self.min_eigenvalues:
+            raise ValueError(
+                f"lam has shape {r.shape} but kind={self.kind!r} needs at least "
+                f"{self.min_eigenvalues} eigenvalues per shape; compute more eigenvalues or "
+                "lower N / M")
+        if self.needs_area and area is None:
+            raise ValueError(f"kind={self.kind!r} with normalization='area' needs the "
+                             "surface area: pass area=")
+        return self._row(r, area if self.needs_area else None, zero_modes)
+
+    def _row(self, r: NDArray[np.float64], area: float | None, k: int | None
+             ) -> NDArray[Any]:
+        """One descriptor of a checked spectrum; ValueError if it cannot be described."""
+        kind, M, N, norm = self.kind, self.M, self.N, self.normalization
+        if kind == "shape-dna":
+            return normalize(r[:N], area=area, method=norm)
+        if kind == "truncated":
+            return normalize(r[: 2 * M + 1], area=area, method=norm)
+        if kind == "f1":
+            return f1_feature(r[:N], k, length=N - 2)
+        if kind == "truncated-log":  # r_1 .. r_{2M+1} of the eigenvalues after the zero modes
+            k0 = count_zero_modes(r) if k is None else k
+            kk = max(k0, 1)
+            if len(r) - kk < 2 * M + 1:
+                raise ValueError(
+                    f"{kk} of its {len(r)} eigenvalues are zero modes (a mesh of {kk} "
+                    f"components): {len(r) - kk} non-zero ones are left and 2M+1 = "
+                    f"{2 * M + 1} are needed (compute N >= {2 * M + 1 + kk} eigenvalues, or "
+                    f"use M <= {max(len(r) - kk - 1, 0) // 2})")
+            lam_norm = normalize(r[: 2 * M + 1 + kk], area=area, method=norm)
+            return log_weyl_ratio(lam_norm, k0)
+        lam_norm = normalize(r[:N], area=area, method=norm)
+        S = compact_shape_dna(lam_norm, M=M, N=N, normalization="none",
+                              transform=self.transform, zero_modes=k)
+        return S if kind == "cshape-complex" else real_form(S)
+
+    def rows(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
+             zero_modes: ArrayLike | None = None) -> tuple[NDArray[Any], dict[int, str]]:
+        """The descriptors of the shapes that can be described, and why the others cannot.
+
+        Parameters
+        ----------
+        lams : array_like, shape (p, n), or sequence of p 1-D arrays
+            Ascending eigenvalues of each shape (ragged rows allowed), each with at least
+            :attr:`min_eigenvalues` values.
+        areas : array_like, shape (p,), optional
+            Surface areas; needed when :attr:`needs_area`.
+        zero_modes : array_like of int, shape (p,), optional
+            Zero eigenvalues of each shape; a negative entry: counted from its eigenvalues.
+
+        Returns
+        -------
+        X : ndarray, shape (q, size)
+            The rows that can be described, in order (``q = 0``: shape ``(0, 0)``).
+        problems : dict of int to str
+            ``{row: reason}`` of the others.
+
+        Raises
+        ------
+        ValueError
+            Errors of the arguments: ``lams`` empty or of a short row, ``areas`` missing or
+            of the wrong length, ``zero_modes`` not one integer per row.
+        """
+        rows, a, zm = self._prepare(lams, areas, zero_modes)
+        out: list[NDArray[Any]] = []
+        problems: dict[int, str] = {}
+        for i, r in enumerate(rows):
+            try:
+                out.append(self._row(r, a[i], zm[i]))
+            except ValueError as exc:
+                problems[i] = str(exc)
+        if not out:
+            return np.zeros((0, 0)), problems
+        return np.vstack(out), problems
+
+    def matrix(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
+               zero_modes: ArrayLike | None = None,
+               names: Sequence[str] | None = None) -> NDArray[Any]:
+        """Descriptors of many shapes, one row per shape; every shape must be describable.
+
+        Takes the arguments of :meth:`rows`, and ``names`` (length p) for the message.
+
+        Returns
+        -------
+        X : ndarray, shape (p, size)
+
+        Raises
+        ------
+        ValueError
+            As :meth:`rows`, and when some shapes cannot be described (all named, with the
+            reason).
+        """
+        X, problems = self.rows(lams, areas, zero_modes)
+        p = len(X) + len(problems)
+        labels = _row_names(names, p)
+        if problems:
+            shown = "; ".join(f"{labels[i]}: {m}" for i, m in list(problems.items())[:5])
+            more = f"; and {len(problems) - 5} more" if len(problems) > 5 else ""
+            raise ValueError(
+                f"kind={self.kind!r} cannot describe {len(problems)} of {p} shapes "
+                f"({shown}{more}); leave them out (cshape.compare.row_problems lists them; "
+                "a DescriptorTable leaves them out with a warning) or choose another kind")
+        return X
+
+    def _prepare(self, lams, areas, zero_modes):
+        """Checked rows, areas (None where unused) and zero modes (None: count)."""
+        if isinstance(lams, np.ndarray) and lams.ndim == 2:
+            rows = list(np.asarray(lams, dtype=np.float64))
+        elif isinstance(lams, np.ndarray) or not hasattr(lams, "__len__"):
+            raise ValueError(
+                "lams must be a (p, n) array or a sequence of p 1-D eigenvalue arrays, got "
+                f"{type(lams).__name__} of shape {np.shape(lams)}")
+        else:
+            rows = [np.asarray(r, dtype=np.float64)
+                    for r in cast("Sequence[ArrayLike]", lams)]
+        p = len(rows)
+        if p == 0:
+            raise ValueError("lams is empty; it needs the eigenvalues of at least one shape")
+        need = self.min_eigenvalues
+        for i, r in enumerate(rows):
+            if r.ndim != 1 or len(r) < need:
+                raise ValueError(
+                    f"lams[{i}] has shape {r.shape} but kind={self.kind!r} needs at least "
+                    f"{need} eigenvalues per shape; compute more eigenvalues or lower N / M")
+        return rows, self._areas(areas, p), _zero_modes(zero_modes, p)
+
+    def _areas(self, areas, p) -> list[float | None]:
+        if not self.needs_area:
+            return [None] * p
+        if areas is None:
+            raise ValueError(
+                f"kind={self.kind!r} with normalization='area' needs areas (one surface area "
+                "per shape); pass areas=np.ones(p) if lams are already normalised, or "
+                "normalization='weyl'")
+        a = np.asarray(areas, dtype=np.float64).reshape(-1)
+        if len(a) != p:
+            raise ValueError(f"areas has {len(a)} entries but lams has {p} rows")
+        return [float(x) for x in a]
+
+
+def _zero_modes(zero_modes, p) -> list[int | None]:
+    if zero_modes is None:
+        return [None] * p
+    z = np.asarray(zero_modes).reshape(-1)
+    if len(z) != p or not np.issubdtype(z.dtype, np.integer):
+        raise ValueError(
+            f"zero_modes must hold one integer per row ({p}), got {np.shape(zero_modes)} "
+            f"of {z.dtype}")
+    return [None if x < 0 else int(x) for x in z]
+
+
+def _row_names(names, p) -> list[str]:
+    if names is None:
+        return [f"row {i}" for i in range(p)]
+    names = [str(n) for n in names]
+    if len(names) != p:
+        raise ValueError(f"names has {len(names)} entries but lams has {p} rows")
+    return names
+
+
+#: The paper's cShape-DNA: Eq. (8)-(10), ``M = 16`` of ``N = 100``, area-normalised (the
+#: default of :func:`cshape.compact_shape_dna`): ``--kind cshape`` on the command line.
+PAPER = Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area")
+
+#: The exploration default: what :meth:`cshape.DescriptorTable.descriptors` and
+#: ``.distance_matrix()`` with no kind, :class:`cshape.DescriptorIndex`, ``cshape query``,
+#: ``cshape overview``, ``cshape describe``'s summary and the MDS of one's own collection
+#: compare (through :func:`select_descriptor`, at the table's ``N``: :meth:`Descriptor.for_N`).
+#: The truncated log spectrum normalised by ``lam_1``: the row is
+#: ``log(lam_i / lam_1) - log(4 pi i)``, ``i = 1 .. 2M+1`` (no area: a coarse mesh's area is a
+#: little off, and in log space any normalisation is one shift of the whole row).  Chosen on
+#: the development instances of the benchmark suite by its *worst* first tier; see
+#: ``benchmarks/results/suite.md``.
+DEFAULT = Descriptor("truncated-log", M=8, N=100, transform="weyl", normalization="fiedler")
+
+
+def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None = None,
+                      M: int | None = None, N: int | None = None,
+                      transform: str | None = None, normalization: str | None = None,
+                      base_M: int = 16, base_N: int = 100,
+                      base_transform: str = "weyl") -> Descriptor:
+    """The descriptor that a call's arguments select: the one rule of every surface.
+
+    * ``descriptor`` given: it, as it is (no other argument may be given);
+    * ``kind=None``: the exploration default :data:`DEFAULT` for spectra of ``N``
+      eigenvalues (:meth:`Descriptor.for_N`), with ``M``, ``transform`` and
+      ``normalization`` where given;
+    * a kind by name: with ``M`` and ``transform`` from the base (a table's) unless given,
+      and the paper's area normalisation unless given.
+
+    Parameters
+    ----------
+    descriptor : Descriptor, optional
+    kind, M, N, transform, normalization : optional
+        The fields, as keyword arguments.
+    base_M, base_N, base_transform
+        Where the fields not given come from (a :class:`cshape.DescriptorTable`'s ``M``,
+        ``N`` and ``transform``).
+
+    Returns
+    -------
+    Descriptor
+
+    Raises
+    ------
+    TypeError
+        ``descriptor`` not a :class:`Descriptor`.
+    ValueError
+        ``descriptor`` given with another field; the errors of :class:`Descriptor`.
+    """
+    if descriptor is not None:
+        if not isinstance(descriptor, Descriptor):
+            raise TypeError("descriptor must be a cshape.Descriptor (e.g. cshape.PAPER), got "
+                            f"{type(descriptor).__name__}")
+        given = [n for n, v in (("kind", kind), ("M", M), ("N", N), ("transform", transform),
+                                ("normalization", normalization)) if v is not None]
+        if given:
+            raise ValueError(f"pass either descriptor= or {', '.join(given)}, not both "
+                             f"(descriptor.replace({given[0]}=...) changes a field)")
+        return descriptor
+    N = base_N if N is None else N
+    if kind is None:
+        d = DEFAULT.for_N(N)
+        changes = {k: v for k, v in (("M", M), ("transform", transform),
+                                     ("normalization", normalization)) if v is not None}
+        return d.replace(**changes) if changes else d
+    return Descriptor(kind, M=base_M if M is None else M, N=N,
+                      transform=base_transform if transform is None else transform,
+                      normalization="area" if normalization is None else normalization)
