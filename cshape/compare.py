@@ -14,7 +14,10 @@
 * :func:`mds_embedding`      - 2-D multidimensional scaling coordinates (Fig. 4-5; drawn by
                                :func:`cshape.plots.plot_mds`).
 
-Exact nearest-neighbour queries against a large database: :class:`cshape.index.DescriptorIndex`.
+The recipe of a descriptor (kind, ``M``, ``N``, transform, normalisation) is one frozen value,
+:class:`cshape.Descriptor` (:mod:`cshape.descriptor`), which builds the rows; the functions
+here take its fields as keyword arguments, or ``descriptor=``.  Exact nearest-neighbour
+queries against a large database: :class:`cshape.index.DescriptorIndex`.
 
 Every function takes and returns plain NumPy arrays.
 """
