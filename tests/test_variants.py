@@ -45,7 +45,7 @@ def test_eight_is_genus_two():
         (lambda: v.sphere(9), "subdiv must be an integer in"),
         (lambda: v.sphere(2.5), "subdiv must be an integer"),
         (lambda: v.torus(R=0.3, r=0.4), "0 < r < R"),
-        (lambda: v.cube(size=-1), "size must be a positive number"),
+        (lambda: v.cube(size=-1), "size must be a positive finite number"),
         (lambda: v.eight(separation=3.0), "separation must lie in"),
     ],
 )
