@@ -384,3 +384,32 @@ def check_labels(labels: Any, p: int, name: str = "labels") -> NDArray[np.int64]
         return np.array([codes.setdefault(x, len(codes)) for x in lab], dtype=np.int64)
     except TypeError:
         raise ValueError(f"{name} must hold hashable labels (str or int)") from None
+
+
+def check_spectrum(lam: Any, name: str = "lam", min_len: int = 1) -> NDArray[np.float64]:
+    """Return ``lam`` as a 1-D float array of at least ``min_len`` finite real eigenvalues.
+
+    Raises
+    ------
+    TypeError
+        If ``lam`` is not an array of real numbers (a complex cShape-DNA, say).
+    ValueError
+        If it is not 1-D, too short, or holds NaN or infinite values.
+    """
+    try:
+        is_complex = np.iscomplexobj(lam)
+        x = np.empty(0) if is_complex else np.asarray(lam, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a 1-D array of real eigenvalues") from None
+    if is_complex:
+        raise TypeError(
+            f"{name} must be real eigenvalues, got a complex array (a cShape-DNA?); pass the "
+            "Shape-DNA from cshape.shape_dna"
+        )
+    if x.ndim != 1:
+        raise ValueError(f"{name} must be 1-D (one spectrum), got shape {x.shape}")
+    if len(x) < min_len:
+        raise ValueError(f"{name} must hold at least {min_len} eigenvalues, got {len(x)}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError(f"{name} contains NaN or infinite values")
+    return x

@@ -68,7 +68,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import check_bool, check_choice, check_crop, check_int, check_real
+from ._checks import (
+    check_bool,
+    check_choice,
+    check_crop,
+    check_int,
+    check_real,
+    check_spectrum,
+)
 from .mesh import Mesh, MeshLike
 
 __all__ = [
@@ -98,26 +105,6 @@ FOUR_PI = 4.0 * np.pi
 #: of a real shape is far above ``1e-8`` of the N-th (``lam_1 / lam_{N-1}`` would need a
 #: piece about ``1e8 / N`` times longer than wide).
 ZERO_RTOL = 1e-8
-
-
-def _as_lam(lam: Any, name: str = "lam", min_len: int = 1) -> NDArray[np.float64]:
-    try:
-        is_complex = np.iscomplexobj(lam)
-        x = np.empty(0) if is_complex else np.asarray(lam, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a 1-D array of real eigenvalues") from None
-    if is_complex:
-        raise TypeError(
-            f"{name} must be real eigenvalues, got a complex array (a cShape-DNA?); pass the "
-            "Shape-DNA from cshape.shape_dna"
-        )
-    if x.ndim != 1:
-        raise ValueError(f"{name} must be 1-D (one spectrum), got shape {x.shape}")
-    if len(x) < min_len:
-        raise ValueError(f"{name} must hold at least {min_len} eigenvalues, got {len(x)}")
-    if not np.all(np.isfinite(x)):
-        raise ValueError(f"{name} contains NaN or infinite values")
-    return x
 
 
 def _first_nonzero(lam: NDArray[np.float64]) -> int:
@@ -161,7 +148,7 @@ def normalize(lam: ArrayLike, area: float | None = None,
         ``lam`` not 1-D, empty or not finite; ``area`` not positive and finite, or missing
         for ``method='area'``; an unknown ``method``.
     """
-    x = _as_lam(lam)
+    x = check_spectrum(lam)
     method = check_choice("method", method, NORMALIZATIONS)
     if method == "area":
         if area is None:
@@ -195,7 +182,7 @@ def weyl_subtract(lam_norm: ArrayLike) -> NDArray[np.float64]:
     -------
     lam_prime : ndarray, shape (N,)
     """
-    x = _as_lam(lam_norm, "lam_norm")
+    x = check_spectrum(lam_norm, "lam_norm")
     return x - FOUR_PI * np.arange(len(x))
 
 
@@ -216,7 +203,7 @@ def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
         ``k``: ``lam_0 .. lam_{k-1}`` are zero modes; ``N`` when all are (too few
         eigenvalues to see past them), ``0`` for a Dirichlet spectrum of open pieces.
     """
-    x = _as_lam(lam)
+    x = check_spectrum(lam)
     rtol = check_real("rtol", rtol, min=0)
     tol = rtol * float(np.abs(x).max())
     above = np.flatnonzero(x > tol)
@@ -301,7 +288,7 @@ def nonzero_eigenvalues(lam: ArrayLike, zero_modes: int | None = None, *,
         If no eigenvalue is left, a value after the zero modes is not positive, or
         ``zero_modes`` disagrees with the spectrum (a "zero mode" that is not zero).
     """
-    x = _as_lam(lam)
+    x = check_spectrum(lam)
     tol = ZERO_RTOL * float(np.abs(x).max())
     k = _zero_modes(x, zero_modes, tol)
     return _weyl_extend(_after(x, k, tol, "nonzero_eigenvalues"), _check_length(length))
@@ -347,7 +334,7 @@ def log_weyl_ratio(lam_norm: ArrayLike, zero_modes: int | None = None, *,
         If no eigenvalue is left after the zero modes, or one after them is not positive
         (lam not ascending).
     """
-    x = _as_lam(lam_norm, "lam_norm", min_len=2)
+    x = check_spectrum(lam_norm, "lam_norm", min_len=2)
     length = _check_length(length)
     tol = ZERO_RTOL * float(np.abs(x).max())
     k = max(_zero_modes(x, zero_modes, tol), 1)
@@ -413,7 +400,7 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
         k = mesh.n_components if bc == "neumann" else None  # one zero mode per piece
         return (normalize(lam, area=mesh.area if area is None else area, method=normalization),
                 k)
-    lam = _as_lam(mesh_or_lam, "mesh_or_lam")
+    lam = check_spectrum(mesh_or_lam, "mesh_or_lam")
     if len(lam) < N:
         raise ValueError(
             f"got {len(lam)} eigenvalues but N={N}; pass N={len(lam)} or compute more eigenvalues"
@@ -566,7 +553,7 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
 
 def _log_weyl_sequence(lam_norm, M, zero_modes, transform):
     """The ``N-1`` log-Weyl ratios of the log-Weyl transforms (the rule for several pieces)."""
-    x = _as_lam(lam_norm, "lam_norm", min_len=2)
+    x = check_spectrum(lam_norm, "lam_norm", min_len=2)
     N = len(x)
     k0 = _zero_modes(x, zero_modes, ZERO_RTOL * float(np.abs(x).max()))
     k = max(k0, 1)  # lam_0 is dropped also when positive (Dirichlet)
@@ -716,7 +703,7 @@ def f1_feature(lam: ArrayLike, zero_modes: int | None = None, *,
         ``N - 2`` values for a connected closed mesh (``k = 1``); ``k = 0`` for a
         Dirichlet spectrum.  Scale invariant; values in (0, 1].
     """
-    x = _as_lam(lam, min_len=2)
+    x = check_spectrum(lam, min_len=2)
     tol = ZERO_RTOL * float(np.abs(x).max())
     mu = _after(x, _zero_modes(x, zero_modes, tol), tol, "F1")
     if len(mu) < 2:

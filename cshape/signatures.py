@@ -45,8 +45,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._checks import check_bool, check_choice, check_int, check_real
-from .descriptors import _as_lam
+from ._checks import check_bool, check_choice, check_int, check_real, check_spectrum
+from .descriptors import ZERO_RTOL
 
 __all__ = [
     "heat_kernel",
@@ -66,16 +66,15 @@ T_FACTOR = 4.0 * np.log(10.0)
 #: The WKS's Gaussian width in energy steps (Aubry et al. 2011: ``sigma = 7 delta``).
 WKS_WIDTH = 7.0
 
-#: An eigenvalue at most this fraction of the largest counts as zero (``lam_0`` of a closed
-#: or Neumann problem); relative, since eigenvalues scale as 1 / length^2.
-ZERO_TOL = 1e-8
+#: An eigenvalue at most ``ZERO_RTOL`` times the largest counts as zero (``lam_0`` of a
+#: closed or Neumann problem): the one zero tolerance of :mod:`cshape.descriptors`.
 
 
 # ---------------------------------------------------------------------- checks
 def _check_lam(lam, *, nonneg=True) -> np.ndarray:
-    lam = _as_lam(lam, "lam")
+    lam = check_spectrum(lam, "lam")
     scale = float(np.abs(lam).max())
-    if nonneg and lam.min() < -ZERO_TOL * max(scale, np.finfo(float).tiny):
+    if nonneg and lam.min() < -ZERO_RTOL * max(scale, np.finfo(float).tiny):
         raise ValueError(
             f"lam must be eigenvalues >= 0 (A f = -lam B f), got a minimum of {lam.min():.6g}; "
             "pass the eigenvalues from cshape.eigenpairs"
@@ -143,7 +142,7 @@ def _scaled(lam, phi, area):
 
 def _nonzero(lam) -> np.ndarray:
     """Mask of the eigenvalues that are not numerically zero."""
-    return lam > ZERO_TOL * lam.max()
+    return lam > ZERO_RTOL * lam.max()
 
 
 def _first_nonzero(lam) -> float:

@@ -94,7 +94,7 @@ def test_capsules_expression_cutoff_keeps_the_surface():
     cut = v.marching_cubes(v.capsules_expression(caps, cutoff=0.12), box, 0.04)
     np.testing.assert_allclose(cut.vertices, full.vertices, atol=1e-9)
     np.testing.assert_array_equal(cut.faces, full.faces)
-    with pytest.raises(ValueError, match="cutoff must be a positive number"):
+    with pytest.raises(ValueError, match="cutoff must be a positive finite number"):
         v.capsules_expression(caps, cutoff=0)
 
 

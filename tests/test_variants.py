@@ -45,7 +45,7 @@ def test_eight_is_genus_two():
         (lambda: v.sphere(9), "subdiv must be an integer in"),
         (lambda: v.sphere(2.5), "subdiv must be an integer"),
         (lambda: v.torus(R=0.3, r=0.4), "0 < r < R"),
-        (lambda: v.cube(size=-1), "size must be a positive number"),
+        (lambda: v.cube(size=-1), "size must be a positive finite number"),
         (lambda: v.eight(separation=3.0), "separation must lie in"),
     ],
 )
@@ -241,3 +241,23 @@ def test_remesh_does_not_depend_on_earlier_pymeshlab_calls():
     np.testing.assert_array_equal(before.faces, after.faces)
     np.testing.assert_array_equal(before.vertices, after.vertices)
     assert after.is_closed and after.n_components == 1
+
+
+@pytest.mark.parametrize("bad, error", [("a", TypeError), (True, TypeError), (0.0, ValueError),
+                                        (float("nan"), ValueError)])
+def test_the_same_bad_radius_gets_the_same_error_in_shapes_and_variants(bad, error):
+    with pytest.raises(error) as a:
+        shapes.icosphere(radius=bad)
+    with pytest.raises(error) as b:
+        v.sphere(radius=bad)
+    assert str(a.value) == str(b.value)
+
+
+def test_signatures_and_descriptors_share_one_zero_tolerance():
+    import cshape.signatures as s
+    from cshape.descriptors import ZERO_RTOL, count_zero_modes
+
+    assert s.ZERO_RTOL is ZERO_RTOL
+    lam = np.array([0.5 * ZERO_RTOL, 1.0, 2.0, 3.0])
+    assert count_zero_modes(lam) == 1
+    assert s._nonzero(lam).tolist() == [False, True, True, True]

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._checks import check_choice
+from .._checks import check_choice, check_int, check_real
 from ..mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
 
 __all__ = [
@@ -80,21 +80,12 @@ def _from_meshset(ms, *, what: str) -> Mesh:
     return repair_mesh(Mesh(V, F), warn=False)
 
 
-def _check_int(name, value, lo, hi=None):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an integer, got {value!r}")
-    if value < lo or (hi is not None and value > hi):
-        rng = f"[{lo}, {hi}]" if hi is not None else f">= {lo}"
-        raise ValueError(f"{name} must be an integer in {rng}, got {value!r}")
-    return int(value)
+def _check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
+    return check_int(name, value, min=lo, max=hi)
 
 
-def _check_pos(name, value):
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not value > 0:
-        raise ValueError(f"{name} must be a positive number, got {value!r}")
-    if not np.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return float(value)
+def _check_pos(name: str, value: object) -> float:
+    return check_real(name, value, positive=True)
 
 
 # ---------------------------------------------------------------------- primitives
