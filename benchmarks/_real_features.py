@@ -117,8 +117,9 @@ def features(path, lapy=True):
 
 def mesh_signatures(mesh):
     """lam (N,), and hks_q, wks_q, d2, lam_idl of one mesh (see the module notes)."""
-    import cshape
     import robust_laplacian
+
+    import cshape
 
     V = np.asarray(mesh.vertices, dtype=np.float64)
     F = np.asarray(mesh.faces, dtype=np.int64)
