@@ -250,7 +250,7 @@ def candidates():
         C.append({"title": title, "family": family, "f": f, "size": size, "eig": eig,
                   "fitted": fitted})
 
-    add("today's default: truncated log, lam_1-norm., M=8", "default",
+    add("the former default: truncated log, lam_1-norm., M=8", "default",
         truncated_log(8, "fiedler"), 17)
     add("paper's cShape-DNA M=16 N=100 (area)", "paper", paper_cshape(16, 100), 33)
     for N in (30, 100):
@@ -526,7 +526,7 @@ def main(argv=None):
         "chosen minus runner-up (mean +- standard error): "
         + "; ".join(f"{n} {m:+.3f} +- {se:.3f}" for n, (m, se) in
                     ((n, paired(chosen, runner, n)) for n in COLLECTIONS))
-        + "; chosen minus today's default: "
+        + "; chosen minus the former default: "
         + "; ".join(f"{n} {m:+.3f} +- {se:.3f}" for n, (m, se) in
                     ((n, paired(chosen, default, n)) for n in COLLECTIONS)) + ".", "",
         f"Best worst first tier of any candidate, guard or not, fitted or not: "
@@ -559,7 +559,7 @@ def main(argv=None):
         return out + [""]
 
     ranked = sorted(rows, key=lambda r: -r["worst"])
-    lines += table("The 20 best by worst real first tier, with today's default and the "
+    lines += table("The 20 best by worst real first tier, with the former default and the "
                    "paper's", ranked[:20] + [r for r in (default, paper) if r not in ranked[:20]])
     fam_best = {}
     for r in ranked:

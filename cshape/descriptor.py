@@ -389,12 +389,12 @@ PAPER = Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area"
 #: ``.distance_matrix()`` with no kind, :class:`cshape.DescriptorIndex`, ``cshape query``,
 #: ``cshape overview``, ``cshape describe``'s summary and the MDS of one's own collection
 #: compare (through :func:`select_descriptor`, at the table's ``N``: :meth:`Descriptor.for_N`).
-#: The truncated log spectrum normalised by ``lam_1``: the row is
-#: ``log(lam_i / lam_1) - log(4 pi i)``, ``i = 1 .. 2M+1`` (no area: a coarse mesh's area is a
-#: little off, and in log space any normalisation is one shift of the whole row).  Chosen on
-#: the development instances of the benchmark suite by its *worst* first tier; see
-#: ``benchmarks/results/suite.md``.
-DEFAULT = Descriptor("truncated-log", M=8, N=100, transform="weyl", normalization="fiedler")
+#: The truncated log spectrum normalised by area: the row is the first ``2M+1`` log-Weyl
+#: ratios ``log(lam_i * area / (4 pi i))``, ``i = 1 .. 2M+1``, of the eigenvalues after the
+#: zero modes.  Chosen on two real labelled collections (a category benchmark and characters
+#: in poses) by the best worst first tier, with the generated resolution benchmark as a guard
+#: (nearest neighbour >= 0.9); see ``benchmarks/results/real_collections.md`` (``benchmarks/bench_real_collections.py``).
+DEFAULT = Descriptor("truncated-log", M=8, N=100, transform="weyl", normalization="area")
 
 
 def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None = None,

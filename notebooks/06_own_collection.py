@@ -138,13 +138,13 @@ else:
 # not change the normalised spectrum; the noise does, a little).
 #
 # With no `kind`, the index (like `table.descriptors()`, `table.distance_matrix()` and `cshape query`)
-# compares the **exploration default**, `cshape.compare.DEFAULT_DESCRIPTOR`: the descriptor whose *worst*
-# first tier over cshape's benchmark suite (classes, identities in many poses, the same shape at several
-# resolutions) was highest. The paper's cShape-DNA is one argument away: `kind="cshape"`. Always print
+# compares the **exploration default**, `cshape.DEFAULT`: the descriptor whose *worst* first tier over two
+# real labelled collections (a category benchmark and characters in poses) was highest, with the same shape
+# at several resolutions as a guard. The paper's cShape-DNA is one argument away: `kind="cshape"`. Always print
 # which descriptor compared your shapes (`index.descriptor`).
 
 # %%
-print("default:", cshape.compare.DEFAULT_DESCRIPTOR)
+print("default:", cshape.DEFAULT)
 base = coll["torus1"].mesh
 c, s_ = np.cos(0.7), np.sin(0.7)
 R = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])
@@ -224,5 +224,5 @@ print("removed", work, "| exists:", work.exists())
 # 3. Measure the time of `describe` for `n_jobs=1` and `n_jobs=2` on 20 meshes of 5000 vertices. Where is the
 #    time spent: FEM assembly or the eigensolve? (`cshape.fem_matrices` vs `cshape.shape_dna`.)
 # 4. Build a `DescriptorIndex` of the F1 features and of the cShape-DNA with $M = 2$. Which one finds the torus?
-# 5. `cshape.compare.DEFAULT_DESCRIPTOR` was chosen on generated benchmarks. Score it against the paper's
+# 5. `cshape.DEFAULT` was chosen on two real collections. Score it against the paper's
 #    cShape-DNA on your own labelled folder with `compare.retrieval_scores(table.distance_matrix(kind), table.labels)`.

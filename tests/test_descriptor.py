@@ -97,9 +97,9 @@ def test_size_and_label(d, size, label):
 def test_shipped_descriptors():
     assert PAPER == Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area")
     assert DEFAULT == Descriptor("truncated-log", M=8, N=100, transform="weyl",
-                                 normalization="fiedler")
+                                 normalization="area")
     assert PAPER.label == "paper's cShape-DNA (M=16 of N=100, 33 values)"
-    assert DEFAULT.label == "truncated log spectrum, lam_1-normalised (17 values)"
+    assert DEFAULT.label == "truncated log spectrum (17 values)"
     # the paper's descriptor is compact_shape_dna's default, and reproduce keeps its numbers
     assert cshape.reproduce.PAPER["3.1"]["M"] == PAPER.M
     assert DEFAULT.for_N(12) == DEFAULT.replace(N=12, M=5)  # M lowered to what N allows
@@ -140,8 +140,8 @@ def test_other_rows_are_the_stage_functions(spectra):
                                   cshape.normalize(lam[:9], area))
     np.testing.assert_array_equal(Descriptor("f1", N=N).row(lam), cshape.f1_feature(lam))
     np.testing.assert_array_equal(
-        DEFAULT.for_N(N).row(lam),
-        cshape.log_weyl_ratio(cshape.normalize(lam[:18], method="fiedler")))
+        DEFAULT.for_N(N).row(lam, area),
+        cshape.log_weyl_ratio(cshape.normalize(lam[:18], area)))
 
 
 def test_matrix_is_descriptor_matrix_and_names_what_it_cannot_describe(spectra):
@@ -153,11 +153,11 @@ def test_matrix_is_descriptor_matrix_and_names_what_it_cannot_describe(spectra):
         np.testing.assert_array_equal(X, cshape.descriptor_matrix(lams, areas, descriptor=d))
     bad = lams.copy()
     bad[1, :20] = 0.0  # 20 zero modes: 10 non-zero eigenvalues, fewer than 2M+1 = 17
-    X, problems = DEFAULT.for_N(N).rows(bad)
+    X, problems = DEFAULT.for_N(N).rows(bad, areas)
     assert X.shape == (2, 17) and list(problems) == [1]
     with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 3 "
                                          r"shapes \(torus: 20 of its 30 eigenvalues"):
-        DEFAULT.for_N(N).matrix(bad, names=["sphere", "torus", "cube"])
+        DEFAULT.for_N(N).matrix(bad, areas, names=["sphere", "torus", "cube"])
     with pytest.raises(ValueError, match=r"^kind='cshape' with normalization='area' needs "
                                          r"the surface area: pass area=$"):
         PAPER.replace(M=4, N=N).row(lams[0])
@@ -256,7 +256,7 @@ def test_reproduce_takes_the_papers_descriptor_and_refuses_another(tmp_path):
     assert _paper_descriptor(PAPER.replace(M=8), None, None) == PAPER.replace(M=8)
     out = tmp_path / "report"
     with pytest.raises(ValueError, match=r"^reproduce compares the paper's cShape-DNA, got "
-                                         r"truncated log spectrum, lam_1-normalised"):
+                                         r"truncated log spectrum \(17 values\)"):
         reproduce([], out, descriptor=DEFAULT)
     with pytest.raises(ValueError, match=r"^pass either descriptor= or N and M, not both"):
         reproduce([], out, N=30, descriptor=PAPER)

@@ -61,7 +61,7 @@ def other_default(monkeypatch):
 def test_default_is_one_constant_and_not_the_papers_form_of_compact_shape_dna():
     d = default_descriptor(100)
     assert d == cshape.DEFAULT.as_dict() == {"kind": "truncated-log", "M": 8, "N": 100,
-                                             "transform": "weyl", "normalization": "fiedler"}
+                                             "transform": "weyl", "normalization": "area"}
     assert compare.DEFAULT_DESCRIPTOR is cshape.DEFAULT is descriptor.DEFAULT
     assert compare.PAPER_DESCRIPTOR is cshape.PAPER
     # compact_shape_dna keeps the paper's Eq. (8)-(10) as its default, bit for bit
