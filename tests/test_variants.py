@@ -163,17 +163,17 @@ def test_noise_levels_are_the_papers():
     assert v.NOISE_LEVELS == (0.5, 1.0, 2.0, 4.0, 10.0)
 
 
-@pytest.mark.parametrize("lam", v.NOISE_LEVELS)
-def test_noise_bounded_and_along_outward_normals(lam):
+@pytest.mark.parametrize("amplitude", v.NOISE_LEVELS)
+def test_noise_bounded_and_along_outward_normals(amplitude):
     m = v.sphere(3)
     L = m.mean_edge_length
-    noisy = v.add_normal_noise(m, lam, random_state=1)
+    noisy = v.add_normal_noise(m, amplitude, random_state=1)
     d = noisy.vertices - m.vertices
     n = v.vertex_normals(m)
     along = np.einsum("ij,ij->i", d, n)
-    assert np.all(along >= 0) and np.all(along <= lam * L)
+    assert np.all(along >= 0) and np.all(along <= amplitude * L)
     np.testing.assert_allclose(np.cross(d, n), 0, atol=1e-12)  # only along the normal
-    assert along.max() > 0.8 * lam * L  # uses the range
+    assert along.max() > 0.8 * amplitude * L  # uses the range
     np.testing.assert_array_equal(noisy.faces, m.faces)
 
 
@@ -199,7 +199,7 @@ def test_noise_signed_and_zero():
     s = v.add_normal_noise(m, 1.0, 0, signed=True)
     r = np.linalg.norm(s.vertices, axis=1)
     assert r.min() < 1 < r.max()
-    with pytest.raises(ValueError, match="lam must be a number >= 0"):
+    with pytest.raises(ValueError, match="amplitude must be a finite number >= 0"):
         v.add_normal_noise(m, -1.0)
 
 

@@ -10,7 +10,7 @@ The paper's experiments (Section 3) compare a shape with versions of itself:
 * near-isometric poses of an articulated figure (:func:`articulated_figure`: an implicit union
   of capsules whose joint angles change, meshed by marching cubes and remeshed);
 * noisy copies, each vertex moved along its outward normal by a uniform random amount of at
-  most ``lam * L`` (Section 3.3, :func:`add_normal_noise`).
+  most ``amplitude * L`` (Section 3.3, :func:`add_normal_noise`).
 
 Every function returns a :class:`cshape.Mesh` and accepts a ``Mesh`` or a ``(vertices,
 faces)`` pair.  Everything is deterministic: PyMeshLab's filters used here are, and the
@@ -49,7 +49,7 @@ __all__ = [
     "vertex_normals",
 ]
 
-#: The noise levels ``lam`` of Section 3.3 (maximum displacement ``lam * L``).
+#: The noise levels ``amplitude`` of Section 3.3 (maximum displacement ``amplitude * L``).
 NOISE_LEVELS = (0.5, 1.0, 2.0, 4.0, 10.0)
 
 #: The classes of :func:`articulated_figure`.
@@ -614,25 +614,29 @@ def vertex_normals(mesh) -> np.ndarray:
     return np.divide(N, norm, out=np.zeros_like(N), where=norm > 0)
 
 
-def add_normal_noise(mesh, lam=1.0, random_state=None, *, signed=False, length=None) -> Mesh:
-    """Section 3.3's noise: move every vertex along its outward normal by up to ``lam * L``.
+def add_normal_noise(mesh, amplitude=1.0, random_state=None, *, signed=False,
+                     length=None) -> Mesh:
+    """Section 3.3's noise: move every vertex along its outward normal by up to ``amplitude * L``.
 
     Vertex ``i`` moves to ``v_i + d_i n_i`` with ``n_i`` its outward unit normal
     (:func:`vertex_normals`) and ``d_i`` drawn independently and uniformly from
-    ``[0, lam * L]``, where ``L`` is the mean edge length of the *original* mesh.  The paper
-    says "a random noise up to a maximum distance of lam x L along the outward normal
-    direction"; cshape reads this as a magnitude in ``[0, lam L]`` along the outward normal
-    (``signed=False``, the default).  ``signed=True`` draws from ``[-lam L, lam L]`` instead.
+    ``[0, amplitude * L]``, where ``L`` is the mean edge length of the *original* mesh.  The
+    paper says "a random noise up to a maximum distance of lambda x L along the outward normal
+    direction"; its lambda is ``amplitude`` here (``lam`` names eigenvalues only).  cshape reads
+    this as a magnitude in ``[0, amplitude L]`` along the outward normal (``signed=False``, the
+    default).  ``signed=True`` draws from ``[-amplitude L, amplitude L]`` instead.
 
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
-    lam : float, default=1.0
-        Noise level ``lam >= 0``; the paper uses 0.5, 1, 2, 4 and 10 (:data:`NOISE_LEVELS`).
+    amplitude : float, default=1.0
+        The paper's noise level ``>= 0``: the largest displacement as a fraction of the mean
+        edge length ``L``; the paper uses 0.5, 1, 2, 4 and 10 (:data:`NOISE_LEVELS`).
     random_state : int, numpy.random.Generator or None
         Seed; the same seed gives the same noisy mesh.
     signed : bool, default=False
-        Draw from ``[-lam L, lam L]`` (in and out) instead of ``[0, lam L]`` (out only).
+        Draw from ``[-amplitude L, amplitude L]`` (in and out) instead of ``[0, amplitude L]``
+        (out only).
     length : float, optional
         Use this ``L`` instead of the mesh's mean edge length.
 
@@ -640,15 +644,20 @@ def add_normal_noise(mesh, lam=1.0, random_state=None, *, signed=False, length=N
     -------
     Mesh
         Same faces, displaced vertices.
+
+    Raises
+    ------
+    TypeError
+        ``amplitude`` is not a real number.
+    ValueError
+        ``amplitude`` is negative, NaN or infinite.
     """
     mesh = as_mesh(mesh)
-    if (isinstance(lam, bool) or not isinstance(lam, numbers.Real) or not lam >= 0
-            or not np.isfinite(lam)):
-        raise ValueError(f"lam must be a number >= 0 (the paper uses {NOISE_LEVELS}), got {lam!r}")
+    amplitude = check_real("amplitude", amplitude, min=0.0)
     L = mesh.mean_edge_length if length is None else _check_pos("length", length)
     rng = np.random.default_rng(random_state)
-    lo = -lam * L if signed else 0.0
-    d = rng.uniform(lo, lam * L, size=mesh.n_vertices)
+    lo = -amplitude * L if signed else 0.0
+    d = rng.uniform(lo, amplitude * L, size=mesh.n_vertices)
     V = mesh.vertices + d[:, None] * vertex_normals(mesh)
     return Mesh(V, mesh.faces)
 
