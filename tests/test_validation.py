@@ -35,7 +35,7 @@ from cshape._checks import (
 )
 from cshape.batch import DescriptorTable, describe
 from cshape.compare import DESCRIPTOR_KINDS, descriptor_matrix, descriptor_size
-from cshape.fem import fem
+from cshape.fem import _problem as fem
 from cshape.index import DescriptorIndex
 from cshape.spectrum import solve_eigenproblem, solver_threads
 

@@ -20,7 +20,6 @@ random choices take a ``random_state``.  Cached, named collections of these shap
 
 from __future__ import annotations
 
-import numbers
 import warnings
 from dataclasses import dataclass
 
