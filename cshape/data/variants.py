@@ -21,12 +21,14 @@ random choices take a ``random_state``.  Cached, named collections of these shap
 from __future__ import annotations
 
 import warnings
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
-from .._checks import check_choice, check_int, check_real
-from ..mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
+from .._checks import check_bool, check_choice, check_int, check_real
+from ..mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
 __all__ = [
     "ARTICULATED_KINDS",
@@ -88,7 +90,7 @@ def _check_pos(name: str, value: object) -> float:
 
 
 # ---------------------------------------------------------------------- primitives
-def sphere(subdiv=4, radius=1.0) -> Mesh:
+def sphere(subdiv: int = 4, radius: float = 1.0) -> Mesh:
     """Icosphere from PyMeshLab's ``create_sphere``: ``10 * 4**subdiv + 2`` vertices.
 
     Parameters
@@ -110,41 +112,47 @@ def sphere(subdiv=4, radius=1.0) -> Mesh:
     return _from_meshset(ms, what="create_sphere")
 
 
-def torus(R=1.0, r=0.4, n_major=64, n_minor=32) -> Mesh:
+def torus(n_major: int = 64, n_minor: int = 32, R: float = 1.0, r: float = 0.4) -> Mesh:
     """Torus of revolution from PyMeshLab's ``create_torus`` (genus 1).
+
+    The arguments come in the order of :func:`cshape.shapes.torus` (resolution first, then
+    lengths, as every shape builder).
 
     Parameters
     ----------
-    R, r : float, default=1.0, 0.4
-        Major radius and tube radius, ``0 < r < R``.
     n_major, n_minor : int, default=64, 32
         Subdivisions around the axis and around the tube; ``n_major * n_minor`` vertices.
+    R, r : float, default=1.0, 0.4
+        Major radius and tube radius, ``0 < r < R``.
     """
+    n_major = _check_int("n_major", n_major, 3, 4096)
+    n_minor = _check_int("n_minor", n_minor, 3, 4096)
     R, r = _check_pos("R", R), _check_pos("r", r)
     if not r < R:
         raise ValueError(f"torus needs 0 < r < R, got R={R}, r={r}; pass a smaller tube radius")
-    n_major = _check_int("n_major", n_major, 3, 4096)
-    n_minor = _check_int("n_minor", n_minor, 3, 4096)
     ms = _meshset()
     ms.create_torus(hradius=R, vradius=r, hsubdiv=n_major, vsubdiv=n_minor)
     return _from_meshset(ms, what="create_torus")
 
 
-def cube(size=1.0, subdiv=4) -> Mesh:
+def cube(subdiv: int = 4, size: float = 1.0) -> Mesh:
     """Cube from PyMeshLab's ``create_cube``, refined by ``subdiv`` midpoint subdivisions.
 
     Midpoint subdivision keeps the faces flat and the edges sharp; the mesh has
     ``12 * 4**subdiv`` triangles and ``6 * 4**subdiv + 2`` vertices (1538 at 4, 6146 at 5).
 
+    The arguments come in the order of :func:`cshape.shapes.cube` (resolution first, then
+    the edge length).
+
     Parameters
     ----------
-    size : float, default=1.0
-        Edge length; the cube is centred at the origin.
     subdiv : int, default=4
         Number of midpoint subdivisions, 0 to 7.
+    size : float, default=1.0
+        Edge length; the cube is centred at the origin.
     """
-    size = _check_pos("size", size)
     subdiv = _check_int("subdiv", subdiv, 0, 7)
+    size = _check_pos("size", size)
     ms = _meshset()
     ms.create_cube(size=size)
     if subdiv:
@@ -159,7 +167,8 @@ def _smooth_min(a: str, b: str, k: float) -> str:
     return f"(min({a},{b})-{h}*{h}*{k}/4)"
 
 
-def eight(voxelsize=0.02, target_vertices=4000, *, R=0.6, r=0.22, separation=1.1) -> Mesh:
+def eight(voxelsize: float = 0.02, target_vertices: int | None = 4000, *, R: float = 0.6,
+          r: float = 0.22, separation: float = 1.1) -> Mesh:
     """A genus-2 "eight": two tori blended into one (the paper's "E"), remeshed.
 
     The implicit surface ``smin(torus(x + s/2), torus(x - s/2)) = 0`` (a smooth union of two
@@ -201,7 +210,7 @@ def eight(voxelsize=0.02, target_vertices=4000, *, R=0.6, r=0.22, separation=1.1
 
 
 # ---------------------------------------------------------------------- marching cubes
-def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
+def marching_cubes(expr: str, bbox: Sequence[float], voxelsize: float = 0.02) -> Mesh:
     """Mesh the zero level set of an implicit function with PyMeshLab's marching cubes.
 
     Wraps ``create_implicit_surface``.  Its output is a typical marching-cubes mesh: closed
@@ -275,7 +284,8 @@ def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
 
 # ---------------------------------------------------------------------- remeshing
 def remesh(
-    mesh, target_length=None, *, target_vertices=None, iterations=10, feature_angle=90.0
+    mesh: MeshLike, target_length: float | None = None, *, target_vertices: int | None = None,
+    iterations: int = 10, feature_angle: float = 90.0
 ) -> Mesh:
     """Isotropic explicit remeshing (PyMeshLab ``meshing_isotropic_explicit_remeshing``).
 
@@ -348,7 +358,7 @@ def remesh(
     return _from_meshset(ms, what="isotropic remeshing")
 
 
-def subdivide(mesh, iterations=1, method="loop") -> Mesh:
+def subdivide(mesh: MeshLike, iterations: int = 1, method: str = "loop") -> Mesh:
     """Refine a mesh by splitting every edge (about 4x the vertices per iteration).
 
     Parameters
@@ -421,7 +431,7 @@ class Capsule:
         )
 
 
-def capsules_expression(capsules, *, cutoff=None) -> str:
+def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = None) -> str:
     """Implicit function of the union of capsules: the minimum of their signed distances.
 
     Parameters
@@ -471,7 +481,8 @@ def _limb(start, dirs, lengths, radius):
     return out
 
 
-def figure_capsules(kind: str, random_state=None) -> list[Capsule]:
+def figure_capsules(kind: str, random_state: int | np.random.Generator | None = None
+                    ) -> list[Capsule]:
     """The capsules of an articulated figure in a pose drawn from ``random_state``.
 
     Every class has fixed bone lengths and radii; a pose only changes joint angles, drawn
@@ -559,7 +570,8 @@ def _bend(v, deg, towards):
 
 
 def articulated_figure(
-    kind="human", random_state=0, *, voxelsize=0.02, target_vertices=3000
+    kind: str = "human", random_state: int | np.random.Generator | None = 0, *,
+    voxelsize: float = 0.02, target_vertices: int | None = 3000
 ) -> Mesh:
     """A pose of an articulated figure: union of capsules, marching cubes, isotropic remesh.
 
@@ -592,7 +604,7 @@ def articulated_figure(
 
 
 # ---------------------------------------------------------------------- noise (Section 3.3)
-def vertex_normals(mesh) -> np.ndarray:
+def vertex_normals(mesh: MeshLike) -> NDArray[np.float64]:
     """Outward unit vertex normals, shape (n, 3): area-weighted means of the face normals.
 
     The faces' orientation is taken as given; for a closed mesh with negative signed volume
@@ -613,8 +625,9 @@ def vertex_normals(mesh) -> np.ndarray:
     return np.divide(N, norm, out=np.zeros_like(N), where=norm > 0)
 
 
-def add_normal_noise(mesh, amplitude=1.0, random_state=None, *, signed=False,
-                     length=None) -> Mesh:
+def add_normal_noise(mesh: MeshLike, amplitude: float = 1.0,
+                     random_state: int | np.random.Generator | None = None, *,
+                     signed: bool = False, length: float | None = None) -> Mesh:
     """Section 3.3's noise: move every vertex along its outward normal by up to ``amplitude * L``.
 
     Vertex ``i`` moves to ``v_i + d_i n_i`` with ``n_i`` its outward unit normal
@@ -653,6 +666,7 @@ def add_normal_noise(mesh, amplitude=1.0, random_state=None, *, signed=False,
     """
     mesh = as_mesh(mesh)
     amplitude = check_real("amplitude", amplitude, min=0.0)
+    signed = check_bool("signed", signed)
     L = mesh.mean_edge_length if length is None else _check_pos("length", length)
     rng = np.random.default_rng(random_state)
     lo = -amplitude * L if signed else 0.0
@@ -662,7 +676,7 @@ def add_normal_noise(mesh, amplitude=1.0, random_state=None, *, signed=False,
 
 
 # ---------------------------------------------------------------------- mesh quality
-def triangle_angles(mesh) -> np.ndarray:
+def triangle_angles(mesh: MeshLike) -> NDArray[np.float64]:
     """Interior angles of every triangle in degrees, shape (m, 3), angle ``k`` at corner ``k``.
 
     A zero-area triangle has angles 0, 0, 180 (or 0 where two vertices coincide).
@@ -680,7 +694,7 @@ def triangle_angles(mesh) -> np.ndarray:
     return out
 
 
-def mesh_quality(mesh) -> dict:
+def mesh_quality(mesh: MeshLike) -> dict[str, float]:
     """Triangle-quality figures of a mesh (e.g. the paper's "CM" versus "CS").
 
     Parameters
