@@ -41,7 +41,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from . import _compat, shapes
+from . import shapes
 from .compare import (
     descriptor_matrix,
     difference_matrix,
@@ -72,8 +72,6 @@ from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
 from .spectrum import eigenpairs, estimate_seconds, shape_dna
 
 __version__ = "0.1.0"
-
-_compat.install()
 
 #: Names served on first use (``cshape.describe``, ``cshape.data``, ...): the applications
 #: and layers are imported only when asked for, so ``import cshape`` stays light.

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from ._checks import check_bool, check_choice
 from .mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
-__all__ = ["fem_matrices", "FEM", "assemble"]
+__all__ = ["fem_matrices"]
 
 BOUNDARY_CONDITIONS = ("neumann", "dirichlet")
 MASS_TYPES = ("consistent", "lumped")
@@ -42,8 +42,9 @@ MOLLIFY_DELTA = 1e-6
 ZERO_AREA_RTOL = 1e-10
 
 
-class FEM:
-    """Assembled FEM matrices of a mesh, with the bookkeeping of the unknowns.
+class _FEMProblem:
+    """Assembled FEM matrices of a mesh, with the bookkeeping of the unknowns (private: the
+    public way to get ``A`` and ``B`` is :func:`fem_matrices`).
 
     Attributes
     ----------
@@ -212,7 +213,7 @@ def _check_positive_area(mesh: Mesh) -> None:
     )
 
 
-def assemble(mesh: MeshLike, mass: str = "consistent"
+def _assemble(mesh: MeshLike, mass: str = "consistent"
              ) -> tuple[sp.csr_matrix, sp.csr_matrix, float, int]:
     """Assemble the full (Neumann) matrices ``A`` and ``B`` over all vertices.
 
@@ -304,9 +305,9 @@ def assemble(mesh: MeshLike, mass: str = "consistent"
     return A, B, eps, n_degenerate
 
 
-def fem(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent", *,
-        repair: bool = True) -> FEM:
-    """Assemble the FEM problem of a mesh, returning an :class:`FEM` with its bookkeeping.
+def _problem(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent", *,
+             repair: bool = True) -> _FEMProblem:
+    """Assemble the FEM problem of a mesh, returning a :class:`_FEMProblem` with its bookkeeping.
 
     See :func:`fem_matrices` for the parameters and errors; ``repair=False`` skips
     :func:`cshape.repair_mesh` (for a mesh that was repaired already).
@@ -317,7 +318,7 @@ def fem(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent", *,
     mesh = as_mesh(mesh)
     if repair:
         mesh = repair_mesh(mesh)
-    A, B, eps, nbad = assemble(mesh, mass=mass)
+    A, B, eps, nbad = _assemble(mesh, mass=mass)
     if eps > 0:
         warnings.warn(
             f"mesh has {nbad} degenerate (near zero-area) triangles: edge lengths were "
@@ -339,7 +340,7 @@ def fem(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent", *,
         B = B[free][:, free].tocsr()
     else:
         free = np.arange(n)
-    return FEM(A, B, free, n, mesh.area, bc, eps)
+    return _FEMProblem(A, B, free, n, mesh.area, bc, eps)
 
 
 def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"
@@ -400,5 +401,5 @@ def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"
     >>> bool(abs(A.sum()) < 1e-12), bool(np.isclose(B.sum(), cshape.Mesh(V, F).area))
     (True, True)
     """
-    f = fem(mesh, bc=bc, mass=mass)
+    f = _problem(mesh, bc=bc, mass=mass)
     return f.A, f.B

@@ -48,7 +48,7 @@ from . import _shift
 from ._checks import check_bool, check_int, check_real
 from ._lanczos import BLOCK_SIZE, MIN_BLOCK_SIZE  # noqa: F401  (block sizes, for benchmarks)
 from ._threads import one_blas_thread, solver_threads
-from .fem import fem
+from .fem import _problem as fem
 from .mesh import CShapeWarning, MeshLike, as_mesh, repair_mesh
 
 __all__ = ["eigenpairs", "estimate_seconds", "shape_dna", "solve_eigenproblem",

@@ -209,14 +209,14 @@ plots.plot_cshape_dna(S, title="Fig. 9: cShape-DNA of CM and CS")
 #
 # Section 3.3 moves every vertex $v_i$ along its outward unit normal $n_i$ by a random distance $d_i$, drawn
 # uniformly from $[0, \lambda L]$ with $L$ the mean edge length: $v_i \mapsto v_i + d_i\, n_i$. Write
-# `normal_noise_mine(mesh, lam, rng)` returning the noisy vertices, shape $(n, 3)$. Take the normals from
+# `normal_noise_mine(mesh, amplitude, rng)` returning the noisy vertices, shape $(n, 3)$. Take the normals from
 # `variants.vertex_normals(mesh)`, $L$ from `mesh.mean_edge_length`, and draw the $d_i$ with `rng.uniform`.
 
 # %% nbgrader={"grade": false, "grade_id": "normal_noise_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
-def normal_noise_mine(mesh, lam, rng):
-    """Vertices of `mesh` moved along their outward normals by d_i ~ U[0, lam L], shape (n, 3)."""
+def normal_noise_mine(mesh, amplitude, rng):
+    """Vertices of `mesh` moved along their outward normals by d_i ~ U[0, amplitude L], shape (n, 3)."""
     ### BEGIN SOLUTION
-    d = rng.uniform(0.0, lam * mesh.mean_edge_length, size=mesh.n_vertices)
+    d = rng.uniform(0.0, amplitude * mesh.mean_edge_length, size=mesh.n_vertices)
     return mesh.vertices + d[:, None] * variants.vertex_normals(mesh)
     ### END SOLUTION
 
@@ -238,13 +238,13 @@ print("visible checks passed")
 # %% nbgrader={"grade": true, "grade_id": "hidden_normal_noise_mine", "locked": true, "points": 2, "schema_version": 3, "solution": false, "task": false}
 # hidden tests: the autograder runs more checks here
 ### BEGIN HIDDEN TESTS
-for _lam in (0.5, 2.0):
-    _move = normal_noise_mine(_ball, _lam, np.random.default_rng(3)) - _ball.vertices
+for _a in (0.5, 2.0):
+    _move = normal_noise_mine(_ball, _a, np.random.default_rng(3)) - _ball.vertices
     _d = np.einsum("ij,ij->i", _move, _n)
     assert np.allclose(_move, _d[:, None] * _n, atol=1e-12), "the noise is along the normals"
-    assert np.all(_d >= -1e-12) and np.all(_d <= _lam * _L * (1 + 1e-12)), "d_i in [0, lam L]"
-    assert abs(_d.mean() / (_lam * _L) - 0.5) < 0.1, "d_i ~ U[0, lam L]: mean lam L / 2"
-    assert _d.std() > 0.2 * _lam * _L, "d_i ~ U[0, lam L]: one random distance per vertex"
+    assert np.all(_d >= -1e-12) and np.all(_d <= _a * _L * (1 + 1e-12)), "d_i in [0, amplitude L]"
+    assert abs(_d.mean() / (_a * _L) - 0.5) < 0.1, "d_i ~ U[0, amplitude L]: mean amplitude L / 2"
+    assert _d.std() > 0.2 * _a * _L, "d_i ~ U[0, amplitude L]: one random distance per vertex"
 assert np.allclose(normal_noise_mine(_ball, 0.0, np.random.default_rng(0)), _ball.vertices)
 ### END HIDDEN TESTS
 

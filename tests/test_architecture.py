@@ -1,6 +1,6 @@
 """The package's architecture, checked: the house drawn from the imports (tools/import_graph.py),
 a light ``import cshape``, one line naming the extra when a layer's dependency is missing, the
-command line's one static registry, and the old module names still importable."""
+command line's one static registry, and the public names that issues fixed."""
 
 from __future__ import annotations
 
@@ -118,21 +118,14 @@ def test_the_command_line_has_one_static_registry():
     assert "__import__" not in src and "importlib" not in src
 
 
-@pytest.mark.parametrize("old, new", [
-    ("cshape.viewer", "cshape.plots.viewer"),
-    ("cshape.widgets", "cshape.plots.widgets"),
-    ("cshape.variants", "cshape.data.variants"),
-    ("cshape.creatures", "cshape.data.creatures"),
-    ("cshape.teaching", "cshape.course.teaching"),
-    ("cshape.notebooks_run", "cshape.course.lessons"),
-    ("cshape.assignments", "cshape.course.assignments"),
-    ("cshape.commands", "cshape.cli.explore"),
-])
-def test_old_module_names_still_import_with_a_deprecation_warning(old, new):
+@pytest.mark.parametrize("old", ["cshape.viewer", "cshape.widgets", "cshape.creatures",
+                                 "cshape.teaching", "cshape.notebooks_run",
+                                 "cshape.assignments", "cshape.commands"])
+def test_no_alias_machinery_for_module_names_no_issue_fixed(old):
+    # the package was never released: the layers' modules have one name each
     sys.modules.pop(old, None)
-    with pytest.warns(DeprecationWarning, match=f"{old} moved to {new}"):
-        mod = importlib.import_module(old)
-    assert mod is importlib.import_module(new)
+    with pytest.raises(ModuleNotFoundError, match=old.replace(".", r"\.")):
+        importlib.import_module(old)
 
 
 def test_public_names_that_issues_fixed_still_work():

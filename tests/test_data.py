@@ -62,7 +62,7 @@ TINY = {
     "items": [
         {"name": "s", "label": "sphere", "recipe": "sphere", "params": {"subdiv": 2}},
         {"name": "n", "label": "sphere", "recipe": "noise", "base": "tiny/s", "seed": 3,
-         "params": {"lam": 1.0}},
+         "params": {"amplitude": 1.0}},
     ],
 }
 
@@ -112,8 +112,8 @@ def test_articulated_manifest_has_classes_and_poses():
 
 
 def test_noisy_manifest_uses_the_papers_levels():
-    lams = {it["params"]["lam"] for it in data.info("noisy")["items"]}
-    assert set(v.NOISE_LEVELS) <= lams
+    levels = {it["params"]["amplitude"] for it in data.info("noisy")["items"]}
+    assert set(v.NOISE_LEVELS) <= levels
 
 
 def _bad(shipped, mutate):

@@ -155,17 +155,29 @@ def test_assembly_equals_the_textbook_loop_on_open_and_nonmanifold_meshes(seed):
 
 
 def test_assembly_of_an_unrepaired_mesh_with_a_collapsed_face():
-    # assemble() is public and skips repair: a face (0, 0, 5) and a duplicate face keep the
+    # _assemble() skips repair: a face (0, 0, 5) and a duplicate face keep the
     # old COO-sum result (A: zero row sums; B: the collapsed face's |t| = 0 after
     # mollification is tiny, the duplicate counts twice)
     m = shapes.icosphere(1)
     F = np.vstack([m.faces, m.faces[:2], [[0, 0, 5]]])
     with pytest.warns(cshape.CShapeWarning, match="mollified"):
         pass_mesh = cshape.Mesh(m.vertices, F)
-        A, B, eps, nbad = cshape.fem.assemble(pass_mesh)
-        cshape.fem.fem(pass_mesh, repair=False)
+        A, B, eps, nbad = cshape.fem._assemble(pass_mesh)
+        cshape.fem._problem(pass_mesh, repair=False)
     assert eps > 0 and nbad == 1
     np.testing.assert_allclose(np.asarray(A.sum(axis=1)).ravel(), 0, atol=1e-9 * abs(A).max())
     assert B.sum() == pytest.approx(cshape.fem._heron(
         cshape.fem._edge_lengths(pass_mesh) + eps).sum(), rel=1e-12)
     assert (np.diff(A.indptr) > 0).all() and A.has_sorted_indices
+
+
+def test_fem_matrices_is_the_one_public_way_to_get_A_and_B():
+    assert cshape.fem.__all__ == ["fem_matrices"]
+    assert cshape.fem_matrices is cshape.fem.fem_matrices
+    for old in ("fem", "assemble", "FEM"):
+        assert not hasattr(cshape.fem, old), old
+    # the private problem behind it gives the same matrices
+    mesh = shapes.icosphere(2)
+    A, B = cshape.fem_matrices(mesh)
+    problem = cshape.fem._problem(mesh)
+    assert (A != problem.A).nnz == 0 and (B != problem.B).nnz == 0

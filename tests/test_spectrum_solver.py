@@ -59,7 +59,7 @@ def test_sparse_path_agrees_with_dense_lapack(sparse_path, mesh, kw):
     assert np.max(np.abs(lam - lam_ref) / scale) < 1e-9
     # same invariant subspace: the projection of the dense vectors on ours is complete
     K, B = _KB(mesh, **kw)
-    free = cshape.fem.fem(mesh, **kw).free
+    free = cshape.fem._problem(mesh, **kw).free
     overlap = phi[free].T @ B @ phi_ref
     # the last cluster may be cut by N: compare the first 50 directions only
     np.testing.assert_allclose(np.linalg.svd(overlap[:, :50], compute_uv=False), 1.0, atol=1e-7)

@@ -35,7 +35,7 @@ from cshape._checks import (
 )
 from cshape.batch import DescriptorTable, describe
 from cshape.compare import DESCRIPTOR_KINDS, descriptor_matrix, descriptor_size
-from cshape.fem import fem
+from cshape.fem import _problem as fem
 from cshape.index import DescriptorIndex
 from cshape.spectrum import solve_eigenproblem, solver_threads
 
@@ -743,9 +743,13 @@ VARIANTS = [
                  ValueError, r"iterations must be an integer in \[0, 8\]", id="subdivide-9"),
     pytest.param(lambda: _variants().subdivide(shapes.icosphere(2), iterations=True), {},
                  TypeError, "iterations must be an integer", id="subdivide-bool"),
-    *[pytest.param(lambda lam: _variants().add_normal_noise(shapes.icosphere(1), lam=lam),
-                   dict(lam=lam), ValueError, r"lam must be a number >= 0", id=f"noise-{lam!r}")
-      for lam in [np.inf, np.nan, -1.0, True, "1"]],
+    *[pytest.param(lambda a: _variants().add_normal_noise(shapes.icosphere(1), amplitude=a),
+                   dict(a=a), ValueError, r"amplitude must be a finite number >= 0",
+                   id=f"noise-{a!r}")
+      for a in [np.inf, np.nan, -1.0]],
+    *[pytest.param(lambda a: _variants().add_normal_noise(shapes.icosphere(1), amplitude=a),
+                   dict(a=a), TypeError, r"amplitude must be a real number", id=f"noise-{a!r}")
+      for a in [True, "1"]],
     *[pytest.param(lambda expr: _variants().marching_cubes(expr, (-1, -1, -1, 1, 1, 1), 0.1),
                    dict(expr=expr), ValueError,
                    rf"expr .* is not a valid muparser expression.*{match}", id=f"mc-{expr}")

@@ -20,13 +20,13 @@ def test_sphere_vertex_counts_and_radius(subdiv, n):
 
 
 def test_torus_genus_one():
-    m = v.torus(R=1.0, r=0.4, n_major=32, n_minor=16)
+    m = v.torus(32, 16, 1.0, 0.4)
     assert m.n_vertices == 32 * 16
     assert m.is_closed and m.genus == 1
 
 
 def test_cube_midpoint_subdivision():
-    m = v.cube(size=2.0, subdiv=3)
+    m = v.cube(3, 2.0)
     assert m.n_vertices == 6 * 4**3 + 2 and m.n_faces == 12 * 4**3
     assert m.is_closed and m.genus == 0
     assert m.area == pytest.approx(24.0)
@@ -163,17 +163,17 @@ def test_noise_levels_are_the_papers():
     assert v.NOISE_LEVELS == (0.5, 1.0, 2.0, 4.0, 10.0)
 
 
-@pytest.mark.parametrize("lam", v.NOISE_LEVELS)
-def test_noise_bounded_and_along_outward_normals(lam):
+@pytest.mark.parametrize("amplitude", v.NOISE_LEVELS)
+def test_noise_bounded_and_along_outward_normals(amplitude):
     m = v.sphere(3)
     L = m.mean_edge_length
-    noisy = v.add_normal_noise(m, lam, random_state=1)
+    noisy = v.add_normal_noise(m, amplitude, random_state=1)
     d = noisy.vertices - m.vertices
     n = v.vertex_normals(m)
     along = np.einsum("ij,ij->i", d, n)
-    assert np.all(along >= 0) and np.all(along <= lam * L)
+    assert np.all(along >= 0) and np.all(along <= amplitude * L)
     np.testing.assert_allclose(np.cross(d, n), 0, atol=1e-12)  # only along the normal
-    assert along.max() > 0.8 * lam * L  # uses the range
+    assert along.max() > 0.8 * amplitude * L  # uses the range
     np.testing.assert_array_equal(noisy.faces, m.faces)
 
 
@@ -199,7 +199,7 @@ def test_noise_signed_and_zero():
     s = v.add_normal_noise(m, 1.0, 0, signed=True)
     r = np.linalg.norm(s.vertices, axis=1)
     assert r.min() < 1 < r.max()
-    with pytest.raises(ValueError, match="lam must be a number >= 0"):
+    with pytest.raises(ValueError, match="amplitude must be a finite number >= 0"):
         v.add_normal_noise(m, -1.0)
 
 
@@ -261,3 +261,55 @@ def test_signatures_and_descriptors_share_one_zero_tolerance():
     lam = np.array([0.5 * ZERO_RTOL, 1.0, 2.0, 3.0])
     assert count_zero_modes(lam) == 1
     assert s._nonzero(lam).tolist() == [False, True, True, True]
+
+
+@pytest.mark.parametrize("make_shapes, make_variants, error, match", [
+    (lambda: shapes.torus(R="a"), lambda: v.torus(R="a"), TypeError, "R must be a real number"),
+    (lambda: shapes.torus(n_major=2.5), lambda: v.torus(n_major=2.5), TypeError,
+     "n_major must be an integer"),
+    (lambda: shapes.torus(n_minor=2), lambda: v.torus(n_minor=2), ValueError,
+     r"n_minor must be an integer in \[3, "),
+    (lambda: shapes.torus(r=-1.0), lambda: v.torus(r=-1.0), ValueError,
+     "r must be a positive finite number"),
+    (lambda: shapes.cube(size="1"), lambda: v.cube(size="1"), TypeError,
+     "size must be a real number"),
+    (lambda: shapes.cube(size=float("inf")), lambda: v.cube(size=float("inf")), ValueError,
+     "size must be a positive finite number"),
+])
+def test_the_same_bad_argument_gets_the_same_error_in_shapes_and_variants(
+        make_shapes, make_variants, error, match):
+    with pytest.raises(error, match=match):
+        make_shapes()
+    with pytest.raises(error, match=match):
+        make_variants()
+
+
+@pytest.mark.parametrize("name, ours, theirs", [
+    ("torus", ["n_major", "n_minor", "R", "r"], ["n_major", "n_minor", "R", "r"]),
+    ("cube", ["n", "size"], ["subdiv", "size"]),  # resolution first, then the edge length
+])
+def test_shapes_and_variants_take_the_same_shape_in_one_argument_order(name, ours, theirs):
+    import inspect
+
+    assert list(inspect.signature(getattr(shapes, name)).parameters) == ours
+    assert list(inspect.signature(getattr(v, name)).parameters) == theirs
+
+
+def test_torus_and_cube_by_position():
+    t = v.torus(12, 6, 2.0, 0.5)
+    assert t.n_vertices == 12 * 6
+    np.testing.assert_allclose(np.hypot(t.vertices[:, 0], t.vertices[:, 1]).max(), 2.5,
+                               rtol=1e-6)
+    c = v.cube(1, 3.0)
+    assert c.n_vertices == 6 * 4 + 2 and c.area == pytest.approx(6 * 3.0**2)
+
+
+def test_add_normal_noise_takes_amplitude_and_lam_is_gone():
+    m = v.sphere(1)
+    a = v.add_normal_noise(m, amplitude=2.0, random_state=3)
+    b = v.add_normal_noise(m, 2.0, 3)
+    np.testing.assert_array_equal(a.vertices, b.vertices)
+    with pytest.raises(TypeError, match="lam"):
+        v.add_normal_noise(m, lam=2.0)
+    with pytest.raises(TypeError, match="signed must be True or False"):
+        v.add_normal_noise(m, 1.0, signed="yes")

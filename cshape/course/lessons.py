@@ -16,7 +16,7 @@ The HTML pages work offline: equations are typeset by a copy of MathJax 2.7 next
 (``mathjax/``, from the ``jupyter-server-mathjax`` package, see :func:`offline_mathjax`), and
 the kernels draw plotly figures with plotly.js embedded in the page (``PLOTLY_RENDERER`` is
 ``plotly_mimetype+notebook``: JupyterLab's renderer for the ``.ipynb``, embedded HTML for the
-page), so the 3-D viewers of :mod:`cshape.viewer` turn and slide without a network or kernel.
+page), so the 3-D viewers of :mod:`cshape.plots.viewer` turn and slide without a network or kernel.
 """
 
 from __future__ import annotations
@@ -109,7 +109,7 @@ def stderr_outputs(nb) -> list[str]:
 
 def default_notebook_dir() -> Path:
     """The lessons: ``notebooks/`` of a source checkout, or the package data
-    ``cshape/lessons`` of an installed cshape (see :func:`cshape.assignments.lessons_dir`)."""
+    ``cshape/lessons`` of an installed cshape (see :func:`cshape.course.assignments.lessons_dir`)."""
     from .assignments import lessons_dir
 
     return lessons_dir()

@@ -157,7 +157,7 @@ RECIPES = {
     "remesh": "cshape.variants.remesh (base mesh)",
     "subdivide": "cshape.variants.subdivide (base mesh)",
     "noise": "cshape.variants.add_normal_noise (base mesh, seed -> random_state)",
-    "creature": "cshape.creatures.creature (seed -> random_state)",
+    "creature": "cshape.data.creatures.creature (seed -> random_state)",
     "pose-template": "cshape.data.poses.pose_template",
     "pose": "cshape.data.poses.pose (base: the template, seed -> random_state)",
     "identity": "cshape.data.suite.identity_pose (seed -> random_state: the identity)",

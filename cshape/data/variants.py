@@ -10,7 +10,7 @@ The paper's experiments (Section 3) compare a shape with versions of itself:
 * near-isometric poses of an articulated figure (:func:`articulated_figure`: an implicit union
   of capsules whose joint angles change, meshed by marching cubes and remeshed);
 * noisy copies, each vertex moved along its outward normal by a uniform random amount of at
-  most ``lam * L`` (Section 3.3, :func:`add_normal_noise`).
+  most ``amplitude * L`` (Section 3.3, :func:`add_normal_noise`).
 
 Every function returns a :class:`cshape.Mesh` and accepts a ``Mesh`` or a ``(vertices,
 faces)`` pair.  Everything is deterministic: PyMeshLab's filters used here are, and the
@@ -20,14 +20,15 @@ random choices take a ``random_state``.  Cached, named collections of these shap
 
 from __future__ import annotations
 
-import numbers
 import warnings
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
-from .._checks import check_choice, check_int, check_real
-from ..mesh import CShapeWarning, Mesh, as_mesh, repair_mesh
+from .._checks import check_bool, check_choice, check_int, check_real
+from ..mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
 __all__ = [
     "ARTICULATED_KINDS",
@@ -49,7 +50,7 @@ __all__ = [
     "vertex_normals",
 ]
 
-#: The noise levels ``lam`` of Section 3.3 (maximum displacement ``lam * L``).
+#: The noise levels ``amplitude`` of Section 3.3 (maximum displacement ``amplitude * L``).
 NOISE_LEVELS = (0.5, 1.0, 2.0, 4.0, 10.0)
 
 #: The classes of :func:`articulated_figure`.
@@ -89,7 +90,7 @@ def _check_pos(name: str, value: object) -> float:
 
 
 # ---------------------------------------------------------------------- primitives
-def sphere(subdiv=4, radius=1.0) -> Mesh:
+def sphere(subdiv: int = 4, radius: float = 1.0) -> Mesh:
     """Icosphere from PyMeshLab's ``create_sphere``: ``10 * 4**subdiv + 2`` vertices.
 
     Parameters
@@ -111,41 +112,47 @@ def sphere(subdiv=4, radius=1.0) -> Mesh:
     return _from_meshset(ms, what="create_sphere")
 
 
-def torus(R=1.0, r=0.4, n_major=64, n_minor=32) -> Mesh:
+def torus(n_major: int = 64, n_minor: int = 32, R: float = 1.0, r: float = 0.4) -> Mesh:
     """Torus of revolution from PyMeshLab's ``create_torus`` (genus 1).
+
+    The arguments come in the order of :func:`cshape.shapes.torus` (resolution first, then
+    lengths, as every shape builder).
 
     Parameters
     ----------
-    R, r : float, default=1.0, 0.4
-        Major radius and tube radius, ``0 < r < R``.
     n_major, n_minor : int, default=64, 32
         Subdivisions around the axis and around the tube; ``n_major * n_minor`` vertices.
+    R, r : float, default=1.0, 0.4
+        Major radius and tube radius, ``0 < r < R``.
     """
+    n_major = _check_int("n_major", n_major, 3, 4096)
+    n_minor = _check_int("n_minor", n_minor, 3, 4096)
     R, r = _check_pos("R", R), _check_pos("r", r)
     if not r < R:
         raise ValueError(f"torus needs 0 < r < R, got R={R}, r={r}; pass a smaller tube radius")
-    n_major = _check_int("n_major", n_major, 3, 4096)
-    n_minor = _check_int("n_minor", n_minor, 3, 4096)
     ms = _meshset()
     ms.create_torus(hradius=R, vradius=r, hsubdiv=n_major, vsubdiv=n_minor)
     return _from_meshset(ms, what="create_torus")
 
 
-def cube(size=1.0, subdiv=4) -> Mesh:
+def cube(subdiv: int = 4, size: float = 1.0) -> Mesh:
     """Cube from PyMeshLab's ``create_cube``, refined by ``subdiv`` midpoint subdivisions.
 
     Midpoint subdivision keeps the faces flat and the edges sharp; the mesh has
     ``12 * 4**subdiv`` triangles and ``6 * 4**subdiv + 2`` vertices (1538 at 4, 6146 at 5).
 
+    The arguments come in the order of :func:`cshape.shapes.cube` (resolution first, then
+    the edge length).
+
     Parameters
     ----------
-    size : float, default=1.0
-        Edge length; the cube is centred at the origin.
     subdiv : int, default=4
         Number of midpoint subdivisions, 0 to 7.
+    size : float, default=1.0
+        Edge length; the cube is centred at the origin.
     """
-    size = _check_pos("size", size)
     subdiv = _check_int("subdiv", subdiv, 0, 7)
+    size = _check_pos("size", size)
     ms = _meshset()
     ms.create_cube(size=size)
     if subdiv:
@@ -160,7 +167,8 @@ def _smooth_min(a: str, b: str, k: float) -> str:
     return f"(min({a},{b})-{h}*{h}*{k}/4)"
 
 
-def eight(voxelsize=0.02, target_vertices=4000, *, R=0.6, r=0.22, separation=1.1) -> Mesh:
+def eight(voxelsize: float = 0.02, target_vertices: int | None = 4000, *, R: float = 0.6,
+          r: float = 0.22, separation: float = 1.1) -> Mesh:
     """A genus-2 "eight": two tori blended into one (the paper's "E"), remeshed.
 
     The implicit surface ``smin(torus(x + s/2), torus(x - s/2)) = 0`` (a smooth union of two
@@ -202,7 +210,7 @@ def eight(voxelsize=0.02, target_vertices=4000, *, R=0.6, r=0.22, separation=1.1
 
 
 # ---------------------------------------------------------------------- marching cubes
-def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
+def marching_cubes(expr: str, bbox: Sequence[float], voxelsize: float = 0.02) -> Mesh:
     """Mesh the zero level set of an implicit function with PyMeshLab's marching cubes.
 
     Wraps ``create_implicit_surface``.  Its output is a typical marching-cubes mesh: closed
@@ -276,7 +284,8 @@ def marching_cubes(expr: str, bbox, voxelsize=0.02) -> Mesh:
 
 # ---------------------------------------------------------------------- remeshing
 def remesh(
-    mesh, target_length=None, *, target_vertices=None, iterations=10, feature_angle=90.0
+    mesh: MeshLike, target_length: float | None = None, *, target_vertices: int | None = None,
+    iterations: int = 10, feature_angle: float = 90.0
 ) -> Mesh:
     """Isotropic explicit remeshing (PyMeshLab ``meshing_isotropic_explicit_remeshing``).
 
@@ -349,7 +358,7 @@ def remesh(
     return _from_meshset(ms, what="isotropic remeshing")
 
 
-def subdivide(mesh, iterations=1, method="loop") -> Mesh:
+def subdivide(mesh: MeshLike, iterations: int = 1, method: str = "loop") -> Mesh:
     """Refine a mesh by splitting every edge (about 4x the vertices per iteration).
 
     Parameters
@@ -422,7 +431,7 @@ class Capsule:
         )
 
 
-def capsules_expression(capsules, *, cutoff=None) -> str:
+def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = None) -> str:
     """Implicit function of the union of capsules: the minimum of their signed distances.
 
     Parameters
@@ -472,7 +481,8 @@ def _limb(start, dirs, lengths, radius):
     return out
 
 
-def figure_capsules(kind: str, random_state=None) -> list[Capsule]:
+def figure_capsules(kind: str, random_state: int | np.random.Generator | None = None
+                    ) -> list[Capsule]:
     """The capsules of an articulated figure in a pose drawn from ``random_state``.
 
     Every class has fixed bone lengths and radii; a pose only changes joint angles, drawn
@@ -560,7 +570,8 @@ def _bend(v, deg, towards):
 
 
 def articulated_figure(
-    kind="human", random_state=0, *, voxelsize=0.02, target_vertices=3000
+    kind: str = "human", random_state: int | np.random.Generator | None = 0, *,
+    voxelsize: float = 0.02, target_vertices: int | None = 3000
 ) -> Mesh:
     """A pose of an articulated figure: union of capsules, marching cubes, isotropic remesh.
 
@@ -593,7 +604,7 @@ def articulated_figure(
 
 
 # ---------------------------------------------------------------------- noise (Section 3.3)
-def vertex_normals(mesh) -> np.ndarray:
+def vertex_normals(mesh: MeshLike) -> NDArray[np.float64]:
     """Outward unit vertex normals, shape (n, 3): area-weighted means of the face normals.
 
     The faces' orientation is taken as given; for a closed mesh with negative signed volume
@@ -614,25 +625,30 @@ def vertex_normals(mesh) -> np.ndarray:
     return np.divide(N, norm, out=np.zeros_like(N), where=norm > 0)
 
 
-def add_normal_noise(mesh, lam=1.0, random_state=None, *, signed=False, length=None) -> Mesh:
-    """Section 3.3's noise: move every vertex along its outward normal by up to ``lam * L``.
+def add_normal_noise(mesh: MeshLike, amplitude: float = 1.0,
+                     random_state: int | np.random.Generator | None = None, *,
+                     signed: bool = False, length: float | None = None) -> Mesh:
+    """Section 3.3's noise: move every vertex along its outward normal by up to ``amplitude * L``.
 
     Vertex ``i`` moves to ``v_i + d_i n_i`` with ``n_i`` its outward unit normal
     (:func:`vertex_normals`) and ``d_i`` drawn independently and uniformly from
-    ``[0, lam * L]``, where ``L`` is the mean edge length of the *original* mesh.  The paper
-    says "a random noise up to a maximum distance of lam x L along the outward normal
-    direction"; cshape reads this as a magnitude in ``[0, lam L]`` along the outward normal
-    (``signed=False``, the default).  ``signed=True`` draws from ``[-lam L, lam L]`` instead.
+    ``[0, amplitude * L]``, where ``L`` is the mean edge length of the *original* mesh.  The
+    paper says "a random noise up to a maximum distance of lambda x L along the outward normal
+    direction"; its lambda is ``amplitude`` here (``lam`` names eigenvalues only).  cshape reads
+    this as a magnitude in ``[0, amplitude L]`` along the outward normal (``signed=False``, the
+    default).  ``signed=True`` draws from ``[-amplitude L, amplitude L]`` instead.
 
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
-    lam : float, default=1.0
-        Noise level ``lam >= 0``; the paper uses 0.5, 1, 2, 4 and 10 (:data:`NOISE_LEVELS`).
+    amplitude : float, default=1.0
+        The paper's noise level ``>= 0``: the largest displacement as a fraction of the mean
+        edge length ``L``; the paper uses 0.5, 1, 2, 4 and 10 (:data:`NOISE_LEVELS`).
     random_state : int, numpy.random.Generator or None
         Seed; the same seed gives the same noisy mesh.
     signed : bool, default=False
-        Draw from ``[-lam L, lam L]`` (in and out) instead of ``[0, lam L]`` (out only).
+        Draw from ``[-amplitude L, amplitude L]`` (in and out) instead of ``[0, amplitude L]``
+        (out only).
     length : float, optional
         Use this ``L`` instead of the mesh's mean edge length.
 
@@ -640,21 +656,27 @@ def add_normal_noise(mesh, lam=1.0, random_state=None, *, signed=False, length=N
     -------
     Mesh
         Same faces, displaced vertices.
+
+    Raises
+    ------
+    TypeError
+        ``amplitude`` is not a real number.
+    ValueError
+        ``amplitude`` is negative, NaN or infinite.
     """
     mesh = as_mesh(mesh)
-    if (isinstance(lam, bool) or not isinstance(lam, numbers.Real) or not lam >= 0
-            or not np.isfinite(lam)):
-        raise ValueError(f"lam must be a number >= 0 (the paper uses {NOISE_LEVELS}), got {lam!r}")
+    amplitude = check_real("amplitude", amplitude, min=0.0)
+    signed = check_bool("signed", signed)
     L = mesh.mean_edge_length if length is None else _check_pos("length", length)
     rng = np.random.default_rng(random_state)
-    lo = -lam * L if signed else 0.0
-    d = rng.uniform(lo, lam * L, size=mesh.n_vertices)
+    lo = -amplitude * L if signed else 0.0
+    d = rng.uniform(lo, amplitude * L, size=mesh.n_vertices)
     V = mesh.vertices + d[:, None] * vertex_normals(mesh)
     return Mesh(V, mesh.faces)
 
 
 # ---------------------------------------------------------------------- mesh quality
-def triangle_angles(mesh) -> np.ndarray:
+def triangle_angles(mesh: MeshLike) -> NDArray[np.float64]:
     """Interior angles of every triangle in degrees, shape (m, 3), angle ``k`` at corner ``k``.
 
     A zero-area triangle has angles 0, 0, 180 (or 0 where two vertices coincide).
@@ -672,7 +694,7 @@ def triangle_angles(mesh) -> np.ndarray:
     return out
 
 
-def mesh_quality(mesh) -> dict:
+def mesh_quality(mesh: MeshLike) -> dict[str, float]:
     """Triangle-quality figures of a mesh (e.g. the paper's "CM" versus "CS").
 
     Parameters

@@ -14,7 +14,7 @@
 * :func:`plot_matrices`          - a row of distance / difference images (Fig. 3, 6, 7);
 * :func:`plot_m_sweep`           - the panels of the M-sweep widget (Section 3.2, Fig. 6).
 
-The interactive 3-D views (plotly) live in :mod:`cshape.viewer` and are re-exported here:
+The interactive 3-D views (plotly) live in :mod:`cshape.plots.viewer` and are re-exported here:
 :func:`view_mesh`, :func:`view_meshes` and :func:`eigenfunction_explorer` (a slider over the
 eigenfunctions).  :func:`plot_mesh` and :func:`plot_eigenfunctions` are their static
 counterparts, for PDF export and print.
@@ -485,7 +485,7 @@ def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", 
 
 # ------------------------------------------------------------------------------ M sweep
 def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
-    """The panels of the M-sweep widget for one :class:`cshape.widgets.SweepState`.
+    """The panels of the M-sweep widget for one :class:`cshape.plots.widgets.SweepState`.
 
     Top row: the cropped DFT coefficients (Eq. 10) of one shape over its full shifted
     spectrum, the reconstruction of its Weyl-subtracted Shape-DNA from them, and the 2-D MDS
@@ -495,8 +495,8 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
 
     Parameters
     ----------
-    state : cshape.widgets.SweepState
-        From :func:`cshape.widgets.sweep_state`.
+    state : cshape.plots.widgets.SweepState
+        From :func:`cshape.plots.widgets.sweep_state`.
     shape : int, default=0
         Row of the shape whose coefficients and reconstruction are drawn.
     figsize : (float, float)

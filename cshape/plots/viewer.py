@@ -16,7 +16,7 @@ Why plotly: a ``Mesh3d`` figure is rendered by plotly.js in the browser, from JS
 slider is plotly's own (``layout.sliders`` stepping through ``frames``), so moving it needs
 no kernel: the same figure works in JupyterLab (plotly's lab extension, offline) and in the
 HTML that ``cshape notebooks`` exports, where plotly.js is embedded in the page (see
-:mod:`cshape.notebooks_run`).  Widget libraries (pythreejs, k3d, ipyvolume) need a live
+:mod:`cshape.course.lessons`).  Widget libraries (pythreejs, k3d, ipyvolume) need a live
 kernel or saved widget state plus their JavaScript from a CDN to show anything in static HTML.
 
 The pure functions behind the figures are tested directly: :func:`symmetric_limits` (colour

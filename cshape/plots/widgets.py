@@ -17,7 +17,8 @@ The logic is a chain of pure functions on eigenvalues, which the tests call dire
 Example
 -------
 >>> import cshape, numpy as np
->>> from cshape import shapes, widgets
+>>> from cshape import shapes
+>>> from cshape.plots import widgets
 >>> meshes = {"sphere": shapes.icosphere(2), "cube": shapes.cube(4)}
 >>> lams = [cshape.shape_dna(m, N=30) for m in meshes.values()]
 >>> st = widgets.sweep_state(lams, [m.area for m in meshes.values()], ["s", "c"], M=4, N=30)
@@ -297,7 +298,7 @@ class MSweep:
             bound = "2M+1 <= N" if tr == "weyl" else "2M+1 <= N-1"
             raise ValueError(
                 f"M must be in [0, {top}] for N = {N} ({bound}), got {M}; "
-                "clamp it with cshape.widgets.clamp_M(M, N, transform)"
+                "clamp it with cshape.plots.widgets.clamp_M(M, N, transform)"
             )
         M = int(M)
         key = (M, N, norm, tr)

@@ -264,7 +264,7 @@ def _compute_noise(records, table, out, run) -> dict:
     noisy_tables, pairs = {}, {}
     for lv in run.noise_levels:
         recs = [(f"{n}@{lv:g}", table.labels[table.index(n)],
-                 add_normal_noise(load_source(by_name[n]), lam=lv,
+                 add_normal_noise(load_source(by_name[n]), amplitude=lv,
                                   random_state=run.noise_seed))
                 for n in table.names]
         noisy_tables[lv] = describe(recs, **run.describe)
