@@ -45,7 +45,6 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import minimize
 
 from ._checks import check_bool, check_int, check_real
 from .fem import fem_matrices
@@ -206,7 +205,8 @@ class HeatGeodesics:
        mass of :func:`cshape.fem_matrices`);
     2. the unit field ``X = -grad u / |grad u|`` on every triangle (:func:`face_gradients`);
     3. the Poisson problem ``Delta phi = div X``: ``-A phi = G^T diag(|t|) X``, then
-       ``phi -= min over the sources``.
+       ``phi -= phi[source]`` (one source), or with ``phi = 0`` imposed at every source
+       (a set of sources, :meth:`distance`).
 
     ``t = m h^2`` with ``h`` the mean edge length (Crane et al.'s choice ``m = 1``).  The
     result converges to the geodesic distance as the mesh is refined (error about ``h``).
@@ -231,6 +231,7 @@ class HeatGeodesics:
         # the gradient; the distances are shifted to 0 at the sources afterwards
         K = (-A + 1e-10 * (-A).diagonal().mean() / B.diagonal().mean() * B).tocsc()
         self._poisson = spla.splu(K)
+        self._K = (-A).tocsr()
 
     def distances(self, sources: ArrayLike) -> NDArray[np.float64]:
         """One distance field per source vertex.
@@ -256,17 +257,29 @@ class HeatGeodesics:
         src = _check_indices("sources", sources, n)
         if src.size == 0:
             raise ValueError("sources is empty; pass at least one vertex index")
+        src = np.unique(src)
         rhs = np.zeros((n, 1))
         rhs[src, 0] = 1.0
-        return self._solve(self._B @ rhs, [list(range(len(src)))], src)[:, 0]
+        if len(src) == 1:
+            return self._solve(self._B @ rhs, [[0]], src)[:, 0]
+        # several sources: the Poisson problem with phi = 0 at every source (Dirichlet),
+        # so that no source is left at the error of another one
+        b = self._divergence(self._heat.solve(self._B @ rhs))[:, 0]
+        free = np.setdiff1d(np.arange(n), src)
+        phi = np.zeros(n)
+        phi[free] = spla.spsolve(self._K[free][:, free].tocsc(), b[free])
+        return np.maximum(phi, 0.0)
 
-    def _solve(self, rhs, groups, src):
-        u = self._heat.solve(rhs)
+    def _divergence(self, u):
+        """``G^T diag(|t|) X`` of the normalised field ``X = -grad u / |grad u|``."""
         nF = len(self.areas)
         g = (self.G @ u).reshape(nF, 3, -1)
         norm = np.linalg.norm(g, axis=1, keepdims=True)
         X = -g / np.where(norm > 0, norm, 1.0)
-        b = self.G.T @ (X * self.areas[:, None, None]).reshape(3 * nF, -1)
+        return self.G.T @ (X * self.areas[:, None, None]).reshape(3 * nF, -1)
+
+    def _solve(self, rhs, groups, src):
+        b = self._divergence(self._heat.solve(rhs))
         phi = self._poisson.solve(b)
         for j, members in enumerate(groups):
             phi[:, j] -= phi[src[members], j].min()
@@ -468,14 +481,16 @@ def _orientation_ops(mesh, phi, F):
     return np.array(ops)
 
 
-def functional_map(lam_source: ArrayLike, phi_source: ArrayLike, B_source,
-                   lam_target: ArrayLike, phi_target: ArrayLike, B_target,
+def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
+                   B_source: sp.spmatrix | ArrayLike,
+                   lam_target: ArrayLike, phi_target: ArrayLike,
+                   B_target: sp.spmatrix | ArrayLike,
                    desc_source: ArrayLike, desc_target: ArrayLike, *,
                    source: MeshLike | None = None, target: MeshLike | None = None,
                    descriptor_weight: float = DESCRIPTOR_WEIGHT,
                    laplacian_weight: float = LAPLACIAN_WEIGHT,
                    orientation_weight: float = ORIENTATION_WEIGHT,
-                   maxiter: int = 200) -> NDArray[np.float64]:
+                   maxiter: int = 1000) -> NDArray[np.float64]:
     """The functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
 
     Minimises (Ovsjanikov et al. 2012, Eq. 5-6; Ren et al. 2018, Eq. 8)
@@ -489,7 +504,8 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike, B_source,
     norm of its field).  Without the orientation term (``w_o = 0`` or no meshes) every row
     of ``C`` is an independent ridge regression, solved in closed form:
     ``(D_S D_S^T + w_l/w_d diag((lam_T,i - lam_S)^2)) c_i = D_S D_T[i]``.  With it the rows
-    couple, and L-BFGS (scipy) starts from the closed-form solution, as pyFM does.
+    couple; ``E`` stays a convex quadratic, minimised exactly by conjugate gradients on its
+    normal equations, started from the closed-form solution.
 
     Parameters
     ----------
@@ -504,8 +520,8 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike, B_source,
         The meshes; required for the orientation term (it needs the faces' orientation).
     descriptor_weight, laplacian_weight, orientation_weight : float
         ``w_d``, ``w_l``, ``w_o`` (>= 0).
-    maxiter : int, default=200
-        L-BFGS iterations.
+    maxiter : int, default=1000
+        Conjugate-gradient iterations (the orientation term only).
 
     Returns
     -------
@@ -551,24 +567,26 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike, B_source,
     OS = _orientation_ops(_check_mesh("source", source), pS, FS)
     OT = _orientation_ops(_check_mesh("target", target), pT, FT)
 
-    def energy(x):
+    # E is a convex quadratic in C: its minimiser solves the normal equations H vec(C) = r,
+    # solved by conjugate gradients from the closed-form solution without the orientation
+    def hess(x):
         X = x.reshape(kT, kS)
-        E1 = X @ DS - DT
         RO = np.einsum("ij,fjk->fik", X, OS) - np.einsum("fij,jk->fik", OT, X)
-        e = wd * np.sum(E1 * E1) + wl * np.sum(M * X * X) + wo * np.sum(RO * RO)
-        g = 2 * wd * E1 @ DS.T + 2 * wl * M * X
-        g += 2 * wo * (np.einsum("fik,fjk->ij", RO, OS) - np.einsum("fji,fjk->ik", OT, RO))
-        return e, g.ravel()
+        g = wd * X @ (DS @ DS.T) + wl * M * X + 1e-12 * X
+        g += wo * (np.einsum("fik,fjk->ij", RO, OS) - np.einsum("fji,fjk->ik", OT, RO))
+        return g.ravel()
 
-    res = minimize(energy, C.ravel(), jac=True, method="L-BFGS-B",
-                   options={"maxiter": maxiter})
-    return res.x.reshape(kT, kS)
+    op = spla.LinearOperator((kT * kS, kT * kS), matvec=hess, dtype=np.float64)
+    rhs = (wd * DT @ DS.T).ravel()
+    x, _info = spla.cg(op, rhs, x0=C.ravel(), rtol=1e-10, atol=0.0, maxiter=maxiter)
+    return x.reshape(kT, kS)
 
 
 # ---------------------------------------------------------------------- ZoomOut
 def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
-            B_target, k: int | None = None, *, step: int = 1,
-            sample: int | None = None, bijective: bool = False, B_source=None,
+            B_target: sp.spmatrix | ArrayLike, k: int | None = None, *, step: int = 1,
+            sample: int | None = None, bijective: bool = False,
+            B_source: sp.spmatrix | ArrayLike | None = None,
             random_state: int = 0) -> NDArray[np.float64]:
     """Spectral upsampling of a functional map (ZoomOut, Melzi et al. 2019, Algorithm 1).
 
@@ -671,7 +689,8 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
               n_descriptors: int = 100, orientation: bool = True,
               zoomout_steps: bool | int = True, landmarks: ArrayLike | None = None,
               bijective: bool = False, sample: int | None = 3000,
-              return_map: bool = False, random_state: int = 0):
+              return_map: bool = False, random_state: int = 0
+              ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
     """The one call: a vertex map between two meshes by functional maps and ZoomOut.
 
     1. ``k`` eigenpairs of each mesh (:func:`cshape.eigenpairs`);
