@@ -233,3 +233,22 @@ def test_functional_map_rejects_mismatched_descriptors(basis):
         cshape.functional_map(lam, phi, B, lam, phi, B, phi[:, :3], phi[:, :4])
     with pytest.raises(ValueError, match="lam_source .* must have one eigenvalue per column"):
         cshape.functional_map(lam[:5], phi, B, lam, phi, B, phi[:, :3], phi[:, :3])
+
+
+def test_the_orientation_term_tells_a_shape_from_its_mirror_image():
+    """A shape symmetric under z -> -z only: intrinsic descriptors cannot tell the identity
+    from the reflection; the orientation term of Ren et al. (2018) can."""
+    m = shapes.icosphere(3)
+    U = m.vertices
+    V = U * [1.0, 0.7, 0.5]
+    for c, a in (([1.0, 0.5, 0.0], 0.35), ([-0.5, -0.6, 0.0], 0.2)):
+        c = np.array(c) / np.linalg.norm(c)
+        V = V + a * np.exp(-np.sum((U - c) ** 2, axis=1) / 0.08)[:, None] * U
+    S = cshape.Mesh(V, m.faces)
+    mirror = np.array([np.argmin(np.linalg.norm(U - u * [1, 1, -1], axis=1)) for u in U])
+    assert (mirror != np.arange(len(U))).mean() > 0.9
+    p = cshape.point_map(S, S, k=K, k0=K0)
+    assert (p == np.arange(len(U))).mean() > 0.95
+    assert (p == mirror).mean() < 0.1
+    q = cshape.point_map(S, S, k=K, k0=K0, orientation=False)
+    assert (q == mirror).mean() > 0.3  # without it the reflection is as good a match
