@@ -386,7 +386,7 @@ def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
     """The vertex map of a functional map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
 
     Exact nearest neighbours in ``k_T`` dimensions by blocked dense matrix products
-    (k-d trees degrade to a scan above about 10 dimensions; see ``benchmarks/bench_maps.py``).
+    (k-d trees degrade to a scan above about 10 dimensions).
 
     Parameters
     ----------
