@@ -62,10 +62,11 @@ def generated_pairs():
             yield f"{kind} rest -> pose {seed}", rest, poses.posed_figure(kind, seed)
 
 
-def _same_faces(a, b):
-    """The same triangles (each face's vertices in any order): one connectivity."""
+def _same_faces(a, b, share=0.95):
+    """Most triangles in common (each face's vertices sorted): the poses of a TOSCA character
+    share their vertex numbering, and all but about 1 % of their faces."""
     fa, fb = np.sort(a.faces, axis=1), np.sort(b.faces, axis=1)
-    return fa.shape == fb.shape and np.array_equal(np.unique(fa, axis=0), np.unique(fb, axis=0))
+    return fa.shape == fb.shape and (fa == fb).all(axis=1).mean() >= share
 
 
 def tosca_pairs(characters=("cat", "dog", "wolf", "centaur")):
