@@ -62,9 +62,9 @@ def generated_pairs():
             yield f"{kind} rest -> pose {seed}", rest, poses.posed_figure(kind, seed)
 
 
-def _same_faces(a, b, share=0.95):
+def _same_faces(a, b, share=0.8):
     """Most triangles in common (each face's vertices sorted): the poses of a TOSCA character
-    share their vertex numbering, and all but about 1 % of their faces."""
+    share their vertex numbering and 83-99 % of their faces (sorted)."""
     fa, fb = np.sort(a.faces, axis=1), np.sort(b.faces, axis=1)
     return fa.shape == fb.shape and (fa == fb).all(axis=1).mean() >= share
 
