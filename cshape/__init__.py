@@ -18,6 +18,11 @@ The core is the method, one module per stage, in pipeline order (data flows one 
 6. :mod:`cshape.signatures`  - per-point signatures from :func:`eigenpairs`: :func:`hks`,
    :func:`wks`, :func:`si_hks`, :func:`heat_kernel`, :func:`heat_trace`, and
    :func:`match_points` (correspondence)
+7. :mod:`cshape.maps`        - maps between shapes: :func:`point_map` (the one call),
+   :func:`functional_map`, :func:`zoomout`, :func:`map_to_pointwise`,
+   :func:`pointwise_to_map`, :func:`transfer_function`; geodesics by the heat method:
+   :func:`geodesic_distance`, :class:`HeatGeodesics`, :func:`geodesic_errors`,
+   :func:`face_gradients`
 
 :mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, torus, ...).
 
@@ -66,6 +71,18 @@ from .descriptors import (
 )
 from .fem import fem_matrices
 from .index import DescriptorIndex
+from .maps import (
+    HeatGeodesics,
+    face_gradients,
+    functional_map,
+    geodesic_distance,
+    geodesic_errors,
+    map_to_pointwise,
+    point_map,
+    pointwise_to_map,
+    transfer_function,
+    zoomout,
+)
 from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
 from .readers import load_mesh
 from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
@@ -103,6 +120,16 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
+    "HeatGeodesics",
+    "face_gradients",
+    "functional_map",
+    "geodesic_distance",
+    "geodesic_errors",
+    "map_to_pointwise",
+    "point_map",
+    "pointwise_to_map",
+    "transfer_function",
+    "zoomout",
     "wks",
     "si_hks",
     "match_points",

@@ -287,3 +287,18 @@ def test_machine_summary_names_the_processor(monkeypatch, tmp_path):
     monkeypatch.setattr("builtins.open", fake_open)
     assert common.cpu_summary() == "Test CPU 9000, 2600 MHz, avx2"
     assert "cores (Test CPU 9000, 2600 MHz, avx2), " in common.machine_summary()
+
+
+def test_maps_measure_and_report(tmp_path, monkeypatch):
+    bm = _load("bench_maps")
+    monkeypatch.setattr(bm, "RESULTS", tmp_path)
+    import cshape
+
+    m = cshape.shapes.icosphere(2)
+    S = cshape.Mesh(m.vertices * [1.0, 0.7, 0.5] + 0.1 * m.vertices[:, :1] ** 2, m.faces)
+    res, eig_s = bm.measure(S, S, n=40)
+    assert set(res) == set(bm.METHODS) and eig_s > 0
+    assert all(0 <= w <= 1 and g >= 0 and s >= 0 for w, g, s in res.values())
+    text = bm.write_results([("a -> a", S.n_vertices, eig_s, res)], "maps_test", "--quick")
+    assert (tmp_path / "maps_test.md").read_text() == text + "\n"
+    assert text.count("| a -> a |") == len(bm.METHODS)

@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 CORE = ["mesh", "readers", "fem", "spectrum", "descriptors", "compare", "index", "signatures",
-        "shapes"]
+        "shapes", "maps"]
 ROOT = Path(__file__).resolve().parents[1]
 
 

@@ -1,0 +1,254 @@
+"""Stage 7, maps between shapes: heat-method geodesics against exact distances (sphere, plane),
+functional maps and ZoomOut recovering known vertex maps, and the argument checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import cshape
+from cshape import shapes
+
+K, K0 = 60, 20
+
+
+def _blob(subdivisions=3):
+    """An icosphere stretched to axes 1, 0.7, 0.5 with two bumps: no symmetry left."""
+    m = shapes.icosphere(subdivisions)
+    U = m.vertices
+    V = U * [1.0, 0.7, 0.5]
+    for c, a in (([0.6, 0.5, 0.3], 0.35), ([-0.5, -0.2, 0.4], 0.2)):
+        c = np.array(c) / np.linalg.norm(c)
+        V = V + a * np.exp(-np.sum((U - c) ** 2, axis=1) / 0.08)[:, None] * U
+    return cshape.Mesh(V, m.faces)
+
+
+def _rotation(ax, ay, az):
+    cx, sx, cy, sy, cz, sz = np.cos(ax), np.sin(ax), np.cos(ay), np.sin(ay), np.cos(az), np.sin(az)
+    Rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    Ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    Rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return Rz @ Ry @ Rx
+
+
+@pytest.fixture(scope="module")
+def blob():
+    return _blob()
+
+
+@pytest.fixture(scope="module")
+def shuffled(blob):
+    """The blob with its vertices permuted (faces re-indexed), rotated and moved: target
+    vertex ``y`` is source vertex ``perm[y]``."""
+    rng = np.random.default_rng(1)
+    perm = rng.permutation(blob.n_vertices)
+    inv = np.argsort(perm)
+    R = _rotation(0.5, -0.9, 1.2)
+    return cshape.Mesh(blob.vertices[perm] @ R.T + [1.0, 2.0, 3.0], inv[blob.faces]), perm
+
+
+@pytest.fixture(scope="module")
+def basis(blob):
+    lam, phi = cshape.eigenpairs(blob, K)
+    _, B = cshape.fem_matrices(blob)
+    return lam, phi, B
+
+
+# ---------------------------------------------------------------------- geodesics
+def _sphere_error(subdivisions):
+    m = shapes.icosphere(subdivisions)
+    X = m.vertices / np.linalg.norm(m.vertices, axis=1, keepdims=True)
+    exact = np.arccos(np.clip(X @ X[0], -1.0, 1.0))
+    d = cshape.geodesic_distance(m, 0)
+    assert d[0] == 0.0 and (d >= 0).all()
+    return np.abs(d - exact).mean() / np.pi
+
+
+def test_geodesic_distance_on_the_unit_sphere_is_the_great_circle_distance():
+    e3, e4 = _sphere_error(3), _sphere_error(4)
+    assert e4 < 0.03
+    assert e4 < e3  # converges as the mesh is refined
+
+
+def test_geodesic_distance_on_a_plane_is_the_euclidean_distance():
+    m = shapes.square(40)
+    V = m.vertices
+    c = int(np.argmin(np.linalg.norm(V[:, :2] - 0.5, axis=1)))
+    exact = np.linalg.norm(V - V[c], axis=1)
+    d = cshape.geodesic_distance(m, c)
+    inside = exact < 0.35  # away from the boundary
+    assert np.abs(d - exact)[inside].max() < 0.02
+    assert np.abs(d - exact)[inside].mean() < 0.01
+
+
+def test_heat_geodesics_distances_are_symmetric_and_the_set_distance_is_their_minimum(blob):
+    geo = cshape.HeatGeodesics(blob)
+    src = np.array([0, 100, 400])
+    D = geo.distances(src)
+    assert D.shape == (blob.n_vertices, 3)
+    # d(a, b) ~ d(b, a): the method is not symmetric exactly, to within its error
+    scale = np.sqrt(blob.area)
+    assert abs(D[100, 0] - D[0, 1]) < 0.05 * scale
+    d = geo.distance(src)
+    assert np.all(d[src] == 0)
+    assert np.abs(d - D.min(axis=1)).mean() < 0.02 * scale
+    assert np.abs(d - D.min(axis=1)).max() < 0.1 * scale
+
+
+def test_geodesic_errors_are_zero_for_the_truth_and_the_distance_otherwise(blob):
+    n = blob.n_vertices
+    v = np.arange(0, n, 50)
+    assert np.all(cshape.geodesic_errors(blob, np.arange(n), vertices=v) == 0)
+    wrong = np.full(n, 7)
+    geo = cshape.HeatGeodesics(blob)
+    err = cshape.geodesic_errors(blob, wrong, vertices=v, geodesics=geo)
+    np.testing.assert_allclose(err, geo.distances(v)[7, :], rtol=1e-12)
+
+
+# ---------------------------------------------------------------------- maps
+def test_functional_map_of_identical_bases_is_the_identity(blob, basis):
+    lam, phi, B = basis
+    wks = cshape.wks(lam, phi, n_energies=100, area=blob.area)[:, ::5]
+    for kw in ({"orientation_weight": 0.0}, {"source": blob, "target": blob}):
+        C = cshape.functional_map(lam[:K0], phi[:, :K0], B, lam[:K0], phi[:, :K0], B, wks, wks,
+                                  **kw)
+        assert C.shape == (K0, K0)
+        np.testing.assert_allclose(np.abs(np.diag(C)), 1.0, atol=1e-3)
+        assert np.abs(C - np.diag(np.diag(C))).max() < 1e-3
+        p = cshape.map_to_pointwise(C, phi[:, :K0], phi[:, :K0])
+        assert (p == np.arange(blob.n_vertices)).mean() > 0.99
+
+
+def test_point_map_of_a_mesh_to_itself_is_the_identity(blob):
+    p = cshape.point_map(blob, blob, k=K, k0=K0)
+    assert p.shape == (blob.n_vertices,) and p.dtype == np.int64
+    assert (p == np.arange(blob.n_vertices)).mean() > 0.95
+
+
+@pytest.mark.parametrize("options", [{}, {"orientation": False}, {"zoomout_steps": False},
+                                     {"bijective": True}])
+def test_point_map_recovers_a_permutation_and_a_rigid_motion(blob, shuffled, options):
+    target, perm = shuffled
+    p, C = cshape.point_map(blob, target, k=K, k0=K0, return_map=True, **options)
+    assert p.shape == (target.n_vertices,)
+    assert C.shape == ((K, K) if options.get("zoomout_steps", True) else (K0, K0))
+    assert (p == perm).mean() > 0.9
+
+
+def test_pointwise_to_map_and_back(blob, shuffled, basis):
+    target, perm = shuffled
+    _, phiS, _ = basis
+    _, phiT = cshape.eigenpairs(target, K)
+    _, BT = cshape.fem_matrices(target)
+    C = cshape.pointwise_to_map(perm, phiS, phiT, BT)
+    # the exact map is an isometry: C is orthogonal (up to the truncation), |C_ii| ~ 1
+    assert np.abs(C[:K0, :K0].T @ C[:K0, :K0] - np.eye(K0)).max() < 0.05
+    p = cshape.map_to_pointwise(C, phiS, phiT)
+    assert (p == perm).mean() > 0.95
+
+
+def test_zoomout_keeps_a_good_map_and_grows_it(blob, basis):
+    _, phi, B = basis
+    C = cshape.zoomout(np.eye(K0), phi, phi, B, K)
+    assert C.shape == (K, K)
+    np.testing.assert_allclose(C, np.eye(K), atol=1e-8)
+
+
+def test_transfer_function_carries_smooth_functions(blob, shuffled, basis):
+    target, perm = shuffled
+    _, phiS, BS = basis
+    _, phiT = cshape.eigenpairs(target, K)
+    _, BT = cshape.fem_matrices(target)
+    f = blob.vertices[:, 0] + 0.5 * blob.vertices[:, 1] ** 2  # smooth on the source
+    C = cshape.pointwise_to_map(perm, phiS, phiT, BT)
+    g = cshape.transfer_function(f, C, phiS, phiT, BS)
+    assert g.shape == (target.n_vertices,)
+    rel = np.linalg.norm(g - f[perm]) / np.linalg.norm(f)
+    assert rel < 0.05
+    # and back: the inverse map's C carries g to f
+    Cinv = cshape.pointwise_to_map(np.argsort(perm), phiT, phiS, BS)
+    back = cshape.transfer_function(g, Cinv, phiT, phiS, BT)
+    assert np.linalg.norm(back - f) / np.linalg.norm(f) < 0.05
+    # several functions at once
+    F = np.column_stack([f, 2 * f])
+    np.testing.assert_allclose(cshape.transfer_function(F, C, phiS, phiT, BS)[:, 1], 2 * g)
+
+
+# ---------------------------------------------------------------------- checks
+def test_point_map_rejects_what_is_not_a_mesh(blob):
+    with pytest.raises(TypeError, match="source"):
+        cshape.point_map("bunny.obj", blob)
+
+
+def test_point_map_rejects_a_mesh_with_unreferenced_vertices(blob):
+    V = np.vstack([blob.vertices, [[5.0, 5.0, 5.0]]])
+    with pytest.raises(ValueError, match=r"target has 1 duplicate or unreferenced.*repair_mesh"):
+        cshape.point_map(blob, (V, blob.faces))
+
+
+def test_point_map_rejects_bad_sizes(blob):
+    with pytest.raises(ValueError, match="k must be an integer >= 2, got 1"):
+        cshape.point_map(blob, blob, k=1)
+    with pytest.raises(TypeError, match="k must be an integer, got float"):
+        cshape.point_map(blob, blob, k=20.0)
+    with pytest.raises(ValueError, match=r"k0 must be an integer in \[2, 20\], got 30"):
+        cshape.point_map(blob, blob, k=20, k0=30)
+    with pytest.raises(ValueError, match="k=5000 is more than the vertices"):
+        cshape.point_map(blob, blob, k=5000)
+
+
+def test_point_map_rejects_bad_landmarks(blob):
+    with pytest.raises(ValueError, match=r"landmarks must have shape \(L, 2\)"):
+        cshape.point_map(blob, blob, landmarks=[1, 2, 3])
+    with pytest.raises(ValueError, match=r"landmarks\[:, 1\] holds vertex index 9999"):
+        cshape.point_map(blob, blob, landmarks=[[0, 9999]])
+    with pytest.raises(TypeError, match="landmarks must be integer vertex indices"):
+        cshape.point_map(blob, blob, landmarks=[[0.5, 1.0]])
+
+
+def test_maps_reject_a_C_larger_than_the_bases(basis):
+    _, phi, B = basis
+    with pytest.raises(ValueError, match=r"C has shape \(70, 70\), larger than the bases"):
+        cshape.map_to_pointwise(np.eye(70), phi, phi)
+    with pytest.raises(ValueError, match="C must have shape"):
+        cshape.transfer_function(phi[:, 0], np.ones(5), phi, phi, B)
+    with pytest.raises(ValueError, match=r"k must be an integer in \[20, 60\], got 10"):
+        cshape.zoomout(np.eye(K0), phi, phi, B, 10)
+
+
+def test_geodesics_reject_bad_sources(blob):
+    with pytest.raises(ValueError, match=r"sources holds vertex index -1"):
+        cshape.geodesic_distance(blob, -1)
+    with pytest.raises(TypeError, match="sources must be an integer array"):
+        cshape.geodesic_distance(blob, 0.5)
+    with pytest.raises(ValueError, match="sources is empty"):
+        cshape.geodesic_distance(blob, np.array([], dtype=int))
+    with pytest.raises(ValueError, match="m must be"):
+        cshape.HeatGeodesics(blob, m=0.0)
+
+
+def test_functional_map_rejects_mismatched_descriptors(basis):
+    lam, phi, B = basis
+    with pytest.raises(ValueError, match="desc_source has 3 descriptors and desc_target 4"):
+        cshape.functional_map(lam, phi, B, lam, phi, B, phi[:, :3], phi[:, :4])
+    with pytest.raises(ValueError, match="lam_source .* must have one eigenvalue per column"):
+        cshape.functional_map(lam[:5], phi, B, lam, phi, B, phi[:, :3], phi[:, :3])
+
+
+def test_the_orientation_term_tells_a_shape_from_its_mirror_image():
+    """A shape symmetric under z -> -z only: intrinsic descriptors cannot tell the identity
+    from the reflection; the orientation term of Ren et al. (2018) can."""
+    m = shapes.icosphere(3)
+    U = m.vertices
+    V = U * [1.0, 0.7, 0.5]
+    for c, a in (([1.0, 0.5, 0.0], 0.35), ([-0.5, -0.6, 0.0], 0.2)):
+        c = np.array(c) / np.linalg.norm(c)
+        V = V + a * np.exp(-np.sum((U - c) ** 2, axis=1) / 0.08)[:, None] * U
+    S = cshape.Mesh(V, m.faces)
+    mirror = np.array([np.argmin(np.linalg.norm(U - u * [1, 1, -1], axis=1)) for u in U])
+    assert (mirror != np.arange(len(U))).mean() > 0.9
+    p = cshape.point_map(S, S, k=K, k0=K0)
+    assert (p == np.arange(len(U))).mean() > 0.95
+    assert (p == mirror).mean() < 0.1
+    q = cshape.point_map(S, S, k=K, k0=K0, orientation=False)
+    assert (q == mirror).mean() > 0.3  # without it the reflection is as good a match
