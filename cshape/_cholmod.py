@@ -69,7 +69,7 @@ _CHOLMOD_REAL, _CHOLMOD_A = 1, 0
 
 @functools.cache
 def _cholmod_library():
-    """The CHOLMOD shared library of the cvxopt wheel, with ctypes signatures; or raise.
+    """Return the CHOLMOD shared library of the cvxopt wheel, with ctypes signatures; or raise.
 
     Loaded once per process (the result is cached; a failure raises again).
     """
@@ -103,7 +103,7 @@ def _cholmod_library():
 
 
 def _start(lib, simplicial=False):
-    """A ``cholmod_common`` set to always factorise ``L L^T`` (supernodal) and to print nothing.
+    """Return a ``cholmod_common`` set to always factorise ``L L^T`` (supernodal), printing nothing.
 
     With ``simplicial=True`` it is set to factorise ``L D L^T`` (simplicial, CHOLMOD's
     default final form), which also exists for a symmetric *indefinite* matrix whose
@@ -184,7 +184,7 @@ class _CholmodFactor:
                 "the smallest eigenvalue")
 
     def _ldl_inertia(self):
-        """The number of negative entries of ``D`` of a simplicial ``L D L^T``.
+        """Count the negative entries of ``D`` of a simplicial ``L D L^T``.
 
         ``cholmod_factor`` (CHOLMOD 3 to 5) starts with ``n, minor, Perm, ColCount, IPerm,
         nzmax, p, i, x``: column ``j`` of a simplicial factor starts at ``x[p[j]]`` with its
@@ -335,7 +335,7 @@ def _probe(name):
 
 
 def backend():
-    """The name of the Cholesky backend this process uses (see the module docstring).
+    """Return the name of the Cholesky backend this process uses (see the module docstring).
 
     Returns
     -------

@@ -70,7 +70,7 @@ class CholeskyOperator(spla.LinearOperator):
 
 
 def default_sigma(B, N):
-    """A shift below the spectrum on the scale of ``lam_N`` (Weyl: lam_k ~ 4 pi k / area).
+    """Return a shift below the spectrum on the scale of ``lam_N`` (Weyl: lam_k ~ 4 pi k / area).
 
     ``sigma = -0.01 * 4 pi N / area`` (-1 for the unit sphere and N = 100): far enough
     below 0 to keep ``OP = S^{-1} B`` well scaled, close enough not to slow convergence.

@@ -32,8 +32,11 @@ SMALL_PRODUCT_ROWS = 8_000
 
 @functools.cache
 def _blas_controller():
-    """threadpoolctl's view of the BLAS libraries loaded now (cached: building it scans
-    every shared library of the process); None if threadpoolctl is missing."""
+    """Return threadpoolctl's view of the BLAS libraries loaded now, or None.
+
+    Cached: building it scans every shared library of the process.  None if threadpoolctl is
+    missing.
+    """
     try:
         from threadpoolctl import ThreadpoolController
     except ImportError:  # pragma: no cover - threadpoolctl is a dependency

@@ -81,7 +81,7 @@ DESCRIPTOR_STRIDE = 5
 
 # ---------------------------------------------------------------------- checks
 def _check_mesh(name, mesh) -> Mesh:
-    """A mesh that the eigensolver will not renumber (no repair needed), or a clear error."""
+    """Return a mesh that the eigensolver will not renumber (no repair needed), or raise clearly."""
     try:
         m = as_mesh(mesh)
     except TypeError as exc:
@@ -154,7 +154,7 @@ def _check_landmarks(landmarks, n_source, n_target):
 # ---------------------------------------------------------------------- gradients
 def face_gradients(mesh: MeshLike) -> tuple[sp.csr_matrix, NDArray[np.float64],
                                              NDArray[np.float64]]:
-    """The per-triangle gradient operator of piecewise-linear functions.
+    """Build the per-triangle gradient operator of piecewise-linear functions.
 
     On triangle ``t = (i, j, l)`` with unit normal ``n`` and area ``|t|``, the hat function
     of vertex ``i`` has the constant gradient ``grad phi_i = n x e_i / (2 |t|)``, ``e_i`` the
@@ -252,7 +252,7 @@ class HeatGeodesics:
         return self._solve(self._B @ rhs, [[j] for j in range(len(src))], src)
 
     def distance(self, sources: ArrayLike) -> NDArray[np.float64]:
-        """The geodesic distance to the nearest of a set of vertices, shape (n,)."""
+        """Return the geodesic distance to the nearest of a set of vertices, shape (n,)."""
         n = self.mesh.n_vertices
         src = _check_indices("sources", sources, n)
         if src.size == 0:
@@ -364,8 +364,11 @@ def geodesic_errors(mesh: MeshLike, p2p: ArrayLike, truth: ArrayLike | None = No
 
 # ---------------------------------------------------------------------- nearest neighbours
 def _nearest_rows(queries, points, block=NN_BLOCK):
-    """Index of the nearest row of ``points`` for every row of ``queries``: exact, by
-    blocked products ``|q|^2 - 2 q.p + |p|^2`` (``|q|^2`` does not change the argmin)."""
+    """Return the index of the nearest row of ``points`` for every row of ``queries``.
+
+    Exact, by blocked products ``|q|^2 - 2 q.p + |p|^2`` (``|q|^2`` does not change the
+    argmin).
+    """
     if points.shape[1] <= 3:
         from scipy.spatial import cKDTree
 
@@ -383,7 +386,7 @@ def _nearest_rows(queries, points, block=NN_BLOCK):
 
 def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
                      ) -> NDArray[np.int64]:
-    """The vertex map of a functional map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
+    """Return the vertex map of a functional map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
 
     Exact nearest neighbours in ``k_T`` dimensions by blocked dense matrix products
     (k-d trees degrade to a scan above about 10 dimensions).
@@ -408,7 +411,7 @@ def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
 
 def pointwise_to_map(p2p: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
                      B_target: sp.spmatrix | ArrayLike) -> NDArray[np.float64]:
-    """The functional map of a vertex map: ``C = Phi_T^T B_T Pi Phi_S``, shape (k_T, k_S).
+    """Return the functional map of a vertex map: ``C = Phi_T^T B_T Pi Phi_S``, shape (k_T, k_S).
 
     Parameters
     ----------
@@ -462,8 +465,10 @@ def transfer_function(f: ArrayLike, C: ArrayLike, phi_source: ArrayLike,
 
 # ---------------------------------------------------------------------- functional map
 def _orientation_ops(mesh, phi, F):
-    """Reduced orientation operators ``Phi^T W_f Phi`` (k x k) for each column ``f`` of F,
-    ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018)."""
+    """Return the reduced orientation operators ``Phi^T W_f Phi`` (k x k), one per column of F.
+
+    For column ``f`` of F, ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018).
+    """
     G, areas, normals = face_gradients(mesh)
     nF, k = len(areas), phi.shape[1]
     gphi = (G @ phi).reshape(nF, 3, k)
@@ -491,7 +496,7 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
                    laplacian_weight: float = LAPLACIAN_WEIGHT,
                    orientation_weight: float = ORIENTATION_WEIGHT,
                    maxiter: int = 1000) -> NDArray[np.float64]:
-    """The functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
+    """Return the functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
 
     Minimises (Ovsjanikov et al. 2012, Eq. 5-6; Ren et al. 2018, Eq. 8)
 
@@ -663,9 +668,12 @@ def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
 
 
 def _fit(phiT, phiS_mapped, w, B):
-    """``C = Phi_T^T B Phi_S[p]`` (all vertices), or the mass-weighted least squares fit
+    """Fit the functional map of a vertex map, on all vertices or on weighted samples.
+
+    ``C = Phi_T^T B Phi_S[p]`` (all vertices), or the mass-weighted least squares fit
     ``min_C sum_y w_y |Phi_T[y] C - ...|`` on samples: ``(Phi_T^T W Phi_T)^-1 Phi_T^T W
-    Phi_S[p]`` (the transpose of the map written row-wise)."""
+    Phi_S[p]`` (the transpose of the map written row-wise).
+    """
     if B is not None:
         return phiT.T @ (B @ phiS_mapped)
     Wp = phiT * w[:, None]
@@ -691,7 +699,7 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
               bijective: bool = False, sample: int | None = 3000,
               return_map: bool = False, random_state: int = 0
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """The one call: a vertex map between two meshes by functional maps and ZoomOut.
+    """Map the vertices of one mesh to another in one call, by functional maps and ZoomOut.
 
     1. ``k`` eigenpairs of each mesh (:func:`cshape.eigenpairs`);
     2. WKS descriptors (:func:`cshape.wks`, the shapes scaled to unit area, ``n_descriptors``

@@ -75,13 +75,15 @@ def _check_N(N: object, n_unknowns: int, bc: str) -> int:
 
 
 def _is_dense(k: int, N: int) -> bool:
-    """Whether a problem of ``k`` unknowns and ``N`` pairs takes the dense path (a Krylov
-    space would need about ``3 N`` dimensions)."""
+    """Tell whether a problem of ``k`` unknowns and ``N`` pairs takes the dense path.
+
+    A Krylov space would need about ``3 N`` dimensions.
+    """
     return k <= DENSE_LIMIT or 3 * N >= k
 
 
 def _dense(K, B, N, return_vectors):
-    """The ``N`` smallest pairs by dense LAPACK (``phi`` None unless ``return_vectors``)."""
+    """Return the ``N`` smallest pairs by dense LAPACK (``phi`` None unless ``return_vectors``)."""
     out = la.eigh(K.toarray(), B.toarray(), subset_by_index=[0, N - 1],
                   eigvals_only=not return_vectors)
     return out if return_vectors else (out, None)
@@ -153,7 +155,7 @@ def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *,
 def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *, return_vectors: bool = True,
                        sigma: float | None = None
                        ) -> NDArray[np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The ``N`` smallest eigenpairs of ``A f = -lam B f`` (Eq. 3).
+    """Return the ``N`` smallest eigenpairs of ``A f = -lam B f`` (Eq. 3).
 
     Parameters
     ----------
@@ -215,7 +217,7 @@ def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *, return_vectors
 
 def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
                ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The ``N`` smallest Laplace-Beltrami eigenvalues and B-orthonormal eigenfunctions.
+    """Return the ``N`` smallest Laplace-Beltrami eigenvalues and B-orthonormal eigenfunctions.
 
     Parameters
     ----------
@@ -297,7 +299,7 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
 
 
 def estimate_seconds(n: int, N: int) -> float:
-    """A rough wall time of the eigensolve of ``N`` eigenvalues with ``n`` unknowns, in s.
+    """Estimate the wall time of the eigensolve of ``N`` eigenvalues with ``n`` unknowns, in s.
 
     ``1e-9 n^3`` for the dense path (``n <= DENSE_LIMIT`` or ``3 N >= n``), else
     ``1e-8 n N^2`` (the Lanczos basis of about ``3 N`` vectors of length ``n``, kept
@@ -320,8 +322,10 @@ def _duration(seconds) -> str:
 
 
 def long_solve_message(n: int, N: int) -> str | None:
-    """The warning of an eigensolve estimated to take long, or None (see
-    :func:`estimate_seconds` and ``LONG_SOLVE_SECONDS``)."""
+    """Return the warning of an eigensolve estimated to take long, or None.
+
+    See :func:`estimate_seconds` and ``LONG_SOLVE_SECONDS``.
+    """
     t = estimate_seconds(n, N)
     if t < LONG_SOLVE_SECONDS:
         return None
@@ -334,8 +338,10 @@ def long_solve_message(n: int, N: int) -> str | None:
 
 
 def components_message(ncomp: int) -> str:
-    """The warning about a mesh of ``ncomp`` connected components (also shown by a batch
-    run whose eigenvalues come from the cache)."""
+    """Return the warning about a mesh of ``ncomp`` connected components.
+
+    Also shown by a batch run whose eigenvalues come from the cache.
+    """
     return (f"mesh has {ncomp} connected components: its spectrum is the union of theirs, "
             f"with {ncomp} zero eigenvalues under Neumann conditions; the log-Weyl, "
             "truncated log and F1 descriptors drop them (cshape.nonzero_eigenvalues); use "
