@@ -1,3 +1,5 @@
+"""``python -m cshape``: the command line (:func:`cshape.cli.main`)."""
+
 import sys
 
 from .cli import main

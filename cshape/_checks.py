@@ -1,5 +1,6 @@
-"""Argument checks shared by every stage and layer (a leaf module: it imports nothing from
-cshape).
+"""Argument checks shared by every stage and layer.
+
+A leaf module: it imports nothing from cshape.
 
 The one rule: ``TypeError`` for a wrong type, ``ValueError`` for a value out of range; the
 message names the argument, the value and the fix, and is the same in every function that
@@ -194,7 +195,7 @@ def check_real(name: str, value: object, *, min: float | None = None,
 
 
 def check_crop(M: object, N: object, *, log: bool = False) -> int:
-    """The one M-versus-N rule: ``2M+1`` values are kept from a sequence of ``N`` (or ``N-1``).
+    """Check the one M-versus-N rule: ``2M+1`` values are kept from ``N`` (or ``N-1``) values.
 
     The crop of Eq. (10) keeps the ``2M+1`` values of frequencies ``-M .. M`` of a sequence
     (or, for the truncated descriptors, its first ``2M+1`` values).  The sequence is the

@@ -20,7 +20,7 @@ __all__ = ["atomic_write", "cache_root", "make_folder", "umask"]
 
 
 def cache_root(path: str | os.PathLike | None = None) -> Path:
-    """The cache folder: ``path``, else ``$CSHAPE_CACHE``, else the user cache folder.
+    """Return the cache folder: ``path``, else ``$CSHAPE_CACHE``, else the user cache folder.
 
     The user cache folder is ``platformdirs.user_cache_dir('cshape', appauthor=False)`` when
     platformdirs is installed, else ``$XDG_CACHE_HOME/cshape`` or ``~/.cache/cshape``.
@@ -41,7 +41,7 @@ def cache_root(path: str | os.PathLike | None = None) -> Path:
 
 
 def umask() -> int:
-    """The process's umask (read without changing it for longer than one call)."""
+    """Return the process's umask (read without changing it for longer than one call)."""
     mask = os.umask(0o022)
     os.umask(mask)
     return mask
@@ -49,8 +49,10 @@ def umask() -> int:
 
 def make_folder(folder: Path, *, what: str = "folder",
                 hint: str = "pass cache_dir= or set CSHAPE_CACHE to a writable folder") -> None:
-    """Create ``folder`` (and its parents), or raise an ``OSError`` naming it (as ``what``,
-    e.g. ``'cache folder'``) and ``hint``."""
+    """Create ``folder`` (and its parents), or raise an ``OSError`` naming it.
+
+    The error names the folder as ``what`` (e.g. ``'cache folder'``) and gives ``hint``.
+    """
     folder = Path(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)

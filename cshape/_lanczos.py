@@ -129,8 +129,9 @@ def pair_tolerance(B, N, sigma, negatives):
 
 # ----------------------------------------------------------------------------- blocks
 def empty_basis(n, m, touch=0):
-    """A column-major (n, m) float64 array, on huge pages where possible, its first
-    ``touch`` columns zero (the rest uninitialised).
+    """Allocate a column-major (n, m) float64 array, on huge pages where possible.
+
+    Its first ``touch`` columns are zero (the rest uninitialised).
 
     The Lanczos basis is the largest array of the solve and is streamed through at every
     re-orthogonalisation: on Linux it is mapped with ``MADV_HUGEPAGE`` (fewer page faults
@@ -154,8 +155,10 @@ def empty_basis(n, m, touch=0):
 
 
 def upper_cholesky(G):
-    """``R`` upper triangular with ``R.T @ R = G`` (LAPACK potrf; much cheaper than
-    ``scipy.linalg.cholesky`` on the b x b blocks of the iteration)."""
+    """Return ``R`` upper triangular with ``R.T @ R = G`` (LAPACK potrf).
+
+    Much cheaper than ``scipy.linalg.cholesky`` on the b x b blocks of the iteration.
+    """
     if not np.isfinite(G).all():
         raise la.LinAlgError("non-finite entries in a Gram matrix")
     R, info = la.lapack.dpotrf(G, lower=0, clean=1)
@@ -165,7 +168,7 @@ def upper_cholesky(G):
 
 
 def triangular_inverse(R):
-    """The inverse of an invertible upper triangular matrix (LAPACK ``trtri``)."""
+    """Invert an invertible upper triangular matrix (LAPACK ``trtri``)."""
     Rinv, info = la.lapack.dtrtri(R, lower=0)
     if info != 0:  # pragma: no cover - R comes from a successful, well-conditioned Cholesky
         raise la.LinAlgError(f"singular triangular factor (trtri info {info})")
@@ -223,8 +226,11 @@ def b_orthonormalize(W, B, scale, split=None):
 
 
 def _rank_revealing(W, BW, G, B, scale, split):
-    """:func:`b_orthonormalize` of a (nearly) rank-deficient ``W``: keep the directions of
-    its Gram matrix ``G`` that are not numerically zero, then orthonormalise again."""
+    """Apply :func:`b_orthonormalize` to a (nearly) rank-deficient ``W``.
+
+    Keep the directions of its Gram matrix ``G`` that are not numerically zero, then
+    orthonormalise again.
+    """
     D, U = la.eigh(G)
     keep = D > (1e-12 * max(scale, np.sqrt(max(D.max(), 0.0)))) ** 2
     U, D = U[:, keep], D[keep]
@@ -257,7 +263,7 @@ def complete_block(rng, Q, BQ, R, b, V, B):
 
 
 def band_to_dense(band, m):
-    """The symmetric (m, m) matrix whose upper triangle ``band[:, :m]`` stores (LAPACK)."""
+    """Return the symmetric (m, m) matrix whose upper triangle ``band[:, :m]`` stores (LAPACK)."""
     b = band.shape[0] - 1
     T = np.zeros((m, m))
     for d in range(min(b, m - 1) + 1):  # d-th superdiagonal: band[b - d, d:m]
@@ -271,7 +277,7 @@ def block_lanczos(
     K, B, N, solve, sigma, *, block_size=BLOCK_SIZE, max_dim=None, tol=RESIDUAL_TOL, seed=0,
     return_vectors=True, threads=1, rhs_order="C", negatives=None, refine=None,
 ):
-    """The ``N`` smallest eigenpairs of ``K f = lam B f`` by block shift-invert Lanczos.
+    """Return the ``N`` smallest eigenpairs of ``K f = lam B f`` by block shift-invert Lanczos.
 
     Parameters
     ----------
@@ -507,7 +513,7 @@ class BlockLanczos:
         return False
 
     def refine_smallest(self, theta, Y, m0, m, return_vectors):
-        """The ``2 b`` smallest eigenvalues below an inside shift, by a refined Rayleigh-Ritz step.
+        """Return the ``2 b`` smallest eigenvalues below an inside shift, by refined Rayleigh-Ritz.
 
         They lie farthest below the shift: ``lam = sigma + 1/theta`` turns a relative
         error of ``theta`` into one about ``sigma/lam`` times larger.  Their block of Ritz
@@ -535,7 +541,7 @@ class BlockLanczos:
         return theta, Y
 
     def ritz_vectors(self, Y, m):
-        """The Ritz vectors ``V Y``, made B-orthonormal to rounding.
+        """Return the Ritz vectors ``V Y``, made B-orthonormal to rounding.
 
         The basis is only semi-orthogonal: Loewdin's symmetric orthonormalisation
         ``X G^(-1/2)``, ``G = X^T B X = I + O(1e-8)``, changes each vector least, and the

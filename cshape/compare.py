@@ -70,7 +70,7 @@ PAPER_DESCRIPTOR = PAPER
 
 # --------------------------------------------------------------------------- descriptors
 def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
-    """Number of values of a descriptor of the given kind (its storage, in numbers).
+    """Return the number of values of a descriptor of the given kind (its storage, in numbers).
 
     ``Descriptor(kind, M, N).size`` (:attr:`cshape.Descriptor.size`).
 
@@ -92,7 +92,7 @@ def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
 
 
 def default_descriptor(N: int = 100) -> dict[str, Any]:
-    """The exploration default (:data:`cshape.DEFAULT`) for shapes with ``N`` eigenvalues.
+    """Return the exploration default (:data:`cshape.DEFAULT`) for shapes with ``N`` eigenvalues.
 
     Parameters
     ----------
@@ -113,7 +113,7 @@ def default_descriptor(N: int = 100) -> dict[str, Any]:
 
 def descriptor_label(kind: str, M: int = 16, N: int = 100, transform: str = "weyl",
                      normalization: str = "area") -> str:
-    """What a descriptor compares, in words: ``Descriptor(...).label``.
+    """Say what a descriptor compares, in words: ``Descriptor(...).label``.
 
     The normalisation is named when it is not the paper's (the area).
 
@@ -230,7 +230,7 @@ def descriptor_rows(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | No
                     zero_modes: ArrayLike | None = None,
                     descriptor: Descriptor | None = None
                     ) -> tuple[NDArray[Any], dict[int, str]]:
-    """The descriptors of the rows that can be described, and why the others cannot.
+    """Return the descriptors of the rows that can be described, and why the others cannot.
 
     Takes the arguments of :func:`descriptor_matrix` (:meth:`cshape.Descriptor.rows`).
 
@@ -252,7 +252,7 @@ def row_problems(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None 
                  normalization: str = "area", transform: str = "weyl",
                  zero_modes: ArrayLike | None = None,
                  descriptor: Descriptor | None = None) -> dict[int, str]:
-    """The rows of :func:`descriptor_matrix` that cannot be described, with the reason.
+    """Return the rows of :func:`descriptor_matrix` that cannot be described, with the reason.
 
     Takes the arguments of :func:`descriptor_matrix`.  A row cannot be described when it
     has too few non-zero eigenvalues for the kind (a mesh of many pieces with a small
@@ -392,7 +392,7 @@ def scaled_difference(D1: ArrayLike, D2: ArrayLike, *, include_diagonal: bool = 
 
 # --------------------------------------------------------------------------- retrieval
 def _ranking(D: NDArray[np.float64], i: int) -> NDArray[np.int64]:
-    """Indices of the other models, nearest first; ties by index (stable sort)."""
+    """Return the indices of the other models, nearest first; ties by index (stable sort)."""
     order = np.argsort(D[i], kind="stable")
     return order[order != i]
 
@@ -445,7 +445,7 @@ def retrieval_per_query(D: ArrayLike, labels: Sequence[Hashable] | ArrayLike, *,
 
 def retrieval_scores(D: ArrayLike, labels: Sequence[Hashable] | ArrayLike, *,
                      min_class_size: int = 2) -> dict[str, float]:
-    """Retrieval measures of the Princeton Shape Benchmark, averaged over all queries.
+    """Compute the retrieval measures of the Princeton Shape Benchmark, averaged over queries.
 
     Every model is used once as the query; the remaining ``p - 1`` models are ranked by
     increasing distance (the query is excluded from its own results; ties are broken by

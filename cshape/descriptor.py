@@ -125,8 +125,11 @@ default='cshape'
     # ------------------------------------------------------------------ what it is
     @property
     def size(self) -> int:
-        """Number of values of a row: ``N`` for 'shape-dna', ``N - 2`` for 'f1', else
-        ``2M+1`` (complex numbers counted once, as the paper does)."""
+        """Number of values of a row.
+
+        ``N`` for 'shape-dna', ``N - 2`` for 'f1', else ``2M+1`` (complex numbers counted
+        once, as the paper does).
+        """
         return {"shape-dna": self.N, "f1": self.N - 2}.get(self.kind, 2 * self.M + 1)
 
     @property
@@ -161,23 +164,28 @@ default='cshape'
 
     @property
     def min_eigenvalues(self) -> int:
-        """Eigenvalues a spectrum needs: ``2M+1`` ('truncated'), ``2M+2``
-        ('truncated-log'), else ``N``."""
+        """Eigenvalues a spectrum needs.
+
+        ``2M+1`` ('truncated'), ``2M+2`` ('truncated-log'), else ``N``.
+        """
         return {"truncated": 2 * self.M + 1, "truncated-log": 2 * self.M + 2}.get(self.kind,
                                                                                self.N)
 
     def as_dict(self) -> dict[str, Any]:
-        """``{'kind', 'M', 'N', 'transform', 'normalization'}``: keyword arguments of
-        :func:`cshape.compare.descriptor_matrix`."""
+        """Return ``{'kind', 'M', 'N', 'transform', 'normalization'}`` as a dict.
+
+        They are keyword arguments of :func:`cshape.compare.descriptor_matrix`.
+        """
         return dataclasses.asdict(self)
 
     def replace(self, **changes: Any) -> Descriptor:
-        """A copy with some fields changed (checked again)."""
+        """Return a copy with some fields changed (checked again)."""
         return Descriptor(**{**self.as_dict(), **changes})
 
     def for_N(self, N: int) -> Descriptor:
-        """The same descriptor for spectra of ``N`` eigenvalues: ``N`` replaced and ``M``
-        lowered to the largest the kind allows (the label says so).
+        """Return the same descriptor for spectra of ``N`` eigenvalues.
+
+        ``N`` is replaced and ``M`` lowered to the largest the kind allows (the label says so).
 
         Raises
         ------
@@ -197,7 +205,7 @@ default='cshape'
     # ------------------------------------------------------------------ rows
     def row(self, lam: ArrayLike, area: float | None = None,
             zero_modes: int | None = None) -> NDArray[Any]:
-        """The descriptor of one shape.
+        """Return the descriptor of one shape.
 
         Parameters
         ----------
@@ -259,7 +267,7 @@ default='cshape'
 
     def rows(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
              zero_modes: ArrayLike | None = None) -> tuple[NDArray[Any], dict[int, str]]:
-        """The descriptors of the shapes that can be described, and why the others cannot.
+        """Return the descriptors of the shapes that can be described, and why the others cannot.
 
         Parameters
         ----------
@@ -326,7 +334,7 @@ default='cshape'
         return X
 
     def _prepare(self, lams, areas, zero_modes):
-        """Checked rows, areas (None where unused) and zero modes (None: count)."""
+        """Check and return the rows, areas (None where unused) and zero modes (None: count)."""
         if isinstance(lams, np.ndarray) and lams.ndim == 2:
             rows = list(np.asarray(lams, dtype=np.float64))
         elif isinstance(lams, np.ndarray) or not hasattr(lams, "__len__"):
@@ -393,7 +401,8 @@ PAPER = Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area"
 #: ratios ``log(lam_i * area / (4 pi i))``, ``i = 1 .. 2M+1``, of the eigenvalues after the
 #: zero modes.  Chosen on two real labelled collections (a category benchmark and characters
 #: in poses) by the best worst first tier, with the generated resolution benchmark as a guard
-#: (nearest neighbour >= 0.9); see ``benchmarks/results/real_collections.md`` (``benchmarks/bench_real_collections.py``).
+#: (nearest neighbour >= 0.9); see ``benchmarks/results/real_collections.md``
+#: (``benchmarks/bench_real_collections.py``).
 DEFAULT = Descriptor("truncated-log", M=8, N=100, transform="weyl", normalization="area")
 
 
@@ -402,7 +411,7 @@ def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None 
                       transform: str | None = None, normalization: str | None = None,
                       base_M: int = 16, base_N: int = 100,
                       base_transform: str = "weyl") -> Descriptor:
-    """The descriptor that a call's arguments select: the one rule of every surface.
+    """Return the descriptor that a call's arguments select: the one rule of every surface.
 
     * ``descriptor`` given: it, as it is (no other argument may be given);
     * ``kind=None``: the exploration default :data:`DEFAULT` for spectra of ``N``

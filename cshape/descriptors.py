@@ -195,7 +195,7 @@ def weyl_subtract(lam_norm: ArrayLike) -> NDArray[np.float64]:
 
 
 def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
-    """Number of zero modes of an ascending spectrum: one per connected component.
+    """Count the zero modes of an ascending spectrum: one per connected component.
 
     Parameters
     ----------
@@ -219,7 +219,7 @@ def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
 
 
 def _zero_modes(x, zero_modes, tol) -> int:
-    """The number of zero modes of ``x``: counted, or ``zero_modes`` checked against it."""
+    """Return the number of zero modes of ``x``: counted, or ``zero_modes`` checked against it."""
     if zero_modes is None:
         above = np.flatnonzero(x > tol)
         return int(above[0]) if len(above) else len(x)
@@ -270,7 +270,7 @@ def _weyl_extend(mu, length):
 
 def nonzero_eigenvalues(lam: ArrayLike, zero_modes: int | None = None, *,
                         length: int | None = None) -> NDArray[np.float64]:
-    """The eigenvalues after the zero modes, indexed from 1: ``mu_i = lam_{k-1+i}``.
+    """Return the eigenvalues after the zero modes, indexed from 1: ``mu_i = lam_{k-1+i}``.
 
     The rule for meshes of several pieces (see the module notes): a mesh of ``k``
     components has ``k`` zero eigenvalues; they are dropped and the rest indexed from 1,
@@ -305,7 +305,7 @@ def nonzero_eigenvalues(lam: ArrayLike, zero_modes: int | None = None, *,
 
 def log_weyl_ratio(lam_norm: ArrayLike, zero_modes: int | None = None, *,
                    length: int | None = None) -> NDArray[np.float64]:
-    """The log-Weyl ratio of a normalised Shape-DNA (an extension beyond the paper).
+    """Compute the log-Weyl ratio of a normalised Shape-DNA (an extension beyond the paper).
 
     ``r_i = log(lam_i^norm / (4 pi i))`` for ``i = 1, ..., N-1``: the relative deviation
     from the Weyl line ``4 pi i`` (``r_i ~ (lam_i^norm - 4 pi i) / (4 pi i)`` when small),
@@ -381,8 +381,10 @@ def _is_mesh(x: object) -> bool:
 
 def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
                          normalization: str) -> tuple[NDArray[np.float64], int | None]:
-    """The normalised Shape-DNA (N,) from a mesh or from eigenvalues, and the mesh's number
-    of components (None for eigenvalues)."""
+    """Return the normalised Shape-DNA (N,) from a mesh or from eigenvalues.
+
+    Also return the mesh's number of components (None for eigenvalues).
+    """
     N = _check_N(N)
     normalization = check_choice("normalization", normalization, NORMALIZATIONS)
     check_choice("bc", bc, ("neumann", "dirichlet"))
@@ -561,7 +563,7 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
 
 
 def _log_weyl_sequence(lam_norm, M, zero_modes, transform):
-    """The ``N-1`` log-Weyl ratios of the log-Weyl transforms (the rule for several pieces)."""
+    """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms (rule for several pieces)."""
     x = check_spectrum(lam_norm, "lam_norm", min_len=2)
     N = len(x)
     k0 = _zero_modes(x, zero_modes, ZERO_RTOL * float(np.abs(x).max()))
@@ -687,7 +689,7 @@ def inverse_compact_shape_dna(S_c: ArrayLike, N: int, *, add_weyl: bool = True,
 
 def f1_feature(lam: ArrayLike, zero_modes: int | None = None, *,
                length: int | None = None) -> NDArray[np.float64]:
-    """The F1 feature vector ``(lam_1/lam_2, lam_1/lam_3, ..., lam_1/lam_{N-1})`` (Fig. 5f).
+    """Compute the F1 feature vector ``(lam_1/lam_2, lam_1/lam_3, ..., lam_1/lam_{N-1})`` (Fig. 5f).
 
     ``lam_1`` is the first non-zero eigenvalue (the one after ``lam_0 = 0`` for a
     connected closed mesh); the ratios run over the eigenvalues after it.  A mesh of ``k``

@@ -43,8 +43,9 @@ ZERO_AREA_RTOL = 1e-10
 
 
 class _FEMProblem:
-    """Assembled FEM matrices of a mesh, with the bookkeeping of the unknowns (private: the
-    public way to get ``A`` and ``B`` is :func:`fem_matrices`).
+    """Assembled FEM matrices of a mesh, with the bookkeeping of the unknowns.
+
+    Private: the public way to get ``A`` and ``B`` is :func:`fem_matrices`.
 
     Attributes
     ----------
@@ -150,8 +151,11 @@ def _edge_csr(edges, n):
 
 
 def _mollify(lengths, mean_edge):
-    """Intrinsic mollification (Sharp & Crane 2020): the smallest eps >= 0 added to every
-    edge length so that each triangle satisfies the triangle inequality with margin delta."""
+    """Return the intrinsic mollification eps (Sharp & Crane 2020).
+
+    The smallest eps >= 0 added to every edge length so that each triangle satisfies the
+    triangle inequality with margin delta.
+    """
     delta = MOLLIFY_DELTA * mean_edge
     l0, l1, l2 = lengths[:, 0], lengths[:, 1], lengths[:, 2]
     margin = np.minimum(np.minimum(l1 + l2 - l0, l2 + l0 - l1), l0 + l1 - l2)

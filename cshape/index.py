@@ -1,5 +1,4 @@
-""":class:`DescriptorIndex`: exact nearest-neighbour queries against a large database.
-"""
+""":class:`DescriptorIndex`: exact nearest-neighbour queries against a large database."""
 
 from __future__ import annotations
 
@@ -25,10 +24,14 @@ class TableLike(Protocol):
     transform: str
 
     @property
-    def N(self) -> int: ...
+    def N(self) -> int:
+        """Number of eigenvalues of each row of ``lam``."""
+        ...
 
     def described(self, *args: Any, **kwargs: Any
-                  ) -> tuple[NDArray[Any], NDArray[np.int64]]: ...
+                  ) -> tuple[NDArray[Any], NDArray[np.int64]]:
+        """Return the descriptors and the table rows they belong to (``X, rows``)."""
+        ...
 
 
 
@@ -97,8 +100,10 @@ class DescriptorIndex:
 
     @property
     def recipe_(self) -> dict[str, Any] | None:
-        """:attr:`descriptor_` as keyword arguments of :func:`cshape.compare.descriptor_matrix`
-        (``kind``, ``M``, ``N``, ``transform``, ``normalization``); None without one."""
+        """:attr:`descriptor_` as keyword arguments of :func:`cshape.compare.descriptor_matrix`.
+
+        ``kind``, ``M``, ``N``, ``transform``, ``normalization``; None without one.
+        """
         return None if self.descriptor_ is None else self.descriptor_.as_dict()
 
     @classmethod
@@ -106,7 +111,7 @@ class DescriptorIndex:
                    N: int | None = None, *, transform: str | None = None,
                    normalization: str | None = None, descriptor: Descriptor | None = None,
                    algorithm: str = "auto", n_jobs: int | None = None) -> DescriptorIndex:
-        """An index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
+        """Build an index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
 
         Parameters
         ----------
@@ -193,17 +198,20 @@ class DescriptorIndex:
         return self.query(Y, k=k)
 
     def __len__(self) -> int:
+        """Return the number of database descriptors."""
         return len(self.X_)
 
     @property
     def descriptor(self) -> str | None:
-        """What the rows are, in words (:attr:`cshape.Descriptor.label`), when built with
-        :meth:`from_table`; None otherwise."""
+        """What the rows are, in words (:attr:`cshape.Descriptor.label`).
+
+        Set when built with :meth:`from_table`; None otherwise.
+        """
         return None if self.descriptor_ is None else self.descriptor_.label
 
     def query(self, Y: ArrayLike | None = None, k: int = 1
               ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-        """The ``k`` nearest database descriptors of each query.
+        """Return the ``k`` nearest database descriptors of each query.
 
         Parameters
         ----------

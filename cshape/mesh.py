@@ -98,6 +98,7 @@ class Mesh:
         return int(self.faces.shape[0])
 
     def __repr__(self) -> str:
+        """Return the counts, area, components and defect edges of the mesh, on one line."""
         return (
             f"Mesh(n_vertices={self.n_vertices}, n_faces={self.n_faces}, "
             f"area={self.area:.6g}, components={self.n_components}, "
@@ -277,8 +278,11 @@ class Mesh:
 
 
 def _row_norms(x: np.ndarray) -> np.ndarray:
-    """Euclidean norms of the rows of an (k, 3) array, without the overflow or underflow of
-    squaring (meshes in units of 1e-100 or 1e100 keep finite, non-zero lengths and areas)."""
+    """Return the Euclidean norms of the rows of an (k, 3) array, without over- or underflow.
+
+    Squaring would overflow or underflow; this way meshes in units of 1e-100 or 1e100 keep
+    finite, non-zero lengths and areas.
+    """
     sq = np.einsum("ij,ij->i", x, x)
     out = np.sqrt(sq)
     # squares within (1e-290, 1e290) neither overflow nor lose digits to underflow (a

@@ -139,8 +139,10 @@ def _read_arrays(p, shown=None):
 
 
 def _gunzip(src: Path, folder: Path) -> Path:
-    """Decompress ``src`` (``NAME.EXT.gz``) to ``folder / NAME.EXT``, in chunks of 1 MiB,
-    stopping with an error beyond :data:`GZIP_MAX_BYTES`; returns the new file."""
+    """Decompress ``src`` (``NAME.EXT.gz``) to ``folder / NAME.EXT``; return the new file.
+
+    Reads in chunks of 1 MiB, stopping with an error beyond :data:`GZIP_MAX_BYTES`.
+    """
     if not split_mesh_name(src)[1]:
         raise _bad_file(
             src, "a compressed mesh must name its format before '.gz' (e.g. bunny.off.gz, "
@@ -229,9 +231,12 @@ def _load_with_pymeshlab(p, ext, expected):
 
 
 class _Expected:
-    """What a file declares: vertex count, minimum triangle count (after triangulating
-    polygons and leaving out the faces that repeat a vertex, which the reader drops), and
-    how many such collapsed faces were seen (None when the scan does not read the faces)."""
+    """What a file declares: vertex count, minimum triangle count, collapsed faces.
+
+    The minimum triangle count is taken after triangulating polygons and leaving out the faces
+    that repeat a vertex, which the reader drops; the last field is how many such collapsed
+    faces were seen (None when the scan does not read the faces).
+    """
 
     def __init__(self, n_vertices=None, min_faces=None, exact_vertices=True, collapsed=0,
                  faces_read=True):
@@ -325,7 +330,7 @@ def _scan_obj(p):
 
 
 def _prescan(p, ext):
-    """What the file declares (vertex count, minimum triangle count), or None if unknown."""
+    """Return what the file declares (vertex count, minimum triangle count), or None."""
     try:
         fast = _fast_obj(p) if ext == "obj" else _fast_off(p) if ext == "off" else None
         if fast is not None:
@@ -374,9 +379,12 @@ def _triangle_stats(F, nv):
 
 
 def _fast_off(p):
-    """The OFF check for the plain layout (``OFF``, counts, ``x y z`` lines, ``3 i j k``
-    lines, no comments), vectorised; None when the file is laid out otherwise or has any
-    problem, which the line-by-line :func:`_scan_off` then reports with its line."""
+    """Check an OFF file of the plain layout, vectorised.
+
+    The plain layout: ``OFF``, counts, ``x y z`` lines, ``3 i j k`` lines, no comments.
+    None when the file is laid out otherwise or has any problem, which the line-by-line
+    :func:`_scan_off` then reports with its line.
+    """
     data = p.read_bytes()
     head, _, body = data.partition(b"\n")
     if head.strip() != b"OFF" or b"#" in body:
@@ -408,9 +416,11 @@ _OBJ_SLASH = re.compile(rb"/[^\s]*")
 
 
 def _fast_obj(p):
-    """The OBJ check for triangles with positive indices and ``v x y z`` vertices,
-    vectorised; None when the file is laid out otherwise or has any problem, which the
-    line-by-line :func:`_scan_obj` then reports with its line."""
+    """Check an OBJ file of triangles with positive indices and ``v x y z`` vertices, vectorised.
+
+    None when the file is laid out otherwise or has any problem, which the line-by-line
+    :func:`_scan_obj` then reports with its line.
+    """
     data = p.read_bytes()
     if b"\\" in data or _OBJ_INDENTED.search(data):
         return None
@@ -429,7 +439,7 @@ def _fast_obj(p):
 
 
 def _next_record(p, lines, declared, k, what):
-    """The next ``(line number, tokens)`` of an OFF body, or a "truncated" error."""
+    """Return the next ``(line number, tokens)`` of an OFF body, or raise a "truncated" error."""
     try:
         return next(lines)
     except StopIteration:
@@ -498,7 +508,7 @@ _PLY_SIZES = {
 
 
 def _scan_ply_header(p):
-    """Declared counts of a PLY file, checked against its size.
+    """Return the declared counts of a PLY file, checked against its size.
 
     PyMeshLab allocates the declared number of vertices and faces before reading them, so
     a corrupt count (a few bytes claiming 10^12 vertices) would exhaust the memory; every
@@ -599,8 +609,10 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
         return _bad_file(p, "the PLY element records end early: the file is truncated")
 
     def check(idx, k=None):
-        """Raise if an index is out of range; ``idx`` is one face (face number ``k``) or
-        an (m, 3) block of all the faces."""
+        """Raise if an index is out of range.
+
+        ``idx`` is one face (face number ``k``) or an (m, 3) block of all the faces.
+        """
         idx = np.asarray(idx)
         bad = (idx < 0) | (idx >= nv)
         if bad.any():
@@ -692,8 +704,10 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
 
 
 def _ascii_triangles_ok(p, body, elements, nv):
-    """Fast check of an ASCII PLY whose face element is one index list of triangles after
-    elements of scalar properties, one record per line (how every writer lays them out).
+    """Check an ASCII PLY fast, when its faces are one index list of triangles per line.
+
+    The face element comes after elements of scalar properties, one record per line (how
+    every writer lays them out).
 
     Returns True when every face was checked (raising on an out-of-range index), False when
     the file is laid out otherwise: the caller then walks it token by token.
@@ -829,8 +843,11 @@ def _scan_stl(p):
 
 
 def _scan_ascii_stl(p):
-    """Facet count of an ASCII STL, checking its vertex coordinates (PyMeshLab silently
-    drops a triangle with a NaN vertex); broken records are reported by PyMeshLab."""
+    """Count the facets of an ASCII STL, checking its vertex coordinates.
+
+    PyMeshLab silently drops a triangle with a NaN vertex; broken records are reported by
+    PyMeshLab.
+    """
     nfacets = 0
     with open(p, "rb") as fh:
         for lineno, raw in enumerate(fh, 1):

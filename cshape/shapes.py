@@ -78,8 +78,10 @@ def _midpoint_subdivide(V, F):
 
 
 def square(n: int = 32, size: float = 1.0) -> Mesh:
-    """Flat square ``[0, size]^2`` in the z=0 plane, an ``n x n`` grid of cells, each cut
-    into two triangles along alternating diagonals.  ``(n+1)^2`` vertices."""
+    """Flat square ``[0, size]^2`` in the z=0 plane, an ``n x n`` grid of cells.
+
+    Each cell is cut into two triangles along alternating diagonals.  ``(n+1)^2`` vertices.
+    """
     n = check_int("n", n, min=1, max=4096)
     size = check_real("size", size, positive=True)
     x = np.linspace(0.0, size, n + 1)
@@ -103,7 +105,8 @@ def square(n: int = 32, size: float = 1.0) -> Mesh:
 def _disk_param(rings):
     """Concentric-ring triangulation of the unit disk: ring k has 6k vertices.
 
-    Returns (r, theta, F) with polar coordinates of the vertices."""
+    Returns (r, theta, F) with polar coordinates of the vertices.
+    """
     r = [np.zeros(1)]
     th = [np.zeros(1)]
     start = [0]
@@ -145,8 +148,10 @@ def disk(rings: int = 24, radius: float = 1.0) -> Mesh:
 
 
 def hemisphere(rings: int = 24, radius: float = 1.0) -> Mesh:
-    """Upper unit hemisphere ``z >= 0``, the disk triangulation mapped by polar angle
-    ``phi = r pi / 2``; its boundary is the equator."""
+    """Upper unit hemisphere ``z >= 0``; its boundary is the equator.
+
+    The disk triangulation mapped by polar angle ``phi = r pi / 2``.
+    """
     rings = check_int("rings", rings, min=1, max=2048)
     radius = check_real("radius", radius, positive=True)
     r, th, F = _disk_param(rings)
@@ -211,7 +216,7 @@ def cube(n: int = 16, size: float = 1.0) -> Mesh:
 
 
 def sphere_spectrum(N: int, radius: float = 1.0) -> NDArray[np.float64]:
-    """The first ``N`` exact eigenvalues of the sphere: ``l(l+1)/radius^2``, each ``2l+1`` times."""
+    """Return the first ``N`` exact sphere eigenvalues: ``l(l+1)/radius^2``, each ``2l+1`` times."""
     N = check_int("N", N, min=0, max=10**8)
     radius = check_real("radius", radius, positive=True)
     out: list[float] = []

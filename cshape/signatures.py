@@ -112,14 +112,14 @@ def _check_pairs(lam, phi):
 
 
 def _check_positive(name, value, *, allow_none=True):
-    """A positive finite real number as float (``None`` passes when allowed)."""
+    """Check a positive finite real number, returned as float (``None`` passes when allowed)."""
     if value is None and allow_none:
         return None
     return check_real(name, value, positive=True)
 
 
 def _check_scales(name, values, *, positive=True) -> np.ndarray:
-    """A scalar or 1-D array of finite (positive) scales, as a 1-D float array."""
+    """Check a scalar or 1-D array of finite (positive) scales, returned as a 1-D float array."""
     a = _as_real_2d(values, name)
     if a.ndim > 1:
         raise ValueError(f"{name} must be a number or a 1-D array, got shape {a.shape}")
@@ -134,7 +134,7 @@ def _check_scales(name, values, *, positive=True) -> np.ndarray:
 
 
 def _scaled(lam, phi, area):
-    """The eigenpairs of the shape scaled to unit area (Section 2.1), or unchanged."""
+    """Return the eigenpairs of the shape scaled to unit area (Section 2.1), or unchanged."""
     if area is None:
         return lam, phi
     return lam * area, phi * np.sqrt(area)
@@ -157,7 +157,7 @@ def _first_nonzero(lam) -> float:
 
 # ---------------------------------------------------------------------- heat
 def heat_trace(lam: ArrayLike, t: ArrayLike, *, area: float | None = None) -> np.ndarray:
-    """The heat trace ``Z(t) = sum_i exp(-lam_i t)``, summed over the given eigenvalues.
+    """Compute the heat trace ``Z(t) = sum_i exp(-lam_i t)`` over the given eigenvalues.
 
     ``Z(t) = int_M k_t(x, x) dx``: the integral of the HKS over the surface.
 
@@ -184,7 +184,7 @@ def heat_trace(lam: ArrayLike, t: ArrayLike, *, area: float | None = None) -> np
 
 def heat_kernel(lam: ArrayLike, phi: ArrayLike, t: float, sources: ArrayLike, *,
                 area: float | None = None) -> np.ndarray:
-    """The heat kernel ``k_t(x, y) = sum_i exp(-lam_i t) phi_i(x) phi_i(y)`` from vertices.
+    """Compute the heat kernel ``k_t(x, y) = sum_i exp(-lam_i t) phi_i(x) phi_i(y)`` from vertices.
 
     The temperature at every vertex ``x`` at time ``t`` after a unit of heat was put at
     ``y`` (a Dirac delta: ``int k_t(x, y) dx = 1`` for Neumann or closed surfaces).
@@ -231,7 +231,7 @@ def heat_kernel(lam: ArrayLike, phi: ArrayLike, t: float, sources: ArrayLike, *,
 
 # ---------------------------------------------------------------------- HKS
 def hks_times(lam: ArrayLike, n_times: int = 100, *, area: float | None = None) -> np.ndarray:
-    """The default HKS times of Sun et al. (2009): log-spaced over the spectrum's range.
+    """Return the default HKS times of Sun et al. (2009): log-spaced over the spectrum's range.
 
     ``t`` runs from ``4 ln 10 / lam_max`` to ``4 ln 10 / lam_1`` (``lam_1`` the first
     non-zero eigenvalue): at ``t_min`` the last eigenfunction's term has decayed to
@@ -311,7 +311,7 @@ def hks(lam: ArrayLike, phi: ArrayLike, t: ArrayLike | None = None, *, n_times: 
 # ---------------------------------------------------------------------- WKS
 def wks_energies(lam: ArrayLike, n_energies: int = 100, *,
                  area: float | None = None) -> tuple[np.ndarray, float]:
-    """The default WKS energies and width of Aubry et al. (2011).
+    """Return the default WKS energies and width of Aubry et al. (2011).
 
     With ``e_1 = log lam_1`` (first non-zero) and ``e_N = log lam_max``, the step is
     ``delta = (e_N - e_1) / n_energies`` and ``sigma = 7 delta``; the energies are
@@ -424,7 +424,7 @@ def wks(lam: ArrayLike, phi: ArrayLike, energies: ArrayLike | None = None,
 
 # ---------------------------------------------------------------------- SI-HKS
 def si_hks_tau(step: float = 1 / 8) -> np.ndarray:
-    """The default log-time grid of :func:`si_hks`: ``t = 2^tau`` for a fixed ``tau``.
+    """Return the default log-time grid of :func:`si_hks`: ``t = 2^tau`` for a fixed ``tau``.
 
     The grid is fixed, not fitted to a spectrum (a grid that follows the spectrum would
     scale with the shape and hide what SI-HKS removes): ``tau`` from -24 to 16 in steps of

@@ -109,7 +109,8 @@ def stderr_outputs(nb) -> list[str]:
 
 def default_notebook_dir() -> Path:
     """The lessons: ``notebooks/`` of a source checkout, or the package data
-    ``cshape/lessons`` of an installed cshape (see :func:`cshape.course.assignments.lessons_dir`)."""
+    ``cshape/lessons`` of an installed cshape
+    (see :func:`cshape.course.assignments.lessons_dir`)."""
     from .assignments import lessons_dir
 
     return lessons_dir()
