@@ -278,10 +278,10 @@ class Mesh:
 
 
 def _row_norms(x: np.ndarray) -> np.ndarray:
-    """Return the Euclidean norms of the rows of an (k, 3) array, without over- or underflow.
+    """Return the Euclidean norms of the rows of an (k, 3) array, without squaring's overflow.
 
-    Squaring would overflow or underflow; this way meshes in units of 1e-100 or 1e100 keep
-    finite, non-zero lengths and areas.
+    Nor its underflow: meshes in units of 1e-100 or 1e100 keep finite, non-zero lengths and
+    areas.
     """
     sq = np.einsum("ij,ij->i", x, x)
     out = np.sqrt(sq)
