@@ -593,7 +593,8 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
     * (binary) no other list may exceed :data:`PLY_MAX_LIST_BYTES`: PyMeshLab overflows a
       buffer on such a list (in an extra element or property) and aborts.
 
-    Triangle faces take a vectorised path; anything else is walked record by record.
+    Triangle faces take a vectorised path (:func:`_ply_triangle_block`); anything else is
+    walked record by record (:func:`_walk_ply_ascii`, :func:`_walk_ply_binary`).
     """
     with open(p, "rb") as fh:
         fh.seek(header_end)
@@ -602,34 +603,8 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
     order = ">" if fmt == "binary_big_endian" else "<"
     if ascii_ and _ascii_triangles_ok(p, body, elements, nv):
         return  # ASCII lists cannot overflow the reader; the faces were checked
-    tokens = body.split() if ascii_ else None
+    data = body.split() if ascii_ else body  # tokens (ascii) or bytes (binary)
     pos = 0  # token index (ascii) or byte offset (binary)
-
-    def truncated():
-        return _bad_file(p, "the PLY element records end early: the file is truncated")
-
-    def check(idx, k=None):
-        """Raise if an index is out of range.
-
-        ``idx`` is one face (face number ``k``) or an (m, 3) block of all the faces.
-        """
-        idx = np.asarray(idx)
-        bad = (idx < 0) | (idx >= nv)
-        if bad.any():
-            if k is None:
-                k = int(np.flatnonzero(bad.any(axis=1))[0])
-                bad = bad[k]
-                idx = idx[k]
-            raise _bad_file(
-                p, f"Bad vertex index in face {k}: {int(idx[bad][0])}, but the file has {nv} "
-                f"vertices (PLY indices are 0-based, in [0, {nv - 1}])"
-            )
-
-    def ints(toks, k):
-        try:
-            return np.array(toks).astype(np.int64)
-        except ValueError:
-            raise _bad_file(p, f"record {k}: {toks[:8]} are not integers") from None
 
     def has_lists(props):
         return any(q[1] == "list" for q in props)
@@ -646,61 +621,122 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
             return  # unknown types: PyMeshLab refuses the file itself
         faces = name == "face"
         if faces and len(props) == 1 and props[0][0] in _PLY_FACE_LISTS:
-            # the usual layout, one index list per face: vectorised when all are triangles
-            _, _, c_t, i_t = props[0]
-            if ascii_:
-                rec = tokens[pos : pos + 4 * count]
-                if len(rec) == 4 * count and all(t == b"3" for t in rec[::4]):
-                    check(ints(rec, 0).reshape(count, 4)[:, 1:])
-                    pos += 4 * count
-                    continue
-            else:
-                dt = np.dtype(
-                    [("n", order + _PLY_NUMPY[c_t]), ("i", order + _PLY_NUMPY[i_t], 3)]
+            end = _ply_triangle_block(p, data, pos, count, props[0], order, nv, ascii_)
+            if end is not None:
+                pos = end
+                continue
+        walk = _walk_ply_ascii if ascii_ else _walk_ply_binary
+        pos = walk(p, data, pos, name, count, props, order, nv)
+
+
+def _ply_check_indices(p, idx, nv, k=None):
+    """Raise if a face index lies outside ``[0, nv)``.
+
+    ``idx`` is one face (face number ``k``) or, with ``k=None``, an (m, 3) block of all the
+    faces.
+    """
+    idx = np.asarray(idx)
+    bad = (idx < 0) | (idx >= nv)
+    if bad.any():
+        if k is None:
+            k = int(np.flatnonzero(bad.any(axis=1))[0])
+            bad = bad[k]
+            idx = idx[k]
+        raise _bad_file(
+            p, f"Bad vertex index in face {k}: {int(idx[bad][0])}, but the file has {nv} "
+            f"vertices (PLY indices are 0-based, in [0, {nv - 1}])"
+        )
+
+
+def _ply_ints(p, toks, k):
+    """Return the ASCII tokens ``toks`` of record ``k`` as int64, or raise naming the record."""
+    try:
+        return np.array(toks).astype(np.int64)
+    except ValueError:
+        raise _bad_file(p, f"record {k}: {toks[:8]} are not integers") from None
+
+
+def _ply_truncated(p):
+    """Return the error of a PLY body that ends before its last record."""
+    return _bad_file(p, "the PLY element records end early: the file is truncated")
+
+
+def _ply_triangle_block(p, data, pos, count, prop, order, nv, ascii_):
+    """Check a face element of ``count`` triangles at once; return the position after it.
+
+    ``prop`` is the element's one index-list property.  Returns None (nothing checked) when
+    some face is not a triangle or the records are short: the caller then walks them one by
+    one.
+    """
+    _, _, c_t, i_t = prop
+    if ascii_:
+        rec = data[pos : pos + 4 * count]
+        if len(rec) == 4 * count and all(t == b"3" for t in rec[::4]):
+            _ply_check_indices(p, _ply_ints(p, rec, 0).reshape(count, 4)[:, 1:], nv)
+            return pos + 4 * count
+        return None
+    dt = np.dtype([("n", order + _PLY_NUMPY[c_t]), ("i", order + _PLY_NUMPY[i_t], 3)])
+    if len(data) - pos >= count * dt.itemsize:
+        rec = np.frombuffer(data, dtype=dt, count=count, offset=pos)
+        if np.all(rec["n"] == 3):
+            _ply_check_indices(p, rec["i"], nv)
+            return pos + count * dt.itemsize
+    return None
+
+
+def _walk_ply_ascii(p, tokens, pos, name, count, props, order, nv):
+    """Check ``count`` ASCII records of element ``name``; return the token index after them.
+
+    ``pos`` is the index of their first token; ``order`` is unused (ASCII has no byte order).
+    """
+    faces = name == "face"
+    for k in range(count):
+        for pname, t, _, _ in props:
+            if t != "list":
+                pos += 1
+                continue
+            if pos >= len(tokens):
+                raise _ply_truncated(p)
+            n = int(_ply_ints(p, tokens[pos : pos + 1], k)[0])
+            vals = tokens[pos + 1 : pos + 1 + n]
+            if n < 0 or len(vals) < n:
+                raise _ply_truncated(p)
+            if faces and pname in _PLY_FACE_LISTS:
+                _ply_check_indices(p, _ply_ints(p, vals, k), nv, k)
+            pos += 1 + n
+    return pos
+
+
+def _walk_ply_binary(p, body, pos, name, count, props, order, nv):
+    """Check ``count`` binary records of element ``name``; return the byte offset after them.
+
+    ``pos`` is the offset of the first record.  Face indices must be in range; other lists
+    must not exceed :data:`PLY_MAX_LIST_BYTES`.
+    """
+    faces = name == "face"
+    for k in range(count):
+        for pname, t, c_t, i_t in props:
+            if t != "list":
+                pos += _PLY_SIZES[t]
+                continue
+            cdt, idt = np.dtype(order + _PLY_NUMPY[c_t]), np.dtype(order + _PLY_NUMPY[i_t])
+            if pos + cdt.itemsize > len(body):
+                raise _ply_truncated(p)
+            n = int(np.frombuffer(body, cdt, 1, pos)[0])
+            pos += cdt.itemsize
+            if n < 0 or pos + n * idt.itemsize > len(body):
+                raise _ply_truncated(p)
+            if faces and pname in _PLY_FACE_LISTS:
+                _ply_check_indices(p, np.frombuffer(body, idt, n, pos), nv, k)
+            elif n * idt.itemsize > PLY_MAX_LIST_BYTES:
+                raise _bad_file(
+                    p, f"record {k} of element {name!r} has a list property {pname!r} of "
+                    f"{n * idt.itemsize} bytes; PyMeshLab's PLY reader overflows a buffer "
+                    f"on lists over {PLY_MAX_LIST_BYTES} bytes (it would abort Python): "
+                    "remove that property or element, or save the file as ASCII PLY"
                 )
-                if len(body) - pos >= count * dt.itemsize:
-                    rec = np.frombuffer(body, dtype=dt, count=count, offset=pos)
-                    if np.all(rec["n"] == 3):
-                        check(rec["i"])
-                        pos += count * dt.itemsize
-                        continue
-        for k in range(count):  # record by record
-            for pname, t, c_t, i_t in props:
-                is_index = faces and pname in _PLY_FACE_LISTS
-                if ascii_:
-                    if t != "list":
-                        pos += 1
-                        continue
-                    if pos >= len(tokens):
-                        raise truncated()
-                    n = int(ints(tokens[pos : pos + 1], k)[0])
-                    vals = tokens[pos + 1 : pos + 1 + n]
-                    if n < 0 or len(vals) < n:
-                        raise truncated()
-                    if is_index:
-                        check(ints(vals, k), k)
-                    pos += 1 + n
-                    continue
-                if t != "list":
-                    pos += _PLY_SIZES[t]
-                    continue
-                cdt, idt = np.dtype(order + _PLY_NUMPY[c_t]), np.dtype(order + _PLY_NUMPY[i_t])
-                if pos + cdt.itemsize > len(body):
-                    raise truncated()
-                n = int(np.frombuffer(body, cdt, 1, pos)[0])
-                pos += cdt.itemsize
-                if n < 0 or pos + n * idt.itemsize > len(body):
-                    raise truncated()
-                if is_index:
-                    check(np.frombuffer(body, idt, n, pos), k)
-                elif n * idt.itemsize > PLY_MAX_LIST_BYTES:
-                    raise _bad_file(
-                        p, f"record {k} of element {name!r} has a list property {pname!r} of "
-                        f"{n * idt.itemsize} bytes; PyMeshLab's PLY reader overflows a buffer "
-                        f"on lists over {PLY_MAX_LIST_BYTES} bytes (it would abort Python): "
-                        "remove that property or element, or save the file as ASCII PLY"
-                    )
-                pos += n * idt.itemsize
+            pos += n * idt.itemsize
+    return pos
 
 
 def _ascii_triangles_ok(p, body, elements, nv):
