@@ -11,10 +11,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
+
 import numpy as np
+from numpy.typing import NDArray
 
 from .._checks import check_labels, check_square
 from ..compare import scale_255
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 # --------------------------------------------------------------------------- plots
 #: An MDS plot names its points up to this many shapes; beyond, only the class legend.
@@ -552,56 +559,104 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     if names is not None and len(names) != p:
         raise ValueError(f"names has {len(names)} entries but Y has {p} points")
     lay = mds_layout(Y, outliers)
-    out, P = lay["outliers"], lay["P"]
     own = ax is None
     size = 25.0 if p <= 100 else max(4.0, 2500.0 / p)
-    scale = {"markerscale": max(1.0, (25.0 / size) ** 0.5)}  # legend markers stay visible
-    n_classes = 0
     if labels is not None:
         codes, styles = class_styles(labels, p)
-        n_classes = len(styles)
     else:
         codes, styles = np.zeros(p, dtype=np.int64), [("", "C0", "o")]
-    columns = 1 if n_classes <= MAX_LEGEND_CLASSES else -(-n_classes // MAX_LEGEND_CLASSES)
-    listed = legend and labels is not None and columns <= LEGEND_COLUMNS
-    if own and listed and columns > 1:  # the legend goes below: a taller figure
-        columns = min(LEGEND_COLUMNS, max(columns, 2))
-        rows = -(-(n_classes + bool(out.any())) // columns)
-        figsize = (max(figsize[0], 1.9 * columns), figsize[1] + 0.21 * rows + 0.5)
+    plan = _mds_legend_plan(len(styles) if labels is not None else 0, labels is not None,
+                            legend, own, bool(lay["outliers"].any()))
+    if own and plan.listed and plan.columns > 1:  # the legend goes below: a taller figure
+        figsize = (max(figsize[0], 1.9 * plan.columns), figsize[1] + 0.21 * plan.rows + 0.5)
     fig, ax = _figure_and_ax(ax, figsize)
+    _draw_mds_points(ax, lay, codes, styles, size, labels is not None)
+    _set_square(ax, lay["centre"], lay["half"])
+    _draw_mds_legend(ax, plan, own=own, outside=own or legend == "outside",
+                     markerscale=max(1.0, (25.0 / size) ** 0.5))
+    _style_mds_axes(ax, title)
+    # texts last (they take the final layout): outliers first, then names or classes
+    texts, where = _mds_texts(Y, lay, names, labels, plan.n_classes, max_names)
+    if texts:
+        annotate_points(ax, np.array(where), texts)
+    return fig
+
+
+class _MdsLegend(NamedTuple):
+    """How :func:`plot_mds` lists the classes: in ``columns`` columns of ``rows`` rows
+    (``listed``), or not at all (then, with ``labels``, the panel states their number)."""
+
+    legend: bool | str
+    has_labels: bool
+    n_classes: int
+    columns: int
+    rows: int
+    listed: bool
+    any_outlier: bool
+
+
+def _mds_legend_plan(n_classes: int, has_labels: bool, legend: bool | str, own: bool,
+                     any_outlier: bool) -> _MdsLegend:
+    """The legend of :func:`plot_mds`: one column up to :data:`MAX_LEGEND_CLASSES` classes,
+    below the panel of a figure of its own in up to :data:`LEGEND_COLUMNS` columns."""
+    columns = 1 if n_classes <= MAX_LEGEND_CLASSES else -(-n_classes // MAX_LEGEND_CLASSES)
+    listed = bool(legend) and has_labels and columns <= LEGEND_COLUMNS
+    rows = 0
+    if own and listed and columns > 1:
+        columns = min(LEGEND_COLUMNS, max(columns, 2))
+        rows = -(-(n_classes + any_outlier) // columns)
+    return _MdsLegend(legend, has_labels, n_classes, columns, rows, listed, any_outlier)
+
+
+def _draw_mds_points(ax: Axes, lay: dict[str, Any], codes: NDArray[np.int64],
+                     styles: list[tuple[str, Any, str]], size: float,
+                     named_classes: bool) -> None:
+    """The points of :func:`plot_mds`: inliers class by class, outliers as arrow heads on
+    the border (and an empty marker for the legend's outlier entry)."""
+    out, P = lay["outliers"], lay["P"]
     for c, (lab, col, marker) in enumerate(styles):
         sel = (codes == c) & ~out
         ax.scatter(P[sel, 0], P[sel, 1], color=col, marker=marker, s=size, linewidths=0,
-                   label=short_label(lab) if labels is not None else None)
-    if out.any():
-        from matplotlib.markers import MarkerStyle
-        from matplotlib.transforms import Affine2D
+                   label=short_label(lab) if named_classes else None)
+    if not out.any():
+        return
+    from matplotlib.markers import MarkerStyle
+    from matplotlib.transforms import Affine2D
 
-        for i in np.flatnonzero(out):
-            m = MarkerStyle(">", transform=Affine2D().rotate_deg(lay["angle"][i]))
-            ax.scatter([P[i, 0]], [P[i, 1]], color=styles[codes[i]][1], marker=m,
-                       s=max(size, 25.0) * 2.2, edgecolors="black", linewidths=0.6,
-                       zorder=3)
-        ax.scatter([], [], marker=">", color="white", edgecolors="black", linewidths=0.6,
-                   label="outlier, on the border (\u00d7k typical distance)")
-    _set_square(ax, lay["centre"], lay["half"])
-    outside = own or legend == "outside"
-    if listed and outside and (columns == 1 or not own):
-        ax.legend(fontsize="small" if columns == 1 else "x-small", loc="upper left",
-                  bbox_to_anchor=(1.02, 1.0), ncol=columns, borderaxespad=0.0,
+    for i in np.flatnonzero(out):
+        m = MarkerStyle(">", transform=Affine2D().rotate_deg(lay["angle"][i]))
+        ax.scatter([P[i, 0]], [P[i, 1]], color=styles[codes[i]][1], marker=m,
+                   s=max(size, 25.0) * 2.2, edgecolors="black", linewidths=0.6,
+                   zorder=3)
+    ax.scatter([], [], marker=">", color="white", edgecolors="black", linewidths=0.6,
+               label="outlier, on the border (\u00d7k typical distance)")
+
+
+def _draw_mds_legend(ax: Axes, plan: _MdsLegend, *, own: bool, outside: bool,
+                     markerscale: float) -> None:
+    """The class legend of :func:`plot_mds` (beside, below or inside the panel), or the
+    number of classes when they are too many to list."""
+    scale = {"markerscale": markerscale}  # legend markers stay visible
+    if plan.listed and outside and (plan.columns == 1 or not own):
+        ax.legend(fontsize="small" if plan.columns == 1 else "x-small", loc="upper left",
+                  bbox_to_anchor=(1.02, 1.0), ncol=plan.columns, borderaxespad=0.0,
                   frameon=False, **scale)
-    elif listed and own:
+    elif plan.listed and own:
         ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1),
-                  ncol=columns, borderaxespad=0.0, frameon=False, columnspacing=1.0,
+                  ncol=plan.columns, borderaxespad=0.0, frameon=False, columnspacing=1.0,
                   handletextpad=0.3, **scale)
-    elif legend and labels is not None and n_classes <= MAX_LEGEND_CLASSES:
+    elif plan.legend and plan.has_labels and plan.n_classes <= MAX_LEGEND_CLASSES:
         ax.legend(fontsize="x-small", loc="best", framealpha=0.7, **scale)  # in a panel
-    elif out.any() and legend:
+    elif plan.any_outlier and plan.legend:
         ax.legend(handles=ax.get_legend_handles_labels()[0][-1:], fontsize="x-small",
                   loc="best", framealpha=0.7)
-    if labels is not None and legend and not listed:
-        ax.text(0.01, 0.01, f"{n_classes} classes", transform=ax.transAxes,
+    if plan.has_labels and plan.legend and not plan.listed:
+        ax.text(0.01, 0.01, f"{plan.n_classes} classes", transform=ax.transAxes,
                 fontsize="x-small", color="0.35", ha="left", va="bottom")
+
+
+def _style_mds_axes(ax: Axes, title: str | None) -> None:
+    """Axis names, a few ticks in small print, and the title of an MDS panel."""
     ax.set_xlabel("MDS 1", fontsize="small")
     ax.set_ylabel("MDS 2", fontsize="small")
     ax.locator_params(nbins=4)
@@ -609,8 +664,17 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     ax.tick_params(labelsize="x-small")
     if title:
         ax.set_title(title, fontsize="medium")
-    # texts last (they take the final layout): outliers first, then names or classes
-    texts, where = [], []
+
+
+def _mds_texts(Y: NDArray[np.float64], lay: dict[str, Any], names: Sequence[str] | None,
+               labels: Sequence[Any] | None, n_classes: int, max_names: int
+               ) -> tuple[list[str], list[Any]]:
+    """The texts of :func:`plot_mds` and where they go: each outlier's name and ratio,
+    then the shape names (up to ``max_names`` shapes) or each class's name at its median."""
+    out, P = lay["outliers"], lay["P"]
+    p = len(Y)
+    texts: list[str] = []
+    where: list[Any] = []
     if out.any():
         tags = short_labels(names) if names is not None else [f"#{i}" for i in range(p)]
         for i in np.flatnonzero(out):
@@ -624,9 +688,7 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
         for lab, xy in class_medians(Y[~out], [labels[i] for i in np.flatnonzero(~out)]):
             texts.append(short_label(lab))
             where.append(xy)
-    if texts:
-        annotate_points(ax, np.array(where), texts)
-    return fig
+    return texts, where
 
 
 def _runs(labels):
