@@ -12,6 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path, PurePosixPath
+from typing import Any
 
 from ..mesh import Mesh
 
@@ -269,94 +270,134 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
     """
     _check_fields(doc, MANIFEST_SCHEMA["top"]["required"], {}, source)
     recipes = _recipes()
-    out: dict = {}
+    out: dict[str, dict[str, Any]] = {}
     for i, entry in enumerate(doc["collections"]):
         name = entry.get("name") if isinstance(entry, dict) else None
         where = f"{source}: collection {name!r} (entry {i})" if name else f"{source}: entry {i}"
         if not isinstance(entry, dict):
             raise ValueError(f"{where}: expected a mapping of fields")
-        kind = entry.get("kind")
-        if kind is not None and kind not in KINDS:
-            raise ValueError(f"{where}: unknown kind {kind!r}; kind must be one of {KINDS}")
-        base_required = MANIFEST_SCHEMA["collection"]["required"]
-        spec = MANIFEST_SCHEMA["kinds"].get(kind, {"required": {}, "optional": {}})
-        _check_fields(
-            entry, {**base_required, **spec["required"]}, spec["optional"], where
-        )
-        if name in out:
-            raise ValueError(f"{where}: duplicate collection name {name!r}")
-        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", name):
-            raise ValueError(
-                f"{where}: name must be letters, digits, '-', '_' or '.', got {name!r}"
-            )
-        if kind == "download":
-            if ("items" in entry) == ("layout" in entry):
-                raise ValueError(
-                    f"{where}: a download collection needs either 'items' (files with url, "
-                    "sha256, size) or 'layout' (a benchmark fetched by hand), not both or none"
-                )
-            if "layout" in entry and entry["layout"] not in LAYOUTS:
-                raise ValueError(
-                    f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
-                )
-        if kind == "generated":
-            if ("items" in entry) == ("generate" in entry):
-                raise ValueError(
-                    f"{where}: a generated collection needs either 'items' (one recipe per "
-                    "item) or 'generate' (a generated benchmark: benchmark, seed, members, kinds, "
-                    "params), not both or none"
-                )
-            if "generate" in entry:
-                entry["items"] = _generate_items(entry["generate"], where)
-        if kind == "package":
-            rel = PurePosixPath(entry["path"])
-            if rel.is_absolute() or ".." in rel.parts:
-                raise ValueError(
-                    f"{where}: field 'path' must be a folder inside package "
-                    f"{entry['package']!r}, got {entry['path']!r}"
-                )
-        if kind == "local" and entry["labels"] != "subfolder" and not entry["labels"].endswith(
-            ".csv"
-        ):
-            raise ValueError(
-                f"{where}: field 'labels' must be 'subfolder' or the name of a CSV file, "
-                f"got {entry['labels']!r}"
-            )
-        seen = set()
+        spec = _check_collection(entry, out, where)
+        seen: set[str] = set()
         for j, item in enumerate(entry.get("items") or []):
-            iname = item.get("name") if isinstance(item, dict) else None
-            iwhere = f"{where}, item {iname!r}" if iname else f"{where}, item {j}"
-            _check_fields(item, spec["item_required"], spec["item_optional"], iwhere)
-            if iname in seen:
-                raise ValueError(f"{iwhere}: duplicate item name {iname!r}")
-            if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", iname):
-                # names become cache file names: no '/', '..' or hidden files
-                raise ValueError(
-                    f"{iwhere}: item name must be letters, digits, '-', '_' or '.' (starting "
-                    f"with a letter or digit), got {iname!r}"
-                )
-            seen.add(iname)
-            if kind == "generated":
-                _check_recipe(item, recipes, out, entry, iwhere)
-            if kind == "download":
-                if not re.fullmatch(r"[0-9a-f]{64}", item["sha256"]):
-                    raise ValueError(
-                        f"{iwhere}: field 'sha256' must be 64 lowercase hex digits, "
-                        f"got {item['sha256']!r}"
-                    )
-                if not item["url"].startswith("https://"):
-                    raise ValueError(f"{iwhere}: field 'url' must be an https URL")
-                if item["size"] <= 0:
-                    raise ValueError(f"{iwhere}: field 'size' must be a positive byte count")
-            if "file" in item:
-                p = PurePosixPath(item["file"])
-                if p.is_absolute() or ".." in p.parts:
-                    raise ValueError(
-                        f"{iwhere}: field 'file' must be a relative path inside the "
-                        f"collection, got {item['file']!r}"
-                    )
+            _check_item(item, j, entry, spec, recipes, out, seen, where)
         out[name] = entry
     return out
+
+
+#: What a collection's name and its items' names may be (they become folder and cache file
+#: names: no '/', '..' or hidden files).
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
+
+
+def _check_collection(entry: dict[str, Any], done: dict[str, dict[str, Any]],
+                      where: str) -> dict[str, Any]:
+    """Check a collection's fields, name and the rules of its kind (a ``generate``
+    mapping becomes its ``items``); return the schema of its kind."""
+    name, kind = entry.get("name"), entry.get("kind")
+    if kind is not None and kind not in KINDS:
+        raise ValueError(f"{where}: unknown kind {kind!r}; kind must be one of {KINDS}")
+    base_required = MANIFEST_SCHEMA["collection"]["required"]
+    spec = MANIFEST_SCHEMA["kinds"].get(kind, {"required": {}, "optional": {}})
+    _check_fields(entry, {**base_required, **spec["required"]}, spec["optional"], where)
+    if name in done:
+        raise ValueError(f"{where}: duplicate collection name {name!r}")
+    if not _NAME.fullmatch(name):
+        raise ValueError(
+            f"{where}: name must be letters, digits, '-', '_' or '.', got {name!r}"
+        )
+    _KIND_RULES[kind](entry, where)
+    return spec
+
+
+def _check_download(entry: dict[str, Any], where: str) -> None:
+    if ("items" in entry) == ("layout" in entry):
+        raise ValueError(
+            f"{where}: a download collection needs either 'items' (files with url, "
+            "sha256, size) or 'layout' (a benchmark fetched by hand), not both or none"
+        )
+    if "layout" in entry and entry["layout"] not in LAYOUTS:
+        raise ValueError(
+            f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
+        )
+
+
+def _check_generated(entry: dict[str, Any], where: str) -> None:
+    if ("items" in entry) == ("generate" in entry):
+        raise ValueError(
+            f"{where}: a generated collection needs either 'items' (one recipe per "
+            "item) or 'generate' (a generated benchmark: benchmark, seed, members, kinds, "
+            "params), not both or none"
+        )
+    if "generate" in entry:
+        entry["items"] = _generate_items(entry["generate"], where)
+
+
+def _check_package(entry: dict[str, Any], where: str) -> None:
+    rel = PurePosixPath(entry["path"])
+    if rel.is_absolute() or ".." in rel.parts:
+        raise ValueError(
+            f"{where}: field 'path' must be a folder inside package "
+            f"{entry['package']!r}, got {entry['path']!r}"
+        )
+
+
+def _check_local(entry: dict[str, Any], where: str) -> None:
+    if entry["labels"] != "subfolder" and not entry["labels"].endswith(".csv"):
+        raise ValueError(
+            f"{where}: field 'labels' must be 'subfolder' or the name of a CSV file, "
+            f"got {entry['labels']!r}"
+        )
+
+
+#: The rules of each kind beyond its fields (:func:`validate_manifest`).
+_KIND_RULES: dict[str, Callable[[dict[str, Any], str], None]] = {
+    "generated": _check_generated,
+    "package": _check_package,
+    "download": _check_download,
+    "local": _check_local,
+}
+
+
+def _check_item(item: Any, j: int, entry: dict[str, Any], spec: dict[str, Any],
+                recipes: dict[str, tuple[Callable[..., Any], bool, bool]],
+                done: dict[str, dict[str, Any]], seen: set[str], where: str) -> None:
+    """Check item ``j`` of a collection: its fields, a unique name, and its recipe, file
+    and checksum as its kind needs (``seen``: the item names before it, gets its name)."""
+    iname = item.get("name") if isinstance(item, dict) else None
+    iwhere = f"{where}, item {iname!r}" if iname else f"{where}, item {j}"
+    _check_fields(item, spec["item_required"], spec["item_optional"], iwhere)
+    if iname in seen:
+        raise ValueError(f"{iwhere}: duplicate item name {iname!r}")
+    if not _NAME.fullmatch(iname):
+        raise ValueError(
+            f"{iwhere}: item name must be letters, digits, '-', '_' or '.' (starting "
+            f"with a letter or digit), got {iname!r}"
+        )
+    seen.add(iname)
+    if entry["kind"] == "generated":
+        _check_recipe(item, recipes, done, entry, iwhere)
+    if entry["kind"] == "download":
+        _check_download_item(item, iwhere)
+    if "file" in item:
+        p = PurePosixPath(item["file"])
+        if p.is_absolute() or ".." in p.parts:
+            raise ValueError(
+                f"{iwhere}: field 'file' must be a relative path inside the "
+                f"collection, got {item['file']!r}"
+            )
+
+
+def _check_download_item(item: dict[str, Any], where: str) -> None:
+    """A downloaded file's checksum, address and size."""
+    if not re.fullmatch(r"[0-9a-f]{64}", item["sha256"]):
+        raise ValueError(
+            f"{where}: field 'sha256' must be 64 lowercase hex digits, "
+            f"got {item['sha256']!r}"
+        )
+    if not item["url"].startswith("https://"):
+        raise ValueError(f"{where}: field 'url' must be an https URL")
+    if item["size"] <= 0:
+        raise ValueError(f"{where}: field 'size' must be a positive byte count")
 
 
 def _generate_items(spec, where) -> list:
