@@ -17,7 +17,17 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from .._checks import check_labels, check_square
+from .._checks import (
+    check_bool,
+    check_choice,
+    check_entries,
+    check_flag_or_choice,
+    check_int,
+    check_labels,
+    check_points,
+    check_real,
+    check_square,
+)
 from ..compare import scale_255
 
 if TYPE_CHECKING:
@@ -149,7 +159,8 @@ def square_limits(Y, margin=0.08):
     >>> square_limits(np.array([[0.0, 0.0], [4.0, 2.0]]), margin=0.0)
     (array([2., 1.]), 2.0)
     """
-    Y = np.asarray(Y, dtype=np.float64)
+    Y = check_points(Y, min_points=1)
+    margin = check_real("margin", margin, min=0)
     lo, hi = Y.min(axis=0), Y.max(axis=0)
     centre = (lo + hi) / 2
     half = max(float((hi - lo).max()) / 2, 1e-12 * max(1.0, float(np.abs(Y).max())))
@@ -186,7 +197,8 @@ def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
     ndarray, shape (p,)
         Zeros when ``p < 2``.
     """
-    Y = np.asarray(Y, dtype=np.float64)
+    Y = check_points(Y)
+    reference = check_int("reference", reference, min=1)
     p = len(Y)
     if p < 2:
         return np.zeros(p)
@@ -225,11 +237,8 @@ def mds_outliers(Y, *, factor=OUTLIER_FACTOR) -> np.ndarray:
     ndarray of bool, shape (p,)
         None when ``p < 3`` or when most points coincide (a typical distance of 0).
     """
-    Y = np.asarray(Y, dtype=np.float64)
-    if Y.ndim != 2:
-        raise ValueError(f"Y must have shape (p, d), got {Y.shape}")
-    if not factor > 1:
-        raise ValueError(f"factor must be a number > 1, got {factor!r}")
+    Y = check_points(Y)
+    factor = check_real("factor", factor, above=1)
     if len(Y) < 3:
         return np.zeros(len(Y), dtype=bool)
     m = median_distances(Y)
@@ -363,10 +372,9 @@ def nearest_neighbours(D, k=3):
     ([[1, 2], [0, 2], [1, 0]], [[1.0, 3.0], [1.0, 1.0], [1.0, 3.0]])
     """
     A = check_square(D, "D")
-    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
-        raise ValueError(f"k must be an integer >= 1, got {k!r}")
+    k = check_int("k", k, min=1)
     p = len(A)
-    k = min(int(k), p - 1)
+    k = min(k, p - 1)
     B = A.astype(np.float64, copy=True)
     np.fill_diagonal(B, np.inf)
     ind = np.argsort(B, axis=1, kind="stable")[:, :k]
@@ -442,13 +450,10 @@ def _outlier_mask(Y, outliers):
     if outliers is None or outliers is False:
         return np.zeros(len(Y), dtype=bool)
     if isinstance(outliers, str):
-        if outliers != "auto":
-            raise ValueError(f"outliers must be 'auto', None or a boolean mask, got "
-                             f"{outliers!r}")
+        check_choice("outliers", outliers, ("auto",))
         return mds_outliers(Y)
     mask = np.asarray(outliers, dtype=bool).reshape(-1)
-    if len(mask) != len(Y):
-        raise ValueError(f"outliers has {len(mask)} entries but Y has {len(Y)} points")
+    check_entries("outliers", mask, len(Y))
     return mask
 
 
@@ -472,7 +477,8 @@ def mds_layout(Y, outliers="auto", *, margin=0.08):
         ``half`` (the panel is ``centre +- half``), ``ratio`` ((p,): median distance over
         the typical one, see :func:`outlier_ratios`; NaN unless there are outliers).
     """
-    Y = np.asarray(Y, dtype=np.float64)
+    Y = check_points(Y, d=2, min_points=1)
+    margin = check_real("margin", margin, min=0)
     out = _outlier_mask(Y, outliers)
     if out.all():
         out = np.zeros(len(Y), dtype=bool)
@@ -552,12 +558,14 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     -------
     matplotlib.figure.Figure
     """
-    Y = np.asarray(Y, dtype=np.float64)
-    if Y.ndim != 2 or Y.shape[1] != 2:
-        raise ValueError(f"Y must have shape (p, 2), got {Y.shape}; use mds_embedding(D)")
+    Y = check_points(Y, d=2, min_points=1, fix="use mds_embedding(D)")
     p = len(Y)
-    if names is not None and len(names) != p:
-        raise ValueError(f"names has {len(names)} entries but Y has {p} points")
+    if names is not None:
+        check_entries("names", names, p)
+    if labels is not None:
+        check_entries("labels", labels, p)
+    max_names = check_int("max_names", max_names, min=0)
+    legend = check_flag_or_choice("legend", legend, ("outside",))
     lay = mds_layout(Y, outliers)
     own = ax is None
     size = 25.0 if p <= 100 else max(4.0, 2500.0 / p)
@@ -782,9 +790,14 @@ def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, labe
     matplotlib.figure.Figure
     """
     A = check_square(D, "D")
+    scale, colorbar = check_bool("scale", scale), check_bool("colorbar", colorbar)
+    for arg, value in (("names", names), ("labels", labels)):
+        if value is not None:
+            check_entries(arg, value, len(A), of="D", unit="rows")
     img = scale_255(A) if scale else A
     if vmax is None:
         vmax = 255.0 if scale else (float(img.max()) or 1.0)
+    vmax = check_real("vmax", vmax, positive=True)
     fig, ax = _figure_and_ax(ax, figsize)
     im = ax.imshow(img, cmap=cmap, vmin=0.0, vmax=vmax, interpolation="nearest")
     matrix_ticks(ax, len(A), names, labels)
