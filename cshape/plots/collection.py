@@ -11,11 +11,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .._checks import (
     check_bool,
@@ -32,6 +32,9 @@ from ..compare import scale_255
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.colors import Colormap
+    from matplotlib.figure import Figure, SubFigure
+    from matplotlib.typing import ColorType
 
 # --------------------------------------------------------------------------- plots
 #: An MDS plot names its points up to this many shapes; beyond, only the class legend.
@@ -56,7 +59,7 @@ OUTLIER_REFERENCE_POINTS = 2000
 LABEL_WIDTH = 16
 
 
-def short_label(name, width=LABEL_WIDTH) -> str:
+def short_label(name: object, width: int = LABEL_WIDTH) -> str:
     """A name short enough for a plot: the part after the last ``/``, cut in the middle.
 
     >>> short_label("animals/spot_low_resolution", 12)
@@ -66,7 +69,7 @@ def short_label(name, width=LABEL_WIDTH) -> str:
     return _cut_middle(text.rsplit("/", 1)[-1] or str(name), width)
 
 
-def _cut_middle(text, width):
+def _cut_middle(text: str, width: int) -> str:
     """``text`` cut to ``width`` characters in the middle (an ellipsis marks the cut)."""
     if len(text) <= width:
         return text
@@ -74,7 +77,7 @@ def _cut_middle(text, width):
     return text[:head] + "\u2026" + text[len(text) - (width - 1 - head):]
 
 
-def short_labels(names, width=LABEL_WIDTH) -> list:
+def short_labels(names: Iterable[object], width: int = LABEL_WIDTH) -> list[str]:
     """:func:`short_label` of every name, kept distinct where the names are.
 
     Names whose short labels would coincide (``a/spot`` and ``b/spot`` both give ``spot``)
@@ -84,18 +87,18 @@ def short_labels(names, width=LABEL_WIDTH) -> list:
     >>> short_labels(["a/spot", "b/spot", "c/bob"])
     ['a/spot', 'b/spot', 'bob']
     """
-    names = [str(n) for n in names]
-    out = [short_label(n, width) for n in names]
+    full = [str(n) for n in names]
+    out = [short_label(n, width) for n in full]
 
-    def clashes(labels):
-        seen = {}
-        for i, (lab, name) in enumerate(zip(labels, names, strict=True)):
+    def clashes(labels: list[str]) -> list[int]:
+        seen: dict[str, dict[str, list[int]]] = {}
+        for i, (lab, name) in enumerate(zip(labels, full, strict=True)):
             seen.setdefault(lab, {}).setdefault(name, []).append(i)
         return [i for group in seen.values() if len(group) > 1
                 for idx in group.values() for i in idx]
 
     for i in clashes(out):
-        parts = names[i].replace("\\", "/").rstrip("/").split("/")
+        parts = full[i].replace("\\", "/").rstrip("/").split("/")
         out[i] = _cut_middle("/".join(parts[-2:]), width)
     for i in clashes(out):
         suffix = f"#{i}"
@@ -103,7 +106,8 @@ def short_labels(names, width=LABEL_WIDTH) -> list:
     return out
 
 
-def _figure_and_ax(ax, figsize):
+def _figure_and_ax(ax: Axes | None, figsize: tuple[float, float]
+                   ) -> tuple[Figure | SubFigure, Axes]:
     if ax is not None:
         return ax.figure, ax
     from matplotlib.figure import Figure
@@ -112,13 +116,15 @@ def _figure_and_ax(ax, figsize):
     return fig, fig.add_subplot()
 
 
-def _class_colours(labels, p):
+def _class_colours(labels: Iterable[Any], p: int
+                   ) -> tuple[list[ColorType], list[tuple[str, ColorType]]]:
     """(colour of each point, [(class, colour)] in first-seen order)."""
     codes, styles = class_styles(labels, p)
     return [styles[c][1] for c in codes], [(lab, col) for lab, col, _ in styles]
 
 
-def class_styles(labels, p=None):
+def class_styles(labels: Iterable[Any], p: int | None = None
+                 ) -> tuple[NDArray[np.int64], list[tuple[str, ColorType, str]]]:
     """A colour and a marker per class, distinct for up to ``20 * len(CLASS_MARKERS)`` classes.
 
     Up to 10 classes: ``tab10`` circles; up to 20: ``tab20`` circles; beyond, class ``c``
@@ -141,7 +147,7 @@ def class_styles(labels, p=None):
 
     lab = list(labels)
     codes = check_labels(lab, len(lab) if p is None else p)
-    first = {}
+    first: dict[int, int] = {}
     for i, c in enumerate(codes):
         first.setdefault(int(c), i)
     cmap = mpl.colormaps["tab10" if len(first) <= 10 else "tab20"]
@@ -150,7 +156,7 @@ def class_styles(labels, p=None):
                    for c, i in first.items()]
 
 
-def square_limits(Y, margin=0.08):
+def square_limits(Y: ArrayLike, margin: float = 0.08) -> tuple[NDArray[np.float64], float]:
     """The square drawn around points: ``(centre, half)``, the box being
     ``centre +- half`` on both axes.
 
@@ -167,7 +173,7 @@ def square_limits(Y, margin=0.08):
     return centre, half * (1 + 2 * margin)
 
 
-def _square_limits(ax, Y, margin=0.08):
+def _square_limits(ax: Axes, Y: ArrayLike, margin: float = 0.08) -> float:
     """Equal x and y ranges around the points and a square box: the panel stays square
     and one unit is as long on both axes, whatever the spread of the embedding."""
     centre, half = square_limits(Y, margin)
@@ -175,14 +181,15 @@ def _square_limits(ax, Y, margin=0.08):
     return 2 * half
 
 
-def _set_square(ax, centre, half):
+def _set_square(ax: Axes, centre: NDArray[np.float64], half: float) -> None:
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_aspect("equal", adjustable="box")
 
 
 # --------------------------------------------------------------------------- outliers
-def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
+def median_distances(Y: ArrayLike, *, reference: int = OUTLIER_REFERENCE_POINTS
+                     ) -> NDArray[np.float64]:
     """Each point's median Euclidean distance to the other points.
 
     Parameters
@@ -217,7 +224,7 @@ def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
     return out
 
 
-def mds_outliers(Y, *, factor=OUTLIER_FACTOR) -> np.ndarray:
+def mds_outliers(Y: ArrayLike, *, factor: float = OUTLIER_FACTOR) -> NDArray[np.bool_]:
     """The points of a picture that lie far from the rest: a robust rule.
 
     Point ``i`` is an outlier when its median distance to the other points,
@@ -248,7 +255,7 @@ def mds_outliers(Y, *, factor=OUTLIER_FACTOR) -> np.ndarray:
     return m > factor * typical
 
 
-def outlier_ratios(Y) -> np.ndarray:
+def outlier_ratios(Y: ArrayLike) -> NDArray[np.float64]:
     """Each point's median distance to the others over the median of those: how many
     times farther than typical a point lies (compared with ``factor`` by
     :func:`mds_outliers`)."""
@@ -257,7 +264,8 @@ def outlier_ratios(Y) -> np.ndarray:
     return m / typical if typical > 0 else np.ones_like(m)
 
 
-def border_points(Y, outliers, centre, half):
+def border_points(Y: ArrayLike, outliers: ArrayLike, centre: ArrayLike, half: float
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Where outliers are drawn: on the border of the square ``centre +- half``, in their
     direction from the centre.
 
@@ -289,7 +297,8 @@ def border_points(Y, outliers, centre, half):
     return c + d * t[:, None], np.degrees(np.arctan2(d[:, 1], d[:, 0]))
 
 
-def spread_on_border(P, centre, half, gap):
+def spread_on_border(P: ArrayLike, centre: ArrayLike, half: float, gap: float
+                     ) -> NDArray[np.float64]:
     """Points on the border of the square ``centre +- half`` moved along it, in order,
     until neighbours are at least ``gap`` apart (measured along the border).
 
@@ -349,7 +358,7 @@ def spread_on_border(P, centre, half, gap):
 
 
 # --------------------------------------------------------------------------- neighbours
-def nearest_neighbours(D, k=3):
+def nearest_neighbours(D: ArrayLike, k: int = 3) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Each shape's ``k`` nearest other shapes in a distance matrix.
 
     Parameters
@@ -381,10 +390,10 @@ def nearest_neighbours(D, k=3):
     return ind, np.take_along_axis(A, ind, axis=1).astype(np.float64)
 
 
-def _side_points(ax) -> float:
+def _side_points(ax: Axes) -> float:
     """The shorter side of ``ax`` in points (after a layout pass, if the figure has a
     layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
-    fig = ax.figure
+    fig: Any = ax.figure
     while getattr(fig, "figure", fig) is not fig:  # the root figure of a subfigure
         fig = fig.figure
     if fig.get_layout_engine() is not None:
@@ -393,7 +402,9 @@ def _side_points(ax) -> float:
     return 72.0 * min(box.width, box.height) / fig.dpi
 
 
-def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15):
+def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
+                    fontsize: str | float = "x-small", offset: float = 3.0,
+                    safety: float = 1.15) -> list[int]:
     """Write ``texts[i]`` beside point ``Y[i]`` where it covers no text already written.
 
     Greedy, in order: a text's box is estimated from its length, the font size and the
@@ -408,10 +419,12 @@ def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15
     """
     from matplotlib.font_manager import FontProperties
 
+    Y = np.asarray(Y, dtype=np.float64)
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     per_pt = max(x1 - x0, y1 - y0) / max(_side_points(ax), 1.0) * safety
     size = FontProperties(size=fontsize).get_size_in_points()
-    boxes, kept = [], []
+    boxes: list[tuple[float, float, float, float]] = []
+    kept: list[int] = []
     for i, text in enumerate(texts):
         w, h = 0.62 * size * len(text) * per_pt, 1.25 * size * per_pt
         d = offset * per_pt / safety  # the true offset: a larger one would hide overlaps
@@ -436,17 +449,17 @@ def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15
     return kept
 
 
-def _spread_out(points, min_gap):
+def _spread_out(points: NDArray[np.float64], min_gap: float) -> list[int]:
     """Indices of points kept so that no two are closer than ``min_gap`` (greedy, in
     order): the points whose labels can be written without writing over each other."""
-    kept = []
+    kept: list[int] = []
     for i, x in enumerate(points):
         if all(np.linalg.norm(x - points[j]) >= min_gap for j in kept):
             kept.append(i)
     return kept
 
 
-def _outlier_mask(Y, outliers):
+def _outlier_mask(Y: NDArray[np.float64], outliers: str | ArrayLike | None) -> NDArray[np.bool_]:
     if outliers is None or outliers is False:
         return np.zeros(len(Y), dtype=bool)
     if isinstance(outliers, str):
@@ -457,7 +470,8 @@ def _outlier_mask(Y, outliers):
     return mask
 
 
-def mds_layout(Y, outliers="auto", *, margin=0.08):
+def mds_layout(Y: ArrayLike, outliers: str | ArrayLike | None = "auto", *,
+               margin: float = 0.08) -> dict[str, Any]:
     """Where :func:`plot_mds` draws each point: the inliers where they are, the outliers on
     the border of a square fitted to the inliers.
 
@@ -498,20 +512,23 @@ def mds_layout(Y, outliers="auto", *, margin=0.08):
             "ratio": ratio}
 
 
-def class_medians(Y, labels):
+def class_medians(Y: ArrayLike, labels: Sequence[Any]) -> list[tuple[str, NDArray[np.float64]]]:
     """The coordinate-wise median of each class's points: ``[(label, (x, y))]`` in
     first-seen order (where :func:`plot_mds` writes class names)."""
     Y = np.asarray(Y, dtype=np.float64)
     codes = check_labels(labels, len(Y))
     lab = [str(x) for x in labels]
-    seen = {}
+    seen: dict[int, int] = {}
     for i, c in enumerate(codes):
         seen.setdefault(int(c), i)
     return [(lab[i], np.median(Y[codes == c], axis=0)) for c, i in seen.items()]
 
 
-def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4.5),
-             max_names=MDS_MAX_NAMES, legend=True, outliers="auto"):
+def plot_mds(Y: ArrayLike, names: Sequence[str] | None = None,
+             labels: Sequence[Any] | None = None, *, ax: Axes | None = None,
+             title: str | None = None, figsize: tuple[float, float] = (5.0, 4.5),
+             max_names: int = MDS_MAX_NAMES, legend: bool | str = True,
+             outliers: str | ArrayLike | None = "auto") -> Figure | SubFigure:
     """Scatter plot of a 2-D MDS embedding, square, coloured by class (Fig. 4-5).
 
     Readable from 3 to thousands of shapes with any names, and with outliers:
@@ -569,6 +586,7 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     lay = mds_layout(Y, outliers)
     own = ax is None
     size = 25.0 if p <= 100 else max(4.0, 2500.0 / p)
+    styles: list[tuple[str, ColorType, str]]
     if labels is not None:
         codes, styles = class_styles(labels, p)
     else:
@@ -617,7 +635,7 @@ def _mds_legend_plan(n_classes: int, has_labels: bool, legend: bool | str, own: 
 
 
 def _draw_mds_points(ax: Axes, lay: dict[str, Any], codes: NDArray[np.int64],
-                     styles: list[tuple[str, Any, str]], size: float,
+                     styles: list[tuple[str, ColorType, str]], size: float,
                      named_classes: bool) -> None:
     """The points of :func:`plot_mds`: inliers class by class, outliers as arrow heads on
     the border (and an empty marker for the legend's outlier entry)."""
@@ -693,25 +711,27 @@ def _mds_texts(Y: NDArray[np.float64], lay: dict[str, Any], names: Sequence[str]
         texts += [tags[i] for i in np.flatnonzero(~out)]
         where += [P[i] for i in np.flatnonzero(~out)]
     elif labels is not None and n_classes > 1 and p > max_names:
-        for lab, xy in class_medians(Y[~out], [labels[i] for i in np.flatnonzero(~out)]):
+        for lab, xy in class_medians(Y[~out], [labels[int(i)] for i in np.flatnonzero(~out)]):
             texts.append(short_label(lab))
             where.append(xy)
     return texts, where
 
 
-def _runs(labels):
+def _runs(labels: Sequence[str]) -> list[tuple[int, int, str]]:
     """Contiguous runs of equal labels: [(start, stop, label)]."""
-    out = []
+    out: list[list[Any]] = []
     for i, lab in enumerate(labels):
         if out and out[-1][2] == lab:
             out[-1][1] = i + 1
         else:
             out.append([i, i + 1, lab])
-    return [tuple(r) for r in out]
+    return [(a, b, lab) for a, b, lab in out]
 
 
-def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
-                 fontsize="x-small", safety=1.5, side_pt=None):
+def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
+                 labels: Sequence[Any] | None = None, *, max_names: int = MATRIX_MAX_NAMES,
+                 fontsize: str | float = "x-small", safety: float = 1.5,
+                 side_pt: float | None = None) -> float:
     """Ticks of a (p, p) matrix image that never write over each other.
 
     One tick per shape (short names) when there are at most ``max_names`` shapes and their
@@ -757,8 +777,11 @@ def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
     return side_pt
 
 
-def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, labels=None,
-                         cmap="jet", vmax=None, colorbar=True, figsize=(5.0, 4.5)):
+def plot_distance_matrix(D: ArrayLike, *, scale: bool = True, ax: Axes | None = None,
+                         title: str | None = None, names: Sequence[str] | None = None,
+                         labels: Sequence[Any] | None = None, cmap: str | Colormap = "jet",
+                         vmax: float | None = None, colorbar: bool = True,
+                         figsize: tuple[float, float] = (5.0, 4.5)) -> Figure | SubFigure:
     """Image of a distance matrix, as in Fig. 3 and 6 (blue: similar, red: dissimilar).
 
     Parameters
