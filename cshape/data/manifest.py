@@ -331,13 +331,13 @@ def _check_download(entry: Entry, where: str) -> None:
 
 
 def _check_generated(entry: Entry, where: str) -> None:
-    if ("items" in entry) == ("generate" in entry):
+    if (entry.get("items") is None) == (entry.get("generate") is None):
         raise ValueError(
             f"{where}: a generated collection needs either 'items' (one recipe per "
             "item) or 'generate' (a generated benchmark: benchmark, seed, members, kinds, "
             "params), not both or none"
         )
-    if "generate" in entry:
+    if entry.get("generate") is not None:
         entry["items"] = _generate_items(entry["generate"], where)
 
 
