@@ -574,6 +574,7 @@ def plot_mds(Y: ArrayLike, names: Sequence[str] | None = None,
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     Y = check_points(Y, d=2, min_points=1, fix="use mds_embedding(D)")
     p = len(Y)
@@ -811,6 +812,7 @@ def plot_distance_matrix(D: ArrayLike, *, scale: bool = True, ax: Axes | None = 
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     A = check_square(D, "D")
     scale, colorbar = check_bool("scale", scale), check_bool("colorbar", colorbar)
