@@ -33,10 +33,13 @@ __all__ = [
     "check_choice",
     "check_crop",
     "check_descriptors",
+    "check_entries",
+    "check_flag_or_choice",
     "check_int",
     "check_labels",
     "check_n_jobs",
     "check_path",
+    "check_points",
     "check_real",
     "check_square",
     "require_extra",
@@ -147,7 +150,8 @@ def check_int(name: str, value: object, *, min: int | None = None,
 
 
 def check_real(name: str, value: object, *, min: float | None = None,
-               positive: bool = False, finite: bool = True) -> float:
+               above: float | None = None, positive: bool = False,
+               finite: bool = True) -> float:
     """Return ``value`` as a Python ``float`` if it is a real number in range.
 
     Python and NumPy integers and floats (and 0-d real arrays) are accepted; ``bool``,
@@ -161,8 +165,10 @@ def check_real(name: str, value: object, *, min: float | None = None,
         What the caller passed.
     min : float, optional
         Smallest allowed value (inclusive).
+    above : float, optional
+        Exclusive lower bound: require ``value > above``.
     positive : bool, default=False
-        Require ``value > 0``.
+        Require ``value > 0`` (``above=0``).
     finite : bool, default=True
         Refuse NaN and infinities.
 
@@ -172,7 +178,7 @@ def check_real(name: str, value: object, *, min: float | None = None,
         ``"<name> must be a real number, got str '1'"``.
     ValueError
         ``"<name> must be a positive finite number, got 0.0"``, ``"<name> must be a finite
-        number >= 0, got -1.0"``.
+        number >= 0, got -1.0"``, ``"<name> must be a finite number > 1, got 1.0"``.
     """
     x: Any = value
     if isinstance(x, np.ndarray) and x.ndim == 0:
@@ -182,10 +188,13 @@ def check_real(name: str, value: object, *, min: float | None = None,
     v = float(x)
     bad = (finite and not np.isfinite(v)) or np.isnan(v)
     bad = bad or (positive and not v > 0) or (min is not None and not v >= min)
+    bad = bad or (above is not None and not v > above)
     if bad:
         what = "finite number" if finite else "number"
         if positive:
             rule = f"a positive {what}"
+        elif above is not None:
+            rule = f"a {what} > {above:g}"
         elif min is not None:
             rule = f"a {what} >= {min:g}"
         else:
@@ -270,6 +279,37 @@ def check_bool(name: str, value: object) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be True or False, got {_describe(value)}")
     return bool(value)
+
+
+def check_flag_or_choice(name: str, value: object, allowed: Collection[str]) -> bool | str:
+    """Return ``value`` if it is ``True``, ``False`` or one of the options ``allowed``.
+
+    For an argument that switches a feature on or off and, as a string, says how (the
+    ``legend=True | False | 'outside'`` of :func:`cshape.plots.plot_mds`).
+
+    Returns
+    -------
+    bool or str
+        A Python ``bool``, or the option lower-cased (as :func:`check_choice` returns it).
+
+    Raises
+    ------
+    TypeError
+        Neither a bool nor a string: ``"legend must be True, False or one of {'outside'},
+        got int 1"``.
+    ValueError
+        An unknown option: ``"legend must be True, False or one of {'outside'}, got 'in'"``.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    opts = ", ".join(repr(a) for a in allowed)
+    rule = f"{name} must be True, False or one of {{{opts}}}"
+    if not isinstance(value, str):
+        raise TypeError(f"{rule}, got {_describe(value)}")
+    v = value.lower()
+    if v not in allowed:
+        raise ValueError(f"{rule}, got {value!r}")
+    return v
 
 
 def check_path(name: str, value: object) -> Path:
@@ -368,6 +408,91 @@ def check_square(D: ArrayLike, name: str = "D", *, nonnegative: bool = True
             f"{name} must hold non-negative distances, got {A[bad]:g} at [{bad[0]}, {bad[1]}]"
         )
     return A
+
+
+def check_points(Y: ArrayLike, name: str = "Y", *, d: int | None = None,
+                 min_points: int = 0, fix: str = "") -> NDArray[np.float64]:
+    """Return ``Y`` as a finite (p, d) float array: one point per row.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, d)
+        Coordinates (an MDS embedding, say).
+    name : str, default='Y'
+        The argument's name, for the message.
+    d : int, optional
+        The number of columns required (2 for a planar picture); any when not given.
+    min_points : int, default=0
+        The fewest rows allowed.
+    fix : str, optional
+        How to make a right one, appended to the shape message
+        (``'use mds_embedding(D)'``).
+
+    Raises
+    ------
+    TypeError
+        Not an array of real numbers: ``"Y must be an array of real coordinates, shape
+        (p, 2), got str 'ab'"``.
+    ValueError
+        The wrong shape (``"Y must have shape (p, 2), got (3, 3); use mds_embedding(D)"``),
+        too few points or NaN / infinite values (naming the first).
+    """
+    cols = "d" if d is None else str(d)
+    try:
+        A = np.asarray(Y)
+        ok = not isinstance(Y, (str, bytes)) and A.dtype != object and (
+            np.issubdtype(A.dtype, np.integer) or np.issubdtype(A.dtype, np.floating))
+    except (TypeError, ValueError):  # a ragged sequence
+        ok = False
+    if not ok:
+        raise TypeError(f"{name} must be an array of real coordinates, shape (p, {cols}), "
+                        f"got {_describe(Y)}")
+    if A.ndim != 2 or (d is not None and A.shape[1] != d):
+        hint = f"; {fix}" if fix else ""
+        raise ValueError(f"{name} must have shape (p, {cols}), got {A.shape}{hint}")
+    if len(A) < min_points:
+        raise ValueError(f"{name} has {len(A)} points; pass at least {min_points}")
+    A = np.asarray(A, dtype=np.float64)
+    if not np.all(np.isfinite(A)):
+        bad = np.argwhere(~np.isfinite(A))[0]
+        raise ValueError(f"{name} contains NaN or infinite values (first at row {bad[0]}, "
+                         f"column {bad[1]}); pass finite coordinates")
+    return A
+
+
+def check_entries(name: str, value: Any, p: int, *, of: str = "Y",
+                  unit: str = "points") -> list[Any]:
+    """Return ``value`` as a list of ``p`` entries: one per point (name, label, mask, ...).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    value : sequence or 1-D array
+        What the caller passed; a string is not taken for a sequence of characters.
+    p : int
+        The number of entries required.
+    of, unit : str, default='Y', 'points'
+        What holds the ``p`` points, for the message: ``"names has 3 entries but Y has
+        12 points"``.
+
+    Raises
+    ------
+    TypeError
+        A string, a scalar or another object without a length: ``"names must be a sequence
+        with one entry for each of the points of Y, got str 'abc'"``.
+    ValueError
+        The wrong length: ``"names has 3 entries but Y has 12 points; pass one entry for
+        each, in order"``.
+    """
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or (
+            isinstance(value, np.ndarray) and value.ndim != 1):
+        raise TypeError(f"{name} must be a sequence with one entry for each of the {unit} "
+                        f"of {of}, got {_describe(value)}")
+    if len(value) != p:
+        raise ValueError(f"{name} has {len(value)} entries but {of} has {p} {unit}; pass "
+                         "one entry for each, in order")
+    return list(value)
 
 
 def check_labels(labels: Any, p: int, name: str = "labels") -> NDArray[np.int64]:

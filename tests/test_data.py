@@ -154,6 +154,8 @@ def _bad(shipped, mutate):
         (lambda d: d["collections"][0].update(description=3),
          r"field 'description' must be a str"),
         (lambda d: d.pop("version"), r"missing required field 'version'"),
+        (lambda d: d["collections"][0].update(items=None),
+         r"collection 'paper-models' \(entry 0\): a generated collection needs either 'items'"),
     ],
 )
 def test_bad_manifest_errors(shipped, mutate, match):

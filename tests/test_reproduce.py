@@ -102,6 +102,8 @@ def test_reproduce_writes_a_report(tmp_path):
     assert data_["verdict"] and " ".join(data_["verdict"]) in rep
     # the 3.2 difference table has the variants' columns
     assert "log-Weyl DFT*" in rep and set(data_["3.2"]["log-weyl"]) == {"4", "2", "1"}
+    # Section 3.3 names the noise amplitude (lam names eigenvalues only)
+    assert "| amplitude | Shape-DNA |" in rep and "lam=" not in rep
 
 
 def _table(lam_rows, labels):
@@ -213,3 +215,25 @@ def test_sizes_and_verdict_count_only_the_queries_scored():
     assert sz["n_queries"] == 4  # the shape of class c has no relevant answer
     verdict = " ".join(size_verdict(sz, name="X"))
     assert "4 queries scored of 5 shapes: 1 in classes of one" in verdict
+
+
+def test_noise_figures_name_the_noise_amplitude_not_lam():
+    """Fig. 7-8 label each level by the amplitude of add_normal_noise (lam names eigenvalues)."""
+    from cshape import plots
+    from cshape.reproduce.report import _noise_figures
+
+    rng = np.random.default_rng(0)
+    table = _table(np.sort(rng.uniform(0, 50, (3, 20)), axis=1), ["a", "a", "b"])
+    noise = {lv: {"diff_shape-dna": rng.uniform(0, 9, (3, 3)), "shape-dna": (1.5, 0.3),
+                  "diff_cshape": rng.uniform(0, 9, (3, 3)), "cshape": (0.5, 0.1),
+                  "change_shape-dna": rng.uniform(0, 1, 3), "change_cshape": rng.uniform(0, 1, 3)}
+             for lv in (0.5, 1.0, 10.0)}
+    figs = _noise_figures(plots, table, noise)
+    titles = [ax.get_title() for ax in figs["fig7_noise_shape_dna"].axes if ax.get_title()]
+    assert titles == ["amplitude=0.5: 1.5 / 0.3", "amplitude=1: 1.5 / 0.3",
+                      "amplitude=10: 1.5 / 0.3"]
+    assert [ax.get_title() for ax in figs["fig7_noise_cshape"].axes if ax.get_title()][1] == (
+        "amplitude=1: 0.5 / 0.1")
+    for ax in figs["fig8_noise_change"].axes:
+        assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+            "amplitude=0.5", "amplitude=1", "amplitude=10"]

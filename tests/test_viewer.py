@@ -54,10 +54,14 @@ def test_mode_data_per_mode(pairs):
     assert [m["i"] for m in mode_data(lam, phi, [3, 1])] == [3, 1]
 
 
-@pytest.mark.parametrize("indices, match", [([12], r"\[0, 11\]"), ([-1], "indices"),
-                                            ([True], "indices"), ([1.5], "indices")])
-def test_mode_data_rejects_bad_indices(pairs, indices, match):
-    with pytest.raises(ValueError, match=match):
+@pytest.mark.parametrize("indices, exc, match", [
+    ([12], ValueError, r"indices must be an integer in \[0, 11\], got 12"),
+    ([-1], ValueError, r"indices must be an integer in \[0, 11\], got -1"),
+    ([True], TypeError, "indices must be an integer, got bool True"),
+    ([1.5], TypeError, "indices must be an integer, got float 1.5"),
+])
+def test_mode_data_rejects_bad_indices(pairs, indices, exc, match):
+    with pytest.raises(exc, match=match):
         mode_data(*pairs, indices)
 
 
@@ -110,17 +114,19 @@ def test_explorer_repairs_the_mesh_once(sphere):
     assert len(fig.data[0].x) == sphere.n_vertices == len(fig.frames[1].data[0].intensity)
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    (dict(n_modes=0), "n_modes must be an integer >= 1"),
-    (dict(n_modes=2.5), "n_modes"),
-    (dict(n_modes=True), "n_modes"),
-    (dict(n_modes=4, start=4), r"start must be an integer in \[0, n_modes - 1 = 3\]"),
-    (dict(n_modes=4, vertical_axis="up"), "vertical_axis must be one of"),
-    (dict(n_modes=4, height=10), "height must be a number of pixels"),
-    (dict(n_modes=20, eigenpairs=(np.zeros(5), np.zeros((162, 5)))), "N >= n_modes = 20"),
+@pytest.mark.parametrize("kwargs, exc, match", [
+    (dict(n_modes=0), ValueError, "n_modes must be an integer >= 1, got 0"),
+    (dict(n_modes=2.5), TypeError, "n_modes must be an integer, got float 2.5"),
+    (dict(n_modes=True), TypeError, "n_modes must be an integer, got bool True"),
+    (dict(n_modes=4, start=4), ValueError, r"start must be an integer in \[0, 3\], got 4"),
+    (dict(n_modes=4, vertical_axis="up"), ValueError, "vertical_axis must be one of"),
+    (dict(n_modes=4, height=10), ValueError, "height must be a finite number >= 100, got 10"),
+    (dict(n_modes=4, height="tall"), TypeError, "height must be a real number, got str"),
+    (dict(n_modes=20, eigenpairs=(np.zeros(5), np.zeros((162, 5)))), ValueError,
+     "N >= n_modes = 20"),
 ])
-def test_explorer_rejects_bad_arguments(sphere, kwargs, match):
-    with pytest.raises(ValueError, match=match):
+def test_explorer_rejects_bad_arguments(sphere, kwargs, exc, match):
+    with pytest.raises(exc, match=match):
         plots.eigenfunction_explorer(sphere, **kwargs)
 
 

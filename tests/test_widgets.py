@@ -149,8 +149,10 @@ def test_plot_m_sweep_returns_a_figure(collection):
     st = widgets.MSweep.from_table(collection).state(3)
     fig = plots.plot_m_sweep(st, shape=2, figsize=(6, 4))
     assert isinstance(fig, Figure) and len(fig.axes) >= 6
-    with pytest.raises(ValueError, match="shape must be a row index"):
+    with pytest.raises(ValueError, match=r"shape must be an integer in \[0, 5\], got 6"):
         plots.plot_m_sweep(st, shape=6)
+    with pytest.raises(TypeError, match="shape must be an integer, got float 1.0"):
+        plots.plot_m_sweep(st, shape=1.0)
 
 
 # ------------------------------------------------------------------------------ plots

@@ -30,7 +30,7 @@ import numbers
 
 import numpy as np
 
-from .._checks import check_choice
+from .._checks import check_choice, check_real
 from ..mesh import Mesh, largest_component
 from .variants import (
     Capsule,
@@ -55,13 +55,6 @@ CREATURE_KINDS = (
 
 #: Base amplitudes of the proportion variation (log-uniform factors in [1/(1+v), 1+v]).
 LENGTH_SPREAD, THICKNESS_SPREAD = 0.35, 0.25
-
-
-def _check_nonneg(name, value):
-    if (isinstance(value, bool) or not isinstance(value, numbers.Real) or not value >= 0
-            or not np.isfinite(value)):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    return float(value)
 
 
 class _Draw:
@@ -107,7 +100,7 @@ def creature_capsules(kind, random_state=None, *, variation=1.0) -> list[Capsule
         Connected (every limb starts inside the body), about 1 to 2 units across.
     """
     kind = check_choice("kind", kind, CREATURE_KINDS)
-    variation = _check_nonneg("variation", variation)
+    variation = check_real("variation", variation, min=0)
     d = _Draw(np.random.default_rng(random_state), variation)
     return _BUILDERS[kind](d)
 
@@ -428,7 +421,7 @@ def creature(kind="human", random_state=0, *, variation=1.0, vertices=(1500, 400
     lo, hi = (vertices, vertices) if isinstance(vertices, numbers.Integral) else tuple(vertices)
     lo = _check_int("vertices", lo, 100, 1_000_000)
     hi = _check_int("vertices", hi, lo, 1_000_000)
-    noise = _check_nonneg("noise", noise)
+    noise = check_real("noise", noise, min=0)
     rng = np.random.default_rng(random_state)
     caps = creature_capsules(kind, rng, variation=variation)
     rmin = min(c.radius for c in caps)

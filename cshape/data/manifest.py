@@ -8,12 +8,21 @@ import copy
 import inspect
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path, PurePosixPath
+from typing import Any, TypeAlias
 
 from ..mesh import Mesh
+
+#: A collection's manifest entry, and the validated manifest: ``{collection name: entry}``.
+Entry: TypeAlias = dict[str, Any]
+Entries: TypeAlias = dict[str, Entry]
+#: Where a manifest comes from: a YAML file, an already parsed manifest, or None (the default).
+ManifestSource: TypeAlias = "str | os.PathLike[str] | dict[str, Any] | None"
+#: A recipe: ``(function, takes a base mesh, takes a seed)``.
+Recipe: TypeAlias = tuple[Callable[..., Mesh], bool, bool]
 
 KINDS = ("generated", "package", "download", "local")
 LAYOUTS = ("mcgill", "tosca", "shrec07")
@@ -53,7 +62,7 @@ class Item:
     name: str
     label: str
     collection: str = ""
-    meta: dict = field(default_factory=dict, repr=False)
+    meta: dict[str, Any] = field(default_factory=dict, repr=False)
     _load: Callable[[], Mesh] | None = field(default=None, repr=False)
 
     @property
@@ -82,16 +91,16 @@ class Collection:
     """
 
     name: str
-    items: list
-    info: dict = field(default_factory=dict, repr=False)
+    items: list[Item]
+    info: dict[str, Any] = field(default_factory=dict, repr=False)
 
     def __len__(self) -> int:
         return len(self.items)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[Item]:
         return iter(self.items)
 
-    def __getitem__(self, key) -> Item:
+    def __getitem__(self, key: int | str) -> Item:
         if isinstance(key, str):
             for it in self.items:
                 if it.name == key:
@@ -122,7 +131,7 @@ class Collection:
 
 
 # ====================================================================== recipes
-def _recipes() -> dict:
+def _recipes() -> dict[str, Recipe]:
     from . import variants as v
     from .creatures import creature
     from .poses import pose, pose_template
@@ -182,7 +191,7 @@ _STR, _INT, _DICT, _LIST = "str", "int", "dict", "list"
 
 #: The manifest schema: fields every collection needs, and per kind the required and optional
 #: collection fields and item fields (``type`` names: str, int, dict, list, "int|null", ...).
-MANIFEST_SCHEMA = {
+MANIFEST_SCHEMA: dict[str, Any] = {
     "top": {"required": {"version": _INT, "collections": _LIST}},
     "collection": {
         "required": {
@@ -223,7 +232,8 @@ MANIFEST_SCHEMA = {
 _TYPES = {_STR: str, _INT: int, _DICT: dict, _LIST: list}
 
 
-def _check_fields(obj, required, optional, where):
+def _check_fields(obj: Any, required: Mapping[str, str], optional: Mapping[str, str],
+                  where: str) -> None:
     if not isinstance(obj, dict):
         raise ValueError(f"{where}: expected a mapping of fields, got {type(obj).__name__}")
     for key, typ in required.items():
@@ -243,7 +253,7 @@ def _check_fields(obj, required, optional, where):
             )
 
 
-def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
+def validate_manifest(doc: dict[str, Any], *, source: str = "data_manifest.yaml") -> Entries:
     """Check a parsed manifest against :data:`MANIFEST_SCHEMA`; return it keyed by name.
 
     Besides the fields and their types, checks that names are unique, kinds and layouts
@@ -269,97 +279,137 @@ def validate_manifest(doc, *, source="data_manifest.yaml") -> dict:
     """
     _check_fields(doc, MANIFEST_SCHEMA["top"]["required"], {}, source)
     recipes = _recipes()
-    out: dict = {}
+    out: Entries = {}
     for i, entry in enumerate(doc["collections"]):
         name = entry.get("name") if isinstance(entry, dict) else None
         where = f"{source}: collection {name!r} (entry {i})" if name else f"{source}: entry {i}"
         if not isinstance(entry, dict):
             raise ValueError(f"{where}: expected a mapping of fields")
-        kind = entry.get("kind")
-        if kind is not None and kind not in KINDS:
-            raise ValueError(f"{where}: unknown kind {kind!r}; kind must be one of {KINDS}")
-        base_required = MANIFEST_SCHEMA["collection"]["required"]
-        spec = MANIFEST_SCHEMA["kinds"].get(kind, {"required": {}, "optional": {}})
-        _check_fields(
-            entry, {**base_required, **spec["required"]}, spec["optional"], where
-        )
-        if name in out:
-            raise ValueError(f"{where}: duplicate collection name {name!r}")
-        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", name):
-            raise ValueError(
-                f"{where}: name must be letters, digits, '-', '_' or '.', got {name!r}"
-            )
-        if kind == "download":
-            if ("items" in entry) == ("layout" in entry):
-                raise ValueError(
-                    f"{where}: a download collection needs either 'items' (files with url, "
-                    "sha256, size) or 'layout' (a benchmark fetched by hand), not both or none"
-                )
-            if "layout" in entry and entry["layout"] not in LAYOUTS:
-                raise ValueError(
-                    f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
-                )
-        if kind == "generated":
-            if ("items" in entry) == ("generate" in entry):
-                raise ValueError(
-                    f"{where}: a generated collection needs either 'items' (one recipe per "
-                    "item) or 'generate' (a generated benchmark: benchmark, seed, members, kinds, "
-                    "params), not both or none"
-                )
-            if "generate" in entry:
-                entry["items"] = _generate_items(entry["generate"], where)
-        if kind == "package":
-            rel = PurePosixPath(entry["path"])
-            if rel.is_absolute() or ".." in rel.parts:
-                raise ValueError(
-                    f"{where}: field 'path' must be a folder inside package "
-                    f"{entry['package']!r}, got {entry['path']!r}"
-                )
-        if kind == "local" and entry["labels"] != "subfolder" and not entry["labels"].endswith(
-            ".csv"
-        ):
-            raise ValueError(
-                f"{where}: field 'labels' must be 'subfolder' or the name of a CSV file, "
-                f"got {entry['labels']!r}"
-            )
-        seen = set()
+        spec = _check_collection(entry, out, where)
+        seen: set[str] = set()
         for j, item in enumerate(entry.get("items") or []):
-            iname = item.get("name") if isinstance(item, dict) else None
-            iwhere = f"{where}, item {iname!r}" if iname else f"{where}, item {j}"
-            _check_fields(item, spec["item_required"], spec["item_optional"], iwhere)
-            if iname in seen:
-                raise ValueError(f"{iwhere}: duplicate item name {iname!r}")
-            if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*", iname):
-                # names become cache file names: no '/', '..' or hidden files
-                raise ValueError(
-                    f"{iwhere}: item name must be letters, digits, '-', '_' or '.' (starting "
-                    f"with a letter or digit), got {iname!r}"
-                )
-            seen.add(iname)
-            if kind == "generated":
-                _check_recipe(item, recipes, out, entry, iwhere)
-            if kind == "download":
-                if not re.fullmatch(r"[0-9a-f]{64}", item["sha256"]):
-                    raise ValueError(
-                        f"{iwhere}: field 'sha256' must be 64 lowercase hex digits, "
-                        f"got {item['sha256']!r}"
-                    )
-                if not item["url"].startswith("https://"):
-                    raise ValueError(f"{iwhere}: field 'url' must be an https URL")
-                if item["size"] <= 0:
-                    raise ValueError(f"{iwhere}: field 'size' must be a positive byte count")
-            if "file" in item:
-                p = PurePosixPath(item["file"])
-                if p.is_absolute() or ".." in p.parts:
-                    raise ValueError(
-                        f"{iwhere}: field 'file' must be a relative path inside the "
-                        f"collection, got {item['file']!r}"
-                    )
-        out[name] = entry
+            _check_item(item, j, entry, spec, recipes, out, seen, where)
+        out[entry["name"]] = entry
     return out
 
 
-def _generate_items(spec, where) -> list:
+#: What a collection's name and its items' names may be (they become folder and cache file
+#: names: no '/', '..' or hidden files).
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
+
+
+def _check_collection(entry: Entry, done: Entries, where: str) -> dict[str, Any]:
+    """Check a collection's fields, name and the rules of its kind (a ``generate``
+    mapping becomes its ``items``); return the schema of its kind."""
+    kind = entry.get("kind")
+    if kind is not None and kind not in KINDS:
+        raise ValueError(f"{where}: unknown kind {kind!r}; kind must be one of {KINDS}")
+    base_required = MANIFEST_SCHEMA["collection"]["required"]
+    spec: dict[str, Any] = MANIFEST_SCHEMA["kinds"].get(kind, {"required": {}, "optional": {}})
+    _check_fields(entry, {**base_required, **spec["required"]}, spec["optional"], where)
+    name: str = entry["name"]
+    if name in done:
+        raise ValueError(f"{where}: duplicate collection name {name!r}")
+    if not _NAME.fullmatch(name):
+        raise ValueError(
+            f"{where}: name must be letters, digits, '-', '_' or '.', got {name!r}"
+        )
+    _KIND_RULES[entry["kind"]](entry, where)
+    return spec
+
+
+def _check_download(entry: Entry, where: str) -> None:
+    if ("items" in entry) == ("layout" in entry):
+        raise ValueError(
+            f"{where}: a download collection needs either 'items' (files with url, "
+            "sha256, size) or 'layout' (a benchmark fetched by hand), not both or none"
+        )
+    if "layout" in entry and entry["layout"] not in LAYOUTS:
+        raise ValueError(
+            f"{where}: unknown layout {entry['layout']!r}; layout must be one of {LAYOUTS}"
+        )
+
+
+def _check_generated(entry: Entry, where: str) -> None:
+    if (entry.get("items") is None) == (entry.get("generate") is None):
+        raise ValueError(
+            f"{where}: a generated collection needs either 'items' (one recipe per "
+            "item) or 'generate' (a generated benchmark: benchmark, seed, members, kinds, "
+            "params), not both or none"
+        )
+    if entry.get("generate") is not None:
+        entry["items"] = _generate_items(entry["generate"], where)
+
+
+def _check_package(entry: Entry, where: str) -> None:
+    rel = PurePosixPath(entry["path"])
+    if rel.is_absolute() or ".." in rel.parts:
+        raise ValueError(
+            f"{where}: field 'path' must be a folder inside package "
+            f"{entry['package']!r}, got {entry['path']!r}"
+        )
+
+
+def _check_local(entry: Entry, where: str) -> None:
+    if entry["labels"] != "subfolder" and not entry["labels"].endswith(".csv"):
+        raise ValueError(
+            f"{where}: field 'labels' must be 'subfolder' or the name of a CSV file, "
+            f"got {entry['labels']!r}"
+        )
+
+
+#: The rules of each kind beyond its fields (:func:`validate_manifest`).
+_KIND_RULES: dict[str, Callable[[Entry, str], None]] = {
+    "generated": _check_generated,
+    "package": _check_package,
+    "download": _check_download,
+    "local": _check_local,
+}
+
+
+def _check_item(item: Any, j: int, entry: Entry, spec: dict[str, Any],
+                recipes: dict[str, Recipe], done: Entries, seen: set[str], where: str) -> None:
+    """Check item ``j`` of a collection: its fields, a unique name, and its recipe, file
+    and checksum as its kind needs (``seen``: the item names before it, gets its name)."""
+    given = item.get("name") if isinstance(item, dict) else None
+    iwhere = f"{where}, item {given!r}" if given else f"{where}, item {j}"
+    _check_fields(item, spec["item_required"], spec["item_optional"], iwhere)
+    iname: str = item["name"]
+    if iname in seen:
+        raise ValueError(f"{iwhere}: duplicate item name {iname!r}")
+    if not _NAME.fullmatch(iname):
+        raise ValueError(
+            f"{iwhere}: item name must be letters, digits, '-', '_' or '.' (starting "
+            f"with a letter or digit), got {iname!r}"
+        )
+    seen.add(iname)
+    if entry["kind"] == "generated":
+        _check_recipe(item, recipes, done, entry, iwhere)
+    if entry["kind"] == "download":
+        _check_download_item(item, iwhere)
+    if "file" in item:
+        p = PurePosixPath(item["file"])
+        if p.is_absolute() or ".." in p.parts:
+            raise ValueError(
+                f"{iwhere}: field 'file' must be a relative path inside the "
+                f"collection, got {item['file']!r}"
+            )
+
+
+def _check_download_item(item: dict[str, Any], where: str) -> None:
+    """A downloaded file's checksum, address and size."""
+    if not re.fullmatch(r"[0-9a-f]{64}", item["sha256"]):
+        raise ValueError(
+            f"{where}: field 'sha256' must be 64 lowercase hex digits, "
+            f"got {item['sha256']!r}"
+        )
+    if not item["url"].startswith("https://"):
+        raise ValueError(f"{where}: field 'url' must be an https URL")
+    if item["size"] <= 0:
+        raise ValueError(f"{where}: field 'size' must be a positive byte count")
+
+
+def _generate_items(spec: Mapping[str, Any], where: str) -> list[dict[str, Any]]:
     """The items of a ``generate`` mapping (see :data:`GENERATE_BENCHMARKS`)."""
     from .creatures import creature_items
     from .suite import identity_items, resolution_items
@@ -378,15 +428,18 @@ def _generate_items(spec, where) -> list:
             f"{where}: field 'generate' has unknown key(s) {bad}; its keys are "
             f"{['benchmark', *fields]}"
         )
-    make = {"creatures": creature_items, "identities": identity_items,
-            "resolutions": resolution_items}[benchmark]
+    makers: dict[str, Callable[..., list[dict[str, Any]]]] = {
+        "creatures": creature_items, "identities": identity_items,
+        "resolutions": resolution_items}
+    make = makers[benchmark]
     try:
         return make(**spec)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{where}: field 'generate': {exc}") from None
 
 
-def _check_recipe(item, recipes, done, entry, where):
+def _check_recipe(item: dict[str, Any], recipes: dict[str, Recipe], done: Entries,
+                  entry: Entry, where: str) -> None:
     recipe = item["recipe"]
     if recipe not in recipes:
         raise ValueError(
@@ -421,7 +474,7 @@ def _check_recipe(item, recipes, done, entry, where):
             )
 
 
-def load_manifest(path=None) -> dict:
+def load_manifest(path: ManifestSource = None) -> Entries:
     """Read and validate a manifest; return ``{collection name: entry}``.
 
     Parameters
@@ -453,13 +506,13 @@ def load_manifest(path=None) -> dict:
     return _with_root(validate_manifest(doc, source=p.name), p.resolve().parent)
 
 
-def _with_root(entries, root):
+def _with_root(entries: Entries, root: str | os.PathLike[str]) -> Entries:
     for e in entries.values():
         e.setdefault("_root", str(root))
     return entries
 
 
-def _entry(name, manifest) -> dict:
+def _entry(name: str, manifest: ManifestSource) -> Entry:
     entries = load_manifest(manifest)
     if name not in entries:
         raise ValueError(
@@ -469,7 +522,7 @@ def _entry(name, manifest) -> dict:
     return entries[name]
 
 
-def list_collections(manifest=None) -> list[str]:
+def list_collections(manifest: ManifestSource = None) -> list[str]:
     """Names of the collections in the manifest, in manifest order.
 
     Examples
@@ -481,12 +534,12 @@ def list_collections(manifest=None) -> list[str]:
     return list(load_manifest(manifest))
 
 
-def info(name, manifest=None) -> dict:
+def info(name: str, manifest: ManifestSource = None) -> dict[str, Any]:
     """The manifest entry of collection ``name`` (description, kind, license, items, ...)."""
     return {k: v for k, v in _entry(name, manifest).items() if not k.startswith("_")}
 
 
-def _find_item(entry, name):
+def _find_item(entry: Entry, name: str) -> dict[str, Any]:
     for it in entry.get("items") or []:
         if it["name"] == name:
             return it

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._checks import check_int
 from .._files import atomic_write, make_folder
 from ..mesh import Mesh
 from .download import extract_archive, fetch
@@ -190,8 +191,7 @@ def _build_one(task) -> None:
 def _build_in_processes(entries, name, root, n_jobs, progress) -> None:
     """Build the missing items of a generated collection (those without a base) in
     ``n_jobs`` processes; each writes its cache file atomically, as a serial build does."""
-    if isinstance(n_jobs, bool) or not isinstance(n_jobs, int) or n_jobs < 1:
-        raise ValueError(f"n_jobs must be an integer >= 1 (worker processes), got {n_jobs!r}")
+    n_jobs = check_int("n_jobs", n_jobs, min=1)  # worker processes
     todo = [it for it in entries[name]["items"]
             if "base" not in it and not _cache_file(entries, name, it, root).is_file()]
     if n_jobs == 1 or len(todo) < 2:

@@ -35,7 +35,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .._checks import check_choice
+from .._checks import check_choice, check_real
 from ..mesh import Mesh, largest_component
 from .creatures import CREATURE_KINDS, creature_capsules, creature_items
 from .poses import POSED_KINDS, _blend_weights, _bone_transforms, _skeleton
@@ -131,8 +131,7 @@ def identity_bones(kind="human", random_state=0, *, variation=1.0) -> list:
     from dataclasses import replace
 
     kind = check_choice("kind", kind, IDENTITY_KINDS)
-    if isinstance(variation, bool) or not isinstance(variation, numbers.Real) or variation < 0:
-        raise ValueError(f"variation must be a number >= 0, got {variation!r}")
+    variation = check_real("variation", variation, min=0)
     rng = np.random.default_rng(random_state)
     bones = _skeleton(kind)
     factors = {}
@@ -217,9 +216,7 @@ def identity_pose(kind="human", random_state=0, *, pose=0, vertices=1200, variat
     for b, (R, t) in enumerate(_bone_transforms(bones, angles)):
         out += W[:, b:b + 1] * (V @ R.T + t)
     mesh = Mesh(out, template.faces)
-    noise = float(noise)
-    if not (np.isfinite(noise) and noise >= 0):
-        raise ValueError(f"noise must be a finite number >= 0, got {noise!r}")
+    noise = check_real("noise", noise, min=0)
     amp = float(np.random.default_rng([seed, pose, vertices]).uniform(0, noise))
     if amp > 0:
         mesh = add_normal_noise(mesh, amp, np.random.default_rng([seed, pose, vertices, 1]),

@@ -11,10 +11,30 @@
 
 from __future__ import annotations
 
-import numpy as np
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
 
-from .._checks import check_labels, check_square
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._checks import (
+    check_bool,
+    check_choice,
+    check_entries,
+    check_flag_or_choice,
+    check_int,
+    check_labels,
+    check_points,
+    check_real,
+    check_square,
+)
 from ..compare import scale_255
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.colors import Colormap
+    from matplotlib.figure import Figure, SubFigure
+    from matplotlib.typing import ColorType
 
 # --------------------------------------------------------------------------- plots
 #: An MDS plot names its points up to this many shapes; beyond, only the class legend.
@@ -39,7 +59,7 @@ OUTLIER_REFERENCE_POINTS = 2000
 LABEL_WIDTH = 16
 
 
-def short_label(name, width=LABEL_WIDTH) -> str:
+def short_label(name: object, width: int = LABEL_WIDTH) -> str:
     """A name short enough for a plot: the part after the last ``/``, cut in the middle.
 
     >>> short_label("animals/spot_low_resolution", 12)
@@ -49,7 +69,7 @@ def short_label(name, width=LABEL_WIDTH) -> str:
     return _cut_middle(text.rsplit("/", 1)[-1] or str(name), width)
 
 
-def _cut_middle(text, width):
+def _cut_middle(text: str, width: int) -> str:
     """``text`` cut to ``width`` characters in the middle (an ellipsis marks the cut)."""
     if len(text) <= width:
         return text
@@ -57,7 +77,7 @@ def _cut_middle(text, width):
     return text[:head] + "\u2026" + text[len(text) - (width - 1 - head):]
 
 
-def short_labels(names, width=LABEL_WIDTH) -> list:
+def short_labels(names: Iterable[object], width: int = LABEL_WIDTH) -> list[str]:
     """:func:`short_label` of every name, kept distinct where the names are.
 
     Names whose short labels would coincide (``a/spot`` and ``b/spot`` both give ``spot``)
@@ -67,18 +87,18 @@ def short_labels(names, width=LABEL_WIDTH) -> list:
     >>> short_labels(["a/spot", "b/spot", "c/bob"])
     ['a/spot', 'b/spot', 'bob']
     """
-    names = [str(n) for n in names]
-    out = [short_label(n, width) for n in names]
+    full = [str(n) for n in names]
+    out = [short_label(n, width) for n in full]
 
-    def clashes(labels):
-        seen = {}
-        for i, (lab, name) in enumerate(zip(labels, names, strict=True)):
+    def clashes(labels: list[str]) -> list[int]:
+        seen: dict[str, dict[str, list[int]]] = {}
+        for i, (lab, name) in enumerate(zip(labels, full, strict=True)):
             seen.setdefault(lab, {}).setdefault(name, []).append(i)
         return [i for group in seen.values() if len(group) > 1
                 for idx in group.values() for i in idx]
 
     for i in clashes(out):
-        parts = names[i].replace("\\", "/").rstrip("/").split("/")
+        parts = full[i].replace("\\", "/").rstrip("/").split("/")
         out[i] = _cut_middle("/".join(parts[-2:]), width)
     for i in clashes(out):
         suffix = f"#{i}"
@@ -86,7 +106,8 @@ def short_labels(names, width=LABEL_WIDTH) -> list:
     return out
 
 
-def _figure_and_ax(ax, figsize):
+def _figure_and_ax(ax: Axes | None, figsize: tuple[float, float]
+                   ) -> tuple[Figure | SubFigure, Axes]:
     if ax is not None:
         return ax.figure, ax
     from matplotlib.figure import Figure
@@ -95,13 +116,15 @@ def _figure_and_ax(ax, figsize):
     return fig, fig.add_subplot()
 
 
-def _class_colours(labels, p):
+def _class_colours(labels: Iterable[Any], p: int
+                   ) -> tuple[list[ColorType], list[tuple[str, ColorType]]]:
     """(colour of each point, [(class, colour)] in first-seen order)."""
     codes, styles = class_styles(labels, p)
     return [styles[c][1] for c in codes], [(lab, col) for lab, col, _ in styles]
 
 
-def class_styles(labels, p=None):
+def class_styles(labels: Iterable[Any], p: int | None = None
+                 ) -> tuple[NDArray[np.int64], list[tuple[str, ColorType, str]]]:
     """A colour and a marker per class, distinct for up to ``20 * len(CLASS_MARKERS)`` classes.
 
     Up to 10 classes: ``tab10`` circles; up to 20: ``tab20`` circles; beyond, class ``c``
@@ -124,7 +147,7 @@ def class_styles(labels, p=None):
 
     lab = list(labels)
     codes = check_labels(lab, len(lab) if p is None else p)
-    first = {}
+    first: dict[int, int] = {}
     for i, c in enumerate(codes):
         first.setdefault(int(c), i)
     cmap = mpl.colormaps["tab10" if len(first) <= 10 else "tab20"]
@@ -133,7 +156,7 @@ def class_styles(labels, p=None):
                    for c, i in first.items()]
 
 
-def square_limits(Y, margin=0.08):
+def square_limits(Y: ArrayLike, margin: float = 0.08) -> tuple[NDArray[np.float64], float]:
     """The square drawn around points: ``(centre, half)``, the box being
     ``centre +- half`` on both axes.
 
@@ -142,14 +165,15 @@ def square_limits(Y, margin=0.08):
     >>> square_limits(np.array([[0.0, 0.0], [4.0, 2.0]]), margin=0.0)
     (array([2., 1.]), 2.0)
     """
-    Y = np.asarray(Y, dtype=np.float64)
+    Y = check_points(Y, min_points=1)
+    margin = check_real("margin", margin, min=0)
     lo, hi = Y.min(axis=0), Y.max(axis=0)
     centre = (lo + hi) / 2
     half = max(float((hi - lo).max()) / 2, 1e-12 * max(1.0, float(np.abs(Y).max())))
     return centre, half * (1 + 2 * margin)
 
 
-def _square_limits(ax, Y, margin=0.08):
+def _square_limits(ax: Axes, Y: ArrayLike, margin: float = 0.08) -> float:
     """Equal x and y ranges around the points and a square box: the panel stays square
     and one unit is as long on both axes, whatever the spread of the embedding."""
     centre, half = square_limits(Y, margin)
@@ -157,14 +181,15 @@ def _square_limits(ax, Y, margin=0.08):
     return 2 * half
 
 
-def _set_square(ax, centre, half):
+def _set_square(ax: Axes, centre: NDArray[np.float64], half: float) -> None:
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_aspect("equal", adjustable="box")
 
 
 # --------------------------------------------------------------------------- outliers
-def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
+def median_distances(Y: ArrayLike, *, reference: int = OUTLIER_REFERENCE_POINTS
+                     ) -> NDArray[np.float64]:
     """Each point's median Euclidean distance to the other points.
 
     Parameters
@@ -179,7 +204,8 @@ def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
     ndarray, shape (p,)
         Zeros when ``p < 2``.
     """
-    Y = np.asarray(Y, dtype=np.float64)
+    Y = check_points(Y)
+    reference = check_int("reference", reference, min=1)
     p = len(Y)
     if p < 2:
         return np.zeros(p)
@@ -198,7 +224,7 @@ def median_distances(Y, *, reference=OUTLIER_REFERENCE_POINTS) -> np.ndarray:
     return out
 
 
-def mds_outliers(Y, *, factor=OUTLIER_FACTOR) -> np.ndarray:
+def mds_outliers(Y: ArrayLike, *, factor: float = OUTLIER_FACTOR) -> NDArray[np.bool_]:
     """The points of a picture that lie far from the rest: a robust rule.
 
     Point ``i`` is an outlier when its median distance to the other points,
@@ -218,11 +244,8 @@ def mds_outliers(Y, *, factor=OUTLIER_FACTOR) -> np.ndarray:
     ndarray of bool, shape (p,)
         None when ``p < 3`` or when most points coincide (a typical distance of 0).
     """
-    Y = np.asarray(Y, dtype=np.float64)
-    if Y.ndim != 2:
-        raise ValueError(f"Y must have shape (p, d), got {Y.shape}")
-    if not factor > 1:
-        raise ValueError(f"factor must be a number > 1, got {factor!r}")
+    Y = check_points(Y)
+    factor = check_real("factor", factor, above=1)
     if len(Y) < 3:
         return np.zeros(len(Y), dtype=bool)
     m = median_distances(Y)
@@ -232,7 +255,7 @@ def mds_outliers(Y, *, factor=OUTLIER_FACTOR) -> np.ndarray:
     return m > factor * typical
 
 
-def outlier_ratios(Y) -> np.ndarray:
+def outlier_ratios(Y: ArrayLike) -> NDArray[np.float64]:
     """Each point's median distance to the others over the median of those: how many
     times farther than typical a point lies (compared with ``factor`` by
     :func:`mds_outliers`)."""
@@ -241,7 +264,8 @@ def outlier_ratios(Y) -> np.ndarray:
     return m / typical if typical > 0 else np.ones_like(m)
 
 
-def border_points(Y, outliers, centre, half):
+def border_points(Y: ArrayLike, outliers: ArrayLike, centre: ArrayLike, half: float
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Where outliers are drawn: on the border of the square ``centre +- half``, in their
     direction from the centre.
 
@@ -273,7 +297,8 @@ def border_points(Y, outliers, centre, half):
     return c + d * t[:, None], np.degrees(np.arctan2(d[:, 1], d[:, 0]))
 
 
-def spread_on_border(P, centre, half, gap):
+def spread_on_border(P: ArrayLike, centre: ArrayLike, half: float, gap: float
+                     ) -> NDArray[np.float64]:
     """Points on the border of the square ``centre +- half`` moved along it, in order,
     until neighbours are at least ``gap`` apart (measured along the border).
 
@@ -333,7 +358,7 @@ def spread_on_border(P, centre, half, gap):
 
 
 # --------------------------------------------------------------------------- neighbours
-def nearest_neighbours(D, k=3):
+def nearest_neighbours(D: ArrayLike, k: int = 3) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Each shape's ``k`` nearest other shapes in a distance matrix.
 
     Parameters
@@ -356,20 +381,19 @@ def nearest_neighbours(D, k=3):
     ([[1, 2], [0, 2], [1, 0]], [[1.0, 3.0], [1.0, 1.0], [1.0, 3.0]])
     """
     A = check_square(D, "D")
-    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
-        raise ValueError(f"k must be an integer >= 1, got {k!r}")
+    k = check_int("k", k, min=1)
     p = len(A)
-    k = min(int(k), p - 1)
+    k = min(k, p - 1)
     B = A.astype(np.float64, copy=True)
     np.fill_diagonal(B, np.inf)
     ind = np.argsort(B, axis=1, kind="stable")[:, :k]
     return ind, np.take_along_axis(A, ind, axis=1).astype(np.float64)
 
 
-def _side_points(ax) -> float:
+def _side_points(ax: Axes) -> float:
     """The shorter side of ``ax`` in points (after a layout pass, if the figure has a
     layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
-    fig = ax.figure
+    fig: Any = ax.figure
     while getattr(fig, "figure", fig) is not fig:  # the root figure of a subfigure
         fig = fig.figure
     if fig.get_layout_engine() is not None:
@@ -378,7 +402,9 @@ def _side_points(ax) -> float:
     return 72.0 * min(box.width, box.height) / fig.dpi
 
 
-def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15):
+def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
+                    fontsize: str | float = "x-small", offset: float = 3.0,
+                    safety: float = 1.15) -> list[int]:
     """Write ``texts[i]`` beside point ``Y[i]`` where it covers no text already written.
 
     Greedy, in order: a text's box is estimated from its length, the font size and the
@@ -393,10 +419,12 @@ def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15
     """
     from matplotlib.font_manager import FontProperties
 
+    Y = np.asarray(Y, dtype=np.float64)
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     per_pt = max(x1 - x0, y1 - y0) / max(_side_points(ax), 1.0) * safety
     size = FontProperties(size=fontsize).get_size_in_points()
-    boxes, kept = [], []
+    boxes: list[tuple[float, float, float, float]] = []
+    kept: list[int] = []
     for i, text in enumerate(texts):
         w, h = 0.62 * size * len(text) * per_pt, 1.25 * size * per_pt
         d = offset * per_pt / safety  # the true offset: a larger one would hide overlaps
@@ -421,31 +449,29 @@ def annotate_points(ax, Y, texts, *, fontsize="x-small", offset=3.0, safety=1.15
     return kept
 
 
-def _spread_out(points, min_gap):
+def _spread_out(points: NDArray[np.float64], min_gap: float) -> list[int]:
     """Indices of points kept so that no two are closer than ``min_gap`` (greedy, in
     order): the points whose labels can be written without writing over each other."""
-    kept = []
+    kept: list[int] = []
     for i, x in enumerate(points):
         if all(np.linalg.norm(x - points[j]) >= min_gap for j in kept):
             kept.append(i)
     return kept
 
 
-def _outlier_mask(Y, outliers):
+def _outlier_mask(Y: NDArray[np.float64], outliers: str | ArrayLike | None) -> NDArray[np.bool_]:
     if outliers is None or outliers is False:
         return np.zeros(len(Y), dtype=bool)
     if isinstance(outliers, str):
-        if outliers != "auto":
-            raise ValueError(f"outliers must be 'auto', None or a boolean mask, got "
-                             f"{outliers!r}")
+        check_choice("outliers", outliers, ("auto",))
         return mds_outliers(Y)
     mask = np.asarray(outliers, dtype=bool).reshape(-1)
-    if len(mask) != len(Y):
-        raise ValueError(f"outliers has {len(mask)} entries but Y has {len(Y)} points")
+    check_entries("outliers", mask, len(Y))
     return mask
 
 
-def mds_layout(Y, outliers="auto", *, margin=0.08):
+def mds_layout(Y: ArrayLike, outliers: str | ArrayLike | None = "auto", *,
+               margin: float = 0.08) -> dict[str, Any]:
     """Where :func:`plot_mds` draws each point: the inliers where they are, the outliers on
     the border of a square fitted to the inliers.
 
@@ -465,7 +491,8 @@ def mds_layout(Y, outliers="auto", *, margin=0.08):
         ``half`` (the panel is ``centre +- half``), ``ratio`` ((p,): median distance over
         the typical one, see :func:`outlier_ratios`; NaN unless there are outliers).
     """
-    Y = np.asarray(Y, dtype=np.float64)
+    Y = check_points(Y, d=2, min_points=1)
+    margin = check_real("margin", margin, min=0)
     out = _outlier_mask(Y, outliers)
     if out.all():
         out = np.zeros(len(Y), dtype=bool)
@@ -485,20 +512,23 @@ def mds_layout(Y, outliers="auto", *, margin=0.08):
             "ratio": ratio}
 
 
-def class_medians(Y, labels):
+def class_medians(Y: ArrayLike, labels: Sequence[Any]) -> list[tuple[str, NDArray[np.float64]]]:
     """The coordinate-wise median of each class's points: ``[(label, (x, y))]`` in
     first-seen order (where :func:`plot_mds` writes class names)."""
     Y = np.asarray(Y, dtype=np.float64)
     codes = check_labels(labels, len(Y))
     lab = [str(x) for x in labels]
-    seen = {}
+    seen: dict[int, int] = {}
     for i, c in enumerate(codes):
         seen.setdefault(int(c), i)
     return [(lab[i], np.median(Y[codes == c], axis=0)) for c, i in seen.items()]
 
 
-def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4.5),
-             max_names=MDS_MAX_NAMES, legend=True, outliers="auto"):
+def plot_mds(Y: ArrayLike, names: Sequence[str] | None = None,
+             labels: Sequence[Any] | None = None, *, ax: Axes | None = None,
+             title: str | None = None, figsize: tuple[float, float] = (5.0, 4.5),
+             max_names: int = MDS_MAX_NAMES, legend: bool | str = True,
+             outliers: str | ArrayLike | None = "auto") -> Figure | SubFigure:
     """Scatter plot of a 2-D MDS embedding, square, coloured by class (Fig. 4-5).
 
     Readable from 3 to thousands of shapes with any names, and with outliers:
@@ -544,64 +574,116 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
-    Y = np.asarray(Y, dtype=np.float64)
-    if Y.ndim != 2 or Y.shape[1] != 2:
-        raise ValueError(f"Y must have shape (p, 2), got {Y.shape}; use mds_embedding(D)")
+    Y = check_points(Y, d=2, min_points=1, fix="use mds_embedding(D)")
     p = len(Y)
-    if names is not None and len(names) != p:
-        raise ValueError(f"names has {len(names)} entries but Y has {p} points")
+    if names is not None:
+        check_entries("names", names, p)
+    if labels is not None:
+        check_entries("labels", labels, p)
+    max_names = check_int("max_names", max_names, min=0)
+    legend = check_flag_or_choice("legend", legend, ("outside",))
     lay = mds_layout(Y, outliers)
-    out, P = lay["outliers"], lay["P"]
     own = ax is None
     size = 25.0 if p <= 100 else max(4.0, 2500.0 / p)
-    scale = {"markerscale": max(1.0, (25.0 / size) ** 0.5)}  # legend markers stay visible
-    n_classes = 0
+    styles: list[tuple[str, ColorType, str]]
     if labels is not None:
         codes, styles = class_styles(labels, p)
-        n_classes = len(styles)
     else:
         codes, styles = np.zeros(p, dtype=np.int64), [("", "C0", "o")]
-    columns = 1 if n_classes <= MAX_LEGEND_CLASSES else -(-n_classes // MAX_LEGEND_CLASSES)
-    listed = legend and labels is not None and columns <= LEGEND_COLUMNS
-    if own and listed and columns > 1:  # the legend goes below: a taller figure
-        columns = min(LEGEND_COLUMNS, max(columns, 2))
-        rows = -(-(n_classes + bool(out.any())) // columns)
-        figsize = (max(figsize[0], 1.9 * columns), figsize[1] + 0.21 * rows + 0.5)
+    plan = _mds_legend_plan(len(styles) if labels is not None else 0, labels is not None,
+                            legend, own, bool(lay["outliers"].any()))
+    if own and plan.listed and plan.columns > 1:  # the legend goes below: a taller figure
+        figsize = (max(figsize[0], 1.9 * plan.columns), figsize[1] + 0.21 * plan.rows + 0.5)
     fig, ax = _figure_and_ax(ax, figsize)
+    _draw_mds_points(ax, lay, codes, styles, size, labels is not None)
+    _set_square(ax, lay["centre"], lay["half"])
+    _draw_mds_legend(ax, plan, own=own, outside=own or legend == "outside",
+                     markerscale=max(1.0, (25.0 / size) ** 0.5))
+    _style_mds_axes(ax, title)
+    # texts last (they take the final layout): outliers first, then names or classes
+    texts, where = _mds_texts(Y, lay, names, labels, plan.n_classes, max_names)
+    if texts:
+        annotate_points(ax, np.array(where), texts)
+    return fig
+
+
+class _MdsLegend(NamedTuple):
+    """How :func:`plot_mds` lists the classes: in ``columns`` columns of ``rows`` rows
+    (``listed``), or not at all (then, with ``labels``, the panel states their number)."""
+
+    legend: bool | str
+    has_labels: bool
+    n_classes: int
+    columns: int
+    rows: int
+    listed: bool
+    any_outlier: bool
+
+
+def _mds_legend_plan(n_classes: int, has_labels: bool, legend: bool | str, own: bool,
+                     any_outlier: bool) -> _MdsLegend:
+    """The legend of :func:`plot_mds`: one column up to :data:`MAX_LEGEND_CLASSES` classes,
+    below the panel of a figure of its own in up to :data:`LEGEND_COLUMNS` columns."""
+    columns = 1 if n_classes <= MAX_LEGEND_CLASSES else -(-n_classes // MAX_LEGEND_CLASSES)
+    listed = bool(legend) and has_labels and columns <= LEGEND_COLUMNS
+    rows = 0
+    if own and listed and columns > 1:
+        columns = min(LEGEND_COLUMNS, max(columns, 2))
+        rows = -(-(n_classes + any_outlier) // columns)
+    return _MdsLegend(legend, has_labels, n_classes, columns, rows, listed, any_outlier)
+
+
+def _draw_mds_points(ax: Axes, lay: dict[str, Any], codes: NDArray[np.int64],
+                     styles: list[tuple[str, ColorType, str]], size: float,
+                     named_classes: bool) -> None:
+    """The points of :func:`plot_mds`: inliers class by class, outliers as arrow heads on
+    the border (and an empty marker for the legend's outlier entry)."""
+    out, P = lay["outliers"], lay["P"]
     for c, (lab, col, marker) in enumerate(styles):
         sel = (codes == c) & ~out
         ax.scatter(P[sel, 0], P[sel, 1], color=col, marker=marker, s=size, linewidths=0,
-                   label=short_label(lab) if labels is not None else None)
-    if out.any():
-        from matplotlib.markers import MarkerStyle
-        from matplotlib.transforms import Affine2D
+                   label=short_label(lab) if named_classes else None)
+    if not out.any():
+        return
+    from matplotlib.markers import MarkerStyle
+    from matplotlib.transforms import Affine2D
 
-        for i in np.flatnonzero(out):
-            m = MarkerStyle(">", transform=Affine2D().rotate_deg(lay["angle"][i]))
-            ax.scatter([P[i, 0]], [P[i, 1]], color=styles[codes[i]][1], marker=m,
-                       s=max(size, 25.0) * 2.2, edgecolors="black", linewidths=0.6,
-                       zorder=3)
-        ax.scatter([], [], marker=">", color="white", edgecolors="black", linewidths=0.6,
-                   label="outlier, on the border (\u00d7k typical distance)")
-    _set_square(ax, lay["centre"], lay["half"])
-    outside = own or legend == "outside"
-    if listed and outside and (columns == 1 or not own):
-        ax.legend(fontsize="small" if columns == 1 else "x-small", loc="upper left",
-                  bbox_to_anchor=(1.02, 1.0), ncol=columns, borderaxespad=0.0,
+    for i in np.flatnonzero(out):
+        m = MarkerStyle(">", transform=Affine2D().rotate_deg(lay["angle"][i]))
+        ax.scatter([P[i, 0]], [P[i, 1]], color=styles[codes[i]][1], marker=m,
+                   s=max(size, 25.0) * 2.2, edgecolors="black", linewidths=0.6,
+                   zorder=3)
+    ax.scatter([], [], marker=">", color="white", edgecolors="black", linewidths=0.6,
+               label="outlier, on the border (\u00d7k typical distance)")
+
+
+def _draw_mds_legend(ax: Axes, plan: _MdsLegend, *, own: bool, outside: bool,
+                     markerscale: float) -> None:
+    """The class legend of :func:`plot_mds` (beside, below or inside the panel), or the
+    number of classes when they are too many to list."""
+    scale = {"markerscale": markerscale}  # legend markers stay visible
+    if plan.listed and outside and (plan.columns == 1 or not own):
+        ax.legend(fontsize="small" if plan.columns == 1 else "x-small", loc="upper left",
+                  bbox_to_anchor=(1.02, 1.0), ncol=plan.columns, borderaxespad=0.0,
                   frameon=False, **scale)
-    elif listed and own:
+    elif plan.listed and own:
         ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1),
-                  ncol=columns, borderaxespad=0.0, frameon=False, columnspacing=1.0,
+                  ncol=plan.columns, borderaxespad=0.0, frameon=False, columnspacing=1.0,
                   handletextpad=0.3, **scale)
-    elif legend and labels is not None and n_classes <= MAX_LEGEND_CLASSES:
+    elif plan.legend and plan.has_labels and plan.n_classes <= MAX_LEGEND_CLASSES:
         ax.legend(fontsize="x-small", loc="best", framealpha=0.7, **scale)  # in a panel
-    elif out.any() and legend:
+    elif plan.any_outlier and plan.legend:
         ax.legend(handles=ax.get_legend_handles_labels()[0][-1:], fontsize="x-small",
                   loc="best", framealpha=0.7)
-    if labels is not None and legend and not listed:
-        ax.text(0.01, 0.01, f"{n_classes} classes", transform=ax.transAxes,
+    if plan.has_labels and plan.legend and not plan.listed:
+        ax.text(0.01, 0.01, f"{plan.n_classes} classes", transform=ax.transAxes,
                 fontsize="x-small", color="0.35", ha="left", va="bottom")
+
+
+def _style_mds_axes(ax: Axes, title: str | None) -> None:
+    """Axis names, a few ticks in small print, and the title of an MDS panel."""
     ax.set_xlabel("MDS 1", fontsize="small")
     ax.set_ylabel("MDS 2", fontsize="small")
     ax.locator_params(nbins=4)
@@ -609,8 +691,17 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
     ax.tick_params(labelsize="x-small")
     if title:
         ax.set_title(title, fontsize="medium")
-    # texts last (they take the final layout): outliers first, then names or classes
-    texts, where = [], []
+
+
+def _mds_texts(Y: NDArray[np.float64], lay: dict[str, Any], names: Sequence[str] | None,
+               labels: Sequence[Any] | None, n_classes: int, max_names: int
+               ) -> tuple[list[str], list[Any]]:
+    """The texts of :func:`plot_mds` and where they go: each outlier's name and ratio,
+    then the shape names (up to ``max_names`` shapes) or each class's name at its median."""
+    out, P = lay["outliers"], lay["P"]
+    p = len(Y)
+    texts: list[str] = []
+    where: list[Any] = []
     if out.any():
         tags = short_labels(names) if names is not None else [f"#{i}" for i in range(p)]
         for i in np.flatnonzero(out):
@@ -621,27 +712,27 @@ def plot_mds(Y, names=None, labels=None, *, ax=None, title=None, figsize=(5.0, 4
         texts += [tags[i] for i in np.flatnonzero(~out)]
         where += [P[i] for i in np.flatnonzero(~out)]
     elif labels is not None and n_classes > 1 and p > max_names:
-        for lab, xy in class_medians(Y[~out], [labels[i] for i in np.flatnonzero(~out)]):
+        for lab, xy in class_medians(Y[~out], [labels[int(i)] for i in np.flatnonzero(~out)]):
             texts.append(short_label(lab))
             where.append(xy)
-    if texts:
-        annotate_points(ax, np.array(where), texts)
-    return fig
+    return texts, where
 
 
-def _runs(labels):
+def _runs(labels: Sequence[str]) -> list[tuple[int, int, str]]:
     """Contiguous runs of equal labels: [(start, stop, label)]."""
-    out = []
+    out: list[list[Any]] = []
     for i, lab in enumerate(labels):
         if out and out[-1][2] == lab:
             out[-1][1] = i + 1
         else:
             out.append([i, i + 1, lab])
-    return [tuple(r) for r in out]
+    return [(a, b, lab) for a, b, lab in out]
 
 
-def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
-                 fontsize="x-small", safety=1.5, side_pt=None):
+def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
+                 labels: Sequence[Any] | None = None, *, max_names: int = MATRIX_MAX_NAMES,
+                 fontsize: str | float = "x-small", safety: float = 1.5,
+                 side_pt: float | None = None) -> float:
     """Ticks of a (p, p) matrix image that never write over each other.
 
     One tick per shape (short names) when there are at most ``max_names`` shapes and their
@@ -687,8 +778,11 @@ def matrix_ticks(ax, p, names=None, labels=None, *, max_names=MATRIX_MAX_NAMES,
     return side_pt
 
 
-def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, labels=None,
-                         cmap="jet", vmax=None, colorbar=True, figsize=(5.0, 4.5)):
+def plot_distance_matrix(D: ArrayLike, *, scale: bool = True, ax: Axes | None = None,
+                         title: str | None = None, names: Sequence[str] | None = None,
+                         labels: Sequence[Any] | None = None, cmap: str | Colormap = "jet",
+                         vmax: float | None = None, colorbar: bool = True,
+                         figsize: tuple[float, float] = (5.0, 4.5)) -> Figure | SubFigure:
     """Image of a distance matrix, as in Fig. 3 and 6 (blue: similar, red: dissimilar).
 
     Parameters
@@ -718,11 +812,17 @@ def plot_distance_matrix(D, *, scale=True, ax=None, title=None, names=None, labe
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     A = check_square(D, "D")
+    scale, colorbar = check_bool("scale", scale), check_bool("colorbar", colorbar)
+    for arg, value in (("names", names), ("labels", labels)):
+        if value is not None:
+            check_entries(arg, value, len(A), of="D", unit="rows")
     img = scale_255(A) if scale else A
     if vmax is None:
         vmax = 255.0 if scale else (float(img.max()) or 1.0)
+    vmax = check_real("vmax", vmax, positive=True)
     fig, ax = _figure_and_ax(ax, figsize)
     im = ax.imshow(img, cmap=cmap, vmin=0.0, vmax=vmax, interpolation="nearest")
     matrix_ticks(ax, len(A), names, labels)

@@ -27,7 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._checks import check_labels, check_square
+from .._checks import check_entries, check_labels, check_points, check_square
 from .._files import atomic_write
 from ..compare import distance_matrix
 from ..descriptor import Descriptor, select_descriptor
@@ -297,12 +297,9 @@ def interactive_mds(Y, names, labels=None, *, D=None, k=3, title=None, outliers=
     """
     import plotly.graph_objects as go
 
-    Y = np.asarray(Y, dtype=np.float64)
-    if Y.ndim != 2 or Y.shape[1] != 2:
-        raise ValueError(f"Y must have shape (p, 2), got {Y.shape}; use mds_embedding(D)")
+    Y = check_points(Y, d=2, min_points=1, fix="use mds_embedding(D)")
     p = len(Y)
-    if len(names) != p:
-        raise ValueError(f"names has {len(names)} entries but Y has {p} points")
+    check_entries("names", names, p)
     if D is not None and check_square(D, "D").shape[0] != p:
         raise ValueError(f"D has {len(D)} rows but Y has {p} points")
     lay = mds_layout(Y, outliers)
@@ -415,21 +412,16 @@ def guess_vertical_axis(path) -> str:
 def _axes_list(vertical_axis, n):
     if isinstance(vertical_axis, str):
         return [vertical_axis] * n
-    axes = list(vertical_axis)
-    if len(axes) != n:
-        raise ValueError(f"vertical_axis has {len(axes)} entries for {n} meshes")
-    return axes
+    return check_entries("vertical_axis", vertical_axis, n, of="the strip", unit="meshes")
 
 
 def _strip_texts(names, distances, labels, n):
-    if len(names) != n:
-        raise ValueError(f"names has {len(names)} entries for {n} meshes (the query first)")
+    check_entries("names", names, n, of="the strip", unit="meshes (the query first)")
     d = np.asarray(distances, dtype=np.float64).reshape(-1)
-    if len(d) != n - 1:
-        raise ValueError(f"distances has {len(d)} entries for {n - 1} neighbours (one per "
-                         "mesh after the query)")
-    if labels is not None and len(labels) != n:
-        raise ValueError(f"labels has {len(labels)} entries for {n} meshes")
+    check_entries("distances", d, n - 1, of="the strip",
+                  unit="neighbours (one per mesh after the query)")
+    if labels is not None:
+        check_entries("labels", labels, n, of="the strip", unit="meshes")
     heads = ["query"] + [f"{j}. d = {d[j - 1]:.4g}" for j in range(1, n)]
     return heads, d
 
@@ -567,9 +559,8 @@ def _overview_inputs(D, names, labels, Y, random_state):
 
     A = check_square(D, "D")
     p = len(A)
-    labels = [str(x) for x in labels]
-    if len(names) != p or len(labels) != p:
-        raise ValueError(f"names and labels need {p} entries (one per row of D)")
+    check_entries("names", names, p, of="D", unit="rows")
+    labels = [str(x) for x in check_entries("labels", labels, p, of="D", unit="rows")]
     if Y is None:
         Y = mds_embedding(A, random_state=random_state)
     return A, labels, Y

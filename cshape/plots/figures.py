@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._checks import check_int
 from ..descriptors import FOUR_PI, inverse_compact_shape_dna, normalize, weyl_subtract
 from ..mesh import as_mesh
 from .viewer import eigenfunction_explorer, view_mesh, view_meshes
@@ -511,8 +512,7 @@ def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
     from .collection import MDS_MAX_NAMES, _square_limits, annotate_points, short_labels
 
     p = len(state.names)
-    if isinstance(shape, bool) or not isinstance(shape, (int, np.integer)) or not 0 <= shape < p:
-        raise ValueError(f"shape must be a row index in [0, {p - 1}], got {shape!r}")
+    shape = check_int("shape", shape, min=0, max=p - 1)  # a row of the state
     M, N = state.M, state.N
     # a fixed layout: constrained layout would double the drawing time of every slider move
     fig = Figure(figsize=figsize)

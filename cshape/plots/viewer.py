@@ -27,11 +27,9 @@ draws).
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
-from .._checks import check_choice
+from .._checks import check_choice, check_int, check_real
 from ..mesh import as_mesh, repair_mesh
 
 __all__ = [
@@ -112,9 +110,7 @@ def mode_data(lam, phi, indices=None):
         indices = range(k)
     out = []
     for i in indices:
-        if isinstance(i, bool) or not isinstance(i, numbers.Integral) or not 0 <= i < k:
-            raise ValueError(f"indices must be integers in [0, {k - 1}], got {i!r}")
-        i = int(i)
+        i = check_int("indices", i, min=0, max=k - 1)
         m = symmetric_limits(phi[:, i])
         out.append({
             "i": i, "lam": float(lam[i]), "values": phi[:, i].astype(np.float32),
@@ -169,9 +165,7 @@ def _scalars(mesh, scalars, name="scalars"):
 
 
 def _check_height(height):
-    if isinstance(height, bool) or not isinstance(height, numbers.Real) or not height >= 100:
-        raise ValueError(f"height must be a number of pixels >= 100, got {height!r}")
-    return int(height)
+    return int(check_real("height", height, min=100))  # pixels
 
 
 # ------------------------------------------------------------------------------ figures
@@ -377,13 +371,8 @@ def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=D
 
     from ..spectrum import eigenpairs as _eigenpairs
 
-    if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
-        raise ValueError(f"n_modes must be an integer >= 1, got {n_modes!r}")
-    n_modes = int(n_modes)
-    if isinstance(start, bool) or not isinstance(start, numbers.Integral) \
-            or not 0 <= start < n_modes:
-        raise ValueError(f"start must be an integer in [0, n_modes - 1 = {n_modes - 1}], "
-                         f"got {start!r}")
+    n_modes = check_int("n_modes", n_modes, min=1)
+    start = check_int("start", start, min=0, max=n_modes - 1)
     vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
     height = _check_height(height)
     mesh = repair_mesh(as_mesh(mesh))

@@ -28,12 +28,11 @@ Example
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._checks import check_choice, require_extra
+from .._checks import check_choice, check_int, require_extra
 from ..compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
 from ..descriptors import NORMALIZATIONS, TRANSFORMS, log_weyl_ratio, normalize, weyl_subtract
 
@@ -219,8 +218,7 @@ class MSweep:
     def _check_N(self, N):
         if N is None:
             return self.N_max
-        if isinstance(N, bool) or not isinstance(N, numbers.Integral):
-            raise TypeError(f"N must be an integer, got {type(N).__name__} {N!r}")
+        N = check_int("N", N)
         if not 3 <= N <= self.N_max:
             raise ValueError(
                 f"N must be in [3, {self.N_max}] (the eigenvalues computed per shape), got {N}; "
@@ -291,8 +289,7 @@ class MSweep:
         N = self._check_N(N)
         norm = self.normalization if normalization is None else self._check_norm(normalization)
         tr = self.transform if transform is None else self._check_transform(transform)
-        if isinstance(M, bool) or not isinstance(M, numbers.Integral):
-            raise TypeError(f"M must be an integer, got {type(M).__name__} {M!r}")
+        M = check_int("M", M)
         top = max_M(N, tr)
         if not 0 <= M <= top:
             bound = "2M+1 <= N" if tr == "weyl" else "2M+1 <= N-1"

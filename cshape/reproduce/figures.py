@@ -120,7 +120,8 @@ def _noise_change_figure(noise, levels):
                             (axs[1], "cshape", "(b) cShape-DNA")):
         top = max(float(noise[lv]["change_" + kind].max()) for lv in levels) or 1.0
         for lv in levels:
-            ax.plot(noise[lv]["change_" + kind] / top, ".-", ms=3, lw=0.8, label=f"lam={lv:g}")
+            ax.plot(noise[lv]["change_" + kind] / top, ".-", ms=3, lw=0.8,
+                    label=f"amplitude={lv:g}")
         ax.set(xlabel="model", ylabel="||noisy - clean|| / max", title=title)
         ax.legend(fontsize="small")
     return fig

@@ -83,7 +83,7 @@ def reproduce(records, out_dir, *, N=None, M=None, Ms=(8, 4, 2, 1),
         (or a cshape data collection) give class labels for the retrieval measures.
     out_dir : str or os.PathLike
         Report folder (created): ``report.md``, ``results.json``, ``fig*.png``,
-        ``table.npz`` (clean descriptors) and ``table_noise_<lam>.npz``.
+        ``table.npz`` (clean descriptors) and ``table_noise_<amplitude>.npz``.
     N, M : int, optional
         The paper's Shape-DNA length and cShape-DNA half-width (default: those of
         ``descriptor``, else of :data:`cshape.PAPER`, 100 and 16).
@@ -334,11 +334,11 @@ def _noise_figures(plots, table, noise) -> dict:
     return {
         "fig7_noise_shape_dna": plots.plot_matrices(
             [noise[lv]["diff_shape-dna"] for lv in levels],
-            [f"lam={lv:g}: {noise[lv]['shape-dna'][0]:.1f} / {noise[lv]['shape-dna'][1]:.1f}"
+            [f"amplitude={lv:g}: {noise[lv]['shape-dna'][0]:.1f} / {noise[lv]['shape-dna'][1]:.1f}"
              for lv in levels], **ticks),
         "fig7_noise_cshape": plots.plot_matrices(
             [noise[lv]["diff_cshape"] for lv in levels],
-            [f"lam={lv:g}: {noise[lv]['cshape'][0]:.1f} / {noise[lv]['cshape'][1]:.1f}"
+            [f"amplitude={lv:g}: {noise[lv]['cshape'][0]:.1f} / {noise[lv]['cshape'][1]:.1f}"
              for lv in levels], **ticks),
         "fig8_noise_change": _noise_change_figure(
             noise, [lv for lv in levels if lv in (0.5, 1.0, 10.0)] or levels),
@@ -538,7 +538,7 @@ def _report(res, figs, title):
                          _pair(r["cshape"], 1), _pair(pcs, 1)])
         s += ["## 3.3 Noise", "",
               "Clean vs noisy scaled distance matrices (mean / std of the difference).", "",
-              _md_table(["lam", "Shape-DNA", "paper", "cShape-DNA", "paper"], rows), "",
+              _md_table(["amplitude", "Shape-DNA", "paper", "cShape-DNA", "paper"], rows), "",
               "![](fig7_noise_shape_dna.png)", "", "![](fig7_noise_cshape.png)", "",
               "![](fig8_noise_change.png)", ""]
     if res["quality"]:
