@@ -7,6 +7,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import re  # noqa: E402
+
 import matplotlib as mpl  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
@@ -189,8 +191,9 @@ def test_view_map_y_up_turns_the_markers_with_the_mesh(pair):
     (dict(values=np.zeros(5)), ValueError, "values has shape \\(5,\\) but the source has 42"),
     (dict(values=np.full(42, np.nan)), ValueError, "values holds NaN"),
     (dict(values="abc"), TypeError, "values must be an array of numbers"),
-    (dict(landmarks=[1, 2]), TypeError, r"landmarks must be integer pairs .* shape \(L, 2\)"),
-    (dict(landmarks=[[0.5, 1.0]]), TypeError, "landmarks must be integer pairs"),
+    (dict(landmarks=[1, 2]), ValueError, r"landmarks must have shape \(L, 2\).*got shape \(2,\)"),
+    (dict(landmarks=np.zeros((0, 2), int)), ValueError, "landmarks must have shape"),
+    (dict(landmarks=[[0.5, 1.0]]), TypeError, "landmarks must be integer vertex indices"),
     (dict(landmarks=[[42, 0]]), ValueError, r"landmarks\[:, 0\] holds a vertex outside"),
     (dict(landmarks=[[0, -1]]), ValueError, r"landmarks\[:, 1\] holds a vertex outside"),
     (dict(titles="ab"), TypeError, "titles must be two strings"),
@@ -239,3 +242,12 @@ def test_diagonal_share_errors():
         plots.diagonal_share(np.eye(2), band=1.5)
     with pytest.raises(ValueError, match="C is all zeros"):
         plots.diagonal_share(np.zeros((2, 2)))
+
+
+@pytest.mark.parametrize("bad", [[[0.5, 1.0]], [1, 2], np.zeros((0, 2), int)])
+def test_landmark_errors_are_point_maps(sphere, bad):
+    """The same bad landmarks get the same error from the pictures as from cshape.point_map."""
+    with pytest.raises((TypeError, ValueError)) as want:
+        cshape.point_map(sphere, sphere, k=10, k0=5, landmarks=bad)
+    with pytest.raises(want.type, match=re.escape(str(want.value))):
+        plots.plot_map(sphere, sphere, np.arange(sphere.n_vertices), landmarks=bad)

@@ -93,9 +93,13 @@ def _landmarks(landmarks: ArrayLike | None, n_source: int, n_target: int
     if landmarks is None:
         return None
     lm = np.asarray(landmarks)
-    if lm.dtype.kind not in "iu" or lm.ndim != 2 or lm.shape[1] != 2:
-        raise TypeError(f"landmarks must be integer pairs (source vertex, target vertex), "
-                        f"shape (L, 2), got {lm.dtype} of shape {lm.shape}")
+    # the errors of cshape.point_map's landmarks=
+    if lm.dtype.kind not in "iu":
+        raise TypeError(f"landmarks must be integer vertex indices of shape (L, 2), got "
+                        f"{lm.dtype} values")
+    if lm.ndim != 2 or lm.shape[1] != 2 or lm.shape[0] == 0:
+        raise ValueError(f"landmarks must have shape (L, 2): rows (source vertex, target "
+                         f"vertex), L >= 1, got shape {lm.shape}")
     for col, n, side in ((0, n_source, "source"), (1, n_target, "target")):
         if lm.size and (lm[:, col].min() < 0 or lm[:, col].max() >= n):
             raise ValueError(f"landmarks[:, {col}] holds a vertex outside [0, {n - 1}] (the "
@@ -292,6 +296,10 @@ def plot_functional_map(C: ArrayLike, *, ax=None, cmap: str = MAP_CMAP,
     fig, ax = _axes(ax, figsize)
     m = float(np.abs(C).max()) or 1.0
     im = ax.imshow(C, cmap=cmap, vmin=-m, vmax=m, interpolation="nearest", origin="upper")
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     ax.set_xlabel("source eigenfunction j")
     ax.set_ylabel("target eigenfunction i")
     if title:
