@@ -251,3 +251,17 @@ def test_landmark_errors_are_point_maps(sphere, bad):
         cshape.point_map(sphere, sphere, k=10, k0=5, landmarks=bad)
     with pytest.raises(want.type, match=re.escape(str(want.value))):
         plots.plot_map(sphere, sphere, np.arange(sphere.n_vertices), landmarks=bad)
+
+
+def test_the_maps_guide_example_runs():
+    """The Python block of docs/guides/maps.md runs as written (small meshes) and its map is good."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parent.parent / "docs" / "guides" / "maps.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert len(blocks) == 1
+    env: dict = {}
+    exec(compile(blocks[0], "docs/guides/maps.md", "exec"), env)
+    assert env["p"].shape == (env["pose"].n_vertices,) and env["C"].shape == (40, 40)
+    assert env["err"].mean() / np.sqrt(env["rest"].area) < 0.1
+    assert len(env["fig"].axes) == 3 and env["fig_C"].axes[0].images[0].get_array().shape == (40, 40)
