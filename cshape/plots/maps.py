@@ -21,6 +21,8 @@ pull-back), and a wrong match shows as a colour out of place.  Landmarks are pai
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -28,6 +30,11 @@ from .._checks import check_choice, check_int, check_real
 from ..mesh import Mesh, MeshLike, as_mesh
 from .figures import _axes, new_figure, plot_mesh
 from .viewer import _upright, view_correspondence
+
+if TYPE_CHECKING:
+    import plotly.graph_objects as go
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = [
     "diagonal_share",
@@ -203,7 +210,7 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
              values: ArrayLike | None = None, landmarks: ArrayLike | None = None,
              titles: tuple[str, str] = ("source", "target"), cmap: str = FIELD_CMAP,
              elev: float = 20.0, azim: float = -60.0, vertical_axis: str = "z",
-             marker_size: float = 40.0, figsize: tuple[float, float] = (8.0, 4.0)):
+             marker_size: float = 40.0, figsize: tuple[float, float] = (8.0, 4.0)) -> Figure:
     """The source and the target side by side, a field on the source carried to the target.
 
     The source is coloured by ``values``, the target by ``values[p2p]`` (each target vertex
@@ -264,9 +271,9 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     return fig
 
 
-def plot_functional_map(C: ArrayLike, *, ax=None, cmap: str = MAP_CMAP,
+def plot_functional_map(C: ArrayLike, *, ax: Axes | None = None, cmap: str = MAP_CMAP,
                         title: str | None = "functional map C", colorbar: bool = True,
-                        figsize: tuple[float, float] = (4.4, 4.0)):
+                        figsize: tuple[float, float] = (4.4, 4.0)) -> Figure:
     """The functional map ``C`` as an image: row ``i`` a target, column ``j`` a source basis
     function.
 
@@ -312,7 +319,7 @@ def plot_functional_map(C: ArrayLike, *, ax=None, cmap: str = MAP_CMAP,
 def view_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
              values: ArrayLike | None = None, landmarks: ArrayLike | None = None,
              titles: tuple[str, str] = ("source", "target"), cmap: str = "Turbo",
-             vertical_axis: str = "z", marker_size: int = 6, height: int = 420):
+             vertical_axis: str = "z", marker_size: int = 6, height: int = 420) -> go.Figure:
     """The interactive 3-D counterpart of :func:`plot_map`: two rotatable shapes (plotly).
 
     :func:`cshape.plots.view_correspondence` (the target coloured through ``p2p``, one colour
