@@ -7,6 +7,8 @@
 * :mod:`cshape.plots.explore`    - exploring one's own collection: the interactive MDS (names
   and nearest neighbours on hover), the nearest-neighbour strip of thumbnails, the overview
   page (offline HTML or PNG);
+* :mod:`cshape.plots.maps`       - maps between shapes: a field carried across a point map with
+  matched landmarks (matplotlib and offline 3-D), the functional map ``C`` as an image;
 * :mod:`cshape.plots.viewer`     - interactive 3-D views (plotly), offline in exported HTML;
 * :mod:`cshape.plots.widgets`    - the M-sweep widget (ipywidgets) over pure functions.
 
@@ -53,6 +55,13 @@ from .figures import (  # noqa: E402
     plot_shape_dna_stages,
     plot_weyl,
 )
+from .maps import (  # noqa: E402
+    diagonal_share,
+    map_colours,
+    plot_functional_map,
+    plot_map,
+    view_map,
+)
 from .viewer import (  # noqa: E402
     eigenfunction_explorer,
     signature_explorer,
@@ -64,8 +73,10 @@ from .viewer import (  # noqa: E402
 __all__ = [
     "annotate_points",
     "collection_distances",
+    "diagonal_share",
     "eigenfunction_explorer",
     "interactive_mds",
+    "map_colours",
     "matrix_ticks",
     "mds_outliers",
     "nearest_neighbours",
@@ -77,7 +88,9 @@ __all__ = [
     "plot_dft",
     "plot_distance_matrix",
     "plot_eigenfunctions",
+    "plot_functional_map",
     "plot_m_sweep",
+    "plot_map",
     "plot_matrices",
     "plot_mds",
     "plot_mesh",
@@ -91,6 +104,7 @@ __all__ = [
     "short_labels",
     "signature_explorer",
     "view_correspondence",
+    "view_map",
     "view_mesh",
     "view_meshes",
 ]

@@ -73,7 +73,7 @@ _ZOOM = 1.3
 
 def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, edges=None,
               shade=True, symmetric=None, colorbar=False, title=None, figsize=(4.0, 4.0),
-              vertical_axis="z"):
+              vertical_axis="z", limits=None):
     """Draw a triangle mesh in 3-D, optionally coloured by a function on its vertices.
 
     Parameters
@@ -101,6 +101,9 @@ def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, ed
     figsize : (float, float), default=(4.0, 4.0)
     vertical_axis : {'z', 'y', 'x'}, default='z'
         The axis drawn upwards (``'y'`` for the many models stored y-up, e.g. Spot).
+    limits : (float, float), optional
+        The values drawn at the two ends of the colour map (several meshes on one colour
+        scale); default: the range of ``f`` (centred on 0 when ``symmetric``).
 
     Returns
     -------
@@ -125,12 +128,15 @@ def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, ed
         norm = None
     else:
         vals = f[F].mean(axis=1)
-        lo, hi = float(f.min()), float(f.max())
-        if symmetric is None:
-            symmetric = lo < 0 < hi
-        if symmetric:
-            m = max(abs(lo), abs(hi)) or 1.0
-            lo, hi = -m, m
+        if limits is not None:
+            lo, hi = (float(x) for x in limits)
+        else:
+            lo, hi = float(f.min()), float(f.max())
+            if symmetric is None:
+                symmetric = lo < 0 < hi
+            if symmetric:
+                m = max(abs(lo), abs(hi)) or 1.0
+                lo, hi = -m, m
         if hi <= lo:
             hi = lo + 1.0
         norm = mpl.colors.Normalize(lo, hi)

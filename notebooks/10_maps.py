@@ -1,0 +1,364 @@
+# ---
+# jupyter:
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # 10 · Maps between shapes: functional maps, ZoomOut and geodesic errors
+#
+# **Paper:** Gao, Yu and Pang, *A compact shape descriptor for triangular surface meshes*, Computer-Aided Design 53 (2014) 62-69;
+# Eq. (1)-(3): the Laplace-Beltrami eigenproblem, on a mesh $A f = -\lambda B f$. Lesson 9 described every point by its
+# heat or wave kernel signature and matched points by nearest signature. This lesson maps *functions* instead of points
+# (Ovsjanikov, Ben-Chen, Solomon, Butscher and Guibas, *Functional maps*, ACM TOG 31(4) 2012), keeps left and right
+# apart with an orientation-preserving term (Ren, Poulenard, Wonka and Ovsjanikov 2018) and refines the map by spectral
+# upsampling (ZoomOut, Melzi et al., ACM TOG 38(6) 2019).
+#
+# **Learning goals.** After this notebook you can
+#
+# 1. write a map between two shapes as a small matrix $C$ between their truncated eigenbases, and read $C$ (near-diagonal
+#    between near-isometric shapes);
+# 2. set up Ovsjanikov et al.'s least-squares problem (descriptor preservation and commutativity with the Laplacian),
+#    solve it, and recover a point-to-point map by nearest neighbours in the spectral embedding;
+# 3. show why an intrinsic energy cannot tell a symmetric shape from its mirror image, measure the share of points sent to
+#    the wrong side, and fix it with the orientation term;
+# 4. refine a map with ZoomOut and measure it the standard way: geodesic error over $\sqrt{\text{area}}$, and the share of
+#    points within 5 % of the geodesic diameter.
+#
+# **The formulas.** $\Phi_S$ ($n_S \times k_S$) and $\Phi_T$ ($n_T \times k_T$) hold the first eigenfunctions of the source
+# $S$ and the target $T$, B-orthonormal ($\Phi^T B \Phi = I$, `cshape.eigenpairs`). A point map $p$ (for each target vertex
+# $y$ a source vertex $p[y]$; the matrix $\Pi$ with $\Pi_{y, p[y]} = 1$) carries a function $f$ on $S$ to $f \circ p = \Pi f$
+# on $T$. In the bases, $f = \Phi_S a$ goes to $\Phi_T C a$ with
+#
+# $$C = \Phi_T^T B_T\, \Pi\, \Phi_S \qquad (k_T \times k_S).$$
+#
+# Ovsjanikov et al. find $C$ without knowing $p$. Descriptors that a correct map carries to each other (WKS at the same
+# energies, $F_S$ on $S$ and $F_T$ on $T$, one column each) have coefficients $D_S = \Phi_S^T B_S F_S$ and
+# $D_T = \Phi_T^T B_T F_T$ (their paper calls them $A$ and $B$; here $A$ and $B$ are the FEM matrices), and an isometry
+# commutes with the Laplace-Beltrami operator, whose matrix in the eigenbases is $\Lambda = \mathrm{diag}(\lambda)$:
+#
+# $$C^\star = \arg\min_C\; \|C D_S - D_T\|_F^2 + w_l\, \|C \Lambda_S - \Lambda_T C\|_F^2, \qquad
+# \|C \Lambda_S - \Lambda_T C\|_F^2 = \sum_{ij} C_{ij}^2 (\lambda_{T,i} - \lambda_{S,j})^2 .$$
+#
+# The second term is diagonal in the entries of $C$, so every row $c_i$ of $C$ is a ridge regression of its own:
+#
+# $$\left(D_S D_S^T + w_l\, \mathrm{diag}_j\!\left[(\lambda_{T,i} - \lambda_{S,j})^2\right]\right) c_i = D_S\, D_{T,i}^T .$$
+#
+# The point map comes back as the nearest neighbour in the spectral embedding,
+# $p[y] = \arg\min_x \|\Phi_T[y] - C\, \Phi_S[x]^T\|$ (rows of $\Phi$ are the points' spectral coordinates).
+
+# %%
+# %matplotlib inline
+import time
+
+import numpy as np
+
+import cshape
+from cshape import plots
+from cshape import signatures as sg
+from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and k
+from cshape.data import poses
+
+np.set_printoptions(precision=3, suppress=True, linewidth=100)
+K = size(50, 100)  # eigenpairs of each shape: the final size of the map
+K0 = size(20, 30)  # the size of the first functional map
+TEMPLATE = size({"voxelsize": 0.03, "target_vertices": 800}, {})  # the posed figures' size
+print("cshape", cshape.__version__, "(small sizes)" if SMALL else "", f"k0 = {K0}, k = {K}")
+
+# %% [markdown]
+# ## 1 · The map we want, written as $C$
+#
+# The two shapes are the rest pose and a pose of the generated quadruped (`cshape.data.poses`, as in lesson 9): the poses
+# keep the rest pose's vertices, so the true map is the identity, $p^\star[y] = y$. Its functional map
+# $C^\star = \Phi_T^T B_T \Phi_S$ is the matrix of inner products of the eigenfunctions of the two poses. Bending
+# without stretching changes the eigenfunctions little, so $C^\star$ is close to diagonal, with entries $\pm 1$ (the
+# sign of an eigenfunction is arbitrary) and small blocks where two eigenvalues are close and their eigenfunctions mix.
+
+# %%
+rest = poses.posed_figure("quadruped", rest=True, **TEMPLATE)
+pose = poses.posed_figure("quadruped", 0, **TEMPLATE)
+lam_s, phi_s = cshape.eigenpairs(rest, K)
+lam_t, phi_t = cshape.eigenpairs(pose, K)
+_, B_s = cshape.fem_matrices(rest)
+_, B_t = cshape.fem_matrices(pose)
+n = pose.n_vertices
+truth = np.arange(n)
+C_true = cshape.pointwise_to_map(truth, phi_s[:, :K0], phi_t[:, :K0], B_t)
+print(f"{rest.n_vertices} vertices, {rest.n_faces} triangles; C* is {C_true.shape[0]} x {C_true.shape[1]}")
+print(f"share of C*'s energy on its diagonal: {plots.diagonal_share(C_true):.1%}, within 2 of it: "
+      f"{plots.diagonal_share(C_true, band=2):.1%}")
+plots.plot_functional_map(C_true, title="C* of the true map (the identity)")
+
+# %% [markdown]
+# $C$ carries any function: project on the source basis, multiply by $C$, synthesise on the target
+# (`cshape.transfer_function`). A smooth function survives; detail above the $k$-th eigenfunction is lost. Here the
+# height on the rest pose, carried to the pose through $C^\star$ of growing size and compared with the height carried
+# by the true map itself:
+
+# %%
+for k in (5, 10, K0, K):
+    Ck = cshape.pointwise_to_map(truth, phi_s[:, :k], phi_t[:, :k], B_t)
+    g = cshape.transfer_function(rest.vertices[:, 2], Ck, phi_s[:, :k], phi_t[:, :k], B_s)
+    z = rest.vertices[:, 2]
+    print(f"k = {k:>3}: relative error of the carried height {np.linalg.norm(g - z) / np.linalg.norm(z):.3f}")
+
+# %% [markdown]
+# ## 2 · $C$ from descriptors (Ovsjanikov et al. 2012)
+#
+# Now forget the true map. The WKS of both shapes at the *source's* energies (every 5th of 100, both shapes scaled to unit
+# area) are descriptors that the correct map preserves; `cshape.functional_map` minimises the energy above (each
+# descriptor scaled to unit B-norm, the eigenvalues divided by the largest source eigenvalue, $w_l = 10^{-2}$), then
+# `cshape.map_to_pointwise` takes nearest neighbours in the spectral embedding.
+#
+# The measure of a map is geodesic: the distance on the source between the matched vertex $p[y]$ and the true one
+# $p^\star[y]$, by the heat method (`cshape.HeatGeodesics`, Crane et al. 2013), reported as its mean over
+# $\sqrt{\text{area}}$ (Kim et al.'s measure) and as the share of target vertices within 5 % of the geodesic diameter.
+
+# %%
+e, sigma = sg.wks_energies(lam_s, 100, area=rest.area)
+F_s = cshape.wks(lam_s, phi_s, e, sigma, area=rest.area)[:, ::5]
+F_t = cshape.wks(lam_t, phi_t, e, sigma, area=pose.area)[:, ::5]
+geo = cshape.HeatGeodesics(rest)
+D_geo = geo.distances(np.arange(rest.n_vertices))  # (n, n): every vertex of the source
+diameter = D_geo.max()
+side = rest.vertices[:, 1]  # left (y > 0) and right (y < 0) of the animal
+off_plane = np.abs(side) > 0.1 * np.ptp(side)  # vertices clearly on one side
+
+
+def measure(p):
+    """Mean geodesic error / sqrt(area), share within 5 % of the diameter, share on the wrong side."""
+    err = D_geo[p, truth]
+    wrong_side = (np.sign(side[p]) != np.sign(side))[off_plane].mean()
+    return err.mean() / np.sqrt(rest.area), (err <= 0.05 * diameter).mean(), wrong_side
+
+
+table = {}
+t0 = time.perf_counter()
+table["nearest WKS (lesson 9)"] = (cshape.match_points(F_t, F_s), time.perf_counter() - t0)
+t0 = time.perf_counter()
+C_plain = cshape.functional_map(lam_s[:K0], phi_s[:, :K0], B_s, lam_t[:K0], phi_t[:, :K0], B_t, F_s, F_t)
+table["functional map"] = (cshape.map_to_pointwise(C_plain, phi_s, phi_t), time.perf_counter() - t0)
+for name, (p, seconds) in table.items():
+    err, within, wrong = measure(p)
+    print(f"{name:<26} error/sqrt(area) {err:.3f}  within 5 %: {within:.1%}  wrong side: {wrong:.1%}  ({seconds:.2f} s)")
+plots.plot_functional_map(C_plain, title="C from the WKS, Eq. (5)-(6) of Ovsjanikov et al.")
+
+# %% [markdown]
+# ## 3 · The pitfall: left and right
+#
+# The animal is left-right symmetric, and the mirror $m$ (vertex $i$ to its mirror image, `poses.mirror_map`) is an
+# isometry of it. Its functional map $C_m = \Phi_T^T B_T \Pi_m \Phi_S$ differs from $C^\star$ in the sign of the rows
+# of the *antisymmetric* eigenfunctions ($\phi \circ m = -\phi$). The WKS is intrinsic, so it is the same at a point and
+# at its mirror image, and the eigenvalues are those of the same operator: on an exactly symmetric shape both terms of
+# the energy would rate the mirror exactly as the truth. This animal is symmetric up to its meshing (the mirror image of
+# a vertex is snapped to the nearest vertex), so the two cost a little differently, in either direction; a map that is
+# merely wrong (the vertices shuffled) costs far more:
+
+# %%
+mirror = poses.mirror_map("quadruped", rest)
+C_mirror = cshape.pointwise_to_map(mirror, phi_s[:, :K0], phi_t[:, :K0], B_t)
+
+
+def energies(C):
+    """The two terms of Ovsjanikov et al.'s energy, with functional_map's scalings."""
+    F_sn = F_s / np.sqrt(np.einsum("ij,ij->j", F_s, B_s @ F_s))
+    F_tn = F_t / np.sqrt(np.einsum("ij,ij->j", F_t, B_t @ F_t))
+    D_s = phi_s[:, :K0].T @ (B_s @ F_sn)
+    D_t = phi_t[:, :K0].T @ (B_t @ F_tn)
+    ls, lt = lam_s[:K0] / lam_s[K0 - 1], lam_t[:K0] / lam_s[K0 - 1]
+    return np.sum((C @ D_s - D_t) ** 2), np.sum(C**2 * (lt[:, None] - ls[None, :]) ** 2)
+
+
+shuffled = np.random.default_rng(0).permutation(n)
+C_shuffled = cshape.pointwise_to_map(shuffled, phi_s[:, :K0], phi_t[:, :K0], B_t)
+for name, C in (("C* (the identity)", C_true), ("C_m (the mirror)", C_mirror), ("a shuffled map", C_shuffled)):
+    ed, el = energies(C)
+    print(f"{name:<18} descriptor term {ed:.4f}  Laplacian term {el:.4f}")
+fig = plots.new_figure((9, 3.8))
+ax1, ax2 = fig.subplots(1, 2)
+plots.plot_functional_map(C_true, ax=ax1, title="C*: the identity", colorbar=False)
+plots.plot_functional_map(C_mirror, ax=ax2, title="C_m: the mirror (antisymmetric rows flip sign)")
+fig
+
+# %% [markdown]
+# The minimiser of such an energy may take either, or a mixture, region by region: above, a large share of the
+# vertices away from the symmetry plane were sent to the wrong side, by the nearest WKS and by the functional map alike
+# (and the functional map of size $k_0$ alone is not even better than the nearest WKS). The orientation-preserving term of
+# Ren et al. (2018) adds $w_o \sum_f \|C\, O_{S,f} - O_{T,f}\, C\|^2$, where $O_f$ is the operator "derivative along
+# $n \times \nabla f$" (the gradient of the descriptor $f$ turned by a right angle about the normal) in the bases. It
+# uses the faces' orientation, and changes sign under a mirror. Colour the rest pose by $y$ (one side blue, the other
+# red) and look at the legs of the pose, first without the term, then with it (`orientation_weight`, on by default
+# when the meshes are given):
+
+# %%
+t0 = time.perf_counter()
+C_orient = cshape.functional_map(lam_s[:K0], phi_s[:, :K0], B_s, lam_t[:K0], phi_t[:, :K0], B_t, F_s, F_t,
+                                 source=rest, target=pose)
+table["+ orientation term"] = (cshape.map_to_pointwise(C_orient, phi_s, phi_t), time.perf_counter() - t0)
+for name in ("functional map", "+ orientation term"):
+    print(f"{name:<20} wrong side: {measure(table[name][0])[2]:.1%} of the vertices off the symmetry plane")
+plots.plot_map(rest, pose, table["functional map"][0], values=side, cmap="coolwarm",
+               titles=("rest pose, coloured by y", "pose, without the orientation term"))
+
+# %%
+plots.plot_map(rest, pose, table["+ orientation term"][0], values=side, cmap="coolwarm",
+               titles=("rest pose, coloured by y", "pose, with the orientation term"))
+
+# %% [markdown]
+# ## 4 · ZoomOut
+#
+# A map of size $k_0$ sees only smooth functions, so its points are blurred. ZoomOut (Melzi et al. 2019) alternates the
+# two directions of the first section, one more eigenfunction at a time: the point map of $C$ (nearest neighbours with
+# $k$ eigenfunctions), then $C$ of size $k+1$ from that point map ($C = \Phi_T^T B_T \Pi \Phi_S$). Each step keeps
+# what is consistent with an isometry at the larger size; the noise of the first map, in the high frequencies, is
+# filtered out. It also makes a *consistent* map out of the mixture of identity and mirror that the map without the
+# orientation term was: often the mirror, which is an isometry too (the wrong-side column).
+
+# %%
+t0 = time.perf_counter()
+C_zoom_plain = cshape.zoomout(C_plain, phi_s, phi_t, B_t, K)
+table["+ ZoomOut, no orientation"] = (cshape.map_to_pointwise(C_zoom_plain, phi_s, phi_t),
+                                      time.perf_counter() - t0 + table["functional map"][1])
+t0 = time.perf_counter()
+C_zoom = cshape.zoomout(C_orient, phi_s, phi_t, B_t, K)
+table["+ ZoomOut"] = (cshape.map_to_pointwise(C_zoom, phi_s, phi_t), time.perf_counter() - t0 + table["+ orientation term"][1])
+t0 = time.perf_counter()
+table["cshape.point_map (one call)"] = (cshape.point_map(rest, pose, k=K, k0=K0), time.perf_counter() - t0)
+print(f"{'method':<28} {'error/sqrt(area)':>16} {'within 5 %':>11} {'wrong side':>11} {'seconds':>8}")
+for name, (p, seconds) in table.items():
+    err, within, wrong = measure(p)
+    print(f"{name:<28} {err:>16.4f} {within:>11.1%} {wrong:>11.1%} {seconds:>8.2f}")
+print(f"diagonal share of C after ZoomOut (within 2): {plots.diagonal_share(C_zoom, band=2):.1%}")
+plots.plot_map(rest, pose, table["+ ZoomOut"][0], titles=("rest pose", "pose, functional map + ZoomOut"))
+
+# %% [markdown]
+# `cshape.point_map(source, target)` is the whole pipeline in one call: eigenpairs, WKS, the functional map with the
+# orientation term, ZoomOut (on 3000 sampled vertices for big meshes), and for every target vertex the index of a
+# source vertex, shape `(n_target,)`. `return_map=True` also returns $C$.
+#
+# ## 5 · Landmarks
+#
+# A few known pairs of points help where the descriptors are ambiguous: `landmarks=` adds heat kernels from them to the
+# descriptors (each pair $(s, t)$ gives a function on each shape that a correct map preserves). Here six tips (the four
+# feet, the head, the tail), found on the rest pose; their partners on the pose are the same vertices. Even without
+# the orientation term they keep left and right apart:
+
+# %%
+along, height = rest.vertices[:, 0], rest.vertices[:, 2]
+feet = [int(np.argmin(np.where((np.sign(along) == sx) & (np.sign(side) == sy), height, np.inf)))
+        for sx in (-1, 1) for sy in (-1, 1)]
+tips = feet + [int(np.argmax(along)), int(np.argmin(along))]  # the four feet, the head, the tail
+landmarks = np.column_stack([tips, tips])
+p_lm = cshape.point_map(rest, pose, k=K, k0=K0, orientation=False, zoomout_steps=False, landmarks=landmarks)
+p_no = cshape.point_map(rest, pose, k=K, k0=K0, orientation=False, zoomout_steps=False)
+for name, p in (("no orientation, no landmarks", p_no), ("no orientation, 6 landmarks", p_lm)):
+    err, within, wrong = measure(p)
+    print(f"{name:<30} within 5 %: {within:.1%}  wrong side: {wrong:.1%}")
+plots.plot_map(rest, pose, p_lm, values=side, landmarks=landmarks, cmap="coolwarm",
+               titles=("rest pose, landmarks", "pose, 6 landmarks, no orientation term"))
+
+# %% [markdown]
+# The same in 3-D (drag to turn; offline in the exported page):
+
+# %%
+plots.view_map(rest, pose, table["+ ZoomOut"][0], values=side, landmarks=landmarks, cmap="RdBu",
+               titles=("rest pose", "pose, + ZoomOut"), height=380)
+
+# %% [markdown]
+# **Where it loses.** The functional map needs near-isometric shapes with the same topology: a pose that stretches the
+# surface, a hole, or a shape glued at the hands breaks the commutativity with the Laplacian. The descriptors must agree
+# (the WKS at the same energies, both shapes scaled to unit area). And a perfectly symmetric shape is only told from its
+# mirror by its orientation: meshes whose faces are not consistently oriented lose that, and even on good meshes the
+# term can settle on the mirror (the generated human, rest pose to pose 1, at full size: 0.11 of the points within 5 %
+# with the term, 0.91 without). On the real poses of TOSCA and the generated poses, `benchmarks/results/maps_tosca.md`
+# and `benchmarks/results/maps_quick.md` give the measured table (method x accuracy x geodesic error x time) at full
+# size; the guide `docs/guides/maps.md` sums them up.
+
+# %% [markdown]
+# ## Exercises
+#
+# 1. *(graded, below)* Write `fmap_mine(D_s, D_t, lam_s, lam_t, w)`: the $C$ ($k_T \times k_S$) minimising
+#    $\|C D_S - D_T\|_F^2 + w \sum_{ij} C_{ij}^2 (\lambda_{T,i} - \lambda_{S,j})^2$, row by row, with NumPy only. It is
+#    checked against `cshape.functional_map` without the orientation term.
+# 2. **How many descriptors?** Keep every 10th, 5th and 2nd WKS energy. How do the accuracy and the wrong-side share of
+#    the functional map (without ZoomOut) change? What happens with fewer descriptors than $k_0$?
+# 3. **The Laplacian weight.** Solve with $w_l = 0, 10^{-3}, 10^{-2}, 10^{-1}, 1$ (`laplacian_weight=`). Plot
+#    `plots.diagonal_share(C, band=2)` and the accuracy against $w_l$. Why does $w_l = 0$ still give a usable $C$ here?
+# 4. **Flip it yourself.** Multiply the rows of `C_orient` of the antisymmetric eigenfunctions by $-1$ (find them:
+#    $\phi_i \circ m \approx -\phi_i$ on the rest pose). Where do the points of the resulting map go?
+# 5. **Bijectivity.** Compare `cshape.point_map(rest, pose)` with `bijective=True`: how many source vertices are hit
+#    by no target vertex in each case?
+
+# %% nbgrader={"grade": false, "grade_id": "fmap_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
+def fmap_mine(D_s, D_t, lam_s, lam_t, w):
+    """C (k_T x k_S) minimising ||C D_s - D_t||^2 + w sum_ij C_ij^2 (lam_t[i] - lam_s[j])^2."""
+    ### BEGIN SOLUTION
+    D_s = np.asarray(D_s, dtype=float)
+    D_t = np.asarray(D_t, dtype=float)
+    lam_s = np.asarray(lam_s, dtype=float)
+    lam_t = np.asarray(lam_t, dtype=float)
+    H = D_s @ D_s.T
+    C = np.empty((len(lam_t), len(lam_s)))
+    for i in range(len(lam_t)):
+        C[i] = np.linalg.solve(H + w * np.diag((lam_t[i] - lam_s) ** 2), D_s @ D_t[i])
+    return C
+    ### END SOLUTION
+
+
+# %% nbgrader={"grade": false, "grade_id": "check_fmap", "locked": true, "schema_version": 3, "solution": false, "task": false}
+def check_fmap(fn, w=1e-2):
+    """Compare fn with cshape.functional_map on the poses of this lesson; a hint for each usual mistake.
+
+    D_s D_s^T has rank at most the number of descriptors, so C is compared by the energy it reaches (which every
+    exact solver reaches to many digits), not entry by entry."""
+    F_sn = F_s / np.sqrt(np.einsum("ij,ij->j", F_s, B_s @ F_s))
+    F_tn = F_t / np.sqrt(np.einsum("ij,ij->j", F_t, B_t @ F_t))
+    D_s = phi_s[:, :K0].T @ (B_s @ F_sn)
+    D_t = phi_t[:, :K0].T @ (B_t @ F_tn)
+    ls, lt = lam_s[:K0] / lam_s[K0 - 1], lam_t[:K0] / lam_s[K0 - 1]
+    want = cshape.functional_map(ls, phi_s[:, :K0], B_s, lt, phi_t[:, :K0], B_t, F_sn, F_tn,
+                                 laplacian_weight=w, orientation_weight=0.0)
+
+    def energy(C, w=w):
+        return np.sum((C @ D_s - D_t) ** 2) + w * np.sum(C**2 * (lt[:, None] - ls[None, :]) ** 2)
+
+    got = np.asarray(fn(D_s, D_t, ls, lt, w), dtype=float)
+    if got.shape != want.shape:
+        raise AssertionError(f"got shape {got.shape}, expected {want.shape}: hint: one row per target "
+                             "eigenfunction, one column per source eigenfunction")
+    if not np.all(np.isfinite(got)):
+        raise AssertionError("hint: C holds NaN or inf: solve each row's system, do not invert D_s alone")
+    best = energy(want)
+    if energy(got) > best * (1 + 1e-6) + 1e-12:
+        if energy(got.T) <= best * (1 + 1e-6) + 1e-12:
+            raise AssertionError("hint: got C transposed: C maps source coefficients to target ones, C D_s ~ D_t")
+        if energy(got, 0.0) <= energy(want, 0.0) * (1 + 1e-6) + 1e-12:
+            raise AssertionError("hint: w changes nothing: add w (lam_t[i] - lam_s[j])^2 to the diagonal of row "
+                                 "i's system")
+        raise AssertionError(f"hint: the energy of your C is {energy(got):.6g}, the minimum {best:.6g}: each row "
+                             "i solves (D_s D_s^T + w diag((lam_t[i] - lam_s)^2)) c_i = D_s D_t[i]")
+    print("fmap_mine: correct")
+
+
+# %% nbgrader={"grade": true, "grade_id": "test_fmap_mine", "locked": true, "points": 1, "schema_version": 3, "solution": false, "task": false}
+check_fmap(fmap_mine)
+
+# %% nbgrader={"grade": true, "grade_id": "hidden_fmap_mine", "locked": true, "points": 2, "schema_version": 3, "solution": false, "task": false}
+# hidden tests: the autograder runs more checks here
+### BEGIN HIDDEN TESTS
+# by hand, one eigenfunction each: C = (d_s . d_t) / (d_s . d_s + w (lam_t - lam_s)^2)
+_got = fmap_mine(np.array([[1.0, 2.0]]), np.array([[3.0, 1.0]]), [0.5], [1.5], 4.0)
+assert np.allclose(_got, [[(3 + 2) / (5 + 4 * 1.0)]]), f"the 1 x 1 example by hand: got {_got}"
+# no Laplacian term and an invertible square D_s: C = D_t D_s^-1 exactly
+_rng = np.random.default_rng(1)
+_Ds, _Dt = _rng.normal(size=(4, 4)), _rng.normal(size=(3, 4))
+assert np.allclose(fmap_mine(_Ds, _Dt, np.arange(4.0), np.arange(3.0), 0.0), _Dt @ np.linalg.inv(_Ds))
+# k_T differs from k_S, lists work as well as arrays
+assert fmap_mine(_Ds.tolist(), _Dt.tolist(), list(range(4)), [0.0, 1.0, 2.0], 0.1).shape == (3, 4)
+# a huge weight keeps only the entries of equal eigenvalues
+_big = fmap_mine(_Ds, _Dt, np.arange(4.0), np.arange(3.0), 1e12)
+assert np.abs(_big[~np.eye(3, 4, dtype=bool)]).max() < 1e-6, "w -> inf: only C_ii may stay"
+check_fmap(fmap_mine, w=1e-1)
+### END HIDDEN TESTS
