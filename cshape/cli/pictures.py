@@ -15,14 +15,20 @@ from __future__ import annotations
 import sys
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from .explore import HTML_SUFFIXES, add_descriptor_options, check_figure_path, chosen_descriptor
 from .output import CommandError, print_warnings
 
+if TYPE_CHECKING:
+    import argparse
+
+    _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
+
 __all__ = ["add_overview"]
 
 # ============================================================================ overview
-def _cmd_overview(args) -> int:
+def _cmd_overview(args: argparse.Namespace) -> int:
     from ..batch import DescriptorTable
     from ..compare import mds_embedding
     from ..plots.collection import mds_layout
@@ -71,7 +77,7 @@ def _cmd_overview(args) -> int:
     return 0
 
 
-def add_overview(sub):
+def add_overview(sub: _SubParsers) -> None:
     p = sub.add_parser(
         "overview",
         help="pictures of a described collection: MDS, distance matrix and classes",
