@@ -23,6 +23,8 @@ from .output import CommandError, print_warnings
 if TYPE_CHECKING:
     import argparse
 
+    from matplotlib.figure import Figure
+
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
 __all__ = ["add_overview"]
@@ -52,7 +54,7 @@ def _cmd_overview(args: argparse.Namespace) -> int:
         Y = mds_embedding(c.D, random_state=args.seed)
     print_warnings(caught, "overview", args.verbose)
     name = Path(args.table).name
-    made = []  # every figure first, then the files: nothing half-written
+    made: list[str | Figure] = []  # every figure first, then the files: nothing half-written
     for o in outs:
         if o.suffix.lower() in HTML_SUFFIXES:
             made.append(overview_html(c.D, c.names, c.labels, Y=Y, descriptor=c.descriptor,

@@ -34,7 +34,7 @@ from .figures import _mds_figure, _noise_change_figure, fig1_selection
 
 if TYPE_CHECKING:
     import os
-    from collections.abc import Iterable, Sequence
+    from collections.abc import Iterable, Mapping, Sequence
     from types import ModuleType
 
     from matplotlib.figure import Figure
@@ -80,7 +80,7 @@ def reproduce(records: Iterable[Any], out_dir: str | os.PathLike[str], *, N: int
               title: str = "cshape: the paper's Section 3 on our data",
               benchmark: Iterable[Any] | None = None, benchmark_name: str | None = None,
               benchmark_info: str | None = None, size_Ms: Sequence[int] | None = None,
-              suite: dict[str, Iterable[Any]] | None = None,
+              suite: Mapping[str, Iterable[Any]] | None = None,
               descriptor: Descriptor | None = None) -> dict[str, Any]:
     """Run Section 3 on a collection and write a report folder.
 
@@ -206,7 +206,7 @@ def _paper_descriptor(descriptor: Descriptor | None, N: int | None, M: int | Non
 # --------------------------------------------------------------------------- the numbers
 def _compute(records: list[Any], out: Path, run: _Run, *, benchmark: Iterable[Any] | None,
              benchmark_name: str | None, benchmark_info: str | None,
-             suite: dict[str, Iterable[Any]] | None
+             suite: Mapping[str, Iterable[Any]] | None
              ) -> tuple[dict[str, Any], dict[str, Any]]:
     """Every table and experiment: the results dict, and what the figures need besides."""
     table = describe(records, **run.describe)
@@ -262,7 +262,7 @@ def _compute_retrieval(table: DescriptorTable, out: Path, run: _Run,
     }
 
 
-def _compute_suite(suite: dict[str, Iterable[Any]], run: _Run) -> dict[str, Any]:
+def _compute_suite(suite: Mapping[str, Iterable[Any]], run: _Run) -> dict[str, Any]:
     """The benchmark suite: every descriptor on every benchmark, the default marked."""
     from .suite import default_row, suite_scores
 
