@@ -42,7 +42,6 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
     from ..mesh import MeshLike
-    from .widgets import SweepState
 
     _Size = tuple[float, float]  # a figure's (width, height) in inches
 
@@ -512,7 +511,8 @@ def plot_matrices(matrices: Sequence[ArrayLike], titles: Sequence[str] | None = 
 
 
 # ------------------------------------------------------------------------------ M sweep
-def plot_m_sweep(state: SweepState, *, shape: int = 0, figsize: _Size = (12.0, 7.0)) -> Figure:
+# state is a widgets.SweepState, typed Any: widgets imports this module (no import circle)
+def plot_m_sweep(state: Any, *, shape: int = 0, figsize: _Size = (12.0, 7.0)) -> Figure:
     """The panels of the M-sweep widget for one :class:`cshape.plots.widgets.SweepState`.
 
     Top row: the cropped DFT coefficients (Eq. 10) of one shape over its full shifted
