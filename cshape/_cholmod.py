@@ -305,7 +305,7 @@ class _SpluFactor:
         return np.ascontiguousarray(self._lu.solve(np.asarray(X, dtype=np.float64)))
 
 
-_STATUS = {}  # backend name -> (usable, reason), decided once per process
+_STATUS: dict[str, tuple[bool, str]] = {}  # backend name -> (usable, reason), once per process
 
 
 def _make(name, S):

@@ -105,7 +105,7 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO[Any]], object], *,
             f"({exc.strerror}); {hint}",
         ) from None
     try:
-        kw = {} if binary else {"newline": "", "encoding": "utf-8"}
+        kw: dict[str, Any] = {} if binary else {"newline": "", "encoding": "utf-8"}
         with os.fdopen(fd, "wb" if binary else "w", **kw) as f:
             write(f)
             f.flush()

@@ -333,7 +333,9 @@ default='cshape'
                 "a DescriptorTable leaves them out with a warning) or choose another kind")
         return X
 
-    def _prepare(self, lams, areas, zero_modes):
+    def _prepare(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None,
+                 zero_modes: ArrayLike | None
+                 ) -> tuple[list[np.ndarray], list[float | None], list[int | None]]:
         """Check and return the rows, areas (None where unused) and zero modes (None: count)."""
         if isinstance(lams, np.ndarray) and lams.ndim == 2:
             rows = list(np.asarray(lams, dtype=np.float64))
@@ -355,7 +357,7 @@ default='cshape'
                     f"{need} eigenvalues per shape; compute more eigenvalues or lower N / M")
         return rows, self._areas(areas, p), _zero_modes(zero_modes, p)
 
-    def _areas(self, areas, p) -> list[float | None]:
+    def _areas(self, areas: ArrayLike | None, p: int) -> list[float | None]:
         if not self.needs_area:
             return [None] * p
         if areas is None:
@@ -369,7 +371,7 @@ default='cshape'
         return [float(x) for x in a]
 
 
-def _zero_modes(zero_modes, p) -> list[int | None]:
+def _zero_modes(zero_modes: ArrayLike | None, p: int) -> list[int | None]:
     if zero_modes is None:
         return [None] * p
     z = np.asarray(zero_modes).reshape(-1)
@@ -380,7 +382,7 @@ def _zero_modes(zero_modes, p) -> list[int | None]:
     return [None if x < 0 else int(x) for x in z]
 
 
-def _row_names(names, p) -> list[str]:
+def _row_names(names: Sequence[Any] | None, p: int) -> list[str]:
     if names is None:
         return [f"row {i}" for i in range(p)]
     names = [str(n) for n in names]

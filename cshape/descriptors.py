@@ -218,7 +218,7 @@ def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
     return int(above[0]) if len(above) else len(x)
 
 
-def _zero_modes(x, zero_modes, tol) -> int:
+def _zero_modes(x: np.ndarray, zero_modes: object, tol: float) -> int:
     """Return the number of zero modes of ``x``: counted, or ``zero_modes`` checked against it."""
     if zero_modes is None:
         above = np.flatnonzero(x > tol)
@@ -236,7 +236,7 @@ def _zero_modes(x, zero_modes, tol) -> int:
     return k
 
 
-def _after(x, k, tol, what):
+def _after(x: np.ndarray, k: int, tol: float, what: str) -> np.ndarray:
     """``x[k:]``, checked positive (ascending past the zero modes)."""
     mu = x[k:]
     if len(mu) == 0:
@@ -257,7 +257,7 @@ def _check_length(length: object) -> int | None:
     return None if length is None else check_int("length", length, min=1)
 
 
-def _weyl_extend(mu, length):
+def _weyl_extend(mu: np.ndarray, length: int | None) -> np.ndarray:
     """``mu`` cut or extended to ``length`` values by Weyl's law ``mu_i ~ mu_L i / L``."""
     L = len(mu)
     if length is None or length == L:
@@ -562,7 +562,8 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
     return _dct(r)[: 2 * M + 1].copy()
 
 
-def _log_weyl_sequence(lam_norm, M, zero_modes, transform):
+def _log_weyl_sequence(lam_norm: ArrayLike, M: int, zero_modes: int | None, transform: str
+                       ) -> NDArray[np.float64]:
     """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms (rule for several pieces)."""
     x = check_spectrum(lam_norm, "lam_norm", min_len=2)
     N = len(x)

@@ -100,7 +100,7 @@ def _edge_lengths(mesh: Mesh) -> NDArray[np.float64]:
     return np.stack([per_half[1], per_half[2], per_half[0]], axis=1)
 
 
-def _heron(lengths):
+def _heron(lengths: np.ndarray) -> np.ndarray:
     """Triangle areas from edge lengths with Kahan's stable form of Heron's formula."""
     l0, l1, l2 = lengths[:, 0], lengths[:, 1], lengths[:, 2]
     a = np.maximum(np.maximum(l0, l1), l2)  # a >= b >= c, without a row-wise sort
@@ -110,7 +110,8 @@ def _heron(lengths):
     return 0.25 * np.sqrt(np.maximum(prod, 0.0))
 
 
-def _edge_csr(edges, n):
+def _edge_csr(edges: np.ndarray, n: int
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """CSR structure of the symmetric matrices on a mesh's edges, for filling A and B.
 
     Parameters
@@ -150,7 +151,7 @@ def _edge_csr(edges, n):
     return indptr, indices, upper, lower, diag
 
 
-def _mollify(lengths, mean_edge):
+def _mollify(lengths: np.ndarray, mean_edge: float) -> tuple[float, int]:
     """Return the intrinsic mollification eps (Sharp & Crane 2020).
 
     The smallest eps >= 0 added to every edge length so that each triangle satisfies the

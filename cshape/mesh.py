@@ -139,7 +139,7 @@ class Mesh:
 
     # --------------------------------------------------------------- topology
     @cached_property
-    def _edge_data(self):
+    def _edge_data(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Unique edges, the edge of each half-edge, and triangles per edge.
 
         Half-edges ``(f0, f1), (f1, f2), (f2, f0)`` of all faces, in that order, are keyed
@@ -498,7 +498,7 @@ def repair_mesh(mesh: MeshLike, *, merge_tol: float = 0.0, warn: bool = True) ->
     return Mesh(V, F)
 
 
-def _mix64(z):
+def _mix64(z: np.ndarray) -> np.ndarray:
     """SplitMix64's finaliser: a bijection of uint64 that scatters every input bit."""
     with np.errstate(over="ignore"):
         z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
@@ -506,7 +506,7 @@ def _mix64(z):
     return z ^ (z >> np.uint64(31))
 
 
-def _all_rows_distinct(X) -> bool:
+def _all_rows_distinct(X: np.ndarray) -> bool:
     """Whether no two rows of an (k, 3) array are equal: one sort of a 64-bit row hash.
 
     Equal rows have equal hashes, so distinct hashes prove distinct rows; only if two

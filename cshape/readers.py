@@ -18,11 +18,17 @@ import tempfile
 import warnings
 import zlib
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ._checks import check_bool, check_path
 from .mesh import CShapeWarning, Mesh, repair_mesh
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable, Iterator, Sequence
+
+    from numpy.typing import ArrayLike
 
 __all__ = ["load_mesh", "split_mesh_name", "MESH_SUFFIXES", "GZIP_MAX_BYTES", "PLY_MAX_LIST_BYTES"]
 
@@ -119,7 +125,7 @@ def load_mesh(path: str | os.PathLike[str], *, repair: bool = True) -> Mesh:
     return mesh
 
 
-def _read_arrays(p, shown=None):
+def _read_arrays(p: Path, shown: Path | None = None) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """``(V, F, notes)`` of the (uncompressed) file ``p``: pre-scan, then PyMeshLab.
 
     ``shown`` is the path the user gave (the ``.gz`` file ``p`` was decompressed from);
@@ -178,7 +184,8 @@ def _gunzip(src: Path, folder: Path) -> Path:
     return dst
 
 
-def _load_with_pymeshlab(p, ext, expected):
+def _load_with_pymeshlab(p: Path, ext: str, expected: _Expected | None
+                         ) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """``(V, F, notes)`` read by PyMeshLab and checked against what the file declares."""
     import pymeshlab
 
@@ -238,21 +245,23 @@ class _Expected:
     faces were seen (None when the scan does not read the faces).
     """
 
-    def __init__(self, n_vertices=None, min_faces=None, exact_vertices=True, collapsed=0,
-                 faces_read=True):
+    def __init__(self, n_vertices: int | None = None, min_faces: int | None = None,
+                 exact_vertices: bool = True, collapsed: int | None = 0,
+                 faces_read: bool = True) -> None:
         self.n_vertices = n_vertices
         self.min_faces = min_faces
         self.exact_vertices = exact_vertices
         self.collapsed = collapsed
         self.faces_read = faces_read
-        self.arrays = None  # (V, F) read by cshape itself, where PyMeshLab misreads the file
+        # (V, F) read by cshape itself, where PyMeshLab misreads the file
+        self.arrays: tuple[np.ndarray, np.ndarray] | None = None
 
 
-def _bad_file(p, what):
+def _bad_file(p: Path, what: str) -> ValueError:
     return ValueError(f"cannot read mesh {str(p)!r}: {what}")
 
 
-def _parse_floats(p, tokens, lineno, kind):
+def _parse_floats(p: Path, tokens: Sequence[bytes | str], lineno: int, kind: str) -> None:
     try:
         xyz = [float(t) for t in tokens[:3]]
     except ValueError:
@@ -267,7 +276,7 @@ def _parse_floats(p, tokens, lineno, kind):
         )
 
 
-def _obj_records(fh):
+def _obj_records(fh: Iterable[bytes]) -> Iterator[tuple[int, bytes]]:
     """``(line number, record)`` of an OBJ file, joining lines continued by a backslash."""
     pending, start = b"", 0
     for lineno, raw in enumerate(fh, 1):
@@ -283,7 +292,7 @@ def _obj_records(fh):
         yield start, pending
 
 
-def _scan_obj(p):
+def _scan_obj(p: Path) -> tuple[int, int, int, int, int]:
     """Check the records PyMeshLab's OBJ reader will use.
 
     The checks mirror that reader: it skips indented ``v`` lines but reads indented ``f``
@@ -329,7 +338,7 @@ def _scan_obj(p):
     return nv, ntri, max_idx, nrec, collapsed
 
 
-def _prescan(p, ext):
+def _prescan(p: Path, ext: str) -> _Expected | None:
     """Return what the file declares (vertex count, minimum triangle count), or None."""
     try:
         fast = _fast_obj(p) if ext == "obj" else _fast_off(p) if ext == "off" else None
@@ -359,7 +368,7 @@ def _prescan(p, ext):
     return None
 
 
-def _ints_or_none(block: bytes, dtype=np.int64):
+def _ints_or_none(block: bytes, dtype: type = np.int64) -> np.ndarray | None:
     """All whitespace-separated numbers of ``block``, or None if one does not parse."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -369,7 +378,7 @@ def _ints_or_none(block: bytes, dtype=np.int64):
             return None
 
 
-def _triangle_stats(F, nv):
+def _triangle_stats(F: np.ndarray, nv: int) -> tuple[bool, int, int]:
     """``(ok, n_triangles, n_collapsed)`` of (m, 3) zero-based indices."""
     if F.size and (F.min() < 0 or F.max() >= nv):
         return False, 0, 0
@@ -378,7 +387,7 @@ def _triangle_stats(F, nv):
     return True, len(F) - collapsed, collapsed
 
 
-def _fast_off(p):
+def _fast_off(p: Path) -> _Expected | None:
     """Check an OFF file of the plain layout, vectorised.
 
     The plain layout: ``OFF``, counts, ``x y z`` lines, ``3 i j k`` lines, no comments.
@@ -415,7 +424,7 @@ _OBJ_F = re.compile(rb"(?m)^f[ \t]([^\n]*)")
 _OBJ_SLASH = re.compile(rb"/[^\s]*")
 
 
-def _fast_obj(p):
+def _fast_obj(p: Path) -> _Expected | None:
     """Check an OBJ file of triangles with positive indices and ``v x y z`` vertices, vectorised.
 
     None when the file is laid out otherwise or has any problem, which the line-by-line
@@ -438,7 +447,8 @@ def _fast_obj(p):
     return _Expected(nv, ntri, collapsed=collapsed) if ok else None
 
 
-def _next_record(p, lines, declared, k, what):
+def _next_record(p: Path, lines: Iterator[tuple[int, list[str]]], declared: int, k: int,
+                 what: str) -> tuple[int, list[str]]:
     """Return the next ``(line number, tokens)`` of an OFF body, or raise a "truncated" error."""
     try:
         return next(lines)
@@ -449,7 +459,7 @@ def _next_record(p, lines, declared, k, what):
         ) from None
 
 
-def _scan_off(p):
+def _scan_off(p: Path) -> _Expected:
     # latin-1 decodes any byte: numbers are ASCII, comments may be in any 8-bit encoding
     with open(p, encoding="latin-1") as fh:
         tokens_lines = (
@@ -507,7 +517,7 @@ _PLY_SIZES = {
 }
 
 
-def _scan_ply_header(p):
+def _scan_ply_header(p: Path) -> _Expected:
     """Return the declared counts of a PLY file, checked against its size.
 
     PyMeshLab allocates the declared number of vertices and faces before reading them, so
@@ -517,7 +527,7 @@ def _scan_ply_header(p):
     """
     nv = nf = None
     fmt = None
-    elements = []  # [name, count, min bytes per record in binary, values per record]
+    elements: list[Any] = []  # [name, count, min bytes per record in binary, values per record]
     with open(p, "rb") as fh:
         first = fh.readline()
         if first.strip() != b"ply":
@@ -585,7 +595,8 @@ PLY_MAX_LIST_BYTES = 512
 _PLY_FACE_LISTS = ("vertex_indices", "vertex_index")
 
 
-def _check_ply_face_indices(p, fmt, elements, header_end, nv):
+def _check_ply_face_indices(p: Path, fmt: str | None, elements: list[Any], header_end: int,
+                            nv: int) -> None:
     """Walk the PLY records that could crash PyMeshLab, before it reads the file.
 
     * every face index must lie in ``[0, nv)``: PyMeshLab reports an out-of-range index
@@ -603,10 +614,10 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
     order = ">" if fmt == "binary_big_endian" else "<"
     if ascii_ and _ascii_triangles_ok(p, body, elements, nv):
         return  # ASCII lists cannot overflow the reader; the faces were checked
-    data = body.split() if ascii_ else body  # tokens (ascii) or bytes (binary)
+    data: Any = body.split() if ascii_ else body  # tokens (ascii) or bytes (binary)
     pos = 0  # token index (ascii) or byte offset (binary)
 
-    def has_lists(props):
+    def has_lists(props: Iterable[Sequence[Any]]) -> bool:
         return any(q[1] == "list" for q in props)
 
     for e, (name, count, nbytes, _, props) in enumerate(elements):
@@ -629,7 +640,7 @@ def _check_ply_face_indices(p, fmt, elements, header_end, nv):
         pos = walk(p, data, pos, name, count, props, order, nv)
 
 
-def _ply_check_indices(p, idx, nv, k=None):
+def _ply_check_indices(p: Path, idx: ArrayLike, nv: int, k: int | None = None) -> None:
     """Raise if a face index lies outside ``[0, nv)``.
 
     ``idx`` is one face (face number ``k``) or, with ``k=None``, an (m, 3) block of all the
@@ -648,7 +659,7 @@ def _ply_check_indices(p, idx, nv, k=None):
         )
 
 
-def _ply_ints(p, toks, k):
+def _ply_ints(p: Path, toks: Sequence[bytes], k: int) -> np.ndarray:
     """Return the ASCII tokens ``toks`` of record ``k`` as int64, or raise naming the record."""
     try:
         return np.array(toks).astype(np.int64)
@@ -656,12 +667,13 @@ def _ply_ints(p, toks, k):
         raise _bad_file(p, f"record {k}: {toks[:8]} are not integers") from None
 
 
-def _ply_truncated(p):
+def _ply_truncated(p: Path) -> ValueError:
     """Return the error of a PLY body that ends before its last record."""
     return _bad_file(p, "the PLY element records end early: the file is truncated")
 
 
-def _ply_triangle_block(p, data, pos, count, prop, order, nv, ascii_):
+def _ply_triangle_block(p: Path, data: Any, pos: int, count: int, prop: Sequence[Any], order: str,
+                        nv: int, ascii_: bool) -> int | None:
     """Check a face element of ``count`` triangles at once; return the position after it.
 
     ``prop`` is the element's one index-list property.  Returns None (nothing checked) when
@@ -684,7 +696,8 @@ def _ply_triangle_block(p, data, pos, count, prop, order, nv, ascii_):
     return None
 
 
-def _walk_ply_ascii(p, tokens, pos, name, count, props, order, nv):
+def _walk_ply_ascii(p: Path, tokens: Sequence[bytes], pos: int, name: str, count: int,
+                    props: Sequence[Sequence[Any]], order: str, nv: int) -> int:
     """Check ``count`` ASCII records of element ``name``; return the token index after them.
 
     ``pos`` is the index of their first token; ``order`` is unused (ASCII has no byte order).
@@ -707,7 +720,8 @@ def _walk_ply_ascii(p, tokens, pos, name, count, props, order, nv):
     return pos
 
 
-def _walk_ply_binary(p, body, pos, name, count, props, order, nv):
+def _walk_ply_binary(p: Path, body: bytes, pos: int, name: str, count: int,
+                     props: Sequence[Sequence[Any]], order: str, nv: int) -> int:
     """Check ``count`` binary records of element ``name``; return the byte offset after them.
 
     ``pos`` is the offset of the first record.  Face indices must be in range; other lists
@@ -739,7 +753,7 @@ def _walk_ply_binary(p, body, pos, name, count, props, order, nv):
     return pos
 
 
-def _ascii_triangles_ok(p, body, elements, nv):
+def _ascii_triangles_ok(p: Path, body: bytes, elements: list[Any], nv: int) -> bool:
     """Check an ASCII PLY fast, when its faces are one index list of triangles per line.
 
     The face element comes after elements of scalar properties, one record per line (how
@@ -799,7 +813,8 @@ _PLY_NUMPY = {
 }
 
 
-def _big_endian_double_ply(p, elements, header_end):
+def _big_endian_double_ply(p: Path, elements: list[Any], header_end: int
+                           ) -> tuple[np.ndarray, np.ndarray] | None:
     """``(V, F)`` of a big-endian PLY with double x, y, z, read with NumPy; else None.
 
     PyMeshLab byte-swaps big-endian doubles wrongly: it returns finite garbage coordinates
@@ -812,7 +827,7 @@ def _big_endian_double_ply(p, elements, header_end):
     if not any(types.get(a) in ("double", "float64") for a in "xyz"):
         return None
 
-    def unsupported(what):
+    def unsupported(what: str) -> ValueError:
         return _bad_file(
             p, f"it is a big-endian PLY with double coordinates and {what}; PyMeshLab "
             "misreads such files and cshape reads only plain triangle meshes of this kind: "
@@ -859,7 +874,7 @@ def _big_endian_double_ply(p, elements, header_end):
     return V, F
 
 
-def _scan_stl(p):
+def _scan_stl(p: Path) -> _Expected:
     size = p.stat().st_size
     with open(p, "rb") as fh:
         head = fh.read(84)
@@ -878,7 +893,7 @@ def _scan_stl(p):
     return _Expected(None, n, exact_vertices=False)
 
 
-def _scan_ascii_stl(p):
+def _scan_ascii_stl(p: Path) -> _Expected:
     """Count the facets of an ASCII STL, checking its vertex coordinates.
 
     PyMeshLab silently drops a triangle with a NaN vertex; broken records are reported by
@@ -898,7 +913,8 @@ def _scan_ascii_stl(p):
     return _Expected(None, nfacets, exact_vertices=False)
 
 
-def _check_against_expected(p, expected, nv, nf) -> list[str]:
+def _check_against_expected(p: Path, expected: _Expected | None, nv: int, nf: int
+                            ) -> list[str]:
     """Raise if the reader silently lost vertices or faces; return notes on dropped faces."""
     if expected is None:
         return []

@@ -63,7 +63,7 @@ def icosphere(subdivisions: int = 4, radius: float = 1.0) -> Mesh:
     return Mesh(V * radius, F)
 
 
-def _midpoint_subdivide(V, F):
+def _midpoint_subdivide(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
     uniq, inv = np.unique(e, axis=0, return_inverse=True)
     inv = inv.reshape(3, -1).T + len(V)
@@ -102,7 +102,7 @@ def square(n: int = 32, size: float = 1.0) -> Mesh:
     return Mesh(V, F)
 
 
-def _disk_param(rings):
+def _disk_param(rings: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Concentric-ring triangulation of the unit disk: ring k has 6k vertices.
 
     Returns (r, theta, F) with polar coordinates of the vertices.
@@ -160,7 +160,7 @@ def hemisphere(rings: int = 24, radius: float = 1.0) -> Mesh:
     return _orient_up(Mesh(V * radius, F))
 
 
-def _orient_up(mesh):
+def _orient_up(mesh: Mesh) -> Mesh:
     V, F = mesh.vertices, mesh.faces
     n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
     flip = n[:, 2] < 0

@@ -71,7 +71,7 @@ WKS_WIDTH = 7.0
 
 
 # ---------------------------------------------------------------------- checks
-def _check_lam(lam, *, nonneg=True) -> np.ndarray:
+def _check_lam(lam: ArrayLike, *, nonneg: bool = True) -> np.ndarray:
     lam = check_spectrum(lam, "lam")
     scale = float(np.abs(lam).max())
     if nonneg and lam.min() < -ZERO_RTOL * max(scale, np.finfo(float).tiny):
@@ -82,7 +82,7 @@ def _check_lam(lam, *, nonneg=True) -> np.ndarray:
     return np.maximum(lam, 0.0) if nonneg else lam
 
 
-def _as_real_2d(x, name) -> np.ndarray:
+def _as_real_2d(x: ArrayLike, name: str) -> np.ndarray:
     if isinstance(x, (str, bytes)) or np.iscomplexobj(x):
         raise TypeError(f"{name} must be a real array, got {type(x).__name__}")
     try:
@@ -92,7 +92,7 @@ def _as_real_2d(x, name) -> np.ndarray:
     return a
 
 
-def _check_pairs(lam, phi):
+def _check_pairs(lam: ArrayLike, phi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """``lam`` (N,) and ``phi`` (n, N) as float arrays, or a clear error."""
     lam = _check_lam(lam)
     phi = _as_real_2d(phi, "phi")
@@ -111,14 +111,14 @@ def _check_pairs(lam, phi):
     return lam, phi
 
 
-def _check_positive(name, value, *, allow_none=True):
+def _check_positive(name: str, value: object, *, allow_none: bool = True) -> float | None:
     """Check a positive finite real number, returned as float (``None`` passes when allowed)."""
     if value is None and allow_none:
         return None
     return check_real(name, value, positive=True)
 
 
-def _check_scales(name, values, *, positive=True) -> np.ndarray:
+def _check_scales(name: str, values: ArrayLike, *, positive: bool = True) -> np.ndarray:
     """Check a scalar or 1-D array of finite (positive) scales, returned as a 1-D float array."""
     a = _as_real_2d(values, name)
     if a.ndim > 1:
@@ -133,19 +133,19 @@ def _check_scales(name, values, *, positive=True) -> np.ndarray:
     return a
 
 
-def _scaled(lam, phi, area):
+def _scaled(lam: np.ndarray, phi: np.ndarray, area: float | None) -> tuple[np.ndarray, np.ndarray]:
     """Return the eigenpairs of the shape scaled to unit area (Section 2.1), or unchanged."""
     if area is None:
         return lam, phi
     return lam * area, phi * np.sqrt(area)
 
 
-def _nonzero(lam) -> np.ndarray:
+def _nonzero(lam: np.ndarray) -> np.ndarray:
     """Mask of the eigenvalues that are not numerically zero."""
     return lam > ZERO_RTOL * lam.max()
 
 
-def _first_nonzero(lam) -> float:
+def _first_nonzero(lam: np.ndarray) -> float:
     nz = lam[_nonzero(lam)] if lam.max() > 0 else lam[:0]
     if len(nz) == 0:
         raise ValueError(
@@ -532,7 +532,7 @@ _ROWS = 4096
 
 
 # ---------------------------------------------------------------------- matching
-def _as_signature(x, name) -> np.ndarray:
+def _as_signature(x: ArrayLike, name: str) -> np.ndarray:
     a = _as_real_2d(x, name)
     if a.ndim == 1:
         a = a[:, None]
@@ -545,7 +545,7 @@ def _as_signature(x, name) -> np.ndarray:
     return a
 
 
-def _nearest(a, b, chunk=2048):
+def _nearest(a: np.ndarray, b: np.ndarray, chunk: int = 2048) -> np.ndarray:
     """Index of the nearest row of ``b`` for every row of ``a`` (Euclidean)."""
     if a.shape[1] <= 8:
         from scipy.spatial import cKDTree

@@ -1,11 +1,14 @@
-"""Count the public parameters of the core modules that carry a type hint.
+"""Count the public parameters of the core modules, and of each layer subpackage, that carry
+a type hint.
 
     python tools/typed_fraction.py [REV]
 
 Public: module-level functions and classes not starting with '_', and the public methods
 (plus ``__init__``) of public classes; ``self``/``cls`` are not counted; ``*args`` and
 ``**kwargs`` are; ``typing.overload`` stubs are not (their implementation is).  With REV,
-the modules are read from that git revision.
+the modules are read from that git revision.  The first table lists the core modules, the
+second sums the modules of each layer subpackage (``cshape/<layer>/*.py``, private modules
+included).
 """
 
 from __future__ import annotations
@@ -17,7 +20,21 @@ from pathlib import Path
 
 CORE = ["mesh", "readers", "fem", "spectrum", "descriptors", "compare", "index", "signatures",
         "shapes", "maps"]
+# the layer subpackages: figures and viewer, data, course, command line, batch runs, reproduce
+LAYERS = ["plots", "data", "course", "cli", "batch", "reproduce"]
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def layer_modules(layer: str, rev: str | None) -> list[str]:
+    """The modules of ``cshape/<layer>/`` as ``'<layer>/<name>'`` (read from ``rev`` if given)."""
+    if rev is None:
+        names = [p.name for p in (ROOT / "cshape" / layer).glob("*.py")]
+    else:
+        out = subprocess.run(["git", "-C", str(ROOT), "ls-tree", "--name-only",
+                              f"{rev}:cshape/{layer}"],
+                             check=True, capture_output=True, text=True).stdout
+        names = [n for n in out.split() if n.endswith(".py")]
+    return sorted(f"{layer}/{n[:-3]}" for n in names)
 
 
 def source(module: str, rev: str | None) -> str:
@@ -79,6 +96,18 @@ def main(argv: list[str]) -> int:
         c = count(m, rev)
         tot = [a + b for a, b in zip(tot, c, strict=True)]
         print(f"{m:<12} {c[0]:>7} {c[1]:>6} {c[2]:>8} {c[3]:>6}")
+    print(f"{'total':<12} {tot[0]:>7} {tot[1]:>6} {tot[2]:>8} {tot[3]:>6}")
+    print(f"typed parameters: {tot[1]}/{tot[0]} = {100 * tot[1] / max(tot[0], 1):.1f} %; "
+          f"typed returns: {tot[3]}/{tot[2]} = {100 * tot[3] / max(tot[2], 1):.1f} %")
+    print()
+    tot = [0, 0, 0, 0]
+    print(f"{'layer':<12} {'params':>7} {'typed':>6} {'returns':>8} {'typed':>6}")
+    for layer in LAYERS:
+        c = [0, 0, 0, 0]
+        for m in layer_modules(layer, rev):
+            c = [a + b for a, b in zip(c, count(m, rev), strict=True)]
+        tot = [a + b for a, b in zip(tot, c, strict=True)]
+        print(f"{layer:<12} {c[0]:>7} {c[1]:>6} {c[2]:>8} {c[3]:>6}")
     print(f"{'total':<12} {tot[0]:>7} {tot[1]:>6} {tot[2]:>8} {tot[3]:>6}")
     print(f"typed parameters: {tot[1]}/{tot[0]} = {100 * tot[1] / max(tot[0], 1):.1f} %; "
           f"typed returns: {tot[3]}/{tot[2]} = {100 * tot[3] / max(tot[2], 1):.1f} %")

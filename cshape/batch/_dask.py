@@ -7,14 +7,20 @@ from __future__ import annotations
 import contextlib
 import os
 from collections import deque
+from typing import TYPE_CHECKING, Any
 
 from .work import _work
+
+if TYPE_CHECKING:
+    from collections.abc import Callable, Iterable
+
+    from .work import Result, Task
 
 _MMAP_THRESHOLD = 32 * 2**20
 _WORKER_READY = False
 
 
-def _malloc_as_a_plain_process():
+def _malloc_as_a_plain_process() -> bool:
     """Undo the Dask nanny's ``MALLOC_TRIM_THRESHOLD_`` for this worker process (glibc only).
 
     The nanny starts workers with ``MALLOC_TRIM_THRESHOLD_=65536`` (its
@@ -47,7 +53,7 @@ def _malloc_as_a_plain_process():
                 and mallopt(m_trim_threshold, 2 * _MMAP_THRESHOLD) == 1)
 
 
-def _dask_work(task):
+def _dask_work(task: Task) -> Result:
     """:func:`_work` in a Dask worker; its first call sets the worker process up.
 
     A worker process started by a nanny runs with one BLAS / OpenMP thread already (the
@@ -80,9 +86,9 @@ def _dask_work(task):
 _SAMPLERS = ("profile", "profile-cycle", "tick")
 
 
-def _pause_samplers(dask_worker):
+def _pause_samplers(dask_worker: Any) -> list[str]:
     """Stop the worker's :data:`_SAMPLERS` (run on its event loop by ``client.run``)."""
-    paused = []
+    paused: list[str] = []
     for name in _SAMPLERS:
         pc = dask_worker.periodic_callbacks.get(name)
         if pc is not None and pc.is_running():
@@ -92,9 +98,9 @@ def _pause_samplers(dask_worker):
     return paused
 
 
-def _resume_samplers(dask_worker):
+def _resume_samplers(dask_worker: Any) -> list[str]:
     """Restart what :func:`_pause_samplers` stopped on this worker."""
-    resumed = []
+    resumed: list[str] = []
     for name in getattr(dask_worker, "_cshape_paused", ()):
         pc = dask_worker.periodic_callbacks.get(name)
         if pc is not None and not pc.is_running():
@@ -104,7 +110,8 @@ def _resume_samplers(dask_worker):
     return resumed
 
 
-def _run_dask(tasks, client, finish):
+def _run_dask(tasks: Iterable[Task], client: Any, finish: Callable[[int, Result], None]
+              ) -> None:
     from distributed import Client, as_completed
 
     own = None
@@ -127,9 +134,9 @@ def _run_dask(tasks, client, finish):
         window = 4 * nthreads
         ac = as_completed()
         in_flight = 0
-        index = {}
+        index: dict[Any, int] = {}  # future's key -> row
 
-        def submit():
+        def submit() -> None:
             t = todo.popleft()
             fut = client.submit(_dask_work, t, pure=False)
             index[fut.key] = t[0]
@@ -140,7 +147,7 @@ def _run_dask(tasks, client, finish):
             in_flight += 1
         for fut in ac:
             try:
-                res = fut.result()
+                res: Result = fut.result()
             except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker
                 res = {"index": index[fut.key], "ok": False,
                        "error": f"{type(exc).__name__}: {exc}"}

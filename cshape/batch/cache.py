@@ -7,11 +7,17 @@ import hashlib
 import json
 import warnings
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._files import atomic_write, cache_root
 from ..mesh import CShapeWarning, as_mesh
+
+if TYPE_CHECKING:
+    import os
+
+    from ..mesh import MeshLike
 
 
 # =========================================================================== cache
@@ -25,7 +31,7 @@ def default_cache_dir() -> Path:
     return cache_root() / "eigenvalues"
 
 
-def mesh_key(mesh, bc="neumann", mass="consistent") -> str:
+def mesh_key(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent") -> str:
     """Cache key: SHA-256 (hex) of the mesh content and the eigenvalue parameters.
 
     Parameters
@@ -50,11 +56,11 @@ def mesh_key(mesh, bc="neumann", mass="consistent") -> str:
     return h.hexdigest()
 
 
-def _entry_path(cache_dir, key) -> Path:
+def _entry_path(cache_dir: str | os.PathLike[str], key: str) -> Path:
     return Path(cache_dir) / f"{key}.npz"
 
 
-def _read_entry(cache_dir, key, N):
+def _read_entry(cache_dir: str | os.PathLike[str], key: str, N: int) -> dict[str, Any] | None:
     """The cached result with >= N eigenvalues, or None (missing, too short or corrupt)."""
     path = _entry_path(cache_dir, key)
     if not path.exists():
@@ -82,7 +88,8 @@ def _read_entry(cache_dir, key, N):
             "components": components}
 
 
-def _file_alias(cache_dir, path, bc, mass) -> Path | None:
+def _file_alias(cache_dir: str | os.PathLike[str], path: str | os.PathLike[str], bc: str,
+                mass: str) -> Path | None:
     """``cache_dir/files/<h>.key`` for a mesh file (see the module notes), None if unreadable."""
     try:
         p = Path(path).resolve()
@@ -95,7 +102,7 @@ def _file_alias(cache_dir, path, bc, mass) -> Path | None:
     return Path(cache_dir) / "files" / f"{h}.key"
 
 
-def _read_alias(alias) -> str | None:
+def _read_alias(alias: Path) -> str | None:
     """The content key an alias file names, or None (missing or not a key)."""
     try:
         key = alias.read_text(encoding="ascii").strip()
@@ -104,10 +111,10 @@ def _read_alias(alias) -> str | None:
     return key if len(key) == 64 and all(c in "0123456789abcdef" for c in key) else None
 
 
-def _write_entry(cache_dir, result):
+def _write_entry(cache_dir: str | os.PathLike[str], result: dict[str, Any]) -> None:
     path = _entry_path(cache_dir, result["key"])
 
-    def write(f):
+    def write(f: IO[Any]) -> None:
         np.savez(f, lam=result["lam"], area=np.float64(result["area"]),
                  seconds=np.float64(result["seconds"]), key=np.array(result["key"]),
                  n_vertices=np.int64(result["n_vertices"]),

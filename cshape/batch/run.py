@@ -9,6 +9,7 @@ import warnings
 from collections import Counter, deque
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -30,16 +31,21 @@ from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_
 from .table import DescriptorTable
 from .work import _blas_limit, _init_worker, _work
 
+if TYPE_CHECKING:
+    from collections.abc import Callable, Sequence
+
+    from .work import Result, Task
+
 
 # =========================================================================== records
 class _Failed:
     """Stands for a mesh whose record could not produce it; describe reports the message."""
 
-    def __init__(self, message):
+    def __init__(self, message: str) -> None:
         self.message = message
 
 
-def _has_attr(cls, obj, name) -> bool:
+def _has_attr(cls: type, obj: object, name: str) -> bool:
     """``hasattr`` without running a property (which may load a mesh)."""
     import inspect
 
@@ -50,16 +56,17 @@ def _has_attr(cls, obj, name) -> bool:
         return False
 
 
-def collection_records(collection):
+def collection_records(collection: Any) -> list[tuple[str, str, Any]]:
     """[(name, label, source)] from the accepted collection forms (see :func:`describe`)."""
     if isinstance(collection, (str, os.PathLike, Mesh)):
         raise TypeError(
             "collection must be an iterable of meshes, paths or records, got a single "
             f"{type(collection).__name__}; wrap it in a list"
         )
-    items = list(collection.items()) if isinstance(collection, Mapping) else list(collection)
-    out = []
-    path_rows = []
+    items: list[Any] = (list(collection.items()) if isinstance(collection, Mapping)
+                        else list(collection))
+    out: list[list[Any]] = []
+    path_rows: list[int] = []
     for i, item in enumerate(items):
         if isinstance(item, (str, os.PathLike)):
             path_rows.append(len(out))
@@ -102,9 +109,11 @@ def collection_records(collection):
 
 
 # =========================================================================== describe
-def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_dir=None,
-             n_jobs=1, client=None, blas_threads=1, progress=True,
-             on_error="warn", transform="weyl") -> DescriptorTable:
+def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
+             mass: str = "consistent", cache_dir: str | os.PathLike[str] | bool | None = None,
+             n_jobs: int | None = 1, client: Any = None, blas_threads: int | None = 1,
+             progress: bool = True, on_error: str = "warn", transform: str = "weyl"
+             ) -> DescriptorTable:
     """Eigenvalues and descriptors of every mesh of a collection: cached, resumable, parallel.
 
     Parameters
@@ -237,7 +246,7 @@ def describe(collection, N=100, M=16, *, bc="neumann", mass="consistent", cache_
     return run.table(M, transform)
 
 
-def _cache_folder(cache_dir):
+def _cache_folder(cache_dir: str | os.PathLike[str] | bool | None) -> Path | None:
     """The cache folder of ``cache_dir`` (created), or None when caching is off."""
     if cache_dir is False:
         return None
@@ -255,19 +264,21 @@ class _Run:
     :class:`DescriptorTable` of the successful meshes.
     """
 
-    def __init__(self, records, N, bc, mass, cache, on_error):
+    def __init__(self, records: list[tuple[str, str, Any]], N: int, bc: str, mass: str,
+                 cache: Path | None, on_error: str) -> None:
         self.records, self.N, self.bc, self.mass = records, N, bc, mass
         self.cache, self.on_error = cache, on_error
-        self.results = [None] * len(records)
-        self.failures = {}
-        self.aliases = {}  # row -> alias file of a mesh given by path (see the module notes)
-        self.bar = None
+        self.results: list[Any] = [None] * len(records)  # a Result once row i is done
+        self.failures: dict[int, str] = {}
+        # row -> alias file of a mesh given by path (see the module notes)
+        self.aliases: dict[int, Path | None] = {}
+        self.bar: Any = None
 
     # ------------------------------------------------------------------ before the work
-    def tasks(self):
+    def tasks(self) -> list[Task]:
         """Meshes in memory, and files seen before unchanged: looked up in the cache here,
         before any task is sent; the tasks of the others."""
-        tasks = []
+        tasks: list[Task] = []
         for i, (_name, _label, src) in enumerate(self.records):
             key = self._lookup(i, src)
             if key is not False:
@@ -275,7 +286,7 @@ class _Run:
                               None if self.cache is None else str(self.cache), key))
         return tasks
 
-    def _lookup(self, i, src):
+    def _lookup(self, i: int, src: Any) -> str | None | Literal[False]:
         """False when row ``i`` is finished (a cache hit or a failure), else its cache key
         (None for a mesh given by path: the worker reads the file and computes it)."""
         cache, N = self.cache, self.N
@@ -303,7 +314,7 @@ class _Run:
         return key
 
     # ------------------------------------------------------------------ as results come
-    def finish(self, i, res):
+    def finish(self, i: int, res: Result) -> None:
         """Take the result of row ``i``: warn, cache, keep (or record the failure)."""
         name = self.records[i][0]
         for msg in res.get("warnings", ()):
@@ -321,7 +332,7 @@ class _Run:
             self.failures[i] = res["error"]
         self.bar.update(1)
 
-    def _warn_pieces_again(self, name, res):
+    def _warn_pieces_again(self, name: str, res: Result) -> None:
         """The warning the eigensolve gave for a mesh of several pieces, again."""
         pieces = res.get("components", -1)
         if pieces < 0 and self.bc == "neumann":  # an entry older than the count
@@ -330,7 +341,7 @@ class _Run:
             warnings.warn(f"{name}: {components_message(pieces)}", CShapeWarning,
                           stacklevel=4)
 
-    def _write_cache(self, name, res):
+    def _write_cache(self, name: str, res: Result) -> None:
         if self.cache is None:
             return
         try:
@@ -339,7 +350,7 @@ class _Run:
             warnings.warn(f"{name}: could not write its cache entry ({exc}); the result is "
                           "kept but will be recomputed next time", CShapeWarning, stacklevel=4)
 
-    def _write_alias(self, i, res):
+    def _write_alias(self, i: int, res: Result) -> None:
         alias = self.aliases.get(i)
         if alias is not None and _read_alias(alias) != res["key"]:
             try:
@@ -349,7 +360,7 @@ class _Run:
                 pass  # only the shortcut is lost: the file is read again next time
 
     # ------------------------------------------------------------------ the table
-    def table(self, M, transform) -> DescriptorTable:
+    def table(self, M: int, transform: str) -> DescriptorTable:
         """The successful meshes in the order of the collection; one warning lists the
         failures."""
         records, results, N = self.records, self.results, self.N
@@ -378,7 +389,8 @@ class _Run:
 _ESTIMATE_MIN_N = 300
 
 
-def _warn_long_run(tasks, records, N):
+def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]], N: int
+                   ) -> None:
     """Warn, before the eigensolves start, when they are estimated to take long.
 
     Only for ``N >= _ESTIMATE_MIN_N`` (the vertex counts of meshes given by path are read
@@ -389,7 +401,7 @@ def _warn_long_run(tasks, records, N):
         return
     from ..readers import load_mesh
 
-    sizes = []
+    sizes: list[tuple[int, str]] = []
     for t in tasks:
         src = t[1]
         try:
@@ -420,7 +432,8 @@ def _warn_long_run(tasks, records, N):
 LONG_RUN_PREFIX = "long run ahead:"
 
 
-def _run_processes(tasks, n_jobs, finish, failures, blas_threads):
+def _run_processes(tasks: Sequence[Task], n_jobs: int, finish: Callable[[int, Result], None],
+                   failures: dict[int, str], blas_threads: int | None) -> None:
     """Run ``tasks`` in ``n_jobs`` local worker processes, calling ``finish`` as they end.
 
     The pool is joblib's loky executor: its workers start a fresh interpreter that imports
@@ -440,7 +453,7 @@ def _run_processes(tasks, n_jobs, finish, failures, blas_threads):
     window = 4 * n_jobs  # tasks in flight: bounded memory for large collections
     with ProcessPoolExecutor(max_workers=min(n_jobs, len(tasks)),
                              initializer=_init_worker, initargs=(blas_threads,)) as ex:
-        pending = {}
+        pending: dict[Any, Task] = {}
         try:
             while todo or pending:
                 while todo and len(pending) < window:

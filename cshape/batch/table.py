@@ -10,6 +10,7 @@ import warnings
 import zipfile
 from collections import Counter
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -20,6 +21,12 @@ from ..descriptor import Descriptor, select_descriptor
 from ..descriptors import TRANSFORMS, count_zero_modes
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
+
+if TYPE_CHECKING:
+    import os
+    from collections.abc import Iterable
+
+    from numpy.typing import ArrayLike
 
 _FORMAT = "cshape-descriptor-table"
 #: 1: CSV with a ``# cshape-descriptor-table {json}`` first line; 2: plain CSV (``pandas``
@@ -81,9 +88,12 @@ class DescriptorTable:
     is the table of those rows.
     """
 
-    def __init__(self, names, lam, areas, labels=None, *, M=16, bc="neumann",
-                 mass="consistent", seconds=None, cached=None, failures=(), transform="weyl",
-                 components=None):
+    def __init__(self, names: Iterable[object], lam: ArrayLike, areas: ArrayLike,
+                 labels: Iterable[object] | None = None, *, M: int = 16, bc: str = "neumann",
+                 mass: str = "consistent", seconds: ArrayLike | None = None,
+                 cached: ArrayLike | None = None,
+                 failures: Iterable[tuple[object, object]] = (), transform: str = "weyl",
+                 components: ArrayLike | None = None) -> None:
         self.names = [str(n) for n in names]
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
@@ -139,14 +149,14 @@ class DescriptorTable:
         return (f"DescriptorTable({len(self)} shapes, N={self.N}, M={self.M}{tr}, "
                 f"{nlab} classes{fails})")
 
-    def index(self, name) -> int:
+    def index(self, name: object) -> int:
         """Row of the shape called ``name``."""
         try:
             return self.names.index(str(name))
         except ValueError:
             raise KeyError(f"no shape named {name!r} in the table") from None
 
-    def select(self, rows) -> DescriptorTable:
+    def select(self, rows: Iterable[int | str] | np.ndarray) -> DescriptorTable:
         """A table with the given rows (indices, names or a boolean mask), in that order."""
         rows = list(rows) if not isinstance(rows, np.ndarray) else rows
         if isinstance(rows, np.ndarray) and rows.dtype == bool:
@@ -198,7 +208,8 @@ class DescriptorTable:
         :attr:`~cshape.Descriptor.label`, for titles and headers)."""
         return self.descriptor_for(kind, M, N, transform, normalization).label
 
-    def _descriptor(self, kind, M, N, transform, kwargs) -> Descriptor:
+    def _descriptor(self, kind: str | None, M: int | None, N: int | None,
+                    transform: str | None, kwargs: dict[str, Any]) -> Descriptor:
         kwargs = dict(kwargs)
         norm = kwargs.pop("normalization", None)
         descriptor = kwargs.pop("descriptor", None)
@@ -208,8 +219,9 @@ class DescriptorTable:
                             "or descriptor")
         return self.descriptor_for(kind, M, N, transform, norm, descriptor=descriptor)
 
-    def usable(self, kind=None, M=None, N=None, *, transform=None,
-               **kwargs) -> np.ndarray:
+    def usable(self, kind: str | None = None, M: int | None = None,
+               N: int | None = None, *, transform: str | None = None,
+               **kwargs: Any) -> np.ndarray:
         """Which shapes can be described under a kind: boolean mask, shape (p,).
 
         A shape cannot be described when it has too few non-zero eigenvalues for the kind
@@ -222,7 +234,7 @@ class DescriptorTable:
         mask[list(bad)] = False
         return mask
 
-    def _warn_left_out(self, d, bad, stacklevel=3):
+    def _warn_left_out(self, d: Descriptor, bad: dict[int, str], stacklevel: int = 3) -> None:
         """A warning that names the rows left out."""
         if bad:
             shown = "; ".join(f"{self.names[i]} ({m})" for i, m in list(bad.items())[:5])
@@ -232,8 +244,9 @@ class DescriptorTable:
                 f"left out: {shown}{more}",
                 CShapeWarning, stacklevel=stacklevel)
 
-    def descriptors(self, kind=None, M=None, N=None, *, transform=None,
-                    **kwargs) -> np.ndarray:
+    def descriptors(self, kind: str | None = None, M: int | None = None,
+                    N: int | None = None, *, transform: str | None = None,
+                    **kwargs: Any) -> np.ndarray:
         """Descriptor matrix, one row per shape; see :func:`cshape.compare.descriptor_matrix`.
 
         Parameters
@@ -268,8 +281,9 @@ class DescriptorTable:
                 "(see the warning); choose another kind or compute more eigenvalues")
         return X
 
-    def described(self, kind=None, M=None, N=None, *, transform=None, warn: bool = True,
-                  stacklevel: int = 3, **kwargs) -> tuple[np.ndarray, np.ndarray]:
+    def described(self, kind: str | None = None, M: int | None = None,
+                  N: int | None = None, *, transform: str | None = None, warn: bool = True,
+                  stacklevel: int = 3, **kwargs: Any) -> tuple[np.ndarray, np.ndarray]:
         """The descriptors and the table rows they belong to, computed once.
 
         Takes the arguments of :meth:`descriptors`; with ``warn`` (default) the rows left out
@@ -290,8 +304,9 @@ class DescriptorTable:
         rows = np.setdiff1d(np.arange(len(self)), np.fromiter(bad, dtype=np.int64))
         return X, rows
 
-    def distance_matrix(self, kind=None, M=None, N=None, *, transform=None,
-                        **kwargs) -> np.ndarray:
+    def distance_matrix(self, kind: str | None = None, M: int | None = None,
+                        N: int | None = None, *, transform: str | None = None,
+                        **kwargs: Any) -> np.ndarray:
         """Euclidean distance matrix (q, q) of :meth:`descriptors` (the same rows and
         defaults)."""
         return distance_matrix(self.descriptors(kind, M=M, N=N, transform=transform, **kwargs))
@@ -312,12 +327,12 @@ class DescriptorTable:
         return self.descriptors("f1")
 
     # ------------------------------------------------------------------ persistence
-    def _meta(self) -> dict:
+    def _meta(self) -> dict[str, Any]:
         return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": self.N,
                 "M": self.M, "transform": self.transform, "bc": self.bc, "mass": self.mass,
                 "failures": [list(f) for f in self.failures]}
 
-    def save(self, path) -> Path:
+    def save(self, path: str | os.PathLike[str]) -> Path:
         """Save to ``.npz`` (NumPy arrays only, no pickle) or ``.csv`` (one row per shape).
 
         The CSV is plain: a header ``name,label,area,seconds,cached,components,lam_0,...,
@@ -344,7 +359,7 @@ class DescriptorTable:
             raise ValueError(f"path must end in .npz or .csv, got {str(path)!r}")
         path.parent.mkdir(parents=True, exist_ok=True)
         if suffix == ".npz":
-            def write(f):
+            def write(f: IO[Any]) -> None:
                 np.savez(f, names=np.array(self.names, dtype=str),
                          labels=np.array(self.labels, dtype=str), lam=self.lam,
                          areas=self.areas, seconds=self.seconds, cached=self.cached,
@@ -352,7 +367,7 @@ class DescriptorTable:
                          meta=np.array(json.dumps(self._meta())))
             atomic_write(path, write, binary=True)
         else:
-            def write(f):
+            def write(f: IO[Any]) -> None:
                 w = csv.writer(f, lineterminator="\n")
                 w.writerow(list(_CSV_COLUMNS) + [f"lam_{i}" for i in range(self.N)])
                 for i in range(len(self)):
@@ -367,7 +382,7 @@ class DescriptorTable:
         return path
 
     @classmethod
-    def load(cls, path) -> DescriptorTable:
+    def load(cls, path: str | os.PathLike[str]) -> DescriptorTable:
         """Read a table written by :meth:`save` (``.npz`` or ``.csv``).
 
         A ``.csv`` is read with its sidecar ``<path>.json``; without the sidecar (a CSV
@@ -446,13 +461,13 @@ class DescriptorTable:
                    components=[int(r[5]) for r in body] if start == 6 else None)
 
 
-def sidecar_path(path) -> Path:
+def sidecar_path(path: str | os.PathLike[str]) -> Path:
     """The metadata file of a CSV table: ``<path>.json`` (``table.csv.json``)."""
     path = Path(path)
     return path.with_name(path.name + ".json")
 
 
-def _read_sidecar(path, N) -> dict:
+def _read_sidecar(path: str | os.PathLike[str], N: int) -> dict[str, Any]:
     side = sidecar_path(path)
     if not side.is_file():
         warnings.warn(
@@ -472,7 +487,7 @@ def _read_sidecar(path, N) -> dict:
     return meta
 
 
-def check_out_folder(path) -> None:
+def check_out_folder(path: str | os.PathLike[str]) -> None:
     """Raise a ``FileNotFoundError`` naming the folder of ``path`` if it does not exist."""
     folder = Path(path).parent
     if not folder.is_dir():
@@ -482,11 +497,11 @@ def check_out_folder(path) -> None:
             "first or choose another path")
 
 
-def _fmt(x) -> str:
+def _fmt(x: float) -> str:
     return repr(float(x))
 
 
-def _check_meta(meta, path):
+def _check_meta(meta: dict[str, Any], path: str | os.PathLike[str]) -> None:
     if meta.get("format") != _FORMAT or int(meta.get("format_version", 0)) > _FORMAT_VERSION:
         raise ValueError(
             f"{str(path)!r} is not a cshape descriptor table of a version this cshape reads "

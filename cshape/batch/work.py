@@ -7,20 +7,31 @@ import os
 import threading
 import time
 import warnings
+from typing import TYPE_CHECKING, Any
 
 from ..mesh import Mesh, as_mesh, repair_mesh
 from ..readers import load_mesh
 from ..spectrum import shape_dna
 from .cache import CACHE_VERSION, _read_entry, mesh_key
 
+if TYPE_CHECKING:
+    from ..mesh import MeshLike
 
-def load_source(source) -> Mesh:
+#: One eigensolve of a batch run: (row, mesh or path, N, bc, mass, cache folder or None,
+#: content key, None when the worker computes it from the file).
+Task = tuple[int, Any, int, str, str, str | None, str | None]
+#: What a worker sends back: ``{'index', 'ok', 'lam', 'area', ...}`` or ``{'ok': False,
+#: 'error'}``.
+Result = dict[str, Any]
+
+
+def load_source(source: str | os.PathLike[str] | MeshLike) -> Mesh:
     if isinstance(source, (str, os.PathLike)):
         return load_mesh(source)
     return as_mesh(source)
 
 
-def _work(task):
+def _work(task: Task) -> Result:
     """Eigenvalues of one mesh; runs in the caller, a worker process or a Dask worker.
 
     Never raises: errors come back as ``{'ok': False, 'error': message}``.  Warnings are
@@ -39,7 +50,7 @@ def _work(task):
     return out
 
 
-def _work_inner(task):
+def _work_inner(task: Task) -> Result:
     index, source, N, bc, mass, cache_dir, key = task
     t0 = time.perf_counter()
     try:
@@ -63,10 +74,10 @@ def _work_inner(task):
         return {"index": index, "ok": False, "error": f"{type(exc).__name__}: {msg}"}
 
 
-_THREAD_LIMITS = None
+_THREAD_LIMITS: Any = None
 
 
-def _blas_limit(blas_threads):
+def _blas_limit(blas_threads: int | None) -> contextlib.AbstractContextManager[Any]:
     """Context manager limiting BLAS / OpenMP threads (a no-op for None)."""
 
     if blas_threads is None:
@@ -76,7 +87,7 @@ def _blas_limit(blas_threads):
     return threadpool_limits(limits=blas_threads)
 
 
-def _init_worker(blas_threads):
+def _init_worker(blas_threads: int | None) -> None:
     """Worker-process initialiser: limit BLAS threads for the life of the process."""
     global _THREAD_LIMITS
     if blas_threads is not None:

@@ -6,13 +6,23 @@ import contextlib
 import shutil
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from .output import print_warnings
+
+if TYPE_CHECKING:
+    import argparse
+    import os
+    from collections.abc import Iterator
+
+    from ..data import Collection
+
+    _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
 __all__ = ["REPRODUCE_BENCHMARK", "REPRODUCE_COLLECTIONS", "add_demo", "add_reproduce"]
 
 
-def _demo(args) -> int:
+def _demo(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .. import compact_shape_dna, normalize, shape_dna, shapes
@@ -35,7 +45,7 @@ def _demo(args) -> int:
     return 0
 
 
-def add_demo(sub):
+def add_demo(sub: _SubParsers) -> None:
     p = sub.add_parser("demo", help="print Shape-DNA and cShape-DNA of a few built-in shapes")
     p.add_argument("-N", type=int, default=100, help="number of eigenvalues (default 100)")
     p.add_argument("-M", type=int, default=4, help="crop half-width M (default 4)")
@@ -48,7 +58,7 @@ REPRODUCE_COLLECTIONS = "paper-models,articulated"
 REPRODUCE_BENCHMARK = "creatures"
 
 
-def _load_named(spec, what, n_jobs=1):
+def _load_named(spec: str, what: str, n_jobs: int = 1) -> Collection:
     """A manifest collection by name, or a folder of meshes (labels from sub-folders)."""
     from .. import data
 
@@ -63,7 +73,7 @@ def _load_named(spec, what, n_jobs=1):
 
 
 @contextlib.contextmanager
-def _new_folder(path):
+def _new_folder(path: str | os.PathLike[str]) -> Iterator[None]:
     """Remove ``path`` again (with what was written into it) if it is new and the block
     fails: a failed or interrupted command leaves no half-written report folder.  The
     folders above it that the block created and left empty go too."""
@@ -82,7 +92,7 @@ def _new_folder(path):
         raise
 
 
-def _reproduce(args) -> int:
+def _reproduce(args: argparse.Namespace) -> int:
     from .. import data
     from ..reproduce import reproduce
 
@@ -133,7 +143,7 @@ def _reproduce(args) -> int:
     return 0
 
 
-def add_reproduce(sub):
+def add_reproduce(sub: _SubParsers) -> None:
     p = sub.add_parser(
         "reproduce",
         help="run the paper's Section 3 experiments and write a report folder",

@@ -7,11 +7,17 @@ works without the ``notebooks`` and ``course`` extras until one of these is call
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import argparse
+
+    _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
 __all__ = ["add_assignments", "add_notebooks"]
 
 
-def _cmd_notebooks(args) -> int:
+def _cmd_notebooks(args: argparse.Namespace) -> int:
     from ..course.lessons import default_notebook_dir, run_notebooks
 
     src = args.src
@@ -24,7 +30,7 @@ def _cmd_notebooks(args) -> int:
     return 0 if all(r.ok for r in results) else 1
 
 
-def add_notebooks(sub) -> None:
+def add_notebooks(sub: _SubParsers) -> None:
     """Register ``cshape notebooks``."""
     p = sub.add_parser(
         "notebooks",
@@ -42,7 +48,7 @@ def add_notebooks(sub) -> None:
     p.set_defaults(func=_cmd_notebooks)
 
 
-def _cmd_assignments(args) -> int:
+def _cmd_assignments(args: argparse.Namespace) -> int:
     from ..course.assignments import generate
 
     paths = generate(args.src, args.dest, check=args.check)
@@ -61,13 +67,13 @@ def _cmd_assignments(args) -> int:
     return 0
 
 
-def _installed(module) -> bool:
+def _installed(module: str) -> bool:
     import importlib.util
 
     return importlib.util.find_spec(module) is not None
 
 
-def _cmd_lessons(args) -> int:
+def _cmd_lessons(args: argparse.Namespace) -> int:
     from ..course.assignments import ASSIGNMENT, copy_lessons
 
     if not _installed("nbformat"):
@@ -89,7 +95,7 @@ def _cmd_lessons(args) -> int:
     return 0
 
 
-def add_assignments(sub) -> None:
+def add_assignments(sub: _SubParsers) -> None:
     """Register ``cshape assignments`` and ``cshape lessons`` on the CLI's sub-parsers."""
     p = sub.add_parser(
         "assignments",

@@ -4,10 +4,16 @@
 from __future__ import annotations
 
 import time
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import argparse
+
+    _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
 
 # ============================================================================ data
-def _cmd_data_list(args) -> int:
+def _cmd_data_list(args: argparse.Namespace) -> int:
     from ..data import load_manifest
 
     entries = load_manifest(args.manifest)
@@ -23,7 +29,7 @@ def _cmd_data_list(args) -> int:
     return 0
 
 
-def _cmd_data_build(args) -> int:
+def _cmd_data_build(args: argparse.Namespace) -> int:
     from ..data import build, load_collection
 
     t0 = time.perf_counter()
@@ -35,14 +41,14 @@ def _cmd_data_build(args) -> int:
     return 0
 
 
-def _cmd_data_path(args) -> int:
+def _cmd_data_path(args: argparse.Namespace) -> int:
     from ..data import collection_path
 
     print(collection_path(args.name, cache_dir=args.cache_dir, manifest=args.manifest))
     return 0
 
 
-def add_data(sub) -> None:
+def add_data(sub: _SubParsers) -> None:
     """``cshape data {list, build NAME, path NAME}``: the collections of :mod:`cshape.data`."""
     import argparse
 

@@ -32,8 +32,20 @@ import time
 import warnings
 from collections import Counter
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TextIO
 
 from .output import CommandError, print_warnings
+
+if TYPE_CHECKING:
+    import argparse
+    from collections.abc import Iterator, Sequence
+
+    import numpy as np
+
+    from ..batch import DescriptorTable
+    from ..descriptor import Descriptor
+
+    _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
 __all__ = ["add_describe", "add_info", "add_query", "check_figure_path", "collect_mesh_files",
            "mesh_report", "write_neighbour_strip"]
@@ -58,7 +70,8 @@ def _stem(path: Path) -> str:
     return split_mesh_name(path)[0]
 
 
-def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
+def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
+                       ) -> list[tuple[str, str, Path]]:
     """The meshes named by command-line paths, as ``(name, label, path)`` records.
 
     Parameters
@@ -90,11 +103,12 @@ def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
 
     found: list[tuple[Path, str, Path]] = []  # (file, label, base for relative names)
 
-    def add_folder(folder: Path):
+    def add_folder(folder: Path) -> None:
         for item in load_folder(folder):
+            assert item.path is not None  # the items of a folder are its files
             found.append((Path(item.path), item.label, folder))
 
-    def add_file(path: Path):
+    def add_file(path: Path) -> None:
         found.append((path, path.resolve().parent.name, path.parent))
 
     if not paths:
@@ -148,7 +162,7 @@ def collect_mesh_files(paths) -> list[tuple[str, str, Path]]:
     return [(n, lab, f) for n, (f, lab, _) in zip(names, unique, strict=True)]
 
 
-def _progress(args) -> bool:
+def _progress(args: argparse.Namespace) -> bool:
     return not args.quiet and sys.stderr.isatty()
 
 
@@ -159,7 +173,7 @@ def _transforms() -> tuple[str, ...]:
 
 
 # ============================================================================ describe
-def _cmd_describe(args) -> int:
+def _cmd_describe(args: argparse.Namespace) -> int:
     from ..batch import describe
     from ..batch.run import LONG_RUN_PREFIX
 
@@ -226,14 +240,16 @@ def _cmd_describe(args) -> int:
 
 
 @contextlib.contextmanager
-def _warnings_now(prefixes, command):
+def _warnings_now(prefixes: tuple[str, ...], command: str
+                  ) -> Iterator[list[warnings.WarningMessage]]:
     """Record warnings (as ``catch_warnings(record=True)``), and print at once those whose
     message starts with one of ``prefixes`` (e.g. a long run ahead)."""
-    caught = []
+    caught: list[warnings.WarningMessage] = []
     with warnings.catch_warnings():
         warnings.simplefilter("always")
 
-        def show(message, category, filename, lineno, file=None, line=None):
+        def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                 file: TextIO | None = None, line: str | None = None) -> None:
             text = " ".join(str(message).split())
             if text.startswith(prefixes):
                 print(f"cshape {command}: warning: {text}", file=sys.stderr, flush=True)
@@ -244,20 +260,20 @@ def _warnings_now(prefixes, command):
         yield caught
 
 
-def check_out(path) -> None:
+def check_out(path: str | os.PathLike[str]) -> None:
     """An ``--out`` file's folder must exist: else a ``FileNotFoundError`` naming it."""
     from ..batch.table import check_out_folder
 
     check_out_folder(path)
 
 
-def _pieces(table):
+def _pieces(table: DescriptorTable) -> list[int]:
     """Connected components of each shape: stored, else (old tables) its zero modes."""
     return [int(c) if c >= 0 else int(z)
             for c, z in zip(table.components, table.zero_modes, strict=True)]
 
 
-def _print_table(table, width=4):
+def _print_table(table: DescriptorTable, width: int = 4) -> None:
     """One line per shape on stdout: name, label, area, components and the first values of
     the default descriptor (:data:`cshape.DEFAULT`, the one `cshape query`
     compares; '-' for a shape it cannot describe)."""
@@ -279,7 +295,7 @@ def _print_table(table, width=4):
               f"{pieces[i]:>6}  {vals}")
 
 
-def add_describe(sub):
+def add_describe(sub: _SubParsers) -> None:
     p = sub.add_parser(
         "describe",
         help="Shape-DNA and cShape-DNA of mesh files and folders, into a descriptor table",
@@ -321,7 +337,7 @@ def add_describe(sub):
 
 
 # ============================================================================ info
-def mesh_report(path) -> dict:
+def mesh_report(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Size, area, topology, triangle quality and repairs of a mesh file (``cshape info``).
 
     Parameters
@@ -401,7 +417,7 @@ def mesh_report(path) -> dict:
     }
 
 
-def _cmd_info(args) -> int:
+def _cmd_info(args: argparse.Namespace) -> int:
     for k, path in enumerate(args.meshes):
         r = mesh_report(path)
         if args.json:
@@ -445,7 +461,7 @@ def _cmd_info(args) -> int:
     return 0
 
 
-def add_info(sub):
+def add_info(sub: _SubParsers) -> None:
     p = sub.add_parser(
         "info",
         help="size, area, topology, minimum angle and needed repairs of mesh files",
@@ -474,20 +490,21 @@ def _kind_arg(value: str) -> str:
     return new
 
 
-def _default_label(N=100) -> str:
+def _default_label(N: int = 100) -> str:
     """The exploration default (cshape.DEFAULT) in words."""
     from ..descriptor import select_descriptor
 
     return select_descriptor(N=N).label
 
 
-def chosen_descriptor(args, table):
+def chosen_descriptor(args: argparse.Namespace, table: DescriptorTable) -> Descriptor:
     """The :class:`cshape.Descriptor` of ``--kind``, ``-M``, ``-N`` and ``--transform``,
     with the table's ``M``, ``N`` and transform where not given."""
     return table.descriptor_for(args.kind, args.M, args.N, args.transform)
 
 
-def _query_target(args, table):
+def _query_target(args: argparse.Namespace, table: DescriptorTable
+                  ) -> tuple[np.ndarray, float, int | None, str, int]:
     """The query's eigenvalues, area, table row to exclude (None for a file), name in the
     header and component count: a shape of the table, or a mesh file described now."""
     from ..batch import describe
@@ -514,7 +531,7 @@ def _query_target(args, table):
                      f" nor a mesh file{hint}")
 
 
-def _cmd_query(args) -> int:
+def _cmd_query(args: argparse.Namespace) -> int:
     from ..batch import DescriptorTable
     from ..index import DescriptorIndex
 
@@ -550,6 +567,7 @@ def _cmd_query(args) -> int:
             if rows[i] != exclude]
     hits = hits[:k]
     r = index.recipe_
+    assert r is not None  # from_table gives the index its descriptor
     desc = index.descriptor
     if k < args.k:
         print(f"cshape query: only {k} other shapes in the table"
@@ -576,7 +594,7 @@ def _cmd_query(args) -> int:
     return 0
 
 
-def add_descriptor_options(p) -> None:
+def add_descriptor_options(p: argparse.ArgumentParser) -> None:
     """``--kind``, ``-M``, ``-N`` and ``--transform``: which descriptor a command compares
     (``cshape query`` and ``cshape overview``)."""
     p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
@@ -591,7 +609,7 @@ def add_descriptor_options(p) -> None:
                    help="cShape-DNA transform (default: the table's)")
 
 
-def add_query(sub):
+def add_query(sub: _SubParsers) -> None:
     p = sub.add_parser(
         "query",
         help="the nearest shapes of a descriptor table to a mesh file or a shape of the table",
@@ -617,7 +635,7 @@ IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
 HTML_SUFFIXES = (".html", ".htm")
 
 
-def check_figure_path(path, option: str) -> Path:
+def check_figure_path(path: str | os.PathLike[str], option: str) -> Path:
     """The figure file of ``option`` checked before any work: a known suffix, an existing
     folder, not a folder itself."""
     p = Path(path).expanduser()
@@ -635,7 +653,7 @@ def check_figure_path(path, option: str) -> Path:
     return p
 
 
-def add_plot_options(p) -> None:
+def add_plot_options(p: argparse.ArgumentParser) -> None:
     """``--plot``, ``--meshes`` and ``--up`` of ``cshape query``."""
     p.add_argument("--plot", metavar="FILE", default=None,
                    help="draw the query and its neighbours as thumbnails with their distances "
@@ -648,7 +666,7 @@ def add_plot_options(p) -> None:
                    "and COLLADA files, z for the rest)")
 
 
-def check_plot_options(args) -> None:
+def check_plot_options(args: argparse.Namespace) -> None:
     """Fail before the query's work when ``--plot`` cannot be written."""
     if args.plot is None:
         if args.meshes is not None:
@@ -661,7 +679,10 @@ def check_plot_options(args) -> None:
             "cshape describe (the table keeps no file paths)")
 
 
-def write_neighbour_strip(args, table, hits, query_path, descriptor) -> Path:
+def write_neighbour_strip(args: argparse.Namespace, table: DescriptorTable,
+                          hits: Sequence[tuple[float, int]],
+                          query_path: str | os.PathLike[str] | None, descriptor: str | None
+                          ) -> Path:
     """Draw ``cshape query``'s answer (``hits``: ``[(distance, row)]``) into ``args.plot``.
 
     ``query_path`` is the mesh file of a query given as a file, else None (the query is the

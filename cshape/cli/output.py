@@ -7,6 +7,11 @@ Every expected failure (:data:`EXPECTED_ERRORS`) ends in one line on stderr,
 from __future__ import annotations
 
 import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import warnings
+    from collections.abc import Iterable
 
 __all__ = ["EXPECTED_ERRORS", "CommandError", "one_line", "print_warnings"]
 
@@ -32,7 +37,8 @@ def one_line(exc: BaseException) -> str:
 MAX_WARNINGS = 10
 
 
-def print_warnings(caught, command, verbose=False, skip=()):
+def print_warnings(caught: Iterable[warnings.WarningMessage], command: str, verbose: bool = False,
+                   skip: str | tuple[str, ...] = ()) -> None:
     """Print recorded warnings on stderr, one line each: ``cshape <command>: warning: ...``.
 
     Repeated messages once; messages starting with a prefix in ``skip`` left out; at most

@@ -15,14 +15,22 @@ from __future__ import annotations
 import sys
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from .explore import HTML_SUFFIXES, add_descriptor_options, check_figure_path, chosen_descriptor
 from .output import CommandError, print_warnings
 
+if TYPE_CHECKING:
+    import argparse
+
+    from matplotlib.figure import Figure
+
+    _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
+
 __all__ = ["add_overview"]
 
 # ============================================================================ overview
-def _cmd_overview(args) -> int:
+def _cmd_overview(args: argparse.Namespace) -> int:
     from ..batch import DescriptorTable
     from ..compare import mds_embedding
     from ..plots.collection import mds_layout
@@ -46,7 +54,7 @@ def _cmd_overview(args) -> int:
         Y = mds_embedding(c.D, random_state=args.seed)
     print_warnings(caught, "overview", args.verbose)
     name = Path(args.table).name
-    made = []  # every figure first, then the files: nothing half-written
+    made: list[str | Figure] = []  # every figure first, then the files: nothing half-written
     for o in outs:
         if o.suffix.lower() in HTML_SUFFIXES:
             made.append(overview_html(c.D, c.names, c.labels, Y=Y, descriptor=c.descriptor,
@@ -71,7 +79,7 @@ def _cmd_overview(args) -> int:
     return 0
 
 
-def add_overview(sub):
+def add_overview(sub: _SubParsers) -> None:
     p = sub.add_parser(
         "overview",
         help="pictures of a described collection: MDS, distance matrix and classes",

@@ -15,9 +15,13 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING, NoReturn
 
 from . import apps, course, data, explore, pictures
 from .output import EXPECTED_ERRORS, one_line
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
 
 __all__ = ["SUBCOMMANDS", "build_parser", "main"]
 
@@ -26,7 +30,7 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser whose usage errors are one line too (argparse prints the usage
     first); sub-command parsers are of this class as well."""
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         print(f"{self.prog}: error: {' '.join(message.split())}; see `{self.prog} --help`",
               file=sys.stderr)
         sys.exit(2)
@@ -57,7 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``cshape`` command line; returns the exit status (0, 2 on an expected error)."""
     parser = build_parser()
     args = parser.parse_args(argv)

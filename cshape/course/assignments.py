@@ -35,8 +35,12 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
 from .._files import atomic_write, umask
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable
 
 __all__ = [
     "ASSIGNMENT",
@@ -81,7 +85,7 @@ def lessons_dir() -> Path:
     )
 
 
-def is_graded(nb) -> bool:
+def is_graded(nb: Any) -> bool:
     """Whether a notebook (``nbformat`` node or path) has nbgrader cells."""
     if not hasattr(nb, "cells"):
         import nbformat
@@ -90,7 +94,7 @@ def is_graded(nb) -> bool:
     return any("nbgrader" in c.get("metadata", {}) for c in nb.cells)
 
 
-def _nbgrader_env() -> dict:
+def _nbgrader_env() -> dict[str, str]:
     """Environment for nbgrader: this interpreter's scripts first (nbgrader calls
     ``alembic``), so its kernels are this interpreter's too."""
     env = dict(os.environ)
@@ -98,7 +102,8 @@ def _nbgrader_env() -> dict:
     return env
 
 
-def run_nbgrader(*args, cwd, env=None, timeout=3600) -> str:
+def run_nbgrader(*args: str, cwd: str | os.PathLike[str], env: dict[str, str] | None = None,
+                 timeout: float = 3600) -> str:
     """Run ``python -m nbgrader ARGS`` in the course folder ``cwd``; return its log.
 
     Parameters
@@ -138,7 +143,8 @@ def run_nbgrader(*args, cwd, env=None, timeout=3600) -> str:
     return log
 
 
-def write_course(dest, lessons, *, assignment=ASSIGNMENT) -> Path:
+def write_course(dest: str | os.PathLike[str], lessons: Iterable[str | os.PathLike[str]], *,
+                 assignment: str = ASSIGNMENT) -> Path:
     """Lay out an nbgrader course folder: ``nbgrader_config.py`` and ``source/<assignment>/``.
 
     Parameters
@@ -164,14 +170,14 @@ def write_course(dest, lessons, *, assignment=ASSIGNMENT) -> Path:
     return dest
 
 
-def _render(path) -> str:
+def _render(path: str | os.PathLike[str]) -> str:
     import nbformat
 
     text = nbformat.writes(nbformat.read(path, as_version=4))
     return text if text.endswith("\n") else text + "\n"
 
 
-def release_notebooks(src=None) -> dict[str, str]:
+def release_notebooks(src: str | os.PathLike[str] | None = None) -> dict[str, str]:
     """nbgrader's student release of the graded lessons in ``src``: file name -> notebook text.
 
     Runs ``nbgrader generate_assignment --no-db`` once in a throwaway course folder.
@@ -198,7 +204,8 @@ def release_notebooks(src=None) -> dict[str, str]:
         return {p.name: _render(release / p.name) for p in graded}
 
 
-def update_folder(wanted, dest, *, check=False) -> list[Path]:
+def update_folder(wanted: dict[str, str], dest: str | os.PathLike[str], *, check: bool = False
+                  ) -> list[Path]:
     """Make the ``NN_*.ipynb`` files of ``dest`` exactly ``wanted`` (file name -> text).
 
     Writes the files that are missing or differ and deletes the other ``NN_*.ipynb``; with
@@ -215,13 +222,17 @@ def update_folder(wanted, dest, *, check=False) -> list[Path]:
         return sorted(changed) + stale
     dest.mkdir(parents=True, exist_ok=True)
     for p in changed:
-        atomic_write(p, lambda f, text=wanted[p]: f.write(text), binary=False)
+        def write(f: IO[Any], text: str = wanted[p]) -> None:
+            f.write(text)
+
+        atomic_write(p, write, binary=False)
     for p in stale:
         p.unlink()
     return sorted(changed)
 
 
-def generate(src=None, dest=None, *, check=False) -> list[Path]:
+def generate(src: str | os.PathLike[str] | None = None, dest: str | os.PathLike[str] | None = None,
+             *, check: bool = False) -> list[Path]:
     """Make the student versions of the graded lessons with nbgrader, into ``dest``.
 
     Parameters
@@ -250,7 +261,8 @@ def generate(src=None, dest=None, *, check=False) -> list[Path]:
     return update_folder(wanted, src / "student" if dest is None else dest, check=check)
 
 
-def copy_lessons(dest, *, src=None) -> list[Path]:
+def copy_lessons(dest: str | os.PathLike[str], *, src: str | os.PathLike[str] | None = None
+                 ) -> list[Path]:
     """Copy the lessons, their student versions and an nbgrader course into ``dest``.
 
     ``dest`` gets ``README.md``, the lessons ``NN_*.ipynb`` (they run there: they need only

@@ -29,8 +29,12 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from .._files import atomic_write
+
+if TYPE_CHECKING:
+    from collections.abc import Callable, Iterable
 
 __all__ = [
     "RunResult",
@@ -85,7 +89,7 @@ class RunResult:
 EXPECT_STDERR = "expect-stderr"
 
 
-def stderr_outputs(nb) -> list[str]:
+def stderr_outputs(nb: Any) -> list[str]:
     """The stderr outputs of an executed notebook, outside cells tagged ``expect-stderr``.
 
     Parameters
@@ -116,7 +120,8 @@ def default_notebook_dir() -> Path:
     return lessons_dir()
 
 
-def find_notebooks(src=None, names=None) -> list[Path]:
+def find_notebooks(src: str | os.PathLike[str] | None = None,
+                   names: Iterable[str] | None = None) -> list[Path]:
     """The notebooks ``NN_*.ipynb`` in ``src``, sorted; ``names`` picks some by number or name.
 
     Parameters
@@ -152,7 +157,7 @@ def find_notebooks(src=None, names=None) -> list[Path]:
     return paths
 
 
-def kernel_manager():
+def kernel_manager() -> Any:
     """A Jupyter ``KernelManager`` whose kernel is ``sys.executable -m ipykernel_launcher``.
 
     The kernel therefore sees exactly the packages of the running interpreter (the project's
@@ -162,7 +167,7 @@ def kernel_manager():
     from jupyter_client.manager import KernelManager
 
     class _ThisPython(KernelSpecManager):
-        def get_kernel_spec(self, kernel_name):
+        def get_kernel_spec(self, kernel_name: str) -> Any:
             return KernelSpec(
                 # log level ERROR: no "running over TCP without encryption" line per
                 # notebook (the kernel listens on loopback only); errors still show
@@ -190,7 +195,7 @@ MathJax.Ajax.loadComplete("[MathJax]/config/local/cshape.js");
 """
 
 
-def offline_mathjax(out_dir):
+def offline_mathjax(out_dir: str | os.PathLike[str]) -> str | None:
     """Copy MathJax 2.7 next to exported HTML pages, so that their equations render offline.
 
     The files come from the ``jupyter-server-mathjax`` package (the ``notebooks`` extra);
@@ -232,7 +237,7 @@ _PLOTLY_CDN_MATHJAX = re.compile(
     r'<script src="https://cdnjs\.cloudflare\.com/ajax/libs/mathjax/[^"]*"></script>')
 
 
-def _html(nb, mathjax_url=None) -> str:
+def _html(nb: Any, mathjax_url: str | None = None) -> str:
     from nbconvert import HTMLExporter
 
     exporter = HTMLExporter(template_name="lab")
@@ -242,8 +247,9 @@ def _html(nb, mathjax_url=None) -> str:
     return _PLOTLY_CDN_MATHJAX.sub("", body) if mathjax_url else body
 
 
-def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
-                 stop_at_stub=False, env=None) -> RunResult:
+def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] | None = None, *,
+                 small: bool = False, timeout: float = 1200, html: bool = True,
+                 stop_at_stub: bool = False, env: dict[str, str] | None = None) -> RunResult:
     """Execute one notebook top to bottom on a fresh kernel.
 
     Parameters
@@ -320,7 +326,7 @@ def run_notebook(path, out_dir=None, *, small=False, timeout=1200, html=True,
     return res
 
 
-def lesson_title(path) -> str:
+def lesson_title(path: str | os.PathLike[str]) -> str:
     """The title of a lesson: its first Markdown heading (``# 2 · Shape-DNA ...``), else its
     file name."""
     import nbformat
@@ -334,7 +340,7 @@ def lesson_title(path) -> str:
     return Path(path).stem
 
 
-def _index(results, out: Path, small: bool) -> Path:
+def _index(results: Iterable[RunResult], out: Path, small: bool) -> Path:
     rows = []
     for r in results:
         title = lesson_title(r.ipynb) if r.ipynb is not None else r.name
@@ -359,8 +365,11 @@ def _index(results, out: Path, small: bool) -> Path:
     return path
 
 
-def run_notebooks(src=None, out="out/notebooks", *, names=None, small=False, timeout=1200,
-                  html=True, stop_at_stub=False, progress=print) -> list[RunResult]:
+def run_notebooks(src: str | os.PathLike[str] | None = None,
+                  out: str | os.PathLike[str] = "out/notebooks", *,
+                  names: Iterable[str] | None = None, small: bool = False,
+                  timeout: float = 1200, html: bool = True, stop_at_stub: bool = False,
+                  progress: Callable[[str], object] | None = print) -> list[RunResult]:
     """Execute every notebook of ``src`` into ``out`` (executed ``.ipynb``, HTML, index.html).
 
     Parameters

@@ -15,11 +15,14 @@ from __future__ import annotations
 
 import os
 from importlib import resources
+from typing import TypeVar
 
 from .. import data, shapes
 from ..data import variants
 from ..mesh import Mesh
 from ..readers import load_mesh
+
+_T = TypeVar("_T")
 
 __all__ = [
     "PAPER",
@@ -40,7 +43,7 @@ PAPER = ("Z. Gao, Z. Yu and X. Pang, A compact shape descriptor for triangular s
          "meshes, Computer-Aided Design 53 (2014) 62-69")
 
 
-def size(small, full):
+def size(small: _T, full: _T) -> _T:
     """``small`` when the lessons run at small size (:data:`SMALL`), else ``full``.
 
     Examples
@@ -69,7 +72,7 @@ def spot() -> Mesh:
         return load_mesh(path)
 
 
-def real_mesh(small=None):
+def real_mesh(small: bool | None = None) -> tuple[Mesh, str]:
     """``(mesh, credit)``: the lessons' real mesh, Spot the cow.
 
     Parameters
@@ -89,7 +92,7 @@ def real_mesh(small=None):
     return (mesh if small else variants.subdivide(mesh, 1)), SPOT_CREDIT
 
 
-def demo_collection(small=None):
+def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
     """``(name, label, mesh)`` triples: a few classes of shapes, all made in code.
 
     Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a
@@ -118,7 +121,7 @@ def demo_collection(small=None):
 SMALL_CREATURES = ("human", "quadruped", "bird", "spider", "hand", "snake")
 
 
-def retrieval_collection(small=None):
+def retrieval_collection(small: bool | None = None) -> data.Collection:
     """A collection where retrieval is not trivial: cshape's creature benchmark.
 
     Its classes (human, centaur, teddy, quadruped, bird, spider, ...) have members that

@@ -27,6 +27,7 @@ instance for a collection seed; ``data_manifest.yaml`` has a development instanc
 from __future__ import annotations
 
 import numbers
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -45,6 +46,9 @@ from .variants import (
     remesh,
 )
 
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+
 __all__ = ["CREATURE_KINDS", "creature", "creature_capsules", "creature_items"]
 
 #: The classes of :func:`creature`, in the order of the benchmark's items.
@@ -60,28 +64,29 @@ LENGTH_SPREAD, THICKNESS_SPREAD = 0.35, 0.25
 class _Draw:
     """The random draws of one member: factors, angles and jitters from one generator."""
 
-    def __init__(self, rng, variation):
+    def __init__(self, rng: np.random.Generator, variation: float) -> None:
         self.rng = rng
         self.variation = variation
 
-    def u(self, lo, hi):
+    def u(self, lo: float, hi: float) -> float:
         return float(self.rng.uniform(lo, hi))
 
-    def factor(self, spread):
+    def factor(self, spread: float) -> float:
         """Log-uniform factor in ``[1/(1+s), 1+s]`` with ``s = spread * variation``."""
         s = np.log1p(spread * self.variation)
         return float(np.exp(self.rng.uniform(-s, s)))
 
-    def group(self):
+    def group(self) -> tuple[float, float]:
         """(length factor, thickness factor) of one limb group."""
         return self.factor(LENGTH_SPREAD), self.factor(THICKNESS_SPREAD)
 
-    def jitter(self):
+    def jitter(self) -> float:
         """A small per-limb length jitter (+-10 % at variation 1)."""
         return self.factor(0.1)
 
 
-def creature_capsules(kind, random_state=None, *, variation=1.0) -> list[Capsule]:
+def creature_capsules(kind: str, random_state: int | np.random.Generator | None = None, *,
+                      variation: float = 1.0) -> list[Capsule]:
     """The capsules of one member of a creature class.
 
     Parameters
@@ -106,7 +111,8 @@ def creature_capsules(kind, random_state=None, *, variation=1.0) -> list[Capsule
 
 
 # ---------------------------------------------------------------------- the classes
-def _human_upper(d, base, caps, *, torso_len=0.55, torso_r=0.16):
+def _human_upper(d: _Draw, base: tuple[float, float, float], caps: list[Capsule], *,
+                 torso_len: float = 0.55, torso_r: float = 0.16) -> float:
     """Torso from ``base`` upwards, neck, head and two arms (human, centaur)."""
     fb, tb = d.group()
     fa, ta = d.group()
@@ -128,7 +134,7 @@ def _human_upper(d, base, caps, *, torso_len=0.55, torso_r=0.16):
     return top
 
 
-def _human(d):
+def _human(d: _Draw) -> list[Capsule]:
     caps: list[Capsule] = []
     _human_upper(d, (0, 0, 0), caps)
     fl, tl = d.group()
@@ -143,7 +149,8 @@ def _human(d):
     return caps
 
 
-def _four_legs(d, caps, half, width, z, fl, tl, *, upper=0.28, lower=0.26, r=0.055):
+def _four_legs(d: _Draw, caps: list[Capsule], half: float, width: float, z: float, fl: float,
+               tl: float, *, upper: float = 0.28, lower: float = 0.26, r: float = 0.055) -> None:
     for sx in (-1, 1):
         for sy in (-1, 1):
             swing, knee, splay = d.u(-35, 35), d.u(0, 70), d.u(-15, 15)
@@ -154,13 +161,14 @@ def _four_legs(d, caps, half, width, z, fl, tl, *, upper=0.28, lower=0.26, r=0.0
                           r * tl)
 
 
-def _tail(d, start, azimuths, elevations, length, radius):
+def _tail(d: _Draw, start: tuple[float, float, float], azimuths: tuple[float, float],
+          elevations: tuple[float, float], length: float, radius: float) -> list[Capsule]:
     """A one-capsule tail: direction, length and thickness of its own."""
     return _limb(start, [_dir(d.u(*azimuths), d.u(*elevations))],
                  [length * d.factor(LENGTH_SPREAD)], radius * d.factor(THICKNESS_SPREAD))
 
 
-def _quadruped(d):
+def _quadruped(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     fl, tl = d.group()
     half = 0.45 * fb
@@ -175,7 +183,7 @@ def _quadruped(d):
     return caps
 
 
-def _centaur(d):
+def _centaur(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     fl, tl = d.group()
     half = 0.4 * fb
@@ -190,7 +198,7 @@ def _centaur(d):
     return caps
 
 
-def _teddy(d):
+def _teddy(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     fa, ta = d.group()
     fl, tl = d.group()
@@ -214,7 +222,7 @@ def _teddy(d):
     return caps
 
 
-def _bird(d):
+def _bird(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     fw, tw = d.group()
     half = 0.25 * fb
@@ -238,8 +246,10 @@ def _bird(d):
     return caps
 
 
-def _radial_legs(d, caps, n, r_attach, z, lengths, radius, *, up=(0, 40), down=(-80, -25),
-                 az0=0.0, az_jit=10.0):
+def _radial_legs(d: _Draw, caps: list[Capsule], n: int, r_attach: float, z: float,
+                 lengths: tuple[float, float], radius: float, *,
+                 up: tuple[float, float] = (0, 40), down: tuple[float, float] = (-80, -25),
+                 az0: float = 0.0, az_jit: float = 10.0) -> None:
     fl, tl = d.group()
     for k in range(n):
         az = az0 + 360.0 * k / n + d.u(-az_jit, az_jit)
@@ -249,7 +259,7 @@ def _radial_legs(d, caps, n, r_attach, z, lengths, radius, *, up=(0, 40), down=(
                       [lengths[0] * fl * j, lengths[1] * fl * j], radius * tl)
 
 
-def _spider(d):
+def _spider(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     caps = [Capsule((0, 0, 0), (0, 0, 0.08), 0.2 * tb),
             Capsule((-0.15 * fb, 0, 0.04), (-0.35 * fb, 0, 0.08), 0.17 * tb)]  # abdomen
@@ -257,7 +267,7 @@ def _spider(d):
     return caps
 
 
-def _ant(d):
+def _ant(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     rt, rh, ra = 0.085 * tb, 0.1 * tb, 0.14 * tb
     t1 = 0.18 * fb  # thorax from x = 0 to t1; head and abdomen overlap its ends
@@ -277,7 +287,7 @@ def _ant(d):
     return caps
 
 
-def _crab(d):
+def _crab(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     w = 0.22 * fb
     caps = [Capsule((0.03, -w, 0), (0.03, w, 0), 0.13 * tb),
@@ -304,7 +314,7 @@ def _crab(d):
     return caps
 
 
-def _octopus(d):
+def _octopus(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     fl, tl = d.group()
     caps = [Capsule((0, 0, 0.08), (d.u(-0.1, 0.1), 0, 0.08 + 0.32 * fb), 0.2 * tb)]
@@ -326,7 +336,7 @@ def _octopus(d):
     return caps
 
 
-def _starfish(d):
+def _starfish(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     fl, tl = d.group()
     caps = [Capsule((0, 0, -0.02), (0, 0, 0.02), 0.15 * tb)]
@@ -344,7 +354,7 @@ def _starfish(d):
     return caps
 
 
-def _hand(d):
+def _hand(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     fl, tl = d.group()
     h = 0.4 * fb
@@ -368,7 +378,7 @@ def _hand(d):
     return caps
 
 
-def _snake(d):
+def _snake(d: _Draw) -> list[Capsule]:
     fb, tb = d.group()
     p, heading, pitch = np.zeros(3), 0.0, 0.0
     caps = []
@@ -392,8 +402,9 @@ _BUILDERS = {
 
 
 # ---------------------------------------------------------------------- meshing
-def creature(kind="human", random_state=0, *, variation=1.0, vertices=(1500, 4000), noise=0.3,
-             voxelsize=None) -> Mesh:
+def creature(kind: str = "human", random_state: int | np.random.Generator | None = 0, *,
+             variation: float = 1.0, vertices: int | tuple[int, int] = (1500, 4000),
+             noise: float = 0.3, voxelsize: float | None = None) -> Mesh:
     """One member of a creature class: capsules, marching cubes, remesh, normal noise.
 
     Parameters
@@ -418,7 +429,8 @@ def creature(kind="human", random_state=0, *, variation=1.0, vertices=(1500, 400
         Closed and connected (the outer surface; a void enclosed where limbs cross is
         dropped).
     """
-    lo, hi = (vertices, vertices) if isinstance(vertices, numbers.Integral) else tuple(vertices)
+    lo, hi = ((vertices, vertices) if isinstance(vertices, (int, numbers.Integral))
+              else tuple(vertices))
     lo = _check_int("vertices", lo, 100, 1_000_000)
     hi = _check_int("vertices", hi, lo, 1_000_000)
     noise = check_real("noise", noise, min=0)
@@ -441,7 +453,8 @@ def creature(kind="human", random_state=0, *, variation=1.0, vertices=(1500, 400
     return mesh
 
 
-def creature_items(seed=1, members=10, kinds=None, params=None) -> list[dict]:
+def creature_items(seed: int = 1, members: int = 10, kinds: Iterable[str] | None = None,
+                   params: dict[str, Any] | None = None) -> list[dict[str, Any]]:
     """The items of a creature benchmark instance, as ``data_manifest.yaml`` items.
 
     Member ``k`` of the class at position ``c`` of :data:`CREATURE_KINDS` gets the item seed
@@ -469,7 +482,7 @@ def creature_items(seed=1, members=10, kinds=None, params=None) -> list[dict]:
     members = _check_int("members", members, 1, 999)
     kinds = CREATURE_KINDS if kinds is None else tuple(
         check_choice("kinds", k, CREATURE_KINDS) for k in kinds)
-    out = []
+    out: list[dict[str, Any]] = []
     for kind in kinds:
         ci = CREATURE_KINDS.index(kind)
         for k in range(members):

@@ -12,14 +12,23 @@ import tarfile
 import tempfile
 import zipfile
 from pathlib import Path, PurePosixPath
+from typing import TYPE_CHECKING, Any
 
 from .folders import _manual_message
 from .manifest import _entry, _find_item, load_manifest
 from .paths import _removing_new_folders, collection_path
 
+if TYPE_CHECKING:
+    import os
+    from collections.abc import Iterable
+
+    #: a path; a manifest: its path, or the parsed manifest
+    _StrPath = str | os.PathLike[str]
+    _Manifest = str | os.PathLike[str] | dict[str, Any]
+
 
 # ====================================================================== downloads
-def extract_archive(archive, target) -> Path:
+def extract_archive(archive: _StrPath, target: _StrPath) -> Path:
     """Unpack a .zip or .tar(.gz/.bz2/.xz) archive into ``target``, refusing to escape it.
 
     Members with absolute paths, ``..`` components, or (for tar) links and device files are
@@ -99,7 +108,8 @@ def _check_member(name: str, archive: Path) -> None:
         )
 
 
-def fetch(name, *, items=None, cache_dir=None, progress=True, manifest=None) -> list[Path]:
+def fetch(name: str, *, items: Iterable[str] | None = None, cache_dir: _StrPath | None = None,
+          progress: bool = True, manifest: _Manifest | None = None) -> list[Path]:
     """Download the files of a ``download`` collection into the cache (only when called).
 
     Uses pooch: each file is downloaded to a temporary name, checked against the manifest's
@@ -178,7 +188,7 @@ def fetch(name, *, items=None, cache_dir=None, progress=True, manifest=None) -> 
     return out
 
 
-def _download_error(exc, collection, item) -> Exception:
+def _download_error(exc: BaseException, collection: str, item: dict[str, Any]) -> Exception:
     """One clear error for a failed download: ConnectionError, ValueError or OSError."""
     text = " ".join(str(exc).split())
     where = f"cannot download {collection}/{item['name']} from {item['url']}"

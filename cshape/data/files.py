@@ -6,14 +6,18 @@ import hashlib
 import json
 import zipfile
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..mesh import Mesh
 from ..readers import load_mesh
 
+if TYPE_CHECKING:
+    import os
 
-def _read_npz(path: Path, record=None) -> Mesh:
+
+def _read_npz(path: Path, record: dict[str, Any] | None = None) -> Mesh:
     """Read a cached mesh (arrays only: pickled objects are refused, never executed).
 
     With ``record``, the recipe stored in the file must be that record: a file copied or
@@ -85,7 +89,7 @@ class _VerifiedLoader(_FileLoader):
         return super().__call__()
 
 
-def read_vert_tri(vert_path) -> Mesh:
+def read_vert_tri(vert_path: str | os.PathLike[str]) -> Mesh:
     """Read a TOSCA mesh: ``NAME.vert`` (x y z per line) and ``NAME.tri`` (1-based triangles)."""
     vert_path = Path(vert_path)
     tri_path = vert_path.with_suffix(".tri")

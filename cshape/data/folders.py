@@ -7,10 +7,14 @@ from __future__ import annotations
 import csv
 import re
 from pathlib import Path, PurePosixPath
+from typing import TYPE_CHECKING, Any
 
 from ..readers import MESH_SUFFIXES, split_mesh_name
 from .files import _file_loader
 from .manifest import Collection, Item
+
+if TYPE_CHECKING:
+    import os
 
 
 # ====================================================================== local folders
@@ -23,12 +27,12 @@ def _mesh_files(folder: Path) -> list[Path]:
     )
 
 
-def _suffix(p) -> str:
+def _suffix(p: str | os.PathLike[str]) -> str:
     """The format suffix of a mesh file, looking through ``.gz`` (``a.off.gz`` -> ``.off``)."""
     return split_mesh_name(p)[1]
 
 
-def _stem(p) -> str:
+def _stem(p: str | os.PathLike[str]) -> str:
     """The name of a mesh file without ``.gz`` and its format suffix."""
     return split_mesh_name(p)[0]
 
@@ -39,7 +43,8 @@ def _item_names(rels: list[PurePosixPath]) -> list[str]:
     return stems if unique else [str(r.parent / _stem(r)) for r in rels]
 
 
-def load_folder(folder, labels="subfolder", *, name=None) -> Collection:
+def load_folder(folder: str | os.PathLike[str], labels: str | os.PathLike[str] = "subfolder", *,
+                name: str | None = None) -> Collection:
     """Read a folder of meshes as a collection with class labels.
 
     Parameters
@@ -129,7 +134,7 @@ _MCGILL_GROUPS = {"articulated", "nonarticulated", "non-articulated", "non_artic
 _MCGILL_SKIP = {"ply", "off", "obj", "im", "models", "mesh", "meshes"}
 
 
-def read_mcgill(folder) -> Collection:
+def read_mcgill(folder: str | os.PathLike[str]) -> Collection:
     """Read the McGill 3D Shape Benchmark as unpacked from its per-class archives.
 
     Layout: one folder per class (``ants/``, ``crabs/``, ``teddy-bears/``, ...), possibly
@@ -158,7 +163,7 @@ def read_mcgill(folder) -> Collection:
 
 
 
-def read_tosca(folder) -> Collection:
+def read_tosca(folder: str | os.PathLike[str]) -> Collection:
     """Read TOSCA (high-resolution) as unpacked from ``toscahires-asci.zip``.
 
     Layout: ``cat0.vert`` + ``cat0.tri``, ``centaur1.vert`` + ..., at any depth (``.off``
@@ -188,7 +193,7 @@ SHREC07_CLASSES = (
 )
 
 
-def read_shrec07(folder) -> Collection:
+def read_shrec07(folder: str | os.PathLike[str]) -> Collection:
     """Read the SHREC'07 watertight track: ``1.off`` ... ``400.off`` at any depth.
 
     Model ``n`` belongs to class ``SHREC07_CLASSES[(n - 1) // 20]``; files not named by a
@@ -209,14 +214,14 @@ def read_shrec07(folder) -> Collection:
     return Collection("shrec07-watertight", items, {"layout": "shrec07", "path": str(folder)})
 
 
-def _natural_key(s):
+def _natural_key(s: str) -> list[int | str]:
     return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", s)]
 
 
 _LAYOUT_READERS = {"mcgill": read_mcgill, "tosca": read_tosca, "shrec07": read_shrec07}
 
 
-def _manual_message(entry, folder) -> str:
+def _manual_message(entry: dict[str, Any], folder: str | os.PathLike[str]) -> str:
     env = entry.get("path_env")
     return (
         f"collection {entry['name']!r} is not on this machine: its terms ({entry['license']}) "

@@ -5,25 +5,30 @@ from __future__ import annotations
 import contextlib
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from .._files import cache_root
 from .manifest import _entry
 
+if TYPE_CHECKING:
+    from collections.abc import Iterator
 
-def cache_dir(path=None) -> Path:
+
+def cache_dir(path: str | os.PathLike[str] | None = None) -> Path:
     """The cache folder: ``path``, else ``$CSHAPE_CACHE``, else the user cache folder
     (``~/.cache/cshape`` on Linux).  Not created here."""
     return cache_root(path)
 
 
-def _env_path(entry) -> Path | None:
+def _env_path(entry: dict[str, Any]) -> Path | None:
     env = entry.get("path_env")
     if env and os.environ.get(env):
         return Path(os.environ[env]).expanduser()
     return None
 
 
-def collection_path(name, *, cache_dir=None, manifest=None) -> Path:
+def collection_path(name: str, *, cache_dir: str | os.PathLike[str] | None = None,
+                    manifest: str | os.PathLike[str] | dict[str, Any] | None = None) -> Path:
     """Where collection ``name`` lives on disk (it may not exist yet).
 
     generated: ``<cache>/generated/<name>``; download: ``$<path_env>`` if set, else
@@ -54,12 +59,12 @@ def collection_path(name, *, cache_dir=None, manifest=None) -> Path:
     return p if p.is_absolute() else (Path(entry.get("_root", ".")) / p).resolve()
 
 
-def _cache_root(path) -> Path:
+def _cache_root(path: str | os.PathLike[str] | None) -> Path:
     return cache_dir(path)
 
 
 @contextlib.contextmanager
-def _removing_new_folders(folder):
+def _removing_new_folders(folder: str | os.PathLike[str]) -> Iterator[None]:
     """On an error, remove the folders at and below ``folder`` this block created and left
     empty (and the parents of ``folder`` it created), so a failed download or build leaves
     the disk as it found it, apart from complete, checked files."""

@@ -23,12 +23,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._checks import check_bool, check_choice, check_int, check_real
 from ..mesh import Mesh, as_mesh
 from .variants import Capsule, capsules_expression, marching_cubes, remesh
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from numpy.typing import ArrayLike
+
+    from ..mesh import MeshLike
 
 __all__ = [
     "POSED_KINDS", "mirror_map", "pose", "pose_template", "posed_figure", "skin_weights",
@@ -59,12 +67,12 @@ class _Bone:
     dofs: tuple = field(default_factory=tuple)  # _Joint rotations, applied in order
 
 
-def _unit(v):
+def _unit(v: ArrayLike) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     return v / np.linalg.norm(v)
 
 
-def _human():
+def _human() -> list[_Bone]:
     bones = [_Bone("torso", -1, (0, 0, 0), (Capsule((0, 0, 0), (0, 0, 0.55), 0.16),))]
     bones.append(_Bone(
         "head", 0, (0, 0, 0.55),
@@ -98,7 +106,7 @@ def _human():
     return bones
 
 
-def _quadruped():
+def _quadruped() -> list[_Bone]:
     bones = [_Bone("body", -1, (0, 0, 0), (Capsule((-0.45, 0, 0), (0.45, 0, 0), 0.17),))]
     neck_dir = _unit([np.cos(np.radians(45)), 0, np.sin(np.radians(45))])
     n0 = np.array([0.45, 0.0, 0.05])
@@ -137,12 +145,12 @@ _SKELETONS = {"human": _human, "quadruped": _quadruped}
 _MIRROR_AXIS = {"human": 0, "quadruped": 1}
 
 
-def _skeleton(kind):
+def _skeleton(kind: str) -> list[_Bone]:
     return _SKELETONS[check_choice("kind", kind, POSED_KINDS)]()
 
 
 @lru_cache(maxsize=8)
-def _template(kind, voxelsize, target_vertices):
+def _template(kind: str, voxelsize: float, target_vertices: int) -> Mesh:
     caps = [c for b in _skeleton(kind) for c in b.capsules]
     pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
     margin = max(c.radius for c in caps) + 4 * voxelsize + 0.05
@@ -151,7 +159,8 @@ def _template(kind, voxelsize, target_vertices):
     return remesh(mesh, target_vertices=target_vertices)
 
 
-def pose_template(kind="human", *, voxelsize=0.02, target_vertices=3000) -> Mesh:
+def pose_template(kind: str = "human", *, voxelsize: float = 0.02, target_vertices: int = 3000
+                  ) -> Mesh:
     """The template of a class: the rest pose, meshed once (marching cubes and remeshing).
 
     Parameters
@@ -173,7 +182,7 @@ def pose_template(kind="human", *, voxelsize=0.02, target_vertices=3000) -> Mesh
     return _template(kind, voxelsize, target_vertices)
 
 
-def _segment_distance(x, a, b):
+def _segment_distance(x: np.ndarray, a: ArrayLike, b: ArrayLike) -> np.ndarray:
     """Distances from points ``x`` (n, 3) to the segment ``a b``."""
     a, b = np.asarray(a, float), np.asarray(b, float)
     d = b - a
@@ -182,7 +191,7 @@ def _segment_distance(x, a, b):
     return np.linalg.norm(x - (a + s[:, None] * d), axis=1)
 
 
-def skin_weights(kind, vertices, *, width=BLEND_WIDTH) -> np.ndarray:
+def skin_weights(kind: str, vertices: ArrayLike, *, width: float = BLEND_WIDTH) -> np.ndarray:
     """Linear-blend-skinning weights of rest-pose points, shape (n, number of bones).
 
     ``w_b ~ (1 - s_b^2)^2`` for ``s_b = (d_b - d_min) / width < 1`` and 0 beyond (a smooth
@@ -194,7 +203,8 @@ def skin_weights(kind, vertices, *, width=BLEND_WIDTH) -> np.ndarray:
     return _blend_weights(_skeleton(kind), vertices, width)
 
 
-def _blend_weights(bones, vertices, width=BLEND_WIDTH) -> np.ndarray:
+def _blend_weights(bones: Sequence[_Bone], vertices: ArrayLike, width: float = BLEND_WIDTH
+                   ) -> np.ndarray:
     """:func:`skin_weights` for any skeleton (a list of ``_Bone``)."""
     x = np.asarray(vertices, dtype=float)
     D = np.stack([
@@ -206,7 +216,7 @@ def _blend_weights(bones, vertices, width=BLEND_WIDTH) -> np.ndarray:
     return W / W.sum(axis=1, keepdims=True)
 
 
-def _rotation(axis, deg):
+def _rotation(axis: ArrayLike, deg: float) -> np.ndarray:
     """Rotation matrix about a unit ``axis`` by ``deg`` degrees (Rodrigues)."""
     k = _unit(axis)
     K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
@@ -214,9 +224,10 @@ def _rotation(axis, deg):
     return np.eye(3) + np.sin(t) * K + (1 - np.cos(t)) * (K @ K)
 
 
-def _bone_transforms(bones, angles):
+def _bone_transforms(bones: Sequence[_Bone], angles: Sequence[Sequence[float]]
+                     ) -> list[tuple[np.ndarray, np.ndarray]]:
     """World transforms (R, t) of every bone, ``x -> R x + t``, from forward kinematics."""
-    out = []
+    out: list[tuple[np.ndarray, np.ndarray]] = []
     for b, ang in zip(bones, angles, strict=True):
         R_loc = np.eye(3)
         for dof, a in zip(b.dofs, ang, strict=True):
@@ -231,7 +242,8 @@ def _bone_transforms(bones, angles):
     return out
 
 
-def pose(template, kind="human", random_state=0) -> Mesh:
+def pose(template: MeshLike, kind: str = "human",
+         random_state: int | np.random.Generator | None = 0) -> Mesh:
     """Move the vertices of a class's template into a pose drawn from ``random_state``.
 
     Parameters
@@ -265,8 +277,9 @@ def pose(template, kind="human", random_state=0) -> Mesh:
     return Mesh(out, template.faces)
 
 
-def posed_figure(kind="human", random_state=0, *, rest=False, voxelsize=0.02,
-                 target_vertices=3000) -> Mesh:
+def posed_figure(kind: str = "human", random_state: int | np.random.Generator | None = 0, *,
+                 rest: bool = False, voxelsize: float = 0.02, target_vertices: int = 3000
+                 ) -> Mesh:
     """A pose of a class: :func:`pose` of the class's cached :func:`pose_template`.
 
     Parameters
@@ -290,7 +303,7 @@ def posed_figure(kind="human", random_state=0, *, rest=False, voxelsize=0.02,
     return pose(template, kind, random_state)
 
 
-def mirror_map(kind, mesh) -> np.ndarray:
+def mirror_map(kind: str, mesh: Mesh) -> np.ndarray:
     """The template's left-right mirror as a vertex map, shape (n,).
 
     ``mirror[i]`` is the vertex nearest to the reflection of vertex ``i`` of the rest pose

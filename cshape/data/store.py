@@ -8,6 +8,7 @@ import hashlib
 import json
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -19,6 +20,15 @@ from .files import _file_loader, _FileLoader, _read_npz, _VerifiedLoader
 from .folders import _LAYOUT_READERS, _manual_message, load_folder
 from .manifest import RECIPES_VERSION, Collection, Item, _entry, _find_item, _recipes, load_manifest
 from .paths import _cache_root, _removing_new_folders, collection_path
+
+if TYPE_CHECKING:
+    import os
+    from collections.abc import Iterable
+
+    #: a path; a manifest: its path, or the parsed manifest; the entries of a manifest
+    _StrPath = str | os.PathLike[str]
+    _Manifest = str | os.PathLike[str] | dict[str, Any]
+    _Entries = dict[str, dict[str, Any]]
 
 # ====================================================================== cache
 
@@ -32,7 +42,7 @@ def _pymeshlab_version() -> str:
         return "unknown"
 
 
-def _recipe_record(entries, coll, item) -> dict:
+def _recipe_record(entries: _Entries, coll: str, item: dict[str, Any]) -> dict[str, Any]:
     rec = {
         "recipe": item["recipe"],
         "params": item.get("params") or {},
@@ -47,14 +57,14 @@ def _recipe_record(entries, coll, item) -> dict:
     return rec
 
 
-def _key(record) -> str:
+def _key(record: dict[str, Any]) -> str:
     blob = json.dumps(record, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 
 
 
-def _atomic_save_npz(path: Path, **arrays) -> None:
+def _atomic_save_npz(path: Path, **arrays: Any) -> None:
     """Write ``arrays`` to ``path`` as .npz atomically (see :func:`cshape._files.atomic_write`)."""
     hint = "pass cache_dir= or set CSHAPE_CACHE to a writable folder"
     make_folder(path.parent, what="cache folder", hint=hint)
@@ -63,12 +73,13 @@ def _atomic_save_npz(path: Path, **arrays) -> None:
 
 
 
-def _cache_file(entries, coll, item, root: Path) -> Path:
+def _cache_file(entries: _Entries, coll: str, item: dict[str, Any], root: Path) -> Path:
     key = _key(_recipe_record(entries, coll, item))
     return root / "generated" / coll / f"{item['name']}-{key}.npz"
 
 
-def _generated_mesh(entries, coll, item, root: Path) -> tuple[Mesh, bool]:
+def _generated_mesh(entries: _Entries, coll: str, item: dict[str, Any], root: Path
+                    ) -> tuple[Mesh, bool]:
     """Return (mesh, built) for a generated item, from the cache or by building it."""
     path = _cache_file(entries, coll, item, root)
     record = _recipe_record(entries, coll, item)
@@ -100,7 +111,8 @@ def _generated_mesh(entries, coll, item, root: Path) -> tuple[Mesh, bool]:
 
 # ====================================================================== loading
 def load_collection(
-    name, *, cache_dir=None, download=False, progress=None, manifest=None, n_jobs=1
+    name: str, *, cache_dir: _StrPath | None = None, download: bool = False,
+    progress: bool | None = None, manifest: _Manifest | None = None, n_jobs: int = 1
 ) -> Collection:
     """Load a collection: its meshes with names and class labels.
 
@@ -183,12 +195,13 @@ def load_collection(
     return Collection(name, items, meta)
 
 
-def _build_one(task) -> None:
+def _build_one(task: tuple[_Entries, str, dict[str, Any], str]) -> None:
     entries, coll, item, root = task
     _generated_mesh(entries, coll, item, Path(root))
 
 
-def _build_in_processes(entries, name, root, n_jobs, progress) -> None:
+def _build_in_processes(entries: _Entries, name: str, root: Path, n_jobs: int,
+                        progress: bool | None) -> None:
     """Build the missing items of a generated collection (those without a base) in
     ``n_jobs`` processes; each writes its cache file atomically, as a serial build does."""
     n_jobs = check_int("n_jobs", n_jobs, min=1)  # worker processes
@@ -205,7 +218,8 @@ def _build_in_processes(entries, name, root, n_jobs, progress) -> None:
             bar.update(1)
 
 
-def load(name, item, *, cache_dir=None, download=False, manifest=None) -> Mesh:
+def load(name: str, item: str, *, cache_dir: _StrPath | None = None, download: bool = False,
+         manifest: _Manifest | None = None) -> Mesh:
     """One mesh of a collection, e.g. ``load("paper-models", "CM")``.
 
     Parameters
@@ -240,8 +254,9 @@ def load(name, item, *, cache_dir=None, download=False, manifest=None) -> Mesh:
     return load_collection(name, cache_dir=cache_dir, manifest=entries)[item].mesh
 
 
-def load_creatures(seed=1, members=10, kinds=None, *, cache_dir=None, progress=None,
-                   n_jobs=1, **params) -> Collection:
+def load_creatures(seed: int = 1, members: int = 10, kinds: Iterable[str] | None = None, *,
+                   cache_dir: _StrPath | None = None, progress: bool | None = None,
+                   n_jobs: int = 1, **params: Any) -> Collection:
     """An instance of the creature benchmark (:mod:`cshape.data.creatures`) for any seed.
 
     The manifest's ``creatures-dev`` is ``load_creatures(0)``, ``creatures`` (held out) is
@@ -300,17 +315,17 @@ def load_creatures(seed=1, members=10, kinds=None, *, cache_dir=None, progress=N
 
 
 class _NoBar:
-    def __enter__(self):
+    def __enter__(self) -> _NoBar:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> Literal[False]:
         return False
 
-    def update(self, n=1):
+    def update(self, n: int = 1) -> None:
         pass
 
 
-def _progress(total, desc, progress):
+def _progress(total: int, desc: str, progress: bool | None) -> Any:
     if progress is False:
         return _NoBar()
     try:
@@ -323,7 +338,8 @@ def _progress(total, desc, progress):
 
 
 
-def build(name, *, cache_dir=None, progress=None, archive=None, manifest=None) -> Path:
+def build(name: str, *, cache_dir: _StrPath | None = None, progress: bool | None = None,
+          archive: _StrPath | None = None, manifest: _Manifest | None = None) -> Path:
     """Make a collection available offline and return its folder.
 
     generated: build every missing item into the cache; download (pinned files): fetch them;

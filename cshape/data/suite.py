@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import numbers
 from functools import lru_cache
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -49,6 +50,17 @@ from .variants import (
     marching_cubes,
     remesh,
 )
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+
+    from numpy.typing import ArrayLike
+
+    from .poses import _Bone
+
+    #: how a bone's points map into an identity: (joint, length factor, thickness factor,
+    #: the trunk's unit axis or None)
+    _Scale = tuple[np.ndarray, float, float, np.ndarray | None]
 
 __all__ = [
     "BENCHMARKS",
@@ -99,12 +111,12 @@ RESOLUTION_LEVELS = {
 }
 
 
-def _group(bone_name):
+def _group(bone_name: str) -> str:
     return _GROUPS[bone_name.rstrip("-0123456789_")]  # 'leg_-1_1' -> 'leg'
 
 
 # ---------------------------------------------------------------------- identities
-def _map_point(bone, scale, x):
+def _map_point(bone: _Bone, scale: _Scale, x: ArrayLike) -> np.ndarray:
     """The rest-pose point ``x`` of ``bone`` in the identity: ``(J, L, T, axis)`` of
     ``scale``; along the bone's axis by ``L``, across it by ``T`` (the trunk) or by ``L``."""
     J, L, T, axis = scale
@@ -115,7 +127,8 @@ def _map_point(bone, scale, x):
     return J + L * along + T * (v - along)
 
 
-def identity_bones(kind="human", random_state=0, *, variation=1.0) -> list:
+def identity_bones(kind: str = "human", random_state: int | np.random.Generator | None = 0, *,
+                   variation: float = 1.0) -> list[_Bone]:
     """The skeleton of an identity: the class's bones with its own proportions.
 
     Every limb group (trunk, head, arms, legs, tail) gets a length factor ``L`` and a
@@ -134,12 +147,13 @@ def identity_bones(kind="human", random_state=0, *, variation=1.0) -> list:
     variation = check_real("variation", variation, min=0)
     rng = np.random.default_rng(random_state)
     bones = _skeleton(kind)
-    factors = {}
+    factors: dict[str, tuple[float, float]] = {}
     for g in dict.fromkeys(_group(b.name) for b in bones):
         sl = np.log1p(IDENTITY_LENGTH_SPREAD * variation)
         st = np.log1p(IDENTITY_THICKNESS_SPREAD * variation)
         factors[g] = (float(np.exp(rng.uniform(-sl, sl))), float(np.exp(rng.uniform(-st, st))))
-    scales, out = [], []
+    scales: list[_Scale] = []
+    out: list[_Bone] = []
     for b in bones:
         L, T = factors[_group(b.name)]
         if b.parent < 0:
@@ -158,7 +172,7 @@ def identity_bones(kind="human", random_state=0, *, variation=1.0) -> list:
 
 
 @lru_cache(maxsize=64)
-def _identity_surface(kind, seed, variation, voxelsize):
+def _identity_surface(kind: str, seed: int, variation: float, voxelsize: float) -> Mesh:
     caps = [c for b in identity_bones(kind, seed, variation=variation) for c in b.capsules]
     pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
     margin = max(c.radius for c in caps) + 4 * voxelsize + 0.05
@@ -167,13 +181,15 @@ def _identity_surface(kind, seed, variation, voxelsize):
 
 
 @lru_cache(maxsize=64)
-def _identity_template(kind, seed, variation, voxelsize, vertices):
+def _identity_template(kind: str, seed: int, variation: float, voxelsize: float, vertices: int
+                       ) -> Mesh:
     mesh = remesh(_identity_surface(kind, seed, variation, voxelsize), target_vertices=vertices)
     return largest_component(mesh) if mesh.n_components > 1 else mesh
 
 
-def identity_pose(kind="human", random_state=0, *, pose=0, vertices=1200, variation=1.0,
-                  noise=0.3, voxelsize=0.015) -> Mesh:
+def identity_pose(kind: str = "human", random_state: int = 0, *, pose: int = 0,
+                  vertices: int = 1200, variation: float = 1.0, noise: float = 0.3,
+                  voxelsize: float = 0.015) -> Mesh:
     """One pose of one identity at one resolution.
 
     Parameters
@@ -224,8 +240,10 @@ def identity_pose(kind="human", random_state=0, *, pose=0, vertices=1200, variat
     return mesh
 
 
-def identity_items(seed=1, identities=6, poses=8, resolutions=(1200, 2800),
-                   kinds=IDENTITY_KINDS, params=None) -> list[dict]:
+def identity_items(seed: int = 1, identities: int = 6, poses: int = 8,
+                   resolutions: Iterable[int] = (1200, 2800),
+                   kinds: Iterable[str] = IDENTITY_KINDS, params: dict[str, Any] | None = None
+                   ) -> list[dict[str, Any]]:
     """The items of an identity benchmark instance, as ``data_manifest.yaml`` items.
 
     Identity ``k`` of the kind at position ``c`` of :data:`IDENTITY_KINDS` gets the seed
@@ -237,7 +255,7 @@ def identity_items(seed=1, identities=6, poses=8, resolutions=(1200, 2800),
     poses = _check_int("poses", poses, 1, 999)
     res = [_check_int("resolutions", int(r) if isinstance(r, numbers.Integral) else r, 100)
            for r in resolutions]
-    out = []
+    out: list[dict[str, Any]] = []
     for kind in kinds:
         ci = IDENTITY_KINDS.index(check_choice("kinds", kind, IDENTITY_KINDS))
         for k in range(identities):
@@ -254,7 +272,7 @@ def identity_items(seed=1, identities=6, poses=8, resolutions=(1200, 2800),
 
 # ---------------------------------------------------------------------- resolutions
 @lru_cache(maxsize=16)
-def _fine_surface(kind, seed, voxelsize):
+def _fine_surface(kind: str, seed: int, voxelsize: float) -> Mesh:
     caps = creature_capsules(kind, seed)
     rmin = min(c.radius for c in caps)
     vs = min(voxelsize, rmin / 2.2)
@@ -264,7 +282,7 @@ def _fine_surface(kind, seed, voxelsize):
     return marching_cubes(capsules_expression(caps, cutoff=3 * vs), box, vs)
 
 
-def _decimate(mesh, vertices):
+def _decimate(mesh: Mesh, vertices: int) -> Mesh:
     ms = _meshset(mesh)
     # every parameter given, the others at PyMeshLab's defaults (see variants.remesh: one
     # left out may take an earlier call's value)
@@ -276,8 +294,8 @@ def _decimate(mesh, vertices):
     return _from_meshset(ms, what="quadric decimation")
 
 
-def resolution_shape(kind="human", random_state=0, *, level="coarse",
-                     voxelsize=0.025) -> Mesh:
+def resolution_shape(kind: str = "human", random_state: int = 0, *, level: str = "coarse",
+                     voxelsize: float = 0.025) -> Mesh:
     """One creature (:func:`cshape.data.creatures.creature_capsules`) in one meshing.
 
     Parameters
@@ -305,8 +323,9 @@ def resolution_shape(kind="human", random_state=0, *, level="coarse",
     return largest_component(mesh) if mesh.n_components > 1 else mesh
 
 
-def resolution_items(seed=1, members=2, kinds=None, levels=tuple(RESOLUTION_LEVELS),
-                     params=None) -> list[dict]:
+def resolution_items(seed: int = 1, members: int = 2, kinds: Iterable[str] | None = None,
+                     levels: Iterable[str] = tuple(RESOLUTION_LEVELS),
+                     params: dict[str, Any] | None = None) -> list[dict[str, Any]]:
     """The items of a resolution benchmark instance: ``members`` creatures of every kind,
     each a class ``<kind>-<k>``, in every meshing of ``levels`` (``<kind>-<k>-<level>``).
 
@@ -314,7 +333,7 @@ def resolution_items(seed=1, members=2, kinds=None, levels=tuple(RESOLUTION_LEVE
     no shape is also a member of a creature benchmark instance.
     """
     levels = [check_choice("levels", lv, tuple(RESOLUTION_LEVELS)) for lv in levels]
-    out = []
+    out: list[dict[str, Any]] = []
     for it in creature_items(seed=seed, members=members, kinds=kinds):
         for level in levels:
             out.append({"name": f"{it['name']}-{level}",

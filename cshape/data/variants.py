@@ -23,9 +23,10 @@ from __future__ import annotations
 import warnings
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .._checks import check_bool, check_choice, check_int, check_real
 from ..mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
@@ -62,7 +63,7 @@ MAX_OUTPUT_FACES = 20_000_000
 
 
 # ---------------------------------------------------------------------- PyMeshLab glue
-def _meshset(mesh=None):
+def _meshset(mesh: MeshLike | None = None) -> Any:
     import pymeshlab
 
     ms = pymeshlab.MeshSet()
@@ -72,7 +73,7 @@ def _meshset(mesh=None):
     return ms
 
 
-def _from_meshset(ms, *, what: str) -> Mesh:
+def _from_meshset(ms: Any, *, what: str) -> Mesh:
     m = ms.current_mesh()
     if m.face_number() == 0:
         raise ValueError(f"{what} produced no triangles; check its parameters")
@@ -466,13 +467,14 @@ def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = N
     return expr
 
 
-def _dir(azimuth, elevation):
+def _dir(azimuth: float, elevation: float) -> np.ndarray:
     """Unit vector from azimuth (about z, from +x) and elevation (from the xy-plane), degrees."""
     az, el = np.radians(azimuth), np.radians(elevation)
     return np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
 
 
-def _limb(start, dirs, lengths, radius):
+def _limb(start: ArrayLike, dirs: Sequence[ArrayLike], lengths: Sequence[float], radius: float
+          ) -> list[Capsule]:
     out, p = [], np.asarray(start, dtype=float)
     for d, length in zip(dirs, lengths, strict=True):
         q = p + length * np.asarray(d)
@@ -553,12 +555,12 @@ def figure_capsules(kind: str, random_state: int | np.random.Generator | None = 
     return caps
 
 
-def _rot_z(v, deg):
+def _rot_z(v: np.ndarray, deg: float) -> np.ndarray:
     c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
     return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]])
 
 
-def _bend(v, deg, towards):
+def _bend(v: np.ndarray, deg: float, towards: np.ndarray) -> np.ndarray:
     """Rotate unit vector ``v`` by ``deg`` degrees in the plane spanned by ``v`` and ``towards``."""
     w = towards - np.dot(towards, v) * v
     nw = np.linalg.norm(w)

@@ -524,7 +524,7 @@ def class_medians(Y: ArrayLike, labels: Sequence[Any]) -> list[tuple[str, NDArra
     return [(lab[i], np.median(Y[codes == c], axis=0)) for c, i in seen.items()]
 
 
-def plot_mds(Y: ArrayLike, names: Sequence[str] | None = None,
+def plot_mds(Y: ArrayLike, names: Sequence[Any] | None = None,
              labels: Sequence[Any] | None = None, *, ax: Axes | None = None,
              title: str | None = None, figsize: tuple[float, float] = (5.0, 4.5),
              max_names: int = MDS_MAX_NAMES, legend: bool | str = True,

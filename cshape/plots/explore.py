@@ -23,7 +23,7 @@ import html
 import os
 import warnings
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -41,6 +41,19 @@ from .collection import (
     short_label,
     short_labels,
 )
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    import plotly.graph_objects as go
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+    from ..batch import DescriptorTable
+    from ..mesh import MeshLike
+
+    #: a distance matrix, shape (p, p)
+    _Matrix = np.ndarray | Sequence[Sequence[float]]
 
 __all__ = [
     "CollectionDistances",
@@ -117,14 +130,14 @@ class CollectionDistances(NamedTuple):
 
     D: np.ndarray
     rows: np.ndarray
-    names: list
-    labels: list
-    left_out: list
+    names: list[str]
+    labels: list[str]
+    left_out: list[tuple[str, str]]
     descriptor: str
     kind: str
 
 
-def collection_distances(table, kind: str | None = None, *, M: int | None = None,
+def collection_distances(table: DescriptorTable, kind: str | None = None, *, M: int | None = None,
                          N: int | None = None, transform: str | None = None,
                          normalization: str | None = None,
                          descriptor: Descriptor | None = None) -> CollectionDistances:
@@ -190,7 +203,7 @@ def collection_distances(table, kind: str | None = None, *, M: int | None = None
 
 
 # =========================================================================== classes
-def class_summary(D, labels) -> list[dict]:
+def class_summary(D: ArrayLike, labels: Sequence[object]) -> list[dict[str, Any]]:
     """One row per class: its size, spread, nearest other class and how often its shapes'
     nearest neighbour is of the class.
 
@@ -211,7 +224,7 @@ def class_summary(D, labels) -> list[dict]:
     A = check_square(D, "D")
     codes = check_labels(labels, len(A))
     lab = [str(x) for x in labels]
-    first = {}
+    first: dict[int, int] = {}
     for i, c in enumerate(codes):
         first.setdefault(int(c), i)
     B = A.copy()
@@ -238,15 +251,17 @@ def class_summary(D, labels) -> list[dict]:
 
 
 # =========================================================================== interactive MDS
-def _rgb(colour) -> str:
+def _rgb(colour: Any) -> str:
     r, g, b = (int(round(255 * x)) for x in colour[:3])
     return f"rgb({r},{g},{b})"
 
 
-def _hover_texts(names, labels, D, k, lay):
+def _hover_texts(names: Sequence[object], labels: Sequence[object] | None,
+                 D: _Matrix | None, k: int, lay: dict[str, Any]) -> list[str]:
     p = len(names)
-    texts = []
-    ind = dist = None
+    texts: list[str] = []
+    ind: Any = None
+    dist: Any = None
     if D is not None and p > 1:
         ind, dist = nearest_neighbours(D, k)
     for i in range(p):
@@ -264,8 +279,9 @@ def _hover_texts(names, labels, D, k, lay):
     return texts
 
 
-def interactive_mds(Y, names, labels=None, *, D=None, k=3, title=None, outliers="auto",
-                    height=650):
+def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = None,
+                    *, D: _Matrix | None = None, k: int = 3, title: str | None = None,
+                    outliers: str | ArrayLike | None = "auto", height: int = 650) -> go.Figure:
     """The MDS of a collection as an interactive plotly figure.
 
     Hovering a point shows its name, class and its ``k`` nearest shapes with their
@@ -349,7 +365,8 @@ def interactive_mds(Y, names, labels=None, *, D=None, k=3, title=None, outliers=
     return fig
 
 
-def figure_html(fig, *, full_html=True, include_plotlyjs=True) -> str:
+def figure_html(fig: go.Figure, *, full_html: bool = True, include_plotlyjs: bool | str = True
+                ) -> str:
     """A plotly figure as HTML that works offline: plotly.js embedded in the page (no CDN),
     no MathJax."""
     return fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
@@ -357,7 +374,8 @@ def figure_html(fig, *, full_html=True, include_plotlyjs=True) -> str:
 
 
 # =========================================================================== thumbnails
-def thumbnail_mesh(mesh, max_faces=THUMBNAIL_FACES):
+def thumbnail_mesh(mesh: MeshLike, max_faces: int = THUMBNAIL_FACES
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """A lighter copy of a mesh for a thumbnail: vertex clustering on a grid.
 
     Vertices in one cell of a regular grid merge into their mean; triangles that lose a
@@ -400,7 +418,7 @@ def thumbnail_mesh(mesh, max_faces=THUMBNAIL_FACES):
         cells *= 0.8
 
 
-def guess_vertical_axis(path) -> str:
+def guess_vertical_axis(path: str | os.PathLike[str]) -> str:
     """The up axis by the file format's habit: ``'y'`` for OBJ, glTF and COLLADA (modelling
     tools), ``'z'`` for the rest (scanners and CAD: PLY, STL, OFF, ...)."""
     from ..readers import split_mesh_name
@@ -409,13 +427,14 @@ def guess_vertical_axis(path) -> str:
     return "y" if suffix in (".obj", ".gltf", ".glb", ".dae") else "z"
 
 
-def _axes_list(vertical_axis, n):
+def _axes_list(vertical_axis: str | Sequence[str], n: int) -> list[str]:
     if isinstance(vertical_axis, str):
         return [vertical_axis] * n
     return check_entries("vertical_axis", vertical_axis, n, of="the strip", unit="meshes")
 
 
-def _strip_texts(names, distances, labels, n):
+def _strip_texts(names: Sequence[object], distances: ArrayLike,
+                 labels: Sequence[object] | None, n: int) -> tuple[list[str], np.ndarray]:
     check_entries("names", names, n, of="the strip", unit="meshes (the query first)")
     d = np.asarray(distances, dtype=np.float64).reshape(-1)
     check_entries("distances", d, n - 1, of="the strip",
@@ -426,8 +445,11 @@ def _strip_texts(names, distances, labels, n):
     return heads, d
 
 
-def plot_neighbour_strip(meshes, names, distances, *, labels=None, title=None,
-                         vertical_axis="z", max_faces=THUMBNAIL_FACES, ncols=6, size=2.3):
+def plot_neighbour_strip(meshes: Sequence[MeshLike], names: Sequence[object],
+                         distances: ArrayLike, *, labels: Sequence[object] | None = None,
+                         title: str | None = None, vertical_axis: str | Sequence[str] = "z",
+                         max_faces: int = THUMBNAIL_FACES, ncols: int = 6, size: float = 2.3
+                         ) -> Figure:
     """A query and its nearest shapes, rendered side by side with their distances.
 
     Parameters
@@ -485,14 +507,17 @@ def plot_neighbour_strip(meshes, names, distances, *, labels=None, title=None,
     return fig
 
 
-def _camera(axis):
+def _camera(axis: str) -> dict[str, dict[str, float]]:
     up = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}[axis]
     eye = {"x": (0.4, 1.3, 1.3), "y": (1.3, 0.5, 1.3), "z": (1.3, -1.3, 0.5)}[axis]
     return {"up": dict(zip("xyz", up, strict=True)), "eye": dict(zip("xyz", eye, strict=True))}
 
 
-def neighbour_strip_plotly(meshes, names, distances, *, labels=None, title=None,
-                           vertical_axis="z", max_faces=HTML_THUMBNAIL_FACES, height=360):
+def neighbour_strip_plotly(meshes: Sequence[MeshLike], names: Sequence[object],
+                           distances: ArrayLike, *, labels: Sequence[object] | None = None,
+                           title: str | None = None, vertical_axis: str | Sequence[str] = "z",
+                           max_faces: int = HTML_THUMBNAIL_FACES, height: int = 360
+                           ) -> go.Figure:
     """:func:`plot_neighbour_strip` as an interactive plotly figure (each mesh turns and
     zooms on its own; hover shows its name).  Parameters as there; returns a
     ``plotly.graph_objects.Figure``."""
@@ -528,7 +553,7 @@ def neighbour_strip_plotly(meshes, names, distances, *, labels=None, title=None,
 
 
 # =========================================================================== overview
-def colour_limit(D, outliers) -> float:
+def colour_limit(D: ArrayLike, outliers: ArrayLike | None) -> float:
     """Top of a distance matrix's colour range: the largest distance between two shapes
     that are not outliers (their rows would otherwise take the whole range, leaving the
     rest one colour), or the largest distance when there is no outlier.
@@ -542,17 +567,19 @@ def colour_limit(D, outliers) -> float:
     return float(inner.max()) or float(A.max()) or 1.0
 
 
-def _class_order(labels):
+def _class_order(labels: Sequence[object]) -> np.ndarray:
     """Rows ordered by class (first-seen order of the classes), stable within a class."""
     codes = check_labels(labels, len(labels))
     return np.argsort(codes, kind="stable")
 
 
-def _fmt(x, spec=".4g"):
+def _fmt(x: float | None, spec: str = ".4g") -> str:
     return "-" if x is None or (isinstance(x, float) and np.isnan(x)) else format(x, spec)
 
 
-def _overview_inputs(D, names, labels, Y, random_state):
+def _overview_inputs(D: ArrayLike, names: Sequence[object], labels: Sequence[object],
+                     Y: ArrayLike | None, random_state: int | None
+                     ) -> tuple[np.ndarray, list[Any], ArrayLike]:
     """The checked distance matrix, the labels as text and the MDS coordinates (computed when
     ``Y`` is None) of :func:`plot_overview` and :func:`overview_html`."""
     from ..compare import mds_embedding
@@ -566,8 +593,10 @@ def _overview_inputs(D, names, labels, Y, random_state):
     return A, labels, Y
 
 
-def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_out=(),
-                  random_state=0, table_rows=OVERVIEW_TABLE_ROWS):
+def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object], *,
+                  Y: ArrayLike | None = None, descriptor: str = "", title: str | None = None,
+                  left_out: Sequence[tuple[str, str]] = (), random_state: int | None = 0,
+                  table_rows: int = OVERVIEW_TABLE_ROWS) -> Figure:
     """The overview of a described collection on one page: MDS, distance matrix, classes.
 
     Parameters
@@ -599,7 +628,8 @@ def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_o
     rows = sorted(class_summary(A, labels), key=lambda r: (-r["n"], r["label"]))
     shown = rows[:table_rows]
     fig = Figure(figsize=(12.0, 5.2 + 0.22 * (len(shown) + 2)), layout="constrained")
-    top, bottom = fig.subfigures(2, 1, height_ratios=[5.2, 0.22 * (len(shown) + 2) + 0.3])
+    top, bottom = fig.subfigures(2, 1,  # type: ignore[misc]  # two: an array of them
+                                 height_ratios=[5.2, 0.22 * (len(shown) + 2) + 0.3])
     ax1, ax2 = top.subplots(1, 2)
     order = _class_order(labels)
     out = mds_layout(Y)["outliers"]
@@ -637,7 +667,8 @@ def plot_overview(D, names, labels, *, Y=None, descriptor="", title=None, left_o
     return fig
 
 
-def _matrix_figure(A, names, labels, descriptor, vmax=None):
+def _matrix_figure(A: np.ndarray, names: Sequence[object], labels: Sequence[str],
+                   descriptor: str, vmax: float | None = None) -> go.Figure:
     import plotly.graph_objects as go
 
     p = len(A)
@@ -649,7 +680,7 @@ def _matrix_figure(A, names, labels, descriptor, vmax=None):
         what = "distance between every two shapes, ordered by class"
     else:  # one cell per pair of classes: the median distance
         codes = check_labels(labels, p)
-        first = {}
+        first: dict[int, int] = {}
         for i, c in enumerate(codes):
             first.setdefault(int(c), i)
         ticks = [str(labels[i]) for i in first.values()]
@@ -677,8 +708,10 @@ table{border-collapse:collapse;font-size:.9em}td,th{padding:.25em .7em;border-bo
 th{text-align:left;background:#f4f4f4}td.n{text-align:right}.note{color:#555}"""
 
 
-def overview_html(D, names, labels, *, Y=None, descriptor="", title=None, left_out=(),
-                  k=3, random_state=0) -> str:
+def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object], *,
+                  Y: ArrayLike | None = None, descriptor: str = "", title: str | None = None,
+                  left_out: Sequence[tuple[str, str]] = (), k: int = 3,
+                  random_state: int | None = 0) -> str:
     """The overview of a described collection as one offline HTML page.
 
     An interactive MDS (:func:`interactive_mds`: names, classes and nearest neighbours on
@@ -740,7 +773,8 @@ IMAGE_SUFFIXES = (".png", ".svg", ".pdf")
 HTML_SUFFIXES = (".html", ".htm")
 
 
-def save_figure(fig, path, *, dpi=150) -> Path:
+def save_figure(fig: Figure | go.Figure | str, path: str | os.PathLike[str], *, dpi: float = 150
+                ) -> Path:
     """Write a figure atomically (never a half-written file): a matplotlib figure as
     ``.png``, ``.svg`` or ``.pdf``; a plotly figure or an HTML string as ``.html`` (offline,
     plotly.js embedded).

@@ -26,12 +26,25 @@ expression.  Figures never call ``show``.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from .._checks import check_int
 from ..descriptors import FOUR_PI, inverse_compact_shape_dna, normalize, weyl_subtract
 from ..mesh import as_mesh
 from .viewer import eigenfunction_explorer, view_mesh, view_meshes
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable, Sequence
+
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+    from ..mesh import MeshLike
+
+    _Size = tuple[float, float]  # a figure's (width, height) in inches
 
 __all__ = [
     "new_figure",
@@ -51,14 +64,14 @@ __all__ = [
 ]
 
 
-def new_figure(figsize=(6.0, 4.0), **kwargs):
+def new_figure(figsize: _Size = (6.0, 4.0), **kwargs: Any) -> Figure:
     """A matplotlib Figure not registered with pyplot (so it is garbage collected)."""
     from matplotlib.figure import Figure
 
     return Figure(figsize=figsize, layout="constrained", **kwargs)
 
 
-def _axes(ax, figsize, projection=None):
+def _axes(ax: Any, figsize: _Size, projection: str | None = None) -> tuple[Figure, Any]:
     if ax is not None:
         return ax.figure, ax
     fig = new_figure(figsize)
@@ -71,9 +84,11 @@ def _axes(ax, figsize, projection=None):
 _ZOOM = 1.3
 
 
-def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, edges=None,
-              shade=True, symmetric=None, colorbar=False, title=None, figsize=(4.0, 4.0),
-              vertical_axis="z", limits=None):
+def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cmap: str = "RdBu_r",
+              elev: float = 20.0, azim: float = -60.0, edges: bool | None = None,
+              shade: bool = True, symmetric: bool | None = None, colorbar: bool = False,
+              title: str | None = None, figsize: _Size = (4.0, 4.0),
+              vertical_axis: str = "z", limits: tuple[float, float] | None = None) -> Figure:
     """Draw a triangle mesh in 3-D, optionally coloured by a function on its vertices.
 
     Parameters
@@ -172,8 +187,10 @@ def plot_mesh(mesh, f=None, *, ax=None, cmap="RdBu_r", elev=20.0, azim=-60.0, ed
     return fig
 
 
-def plot_eigenfunctions(mesh, phi, indices=None, lam=None, *, ncols=4, cmap="RdBu_r",
-                        elev=20.0, azim=-60.0, size=2.6, vertical_axis="z"):
+def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] | None = None,
+                        lam: np.ndarray | Sequence[float] | None = None, *, ncols: int = 4,
+                        cmap: str = "RdBu_r", elev: float = 20.0, azim: float = -60.0,
+                        size: float = 2.6, vertical_axis: str = "z") -> Figure:
     """A grid of copies of the mesh, each coloured by one eigenfunction.
 
     Parameters
@@ -218,7 +235,7 @@ def plot_eigenfunctions(mesh, phi, indices=None, lam=None, *, ncols=4, cmap="RdB
 
 
 # ------------------------------------------------------------------------------ spectra
-def _spectra(spectra):
+def _spectra(spectra: dict[str, ArrayLike]) -> list[tuple[str, np.ndarray]]:
     if isinstance(spectra, dict):
         items = list(spectra.items())
     else:
@@ -231,7 +248,8 @@ def _spectra(spectra):
     return [(str(k), np.asarray(v, dtype=np.float64).reshape(-1)) for k, v in items]
 
 
-def plot_weyl(spectra, areas, *, figsize=(10.0, 4.0)):
+def plot_weyl(spectra: dict[str, ArrayLike], areas: dict[str, float], *,
+              figsize: _Size = (10.0, 4.0)) -> Figure:
     """The paper's Fig. 1: raw Shape-DNAs (a), then multiplied by the area (b).
 
     Parameters
@@ -272,7 +290,8 @@ def plot_weyl(spectra, areas, *, figsize=(10.0, 4.0)):
     return fig
 
 
-def plot_shape_dna_stages(lam, area, *, name="", figsize=(11.0, 3.4)):
+def plot_shape_dna_stages(lam: ArrayLike, area: float, *, name: str = "",
+                          figsize: _Size = (11.0, 3.4)) -> Figure:
     """Fig. 2 (b)-(d): the Shape-DNA, its area normalisation, and Eq. (8)'s subtraction.
 
     Parameters
@@ -305,7 +324,8 @@ def plot_shape_dna_stages(lam, area, *, name="", figsize=(11.0, 3.4)):
     return fig
 
 
-def plot_dft(lam, area, M, *, N=None, figsize=(11.0, 3.4)):
+def plot_dft(lam: ArrayLike, area: float, M: int, *, N: int | None = None,
+             figsize: _Size = (11.0, 3.4)) -> Figure:
     """Fig. 2 (e)-(f) and the reconstruction: what the ``2M+1`` coefficients keep.
 
     Parameters
@@ -355,7 +375,9 @@ def plot_dft(lam, area, M, *, N=None, figsize=(11.0, 3.4)):
     return fig
 
 
-def plot_reconstruction_error(Ms, errors, *, labels=None, N=None, ax=None, figsize=(5.0, 3.6)):
+def plot_reconstruction_error(Ms: ArrayLike, errors: ArrayLike, *,
+                              labels: Sequence[str] | None = None, N: int | None = None,
+                              ax: Axes | None = None, figsize: _Size = (5.0, 3.6)) -> Figure:
     """Reconstruction error against the crop half-width ``M``.
 
     Parameters
@@ -386,7 +408,9 @@ def plot_reconstruction_error(Ms, errors, *, labels=None, N=None, ax=None, figsi
     return fig
 
 
-def plot_convergence(h, errors, *, labels=None, order=2, ax=None, figsize=(5.0, 3.8)):
+def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] | None = None,
+                     order: float = 2, ax: Axes | None = None, figsize: _Size = (5.0, 3.8)
+                     ) -> Figure:
     """Log-log plot of errors against the mesh size ``h`` with a reference slope.
 
     Parameters
@@ -417,7 +441,8 @@ def plot_convergence(h, errors, *, labels=None, order=2, ax=None, figsize=(5.0, 
     return fig
 
 
-def plot_cshape_dna(descriptors, *, ax=None, title="cShape-DNA", figsize=(6.0, 3.6)):
+def plot_cshape_dna(descriptors: dict[str, ArrayLike], *, ax: Axes | None = None,
+                    title: str = "cShape-DNA", figsize: _Size = (6.0, 3.6)) -> Figure:
     """Magnitudes of the cShape-DNAs of several models on one plot (the paper's Fig. 9).
 
     Parameters
@@ -442,8 +467,10 @@ def plot_cshape_dna(descriptors, *, ax=None, title="cShape-DNA", figsize=(6.0, 3
     return fig
 
 
-def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", size=3.0,
-                  colorbar=True, names=None, labels=None):
+def plot_matrices(matrices: Sequence[ArrayLike], titles: Sequence[str] | None = None, *,
+                  scale: bool = False, vmax: float | None = None, cmap: str = "jet",
+                  size: float = 3.0, colorbar: bool = True, names: Sequence[str] | None = None,
+                  labels: Sequence[str] | None = None) -> Figure:
     """A row of matrix images: scaled distance matrices or difference matrices (Fig. 3, 6, 7).
 
     Parameters
@@ -491,7 +518,8 @@ def plot_matrices(matrices, titles=None, *, scale=False, vmax=None, cmap="jet", 
 
 
 # ------------------------------------------------------------------------------ M sweep
-def plot_m_sweep(state, *, shape=0, figsize=(12.0, 7.0)):
+# state is a widgets.SweepState, typed Any: widgets imports this module (no import circle)
+def plot_m_sweep(state: Any, *, shape: int = 0, figsize: _Size = (12.0, 7.0)) -> Figure:
     """The panels of the M-sweep widget for one :class:`cshape.plots.widgets.SweepState`.
 
     Top row: the cropped DFT coefficients (Eq. 10) of one shape over its full shifted

@@ -21,7 +21,7 @@ pull-back), and a wrong match shows as a colour out of place.  Landmarks are pai
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -54,7 +54,7 @@ _VERTICAL = ("z", "y", "x")
 
 
 # ------------------------------------------------------------------------------ checks
-def _mesh(name: str, mesh: object) -> Mesh:
+def _mesh(name: str, mesh: Any) -> Mesh:
     try:
         return as_mesh(mesh)
     except (TypeError, ValueError) as err:
@@ -126,7 +126,7 @@ def _cmap(cmap: object) -> str:
     return cmap
 
 
-def _titles(titles: object) -> tuple[str, str]:
+def _titles(titles: Any) -> tuple[str, str]:
     if isinstance(titles, str) or not hasattr(titles, "__len__") or len(titles) != 2:
         raise TypeError(f"titles must be two strings (source, target), got {titles!r}")
     return str(titles[0]), str(titles[1])

@@ -27,10 +27,21 @@ draws).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from .._checks import check_choice, check_int, check_real
 from ..mesh import as_mesh, repair_mesh
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+    from types import ModuleType
+
+    import plotly.graph_objects as go
+    from numpy.typing import ArrayLike
+
+    from ..mesh import Mesh, MeshLike
 
 __all__ = [
     "default_eye",
@@ -55,7 +66,7 @@ _SHADING = dict(flatshading=False, hoverinfo="skip",
 
 
 # ------------------------------------------------------------------------------ pure parts
-def symmetric_limits(f):
+def symmetric_limits(f: ArrayLike) -> float | np.ndarray:
     """Colour limits ``(-m, m)`` centred on 0 that cover every value of ``f``.
 
     Parameters
@@ -79,7 +90,8 @@ def symmetric_limits(f):
     return float(m) if a.ndim == 1 else m
 
 
-def mode_data(lam, phi, indices=None):
+def mode_data(lam: ArrayLike, phi: ArrayLike, indices: Iterable[int] | None = None
+              ) -> list[dict[str, Any]]:
     """What the eigenfunction explorer shows for each mode ``i``.
 
     Parameters
@@ -108,7 +120,7 @@ def mode_data(lam, phi, indices=None):
     k = len(lam)
     if indices is None:
         indices = range(k)
-    out = []
+    out: list[dict[str, Any]] = []
     for i in indices:
         i = check_int("indices", i, min=0, max=k - 1)
         m = symmetric_limits(phi[:, i])
@@ -120,7 +132,7 @@ def mode_data(lam, phi, indices=None):
     return out
 
 
-def mesh3d_arrays(mesh):
+def mesh3d_arrays(mesh: MeshLike) -> dict[str, np.ndarray]:
     """The arrays of a plotly ``Mesh3d`` trace: coordinates and triangle corners.
 
     Parameters
@@ -139,7 +151,7 @@ def mesh3d_arrays(mesh):
     return {"x": V[:, 0], "y": V[:, 1], "z": V[:, 2], "i": F[:, 0], "j": F[:, 1], "k": F[:, 2]}
 
 
-def _edge_lines(mesh):
+def _edge_lines(mesh: Mesh) -> np.ndarray:
     """Unique edges as one polyline with None breaks (a ``Scatter3d`` wireframe)."""
     F = mesh.faces
     e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
@@ -150,7 +162,7 @@ def _edge_lines(mesh):
     return P
 
 
-def _scalars(mesh, scalars, name="scalars"):
+def _scalars(mesh: Mesh, scalars: ArrayLike | None, name: str = "scalars") -> np.ndarray | None:
     if scalars is None:
         return None
     f = np.asarray(scalars, dtype=np.float64).reshape(-1)
@@ -164,20 +176,21 @@ def _scalars(mesh, scalars, name="scalars"):
     return f
 
 
-def _check_height(height):
+def _check_height(height: float) -> int:
     return int(check_real("height", height, min=100))  # pixels
 
 
 # ------------------------------------------------------------------------------ figures
-def _upright_arrays(mesh, vertical_axis):
+def _upright_arrays(mesh: MeshLike, vertical_axis: str) -> dict[str, np.ndarray]:
     kw = mesh3d_arrays(mesh)
     cols = [kw["x"], kw["y"], kw["z"]]
     a, b, c = _TO_Z_UP[vertical_axis]
     return dict(kw, x=cols[a], y=cols[b], z=cols[c])
 
 
-def _trace(go, mesh, f, *, cmap, symmetric, showscale, scene, colorbar_x=None,
-           vertical_axis="z"):
+def _trace(go: ModuleType, mesh: MeshLike, f: np.ndarray | None, *, cmap: str | None,
+           symmetric: bool | None, showscale: bool, scene: str, colorbar_x: float | None = None,
+           vertical_axis: str = "z") -> Any:
     kw = _upright_arrays(mesh, vertical_axis)
     common = dict(_SHADING, scene=scene)
     if f is None:
@@ -208,12 +221,12 @@ _TO_Z_UP = {"z": (0, 1, 2), "y": (2, 0, 1), "x": (1, 2, 0)}
 _EYE_DISTANCE, _EYE_ELEVATION, _EYE_AZIMUTH = 2.2, 20.0, 60.0
 
 
-def _upright(V, vertical_axis):
+def _upright(V: ArrayLike, vertical_axis: str) -> np.ndarray:
     """Vertex coordinates with the vertical axis as z (a rotation: columns permuted cyclically)."""
     return np.asarray(V)[:, list(_TO_Z_UP[vertical_axis])]
 
 
-def default_eye(vertices, vertical_axis="z"):
+def default_eye(vertices: ArrayLike, vertical_axis: str = "z") -> dict[str, float]:
     """The camera's eye of the 3-D views: the whole mesh in view, upright, in three-quarter view.
 
     Parameters
@@ -237,7 +250,7 @@ def default_eye(vertices, vertical_axis="z"):
     return {"x": float(x), "y": float(y), "z": float(_EYE_DISTANCE * np.sin(el))}
 
 
-def _scene(vertices, vertical_axis):
+def _scene(vertices: ArrayLike, vertical_axis: str) -> dict[str, Any]:
     axis = dict(visible=False, showbackground=False)
     return dict(aspectmode="data", xaxis=axis, yaxis=axis, zaxis=axis,
                 camera=dict(up=dict(x=0, y=0, z=1), eye=default_eye(vertices, vertical_axis),
@@ -245,8 +258,10 @@ def _scene(vertices, vertical_axis):
                 dragmode="turntable")
 
 
-def view_meshes(meshes, scalars=None, *, cmap=None, symmetric=None, edges=None,
-                vertical_axis="z", title=None, height=420):
+def view_meshes(meshes: dict[str, MeshLike], scalars: dict[str, ArrayLike] | None = None, *,
+                cmap: str | None = None, symmetric: bool | None = None,
+                edges: bool | None = None, vertical_axis: str = "z", title: str | None = None,
+                height: int = 420) -> go.Figure:
     """Several meshes side by side, each in its own rotatable 3-D scene.
 
     Parameters
@@ -312,8 +327,10 @@ def view_meshes(meshes, scalars=None, *, cmap=None, symmetric=None, edges=None,
     return fig
 
 
-def view_mesh(mesh, scalars=None, *, cmap=None, symmetric=None, edges=None, vertical_axis="z",
-              title=None, height=420):
+def view_mesh(mesh: MeshLike, scalars: ArrayLike | None = None, *, cmap: str | None = None,
+              symmetric: bool | None = None, edges: bool | None = None,
+              vertical_axis: str = "z", title: str | None = None, height: int = 420
+              ) -> go.Figure:
     """One mesh in a rotatable, zoomable 3-D view, optionally coloured by values on its vertices.
 
     Parameters
@@ -335,8 +352,10 @@ def view_mesh(mesh, scalars=None, *, cmap=None, symmetric=None, edges=None, vert
                        title=title, height=height)
 
 
-def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=DIVERGING,
-                           vertical_axis="z", height=520):
+def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
+                           eigenpairs: tuple[ArrayLike, ArrayLike] | None = None,
+                           start: int = 1, cmap: str = DIVERGING, vertical_axis: str = "z",
+                           height: int = 520) -> go.Figure:
     """A mesh coloured by its eigenfunction ``phi_i``, with a slider over ``i``.
 
     The eigenpairs of Eq. (3) are computed once (:func:`cshape.eigenpairs`); every mode's
@@ -416,7 +435,8 @@ def eigenfunction_explorer(mesh, n_modes=12, *, eigenpairs=None, start=1, cmap=D
 _SIGNATURES = {"hks": ("HKS", "time", "t"), "wks": ("WKS", "log-energy", "e")}
 
 
-def scale_data(sig, scales, *, signature="hks", log=True):
+def scale_data(sig: ArrayLike, scales: ArrayLike, *, signature: str = "hks", log: bool = True
+               ) -> list[dict[str, Any]]:
     """What the signature explorer shows at each scale (time or energy).
 
     Parameters
@@ -467,8 +487,11 @@ def scale_data(sig, scales, *, signature="hks", log=True):
     return out
 
 
-def signature_explorer(mesh, signature="hks", *, eigenpairs=None, N=100, n_scales=20,
-                       log=True, start=None, cmap=SEQUENTIAL, vertical_axis="z", height=520):
+def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
+                       eigenpairs: tuple[ArrayLike, ArrayLike] | None = None, N: int = 100,
+                       n_scales: int = 20, log: bool = True, start: int | None = None,
+                       cmap: str = SEQUENTIAL, vertical_axis: str = "z", height: int = 520
+                       ) -> go.Figure:
     """A mesh coloured by its heat or wave kernel signature, with a slider over the scale.
 
     The eigenpairs are computed once, the signature at the default scales of
@@ -556,7 +579,7 @@ def signature_explorer(mesh, signature="hks", *, eigenpairs=None, N=100, n_scale
 
 
 # ------------------------------------------------------------------------------ correspondence
-def transfer_colours(values_a, match_ba):
+def transfer_colours(values_a: ArrayLike, match_ba: ArrayLike) -> np.ndarray:
     """Values on shape b taken from shape a through a point map.
 
     Parameters
@@ -589,8 +612,10 @@ def transfer_colours(values_a, match_ba):
     return out
 
 
-def view_correspondence(mesh_a, mesh_b, match_ba, *, values_a=None, titles=("a", "b"),
-                        cmap="Turbo", vertical_axis="z", height=420):
+def view_correspondence(mesh_a: MeshLike, mesh_b: MeshLike, match_ba: ArrayLike, *,
+                        values_a: ArrayLike | None = None, titles: tuple[str, str] = ("a", "b"),
+                        cmap: str = "Turbo", vertical_axis: str = "z", height: int = 420
+                        ) -> go.Figure:
     """Two shapes side by side; b is coloured by a's colours carried over by a point map.
 
     Parameters
@@ -619,6 +644,7 @@ def view_correspondence(mesh_a, mesh_b, match_ba, *, values_a=None, titles=("a",
         axis = np.linalg.svd(X, full_matrices=False)[2][0]
         values_a = X @ axis
     fa = _scalars(a, values_a, name="values_a")
+    assert fa is not None  # values_a is given
     fb = transfer_colours(fa, match_ba)
     if len(fb) != b.n_vertices:
         raise ValueError(

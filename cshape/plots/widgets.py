@@ -29,12 +29,21 @@ Example
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._checks import check_choice, check_int, require_extra
 from ..compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
 from ..descriptors import NORMALIZATIONS, TRANSFORMS, log_weyl_ratio, normalize, weyl_subtract
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+    from ..batch import DescriptorTable
 
 __all__ = ["MSweep", "MSweepWidget", "SweepState", "clamp_M", "m_sweep_widget", "max_M",
            "sweep_state"]
@@ -87,8 +96,8 @@ class SweepState:
     M: int
     N: int
     normalization: str
-    names: list
-    labels: list
+    names: list[str]
+    labels: list[str]
     lam_norm: np.ndarray
     lam_prime: np.ndarray
     spectra: np.ndarray
@@ -101,7 +110,7 @@ class SweepState:
     mean: float
     std: float
     mds: np.ndarray | None = None
-    retrieval: dict | None = field(default=None)
+    retrieval: dict[str, float] | None = field(default=None)
     transform: str = "weyl"
 
     @property
@@ -121,19 +130,19 @@ class SweepState:
         return s
 
 
-def max_M(N, transform="weyl") -> int:
+def max_M(N: int, transform: str = "weyl") -> int:
     """The largest ``M`` for a Shape-DNA of length ``N``: ``(N-1)//2``, or ``(N-2)//2`` for
     the log-Weyl transforms (their sequence has ``N-1`` values: ``lam_0`` has no logarithm)."""
     transform = check_choice("transform", transform, TRANSFORMS)
     return (int(N) - 1) // 2 if transform == "weyl" else (int(N) - 2) // 2
 
 
-def clamp_M(M, N, transform="weyl") -> int:
+def clamp_M(M: float, N: int, transform: str = "weyl") -> int:
     """``M`` clamped to the valid range ``[0, max_M(N, transform)]``."""
     return int(min(max(int(M), 0), max_M(N, transform)))
 
 
-def _procrustes(Y, Y_ref):
+def _procrustes(Y: np.ndarray, Y_ref: np.ndarray) -> np.ndarray:
     """Rotate / reflect centred ``Y`` onto centred ``Y_ref`` (orthogonal Procrustes)."""
     A = Y - Y.mean(axis=0)
     B = Y_ref - Y_ref.mean(axis=0)
@@ -169,8 +178,10 @@ class MSweep:
         The largest ``N`` available (the shortest row of ``lams``).
     """
 
-    def __init__(self, lams, areas, names=None, labels=None, *, normalization="area",
-                 mds=True, random_state=0, transform="weyl"):
+    def __init__(self, lams: Iterable[ArrayLike], areas: ArrayLike,
+                 names: Iterable[object] | None = None, labels: Iterable[object] | None = None,
+                 *, normalization: str = "area", mds: bool = True, random_state: int | None = 0,
+                 transform: str = "weyl") -> None:
         rows = list(lams)
         if len(rows) == 0:
             raise ValueError("lams is empty; pass the eigenvalues of at least two shapes")
@@ -197,25 +208,25 @@ class MSweep:
         self.transform = self._check_transform(transform)
         self.mds = bool(mds)
         self.random_state = random_state
-        self._ref = {}
-        self._base = {}
-        self._states = {}
+        self._ref: dict[tuple[int, str], dict[str, Any]] = {}
+        self._base: dict[tuple[int, str, str], dict[str, Any]] = {}
+        self._states: dict[tuple[int, int, str, str], SweepState] = {}
 
     @classmethod
-    def from_table(cls, table, **kwargs):
+    def from_table(cls, table: DescriptorTable, **kwargs: Any) -> MSweep:
         """An :class:`MSweep` over a :class:`cshape.batch.DescriptorTable`."""
         labels = table.labels if any(table.labels) else None
         return cls(table.lam, table.areas, table.names, labels, **kwargs)
 
     @staticmethod
-    def _check_norm(normalization):
+    def _check_norm(normalization: str) -> str:
         return check_choice("normalization", normalization, NORMALIZATIONS)
 
     @staticmethod
-    def _check_transform(transform):
+    def _check_transform(transform: str) -> str:
         return check_choice("transform", transform, TRANSFORMS)
 
-    def _check_N(self, N):
+    def _check_N(self, N: int | None) -> int:
         if N is None:
             return self.N_max
         N = check_int("N", N)
@@ -226,7 +237,8 @@ class MSweep:
             )
         return int(N)
 
-    def base(self, N=None, normalization=None, transform=None) -> dict:
+    def base(self, N: int | None = None, normalization: str | None = None,
+             transform: str | None = None) -> dict[str, Any]:
         """The stages that do not depend on ``M`` (cached per ``N``, normalisation and
         transform; the Shape-DNA reference and its MDS are shared by the transforms)."""
         N = self._check_N(N)
@@ -255,19 +267,20 @@ class MSweep:
             self._base[key] = {**b, "lam_prime": seq, "spectra": spectra}
         return self._base[key]
 
-    def _embed(self, D):
+    def _embed(self, D: np.ndarray) -> np.ndarray | None:
         if not self.mds or len(D) < 3:
             return None
         return mds_embedding(D, random_state=self.random_state)
 
-    def _retrieval(self, D, D_ref):
+    def _retrieval(self, D: np.ndarray, D_ref: np.ndarray) -> dict[str, float] | None:
         counts = {lab: self.labels.count(lab) for lab in self.labels}
         if max(counts.values()) < 2:
             return None
         r, r_ref = retrieval_scores(D, self.labels), retrieval_scores(D_ref, self.labels)
         return {"nn": r["nn"], "ft": r["ft"], "nn_ref": r_ref["nn"], "ft_ref": r_ref["ft"]}
 
-    def state(self, M, N=None, normalization=None, transform=None) -> SweepState:
+    def state(self, M: int, N: int | None = None, normalization: str | None = None,
+              transform: str | None = None) -> SweepState:
         """The sweep at one ``M`` (cached); raises ``ValueError`` unless
         ``0 <= M <= max_M(N, transform)``.
 
@@ -334,8 +347,10 @@ class MSweep:
         return st
 
 
-def sweep_state(lams, areas, labels=None, M=16, N=None, normalization="area", *, names=None,
-                mds=True, random_state=0, transform="weyl") -> SweepState:
+def sweep_state(lams: Iterable[ArrayLike], areas: ArrayLike, labels: Iterable[object] | None = None,
+                M: int = 16, N: int | None = None, normalization: str = "area", *,
+                names: Iterable[object] | None = None, mds: bool = True,
+                random_state: int | None = 0, transform: str = "weyl") -> SweepState:
     """The M sweep at one ``M`` in one call: crop, reconstruction, distances, statistics, MDS.
 
     Parameters
@@ -370,7 +385,7 @@ def sweep_state(lams, areas, labels=None, M=16, N=None, normalization="area", *,
 
 
 # ------------------------------------------------------------------------------ widget
-def _png(fig, dpi) -> bytes:
+def _png(fig: Figure, dpi: float) -> bytes:
     import io
 
     buf = io.BytesIO()
@@ -378,11 +393,11 @@ def _png(fig, dpi) -> bytes:
     return buf.getvalue()
 
 
-def _as_sweeps(data, normalization):
+def _as_sweeps(data: Any, normalization: str) -> dict[str, MSweep]:
     """{collection name: MSweep} from a table, a mapping of tables, or an MSweep."""
     from ..batch import DescriptorTable
 
-    def one(x):
+    def one(x: object) -> MSweep:
         if isinstance(x, MSweep):
             return x
         if isinstance(x, DescriptorTable):
@@ -399,6 +414,7 @@ def _as_sweeps(data, normalization):
     return {"collection": one(data)}
 
 
+_VBox: Any
 try:  # the widget class needs ipywidgets (the 'plots' extra); the pure functions do not
     import ipywidgets as _w
 
@@ -426,8 +442,9 @@ class MSweepWidget(_VBox):
         The state on screen.
     """
 
-    def __init__(self, sweeps, *, M=16, N=None, normalization="area", figsize=(12.0, 7.0),
-                 dpi=72, transform="weyl"):
+    def __init__(self, sweeps: dict[str, MSweep], *, M: int = 16, N: int | None = None,
+                 normalization: str = "area", figsize: tuple[float, float] = (12.0, 7.0),
+                 dpi: float = 72, transform: str = "weyl") -> None:
         self.sweeps = sweeps
         self._figsize = figsize
         self._dpi = dpi
@@ -436,30 +453,31 @@ class MSweepWidget(_VBox):
         N0 = first.N_max if N is None else min(max(int(N), 3), first.N_max)
         tr = MSweep._check_transform(transform)
         style = {"description_width": "initial"}
-        coll = _w.Dropdown(options=list(sweeps), value=next(iter(sweeps)),
+        ui: Any = _w  # ipywidgets (m_sweep_widget checks that it is installed)
+        coll = ui.Dropdown(options=list(sweeps), value=next(iter(sweeps)),
                            description="collection", style=style,
-                           layout=_w.Layout(display="" if len(sweeps) > 1 else "none"))
-        wN = _w.IntSlider(value=N0, min=3, max=first.N_max, description="N",
+                           layout=ui.Layout(display="" if len(sweeps) > 1 else "none"))
+        wN = ui.IntSlider(value=N0, min=3, max=first.N_max, description="N",
                           continuous_update=False, style=style)
-        wM = _w.IntSlider(value=clamp_M(M, N0, tr), min=0, max=max_M(N0, tr), description="M",
+        wM = ui.IntSlider(value=clamp_M(M, N0, tr), min=0, max=max_M(N0, tr), description="M",
                           continuous_update=False, style=style)
-        wt = _w.ToggleButtons(options=list(TRANSFORMS), value=tr, description="transform",
+        wt = ui.ToggleButtons(options=list(TRANSFORMS), value=tr, description="transform",
                               style=style,
                               tooltips=["the paper: DFT of lam' (Eq. 8-10)",
                                         "DFT of the log-Weyl ratio r_i = log(lam_i / 4 pi i)",
                                         "DCT of the log-Weyl ratio"])
-        wn = _w.Dropdown(options=list(NORMALIZATIONS),
+        wn = ui.Dropdown(options=list(NORMALIZATIONS),
                          value=MSweep._check_norm(normalization), description="normalisation",
                          style=style)
-        ws = _w.Dropdown(options=[(n, i) for i, n in enumerate(first.names)], value=0,
+        ws = ui.Dropdown(options=[(n, i) for i, n in enumerate(first.names)], value=0,
                          description="shape", style=style)
         self.controls = {"collection": coll, "N": wN, "M": wM, "normalization": wn,
                          "transform": wt, "shape": ws}
-        self.image = _w.Image(format="png", layout=_w.Layout(max_width="100%"))
-        self.stats = _w.HTML()
+        self.image = ui.Image(format="png", layout=ui.Layout(max_width="100%"))
+        self.stats = ui.HTML()
         self.stats.add_class("cshape-msweep-stats")
         self.image.add_class("cshape-msweep-plot")
-        box = _w.HBox([coll, wN, wM]), _w.HBox([wn, ws]), wt
+        box = ui.HBox([coll, wN, wM]), ui.HBox([wn, ws]), wt
         super().__init__([*box, self.stats, self.image])
         self.add_class("cshape-msweep")
         coll.observe(self._on_collection, names="value")
@@ -472,7 +490,7 @@ class MSweepWidget(_VBox):
         """The sweep of the selected collection."""
         return self.sweeps[self.controls["collection"].value]
 
-    def _on_collection(self, change):
+    def _on_collection(self, change: dict[str, Any]) -> None:
         sw = self.sweep
         c = self.controls
         self._busy = True
@@ -486,7 +504,7 @@ class MSweepWidget(_VBox):
             self._busy = False
         self.refresh()
 
-    def _on_change(self, change):
+    def _on_change(self, change: dict[str, Any]) -> None:
         if self._busy:
             return
         c = self.controls
@@ -500,7 +518,7 @@ class MSweepWidget(_VBox):
                 self._busy = False
         self.refresh()
 
-    def refresh(self):
+    def refresh(self) -> None:
         """Recompute the state for the current controls (cheap stages only) and redraw."""
         from .figures import plot_m_sweep
 
@@ -514,8 +532,9 @@ class MSweepWidget(_VBox):
         self.stats.value = f"<b>{self.state.summary()}</b>"
 
 
-def m_sweep_widget(data, *, M=16, N=None, normalization="area", figsize=(12.0, 7.0), dpi=72,
-                   transform="weyl"):
+def m_sweep_widget(data: Any, *, M: int = 16, N: int | None = None, normalization: str = "area",
+                   figsize: tuple[float, float] = (12.0, 7.0), dpi: float = 72,
+                   transform: str = "weyl") -> MSweepWidget:
     """An ipywidgets M sweep: slide ``M`` (and pick ``N``, collection, normalisation,
     transform, shape).
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import time
 from collections import Counter
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -13,7 +14,10 @@ from ..batch import DescriptorTable
 from ..compare import difference_matrix, distance_matrix, retrieval_scores, scaled_difference
 from ..index import DescriptorIndex
 
-PAPER = {
+if TYPE_CHECKING:
+    from collections.abc import Iterable, Sequence
+
+PAPER: dict[str, Any] = {
     "3.1": {"M": 16, "mean": 0.68, "std": 0.69},
     "3.2": {8: (1.3, 1.1), 4: (2.3, 1.8), 2: (4.8, 3.1), 1: (6.0, 3.8)},
     "3.3": {
@@ -31,7 +35,7 @@ NOISE_LEVELS = (0.5, 1.0, 2.0, 4.0, 10.0)
 FIG1_MAX_SHAPES = 8
 
 
-def _need(table, p=3):
+def _need(table: DescriptorTable, p: int = 3) -> None:
     if len(table) < p:
         raise ValueError(
             f"the experiments need at least {p} shapes (a distance matrix of 2 shapes always "
@@ -40,7 +44,7 @@ def _need(table, p=3):
 
 
 # --------------------------------------------------------------------------- experiments
-def experiment_3_1(table: DescriptorTable, *, N=100, M=16):
+def experiment_3_1(table: DescriptorTable, *, N: int = 100, M: int = 16) -> dict[str, Any]:
     """Section 3.1: Shape-DNA (``N``) against cShape-DNA (``M``).
 
     Returns
@@ -57,7 +61,8 @@ def experiment_3_1(table: DescriptorTable, *, N=100, M=16):
     return {"N": N, "M": M, "mean": mean, "std": std, "D_shape_dna": D_sd, "D_cshape": D_cs}
 
 
-def experiment_3_2(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
+def experiment_3_2(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 4, 2, 1), N: int = 100
+                   ) -> dict[str, Any]:
     """Section 3.2 and the equal-size comparison of Section 3.1 (Fig. 4-6).
 
     For every ``M``, the difference statistics against Shape-DNA with ``N`` values of the
@@ -75,7 +80,7 @@ def experiment_3_2(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     """
     _need(table)
     D_sd = table.distance_matrix("shape-dna", N=N)
-    out = {"N": N, "cshape": {}, "truncated": {}}
+    out: dict[str, Any] = {"N": N, "cshape": {}, "truncated": {}}
     for M in Ms:
         out["cshape"][M] = scaled_difference(D_sd, table.distance_matrix("cshape", M=M, N=N))
         out["truncated"][M] = scaled_difference(D_sd, table.distance_matrix("truncated", M=M))
@@ -91,7 +96,8 @@ def experiment_3_2(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     return out
 
 
-def _pair_rows(clean: DescriptorTable, noisy: DescriptorTable, pairs):
+def _pair_rows(clean: DescriptorTable, noisy: DescriptorTable,
+               pairs: Iterable[tuple[str, str]]) -> tuple[np.ndarray, np.ndarray]:
     """Rows of clean and noisy tables for (clean name, noisy name) pairs present in both."""
     ci, ni = [], []
     for a, b in pairs:
@@ -101,7 +107,10 @@ def _pair_rows(clean: DescriptorTable, noisy: DescriptorTable, pairs):
     return np.array(ci, dtype=int), np.array(ni, dtype=int)
 
 
-def experiment_noise(clean: DescriptorTable, noisy: dict, *, pairs=None, N=100, M=16):
+def experiment_noise(clean: DescriptorTable, noisy: dict[float, DescriptorTable], *,
+                     pairs: dict[float, Iterable[tuple[str, str]]] | None = None,
+                     N: int = 100, M: int = 16
+                     ) -> dict[float, dict[str, Any]]:
     """Section 3.3: how noise changes the scaled distance matrices (Fig. 7) and descriptors
     (Fig. 8).
 
@@ -121,7 +130,7 @@ def experiment_noise(clean: DescriptorTable, noisy: dict, *, pairs=None, N=100, 
         'change_shape-dna': (p,), 'change_cshape': (p,), 'names': [...]}}`` where the
         ``change_*`` arrays are ``||x_noisy - x_clean||`` per shape.
     """
-    out = {}
+    out: dict[float, dict[str, Any]] = {}
     for level, table in sorted(noisy.items()):
         pr = pairs[level] if pairs is not None else [(n, n) for n in clean.names]
         ci, ni = _pair_rows(clean, table, pr)
@@ -130,8 +139,10 @@ def experiment_noise(clean: DescriptorTable, noisy: dict, *, pairs=None, N=100, 
                 f"noise level {level}: only {len(ci)} shapes are in both the clean and the "
                 "noisy table; the experiment needs at least 3"
             )
-        res = {"names": [clean.names[i] for i in ci]}
-        for kind, kw in (("shape-dna", {"N": N}), ("cshape", {"M": M, "N": N})):
+        res: dict[str, Any] = {"names": [clean.names[i] for i in ci]}
+        kinds: tuple[tuple[str, dict[str, Any]], ...] = (("shape-dna", {"N": N}),
+                                                         ("cshape", {"M": M, "N": N}))
+        for kind, kw in kinds:
             Xc = clean.select(ci).descriptors(kind, **kw)
             Xn = table.select(ni).descriptors(kind, **kw)
             res[kind] = scaled_difference(distance_matrix(Xc), distance_matrix(Xn))
@@ -141,7 +152,7 @@ def experiment_noise(clean: DescriptorTable, noisy: dict, *, pairs=None, N=100, 
     return out
 
 
-def _descriptor_specs(Ms, N):
+def _descriptor_specs(Ms: Sequence[int], N: int) -> list[tuple[str, str, dict[str, Any]]]:
     specs = [("Shape-DNA", "shape-dna", {"N": N})]
     specs += [(f"cShape-DNA M={M}", "cshape", {"M": M, "N": N}) for M in Ms]
     specs += [(f"truncated Shape-DNA {2 * M + 1}", "truncated", {"M": M}) for M in Ms]
@@ -165,7 +176,7 @@ FAMILIES = {
 EXTENSIONS = ("log-Weyl DFT", "log-Weyl DCT", "truncated log spectrum")
 
 
-def family_descriptors(table: DescriptorTable, family, M, N=100) -> np.ndarray:
+def family_descriptors(table: DescriptorTable, family: str, M: int, N: int = 100) -> np.ndarray:
     """Descriptors of a :data:`FAMILIES` member with ``2M+1`` values, shape (p, 2M+1).
 
     Raises
@@ -187,7 +198,7 @@ def family_descriptors(table: DescriptorTable, family, M, N=100) -> np.ndarray:
     return _every_row(table, kind, M=M, N=N, **kw)
 
 
-def _every_row(table, kind, **kw):
+def _every_row(table: DescriptorTable, kind: str | None, **kw: Any) -> np.ndarray:
     """``table.descriptors(kind, ...)``, or a ValueError if it cannot describe every shape
     (the measures need every shape)."""
     X, rows = table.described(kind, warn=False, **kw)
@@ -197,9 +208,9 @@ def _every_row(table, kind, **kw):
     return X
 
 
-def _retrieval_specs(Ms, N):
+def _retrieval_specs(Ms: Sequence[int], N: int) -> list[tuple[Any, ...]]:
     """(title, family or None, M, kind, keywords) of every row of the retrieval table."""
-    specs = [("Shape-DNA", None, None, "shape-dna", {"N": N}),
+    specs: list[tuple[Any, ...]] = [("Shape-DNA", None, None, "shape-dna", {"N": N}),
              ("log spectrum (all N-1 log-Weyl ratios)", None, None, "truncated-log",
               {"M": (N - 2) // 2}),
              ("F1", None, None, "f1", {"N": N})]
@@ -210,7 +221,8 @@ def _retrieval_specs(Ms, N):
     return specs
 
 
-def experiment_retrieval(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
+def experiment_retrieval(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 4, 2, 1),
+                         N: int = 100) -> list[dict[str, Any]]:
     """Retrieval measures (:func:`cshape.compare.retrieval_scores`) of every descriptor.
 
     Rows: Shape-DNA (``N`` values), the whole log spectrum (the ``N-1`` log-Weyl ratios,
@@ -236,7 +248,8 @@ def experiment_retrieval(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100):
     return rows
 
 
-def experiment_sizes(table: DescriptorTable, *, Ms=None, N=100, measure="ft"):
+def experiment_sizes(table: DescriptorTable, *, Ms: Sequence[int] | None = None, N: int = 100,
+                     measure: str = "ft") -> dict[str, Any]:
     """Section 3.2 by retrieval: every family of :data:`FAMILIES` at every size ``2M+1``.
 
     For each ``M`` the retrieval measures of every family, the best family by ``measure``
@@ -309,7 +322,7 @@ _MEASURES = {"nn": "nearest neighbour", "ft": "first tier", "st": "second tier",
              "e": "E-measure", "dcg": "DCG", "map": "mean average precision"}
 
 
-def _ranges(ms) -> str:
+def _ranges(ms: Sequence[int]) -> str:
     """'16..9, 6, 2..1' for descending integers."""
     parts, start = [], None
     for i, m in enumerate(ms):
@@ -321,7 +334,7 @@ def _ranges(ms) -> str:
     return ", ".join(parts)
 
 
-def size_verdict(sizes, *, name="this collection") -> list:
+def size_verdict(sizes: dict[str, Any], *, name: str = "this collection") -> list[str]:
     """The verdict under the size table, computed from :func:`experiment_sizes`' numbers.
 
     Returns
@@ -381,8 +394,9 @@ def size_verdict(sizes, *, name="this collection") -> list:
     return out
 
 
-def experiment_cost(table: DescriptorTable, *, Ms=(16, 8, 4, 2, 1), N=100, repeats=5,
-                    database_size=20000, n_queries=100, random_state=0):
+def experiment_cost(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 4, 2, 1),
+                    N: int = 100, repeats: int = 5, database_size: int = 20000,
+                    n_queries: int = 100, random_state: int = 0) -> list[dict[str, Any]]:
     """Descriptor size and comparison time, relative to Shape-DNA with ``N`` values.
 
     The table's descriptors are resampled (with a tiny jitter) into a database of

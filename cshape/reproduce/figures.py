@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..compare import mds_embedding
@@ -15,9 +17,16 @@ from ..plots.collection import (
 )
 from .experiments import FIG1_MAX_SHAPES
 
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from matplotlib.figure import Figure
+
+    from ..batch import DescriptorTable
+
 
 # --------------------------------------------------------------------------- figures
-def _grid(n, size=3.2, cols=3):
+def _grid(n: int, size: float = 3.2, cols: int = 3) -> tuple[Figure, np.ndarray]:
     from matplotlib.figure import Figure
 
     rows = (n + cols - 1) // cols
@@ -28,7 +37,7 @@ def _grid(n, size=3.2, cols=3):
     return fig, axs
 
 
-def _drop_overlapping_texts(fig) -> int:
+def _drop_overlapping_texts(fig: Figure) -> int:
     """Draw ``fig`` once and remove each annotation that overlaps one kept before it in
     its axes, by their drawn extents.
 
@@ -45,7 +54,7 @@ def _drop_overlapping_texts(fig) -> int:
     fig.draw_without_rendering()
     removed = 0
     for ax in fig.axes:
-        kept = []
+        kept: list[Any] = []
         for t in list(ax.texts):
             if not (t.get_visible() and t.get_text()):
                 continue
@@ -58,7 +67,9 @@ def _drop_overlapping_texts(fig) -> int:
     return removed
 
 
-def _mds_figure(table, panels, random_state):
+def _mds_figure(table: DescriptorTable,
+                panels: Sequence[tuple[str, str, dict[str, Any]]], random_state: int | None
+                ) -> Figure:
     """MDS panels (Fig. 4-5): square, names up to MDS_MAX_NAMES shapes, one class legend."""
     fig, axs = _grid(len(panels))
     Ys = []
@@ -78,7 +89,8 @@ def _mds_figure(table, panels, random_state):
     return fig
 
 
-def fig1_selection(table, max_shapes=FIG1_MAX_SHAPES):
+def fig1_selection(table: DescriptorTable, max_shapes: int = FIG1_MAX_SHAPES
+                   ) -> tuple[list[str], str]:
     """The shapes of Fig. 1, and a sentence for the report when they are a sample.
 
     One shape per class, the first of each class in the table; with more than
@@ -111,7 +123,8 @@ def fig1_selection(table, max_shapes=FIG1_MAX_SHAPES):
     return names, note
 
 
-def _noise_change_figure(noise, levels):
+def _noise_change_figure(noise: dict[float, dict[str, Any]], levels: Sequence[float]
+                         ) -> Figure:
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(10, 3.6), layout="constrained")

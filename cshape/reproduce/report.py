@@ -7,6 +7,7 @@ import json
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -31,24 +32,33 @@ from .experiments import (
 )
 from .figures import _mds_figure, _noise_change_figure, fig1_selection
 
+if TYPE_CHECKING:
+    import os
+    from collections.abc import Iterable, Mapping, Sequence
+    from types import ModuleType
+
+    from matplotlib.figure import Figure
+
+    from ..batch import DescriptorTable
+
 
 # --------------------------------------------------------------------------- report
-def _fmt(x, nd=2):
+def _fmt(x: float | None, nd: int = 2) -> str:
     return "-" if x is None else f"{x:.{nd}f}"
 
 
-def _pair(pair, nd=2):
+def _pair(pair: Sequence[float] | None, nd: int = 2) -> str:
     """'mean / std' of a pair of numbers, '-' for None."""
     return "-" if pair is None else f"{_fmt(pair[0], nd)} / {_fmt(pair[1], nd)}"
 
 
-def _md_table(header, rows):
+def _md_table(header: Sequence[str], rows: Iterable[Sequence[object]]) -> str:
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
     return "\n".join(lines)
 
 
-def _jsonable(obj):
+def _jsonable(obj: Any) -> Any:
     if isinstance(obj, dict):
         return {str(k): _jsonable(v) for k, v in obj.items() if not str(k).startswith(("D_",
                                                                                      "diff_"))}
@@ -61,12 +71,17 @@ def _jsonable(obj):
     return obj
 
 
-def reproduce(records, out_dir, *, N=None, M=None, Ms=(8, 4, 2, 1),
-              noise_levels=NOISE_LEVELS, noise_seed=0, quality=None, example=None,
-              cache_dir=None, n_jobs=1, client=None, progress=True, random_state=0,
-              title="cshape: the paper's Section 3 on our data", benchmark=None,
-              benchmark_name=None, benchmark_info=None, size_Ms=None, suite=None,
-              descriptor: Descriptor | None = None):
+def reproduce(records: Iterable[Any], out_dir: str | os.PathLike[str], *, N: int | None = None,
+              M: int | None = None, Ms: Sequence[int] = (8, 4, 2, 1),
+              noise_levels: Sequence[float] = NOISE_LEVELS, noise_seed: int = 0,
+              quality: tuple[str, str] | None = None, example: str | None = None,
+              cache_dir: str | os.PathLike[str] | bool | None = None, n_jobs: int | None = 1,
+              client: Any = None, progress: bool = True, random_state: int = 0,
+              title: str = "cshape: the paper's Section 3 on our data",
+              benchmark: Iterable[Any] | None = None, benchmark_name: str | None = None,
+              benchmark_info: str | None = None, size_Ms: Sequence[int] | None = None,
+              suite: Mapping[str, Iterable[Any]] | None = None,
+              descriptor: Descriptor | None = None) -> dict[str, Any]:
     """Run Section 3 on a collection and write a report folder.
 
     Two collections may take part: ``records`` for the parts of Section 3 that compare a
@@ -167,11 +182,12 @@ class _Run:
     quality: tuple | None
     example: str | None
     random_state: int
-    size_Ms: tuple | None
+    size_Ms: Sequence[int] | None
     describe: dict
 
 
-def _paper_descriptor(descriptor, N, M) -> Descriptor:
+def _paper_descriptor(descriptor: Descriptor | None, N: int | None, M: int | None
+                      ) -> Descriptor:
     """The cShape-DNA of Section 3: ``descriptor``, or :data:`cshape.PAPER` with N and M."""
     if descriptor is None:
         given = {k: v for k, v in (("N", N), ("M", M)) if v is not None}
@@ -188,7 +204,10 @@ def _paper_descriptor(descriptor, N, M) -> Descriptor:
 
 
 # --------------------------------------------------------------------------- the numbers
-def _compute(records, out, run, *, benchmark, benchmark_name, benchmark_info, suite):
+def _compute(records: list[Any], out: Path, run: _Run, *, benchmark: Iterable[Any] | None,
+             benchmark_name: str | None, benchmark_info: str | None,
+             suite: Mapping[str, Iterable[Any]] | None
+             ) -> tuple[dict[str, Any], dict[str, Any]]:
     """Every table and experiment: the results dict, and what the figures need besides."""
     table = describe(records, **run.describe)
     _need(table)
@@ -215,7 +234,9 @@ def _compute(records, out, run, *, benchmark, benchmark_name, benchmark_info, su
     return results, {"table": table, "fig1": sel, "3.1": r31}
 
 
-def _compute_retrieval(table, out, run, benchmark, benchmark_name, benchmark_info) -> dict:
+def _compute_retrieval(table: DescriptorTable, out: Path, run: _Run,
+                       benchmark: Iterable[Any] | None, benchmark_name: str | None,
+                       benchmark_info: str | None) -> dict[str, Any]:
     """The retrieval tables (every descriptor, every size) on the benchmark, or the shapes."""
     btable, bname = table, "the shapes above"
     if benchmark is not None:
@@ -237,15 +258,15 @@ def _compute_retrieval(table, out, run, benchmark, benchmark_name, benchmark_inf
                       "left_out": left_out, "info": " ".join((benchmark_info or "").split())},
         "retrieval": experiment_retrieval(btable, Ms=run.Ms, N=run.N) if labelled else None,
         "sizes": sizes,
-        "verdict": size_verdict(sizes, name=bname) if labelled else [],
+        "verdict": size_verdict(sizes, name=bname) if sizes is not None else [],
     }
 
 
-def _compute_suite(suite, run) -> dict:
+def _compute_suite(suite: Mapping[str, Iterable[Any]], run: _Run) -> dict[str, Any]:
     """The benchmark suite: every descriptor on every benchmark, the default marked."""
     from .suite import default_row, suite_scores
 
-    tables = {}
+    tables: dict[str, DescriptorTable] = {}
     for name, recs in suite.items():
         tables[name] = describe(list(recs), **run.describe)
         _need(tables[name])
@@ -255,13 +276,15 @@ def _compute_suite(suite, run) -> dict:
             "rows": rows, "default": default_row(rows)}
 
 
-def _compute_noise(records, table, out, run) -> dict:
+def _compute_noise(records: list[Any], table: DescriptorTable, out: Path, run: _Run
+                   ) -> dict[float, dict[str, Any]]:
     """Section 3.3: a noisy copy of every shape per level, described and compared."""
     from ..batch.work import load_source
     from ..data.variants import add_normal_noise
 
     by_name = {name: src for name, _label, src in _named(records, table)}
-    noisy_tables, pairs = {}, {}
+    noisy_tables: dict[float, DescriptorTable] = {}
+    pairs: dict[float, Iterable[tuple[str, str]]] = {}
     for lv in run.noise_levels:
         recs = [(f"{n}@{lv:g}", table.labels[table.index(n)],
                  add_normal_noise(load_source(by_name[n]), amplitude=lv,
@@ -274,7 +297,7 @@ def _compute_noise(records, table, out, run) -> dict:
 
 
 # --------------------------------------------------------------------------- the figures
-def _figures(parts, results, run) -> dict:
+def _figures(parts: dict[str, Any], results: dict[str, Any], run: _Run) -> dict[str, Figure]:
     """The figures of the paper's Fig. 1-9, by name (``fig1_weyl``, ...)."""
     from .. import plots
 
@@ -298,7 +321,8 @@ def _figures(parts, results, run) -> dict:
     return figs
 
 
-def _section_3_figures(plots, table, r31, r32, run) -> dict:
+def _section_3_figures(plots: ModuleType, table: DescriptorTable, r31: dict[str, Any],
+                       r32: dict[str, Any], run: _Run) -> dict[str, Figure]:
     """Fig. 3-6: the distance matrices, their differences and the MDS panels."""
     N, M, Ms = run.N, run.M, run.smaller_Ms
     D_sd = r31["D_shape_dna"]
@@ -326,7 +350,8 @@ def _section_3_figures(plots, table, r31, r32, run) -> dict:
     return figs
 
 
-def _noise_figures(plots, table, noise) -> dict:
+def _noise_figures(plots: ModuleType, table: DescriptorTable,
+                   noise: dict[float, dict[str, Any]]) -> dict[str, Figure]:
     """Fig. 7-8: clean against noisy distance matrices, and how the descriptors change."""
     levels = sorted(noise)
     same_rows = all(len(noise[lv]["diff_cshape"]) == len(table) for lv in levels)
@@ -346,18 +371,20 @@ def _noise_figures(plots, table, noise) -> dict:
 
 
 # --------------------------------------------------------------------------- the files
-def _write(out, results, figs, title) -> None:
+def _write(out: Path, results: dict[str, Any], figs: dict[str, Figure], title: str) -> None:
     """The figures as PNG, ``results.json`` and ``report.md``, each written atomically."""
     for name, fig in figs.items():
-        atomic_write(out / f"{name}.png",
-                     lambda f, fig=fig: fig.savefig(f, format="png", dpi=110))
+        def save_png(f: IO[Any], fig: Figure = fig) -> None:
+            fig.savefig(f, format="png", dpi=110)
+
+        atomic_write(out / f"{name}.png", save_png)
     atomic_write(out / "results.json",
                  lambda f: f.write(json.dumps(_jsonable(results), indent=1)), binary=False)
     report = _report(results, figs, title)
     atomic_write(out / "report.md", lambda f: f.write(report), binary=False)
 
 
-def _describable_rows(table, M, N) -> np.ndarray:
+def _describable_rows(table: DescriptorTable, M: int, N: int) -> np.ndarray:
     """Rows that every descriptor of the tables can describe at the largest size ``M``.
 
     Meshes of several pieces are described (their zero modes dropped); one of so many
@@ -371,24 +398,24 @@ def _describable_rows(table, M, N) -> np.ndarray:
     return np.flatnonzero(ok)
 
 
-def _collection_name(coll):
+def _collection_name(coll: object) -> str | None:
     name = getattr(coll, "name", None)
     return name if isinstance(name, str) else None
 
 
-def _collection_info(coll):
+def _collection_info(coll: object) -> str | None:
     info = getattr(coll, "info", None)
     return info.get("description") if isinstance(info, dict) else None
 
 
-def _named(records, table):
+def _named(records: Iterable[Any], table: DescriptorTable) -> list[tuple[str, str, Any]]:
     """(name, label, source) of the records, in the names describe gave them."""
     from ..batch.run import collection_records
 
     return [r for r in collection_records(records) if r[0] in table.names]
 
 
-def _retrieval_report(res) -> list:
+def _retrieval_report(res: dict[str, Any]) -> list[str]:
     """The report's retrieval section: every descriptor, every size, the verdict."""
     b = res.get("benchmark") or {}
     name = b.get("name", "the shapes above")
@@ -441,7 +468,7 @@ def _retrieval_report(res) -> list:
     return s
 
 
-def _suite_report(res) -> list:
+def _suite_report(res: dict[str, Any]) -> list[str]:
     """The report's suite section: every descriptor on every benchmark of the suite."""
     st = res.get("suite")
     if not st:
@@ -462,7 +489,7 @@ def _suite_report(res) -> list:
     return s
 
 
-def _section_3_2_report(res) -> list:
+def _section_3_2_report(res: dict[str, Any]) -> list[str]:
     """The report's Section 3.2: every M against Shape-DNA, beside the paper's numbers."""
     N, p31 = res["N"], PAPER["3.1"]
     s = []
@@ -487,7 +514,7 @@ def _section_3_2_report(res) -> list:
     return s
 
 
-def _report(res, figs, title):
+def _report(res: dict[str, Any], figs: dict[str, Figure], title: str) -> str:
     N, M = res["N"], res["M"]
     p31 = PAPER["3.1"]
     s = [f"# {title}", "",

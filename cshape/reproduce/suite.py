@@ -12,9 +12,16 @@ development instances, then report the chosen descriptor on the held-out ones.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..compare import descriptor_label, distance_matrix, retrieval_scores
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable, Sequence
+
+    from ..batch import DescriptorTable
 
 __all__ = ["CANDIDATES", "MEASURES", "candidates", "choose_default", "default_row",
            "suite_markdown", "suite_scores"]
@@ -43,7 +50,7 @@ SUITE_MS = (8, 16, 24, 32, 49)
 MEASURES = ("nn", "ft", "st", "map")
 
 
-def candidates(N=100, Ms=SUITE_MS) -> list[dict]:
+def candidates(N: int = 100, Ms: Sequence[int] = SUITE_MS) -> list[dict[str, Any]]:
     """The descriptors of the suite computable from ``N`` eigenvalues.
 
     Returns
@@ -73,14 +80,15 @@ def candidates(N=100, Ms=SUITE_MS) -> list[dict]:
 CANDIDATES = candidates()
 
 
-def _matrix(table, c):
+def _matrix(table: DescriptorTable, c: dict[str, Any]) -> np.ndarray:
     kw = {"N": c["N"], "transform": c["transform"], "normalization": c["normalization"]}
     if c["M"] is not None:
         kw["M"] = c["M"]
     return table.descriptors(c["kind"], **kw)
 
 
-def suite_scores(tables, *, cands=None) -> list[dict]:
+def suite_scores(tables: dict[str, DescriptorTable], *,
+                 cands: Sequence[dict[str, Any]] | None = None) -> list[dict[str, Any]]:
     """Retrieval scores of every candidate on every benchmark table.
 
     Parameters
@@ -100,9 +108,9 @@ def suite_scores(tables, *, cands=None) -> list[dict]:
     if not tables:
         raise ValueError("tables is empty; give at least one benchmark table")
     N = min(t.N for t in tables.values())
-    rows = []
+    rows: list[dict[str, Any]] = []
     for c in cands if cands is not None else candidates(N):
-        scores = {}
+        scores: dict[str, dict[str, float]] = {}
         try:
             for name, table in tables.items():
                 s = retrieval_scores(distance_matrix(_matrix(table, c)), table.labels)
@@ -117,14 +125,14 @@ def suite_scores(tables, *, cands=None) -> list[dict]:
     return rows
 
 
-def choose_default(rows) -> dict:
+def choose_default(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
     """The row with the highest worst first tier (ties: higher mean, then fewer values)."""
     if not rows:
         raise ValueError("rows is empty; score the candidates with suite_scores first")
     return max(rows, key=lambda r: (round(r["worst"], 12), round(r["mean"], 12), -r["size"]))
 
 
-def default_row(rows) -> dict | None:
+def default_row(rows: Iterable[dict[str, Any]]) -> dict[str, Any] | None:
     """The row of the exploration default :data:`cshape.DEFAULT`."""
     from .. import descriptor
 
@@ -141,7 +149,8 @@ def default_row(rows) -> dict | None:
     return None
 
 
-def suite_markdown(rows, *, title, note="", measure="ft", mark=None) -> str:
+def suite_markdown(rows: Sequence[dict[str, Any]], *, title: str, note: str = "",
+                   measure: str = "ft", mark: str | None = None) -> str:
     """A Markdown table: one row per descriptor, one column per benchmark, worst and mean.
 
     ``mark`` (a row's ``title``) is set in bold.
