@@ -25,17 +25,28 @@ from ._threads import RowSplit, ThreadChooser, times
 #: Block size ``b`` (number of simultaneous right-hand sides).
 BLOCK_SIZE = 8
 
-#: Block size of a big mesh (from ``THREADS_MIN_UNKNOWNS`` unknowns, shift below the
-#: spectrum): its solves run as two halves of :data:`BLOCK_SIZE`, at once when two threads
-#: help, each reading the factor once.  It depends on the size only, never on the threads.
+#: Block size of a big mesh (``THREADS_MIN_UNKNOWNS`` to :data:`BIG_BLOCK_MAX_UNKNOWNS`
+#: unknowns, shift below the spectrum): its solves run as two halves of
+#: :data:`BLOCK_SIZE`, at once when two threads help, each reading the factor once.
 BLOCK_SIZE_THREADED = 16
+
+#: From this many unknowns the block size is :data:`BLOCK_SIZE` again: blocks of 16 grew
+#: the Krylov space of the 1M-vertex torus from 312 to 400 dimensions (slower with any
+#: threads; ``benchmarks/SCALE.md``), where they still gained at 655K.
+BIG_BLOCK_MAX_UNKNOWNS = 800_000
 
 
 def block_size(n):
-    """The block size of a problem of ``n`` unknowns with the shift below the spectrum:
-    :data:`BLOCK_SIZE_THREADED` from ``THREADS_MIN_UNKNOWNS`` unknowns, else
-    :data:`BLOCK_SIZE`."""
-    return BLOCK_SIZE_THREADED if n >= _threads.THREADS_MIN_UNKNOWNS else BLOCK_SIZE
+    """The block size of a problem of ``n`` unknowns with the shift below the spectrum.
+
+    :data:`BLOCK_SIZE_THREADED` from ``THREADS_MIN_UNKNOWNS`` to
+    :data:`BIG_BLOCK_MAX_UNKNOWNS` unknowns, else :data:`BLOCK_SIZE`.  It depends on the
+    size only, never on the threads: the eigenvalues are the same bits with any number.
+    """
+    if _threads.THREADS_MIN_UNKNOWNS <= n < BIG_BLOCK_MAX_UNKNOWNS:
+        return BLOCK_SIZE_THREADED
+    return BLOCK_SIZE
+
 
 #: Smallest block size accepted: a block Krylov method resolves at most ``b`` copies of an
 #: exactly repeated eigenvalue, and a connected surface's symmetry group can make up to 5
@@ -466,18 +477,17 @@ class BlockLanczos:
         """
         V, split, R, b = self.V, self.split, self.R, self.b
         lo = max(0, m0 - b)
-        if self.chooser is None:
-            W = self.solve(self.BVcur)
-        else:  # the threads of this step, then the time of its solve
+        if self.chooser is not None:  # the threads of this step
             split.threads = self.chooser.start_step()
             start = time.perf_counter()
-            W = self.solve(self.BVcur)
-            self.chooser.record(time.perf_counter() - start)
+        W = self.solve(self.BVcur)
         A = split.tdot(self.BVcur, W)
         if R is not None:
             split.sub_times(W, V[:, lo:m], np.vstack([R.T, A]))
         else:
             split.sub_times(W, V[:, m0:m], A)
+        if self.chooser is not None:  # the solve and first pass cost the same every step
+            self.chooser.record(time.perf_counter() - start)
         scale = max(float(np.abs(A).max()), float(np.abs(R).max()) if R is not None else 0.0)
         omega = None
         if lo > 0 and self.since >= self.skip:

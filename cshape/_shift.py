@@ -197,12 +197,13 @@ def solve_below(K, B, N, sigma, same, return_vectors):
     """Block Lanczos with the shift ``sigma`` below the spectrum (default :func:`default_sigma`).
 
     ``K - sigma B`` is positive definite: one Cholesky factorisation
-    (:class:`CholeskyOperator`).  On a mesh of at least ``THREADS_MIN_UNKNOWNS`` unknowns
-    the blocks are of :data:`~cshape._lanczos.BLOCK_SIZE_THREADED` vectors whose solves
-    run as two halves, at once on two threads when timing shows that they help
-    (:class:`~cshape._threads.ThreadChooser`, at most
-    :func:`~cshape._threads.solver_threads` threads); the eigenvalues are the same bits
-    either way.  If the block method does not converge, ARPACK (:func:`arpack`) on the
+    (:class:`CholeskyOperator`).  The block size follows the size
+    (:func:`~cshape._lanczos.block_size`); blocks of
+    :data:`~cshape._lanczos.BLOCK_SIZE_THREADED` vectors are solved as two halves.  From
+    ``THREADS_MIN_UNKNOWNS`` unknowns the halves and the products over the basis run on
+    two threads when timing shows that they help (:class:`~cshape._threads.ThreadChooser`,
+    at most :func:`~cshape._threads.solver_threads` threads); the eigenvalues are the same
+    bits either way.  If the block method does not converge, ARPACK (:func:`arpack`) on the
     same factorisation.  Returns ascending ``(lam, phi)``, ``phi`` None unless
     ``return_vectors``.
     """

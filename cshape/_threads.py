@@ -102,17 +102,18 @@ def solver_threads(n: int) -> int:
 
 
 class ThreadChooser:
-    """Threads of each Lanczos step, chosen by timing the step's block solve both ways.
+    """Threads of each Lanczos step, chosen by timing the steps on ``threads`` and on one.
 
     On a machine whose other cores are busy (other processes, other virtual machines on
     the same host) a second thread gains nothing and its synchronisation costs time; on
     a quiet one it speeds the solves and the products up.  Which holds is measured in the
     solve itself, at no cost for a calibration: steps ``1 .. PROBE_STEPS`` alternate
-    ``threads`` and one thread, and the setting whose fastest solve was faster (by
-    :data:`GAIN` for ``threads``) is kept until the next probe, every
-    :data:`REPROBE_EVERY` steps.  The solve of a step costs the same at every step (one
-    pass over the factor), so the timings compare like with like.  The choice changes the
-    timing only: the results are the same bits with any number of threads.
+    ``threads`` and one thread, each timing its block solve and the first
+    orthogonalisation pass against the two newest blocks (:meth:`record`), which cost
+    the same at every step; the setting of the fastest such time (``threads`` only if
+    faster by the factor :data:`GAIN`) is kept until the next probe, every
+    :data:`REPROBE_EVERY` steps.  The choice changes the timing only: the results are
+    the same bits with any number of threads.
 
     Parameters
     ----------
@@ -147,7 +148,7 @@ class ThreadChooser:
         return self.current
 
     def record(self, seconds):
-        """The time of the block solve of the step just started."""
+        """The time of the block solve and first pass of the step just started."""
         self.history.append((self.steps - 1, self.current, seconds))
         if 1 <= (self.steps - 1) % self.REPROBE_EVERY <= self.PROBE_STEPS:
             self.samples.setdefault(self.current, []).append(seconds)

@@ -289,6 +289,17 @@ def test_thread_policy_takes_the_cores_whatever_the_load(monkeypatch):
     assert spectrum.solver_threads(big) == expected
 
 
+def test_block_size_follows_the_size_only(monkeypatch):
+    small, big = _threads.THREADS_MIN_UNKNOWNS - 1, _lanczos.BIG_BLOCK_MAX_UNKNOWNS
+    assert _lanczos.block_size(small) == _lanczos.BLOCK_SIZE
+    assert _lanczos.block_size(small + 1) == _lanczos.BLOCK_SIZE_THREADED
+    assert _lanczos.block_size(big - 1) == _lanczos.BLOCK_SIZE_THREADED
+    assert _lanczos.block_size(big) == _lanczos.BLOCK_SIZE
+    for threads in ("1", "4"):  # whatever the threads
+        monkeypatch.setenv("CSHAPE_THREADS", threads)
+        assert _lanczos.block_size(small + 1) == _lanczos.BLOCK_SIZE_THREADED
+
+
 def _probe(chooser, threads_time):
     """Run a chooser through its probe steps with a solve time per thread count."""
     picked = []
