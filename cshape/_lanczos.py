@@ -11,6 +11,7 @@ vectors (:meth:`~BlockLanczos.ritz_vectors`).  The derivation: docs/guides/eigen
 from __future__ import annotations
 
 import mmap
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -18,15 +19,34 @@ import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 
-from ._threads import RowSplit, times
+from . import _threads
+from ._threads import RowSplit, ThreadChooser, times
 
 #: Block size ``b`` (number of simultaneous right-hand sides).
 BLOCK_SIZE = 8
 
-#: Block size with two or more threads on a big mesh: its solves run as two halves of
-#: :data:`BLOCK_SIZE` at once, each reading the factor once.  The eigenvalues then differ
-#: from the one-thread ones by rounding (another Krylov space).
+#: Block size of a big mesh (``THREADS_MIN_UNKNOWNS`` to :data:`BIG_BLOCK_MAX_UNKNOWNS`
+#: unknowns, shift below the spectrum): its solves run as two halves of
+#: :data:`BLOCK_SIZE`, at once when two threads help, each reading the factor once.
 BLOCK_SIZE_THREADED = 16
+
+#: From this many unknowns the block size is :data:`BLOCK_SIZE` again: blocks of 16 grew
+#: the Krylov space of the 1M-vertex torus from 312 to 400 dimensions (slower with any
+#: threads; ``benchmarks/SCALE.md``), where they still gained at 655K.
+BIG_BLOCK_MAX_UNKNOWNS = 800_000
+
+
+def block_size(n):
+    """The block size of a problem of ``n`` unknowns with the shift below the spectrum.
+
+    :data:`BLOCK_SIZE_THREADED` from ``THREADS_MIN_UNKNOWNS`` to
+    :data:`BIG_BLOCK_MAX_UNKNOWNS` unknowns, else :data:`BLOCK_SIZE`.  It depends on the
+    size only, never on the threads: the eigenvalues are the same bits with any number.
+    """
+    if _threads.THREADS_MIN_UNKNOWNS <= n < BIG_BLOCK_MAX_UNKNOWNS:
+        return BLOCK_SIZE_THREADED
+    return BLOCK_SIZE
+
 
 #: Smallest block size accepted: a block Krylov method resolves at most ``b`` copies of an
 #: exactly repeated eigenvalue, and a connected surface's symmetry group can make up to 5
@@ -299,9 +319,12 @@ def block_lanczos(
     seed : int, default=0
         Seed of the random start block.
     return_vectors : bool, default=True
-    threads : int, default=1
-        Threads for the products over the basis (:func:`cshape._threads.solver_threads`);
-        the result is the same with any number.
+    threads : int or ThreadChooser, default=1
+        The most threads for the products over the basis
+        (:func:`cshape._threads.solver_threads`), or a
+        :class:`~cshape._threads.ThreadChooser` that picks them at each step by timing the
+        step's solve (which then reads its ``current`` threads); the result is the same
+        with any number.
     rhs_order : {'C', 'F'}, default='C'
         Memory order of the blocks passed to ``solve`` (the one it takes without a copy).
     negatives : int, optional
@@ -339,10 +362,11 @@ def block_lanczos(
     nblocks = max(1, min(max_dim, K.shape[0] - b) // b)
     if nblocks * b < N:
         raise NoConvergence("Krylov dimension budget below N")
-    split = RowSplit(K.shape[0], B, threads, rhs_order)
+    chooser = threads if isinstance(threads, ThreadChooser) else None
+    split = RowSplit(K.shape[0], B, chooser.max if chooser else int(threads), rhs_order)
     try:
         state = BlockLanczos(B, N, solve, sigma, b, nblocks, split, tol=tol, seed=seed,
-                             negatives=negatives, refine=refine)
+                             negatives=negatives, refine=refine, chooser=chooser)
         return state.run(return_vectors)
     finally:
         split.close()
@@ -376,6 +400,7 @@ class BlockLanczos:
     seed: int = 0
     negatives: int | None = None
     refine: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+    chooser: ThreadChooser | None = None
 
     def __post_init__(self):
         n, N, b, cap = self.B.shape[0], self.N, self.b, (self.nblocks + 1) * self.b
@@ -458,12 +483,17 @@ class BlockLanczos:
         """
         V, split, R, b = self.V, self.split, self.R, self.b
         lo = max(0, m0 - b)
+        if self.chooser is not None:  # the threads of this step
+            split.threads = self.chooser.start_step()
+            start = time.perf_counter()
         W = self.solve(self.BVcur)
         A = split.tdot(self.BVcur, W)
         if R is not None:
             split.sub_times(W, V[:, lo:m], np.vstack([R.T, A]))
         else:
             split.sub_times(W, V[:, m0:m], A)
+        if self.chooser is not None:  # the solve and first pass cost the same every step
+            self.chooser.record(time.perf_counter() - start)
         scale = max(float(np.abs(A).max()), float(np.abs(R).max()) if R is not None else 0.0)
         omega = None
         if lo > 0 and self.since >= self.skip:

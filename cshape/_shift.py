@@ -7,7 +7,7 @@ Two shifts, tried in this order by :mod:`cshape.spectrum` for one connected comp
   ``L D L^T``; its inertia (Sylvester's law) counts the eigenvalues below the shift.
   None where it does not apply.
 * :func:`solve_below`, the shift below the whole spectrum: ``K - sigma B`` is positive
-  definite (Cholesky ``L L^T``), with the thread policy's block size, and ARPACK with
+  definite (Cholesky ``L L^T``), with a block size set by the size, and ARPACK with
   ``tol=0`` on the same factorisation if the block Lanczos method does not converge.
 
 Both hand their solve to :func:`cshape._lanczos.block_lanczos`; the factorisations are
@@ -64,9 +64,20 @@ class CholeskyOperator(spla.LinearOperator):
     def _matmat(self, X):
         return self._factor.solve(X)
 
-    def solve_split(self, X, parts=2):
-        """``S^{-1} X`` with the columns in ``parts`` groups at once (the same bits)."""
-        return self._factor.solve_split(X, parts)
+    def solve_split(self, X, parts=2, threads=None):
+        """``S^{-1} X`` with the columns in ``parts`` groups, at once with ``threads > 1``.
+
+        Each group is solved on its own in either case, so one thread (the groups in
+        turn, ``threads=1``) and several give the same bits.  Default: at once.
+        """
+        if threads is None or threads > 1:
+            return self._factor.solve_split(X, parts)
+        X = np.asarray(X, dtype=np.float64)
+        if X.ndim != 2 or parts < 2 or X.shape[1] < 2 * parts:
+            return self._factor.solve(X)
+        edges = np.linspace(0, X.shape[1], parts + 1).astype(int)
+        return np.hstack([self._factor.solve(X[:, a:b])
+                          for a, b in zip(edges[:-1], edges[1:], strict=True)])
 
 
 def default_sigma(B, N):
@@ -186,25 +197,31 @@ def solve_below(K, B, N, sigma, same, return_vectors):
     """Block Lanczos with the shift ``sigma`` below the spectrum (default :func:`default_sigma`).
 
     ``K - sigma B`` is positive definite: one Cholesky factorisation
-    (:class:`CholeskyOperator`).  With two threads or more on a mesh of at least
-    ``THREADS_MIN_UNKNOWNS`` unknowns the blocks are of
-    :data:`~cshape._lanczos.BLOCK_SIZE_THREADED` vectors whose solves run as two halves
-    at once.  If the block method does not converge, ARPACK (:func:`arpack`) on the same
-    factorisation.  Returns ascending ``(lam, phi)``, ``phi`` None unless
+    (:class:`CholeskyOperator`).  The block size follows the size
+    (:func:`~cshape._lanczos.block_size`); blocks of
+    :data:`~cshape._lanczos.BLOCK_SIZE_THREADED` vectors are solved as two halves.  From
+    ``THREADS_MIN_UNKNOWNS`` unknowns the halves and the products over the basis run on
+    two threads when timing shows that they help (:class:`~cshape._threads.ThreadChooser`,
+    at most :func:`~cshape._threads.solver_threads` threads); the eigenvalues are the same
+    bits either way.  If the block method does not converge, ARPACK (:func:`arpack`) on the
+    same factorisation.  Returns ascending ``(lam, phi)``, ``phi`` None unless
     ``return_vectors``.
     """
     k = K.shape[0]
     if sigma is None:
         sigma = default_sigma(B, N)
     op = CholeskyOperator(shifted(K, B, sigma, same))
-    threads = _threads.solver_threads(k)
-    solve, b = op.matmat, _lanczos.BLOCK_SIZE
-    if threads >= 2 and k >= _threads.THREADS_MIN_UNKNOWNS:
-        solve, b = functools.partial(op.solve_split, parts=2), _lanczos.BLOCK_SIZE_THREADED
+    b = _lanczos.block_size(k)
+    chooser = _threads.ThreadChooser(_threads.solver_threads(k))
+    if b == _lanczos.BLOCK_SIZE_THREADED:
+        def solve(X):
+            return op.solve_split(X, parts=2, threads=chooser.current)
+    else:
+        solve = op.matmat
     try:
         with _threads.one_blas_thread():
             lam, phi = _lanczos.block_lanczos(K, B, N, solve, sigma,
-                                              return_vectors=return_vectors, threads=threads,
+                                              return_vectors=return_vectors, threads=chooser,
                                               rhs_order=op.rhs_order, block_size=b)
     except (_lanczos.NoConvergence, la.LinAlgError):
         lam, phi = arpack(K, B, N, op, sigma, return_vectors)

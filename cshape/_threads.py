@@ -1,6 +1,7 @@
 """Thread policy of the eigensolver and its products over fixed row ranges.
 
-How many threads a solve may use (:func:`solver_threads`), BLAS limited to one thread
+How many threads a solve may use (:func:`solver_threads`), whether they help at each step
+(:class:`ThreadChooser`, by timing the step's block solve), BLAS limited to one thread
 (:func:`one_blas_thread`), and :class:`RowSplit`, the tall products of the block Lanczos
 iteration computed over fixed row ranges whose partial results are added in a fixed
 order: the eigenvalues are the same bits with any number of threads.
@@ -60,21 +61,20 @@ def one_blas_thread():
 
 
 def solver_threads(n: int) -> int:
-    """Threads for the Lanczos products of a problem with ``n`` unknowns (the policy).
+    """The most threads a solve of ``n`` unknowns may use (the policy).
 
     * ``CSHAPE_THREADS`` (environment), a positive integer, decides if set;
     * else 1 below :data:`THREADS_MIN_UNKNOWNS` unknowns, in a child process (a process
       pool's or a Dask worker: batch runs already use one process per core), and off the
       main thread (e.g. a threads-only Dask cluster);
-    * else as many as the cores that look free, at most :data:`ROW_PARTS`: the CPU count
-      this process may use minus the 1-minute load average, plus one for this process
-      (on a shared machine extra threads only wait for cores and slow the solve down).
+    * else the CPUs this process may use, at most :data:`ROW_PARTS`.
 
-    The products are split into the same :data:`ROW_PARTS` row ranges, added in the same
-    order, whatever their number; from two threads on the block size is
-    ``BLOCK_SIZE_THREADED`` (its solves in two halves at once), which changes the
-    eigenvalues by rounding (about 1e-12 relative).  The CHOLMOD factorisation runs on
-    one core in any case.
+    The load average does not enter: it lags by a minute and counts the threads of other
+    libraries as well (a BLAS pool that has just spun).  Whether the threads help *now*
+    is measured during the solve instead (:class:`ThreadChooser`), and the eigenvalues do
+    not depend on it: the products are split into the same :data:`ROW_PARTS` row ranges,
+    added in the same order, and the block solves into the same two halves, with any
+    number of threads (one included).
 
     Parameters
     ----------
@@ -101,11 +101,60 @@ def solver_threads(n: int) -> int:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover - not Linux
         cores = os.cpu_count() or 1
-    try:
-        load = os.getloadavg()[0]
-    except OSError:  # pragma: no cover
-        load = float(cores)
-    return int(max(1, min(cores, ROW_PARTS, np.floor(cores - load + 1.5))))
+    return int(max(1, min(cores, ROW_PARTS)))
+
+
+class ThreadChooser:
+    """Threads of each Lanczos step, chosen by timing the steps on ``threads`` and on one.
+
+    On a machine whose other cores are busy (other processes, other virtual machines on
+    the same host) a second thread gains nothing and its synchronisation costs time; on
+    a quiet one it speeds the solves and the products up.  Which holds is measured in the
+    solve itself, at no cost for a calibration: steps ``1 .. PROBE_STEPS`` alternate
+    ``threads`` and one thread, each timing its block solve and the first
+    orthogonalisation pass against the two newest blocks (:meth:`record`), which cost
+    the same at every step; the setting of the fastest such time (``threads`` only if
+    faster by the factor :data:`GAIN`) is kept until the next probe, every
+    :data:`REPROBE_EVERY` steps.  The choice changes the timing only: the results are
+    the same bits with any number of threads.
+
+    Parameters
+    ----------
+    threads : int
+        The most threads (:func:`solver_threads`); 1 never probes.
+    """
+
+    PROBE_STEPS = 4
+    REPROBE_EVERY = 32
+    GAIN = 0.95
+
+    def __init__(self, threads):
+        self.max = max(1, int(threads))
+        self.current = self.max
+        self.steps = 0
+        self.samples = {}
+        self.history = []  # (step, threads, solve seconds), for benchmarks
+
+    def start_step(self):
+        """The threads of the next step."""
+        phase = self.steps % self.REPROBE_EVERY
+        self.steps += 1
+        if self.max == 1:
+            return 1
+        if 1 <= phase <= self.PROBE_STEPS:
+            self.current = self.max if phase % 2 else 1
+        elif phase == self.PROBE_STEPS + 1 and self.samples:
+            fast = min(self.samples.get(self.max, [np.inf]))
+            slow = min(self.samples.get(1, [np.inf]))
+            self.current = self.max if fast <= self.GAIN * slow else 1
+            self.samples = {}
+        return self.current
+
+    def record(self, seconds):
+        """The time of the block solve and first pass of the step just started."""
+        self.history.append((self.steps - 1, self.current, seconds))
+        if 1 <= (self.steps - 1) % self.REPROBE_EVERY <= self.PROBE_STEPS:
+            self.samples.setdefault(self.current, []).append(seconds)
 
 
 def times(V, C):
@@ -133,6 +182,7 @@ class RowSplit:
     B : scipy.sparse matrix, shape (n, n)
         The mass matrix, for :meth:`bmul`.
     threads : int, default=1
+        The most threads; :attr:`threads` may lower it between products.
     rhs_order : {'C', 'F'}, default='C'
         Memory order of the B-images handed to the solver.
     """
@@ -147,6 +197,8 @@ class RowSplit:
         self.B_rows = [B[a:b].tocsc() for a, b in self.ranges] if parts > 1 else [B]
         self.single = parts == 1  # one range: the plain products, without dispatch
         self.pool = None
+        #: Threads of the next products (at most ``threads``; 1: in the calling thread).
+        self.threads = threads
         if threads > 1 and parts > 1:
             from concurrent.futures import ThreadPoolExecutor
 
@@ -158,7 +210,7 @@ class RowSplit:
             self.pool.shutdown()
 
     def _map(self, fn):
-        if self.pool is None:
+        if self.pool is None or self.threads < 2:
             return [fn(i, a, b) for i, (a, b) in enumerate(self.ranges)]
         futures = [self.pool.submit(fn, i, a, b) for i, (a, b) in enumerate(self.ranges)]
         return [f.result() for f in futures]

@@ -23,9 +23,8 @@ the inertia of the factorisation; above it a block of ``b >= 6`` random start ve
 resolves the multiplicities of up to 5 that a connected surface's symmetry gives, and a
 mesh of several connected components is solved one component at a time.
 
-Determinism.  Fixed seeds: the same input gives the same bits in every run.  With one
-thread or with any number from two on; one and two threads differ by rounding (about
-``1e-12`` relative, :func:`solver_threads`).
+Determinism.  Fixed seeds: the same input gives the same bits in every run, with any
+number of threads (:func:`solver_threads`).
 
 The solver lives in private modules by job: :mod:`cshape._shift` (the shift and its
 factorisation), :mod:`cshape._lanczos` (the iteration), :mod:`cshape._threads` (the thread
@@ -281,11 +280,10 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
 
     Notes
     -----
-    Meshes of 50,000 vertices and more may use several threads for the products of the
-    eigensolver when cores are free (never in batch workers); the environment variable
-    ``CSHAPE_THREADS`` sets the number.  The eigenvalues are the same bits with any number
-    of threads from two on, and agree with the one-thread ones to rounding (about 1e-12
-    relative; :func:`solver_threads`).
+    Meshes of 50,000 vertices and more may use several threads for the solves and the
+    products of the eigensolver (never in batch workers), where timing during the solve
+    shows that they help; the environment variable ``CSHAPE_THREADS`` sets the most.  The
+    eigenvalues are the same bits with any number of threads (:func:`solver_threads`).
 
     Examples
     --------

@@ -228,9 +228,20 @@ def test_split_solves_agree_with_one_solve_and_are_deterministic():
     np.testing.assert_array_equal(f.solve_split(X[:, :3], 2), f.solve(X[:, :3]))  # too few
 
 
-def test_one_and_two_threads_agree_on_a_big_mesh_to_rounding(monkeypatch):
-    # from THREADS_MIN_UNKNOWNS unknowns two threads take blocks of 16 solved as two
-    # halves at once: another Krylov space, so equal eigenvalues up to rounding (1e-10)
+def test_split_solves_in_turn_give_the_bits_of_split_solves_at_once():
+    # one thread solves the same halves one after the other: the same bits as two threads
+    K, B = _KB(shapes.icosphere(4))
+    X = np.asfortranarray(np.random.default_rng(2).standard_normal((K.shape[0], 16)))
+    op = _shift.CholeskyOperator(K + B)
+    at_once = op.solve_split(X, parts=2, threads=2)
+    np.testing.assert_array_equal(op.solve_split(X, parts=2, threads=1), at_once)
+    np.testing.assert_array_equal(op.solve_split(X, parts=2), at_once)
+    np.testing.assert_allclose(at_once, op.matmat(X), rtol=0, atol=1e-12 * np.abs(at_once).max())
+
+
+def test_one_and_two_threads_give_the_same_bits_on_a_big_mesh(monkeypatch):
+    # from THREADS_MIN_UNKNOWNS unknowns the block size is BLOCK_SIZE_THREADED whatever the
+    # threads, its solves in the same two halves: one thread and two give the same bits
     monkeypatch.setattr(_threads, "THREADS_MIN_UNKNOWNS", 2000)
     monkeypatch.setattr(_shift, "INSIDE_LIMIT", 0)
     mesh = shapes.icosphere(4)
@@ -243,11 +254,16 @@ def test_one_and_two_threads_agree_on_a_big_mesh_to_rounding(monkeypatch):
 
     monkeypatch.setattr(_lanczos, "block_lanczos", spy_block)
     runs = {}
-    for t in ("1", "2"):
+    for t in ("1", "2", "3"):
         monkeypatch.setenv("CSHAPE_THREADS", t)
         runs[t] = cshape.shape_dna(mesh, N=100)
-    assert sizes == [_lanczos.BLOCK_SIZE, _lanczos.BLOCK_SIZE_THREADED]
-    np.testing.assert_allclose(runs["2"][1:], runs["1"][1:], rtol=1e-10)
+    assert sizes == [_lanczos.BLOCK_SIZE_THREADED] * 3
+    np.testing.assert_array_equal(runs["2"], runs["1"])
+    np.testing.assert_array_equal(runs["3"], runs["1"])
+    # and the sphere's l(l+1) groups keep their 2l + 1 copies (to 1e-8)
+    ref = la.eigh(*(m.toarray() for m in _KB(mesh)), eigvals_only=True,
+                  subset_by_index=[0, 99])
+    np.testing.assert_allclose(runs["1"][1:], ref[1:], rtol=1e-9)
 
 
 @pytest.mark.slow

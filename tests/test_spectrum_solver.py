@@ -275,6 +275,58 @@ def test_thread_policy_and_its_environment_override(monkeypatch):
             spectrum.solver_threads(big)
 
 
+def test_thread_policy_takes_the_cores_whatever_the_load(monkeypatch):
+    # the load average lags and counts other libraries' spinning threads: not read
+    import os
+
+    monkeypatch.delenv("CSHAPE_THREADS", raising=False)
+    big = _threads.THREADS_MIN_UNKNOWNS
+    cores = len(os.sched_getaffinity(0))
+    expected = min(cores, _threads.ROW_PARTS)
+    monkeypatch.setattr(os, "getloadavg", lambda: (100.0, 100.0, 100.0))
+    assert spectrum.solver_threads(big) == expected
+    monkeypatch.setattr(os, "getloadavg", lambda: (0.0, 0.0, 0.0))
+    assert spectrum.solver_threads(big) == expected
+
+
+def test_block_size_follows_the_size_only(monkeypatch):
+    small, big = _threads.THREADS_MIN_UNKNOWNS - 1, _lanczos.BIG_BLOCK_MAX_UNKNOWNS
+    assert _lanczos.block_size(small) == _lanczos.BLOCK_SIZE
+    assert _lanczos.block_size(small + 1) == _lanczos.BLOCK_SIZE_THREADED
+    assert _lanczos.block_size(big - 1) == _lanczos.BLOCK_SIZE_THREADED
+    assert _lanczos.block_size(big) == _lanczos.BLOCK_SIZE
+    for threads in ("1", "4"):  # whatever the threads
+        monkeypatch.setenv("CSHAPE_THREADS", threads)
+        assert _lanczos.block_size(small + 1) == _lanczos.BLOCK_SIZE_THREADED
+
+
+def _probe(chooser, threads_time):
+    """Run a chooser through its probe steps with a solve time per thread count."""
+    picked = []
+    for _ in range(1 + _threads.ThreadChooser.PROBE_STEPS):
+        picked.append(chooser.start_step())
+        chooser.record(threads_time[chooser.current])
+    return picked, chooser.start_step()
+
+
+def test_thread_chooser_keeps_the_threads_that_solve_faster():
+    probe = [2, 2, 1, 2, 1]  # step 0 at the most threads, then alternating
+    assert _probe(_threads.ThreadChooser(2), {2: 0.5, 1: 1.0}) == (probe, 2)
+    assert _probe(_threads.ThreadChooser(2), {2: 1.2, 1: 1.0}) == (probe, 1)
+    # a gain under GAIN (5 %) is not worth a second thread
+    assert _probe(_threads.ThreadChooser(2), {2: 0.97, 1: 1.0}) == (probe, 1)
+    # one thread allowed: never probes
+    assert _probe(_threads.ThreadChooser(1), {1: 1.0}) == ([1] * 5, 1)
+    # probes again after REPROBE_EVERY steps
+    chooser = _threads.ThreadChooser(2)
+    _probe(chooser, {2: 1.2, 1: 1.0})
+    for _ in range(_threads.ThreadChooser.REPROBE_EVERY - 6):
+        assert chooser.start_step() == 1
+        chooser.record(1.0)
+    assert chooser.start_step() == 1  # step REPROBE_EVERY: phase 0 keeps the choice
+    assert chooser.start_step() == 2  # then the probe
+
+
 DETERMINISM = """
 import sys
 import numpy as np
