@@ -37,7 +37,7 @@ BIG_BLOCK_MAX_UNKNOWNS = 800_000
 
 
 def block_size(n):
-    """The block size of a problem of ``n`` unknowns with the shift below the spectrum.
+    """Return the block size of a problem of ``n`` unknowns with the shift below the spectrum.
 
     :data:`BLOCK_SIZE_THREADED` from ``THREADS_MIN_UNKNOWNS`` to
     :data:`BIG_BLOCK_MAX_UNKNOWNS` unknowns, else :data:`BLOCK_SIZE`.  It depends on the

@@ -61,7 +61,7 @@ def one_blas_thread():
 
 
 def solver_threads(n: int) -> int:
-    """The most threads a solve of ``n`` unknowns may use (the policy).
+    """Return the most threads a solve of ``n`` unknowns may use (the policy).
 
     * ``CSHAPE_THREADS`` (environment), a positive integer, decides if set;
     * else 1 below :data:`THREADS_MIN_UNKNOWNS` unknowns, in a child process (a process
@@ -136,7 +136,7 @@ class ThreadChooser:
         self.history = []  # (step, threads, solve seconds), for benchmarks
 
     def start_step(self):
-        """The threads of the next step."""
+        """Return the threads of the next step."""
         phase = self.steps % self.REPROBE_EVERY
         self.steps += 1
         if self.max == 1:
@@ -151,7 +151,7 @@ class ThreadChooser:
         return self.current
 
     def record(self, seconds):
-        """The time of the block solve and first pass of the step just started."""
+        """Record the time of the block solve and first pass of the step just started."""
         self.history.append((self.steps - 1, self.current, seconds))
         if 1 <= (self.steps - 1) % self.REPROBE_EVERY <= self.PROBE_STEPS:
             self.samples.setdefault(self.current, []).append(seconds)
