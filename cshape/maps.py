@@ -17,7 +17,7 @@ function                    what it does
 :func:`point_map`           the one call: two meshes in, ``p`` (shape ``(n_T,)``) out
 :func:`functional_map`      ``C`` from descriptors, Laplacian commutativity, orientation
 :func:`zoomout`             spectral upsampling of ``C`` from ``k0`` to ``k`` (Melzi et al. 2019)
-:func:`map_to_pointwise`    ``p`` from ``C`` (exact nearest neighbours, blocked products)
+:func:`map_to_pointwise`    ``p`` from ``C`` (exact nearest neighbours)
 :func:`pointwise_to_map`    ``C`` from ``p``
 :func:`transfer_function`   a function on ``S`` carried to ``T`` through ``C``
 :func:`geodesic_distance`   heat-method geodesic distance to a set of vertices (Crane et al.
@@ -41,16 +41,20 @@ left from right; this term can, because it uses the surface's orientation (face 
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
 from ._checks import check_bool, check_int, check_real
+from ._threads import one_blas_thread
 from .fem import fem_matrices
 from .mesh import Mesh, MeshLike, as_mesh, repair_mesh
 from .signatures import heat_kernel, wks, wks_energies
-from .spectrum import eigenpairs
+from .spectrum import solve_eigenproblem
 
 __all__ = [
     "HeatGeodesics",
@@ -65,15 +69,18 @@ __all__ = [
     "zoomout",
 ]
 
-#: Rows of the query block of :func:`map_to_pointwise`: a block needs ``rows x n_S`` floats
-#: (2048 x 50,000 x 8 bytes = 0.8 GB would be too many; 1024 rows x 50K = 0.4 GB).
-NN_BLOCK = 1024
+#: Query rows per matrix product of the vertex map (:func:`map_to_pointwise`): a block holds
+#: ``NN_BLOCK x n_S`` distances (512 x 60,000 x 8 bytes = 0.25 GB).
+NN_BLOCK = 512
+
+#: Threads sharing the blocks of the vertex map (at most the CPUs).
+NN_THREADS = 2
 
 #: Default weights of :func:`functional_map` (descriptors, Laplacian, orientation), for
 #: descriptors and eigenvalues scaled as described there.
 DESCRIPTOR_WEIGHT = 1.0
 LAPLACIAN_WEIGHT = 1e-2
-ORIENTATION_WEIGHT = 1e-1
+ORIENTATION_WEIGHT = 3e-4
 
 #: :func:`point_map` keeps every 5th of its WKS energies (pyFM's ``subsample_step``).
 DESCRIPTOR_STRIDE = 5
@@ -81,7 +88,7 @@ DESCRIPTOR_STRIDE = 5
 
 # ---------------------------------------------------------------------- checks
 def _check_mesh(name, mesh) -> Mesh:
-    """A mesh that the eigensolver will not renumber (no repair needed), or a clear error."""
+    """Return a mesh that the eigensolver will not renumber (no repair needed), or raise."""
     try:
         m = as_mesh(mesh)
     except TypeError as exc:
@@ -154,7 +161,7 @@ def _check_landmarks(landmarks, n_source, n_target):
 # ---------------------------------------------------------------------- gradients
 def face_gradients(mesh: MeshLike) -> tuple[sp.csr_matrix, NDArray[np.float64],
                                              NDArray[np.float64]]:
-    """The per-triangle gradient operator of piecewise-linear functions.
+    """Assemble the per-triangle gradient operator of piecewise-linear functions.
 
     On triangle ``t = (i, j, l)`` with unit normal ``n`` and area ``|t|``, the hat function
     of vertex ``i`` has the constant gradient ``grad phi_i = n x e_i / (2 |t|)``, ``e_i`` the
@@ -252,7 +259,7 @@ class HeatGeodesics:
         return self._solve(self._B @ rhs, [[j] for j in range(len(src))], src)
 
     def distance(self, sources: ArrayLike) -> NDArray[np.float64]:
-        """The geodesic distance to the nearest of a set of vertices, shape (n,)."""
+        """Compute the geodesic distance to the nearest of a set of vertices, shape (n,)."""
         n = self.mesh.n_vertices
         src = _check_indices("sources", sources, n)
         if src.size == 0:
@@ -364,29 +371,46 @@ def geodesic_errors(mesh: MeshLike, p2p: ArrayLike, truth: ArrayLike | None = No
 
 # ---------------------------------------------------------------------- nearest neighbours
 def _nearest_rows(queries, points, block=NN_BLOCK):
-    """Index of the nearest row of ``points`` for every row of ``queries``: exact, by
-    blocked products ``|q|^2 - 2 q.p + |p|^2`` (``|q|^2`` does not change the argmin)."""
+    """Index of the nearest row of ``points`` for every row of ``queries``, exactly.
+
+    Up to 3 dimensions a k-d tree.  Above (k-d and ball trees degrade to a scan in 30-100
+    dimensions), blocks of ``|p|^2 - 2 q.p`` (``|q|^2`` does not change the argmin), each
+    block one matrix product ``[q, 1] [-2 p, |p|^2]^T`` and its row-wise argmin; the blocks
+    are shared among threads with one BLAS thread each, so that no BLAS worker spins.
+    """
     if points.shape[1] <= 3:
         from scipy.spatial import cKDTree
 
         return cKDTree(points).query(queries)[1].astype(np.int64)
-    pp = np.einsum("ij,ij->i", points, points)
+    P = np.empty((points.shape[1] + 1, len(points)))
+    P[:-1] = -2.0 * points.T
+    P[-1] = np.einsum("ij,ij->i", points, points)
+    Q = np.empty((len(queries), queries.shape[1] + 1))
+    Q[:, :-1] = queries
+    Q[:, -1] = 1.0
     out = np.empty(len(queries), dtype=np.int64)
-    pT = np.ascontiguousarray(points.T)
-    for s in range(0, len(queries), block):
-        Q = queries[s:s + block] @ pT
-        Q *= -2.0
-        Q += pp
-        out[s:s + block] = np.argmin(Q, axis=1)
+
+    def run(s):
+        out[s:s + block] = np.argmin(Q[s:s + block] @ P, axis=1)
+
+    starts = range(0, len(queries), block)
+    threads = min(len(starts), NN_THREADS, os.cpu_count() or 1)
+    with one_blas_thread():
+        if threads > 1:
+            with ThreadPoolExecutor(threads) as pool:
+                list(pool.map(run, starts))
+        else:
+            for s in starts:
+                run(s)
     return out
 
 
 def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
                      ) -> NDArray[np.int64]:
-    """The vertex map of a functional map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
+    """Convert a functional map to a vertex map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
 
     Exact nearest neighbours in ``k_T`` dimensions by blocked dense matrix products
-    (k-d trees degrade to a scan above about 10 dimensions).
+    (k-d trees degrade to a scan in 30-100 dimensions).
 
     Parameters
     ----------
@@ -408,7 +432,7 @@ def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
 
 def pointwise_to_map(p2p: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
                      B_target: sp.spmatrix | ArrayLike) -> NDArray[np.float64]:
-    """The functional map of a vertex map: ``C = Phi_T^T B_T Pi Phi_S``, shape (k_T, k_S).
+    """Convert a vertex map to a functional map: ``C = Phi_T^T B_T Pi Phi_S``, (k_T, k_S).
 
     Parameters
     ----------
@@ -462,8 +486,12 @@ def transfer_function(f: ArrayLike, C: ArrayLike, phi_source: ArrayLike,
 
 # ---------------------------------------------------------------------- functional map
 def _orientation_ops(mesh, phi, F):
-    """Reduced orientation operators ``Phi^T W_f Phi`` (k x k) for each column ``f`` of F,
-    ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018)."""
+    """Reduced orientation operators ``Phi^T W_f Phi`` (k x k) for each column ``f`` of F.
+
+    ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018), times
+    ``sqrt(area)``: with ``Phi`` B-orthonormal the operators scale as 1 / length, so this
+    makes them those of the shape scaled to unit area (the same weight for any unit).
+    """
     G, areas, normals = face_gradients(mesh)
     nF, k = len(areas), phi.shape[1]
     gphi = (G @ phi).reshape(nF, 3, k)
@@ -478,7 +506,7 @@ def _orientation_ops(mesh, phi, F):
         s = np.einsum("fc,fck->fk", J, gphi)
         op = pface.T @ s
         ops.append(op / max(nrm, np.finfo(float).tiny))
-    return np.array(ops)
+    return np.array(ops) * np.sqrt(areas.sum())
 
 
 def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
@@ -491,7 +519,7 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
                    laplacian_weight: float = LAPLACIAN_WEIGHT,
                    orientation_weight: float = ORIENTATION_WEIGHT,
                    maxiter: int = 1000) -> NDArray[np.float64]:
-    """The functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
+    """Compute the functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
 
     Minimises (Ovsjanikov et al. 2012, Eq. 5-6; Ren et al. 2018, Eq. 8)
 
@@ -555,8 +583,14 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     DS, DT = pS.T @ (B_source @ FS), pT.T @ (B_target @ FT)
     scale = max(float(np.abs(lS).max()), np.finfo(float).tiny)
     M = np.square(lT[:, None] / scale - lS[None, :] / scale)  # (k_T, k_S)
-    kT, kS = len(lT), len(lS)
     # closed form per row: (wd DS DS^T + wl diag(M_i)) c_i = wd DS DT_i
+    with one_blas_thread():  # k x k products: spinning BLAS threads only slow them
+        return _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT)
+
+
+def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
+    """Minimise the energy of :func:`functional_map` (its arguments checked)."""
+    kT, kS = M.shape
     H = wd * (DS @ DS.T)
     R = wd * (DS @ DT.T)  # (k_S, k_T)
     C = np.empty((kT, kS))
@@ -567,13 +601,16 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     OS = _orientation_ops(_check_mesh("source", source), pS, FS)
     OT = _orientation_ops(_check_mesh("target", target), pT, FT)
 
+    OSt, OTt = OS.transpose(0, 2, 1).copy(), OT.transpose(0, 2, 1).copy()
+    H_d = DS @ DS.T
+
     # E is a convex quadratic in C: its minimiser solves the normal equations H vec(C) = r,
     # solved by conjugate gradients from the closed-form solution without the orientation
     def hess(x):
         X = x.reshape(kT, kS)
-        RO = np.einsum("ij,fjk->fik", X, OS) - np.einsum("fij,jk->fik", OT, X)
-        g = wd * X @ (DS @ DS.T) + wl * M * X + 1e-12 * X
-        g += wo * (np.einsum("fik,fjk->ij", RO, OS) - np.einsum("fji,fjk->ik", OT, RO))
+        RO = X @ OS - OT @ X  # (f, k_T, k_S): C O_S,f - O_T,f C
+        g = wd * X @ H_d + wl * M * X + 1e-12 * X
+        g += wo * ((RO @ OSt).sum(axis=0) - (OTt @ RO).sum(axis=0))
         return g.ravel()
 
     op = spla.LinearOperator((kT * kS, kT * kS), matvec=hess, dtype=np.float64)
@@ -645,27 +682,31 @@ def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
         iS, iT = np.arange(len(pS)), np.arange(len(pT))
     subS, subT = pS[iS], pT[iT]
     full = sample is None
-    kc = C.shape[0]
-    while True:
-        kT, kS = C.shape
-        p = _nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T)
-        if kc >= k and kT >= k:
-            break
-        kc = min(kc + step, k)
-        C = _fit(subT[:, :kc], subS[p, :kc], wT[iT], B_target if full else None)
-        if bijective:
-            q = _nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
-            C2 = _fit(subS[:, :kc], subT[q, :kc], wS[iS], B_source if full else None)
-            C = 0.5 * (C + C2.T)
-        if kc >= k:
-            break
+    with one_blas_thread():  # small products: spinning BLAS threads only slow them
+        kc = C.shape[0]
+        while True:
+            kT, kS = C.shape
+            p = _nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T)
+            if kc >= k and kT >= k:
+                break
+            kc = min(kc + step, k)
+            C = _fit(subT[:, :kc], subS[p, :kc], wT[iT], B_target if full else None)
+            if bijective:
+                q = _nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
+                C2 = _fit(subS[:, :kc], subT[q, :kc], wS[iS], B_source if full else None)
+                C = 0.5 * (C + C2.T)
+            if kc >= k:
+                break
     return C
 
 
 def _fit(phiT, phiS_mapped, w, B):
-    """``C = Phi_T^T B Phi_S[p]`` (all vertices), or the mass-weighted least squares fit
+    """Fit ``C`` to a vertex map (on all vertices, or by least squares on samples).
+
+    ``C = Phi_T^T B Phi_S[p]`` (all vertices), or the mass-weighted least squares fit
     ``min_C sum_y w_y |Phi_T[y] C - ...|`` on samples: ``(Phi_T^T W Phi_T)^-1 Phi_T^T W
-    Phi_S[p]`` (the transpose of the map written row-wise)."""
+    Phi_S[p]`` (the transpose of the map written row-wise).
+    """
     if B is not None:
         return phiT.T @ (B @ phiS_mapped)
     Wp = phiT * w[:, None]
@@ -691,9 +732,10 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
               bijective: bool = False, sample: int | None = 3000,
               return_map: bool = False, random_state: int = 0
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """The one call: a vertex map between two meshes by functional maps and ZoomOut.
+    """Map the vertices of two meshes in one call, by functional maps and ZoomOut.
 
-    1. ``k`` eigenpairs of each mesh (:func:`cshape.eigenpairs`);
+    1. ``A``, ``B`` of each mesh (:func:`cshape.fem_matrices`, assembled once) and its ``k``
+       eigenpairs (:func:`cshape.solve_eigenproblem`);
     2. WKS descriptors (:func:`cshape.wks`, the shapes scaled to unit area, ``n_descriptors``
        energies of the source), plus heat kernels from the landmarks when given;
     3. ``C`` of size ``k0`` by :func:`functional_map` (with the orientation term);
@@ -758,10 +800,11 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     if k > min(S.n_vertices, T.n_vertices):
         raise ValueError(f"k={k} is more than the vertices of the smaller mesh "
                          f"({min(S.n_vertices, T.n_vertices)}); use a smaller k")
-    lS, pS = eigenpairs(S, k)
-    lT, pT = eigenpairs(T, k)
-    _, BS = fem_matrices(S)
-    _, BT = fem_matrices(T)
+    # A and B assembled once per mesh, for the eigenpairs and the maps
+    AS, BS = fem_matrices(S)
+    AT, BT = fem_matrices(T)
+    lS, pS = solve_eigenproblem(AS, BS, k)
+    lT, pT = solve_eigenproblem(AT, BT, k)
     dS, dT = _descriptors(lS, pS, S.area, lT, pT, T.area, n_descriptors, lm)
     C = functional_map(lS[:k0], pS[:, :k0], BS, lT[:k0], pT[:, :k0], BT, dS, dT,
                        source=S, target=T,
