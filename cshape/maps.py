@@ -735,7 +735,7 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     """Map the vertices of two meshes in one call, by functional maps and ZoomOut.
 
     1. ``A``, ``B`` of each mesh (:func:`cshape.fem_matrices`, assembled once) and its ``k``
-       eigenpairs (:func:`cshape.solve_eigenproblem`);
+       eigenpairs (:func:`cshape.spectrum.solve_eigenproblem`);
     2. WKS descriptors (:func:`cshape.wks`, the shapes scaled to unit area, ``n_descriptors``
        energies of the source), plus heat kernels from the landmarks when given;
     3. ``C`` of size ``k0`` by :func:`functional_map` (with the orientation term);
