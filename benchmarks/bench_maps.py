@@ -332,7 +332,16 @@ def write_calibration(out, command):
                                                for w in WEIGHTS) + " |")
     means = [np.mean([out[p, w][1] for p in pairs]) for w in WEIGHTS]
     lines.append("| **mean** | " + " | ".join(f"**{m:.3f}**" for m in means) + " |")
-    lines += ["", f"Best mean: `w_o = {WEIGHTS[int(np.argmax(means))]:g}`.", ""]
+    best = WEIGHTS[int(np.argmax(means))]
+    lines += ["", f"Best mean: `w_o = {best:g}`."]
+    lose = [p for p in pairs if max(out[p, w][1] for w in WEIGHTS[1:]) < out[p, 0.0][1]]
+    if lose:
+        lines += ["", "Where the orientation term loses (FM + ZoomOut without it is better at "
+                  "every weight tried): " + ", ".join(
+                      f"{p} ({out[p, 0.0][1]:.3f} without, "
+                      f"{max(out[p, w][1] for w in WEIGHTS[1:]):.3f} at best with)"
+                      for p in lose) + "."]
+    lines.append("")
     (RESULTS / "maps_orientation_weight.md").write_text("\n".join(lines) + "\n")
     return "\n".join(lines)
 
@@ -452,7 +461,8 @@ def write_timing(stage_rows, nn_rows, command):
     for label, nv, tot, tot_all, within, share, _st, la0, la1 in stage_rows:
         lines.append(f"| {label} | {nv} | {tot:.1f} | {', '.join(f'{t:.1f}' for t in tot_all)}"
                      f" | {within:.3f} | {share:.2f} | {la0:.1f} / {la1:.1f} |")
-    lines += ["", "Stages (seconds of one more run, step by step with the public functions):", "", "| pair | " + " | ".join(stage_rows[0][6]) + " |",
+    lines += ["", "Stages (seconds of one more run, step by step with the public functions):",
+              "", "| pair | " + " | ".join(stage_rows[0][6]) + " |",
               "|---|" + "---|" * len(stage_rows[0][6])]
     for row in stage_rows:
         lines.append(f"| {row[0]} | " + " | ".join(f"{s:.1f}" for s in row[6].values()) + " |")
