@@ -508,6 +508,8 @@ def main(argv=None):
                     help="TOSCA characters, comma-separated (default: all)")
     ap.add_argument("--max-poses", type=int, default=0,
                     help="at most this many poses per character against its pose 0")
+    ap.add_argument("--poses", default="",
+                    help="only these pose numbers against pose 0, comma-separated")
     ap.add_argument("--name", default="maps_tosca", help="results file name (no .md)")
     ap.add_argument("--max-vertices", type=int, default=0,
                     help="skip TOSCA characters with more vertices (default: none)")
@@ -525,6 +527,9 @@ def main(argv=None):
     else:
         chars = tuple(c for c in args.characters.split(",") if c) or None
         pairs, name = list(tosca_pairs(chars, checks)), args.name
+        if args.poses:
+            wanted = {int(i) for i in args.poses.split(",")}
+            pairs = [p for p in pairs if int(re.findall(r"\d+", p[0])[-1]) in wanted]
         if args.max_poses:
             count = {}
             keep = []
