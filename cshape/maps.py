@@ -76,6 +76,10 @@ NN_BLOCK = 512
 #: Threads sharing the blocks of the vertex map (at most the CPUs).
 NN_THREADS = 2
 
+#: From this many (query, point) pairs on, the vertex map uses scikit-learn's brute-force
+#: search (the full-size map of 10K-vertex meshes and up); below, the blocks above.
+NN_SKLEARN_PAIRS = 10**8
+
 #: Default weights of :func:`functional_map` (descriptors, Laplacian, orientation), for
 #: descriptors and eigenvalues scaled as described there.
 DESCRIPTOR_WEIGHT = 1.0
@@ -374,7 +378,9 @@ def _nearest_rows(queries, points, block=NN_BLOCK):
     """Index of the nearest row of ``points`` for every row of ``queries``, exactly.
 
     Up to 3 dimensions a k-d tree.  Above (k-d and ball trees degrade to a scan in 30-100
-    dimensions), blocks of ``|p|^2 - 2 q.p`` (``|q|^2`` does not change the argmin), each
+    dimensions), scikit-learn's brute-force search for big problems (at least
+    ``NN_SKLEARN_PAIRS`` query-point pairs: its OpenMP threads cost more than they gain on
+    small ones), else blocks of ``|p|^2 - 2 q.p`` (``|q|^2`` does not change the argmin), each
     block one matrix product ``[q, 1] [-2 p, |p|^2]^T`` and its row-wise argmin; the blocks
     are shared among threads with one BLAS thread each, so that no BLAS worker spins.
     """
@@ -382,6 +388,12 @@ def _nearest_rows(queries, points, block=NN_BLOCK):
         from scipy.spatial import cKDTree
 
         return cKDTree(points).query(queries)[1].astype(np.int64)
+    if len(queries) * len(points) >= NN_SKLEARN_PAIRS:
+        # the same products, tiled and reduced in compiled code on every core
+        from sklearn.neighbors import NearestNeighbors
+
+        nn = NearestNeighbors(n_neighbors=1, algorithm="brute").fit(points)
+        return nn.kneighbors(queries, return_distance=False)[:, 0].astype(np.int64)
     P = np.empty((points.shape[1] + 1, len(points)))
     P[:-1] = -2.0 * points.T
     P[-1] = np.einsum("ij,ij->i", points, points)

@@ -302,8 +302,12 @@ def test_functional_map_does_not_depend_on_the_unit_of_length(blob, shuffled):
     np.testing.assert_allclose(out[1], out[0], atol=1e-6)
 
 
-def test_map_to_pointwise_is_the_exact_nearest_neighbour():
-    """Blocks, threads and the 3-d k-d tree path give the argmin of the full distances."""
+@pytest.mark.parametrize("big", [False, True])
+def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
+    """Blocks, threads, scikit-learn's search (big problems) and the 3-d k-d tree path give
+    the argmin of the full distances."""
+    if big:
+        monkeypatch.setattr(cshape.maps, "NN_SKLEARN_PAIRS", 1)
     rng = np.random.default_rng(3)
     for n_t, n_s, k in ((1500, 1200, 40), (300, 250, 3)):
         phiT, phiS = rng.standard_normal((n_t, k)), rng.standard_normal((n_s, k))
