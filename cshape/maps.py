@@ -541,8 +541,10 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     with ``D = Phi^T B F`` the descriptors projected on the bases (each descriptor scaled to
     unit B-norm on its shape), eigenvalues divided by the largest source eigenvalue, and
     ``O_f`` the reduced orientation operators of the descriptors (each divided by the mean
-    norm of its field).  Without the orientation term (``w_o = 0`` or no meshes) every row
-    of ``C`` is an independent ridge regression, solved in closed form:
+    norm of its field, and taken on the shape scaled to unit area, so that ``C`` and the
+    weights do not depend on the unit of length).  Without the orientation term (``w_o = 0``
+    or no meshes) every row of ``C`` is an independent ridge regression, solved in closed
+    form:
     ``(D_S D_S^T + w_l/w_d diag((lam_T,i - lam_S)^2)) c_i = D_S D_T[i]``.  With it the rows
     couple; ``E`` stays a convex quadratic, minimised exactly by conjugate gradients on its
     normal equations, started from the closed-form solution.
