@@ -232,7 +232,8 @@ def write_accuracy(rows, name, command, checks=None, total=None, note=""):
     lines += [
         f"`N = {N}` eigenpairs per shape, `k0 = {K0}`, ZoomOut to {N} with {SAMPLE} samples, "
         f"orientation weight {maps.ORIENTATION_WEIGHT:g} (the operators of shapes scaled to "
-        "unit area).",
+        "unit area), chosen on the generated poses (`maps_orientation_weight.md`): the TOSCA "
+        "poses are held out.",
         f"*diag 5 %*: share of {N_ROWS} target vertices (spread over the vertex numbers; all "
         "if fewer) matched within 5 % of the bounding-box "
         "diagonal of the true vertex; *geo 5 %*: share of "
