@@ -17,7 +17,7 @@ function                    what it does
 :func:`point_map`           the one call: two meshes in, ``p`` (shape ``(n_T,)``) out
 :func:`functional_map`      ``C`` from descriptors, Laplacian commutativity, orientation
 :func:`zoomout`             spectral upsampling of ``C`` from ``k0`` to ``k`` (Melzi et al. 2019)
-:func:`map_to_pointwise`    ``p`` from ``C`` (exact nearest neighbours, blocked products)
+:func:`map_to_pointwise`    ``p`` from ``C`` (exact nearest neighbours)
 :func:`pointwise_to_map`    ``C`` from ``p``
 :func:`transfer_function`   a function on ``S`` carried to ``T`` through ``C``
 :func:`geodesic_distance`   heat-method geodesic distance to a set of vertices (Crane et al.
@@ -41,16 +41,20 @@ left from right; this term can, because it uses the surface's orientation (face 
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
 from ._checks import check_bool, check_int, check_real
+from ._threads import one_blas_thread
 from .fem import fem_matrices
 from .mesh import Mesh, MeshLike, as_mesh, repair_mesh
 from .signatures import heat_kernel, wks, wks_energies
-from .spectrum import eigenpairs
+from .spectrum import solve_eigenproblem
 
 __all__ = [
     "HeatGeodesics",
@@ -65,15 +69,22 @@ __all__ = [
     "zoomout",
 ]
 
-#: Rows of the query block of :func:`map_to_pointwise`: a block needs ``rows x n_S`` floats
-#: (2048 x 50,000 x 8 bytes = 0.8 GB would be too many; 1024 rows x 50K = 0.4 GB).
-NN_BLOCK = 1024
+#: Query rows per matrix product of the vertex map (:func:`map_to_pointwise`): a block holds
+#: ``NN_BLOCK x n_S`` distances (512 x 60,000 x 8 bytes = 0.25 GB).
+NN_BLOCK = 512
+
+#: Threads sharing the blocks of the vertex map (at most the CPUs).
+NN_THREADS = 2
+
+#: From this many (query, point) pairs on, the vertex map uses scikit-learn's brute-force
+#: search (the full-size map of 10K-vertex meshes and up); below, the blocks above.
+NN_SKLEARN_PAIRS = 10**8
 
 #: Default weights of :func:`functional_map` (descriptors, Laplacian, orientation), for
 #: descriptors and eigenvalues scaled as described there.
 DESCRIPTOR_WEIGHT = 1.0
 LAPLACIAN_WEIGHT = 1e-2
-ORIENTATION_WEIGHT = 1e-1
+ORIENTATION_WEIGHT = 3e-4
 
 #: :func:`point_map` keeps every 5th of its WKS energies (pyFM's ``subsample_step``).
 DESCRIPTOR_STRIDE = 5
@@ -81,7 +92,7 @@ DESCRIPTOR_STRIDE = 5
 
 # ---------------------------------------------------------------------- checks
 def _check_mesh(name, mesh) -> Mesh:
-    """Return a mesh that the eigensolver will not renumber (no repair needed), or raise clearly."""
+    """Return a mesh that the eigensolver will not renumber (no repair needed), or raise."""
     try:
         m = as_mesh(mesh)
     except TypeError as exc:
@@ -154,7 +165,7 @@ def _check_landmarks(landmarks, n_source, n_target):
 # ---------------------------------------------------------------------- gradients
 def face_gradients(mesh: MeshLike) -> tuple[sp.csr_matrix, NDArray[np.float64],
                                              NDArray[np.float64]]:
-    """Build the per-triangle gradient operator of piecewise-linear functions.
+    """Assemble the per-triangle gradient operator of piecewise-linear functions.
 
     On triangle ``t = (i, j, l)`` with unit normal ``n`` and area ``|t|``, the hat function
     of vertex ``i`` has the constant gradient ``grad phi_i = n x e_i / (2 |t|)``, ``e_i`` the
@@ -252,7 +263,7 @@ class HeatGeodesics:
         return self._solve(self._B @ rhs, [[j] for j in range(len(src))], src)
 
     def distance(self, sources: ArrayLike) -> NDArray[np.float64]:
-        """Return the geodesic distance to the nearest of a set of vertices, shape (n,)."""
+        """Compute the geodesic distance to the nearest of a set of vertices, shape (n,)."""
         n = self.mesh.n_vertices
         src = _check_indices("sources", sources, n)
         if src.size == 0:
@@ -364,32 +375,54 @@ def geodesic_errors(mesh: MeshLike, p2p: ArrayLike, truth: ArrayLike | None = No
 
 # ---------------------------------------------------------------------- nearest neighbours
 def _nearest_rows(queries, points, block=NN_BLOCK):
-    """Return the index of the nearest row of ``points`` for every row of ``queries``.
+    """Index of the nearest row of ``points`` for every row of ``queries``, exactly.
 
-    Exact, by blocked products ``|q|^2 - 2 q.p + |p|^2`` (``|q|^2`` does not change the
-    argmin).
+    Up to 3 dimensions a k-d tree.  Above (k-d and ball trees degrade to a scan in 30-100
+    dimensions), scikit-learn's brute-force search for big problems (at least
+    ``NN_SKLEARN_PAIRS`` query-point pairs: its OpenMP threads cost more than they gain on
+    small ones), else blocks of ``|p|^2 - 2 q.p`` (``|q|^2`` does not change the argmin), each
+    block one matrix product ``[q, 1] [-2 p, |p|^2]^T`` and its row-wise argmin; the blocks
+    are shared among threads with one BLAS thread each, so that no BLAS worker spins.
     """
     if points.shape[1] <= 3:
         from scipy.spatial import cKDTree
 
         return cKDTree(points).query(queries)[1].astype(np.int64)
-    pp = np.einsum("ij,ij->i", points, points)
+    if len(queries) * len(points) >= NN_SKLEARN_PAIRS:
+        # the same products, tiled and reduced in compiled code on every core
+        from sklearn.neighbors import NearestNeighbors
+
+        nn = NearestNeighbors(n_neighbors=1, algorithm="brute").fit(points)
+        return nn.kneighbors(queries, return_distance=False)[:, 0].astype(np.int64)
+    P = np.empty((points.shape[1] + 1, len(points)))
+    P[:-1] = -2.0 * points.T
+    P[-1] = np.einsum("ij,ij->i", points, points)
+    Q = np.empty((len(queries), queries.shape[1] + 1))
+    Q[:, :-1] = queries
+    Q[:, -1] = 1.0
     out = np.empty(len(queries), dtype=np.int64)
-    pT = np.ascontiguousarray(points.T)
-    for s in range(0, len(queries), block):
-        Q = queries[s:s + block] @ pT
-        Q *= -2.0
-        Q += pp
-        out[s:s + block] = np.argmin(Q, axis=1)
+
+    def run(s):
+        out[s:s + block] = np.argmin(Q[s:s + block] @ P, axis=1)
+
+    starts = range(0, len(queries), block)
+    threads = min(len(starts), NN_THREADS, os.cpu_count() or 1)
+    with one_blas_thread():
+        if threads > 1:
+            with ThreadPoolExecutor(threads) as pool:
+                list(pool.map(run, starts))
+        else:
+            for s in starts:
+                run(s)
     return out
 
 
 def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
                      ) -> NDArray[np.int64]:
-    """Return the vertex map of a functional map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
+    """Convert a functional map to a vertex map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
 
     Exact nearest neighbours in ``k_T`` dimensions by blocked dense matrix products
-    (k-d trees degrade to a scan above about 10 dimensions).
+    (k-d trees degrade to a scan in 30-100 dimensions).
 
     Parameters
     ----------
@@ -411,7 +444,7 @@ def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
 
 def pointwise_to_map(p2p: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
                      B_target: sp.spmatrix | ArrayLike) -> NDArray[np.float64]:
-    """Return the functional map of a vertex map: ``C = Phi_T^T B_T Pi Phi_S``, shape (k_T, k_S).
+    """Convert a vertex map to a functional map: ``C = Phi_T^T B_T Pi Phi_S``, (k_T, k_S).
 
     Parameters
     ----------
@@ -465,9 +498,11 @@ def transfer_function(f: ArrayLike, C: ArrayLike, phi_source: ArrayLike,
 
 # ---------------------------------------------------------------------- functional map
 def _orientation_ops(mesh, phi, F):
-    """Return the reduced orientation operators ``Phi^T W_f Phi`` (k x k), one per column of F.
+    """Reduced orientation operators ``Phi^T W_f Phi`` (k x k) for each column ``f`` of F.
 
-    For column ``f`` of F, ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018).
+    ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018), times
+    ``sqrt(area)``: with ``Phi`` B-orthonormal the operators scale as 1 / length, so this
+    makes them those of the shape scaled to unit area (the same weight for any unit).
     """
     G, areas, normals = face_gradients(mesh)
     nF, k = len(areas), phi.shape[1]
@@ -483,7 +518,7 @@ def _orientation_ops(mesh, phi, F):
         s = np.einsum("fc,fck->fk", J, gphi)
         op = pface.T @ s
         ops.append(op / max(nrm, np.finfo(float).tiny))
-    return np.array(ops)
+    return np.array(ops) * np.sqrt(areas.sum())
 
 
 def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
@@ -496,7 +531,7 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
                    laplacian_weight: float = LAPLACIAN_WEIGHT,
                    orientation_weight: float = ORIENTATION_WEIGHT,
                    maxiter: int = 1000) -> NDArray[np.float64]:
-    """Return the functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
+    """Compute the functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
 
     Minimises (Ovsjanikov et al. 2012, Eq. 5-6; Ren et al. 2018, Eq. 8)
 
@@ -506,8 +541,10 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     with ``D = Phi^T B F`` the descriptors projected on the bases (each descriptor scaled to
     unit B-norm on its shape), eigenvalues divided by the largest source eigenvalue, and
     ``O_f`` the reduced orientation operators of the descriptors (each divided by the mean
-    norm of its field).  Without the orientation term (``w_o = 0`` or no meshes) every row
-    of ``C`` is an independent ridge regression, solved in closed form:
+    norm of its field, and taken on the shape scaled to unit area, so that ``C`` and the
+    weights do not depend on the unit of length).  Without the orientation term (``w_o = 0``
+    or no meshes) every row of ``C`` is an independent ridge regression, solved in closed
+    form:
     ``(D_S D_S^T + w_l/w_d diag((lam_T,i - lam_S)^2)) c_i = D_S D_T[i]``.  With it the rows
     couple; ``E`` stays a convex quadratic, minimised exactly by conjugate gradients on its
     normal equations, started from the closed-form solution.
@@ -560,8 +597,14 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     DS, DT = pS.T @ (B_source @ FS), pT.T @ (B_target @ FT)
     scale = max(float(np.abs(lS).max()), np.finfo(float).tiny)
     M = np.square(lT[:, None] / scale - lS[None, :] / scale)  # (k_T, k_S)
-    kT, kS = len(lT), len(lS)
     # closed form per row: (wd DS DS^T + wl diag(M_i)) c_i = wd DS DT_i
+    with one_blas_thread():  # k x k products: spinning BLAS threads only slow them
+        return _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT)
+
+
+def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
+    """Minimise the energy of :func:`functional_map` (its arguments checked)."""
+    kT, kS = M.shape
     H = wd * (DS @ DS.T)
     R = wd * (DS @ DT.T)  # (k_S, k_T)
     C = np.empty((kT, kS))
@@ -572,13 +615,16 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     OS = _orientation_ops(_check_mesh("source", source), pS, FS)
     OT = _orientation_ops(_check_mesh("target", target), pT, FT)
 
+    OSt, OTt = OS.transpose(0, 2, 1).copy(), OT.transpose(0, 2, 1).copy()
+    H_d = DS @ DS.T
+
     # E is a convex quadratic in C: its minimiser solves the normal equations H vec(C) = r,
     # solved by conjugate gradients from the closed-form solution without the orientation
     def hess(x):
         X = x.reshape(kT, kS)
-        RO = np.einsum("ij,fjk->fik", X, OS) - np.einsum("fij,jk->fik", OT, X)
-        g = wd * X @ (DS @ DS.T) + wl * M * X + 1e-12 * X
-        g += wo * (np.einsum("fik,fjk->ij", RO, OS) - np.einsum("fji,fjk->ik", OT, RO))
+        RO = X @ OS - OT @ X  # (f, k_T, k_S): C O_S,f - O_T,f C
+        g = wd * X @ H_d + wl * M * X + 1e-12 * X
+        g += wo * ((RO @ OSt).sum(axis=0) - (OTt @ RO).sum(axis=0))
         return g.ravel()
 
     op = spla.LinearOperator((kT * kS, kT * kS), matvec=hess, dtype=np.float64)
@@ -589,9 +635,9 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
 
 # ---------------------------------------------------------------------- ZoomOut
 def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
-            B_target: sp.spmatrix | ArrayLike, k: int | None = None, *, step: int = 1,
+            B_target: sp.spmatrix | np.ndarray, k: int | None = None, *, step: int = 1,
             sample: int | None = None, bijective: bool = False,
-            B_source: sp.spmatrix | ArrayLike | None = None,
+            B_source: sp.spmatrix | np.ndarray | None = None,
             random_state: int = 0) -> NDArray[np.float64]:
     """Spectral upsampling of a functional map (ZoomOut, Melzi et al. 2019, Algorithm 1).
 
@@ -650,25 +696,27 @@ def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
         iS, iT = np.arange(len(pS)), np.arange(len(pT))
     subS, subT = pS[iS], pT[iT]
     full = sample is None
-    kc = C.shape[0]
-    while True:
-        kT, kS = C.shape
-        p = _nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T)
-        if kc >= k and kT >= k:
-            break
-        kc = min(kc + step, k)
-        C = _fit(subT[:, :kc], subS[p, :kc], wT[iT], B_target if full else None)
-        if bijective:
-            q = _nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
-            C2 = _fit(subS[:, :kc], subT[q, :kc], wS[iS], B_source if full else None)
-            C = 0.5 * (C + C2.T)
-        if kc >= k:
-            break
+    with one_blas_thread():  # small products: spinning BLAS threads only slow them
+        kc = C.shape[0]
+        while True:
+            kT, kS = C.shape
+            p = _nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T)
+            if kc >= k and kT >= k:
+                break
+            kc = min(kc + step, k)
+            C = _fit(subT[:, :kc], subS[p, :kc], wT[iT], B_target if full else None)
+            if bijective:
+                assert wS is not None  # bijective=True was refused above without B_source
+                q = _nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
+                C2 = _fit(subS[:, :kc], subT[q, :kc], wS[iS], B_source if full else None)
+                C = 0.5 * (C + C2.T)
+            if kc >= k:
+                break
     return C
 
 
 def _fit(phiT, phiS_mapped, w, B):
-    """Fit the functional map of a vertex map, on all vertices or on weighted samples.
+    """Fit ``C`` to a vertex map (on all vertices, or by least squares on samples).
 
     ``C = Phi_T^T B Phi_S[p]`` (all vertices), or the mass-weighted least squares fit
     ``min_C sum_y w_y |Phi_T[y] C - ...|`` on samples: ``(Phi_T^T W Phi_T)^-1 Phi_T^T W
@@ -699,9 +747,10 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
               bijective: bool = False, sample: int | None = 3000,
               return_map: bool = False, random_state: int = 0
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """Map the vertices of one mesh to another in one call, by functional maps and ZoomOut.
+    """Map the vertices of two meshes in one call, by functional maps and ZoomOut.
 
-    1. ``k`` eigenpairs of each mesh (:func:`cshape.eigenpairs`);
+    1. ``A``, ``B`` of each mesh (:func:`cshape.fem_matrices`, assembled once) and its ``k``
+       eigenpairs (:func:`cshape.spectrum.solve_eigenproblem`);
     2. WKS descriptors (:func:`cshape.wks`, the shapes scaled to unit area, ``n_descriptors``
        energies of the source), plus heat kernels from the landmarks when given;
     3. ``C`` of size ``k0`` by :func:`functional_map` (with the orientation term);
@@ -766,10 +815,11 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     if k > min(S.n_vertices, T.n_vertices):
         raise ValueError(f"k={k} is more than the vertices of the smaller mesh "
                          f"({min(S.n_vertices, T.n_vertices)}); use a smaller k")
-    lS, pS = eigenpairs(S, k)
-    lT, pT = eigenpairs(T, k)
-    _, BS = fem_matrices(S)
-    _, BT = fem_matrices(T)
+    # A and B assembled once per mesh, for the eigenpairs and the maps
+    AS, BS = fem_matrices(S)
+    AT, BT = fem_matrices(T)
+    lS, pS = solve_eigenproblem(AS, BS, k)
+    lT, pT = solve_eigenproblem(AT, BT, k)
     dS, dT = _descriptors(lS, pS, S.area, lT, pT, T.area, n_descriptors, lm)
     C = functional_map(lS[:k0], pS[:, :k0], BS, lT[:k0], pT[:, :k0], BT, dS, dT,
                        source=S, target=T,

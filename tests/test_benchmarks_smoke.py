@@ -296,9 +296,16 @@ def test_maps_measure_and_report(tmp_path, monkeypatch):
 
     m = cshape.shapes.icosphere(2)
     S = cshape.Mesh(m.vertices * [1.0, 0.7, 0.5] + 0.1 * m.vertices[:, :1] ** 2, m.faces)
-    res, eig_s = bm.measure(S, S, n=40)
-    assert set(res) == set(bm.METHODS) and eig_s > 0
-    assert all(0 <= w <= 1 and g >= 0 and s >= 0 for w, g, s in res.values())
-    text = bm.write_results([("a -> a", S.n_vertices, eig_s, res)], "maps_test", "--quick")
+    res, common_s = bm.measure(S, S, n=40)
+    assert set(res) == set(bm.METHODS) and common_s > 0
+    assert all(0 <= w <= 1 and 0 <= g <= 1 and e >= 0 and s >= 0
+               for w, g, e, s in res.values())
+    # a shape mapped to itself: ZoomOut with the orientation term finds the identity
+    assert res["FM + ZoomOut, orientation"][0] > 0.9
+    rows = [("a", "a -> a", S.n_vertices, common_s, res)]
+    text = bm.write_accuracy(rows, "maps_test", "--quick")
     assert (tmp_path / "maps_test.md").read_text() == text + "\n"
     assert text.count("| a -> a |") == len(bm.METHODS)
+    # the identity check: a pose of itself keeps every edge length
+    share, stretch = bm.identity_check(S, S)
+    assert share == 1.0 and stretch == 0.0

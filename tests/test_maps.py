@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.spatial.distance import cdist
 
 import cshape
 from cshape import shapes
+from cshape.signatures import wks_energies
 
 K, K0 = 60, 20
 
@@ -235,20 +237,96 @@ def test_functional_map_rejects_mismatched_descriptors(basis):
         cshape.functional_map(lam[:5], phi, B, lam, phi, B, phi[:, :3], phi[:, :3])
 
 
-def test_the_orientation_term_tells_a_shape_from_its_mirror_image():
-    """A shape symmetric under z -> -z only: intrinsic descriptors cannot tell the identity
-    from the reflection; the orientation term of Ren et al. (2018) can."""
+def _mirror_symmetric():
+    """A shape symmetric under z -> -z only, and the vertex map of that reflection."""
     m = shapes.icosphere(3)
     U = m.vertices
     V = U * [1.0, 0.7, 0.5]
     for c, a in (([1.0, 0.5, 0.0], 0.35), ([-0.5, -0.6, 0.0], 0.2)):
         c = np.array(c) / np.linalg.norm(c)
         V = V + a * np.exp(-np.sum((U - c) ** 2, axis=1) / 0.08)[:, None] * U
-    S = cshape.Mesh(V, m.faces)
     mirror = np.array([np.argmin(np.linalg.norm(U - u * [1, 1, -1], axis=1)) for u in U])
-    assert (mirror != np.arange(len(U))).mean() > 0.9
+    return cshape.Mesh(V, m.faces), mirror
+
+
+@pytest.fixture(scope="module")
+def symmetric():
+    return _mirror_symmetric()
+
+
+def test_the_orientation_term_tells_a_shape_from_its_mirror_image(symmetric):
+    """Intrinsic descriptors cannot tell the identity from the reflection; the orientation
+    term of Ren et al. (2018) can."""
+    S, mirror = symmetric
+    n = S.n_vertices
+    assert (mirror != np.arange(n)).mean() > 0.9
     p = cshape.point_map(S, S, k=K, k0=K0)
-    assert (p == np.arange(len(U))).mean() > 0.95
+    assert (p == np.arange(n)).mean() > 0.95
     assert (p == mirror).mean() < 0.1
     q = cshape.point_map(S, S, k=K, k0=K0, orientation=False)
     assert (q == mirror).mean() > 0.3  # without it the reflection is as good a match
+
+
+@pytest.mark.parametrize("to_mirror", [False, True])
+def test_landmarks_decide_between_a_shape_and_its_mirror_image(symmetric, to_mirror):
+    """Without the orientation term, three landmarks on one side (z > 0) choose the map:
+    matched to themselves they give the identity, matched to their reflections the
+    reflection (which the orientation term would refuse)."""
+    S, mirror = symmetric
+    V = S.vertices
+    up = np.flatnonzero(V[:, 2] > 0.25)
+    top = up[[np.argmin(V[up, 0]), np.argmax(V[up, 0]), np.argmax(V[up, 1])]]
+    assert len(set(top)) == 3
+    truth = mirror if to_mirror else np.arange(S.n_vertices)
+    landmarks = np.column_stack([truth[top], top])  # (source vertex, target vertex)
+    p = cshape.point_map(S, S, k=K, k0=K0, orientation=False, landmarks=landmarks)
+    assert (p == truth).mean() > 0.9
+    assert (p[top] == truth[top]).all()  # the landmarks themselves are matched exactly
+
+
+def test_functional_map_does_not_depend_on_the_unit_of_length(blob, shuffled):
+    """Descriptors scaled to unit B-norm, eigenvalues to the largest, orientation operators
+    to the unit-area shape: the same C for meshes in millimetres and in metres."""
+    target, _ = shuffled
+    out = []
+    for s in (1.0, 1000.0):
+        S, T = cshape.Mesh(s * blob.vertices, blob.faces), cshape.Mesh(s * target.vertices,
+                                                                        target.faces)
+        (lS, pS), (lT, pT) = cshape.eigenpairs(S, K0), cshape.eigenpairs(T, K0)
+        BS, BT = cshape.fem_matrices(S)[1], cshape.fem_matrices(T)[1]
+        e, sigma = wks_energies(lS, 100, area=S.area)
+        dS = cshape.wks(lS, pS, e, sigma, area=S.area)[:, ::5]
+        dT = cshape.wks(lT, pT, e, sigma, area=T.area)[:, ::5]
+        out.append(cshape.functional_map(lS, pS, BS, lT, pT, BT, dS, dT, source=S, target=T))
+    # eigenvectors scale by 1/s (B-orthonormal), signs alike: C is the same
+    np.testing.assert_allclose(out[1], out[0], atol=1e-6)
+
+
+@pytest.mark.parametrize("big", [False, True])
+def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
+    """Blocks, threads, scikit-learn's search (big problems) and the 3-d k-d tree path give
+    the argmin of the full distances."""
+    if big:
+        monkeypatch.setattr(cshape.maps, "NN_SKLEARN_PAIRS", 1)
+    rng = np.random.default_rng(3)
+    for n_t, n_s, k in ((1500, 1200, 40), (300, 250, 3)):
+        phiT, phiS = rng.standard_normal((n_t, k)), rng.standard_normal((n_s, k))
+        C = rng.standard_normal((k, k))
+        p = cshape.map_to_pointwise(C, phiS, phiT)
+        full = cdist(phiT, phiS @ C.T, "sqeuclidean")  # differences, not products
+        np.testing.assert_array_equal(p, np.argmin(full, axis=1))
+
+
+def test_pointwise_to_map_of_the_identity_is_the_identity_matrix(basis):
+    _, phi, B = basis
+    n = phi.shape[0]
+    np.testing.assert_allclose(cshape.pointwise_to_map(np.arange(n), phi, phi, B), np.eye(K),
+                               atol=1e-10)
+
+
+def test_bijective_zoomout_needs_the_source_mass_and_keeps_a_good_map(basis):
+    _, phi, B = basis
+    with pytest.raises(ValueError, match="bijective=True needs B_source"):
+        cshape.zoomout(np.eye(K0), phi, phi, B, K, bijective=True)
+    C = cshape.zoomout(np.eye(K0), phi, phi, B, K, bijective=True, B_source=B)
+    np.testing.assert_allclose(C, np.eye(K), atol=1e-8)
