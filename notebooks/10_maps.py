@@ -271,9 +271,9 @@ plots.view_map(rest, pose, table["+ ZoomOut"][0], values=side, landmarks=landmar
 # surface, a hole, or a shape glued at the hands breaks the commutativity with the Laplacian. The descriptors must agree
 # (the WKS at the same energies, both shapes scaled to unit area). And a perfectly symmetric shape is only told from its
 # mirror by its orientation: meshes whose faces are not consistently oriented lose that, and even on good meshes the
-# term can settle on the mirror (the generated human, rest pose to pose 1, at full size: 0.11 of the points within 5 %
-# with the term, 0.91 without). On the real poses of TOSCA and the generated poses, `benchmarks/results/maps_tosca.md`
-# and `benchmarks/results/maps_quick.md` give the measured table (method x accuracy x geodesic error x time) at full
+# term can settle on the mirror (the generated human, rest pose to pose 1, at full size: 0.22 of the points within 5 %
+# with the term, 0.91 without; no weight of the term avoids it; on TOSCA, three cat poses lose likewise). On the real
+# poses of TOSCA and the generated poses, `benchmarks/results/maps_tosca.md` and `benchmarks/results/maps_quick.md` give the measured table (method x accuracy x geodesic error x time) at full
 # size; the guide `docs/guides/maps.md` sums them up.
 
 # %% [markdown]
