@@ -575,13 +575,16 @@ def main(argv=None):
     what = "eigenpairs" if args.eigenpairs else "shape_dna"
     head = machine_summary(libs=("scipy", "lapy", "cholespy"))
     proc = processor()
-    command = "bench_sweep.py " + " ".join(sys.argv[1:] if argv is None else argv)
+    env = " ".join(f"{k}={os.environ[k]}" for k in ("CSHAPE_SHARED_MESHES", "CSHAPE_THREADS")
+                   if k in os.environ)
+    command = (f"{env} " if env else "") + "python benchmarks/bench_sweep.py " + " ".join(
+        sys.argv[1:] if argv is None else argv)
     print(head)
     print(f"cshape.{what}(N={args.N}) against LaPy Solver.eigs ({', '.join(lapy_set)}), "
           f"best of {repeats}, interleaved; CSHAPE_THREADS "
           f"{', '.join(map(_thread_label, threads))}\n")
     md = [f"# cshape.{what} against LaPy (N={args.N})", "",
-          f"`{command.strip()}`", "", head, "",
+          f"Measured with `{command.strip()}` (from the repository root).", "", head, "",
           f"Best of {repeats}, cshape and LaPy interleaved in one process.  Paired ratio: the "
           "median over the repeats of LaPy's time over cshape's in the same repeat; ratio of "
           "bests: LaPy's best over cshape's best.", ""] + legend_lines(lapy_set, threads) + [""]

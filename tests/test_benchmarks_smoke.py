@@ -229,7 +229,7 @@ def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
                     "--out", "t"]) == 0
     text = (tmp_path / "t.md").read_text()
     assert text.count("| 1k | 1,000 |") == 1 and text.startswith("# cshape.shape_dna")
-    assert "`bench_sweep.py --sizes 1k --repeats 1 --no-real -N 10 --out t`" in text
+    assert "bench_sweep.py --sizes 1k --repeats 1 --no-real -N 10 --out t`" in text
     with pytest.raises(SystemExit):
         sw.main(["--lapy", "fastest"])
 
