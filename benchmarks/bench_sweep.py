@@ -612,15 +612,25 @@ def main(argv=None):
               + f" {r['maxrel']:8.1e} load {r['load1']:5.2f}  "
               + "/".join(f"{st[k]:.3f}" for k in STAGES), flush=True)
 
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    stem = args.out or results_stem(args.quick, args.eigenpairs, not args.no_sweep, sizes, real,
+                                    args.collection)
+
+    def save(lines, done=False):
+        """Write the results file (after every row, so that a cut run keeps its rows)."""
+        tail = [] if done else ["(Incomplete: the run was still going or was stopped here.)", ""]
+        (RESULTS / f"{stem}.md").write_text("\n".join(lines + tail))
+
     if not args.no_sweep:
         rows = []
+        title = "Size sweep (icospheres; tori at 1k and 1m)"
         for label in sizes:
             r = compare(make_mesh(label), args.N, repeats, args.eigenpairs, threads, lapy_set)
             rows.append((label, r))
             show(label, r)
             check(label, r)
-        md += sweep_lines(rows, threads, lapy_set,
-                          "Size sweep (icospheres; tori at 1k and 1m)", proc) + [""]
+            save(md + sweep_lines(rows, threads, lapy_set, title, proc))
+        md += sweep_lines(rows, threads, lapy_set, title, proc) + [""]
     if real:
         meshes = real_meshes(folder)
         rows = []
@@ -630,6 +640,7 @@ def main(argv=None):
             rows.append((name, r))
             show(name, r)
             check(name, r)
+            save(md + sweep_lines(rows, threads, lapy_set, "Real meshes (so far)", proc))
         if rows:
             lines = summary_lines(rows, threads, lapy_set)
             print("\n".join(lines))
@@ -668,10 +679,7 @@ def main(argv=None):
     end = machine_summary(libs=())
     print(f"\nat the end: {end}")
     md += [f"At the end: {end}", ""]
-    RESULTS.mkdir(parents=True, exist_ok=True)
-    stem = args.out or results_stem(args.quick, args.eigenpairs, not args.no_sweep, sizes, real,
-                                    args.collection)
-    (RESULTS / f"{stem}.md").write_text("\n".join(md))
+    save(md, done=True)
     print(f"results: {RESULTS / stem}.md")
     return 0 if ok else 1
 
