@@ -14,6 +14,7 @@ __all__ = [
     "max_relative_difference",
     "machine_summary",
     "proc_status_kib",
+    "processor",
     "relative_difference",
     "reset_peak",
     "run_child",
@@ -58,6 +59,37 @@ def cpu_summary():
     return ", ".join(p for p in parts + caches + [simd] if p)
 
 
+def processor():
+    """The processor named for a table: model, cores, vector units, caches and the load.
+
+    For example ``'Intel(R) Xeon(R) Processor, 2 cores, AVX2 AVX-512 AMX, L2 2048K, L3
+    491520K; load average 0.31 0.09 0.35'``.  Tables of different processors are not
+    comparable (``SCALE.md``, "Machines").
+    """
+    fields, flags = {}, set()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            for line in fh:
+                key, _, value = line.partition(":")
+                fields.setdefault(key.strip(), value.strip())
+        flags = set(fields.get("flags", "").split())
+    except OSError:  # pragma: no cover - not Linux
+        pass
+    units = [name for flag, name in (("avx2", "AVX2"), ("avx512f", "AVX-512"),
+                                     ("amx_tile", "AMX")) if flag in flags]
+    caches = []
+    for index, name in (("index2", "L2"), ("index3", "L3")):
+        try:
+            with open(f"/sys/devices/system/cpu/cpu0/cache/{index}/size") as fh:
+                caches.append(f"{name} {fh.read().strip()}")
+        except OSError:
+            pass
+    la = load_average()
+    parts = [fields.get("model name", "?"), f"{os.cpu_count()} cores", " ".join(units)]
+    return (", ".join(p for p in parts + caches if p)
+            + f"; load average {la[0]:.2f} {la[1]:.2f} {la[2]:.2f}")
+
+
 def machine_summary(libs=("scipy",)):
     """One line: date, machine, processor, memory, versions of numpy, ``libs`` and cshape,
     and the load."""
@@ -71,7 +103,11 @@ def machine_summary(libs=("scipy",)):
     for name in libs:
         try:
             mod = importlib.import_module(name)
-            versions.append(f"{name} {getattr(mod, '__version__', '?')}")
+            try:  # the installed distribution (cholespy's __version__ lags behind it)
+                from importlib.metadata import version
+                versions.append(f"{name} {version(name)}")
+            except Exception:
+                versions.append(f"{name} {getattr(mod, '__version__', '?')}")
         except ImportError:
             versions.append(f"{name} (not installed)")
     la = load_average()

@@ -19,10 +19,12 @@ Python process (so that one size's memory cannot hide in another's), which
 3. reads the peak resident size ``VmHWM`` from ``/proc/self/status``.
 
 *Peak* is that high-water mark (the whole process, Python and the mesh included);
-*solve* is peak minus baseline, the memory the solve itself needed.  Both libraries run with
-BLAS and OpenMP limited to ``--threads`` threads (default 1: on a shared 2-core machine
-spinning OpenBLAS threads make ARPACK, LaPy's eigensolver, several times slower, and
-cshape's Lanczos loop uses one BLAS thread anyway).  LaPy is run at every size whose
+*solve* is peak minus baseline, the memory the solve itself needed.  Both libraries run at
+their defaults, as their users run them (``--threads 0``, the default: nothing limited);
+``--threads 1`` limits BLAS and OpenMP to one thread for both (``results/bigmesh.md`` was
+measured so; on a shared 2-core machine spinning OpenBLAS threads make ARPACK, LaPy's
+eigensolver, several times slower).  LaPy's time against cshape's at its defaults, interleaved
+in one process, is ``bench_sweep.py``'s size sweep.  LaPy is run at every size whose
 predicted time (from its previous size and a growth exponent of 1.5) fits in
 ``--lapy-timeout`` seconds; a run that exceeds it is killed and reported as such.
 
@@ -251,9 +253,9 @@ def main(argv=None):
     parser.add_argument("--sizes", default=None,
                         help=f"comma-separated subset of {','.join(SIZES)} (default: all)")
     parser.add_argument("-N", type=int, default=100, help="number of eigenvalues (default 100)")
-    parser.add_argument("--threads", type=int, default=1,
-                        help="BLAS/OpenMP threads of both libraries (default 1; 0: library "
-                             "default)")
+    parser.add_argument("--threads", type=int, default=0,
+                        help="BLAS/OpenMP threads of both libraries (default 0: each library "
+                             "at its defaults)")
     parser.add_argument("--no-lapy", action="store_true", help="skip LaPy")
     parser.add_argument("--lapy-timeout", type=float, default=1200.0,
                         help="largest time for one LaPy run in seconds (default 1200)")

@@ -15,12 +15,13 @@ Two parts, in the same run:
    reported beside the eigensolve, as a fraction of it.
 2. **Eigenpairs against LaPy** on the icosphere of 40,962 vertices:
    ``cshape.eigenpairs((v, f), N=100)`` (eigenfunctions included, plain arrays so that
-   every run validates and builds its topology anew) against
-   ``lapy.Solver(TriaMesh(v, f), use_cholmod=True).eigs(k=100)`` (LaPy's fastest setting),
-   runs interleaved, best of ``--repeats``; LaPy is timed with the default BLAS threads and
-   with one, the faster counting (as in ``bench_spectrum.py``).  Both must agree: the
-   eigenvalues to ``1e-8`` relative and the HKS computed from either's eigenfunctions (a
-   check that does not depend on the basis chosen inside a repeated eigenvalue) to ``1e-6``.
+   every run validates and builds its topology anew) against LaPy as its users run it,
+   ``lapy.Solver(TriaMesh(v, f)).eigs(k=100)`` at its defaults (LaPy 1.7.0:
+   ``use_cholmod=False``, SuperLU; all BLAS threads), and against its fastest setting
+   ``use_cholmod=True`` (cholespy), all BLAS threads (``bench_sweep.LAPY_SETTINGS``);
+   runs interleaved, best of ``--repeats``.  Both must agree: the eigenvalues to ``1e-8``
+   relative and the HKS computed from either's eigenfunctions (a check that does not
+   depend on the basis chosen inside a repeated eigenvalue) to ``1e-6``.
 
 The tables go to ``benchmarks/results/signatures[_quick].md``.  Nothing asserts a time.
 """
@@ -39,7 +40,13 @@ from cshape import shapes
 from cshape import signatures as sg
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import load_average, machine_summary, max_relative_difference  # noqa: E402
+from _common import (  # noqa: E402
+    load_average,
+    machine_summary,
+    max_relative_difference,
+    processor,
+)
+from bench_sweep import lapy_label, lapy_setup  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -86,27 +93,21 @@ def time_signatures(mesh, N=100, n_scales=100, n_match=1000, seed=0):
     return r
 
 
-def _one_blas_thread():
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=1, user_api="blas")
-
-
-def run_lapy(mesh, N, one_thread):
-    """(lam, phi) and seconds of LaPy's CHOLMOD eigensolve (assembly included)."""
+def run_lapy(mesh, N, setting="default"):
+    """(lam, phi) and seconds of one LaPy setting (assembly included; see
+    ``bench_sweep.LAPY_SETTINGS``)."""
     from lapy import Solver, TriaMesh
 
-    def go():
+    kwargs, limit = lapy_setup(setting)
+    with limit:
         t = time.perf_counter()
-        lam, phi = Solver(TriaMesh(mesh.vertices, mesh.faces), use_cholmod=True).eigs(k=N)
+        lam, phi = Solver(TriaMesh(mesh.vertices, mesh.faces), **kwargs).eigs(k=N)
         dt = time.perf_counter() - t
-        order = np.argsort(lam)
-        return lam[order], phi[:, order], dt
+    order = np.argsort(lam)
+    return lam[order], phi[:, order], dt
 
-    if one_thread:
-        with _one_blas_thread():
-            return go()
-    return go()
+
+LAPY = ("default", "cholespy")
 
 
 def eigenpairs_vs_lapy(mesh, N=100, repeats=3):
@@ -115,23 +116,24 @@ def eigenpairs_vs_lapy(mesh, N=100, repeats=3):
     Returns
     -------
     dict
-        ``n``, ``N``, ``cshape`` and ``lapy`` seconds (LaPy: the faster BLAS setting),
-        ``lapy_default``, ``lapy_1thread``, ``ratio`` (LaPy / cshape), ``lam_maxrel`` (the
+        ``n``, ``N``, ``cshape`` and ``lapy`` seconds (LaPy at its defaults),
+        ``lapy_cholespy`` (``use_cholmod=True``), ``ratio`` (LaPy / cshape),
+        ``ratio_cholespy``, ``lam_maxrel`` (the
         eigenvalues against the LaPy run that agrees best) and ``hks_maxrel`` (HKS at the
         default times from either's eigenfunctions, same LaPy run).
     """
     VF = (mesh.vertices, mesh.faces)
-    t_cs, t_lapy = [], {False: [], True: []}
+    t_cs, t_lapy = [], {s: [] for s in LAPY}
     lapy_runs = []
     cs = None
     for _ in range(repeats):
         (lam, phi), t = _timed(cshape.eigenpairs, VF, N)
         cs = (lam, phi)
         t_cs.append(t)
-        for one in (False, True):
-            lam_l, phi_l, t = run_lapy(mesh, N, one)
+        for setting in LAPY:
+            lam_l, phi_l, t = run_lapy(mesh, N, setting)
             lapy_runs.append((lam_l, phi_l))
-            t_lapy[one].append(t)
+            t_lapy[setting].append(t)
     lam, phi = cs
     # ARPACK's random start can take a copy from a neighbouring cluster of an icosphere
     # multiplet (see bench_spectrum.py): compare with the LaPy run that agrees best
@@ -143,9 +145,8 @@ def eigenpairs_vs_lapy(mesh, N=100, repeats=3):
     lapy = {k: min(v) for k, v in t_lapy.items()}
     return {
         "n": mesh.n_vertices, "N": N, "repeats": repeats,
-        "cshape": min(t_cs), "lapy": min(lapy.values()),
-        "lapy_default": lapy[False], "lapy_1thread": lapy[True],
-        "ratio": min(lapy.values()) / min(t_cs),
+        "cshape": min(t_cs), "lapy": lapy["default"], "lapy_cholespy": lapy["cholespy"],
+        "ratio": lapy["default"] / min(t_cs), "ratio_cholespy": lapy["cholespy"] / min(t_cs),
         "lam_maxrel": diffs[best],
         "hks_maxrel": float(np.abs(h_cs / h_lapy - 1).max()),
     }
@@ -172,12 +173,14 @@ def markdown(sig, eig, header, footer):
         "", f"Largest distance from a matched vertex's log HKS to its match's (its own "
         f"signature is in the set): {sig['match_dist']:.1e}.", "",
         f"## eigenpairs(N={eig['N']}) against LaPy, {eig['n']:,}-vertex icosphere", "",
-        f"Best of {eig['repeats']} interleaved runs; eigenfunctions included in both.", "",
-        "| cshape [s] | LaPy [s] | LaPy / cshape | LaPy default / 1 BLAS thread [s] "
-        "| max rel. diff. lam | max rel. diff. HKS |",
-        "|---|---|---|---|---|---|",
+        f"Best of {eig['repeats']} interleaved runs; eigenfunctions included in both; cshape "
+        f"at its defaults; LaPy: {lapy_label('default')}, and {lapy_label('cholespy')}.  "
+        f"Processor: {processor()}.", "",
+        "| cshape [s] | LaPy defaults [s] | LaPy / cshape | LaPy use_cholmod=True [s] "
+        "| LaPy use_cholmod=True / cshape | max rel. diff. lam | max rel. diff. HKS |",
+        "|---|---|---|---|---|---|---|",
         f"| {eig['cshape']:.2f} | {eig['lapy']:.2f} | {eig['ratio']:.2f} | "
-        f"{eig['lapy_default']:.2f} / {eig['lapy_1thread']:.2f} | {eig['lam_maxrel']:.1e} | "
+        f"{eig['lapy_cholespy']:.2f} | {eig['ratio_cholespy']:.2f} | {eig['lam_maxrel']:.1e} | "
         f"{eig['hks_maxrel']:.1e} |",
         "", footer, "",
     ]
@@ -204,7 +207,7 @@ def main(argv=None):
     if args.quick:
         args.vertices, args.sphere_level, args.repeats = 20_000, 5, 2
         name = "signatures_quick"
-    header = machine_summary(libs=("scipy", "lapy"))
+    header = machine_summary(libs=("scipy", "lapy", "cholespy"))
     print(header, flush=True)
     sig = time_signatures(torus_mesh(args.vertices), args.N, args.scales)
     print({k: v for k, v in sig.items()}, flush=True)

@@ -11,11 +11,12 @@ For each sphere (``cshape.shapes.icosphere``: 10242, 40962, 163842 vertices) it 
 * cshape: ``cshape.shape_dna((vertices, faces), N)`` (validation, repair, topology, FEM
   assembly and eigensolve, everything a user pays for: the plain arrays are passed so that
   no run reuses the topology cached on a ``Mesh`` by the one before), and
-* LaPy: ``lapy.Solver(TriaMesh(v, f), use_cholmod=True).eigs(k=N)`` (assembly and
-  eigensolve), LaPy's fastest setting (CHOLMOD through ``cholespy``).  It is timed both
-  with the default BLAS threads and with BLAS limited to one thread, because on a busy
-  2-core machine OpenBLAS's spinning threads can slow ARPACK down severalfold; the faster
-  of the two counts as LaPy's time.
+* LaPy as its users run it: ``lapy.Solver(TriaMesh(v, f)).eigs(k=N)`` at its defaults
+  (LaPy 1.7.0: ``use_cholmod=False``, SuperLU; all BLAS threads), and its fastest setting
+  ``use_cholmod=True`` (CHOLMOD through ``cholespy``), all BLAS threads; ``--lapy-one-thread``
+  adds ``use_cholmod=True`` with BLAS held to one thread (the settings of
+  ``bench_sweep.LAPY_SETTINGS``).  The ratio is against LaPy's defaults, with the one
+  against ``use_cholmod=True`` beside it.
 
 Each timing is the best of ``--repeats`` runs, the runs of the two libraries interleaved so
 that both see the same machine load.  It then checks that both give the same eigenvalues
@@ -42,8 +43,9 @@ import cshape
 from cshape import shapes, spectrum
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import load_average, relative_difference  # noqa: E402
+from _common import load_average, processor, relative_difference  # noqa: E402
 from _common import machine_summary as _machine_summary
+from bench_sweep import lapy_label, lapy_setup  # noqa: E402
 
 
 def machine_summary():
@@ -62,12 +64,6 @@ def _parse_sizes(text):
             f"--sizes must be a comma-separated subset of {','.join(SIZES)}, got {text!r}"
         )
     return labels
-
-
-def _one_blas_thread():
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=1, user_api="blas")
 
 
 def run_cshape(mesh, N):
@@ -104,25 +100,22 @@ def run_overheads(mesh, N):
     cshape.fem_matrices(VF)
     out["fem_matrices"] = time.perf_counter() - t
     t = time.perf_counter()
-    Solver(TriaMesh(mesh.vertices, mesh.faces), use_cholmod=True)
+    Solver(TriaMesh(mesh.vertices, mesh.faces))
     out["lapy_assembly"] = time.perf_counter() - t
     return out
 
 
-def run_lapy(mesh, N, one_thread):
-    """Eigenvalues and seconds of LaPy's CHOLMOD eigensolve (assembly included)."""
+def run_lapy(mesh, N, setting="default"):
+    """Eigenvalues and seconds of one LaPy setting (assembly included; see
+    ``bench_sweep.LAPY_SETTINGS``)."""
     from lapy import Solver, TriaMesh
 
-    def go():
+    kwargs, limit = lapy_setup(setting)
+    with limit:
         t = time.perf_counter()
-        solver = Solver(TriaMesh(mesh.vertices, mesh.faces), use_cholmod=True)
+        solver = Solver(TriaMesh(mesh.vertices, mesh.faces), **kwargs)
         lam, _ = solver.eigs(k=N)
         return np.sort(lam), time.perf_counter() - t
-
-    if one_thread:
-        with _one_blas_thread():
-            return go()
-    return go()
 
 
 def missed_copies(lam):
@@ -135,11 +128,12 @@ def missed_copies(lam):
     return bool(np.any(np.abs(lam[1:] - ex[1:]) / ex[1:] > 0.05))
 
 
-def bench_size(label, N, repeats):
-    """Time both solvers; check every run of each against the exact sphere spectrum, and
-    cshape's eigenvalues against those of a LaPy run that found every copy."""
+def bench_size(label, N, repeats, lapy=("default", "cholespy")):
+    """Time both solvers (LaPy in each of its settings ``lapy``); check every run of each
+    against the exact sphere spectrum, and cshape's eigenvalues against those of a LaPy run
+    that found every copy."""
     mesh = shapes.icosphere(SIZES[label])
-    t_cs, t_lapy = [], {False: [], True: []}
+    t_cs, t_lapy = [], {s: [] for s in lapy}
     runs_cs, runs_lapy = [], []
     over = []
     for _ in range(repeats):
@@ -147,12 +141,11 @@ def bench_size(label, N, repeats):
         lam, t = run_cshape(mesh, N)
         runs_cs.append(lam)
         t_cs.append(t)
-        for one_thread in (False, True):
-            lam, t = run_lapy(mesh, N, one_thread)
+        for setting in lapy:
+            lam, t = run_lapy(mesh, N, setting)
             runs_lapy.append(lam)
-            t_lapy[one_thread].append(t)
+            t_lapy[setting].append(t)
     best_lapy = {k: min(v) for k, v in t_lapy.items()}
-    lapy_setting = min(best_lapy, key=best_lapy.get)
     cs_missed = sum(missed_copies(lam) for lam in runs_cs)
     lapy_missed = sum(missed_copies(lam) for lam in runs_lapy)
     cs_spread = max(float(relative_difference(lam, runs_cs[0]).max()) for lam in runs_cs)
@@ -168,10 +161,8 @@ def bench_size(label, N, repeats):
         "threads": spectrum.solver_threads(mesh.n_vertices),
         **{k: min(o[k] for o in over) for k in over[0]},
         "cshape": min(t_cs),
-        "lapy": best_lapy[lapy_setting],
-        "lapy_default": best_lapy[False],
-        "lapy_1thread": best_lapy[True],
-        "lapy_setting": "1 BLAS thread" if lapy_setting else "default BLAS",
+        "lapy": best_lapy[lapy[0]],
+        "lapy_settings": best_lapy,
         "maxrel": rel,
         "cshape_missed": cs_missed,
         "cshape_runs": len(runs_cs),
@@ -191,6 +182,8 @@ def main(argv=None):
                         help="10k and 40k only, best of 2 (a few minutes)")
     parser.add_argument("--rtol", type=float, default=1e-8,
                         help="largest accepted relative eigenvalue difference (default 1e-8)")
+    parser.add_argument("--lapy-one-thread", action="store_true",
+                        help="also time LaPy use_cholmod=True with BLAS held to one thread")
     args = parser.parse_args(argv)
     try:
         import lapy  # noqa: F401
@@ -200,23 +193,32 @@ def main(argv=None):
 
     if args.quick:
         args.sizes, args.repeats = ["10k", "40k"], min(args.repeats, 2)
+    lapy = ("default", "cholespy") + (("cholespy-1t",) if args.lapy_one_thread else ())
     print(machine_summary())
-    print(f"N={args.N}, best of {args.repeats} runs each, runs interleaved\n")
+    print(f"Processor: {processor()}")
+    print(f"N={args.N}, best of {args.repeats} runs each, runs interleaved; cshape at its "
+          "defaults; LaPy:")
+    for s in lapy:
+        print(f"  {s}: {lapy_label(s)}")
+    print()
     header = (f"{'size':>5} {'vertices':>9} {'cshape [s]':>11} {'LaPy [s]':>9} "
-              f"{'LaPy/cshape':>12} {'max rel diff':>13}  check   LaPy default / 1-thread [s]")
+              f"{'LaPy/cshape':>12} {'max rel diff':>13}  check   "
+              + " / ".join(lapy) + " [s] (LaPy / cshape)")
     print(header)
     print("-" * len(header))
     failed = False
     notes = []
     rows = []
     for label in args.sizes:
-        r = bench_size(label, args.N, args.repeats)
+        r = bench_size(label, args.N, args.repeats, lapy)
         rows.append(r)
         ok = r["maxrel"] <= args.rtol and r["cshape_missed"] == 0 and r["cshape_spread"] == 0
         failed |= not ok
         print(f"{r['label']:>5} {r['n']:>9d} {r['cshape']:>11.2f} {r['lapy']:>9.2f} "
               f"{r['lapy'] / r['cshape']:>12.2f} {r['maxrel']:>13.1e}  {'ok' if ok else 'FAIL':<6}"
-              f"  {r['lapy_default']:.2f} / {r['lapy_1thread']:.2f}", flush=True)
+              "  " + " / ".join(f"{r['lapy_settings'][s]:.2f}" for s in lapy) + " ("
+              + " / ".join(f"{r['lapy_settings'][s] / r['cshape']:.2f}" for s in lapy) + ")",
+              flush=True)
         if r["cshape_missed"] or r["cshape_spread"]:
             notes.append(f"{label}: cshape missed a copy of a repeated eigenvalue in "
                          f"{r['cshape_missed']} of {r['cshape_runs']} runs; its runs differ "

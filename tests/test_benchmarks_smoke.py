@@ -197,24 +197,41 @@ def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
     sw = _load("bench_sweep")
     monkeypatch.setattr(sw, "RESULTS", tmp_path)
     monkeypatch.setitem(sw.SIZES, "tiny", ("torus", 40, 20))  # 800 vertices: sparse path
-    r = sw.compare(sw.make_mesh("tiny"), 20, repeats=1, threads=(1, 2))
+    lapy = ("default", "cholespy", "cholespy-1t")
+    r = sw.compare(sw.make_mesh("tiny"), 20, repeats=1, threads=(1, 2), lapy=lapy)
     assert r["n"] == 800 and r["maxrel"] < 1e-8 and r["same_bits"] and r["threads_maxrel"] < 1e-10
-    assert set(r["cshape"]) == {1, 2} and r["lapy"] > r["lapy_assembly"] > 0
+    assert set(r["cshape"]) == {1, 2} and set(r["lapy"]) == set(lapy)
+    for s in lapy:  # LaPy's stages add up to its time
+        ls = r["lapy_stages"][s]
+        assert all(ls[k] > 0 for k in ("assembly", "factorise", "solves"))
+        assert sum(ls.values()) == pytest.approx(r["lapy"][s])
     # one repeat: the paired ratio is that repeat's, the ratio of the bests
-    assert set(r["paired"]) == {1, 2}
-    assert all(r["paired"][t] == pytest.approx(r["lapy"] / r["cshape"][t]) for t in (1, 2))
+    assert set(r["paired"]) == {(s, t) for s in lapy for t in (1, 2)}
+    assert all(r["paired"][s, t] == pytest.approx(r["lapy"][s] / r["cshape"][t])
+               for s in lapy for t in (1, 2))
     st = r["stages"]
     assert all(st[k] > 0 for k in ("prepare", "factorise", "solves", "rayleigh_ritz"))
-    assert sum(st[k] for k in sw.STAGES) == pytest.approx(st["total"])
-    lines = sw.sweep_lines([("tiny", r)], (1, 2), "t") + sw.summary_lines([("tiny", r)], (1, 2))
+    assert sum(st[k] for k in sw.STAGES) == pytest.approx(st["total"]) and not st["missing"]
+    lines = (sw.sweep_lines([("tiny", r)], (1, 2), lapy, "t", "a processor")
+             + sw.summary_lines([("tiny", r)], (1, 2), lapy))
     assert sum(line.startswith("| tiny | 800 |") for line in lines) == 1
+    assert "Processor: a processor." in lines
+    assert sum(line.startswith("LaPy ") for line in lines) == 6  # a sum per pair
+    # LaPy's defaults are read from LaPy itself (1.7.0: use_cholmod=False, SuperLU)
+    assert sw.lapy_label("default").startswith(
+        f"LaPy defaults (use_cholmod={sw.lapy_default_cholmod()}")
     meshes = [("a", sw.make_mesh("tiny")), ("b", sw.make_mesh("tiny"))]
-    rows = sw.throughput(meshes, 10, workers=1)
-    assert [(x["who"], x["workers"]) for x in rows] == [("cshape", 1), ("LaPy", 1)]
+    rows = sw.throughput(meshes, 10, workers=1, lapy=("default", "cholespy-1t"))
+    assert [(x["who"], x["workers"]) for x in rows] == [
+        ("cshape", 1), ("default", 1), ("cholespy-1t", 1)]
     assert all(x["per_minute"] > 0 for x in rows)
     assert sw.main(["--sizes", "1k", "--repeats", "1", "--no-real", "-N", "10",
                     "--out", "t"]) == 0
-    assert (tmp_path / "t.md").read_text().count("| 1k | 1,000 |") == 1
+    text = (tmp_path / "t.md").read_text()
+    assert text.count("| 1k | 1,000 |") == 1 and text.startswith("# cshape.shape_dna")
+    assert "bench_sweep.py --sizes 1k --repeats 1 --no-real -N 10 --out t`" in text
+    with pytest.raises(SystemExit):
+        sw.main(["--lapy", "fastest"])
 
 
 def test_sweep_results_are_named_by_what_they_measure():
