@@ -45,6 +45,16 @@ def cpu_summary():
     for line in info.splitlines():
         key, _, value = line.partition(":")
         fields.setdefault(key.strip(), value.strip())
+    caches = _caches()
+    flags = set(fields.get("flags", "").split())
+    simd = next((f for f in ("avx512f", "avx2", "avx", "sse4_2") if f in flags), "")
+    mhz = fields.get("cpu MHz", "")
+    parts = [fields.get("model name", "")] + ([f"{float(mhz):.0f} MHz"] if mhz else [])
+    return ", ".join(p for p in parts + caches + [simd] if p)
+
+
+def _caches():
+    """The sizes of the L2 and L3 caches of CPU 0, e.g. ``['L2 2048K', 'L3 491520K']``."""
     caches = []
     for index, name in (("index2", "L2"), ("index3", "L3")):
         try:
@@ -52,11 +62,7 @@ def cpu_summary():
                 caches.append(f"{name} {fh.read().strip()}")
         except OSError:
             pass
-    flags = set(fields.get("flags", "").split())
-    simd = next((f for f in ("avx512f", "avx2", "avx", "sse4_2") if f in flags), "")
-    mhz = fields.get("cpu MHz", "")
-    parts = [fields.get("model name", "")] + ([f"{float(mhz):.0f} MHz"] if mhz else [])
-    return ", ".join(p for p in parts + caches + [simd] if p)
+    return caches
 
 
 def processor():
@@ -77,13 +83,7 @@ def processor():
         pass
     units = [name for flag, name in (("avx2", "AVX2"), ("avx512f", "AVX-512"),
                                      ("amx_tile", "AMX")) if flag in flags]
-    caches = []
-    for index, name in (("index2", "L2"), ("index3", "L3")):
-        try:
-            with open(f"/sys/devices/system/cpu/cpu0/cache/{index}/size") as fh:
-                caches.append(f"{name} {fh.read().strip()}")
-        except OSError:
-            pass
+    caches = _caches()
     la = load_average()
     parts = [fields.get("model name", "?"), f"{os.cpu_count()} cores", " ".join(units)]
     return (", ".join(p for p in parts + caches if p)

@@ -539,3 +539,69 @@ def check_spectrum(lam: Any, name: str = "lam", min_len: int = 1) -> NDArray[np.
     if not np.all(np.isfinite(x)):
         raise ValueError(f"{name} contains NaN or infinite values")
     return x
+
+
+def check_vertex_indices(name: str, idx: ArrayLike, n: int) -> NDArray[np.int64]:
+    """Return vertex indices as a 1-D int64 array, each in ``[0, n)``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, for the message.
+    idx : array_like of int, shape (m,) or scalar
+        Zero-based vertex numbers of a mesh of ``n`` vertices.
+    n : int
+        The number of vertices.
+
+    Raises
+    ------
+    TypeError
+        If the values are not integers.
+    ValueError
+        If the array is not 1-D or an index lies outside ``[0, n)``.
+    """
+    a = np.asarray(idx)
+    if a.dtype.kind not in "iu":
+        raise TypeError(f"{name} must be an integer array of vertex indices, got "
+                        f"{a.dtype} values")
+    a = np.atleast_1d(a).astype(np.int64)
+    if a.ndim != 1:
+        raise ValueError(f"{name} must be 1-D, got shape {a.shape}")
+    if a.size and (a.min() < 0 or a.max() >= n):
+        bad = int(a.min() if a.min() < 0 else a.max())
+        raise ValueError(f"{name} holds vertex index {bad}, outside [0, {n - 1}]; indices are "
+                         "zero-based vertex numbers")
+    return a
+
+
+def check_landmarks(landmarks: ArrayLike | None, n_source: int,
+                    n_target: int) -> NDArray[np.int64] | None:
+    """Return landmark pairs ``(source vertex, target vertex)``, shape (L, 2), or None.
+
+    Parameters
+    ----------
+    landmarks : array_like of int, shape (L, 2), or None
+        Row ``j`` pairs a vertex of the source (of ``n_source`` vertices) with one of the
+        target (of ``n_target``); ``L >= 1``.
+    n_source, n_target : int
+        The vertex counts of the two meshes.
+
+    Raises
+    ------
+    TypeError
+        If the values are not integers.
+    ValueError
+        If the shape is not (L, 2) with L >= 1, or a vertex is out of range.
+    """
+    if landmarks is None:
+        return None
+    a = np.asarray(landmarks)
+    if a.dtype.kind not in "iu":
+        raise TypeError(f"landmarks must be integer vertex indices of shape (L, 2), got "
+                        f"{a.dtype} values")
+    if a.ndim != 2 or a.shape[1] != 2 or a.shape[0] == 0:
+        raise ValueError(f"landmarks must have shape (L, 2): rows (source vertex, target "
+                         f"vertex), L >= 1, got shape {a.shape}")
+    check_vertex_indices("landmarks[:, 0]", a[:, 0], n_source)
+    check_vertex_indices("landmarks[:, 1]", a[:, 1], n_target)
+    return a.astype(np.int64)

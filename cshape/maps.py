@@ -49,7 +49,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import check_bool, check_int, check_real
+from ._checks import check_bool, check_int, check_landmarks, check_real, check_vertex_indices
 from ._threads import one_blas_thread
 from .fem import fem_matrices
 from .mesh import Mesh, MeshLike, as_mesh, repair_mesh
@@ -129,37 +129,6 @@ def _check_C(C, k_target=None, k_source=None) -> np.ndarray:
                          f"k_source={k_source}); pass C of shape (k_T, k_S) with k_T, k_S at "
                          "most the basis sizes")
     return C
-
-
-def _check_indices(name, idx, n) -> np.ndarray:
-    a = np.asarray(idx)
-    if a.dtype.kind not in "iu":
-        raise TypeError(f"{name} must be an integer array of vertex indices, got "
-                        f"{a.dtype} values")
-    a = np.atleast_1d(a).astype(np.int64)
-    if a.ndim != 1:
-        raise ValueError(f"{name} must be 1-D, got shape {a.shape}")
-    if a.size and (a.min() < 0 or a.max() >= n):
-        bad = int(a.min() if a.min() < 0 else a.max())
-        raise ValueError(f"{name} holds vertex index {bad}, outside [0, {n - 1}]; indices are "
-                         "zero-based vertex numbers")
-    return a
-
-
-def _check_landmarks(landmarks, n_source, n_target):
-    """``(L, 2)`` pairs ``(source vertex, target vertex)``, or None."""
-    if landmarks is None:
-        return None
-    a = np.asarray(landmarks)
-    if a.dtype.kind not in "iu":
-        raise TypeError(f"landmarks must be integer vertex indices of shape (L, 2), got "
-                        f"{a.dtype} values")
-    if a.ndim != 2 or a.shape[1] != 2 or a.shape[0] == 0:
-        raise ValueError(f"landmarks must have shape (L, 2): rows (source vertex, target "
-                         f"vertex), L >= 1, got shape {a.shape}")
-    _check_indices("landmarks[:, 0]", a[:, 0], n_source)
-    _check_indices("landmarks[:, 1]", a[:, 1], n_target)
-    return a.astype(np.int64)
 
 
 # ---------------------------------------------------------------------- gradients
@@ -257,7 +226,7 @@ class HeatGeodesics:
             Column ``j``: the geodesic distance from ``sources[j]`` to every vertex.
         """
         n = self.mesh.n_vertices
-        src = _check_indices("sources", sources, n)
+        src = check_vertex_indices("sources", sources, n)
         rhs = np.zeros((n, len(src)))
         rhs[src, np.arange(len(src))] = 1.0
         return self._solve(self._B @ rhs, [[j] for j in range(len(src))], src)
@@ -265,7 +234,7 @@ class HeatGeodesics:
     def distance(self, sources: ArrayLike) -> NDArray[np.float64]:
         """Compute the geodesic distance to the nearest of a set of vertices, shape (n,)."""
         n = self.mesh.n_vertices
-        src = _check_indices("sources", sources, n)
+        src = check_vertex_indices("sources", sources, n)
         if src.size == 0:
             raise ValueError("sources is empty; pass at least one vertex index")
         src = np.unique(src)
@@ -358,12 +327,12 @@ def geodesic_errors(mesh: MeshLike, p2p: ArrayLike, truth: ArrayLike | None = No
     n = geo.mesh.n_vertices
     p2p = np.asarray(p2p)
     truth = np.arange(len(p2p)) if truth is None else np.asarray(truth)
-    p2p = _check_indices("p2p", p2p, n)
-    truth = _check_indices("truth", truth, n)
+    p2p = check_vertex_indices("p2p", p2p, n)
+    truth = check_vertex_indices("truth", truth, n)
     if len(truth) != len(p2p):
         raise ValueError(f"truth has {len(truth)} entries and p2p {len(p2p)}; both have one "
                          "per target vertex")
-    v = np.arange(len(p2p)) if vertices is None else _check_indices("vertices", vertices,
+    v = np.arange(len(p2p)) if vertices is None else check_vertex_indices("vertices", vertices,
                                                                      len(p2p))
     out = np.empty(len(v))
     for s in range(0, len(v), 64):
@@ -457,7 +426,7 @@ def pointwise_to_map(p2p: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLik
     """
     pS = _check_basis("phi_source", phi_source)
     pT = _check_basis("phi_target", phi_target)
-    p2p = _check_indices("p2p", p2p, len(pS))
+    p2p = check_vertex_indices("p2p", p2p, len(pS))
     if len(p2p) != len(pT):
         raise ValueError(f"p2p has {len(p2p)} entries but phi_target {len(pT)} rows; p2p has "
                          "one source vertex per target vertex")
@@ -811,7 +780,7 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
         step = check_int("zoomout_steps", zoomout_steps, min=1)
     bijective = check_bool("bijective", bijective)
     return_map = check_bool("return_map", return_map)
-    lm = _check_landmarks(landmarks, S.n_vertices, T.n_vertices)
+    lm = check_landmarks(landmarks, S.n_vertices, T.n_vertices)
     if k > min(S.n_vertices, T.n_vertices):
         raise ValueError(f"k={k} is more than the vertices of the smaller mesh "
                          f"({min(S.n_vertices, T.n_vertices)}); use a smaller k")

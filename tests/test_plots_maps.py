@@ -194,8 +194,8 @@ def test_view_map_y_up_turns_the_markers_with_the_mesh(pair):
     (dict(landmarks=[1, 2]), ValueError, r"landmarks must have shape \(L, 2\).*got shape \(2,\)"),
     (dict(landmarks=np.zeros((0, 2), int)), ValueError, "landmarks must have shape"),
     (dict(landmarks=[[0.5, 1.0]]), TypeError, "landmarks must be integer vertex indices"),
-    (dict(landmarks=[[42, 0]]), ValueError, r"landmarks\[:, 0\] holds a vertex outside"),
-    (dict(landmarks=[[0, -1]]), ValueError, r"landmarks\[:, 1\] holds a vertex outside"),
+    (dict(landmarks=[[42, 0]]), ValueError, r"landmarks\[:, 0\] holds vertex index 42, outside"),
+    (dict(landmarks=[[0, -1]]), ValueError, r"landmarks\[:, 1\] holds vertex index -1, outside"),
     (dict(titles="ab"), TypeError, "titles must be two strings"),
     (dict(cmap="no-such-map"), ValueError, "cmap must be a matplotlib colour map"),
     (dict(cmap=3), TypeError, "cmap must be a matplotlib colour map"),
@@ -211,7 +211,7 @@ def test_plot_map_errors(sphere, kwargs, err, match):
 
 
 @pytest.mark.parametrize("kwargs, err, match", [
-    (dict(landmarks=[[0, 99]]), ValueError, r"landmarks\[:, 1\] holds a vertex outside"),
+    (dict(landmarks=[[0, 99]]), ValueError, r"landmarks\[:, 1\] holds vertex index 99, outside"),
     (dict(marker_size=2.5), TypeError, "marker_size must be an integer"),
     (dict(vertical_axis=1), TypeError, "vertical_axis must be one of"),
     (dict(p2p=np.arange(5)), ValueError, "p2p has 5 entries"),

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._checks import check_choice, check_int, check_real
+from .._checks import check_choice, check_int, check_landmarks, check_real
 from ..mesh import Mesh, MeshLike, as_mesh
 from .figures import _axes, new_figure, plot_mesh
 from .viewer import _upright, view_correspondence
@@ -93,25 +93,6 @@ def _values(values: ArrayLike | None, source: Mesh) -> NDArray[np.float64]:
     if not np.all(np.isfinite(f)):
         raise ValueError("values holds NaN or inf; pass finite values on the source")
     return f
-
-
-def _landmarks(landmarks: ArrayLike | None, n_source: int, n_target: int
-               ) -> NDArray[np.int64] | None:
-    if landmarks is None:
-        return None
-    lm = np.asarray(landmarks)
-    # the errors of cshape.point_map's landmarks=
-    if lm.dtype.kind not in "iu":
-        raise TypeError(f"landmarks must be integer vertex indices of shape (L, 2), got "
-                        f"{lm.dtype} values")
-    if lm.ndim != 2 or lm.shape[1] != 2 or lm.shape[0] == 0:
-        raise ValueError(f"landmarks must have shape (L, 2): rows (source vertex, target "
-                         f"vertex), L >= 1, got shape {lm.shape}")
-    for col, n, side in ((0, n_source, "source"), (1, n_target, "target")):
-        if lm.size and (lm[:, col].min() < 0 or lm[:, col].max() >= n):
-            raise ValueError(f"landmarks[:, {col}] holds a vertex outside [0, {n - 1}] (the "
-                             f"{side}'s vertices); columns are (source vertex, target vertex)")
-    return lm.astype(np.int64)
 
 
 def _cmap(cmap: object) -> str:
@@ -248,7 +229,7 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
 
     S, T = _mesh("source", source), _mesh("target", target)
     fS, fT, limits = map_colours(S, T, p2p, values)
-    lm = _landmarks(landmarks, S.n_vertices, T.n_vertices)
+    lm = check_landmarks(landmarks, S.n_vertices, T.n_vertices)
     ts = _titles(titles)
     cmap = _cmap(cmap)
     vertical_axis = check_choice("vertical_axis", vertical_axis, _VERTICAL)
@@ -350,7 +331,7 @@ def view_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
 
     S, T = _mesh("source", source), _mesh("target", target)
     fS, _, _ = map_colours(S, T, p2p, values)
-    lm = _landmarks(landmarks, S.n_vertices, T.n_vertices)
+    lm = check_landmarks(landmarks, S.n_vertices, T.n_vertices)
     ts = _titles(titles)
     marker_size = check_int("marker_size", marker_size, min=1)
     vertical_axis = check_choice("vertical_axis", vertical_axis, _VERTICAL)
