@@ -281,8 +281,8 @@ class _TimedFactor:
     def solve(self, X):
         return self._timed(self._factor.solve, X)
 
-    def solve_split(self, X, parts=2):
-        return self._timed(self._factor.solve_split, X, parts)
+    def solve_split(self, X, parts=2, threads=None):
+        return self._timed(self._factor.solve_split, X, parts, threads)
 
     def __getattr__(self, name):  # anything else the solver asks of its factor, untimed
         return getattr(self._factor, name)

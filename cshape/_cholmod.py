@@ -211,18 +211,23 @@ class _CholmodFactor:
         """``S^{-1} X`` for X of shape (n,) or (n, b); returns a new array of X's shape."""
         return self._solve(X, self._common, self._work)
 
-    def solve_split(self, X, parts=2):
+    def solve_split(self, X, parts=2, threads=None):
         """:meth:`solve` with the columns of X in ``parts`` groups solved at once (threads).
 
         Deterministic, and equal to :meth:`solve` up to rounding (the BLAS kernels may
         depend on the number of columns; with 16 columns in two halves of 8, the
         eigensolver's use, they gave the same bits).  A solve reads the whole factor once
         for all its columns and is bound by reading it: two groups at once gain with 16
-        columns, not with 8.
+        columns, not with 8.  With ``threads=1`` the same groups are solved in turn (the
+        same bits); default: at once.
         """
         X = np.asarray(X, dtype=np.float64)
         if X.ndim != 2 or parts < 2 or X.shape[1] < 2 * parts:
             return self.solve(X)
+        edges = np.linspace(0, X.shape[1], parts + 1).astype(int)
+        if threads is not None and threads <= 1:
+            return np.hstack([self.solve(X[:, a:b])
+                              for a, b in zip(edges[:-1], edges[1:], strict=True)])
         if self._pool is None or len(self._handles) < parts - 1:
             from concurrent.futures import ThreadPoolExecutor
 
@@ -234,7 +239,6 @@ class _CholmodFactor:
                 self._pool.shutdown()
             self._pool = ThreadPoolExecutor(parts - 1)
             weakref.finalize(self, self._pool.shutdown)
-        edges = np.linspace(0, X.shape[1], parts + 1).astype(int)
         futures = [self._pool.submit(self._solve, X[:, a:b], *handle)
                    for (a, b), handle in zip(zip(edges[1:-1], edges[2:], strict=True),
                                              self._handles, strict=False)]  # handles >= groups
@@ -276,8 +280,8 @@ class _CholespyFactor:
             S.data.astype(np.float64), cholespy.MatrixType.CSR,
         )
 
-    def solve_split(self, X, parts=2):
-        """:meth:`solve` (this backend solves in one thread)."""
+    def solve_split(self, X, parts=2, threads=None):
+        """:meth:`solve` (this backend solves in one thread: the same bits with any threads)."""
         return self.solve(X)
 
     def solve(self, X):
@@ -297,8 +301,8 @@ class _SpluFactor:
         self.n = S.shape[0]
         self._lu = spla.splu(S.tocsc())
 
-    def solve_split(self, X, parts=2):
-        """:meth:`solve` (this backend solves in one thread)."""
+    def solve_split(self, X, parts=2, threads=None):
+        """:meth:`solve` (this backend solves in one thread: the same bits with any threads)."""
         return self.solve(X)
 
     def solve(self, X):

@@ -67,17 +67,11 @@ class CholeskyOperator(spla.LinearOperator):
     def solve_split(self, X, parts=2, threads=None):
         """``S^{-1} X`` with the columns in ``parts`` groups, at once with ``threads > 1``.
 
-        Each group is solved on its own in either case, so one thread (the groups in
-        turn, ``threads=1``) and several give the same bits.  Default: at once.
+        The backend keeps the bits the same with any ``threads``: CHOLMOD solves the same
+        groups in turn (``threads=1``) or at once (default), the one-thread backends all
+        columns in one solve either way.
         """
-        if threads is None or threads > 1:
-            return self._factor.solve_split(X, parts)
-        X = np.asarray(X, dtype=np.float64)
-        if X.ndim != 2 or parts < 2 or X.shape[1] < 2 * parts:
-            return self._factor.solve(X)
-        edges = np.linspace(0, X.shape[1], parts + 1).astype(int)
-        return np.hstack([self._factor.solve(X[:, a:b])
-                          for a, b in zip(edges[:-1], edges[1:], strict=True)])
+        return self._factor.solve_split(X, parts, threads)
 
 
 def default_sigma(B, N):
