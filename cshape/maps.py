@@ -207,11 +207,11 @@ class HeatGeodesics:
         t = self.m * h * h
         self._B = B
         self._heat = spla.splu((B - t * A).tocsc())
+        self._K = (-A).tocsr()
         # -A is singular (constants): a tiny mass shift fixes the constant without moving
         # the gradient; the distances are shifted to 0 at the sources afterwards
-        K = (-A + 1e-10 * (-A).diagonal().mean() / B.diagonal().mean() * B).tocsc()
-        self._poisson = spla.splu(K)
-        self._K = (-A).tocsr()
+        shift = 1e-10 * self._K.diagonal().mean() / B.diagonal().mean()
+        self._poisson = spla.splu((self._K + shift * B).tocsc())
 
     def distances(self, sources: ArrayLike) -> NDArray[np.float64]:
         """One distance field per source vertex.
@@ -585,19 +585,18 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
     OT = _orientation_ops(_check_mesh("target", target), pT, FT)
 
     OSt, OTt = OS.transpose(0, 2, 1).copy(), OT.transpose(0, 2, 1).copy()
-    H_d = DS @ DS.T
 
     # E is a convex quadratic in C: its minimiser solves the normal equations H vec(C) = r,
     # solved by conjugate gradients from the closed-form solution without the orientation
     def hess(x):
         X = x.reshape(kT, kS)
         RO = X @ OS - OT @ X  # (f, k_T, k_S): C O_S,f - O_T,f C
-        g = wd * X @ H_d + wl * M * X + 1e-12 * X
+        g = X @ H + wl * M * X + 1e-12 * X  # H = wd DS DS^T, symmetric
         g += wo * ((RO @ OSt).sum(axis=0) - (OTt @ RO).sum(axis=0))
         return g.ravel()
 
     op = spla.LinearOperator((kT * kS, kT * kS), matvec=hess, dtype=np.float64)
-    rhs = (wd * DT @ DS.T).ravel()
+    rhs = R.T.ravel()  # wd DT DS^T
     x, _info = spla.cg(op, rhs, x0=C.ravel(), rtol=1e-10, atol=0.0, maxiter=maxiter)
     return x.reshape(kT, kS)
 
