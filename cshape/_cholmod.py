@@ -5,12 +5,12 @@ for blocks of right-hand sides.  Both steps are CHOLMOD (SuiteSparse's supernoda
 Cholesky).  Which build of CHOLMOD does the work decides most of the solve time:
 
 ``'cholmod'``
-    the CHOLMOD library that the ``cvxopt`` wheel ships (a core dependency), linked to an
-    optimised BLAS (ATLAS, one thread), called directly through :mod:`ctypes` with
-    multi-right-hand-side solves: the fastest factorisation and solves of the three
-    (measured figures: ``benchmarks/bench_floor.py``, ``benchmarks/SCALE.md``).  The GIL is
-    released during both.  cvxopt's own Python interface is not used: it solves one
-    right-hand side at a time.
+    the CHOLMOD library that the ``cvxopt`` wheel ships (a core dependency), whose BLAS
+    calls bind to the wheel's OpenBLAS (a single-threaded build), called directly through
+    :mod:`ctypes` with multi-right-hand-side solves: the fastest factorisation and solves
+    of the three (measured figures: ``benchmarks/bench_floor.py``,
+    ``benchmarks/SCALE.md``).  The GIL is released during both.  cvxopt's own Python
+    interface is not used: it solves one right-hand side at a time.
 ``'cholespy'``
     the ``cholespy`` wheel (CHOLMOD with the reference BLAS), as LaPy uses it;
 ``'splu'``
@@ -214,20 +214,21 @@ class _CholmodFactor:
     def solve_split(self, X, parts=2, threads=None):
         """:meth:`solve` with the columns of X in ``parts`` groups solved at once (threads).
 
-        Deterministic, and equal to :meth:`solve` up to rounding (the BLAS kernels may
-        depend on the number of columns; with 16 columns in two halves of 8, the
-        eigensolver's use, they gave the same bits).  A solve reads the whole factor once
-        for all its columns and is bound by reading it: two groups at once gain with 16
-        columns, not with 8.  With ``threads=1`` the same groups are solved in turn (the
-        same bits); default: at once.
+        Deterministic, and the same bits as :meth:`solve` when every group has a multiple
+        of 8 columns (CHOLMOD solves each column of a block with the same BLAS kernels:
+        checked for 16 columns in two groups of 8, the eigensolver's use, on OpenBLAS's
+        SkylakeX, Haswell, Zen, SandyBridge, Nehalem and Prescott kernels; groups of 6 can
+        differ in the last bit).  A solve reads the whole factor once for all its columns:
+        two groups at once may gain where the memory keeps two cores fed.  With
+        ``threads=1`` all columns are solved in one call (faster than the groups in turn);
+        default: the groups at once.
         """
         X = np.asarray(X, dtype=np.float64)
-        if X.ndim != 2 or parts < 2 or X.shape[1] < 2 * parts:
+        if X.ndim != 2 or parts < 2 or X.shape[1] < 2 * parts \
+                or (threads is not None and threads <= 1):
             return self.solve(X)
+        out = np.empty(X.shape)  # each group's solution written into its columns
         edges = np.linspace(0, X.shape[1], parts + 1).astype(int)
-        if threads is not None and threads <= 1:
-            return np.hstack([self.solve(X[:, a:b])
-                              for a, b in zip(edges[:-1], edges[1:], strict=True)])
         if self._pool is None or len(self._handles) < parts - 1:
             from concurrent.futures import ThreadPoolExecutor
 
@@ -239,13 +240,16 @@ class _CholmodFactor:
                 self._pool.shutdown()
             self._pool = ThreadPoolExecutor(parts - 1)
             weakref.finalize(self, self._pool.shutdown)
-        futures = [self._pool.submit(self._solve, X[:, a:b], *handle)
+        futures = [self._pool.submit(self._solve, X[:, a:b], *handle, out[:, a:b])
                    for (a, b), handle in zip(zip(edges[1:-1], edges[2:], strict=True),
                                              self._handles, strict=False)]  # handles >= groups
-        first = self._solve(X[:, : edges[1]], self._common, self._work)
-        return np.hstack([first] + [f.result() for f in futures])
+        self._solve(X[:, : edges[1]], self._common, self._work, out[:, : edges[1]])
+        for f in futures:
+            f.result()
+        return out
 
-    def _solve(self, X, common, work):
+    def _solve(self, X, common, work, out=None):
+        """``S^{-1} X`` with the given CHOLMOD workspaces, into ``out`` if given (n, b)."""
         X = np.asarray(X, dtype=np.float64)
         cols = np.asfortranarray(X.reshape(self.n, -1))
         b = cols.shape[1]
@@ -260,8 +264,11 @@ class _CholmodFactor:
         # a row-major copy of CHOLMOD's column-major buffer (reused by the next solve;
         # np.array always copies, where ascontiguousarray returned the buffer itself for
         # one column, which the next solve then overwrote)
-        out = np.array(np.ctypeslib.as_array(data, shape=(b, self.n)).T, order="C")
-        return out.reshape(X.shape)
+        result = np.ctypeslib.as_array(data, shape=(b, self.n)).T
+        if out is not None:
+            out[...] = result
+            return out
+        return np.array(result, order="C").reshape(X.shape)
 
 
 class _CholespyFactor:

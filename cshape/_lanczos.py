@@ -293,9 +293,23 @@ def band_to_dense(band, m):
 
 
 # ----------------------------------------------------------------------------- iteration
+def basis_shape(n, N, b, max_dim=None, inside=False):
+    """Columns of the Lanczos basis of :func:`block_lanczos`: ``(blocks, touched)``.
+
+    ``blocks`` is the number of Lanczos steps allowed (from ``max_dim``, see
+    :func:`block_lanczos`); the basis has ``(blocks + 1) b`` columns, of which the first
+    ``touched`` are surely used (up to the first look at the projected problem).
+    """
+    if max_dim is None:
+        max_dim = max(6 * N, N + 40 * b)
+    nblocks = max(1, min(max_dim, n - b) // b)
+    cap = (nblocks + 1) * b
+    return nblocks, min(cap, first_check(N, b, n, inside) + 2 * b)
+
+
 def block_lanczos(
     K, B, N, solve, sigma, *, block_size=BLOCK_SIZE, max_dim=None, tol=RESIDUAL_TOL, seed=0,
-    return_vectors=True, threads=1, rhs_order="C", negatives=None, refine=None,
+    return_vectors=True, threads=1, rhs_order="C", negatives=None, refine=None, basis=None,
 ):
     """Return the ``N`` smallest eigenpairs of ``K f = lam B f`` by block shift-invert Lanczos.
 
@@ -323,8 +337,8 @@ def block_lanczos(
         The most threads for the products over the basis
         (:func:`cshape._threads.solver_threads`), or a
         :class:`~cshape._threads.ThreadChooser` that picks them at each step by timing the
-        step's solve (which then reads its ``current`` threads); the result is the same
-        with any number.
+        step's first orthogonalisation pass (``solve`` chooses its own threads); the
+        result is the same with any number.
     rhs_order : {'C', 'F'}, default='C'
         Memory order of the blocks passed to ``solve`` (the one it takes without a copy).
     negatives : int, optional
@@ -336,6 +350,11 @@ def block_lanczos(
         With ``negatives``: an accurate ``(X, Z0) -> (K - sigma B)^{-1} X`` (one step of
         iterative refinement from the guess ``Z0``), used once at the end for the ``2 b``
         smallest eigenvalues, whose relative accuracy an inside shift reduces.
+    basis : ndarray, optional
+        The array the basis is built in, column-major, of :func:`basis_shape`'s
+        ``(n, (blocks + 1) b)`` (allocated and its first ``touched`` columns written
+        beforehand, e.g. in another thread during the factorisation); default: allocated
+        here by :func:`empty_basis`.
 
     Returns
     -------
@@ -357,15 +376,18 @@ def block_lanczos(
             f"block_size must be at least {MIN_BLOCK_SIZE} (the largest multiplicity a connected "
             f"surface's symmetry can give is 5), got {block_size}"
         )
-    if max_dim is None:
-        max_dim = max(6 * N, N + 40 * b)
-    nblocks = max(1, min(max_dim, K.shape[0] - b) // b)
+    nblocks, touched = basis_shape(K.shape[0], N, b, max_dim, negatives is not None)
     if nblocks * b < N:
         raise NoConvergence("Krylov dimension budget below N")
+    if basis is None:
+        basis = empty_basis(K.shape[0], (nblocks + 1) * b, touch=touched)
+    elif basis.shape != (K.shape[0], (nblocks + 1) * b) or not basis.flags.f_contiguous:
+        raise ValueError(f"basis must be a column-major array of shape "
+                         f"{(K.shape[0], (nblocks + 1) * b)} (basis_shape), got {basis.shape}")
     chooser = threads if isinstance(threads, ThreadChooser) else None
     split = RowSplit(K.shape[0], B, chooser.max if chooser else int(threads), rhs_order)
     try:
-        state = BlockLanczos(B, N, solve, sigma, b, nblocks, split, tol=tol, seed=seed,
+        state = BlockLanczos(B, N, solve, sigma, b, nblocks, split, basis, tol=tol, seed=seed,
                              negatives=negatives, refine=refine, chooser=chooser)
         return state.run(return_vectors)
     finally:
@@ -396,6 +418,7 @@ class BlockLanczos:
     b: int
     nblocks: int
     split: RowSplit
+    V: np.ndarray
     tol: float = RESIDUAL_TOL
     seed: int = 0
     negatives: int | None = None
@@ -405,7 +428,6 @@ class BlockLanczos:
     def __post_init__(self):
         n, N, b, cap = self.B.shape[0], self.N, self.b, (self.nblocks + 1) * self.b
         self.n, self.inside = n, self.negatives is not None
-        self.V = empty_basis(n, cap, touch=min(cap, first_check(N, b, n, self.inside) + 2 * b))
         self.band = np.zeros((b + 1, cap))
         self.rng = np.random.default_rng(self.seed)
         self.skip, self.since, self.segment = 0, 0, 0
@@ -483,16 +505,16 @@ class BlockLanczos:
         """
         V, split, R, b = self.V, self.split, self.R, self.b
         lo = max(0, m0 - b)
-        if self.chooser is not None:  # the threads of this step
+        W = self.solve(self.BVcur)
+        if self.chooser is not None:  # the threads of this step's products
             split.threads = self.chooser.start_step()
             start = time.perf_counter()
-        W = self.solve(self.BVcur)
         A = split.tdot(self.BVcur, W)
         if R is not None:
             split.sub_times(W, V[:, lo:m], np.vstack([R.T, A]))
         else:
             split.sub_times(W, V[:, m0:m], A)
-        if self.chooser is not None:  # the solve and first pass cost the same every step
+        if self.chooser is not None:  # the first pass costs the same every step
             self.chooser.record(time.perf_counter() - start)
         scale = max(float(np.abs(A).max()), float(np.abs(R).max()) if R is not None else 0.0)
         omega = None

@@ -17,6 +17,7 @@ Both hand their solve to :func:`cshape._lanczos.block_lanczos`; the factorisatio
 from __future__ import annotations
 
 import functools
+import time
 
 import numpy as np
 import scipy.linalg as la
@@ -187,6 +188,25 @@ def solve_inside(K, B, N, same, return_vectors):
     return _ascending(lam, phi)
 
 
+def _basis_beside(k, N, b, threads):
+    """Start allocating the Lanczos basis in another thread, if ``threads > 1``; or None.
+
+    The first touch of a big array costs page faults (about 0.6 s for the 500 MB a
+    164K-vertex solve writes first, measured on a virtual machine): done by a second core
+    while the first one factorises, it costs nothing.  Returns a future of the array
+    :func:`~cshape._lanczos.block_lanczos` takes as ``basis``.
+    """
+    if threads < 2:
+        return None
+    from concurrent.futures import ThreadPoolExecutor
+
+    nblocks, touched = _lanczos.basis_shape(k, N, b)
+    pool = ThreadPoolExecutor(1)
+    future = pool.submit(_lanczos.empty_basis, k, (nblocks + 1) * b, touched)
+    pool.shutdown(wait=False)  # its thread ends once the basis is written
+    return future
+
+
 def solve_below(K, B, N, sigma, same, return_vectors):
     """Block Lanczos with the shift ``sigma`` below the spectrum (default :func:`default_sigma`).
 
@@ -194,29 +214,39 @@ def solve_below(K, B, N, sigma, same, return_vectors):
     (:class:`CholeskyOperator`).  The block size follows the size
     (:func:`~cshape._lanczos.block_size`); blocks of
     :data:`~cshape._lanczos.BLOCK_SIZE_THREADED` vectors are solved as two halves.  From
-    ``THREADS_MIN_UNKNOWNS`` unknowns the halves and the products over the basis run on
-    two threads when timing shows that they help (:class:`~cshape._threads.ThreadChooser`,
-    at most :func:`~cshape._threads.solver_threads` threads); the eigenvalues are the same
-    bits either way.  If the block method does not converge, ARPACK (:func:`arpack`) on the
+    ``THREADS_MIN_UNKNOWNS`` unknowns the halves run at once on two threads (else the whole
+    block in one solve) and the products over the basis on several, each where timing
+    shows that it helps (two :class:`~cshape._threads.ThreadChooser`, at most
+    :func:`~cshape._threads.solver_threads` threads); the eigenvalues are the same bits
+    either way.  If the block method does not converge, ARPACK (:func:`arpack`) on the
     same factorisation.  Returns ascending ``(lam, phi)``, ``phi`` None unless
     ``return_vectors``.
     """
     k = K.shape[0]
     if sigma is None:
         sigma = default_sigma(B, N)
-    op = CholeskyOperator(shifted(K, B, sigma, same))
     b = _lanczos.block_size(k)
-    chooser = _threads.ThreadChooser(_threads.solver_threads(k))
+    threads = _threads.solver_threads(k)
+    basis = _basis_beside(k, N, b, threads)  # written while the matrix is factorised
+    op = CholeskyOperator(shifted(K, B, sigma, same))
+    chooser = _threads.ThreadChooser(threads)
     if b == _lanczos.BLOCK_SIZE_THREADED:
+        halves = _threads.ThreadChooser(min(threads, 2))  # the solve's own choice
+
         def solve(X):
-            return op.solve_split(X, parts=2, threads=chooser.current)
+            at_once = halves.start_step()
+            start = time.perf_counter()
+            Z = op.solve_split(X, parts=2, threads=at_once)
+            halves.record(time.perf_counter() - start)
+            return Z
     else:
         solve = op.matmat
     try:
         with _threads.one_blas_thread():
             lam, phi = _lanczos.block_lanczos(K, B, N, solve, sigma,
                                               return_vectors=return_vectors, threads=chooser,
-                                              rhs_order=op.rhs_order, block_size=b)
+                                              rhs_order=op.rhs_order, block_size=b,
+                                              basis=basis.result() if basis else None)
     except (_lanczos.NoConvergence, la.LinAlgError):
         lam, phi = arpack(K, B, N, op, sigma, return_vectors)
     return _ascending(lam, phi)

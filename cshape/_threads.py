@@ -1,7 +1,7 @@
 """Thread policy of the eigensolver and its products over fixed row ranges.
 
 How many threads a solve may use (:func:`solver_threads`), whether they help at each step
-(:class:`ThreadChooser`, by timing the step's block solve), BLAS limited to one thread
+(:class:`ThreadChooser`, by timing the steps' block solves and products), BLAS limited to one thread
 (:func:`one_blas_thread`), and :class:`RowSplit`, the tall products of the block Lanczos
 iteration computed over fixed row ranges whose partial results are added in a fixed
 order: the eigenvalues are the same bits with any number of threads.
@@ -105,15 +105,17 @@ def solver_threads(n: int) -> int:
 
 
 class ThreadChooser:
-    """Threads of each Lanczos step, chosen by timing the steps on ``threads`` and on one.
+    """Threads of a job done at each Lanczos step, chosen by timing it on ``threads`` and on 1.
 
     On a machine whose other cores are busy (other processes, other virtual machines on
     the same host) a second thread gains nothing and its synchronisation costs time; on
-    a quiet one it speeds the solves and the products up.  Which holds is measured in the
-    solve itself, at no cost for a calibration: steps ``1 .. PROBE_STEPS`` alternate
-    ``threads`` and one thread, each timing its block solve and the first
-    orthogonalisation pass against the two newest blocks (:meth:`record`), which cost
-    the same at every step; the setting of the fastest such time (``threads`` only if
+    a quiet one it speeds the solves and the products up, by how much depends on the
+    processor and its memory.  Which holds is measured in the solve itself, at no cost
+    for a calibration: steps ``1 .. PROBE_STEPS`` alternate ``threads`` and one thread,
+    each timing a job that costs the same at every step (:meth:`record`): the eigensolver
+    keeps one chooser for the block solve (its halves at once, or the block in one solve)
+    and one for the first orthogonalisation pass against the two newest blocks (the
+    products over the rows); the setting of the fastest such time (``threads`` only if
     faster by the factor :data:`GAIN`) is kept until the next probe, every
     :data:`REPROBE_EVERY` steps.  The choice changes the timing only: the results are
     the same bits with any number of threads.
@@ -151,7 +153,7 @@ class ThreadChooser:
         return self.current
 
     def record(self, seconds):
-        """Record the time of the block solve and first pass of the step just started."""
+        """Record the time of the timed job of the step just started."""
         self.history.append((self.steps - 1, self.current, seconds))
         if 1 <= (self.steps - 1) % self.REPROBE_EVERY <= self.PROBE_STEPS:
             self.samples.setdefault(self.current, []).append(seconds)

@@ -388,3 +388,40 @@ def test_a_loss_of_orthogonality_above_the_bound_brings_a_pass_at_every_step():
     assert _lanczos.next_skip(1, 0.5 * bound, bound=1e-3 * bound) == 0  # another bound
     # the bounds stay near sqrt(eps), where the Ritz values keep their accuracy
     assert 1e-9 <= bound <= 1.5e-8 and bound <= _lanczos.OMEGA_MAX_INSIDE <= 3e-8
+
+
+@pytest.mark.slow
+def test_the_threaded_path_gives_the_bits_of_one_thread(split_path, monkeypatch):
+    # blocks of 16 solved whole (one thread) or as halves at once (two), the basis written
+    # in another thread while the matrix is factorised: the same eigenpairs, bit for bit,
+    # and the dense LAPACK ones
+    K, B = _KB(shapes.icosphere(3))
+    lam_ref = la.eigh(K.toarray(), B.toarray(), eigvals_only=True, subset_by_index=[0, 59])
+    runs = []
+    for threads in ("1", "2"):
+        monkeypatch.setenv("CSHAPE_THREADS", threads)
+        assert _lanczos.block_size(K.shape[0]) == _lanczos.BLOCK_SIZE_THREADED
+        assert (_shift._basis_beside(K.shape[0], 60, 16, int(threads)) is None) == \
+            (threads == "1")
+        runs.append(_shift.solve_below(K, B, 60, None, _shift.same_pattern(K, B), True))
+    np.testing.assert_array_equal(runs[1][0], runs[0][0])
+    np.testing.assert_array_equal(runs[1][1], runs[0][1])
+    np.testing.assert_allclose(runs[0][0][1:], lam_ref[1:], rtol=1e-10)
+
+
+def test_a_basis_given_to_block_lanczos_must_have_its_shape():
+    K, B = _KB(shapes.icosphere(3))
+    sigma = _shift.default_sigma(B, 30)
+    op = _shift.CholeskyOperator(K - sigma * B)
+    blocks, touched = _lanczos.basis_shape(K.shape[0], 30, 8)
+    assert blocks == max(6 * 30, 30 + 40 * 8) // 8 and touched == _lanczos.first_check(
+        30, 8, K.shape[0]) + 16
+    V = _lanczos.empty_basis(K.shape[0], (blocks + 1) * 8, touched)
+    given = _lanczos.block_lanczos(K, B, 30, op.matmat, sigma, basis=V)
+    own = _lanczos.block_lanczos(K, B, 30, op.matmat, sigma)
+    np.testing.assert_array_equal(given[0], own[0])
+    np.testing.assert_array_equal(given[1], own[1])
+    with pytest.raises(ValueError, match=r"basis must be a column-major array of shape"):
+        _lanczos.block_lanczos(K, B, 30, op.matmat, sigma, basis=np.asfortranarray(V[:, :-8]))
+    with pytest.raises(ValueError, match=r"basis must be a column-major array"):
+        _lanczos.block_lanczos(K, B, 30, op.matmat, sigma, basis=np.ascontiguousarray(V))
