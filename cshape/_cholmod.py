@@ -30,6 +30,7 @@ import ctypes
 import functools
 import glob
 import os
+import sys
 import weakref
 
 import numpy as np
@@ -67,15 +68,73 @@ _COMMON_BYTES = 1 << 16
 _CHOLMOD_REAL, _CHOLMOD_A = 1, 0
 
 
+#: OpenBLAS kernels for CHOLMOD's BLAS on an Intel processor with AVX-512, where the cvxopt
+#: wheel's OpenBLAS (0.3.15) picks its SkylakeX kernels: its Haswell (AVX2) kernels solve
+#: 16 right-hand sides 17 % faster there (and factorise 4 % faster; 164K vertices, Intel
+#: Xeon, ``benchmarks/SCALE.md``).
+AVX512_CORETYPE = "Haswell"
+
+
+def _cpu_flags(path="/proc/cpuinfo"):
+    """Return the vendor and flags of the first processor in ``path`` (Linux), or ('', set())."""
+    vendor, flags = "", set()
+    try:
+        with open(path, encoding="ascii", errors="replace") as f:
+            for line in f:
+                key, _, value = line.partition(":")
+                if key.strip() == "vendor_id":
+                    vendor = value.strip()
+                elif key.strip() == "flags":
+                    flags = set(value.split())
+                    break
+    except OSError:
+        pass
+    return vendor, flags
+
+
+def openblas_coretype(environ=None, cpuinfo="/proc/cpuinfo"):
+    """Return the OpenBLAS core type to load the cvxopt wheel's OpenBLAS with, or None.
+
+    :data:`AVX512_CORETYPE` on an Intel processor with AVX-512 (and the AVX2 and FMA its
+    kernels need); None elsewhere, and when ``OPENBLAS_CORETYPE`` is set in ``environ``
+    (default: the process environment): the user's choice is kept.  The choice depends on
+    the processor only, so every process on a machine gets the same bits.
+    """
+    environ = os.environ if environ is None else environ
+    if environ.get("OPENBLAS_CORETYPE"):
+        return None
+    vendor, flags = _cpu_flags(cpuinfo)
+    if vendor == "GenuineIntel" and {"avx512f", "avx2", "fma"} <= flags:
+        return AVX512_CORETYPE
+    return None
+
+
+def _import_cvxopt():
+    """Import cvxopt's CHOLMOD, its OpenBLAS loaded with :func:`openblas_coretype`.
+
+    OpenBLAS reads ``OPENBLAS_CORETYPE`` once, when it is loaded: the variable is set for
+    the import only (NumPy's and SciPy's OpenBLAS are loaded already and keep theirs; child
+    processes do not inherit it).  If cvxopt was imported before, its kernels stay.
+    """
+    coretype = None if "cvxopt" in sys.modules else openblas_coretype()
+    if coretype is not None:
+        os.environ["OPENBLAS_CORETYPE"] = coretype
+    try:
+        import cvxopt
+        import cvxopt.cholmod  # noqa: F401 - loads the library's own dependencies (BLAS)
+    finally:
+        if coretype is not None:
+            del os.environ["OPENBLAS_CORETYPE"]
+    return cvxopt
+
+
 @functools.cache
 def _cholmod_library():
     """Return the CHOLMOD shared library of the cvxopt wheel, with ctypes signatures; or raise.
 
     Loaded once per process (the result is cached; a failure raises again).
     """
-    import cvxopt
-    import cvxopt.cholmod  # noqa: F401 - loads the library's own dependencies (BLAS)
-
+    cvxopt = _import_cvxopt()
     root = os.path.dirname(os.path.abspath(cvxopt.__file__))
     pattern = [os.path.join(root, "..", "cvxopt.libs", "libcholmod*.so*"),  # Linux wheels
                os.path.join(root, ".dylibs", "libcholmod*.dylib")]  # macOS wheels

@@ -125,3 +125,43 @@ def test_shape_dna_is_the_same_bits_in_a_new_process_with_each_backend(tmp_path)
             subprocess.run([sys.executable, "-c", code, str(out)], check=True, env=env)
             runs.append(np.load(out))
         assert np.array_equal(runs[0], runs[1]), name
+
+
+def _cpuinfo(tmp_path, vendor, flags):
+    path = tmp_path / "cpuinfo"
+    path.write_text(f"processor\t: 0\nvendor_id\t: {vendor}\nflags\t\t: {' '.join(flags)}\n\n"
+                    "processor\t: 1\nvendor_id\t: Other\nflags\t\t: fpu\n")
+    return str(path)
+
+
+def test_openblas_kernels_follow_the_processor_and_keep_the_users_choice(tmp_path):
+    xeon = _cpuinfo(tmp_path, "GenuineIntel", ["fpu", "avx2", "fma", "avx512f", "avx512bw"])
+    assert _cholmod.openblas_coretype({}, xeon) == _cholmod.AVX512_CORETYPE == "Haswell"
+    assert _cholmod.openblas_coretype({"OPENBLAS_CORETYPE": "SkylakeX"}, xeon) is None
+    assert _cholmod.openblas_coretype({"OPENBLAS_CORETYPE": ""}, xeon) == "Haswell"
+    for vendor, flags in [("GenuineIntel", ["avx2", "fma"]),           # no AVX-512
+                          ("AuthenticAMD", ["avx2", "fma", "avx512f"]),  # Zen 4: its own
+                          ("GenuineIntel", ["avx512f"])]:              # no AVX2/FMA kernels
+        assert _cholmod.openblas_coretype({}, _cpuinfo(tmp_path, vendor, flags)) is None
+    assert _cholmod.openblas_coretype({}, str(tmp_path / "missing")) is None  # not Linux
+    assert _cholmod._cpu_flags(xeon)[0] == "GenuineIntel"
+
+
+@pytest.mark.skipif("cholmod" not in WORKING, reason="no CHOLMOD from cvxopt here")
+def test_cvxopts_openblas_gets_the_kernels_and_the_environment_is_left_as_it_was():
+    # in a new process: NumPy's OpenBLAS keeps its own kernels, cvxopt's takes
+    # openblas_coretype()'s, and OPENBLAS_CORETYPE is not left set for child processes
+    code = ("import os, ctypes, glob, numpy, cshape; from cshape import _cholmod; "
+            "assert _cholmod.backend() == 'cholmod'; import cvxopt; "
+            "lib = glob.glob(os.path.dirname(cvxopt.__file__) + '/../cvxopt.libs/libopenblas*'); "
+            "ob = ctypes.CDLL(lib[0]) if lib else None; "
+            "ob and setattr(ob.openblas_get_corename, 'restype', ctypes.c_char_p); "
+            "print(ob.openblas_get_corename().decode() if ob else '-', "
+            "'OPENBLAS_CORETYPE' in os.environ, _cholmod.openblas_coretype())")
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    out = subprocess.run([sys.executable, "-c", code], check=True, env=env,
+                         capture_output=True, text=True).stdout.split()
+    corename, left, wanted = out
+    assert left == "False"
+    if wanted != "None" and corename != "-":
+        assert corename == wanted
