@@ -114,7 +114,9 @@ def _import_cvxopt():
 
     OpenBLAS reads ``OPENBLAS_CORETYPE`` once, when it is loaded: the variable is set for
     the import only (NumPy's and SciPy's OpenBLAS are loaded already and keep theirs; child
-    processes do not inherit it).  If cvxopt was imported before, its kernels stay.
+    processes do not inherit it).  If cvxopt was imported before, its kernels stay.  A
+    program that imports cshape first and then calls cvxopt's own BLAS gets the same
+    kernels (correct ones, whose rounding may differ from its SkylakeX ones).
     """
     coretype = None if "cvxopt" in sys.modules else openblas_coretype()
     if coretype is not None:
