@@ -294,17 +294,17 @@ def band_to_dense(band, m):
 
 # ----------------------------------------------------------------------------- iteration
 def basis_shape(n, N, b, max_dim=None, inside=False):
-    """Columns of the Lanczos basis of :func:`block_lanczos`: ``(blocks, touched)``.
+    """Size of the Lanczos basis of :func:`block_lanczos`: ``(blocks, columns, touched)``.
 
     ``blocks`` is the number of Lanczos steps allowed (from ``max_dim``, see
-    :func:`block_lanczos`); the basis has ``(blocks + 1) b`` columns, of which the first
-    ``touched`` are surely used (up to the first look at the projected problem).
+    :func:`block_lanczos`); the basis has ``columns = (blocks + 1) b`` columns, of which
+    the first ``touched`` are surely used (up to the first look at the projected problem).
     """
     if max_dim is None:
         max_dim = max(6 * N, N + 40 * b)
     nblocks = max(1, min(max_dim, n - b) // b)
     cap = (nblocks + 1) * b
-    return nblocks, min(cap, first_check(N, b, n, inside) + 2 * b)
+    return nblocks, cap, min(cap, first_check(N, b, n, inside) + 2 * b)
 
 
 def block_lanczos(
@@ -351,8 +351,8 @@ def block_lanczos(
         iterative refinement from the guess ``Z0``), used once at the end for the ``2 b``
         smallest eigenvalues, whose relative accuracy an inside shift reduces.
     basis : ndarray, optional
-        The array the basis is built in, column-major, of :func:`basis_shape`'s
-        ``(n, (blocks + 1) b)`` (allocated and its first ``touched`` columns written
+        The array the basis is built in, column-major, of shape ``(n, columns)``
+        (:func:`basis_shape`; allocated and its first ``touched`` columns written
         beforehand, e.g. in another thread during the factorisation); default: allocated
         here by :func:`empty_basis`.
 
@@ -376,14 +376,14 @@ def block_lanczos(
             f"block_size must be at least {MIN_BLOCK_SIZE} (the largest multiplicity a connected "
             f"surface's symmetry can give is 5), got {block_size}"
         )
-    nblocks, touched = basis_shape(K.shape[0], N, b, max_dim, negatives is not None)
+    nblocks, cap, touched = basis_shape(K.shape[0], N, b, max_dim, negatives is not None)
     if nblocks * b < N:
         raise NoConvergence("Krylov dimension budget below N")
     if basis is None:
-        basis = empty_basis(K.shape[0], (nblocks + 1) * b, touch=touched)
-    elif basis.shape != (K.shape[0], (nblocks + 1) * b) or not basis.flags.f_contiguous:
+        basis = empty_basis(K.shape[0], cap, touch=touched)
+    elif basis.shape != (K.shape[0], cap) or not basis.flags.f_contiguous:
         raise ValueError(f"basis must be a column-major array of shape "
-                         f"{(K.shape[0], (nblocks + 1) * b)} (basis_shape), got {basis.shape}")
+                         f"{(K.shape[0], cap)} (basis_shape), got {basis.shape}")
     chooser = threads if isinstance(threads, ThreadChooser) else None
     split = RowSplit(K.shape[0], B, chooser.max if chooser else int(threads), rhs_order)
     try:
@@ -426,9 +426,9 @@ class BlockLanczos:
     chooser: ThreadChooser | None = None
 
     def __post_init__(self):
-        n, N, b, cap = self.B.shape[0], self.N, self.b, (self.nblocks + 1) * self.b
+        n, N, b = self.B.shape[0], self.N, self.b
         self.n, self.inside = n, self.negatives is not None
-        self.band = np.zeros((b + 1, cap))
+        self.band = np.zeros((b + 1, self.V.shape[1]))
         self.rng = np.random.default_rng(self.seed)
         self.skip, self.since, self.segment = 0, 0, 0
         self.omega_max = OMEGA_MAX_INSIDE if self.inside else OMEGA_MAX

@@ -200,9 +200,9 @@ def _basis_beside(k, N, b, threads):
         return None
     from concurrent.futures import ThreadPoolExecutor
 
-    nblocks, touched = _lanczos.basis_shape(k, N, b)
+    _, columns, touched = _lanczos.basis_shape(k, N, b)
     pool = ThreadPoolExecutor(1)
-    future = pool.submit(_lanczos.empty_basis, k, (nblocks + 1) * b, touched)
+    future = pool.submit(_lanczos.empty_basis, k, columns, touched)
     pool.shutdown(wait=False)  # its thread ends once the basis is written
     return future
 

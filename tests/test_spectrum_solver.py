@@ -413,10 +413,10 @@ def test_a_basis_given_to_block_lanczos_must_have_its_shape():
     K, B = _KB(shapes.icosphere(3))
     sigma = _shift.default_sigma(B, 30)
     op = _shift.CholeskyOperator(K - sigma * B)
-    blocks, touched = _lanczos.basis_shape(K.shape[0], 30, 8)
-    assert blocks == max(6 * 30, 30 + 40 * 8) // 8 and touched == _lanczos.first_check(
-        30, 8, K.shape[0]) + 16
-    V = _lanczos.empty_basis(K.shape[0], (blocks + 1) * 8, touched)
+    blocks, columns, touched = _lanczos.basis_shape(K.shape[0], 30, 8)
+    assert blocks == max(6 * 30, 30 + 40 * 8) // 8 and columns == (blocks + 1) * 8
+    assert touched == _lanczos.first_check(30, 8, K.shape[0]) + 16
+    V = _lanczos.empty_basis(K.shape[0], columns, touched)
     given = _lanczos.block_lanczos(K, B, 30, op.matmat, sigma, basis=V)
     own = _lanczos.block_lanczos(K, B, 30, op.matmat, sigma)
     np.testing.assert_array_equal(given[0], own[0])
