@@ -12,8 +12,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import settings
 
 REPO = Path(__file__).resolve().parents[1]
+
+# Hypothesis draws the same examples on every run (derandomize), so no run of the suite can
+# fail by chance; the example database is off, so a clone's results do not depend on an earlier
+# run.  HYPOTHESIS_PROFILE=explore draws fresh random examples, for a developer hunting bugs.
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection

@@ -28,6 +28,7 @@ from scipy.spatial import ConvexHull, QhullError
 import cshape
 from cshape import CShapeWarning, Mesh, shapes
 from cshape.compare import distance_matrix
+from cshape.fem import MOLLIFY_DELTA
 
 SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -61,10 +62,19 @@ def convex_hulls(draw, min_points=6, max_points=20, slivers=False):
     except QhullError:
         assume(False)
     assume(volume > 0.02 and mesh.n_vertices >= 5)
-    # skip hulls with needle triangles far below the mesh scale (mollification territory)
+    # without slivers, skip hulls that the FEM stage would mollify: by the package's own rule,
+    # a triangle whose triangle-inequality margin is below MOLLIFY_DELTA times the mean edge
     if not slivers:
-        assume(mesh.face_areas.min() > 1e-6 * mesh.mean_edge_length**2)
+        assume(triangle_margin(mesh).min() > 10 * MOLLIFY_DELTA * mesh.mean_edge_length)
     return mesh
+
+
+def triangle_margin(mesh: Mesh) -> np.ndarray:
+    """Each triangle's triangle-inequality margin, min over its edges of (l_j + l_k - l_i)."""
+    P, F = mesh.vertices, mesh.faces
+    L = np.stack([np.linalg.norm(P[F[:, (i + 1) % 3]] - P[F[:, (i + 2) % 3]], axis=1)
+                  for i in range(3)], axis=1)
+    return np.min(L.sum(axis=1, keepdims=True) - 2 * L, axis=1)
 
 
 SHAPES = {
@@ -143,12 +153,20 @@ def test_hulls_with_slivers_still_give_finite_descriptors(mesh):
     """Coplanar points make qhull emit needle or zero-area triangles: they are mollified
     (with a warning), never NaN."""
     N = n_eigen(mesh)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", CShapeWarning)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CShapeWarning)
         lam = cshape.shape_dna(mesh, N=N)
         S = cshape.compact_shape_dna(mesh, M=(N - 1) // 2, N=N)
     assert_valid_shape_dna(lam, N)
     assert lam[0] == 0.0 and np.all(np.isfinite(S))
+    # the FEM stage says so exactly when a triangle is degenerate by its rule
+    degenerate = triangle_margin(mesh).min() < MOLLIFY_DELTA * mesh.mean_edge_length
+    said = any("mollified" in str(w.message) for w in caught)
+    event(f"degenerate={degenerate}")
+    if degenerate:
+        assert said
+    elif triangle_margin(mesh).min() > 2 * MOLLIFY_DELTA * mesh.mean_edge_length:
+        assert not said
 
 
 @pytest.mark.slow
