@@ -15,8 +15,9 @@ leaves an ``O(h^4)`` error against the polyhedral surface's spectrum.  Eigenvalu
 by their index in the ascending lists: each solve returns the N smallest eigenvalues with
 their multiplicities, and the min-max principle orders both lists the same way, so a cluster
 of (nearly) repeated eigenvalues cut by the N-th pairs its members in order, whatever
-follows.  The derivation and the measured orders: the eigensolver guide of the
-documentation, section "Resolution-free spectra"; figures: ``benchmarks/results/refine.md``.
+follows.  The derivation, what it converges to and the measured orders: the guide
+"Spectra that do not depend on the mesh's resolution" (``docs/guides/resolution-free-spectra.md``);
+figures: ``benchmarks/results/refine.md``.
 """
 
 from __future__ import annotations

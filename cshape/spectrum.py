@@ -277,7 +277,8 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
         which removes the ``h^2`` term: the error against the spectrum of the polyhedral
         surface is ``O(h^4)``.  It solves a second problem of about four times the
         unknowns.  (A curved surface differs from its polyhedron by ``O(h^2)`` in its
-        metric, a small error that does not grow with the index.)
+        metric, a small error that does not grow with the index.)  :func:`eigenpairs`
+        has no such option: eigenfunctions are not extrapolated.
 
     Returns
     -------
