@@ -312,6 +312,10 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
     problem, mesh = _prepare(mesh, N, bc, mass, with_mesh=True)
     lam = solve_eigenproblem(problem.A, problem.B, N, return_vectors=False)
     fine = fem(_refine.midpoint_subdivision(mesh), bc=problem.bc, mass=mass, repair=False)
+    long = long_solve_message(fine.n_unknowns, N)  # the subdivided mesh's solve
+    if long:
+        warnings.warn(f"refine='extrapolate' solves its midpoint subdivision too: {long}",
+                      CShapeWarning, stacklevel=2)
     lam_fine = solve_eigenproblem(fine.A, fine.B, N, return_vectors=False)
     return _refine.extrapolate(lam, lam_fine)
 

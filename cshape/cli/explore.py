@@ -324,7 +324,7 @@ def add_describe(sub: _SubParsers) -> None:
     p.add_argument("--refine", default="none", choices=_refinements(),
                    help="'none': linear FEM (the paper, default); 'extrapolate': Richardson "
                    "extrapolation over one midpoint subdivision, eigenvalues that depend far "
-                   "less on the mesh resolution, about 4x the time (see cshape.shape_dna)")
+                   "less on the mesh resolution, at several times the cost (see cshape.shape_dna)")
     p.add_argument("--jobs", type=int, default=1,
                    help="local worker processes (default 1; -1: all cores)")
     p.add_argument("--dask", metavar="ADDRESS", default=None,
