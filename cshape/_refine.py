@@ -11,7 +11,10 @@ polyhedral surface, and by the min-max principle ``lam_fine[i] <= lam[i]`` for e
 
     lam_extrapolated = (4 lam_fine - lam) / 3,
 
-leaves an ``O(h^4)`` error against the polyhedral surface's spectrum.  Eigenvalues are paired
+leaves an ``O(h^4)`` error against the polyhedral surface's spectrum, provided that ``C_i``
+is the same at both resolutions: exactly so where the subdivision repeats the mesh's pattern
+at half the size; elsewhere ``C_i`` changes a little with the pattern and a smaller ``h^2``
+term remains.  Eigenvalues are paired
 by their index in the ascending lists: each solve returns the N smallest eigenvalues with
 their multiplicities, and the min-max principle orders both lists the same way, so a cluster
 of (nearly) repeated eigenvalues cut by the N-th pairs its members in order, whatever

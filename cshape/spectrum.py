@@ -274,8 +274,10 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
         grows like ``h^2 lam^2`` (``h`` the edge length).  ``'extrapolate'``: Richardson
         extrapolation ``(4 lam_fine - lam) / 3`` over one midpoint subdivision of the
         mesh (every triangle split into four, kept flat; ``lam_fine`` its eigenvalues),
-        which removes the ``h^2`` term: the error against the spectrum of the polyhedral
-        surface is ``O(h^4)``.  It solves a second problem of about four times the
+        paired by index.  It removes the ``h^2`` term of the error against the spectrum
+        of the polyhedral surface where the subdivision repeats the mesh's pattern at half
+        the size (the error is then ``O(h^4)``); elsewhere the term shrinks by a large
+        factor but need not vanish.  It solves a second problem of about four times the
         unknowns.  (A curved surface differs from its polyhedron by ``O(h^2)`` in its
         metric, a small error that does not grow with the index.)  :func:`eigenpairs`
         has no such option: eigenfunctions are not extrapolated.

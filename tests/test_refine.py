@@ -226,3 +226,15 @@ def test_command_line_describe_refine(tmp_path, capsys):
         cli_main(["describe", str(tmp_path / "m"), "--refine", "p2"])
     assert exc.value.code == 2
     assert "--refine" in capsys.readouterr().err
+
+
+def test_describe_counts_the_subdivisions_in_its_estimate(monkeypatch):
+    import cshape.batch.run as run
+
+    monkeypatch.setattr(run, "estimate_seconds", lambda n, N: n / 2.0)  # linear in n
+    monkeypatch.setattr(run, "_ESTIMATE_MIN_N", 5)
+    mesh = shapes.icosphere(2)  # 162 vertices: 81 s, 405 s with the 648 of a subdivision
+    with pytest.warns(cshape.CShapeWarning, match=r"long run ahead: 1 eigensolve of N=6 \(and "
+                      r"of their midpoint subdivisions\), about 7 min in all"):
+        run._warn_long_run([(0, mesh, 6, "neumann", "consistent", None, None, EX)],
+                           [("ball", "", mesh)], 6)

@@ -406,6 +406,7 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     """
     if N < _ESTIMATE_MIN_N or not tasks:
         return
+    refined = tasks[0][7] != "none"
     from ..readers import load_mesh
 
     sizes: list[tuple[int, str]] = []
@@ -420,7 +421,9 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
         sizes.append((n, records[t[0]][0]))
     if not sizes:
         return
-    total = sum(estimate_seconds(n, N) for n, _ in sizes)
+    # refine='extrapolate' solves the midpoint subdivision too: about 4n unknowns
+    total = sum(estimate_seconds(n, N) + (estimate_seconds(4 * n, N) if refined else 0.0)
+                for n, _ in sizes)
     n_big, name = max(sizes)
     one = long_solve_message(n_big, N)
     if one is None and total < 2 * 60.0:
@@ -429,7 +432,8 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     hint = one.split("; ", 1)[1] if one and "; " in one else ""
     warnings.warn(
         f"{LONG_RUN_PREFIX} {len(sizes)} eigensolve{'s' if len(sizes) > 1 else ''} of "
-        f"N={N}, about {total / 60:.0f} min in all on one core (a rough estimate, "
+        f"N={N}{' (and of their midpoint subdivisions)' if refined else ''}, about "
+        f"{total / 60:.0f} min in all on one core (a rough estimate, "
         f"1e-8 n N^2 s); the largest, {name} ({n_big} vertices), about "
         f"{big / 60:.0f} min" + (f"; {hint}" if hint else ""),
         CShapeWarning, stacklevel=3)
