@@ -27,6 +27,10 @@ resolutions of ``../shared/meshes`` (``$CSHAPE_SHARED_MESHES``; skipped when mis
 ``|difference|`` of the log-Weyl ratios ``log(lam_i area / (4 pi i))`` for ``i = 1-17`` and
 ``i = 80-99``.
 
+``--candidates``: the first tier of the exploration default's candidates
+(:data:`cshape.reproduce.suite.CANDIDATES`) on the suite's development instances, with linear
+and with extrapolated spectra (``results/refine_candidates.md``).
+
 Costs: time and peak resident memory of each spectrum of tori of about 1K, 10K and 100K
 vertices, each in a fresh child process.  Results: ``benchmarks/results/refine.md``.
 Nothing here asserts a number.
@@ -237,6 +241,53 @@ def pairs_table(root=SHARED):
     return rows
 
 
+# --------------------------------------------------------------------------- candidates
+def candidate_scores(N=N):
+    """{refine: suite_scores rows} of the default's candidates on the suite's dev instances."""
+    import cshape.data
+    from cshape.data.suite import SUITE
+    from cshape.reproduce.suite import suite_scores
+
+    out = {}
+    for refine in ("none", "extrapolate"):
+        tables = {}
+        for bench, (dev, _held_out) in SUITE.items():
+            coll = cshape.data.load_collection(dev, progress=False)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                tables[bench] = cshape.describe(coll, N=N, progress=False, refine=refine)
+        out[refine] = suite_scores(tables)
+    return out
+
+
+def candidates_report(scores):
+    """Markdown: first tier of every candidate with linear and extrapolated spectra."""
+    from cshape.reproduce.suite import choose_default
+
+    lin = {r["title"]: r for r in scores["none"]}
+    ext = {r["title"]: r for r in scores["extrapolate"]}
+    benches = list(next(iter(lin.values()))["scores"])
+    lines = ["# The exploration default's candidates with extrapolated spectra", "",
+             f"`benchmarks/bench_refine.py --candidates`; {machine_summary()}", "",
+             "First tier on the **development** instances of the suite "
+             "(`cshape.data.suite.SUITE`), N = 100, with linear FEM spectra (lin) and "
+             "`refine='extrapolate'` (ex).  Development numbers only: nothing here is "
+             "held out.", "",
+             "| candidate | " + " | ".join(f"{b} lin | ex" for b in benches)
+             + " | worst lin | worst ex |",
+             "|---|" + "---|---|" * len(benches) + "---|---|"]
+    for title, r in lin.items():
+        e = ext.get(title)
+        if e is None:
+            continue
+        cells = " | ".join(f"{r['scores'][b]['ft']:.3f} | {e['scores'][b]['ft']:.3f}"
+                           for b in benches)
+        lines.append(f"| {title} | {cells} | {r['worst']:.3f} | {e['worst']:.3f} |")
+    lines += ["", f"Highest worst first tier: linear {choose_default(scores['none'])['title']}, "
+              f"extrapolated {choose_default(scores['extrapolate'])['title']}."]
+    return "\n".join(lines) + "\n"
+
+
 # --------------------------------------------------------------------------- costs
 def child(size, method):
     """Time and peak memory of one spectrum of a torus, in this (fresh) process."""
@@ -311,10 +362,18 @@ def main(argv=None):
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--no-costs", action="store_true")
     ap.add_argument("--quick", action="store_true", help="smaller meshes (smoke test)")
+    ap.add_argument("--candidates", action="store_true",
+                    help="only: the exploration default's candidates on the suite's dev "
+                    "instances, linear and extrapolated (results/refine_candidates.md)")
     ap.add_argument("--out", default=str(HERE / "results" / "refine.md"))
     args = ap.parse_args(argv)
     if args.child:
         print(json.dumps(child(*args.child)))
+        return 0
+    if args.candidates:
+        text = candidates_report(candidate_scores())
+        (HERE / "results" / "refine_candidates.md").write_text(text)
+        print(text)
         return 0
     known = known_answers(args.quick)
     orders = convergence_orders(args.quick)
