@@ -133,7 +133,8 @@ def _solve_components(K, B, N, sigma, return_vectors, ncomp, labels):
         Bc = Bp[lo:hi, lo:hi]
         Nc = min(N, len(idx))
         if _is_dense(len(idx), Nc):
-            lc, pc = _dense(Kc, Bc, Nc, return_vectors)
+            with one_blas_thread():  # as in solve_eigenproblem's dense path
+                lc, pc = _dense(Kc, Bc, Nc, return_vectors)
         else:
             lc, pc = _solve_sparse(Kc, Bc, Nc, sigma, return_vectors)
         lams.append(lc)
