@@ -246,7 +246,7 @@ class MSweep:
         tr = self.transform if transform is None else self._check_transform(transform)
         ref_key = (N, norm)
         if ref_key not in self._ref:
-            lam_norm = np.vstack([normalize(r[:N], a, method=norm)
+            lam_norm = np.vstack([normalize(r[:N], a, normalization=norm)
                                   for r, a in zip(self.lams, self.areas, strict=True)])
             D_ref = scale_255(distance_matrix(lam_norm))
             self._ref[ref_key] = {"lam_norm": lam_norm, "D_ref": D_ref,
