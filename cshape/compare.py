@@ -421,7 +421,7 @@ def median_distances(Y: ArrayLike, *, reference: int = OUTLIER_REFERENCE_POINTS
 
 
 def mds_outliers(Y: ArrayLike, *, factor: float = OUTLIER_FACTOR) -> NDArray[np.bool_]:
-    """The points of an embedding that lie far from the rest: a robust rule.
+    """Return the points of an embedding that lie far from the rest (a robust rule).
 
     Point ``i`` is an outlier when its median distance to the other points,
     ``m_i = median_j |Y_i - Y_j|`` (:func:`median_distances`), exceeds ``factor`` times the

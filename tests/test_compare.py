@@ -358,7 +358,8 @@ def test_descriptor_matrix_transforms(spectra, transform):
     assert X.shape == Xc.shape == (3, 9) and X.dtype == np.float64
     for i in range(3):
         np.testing.assert_array_equal(
-            X[i], real_form(compact_shape_dna(lams[i], M=4, N=30, area=areas[i], transform=transform)))
+            X[i], real_form(compact_shape_dna(lams[i], N=30, M=4, area=areas[i],
+                                              transform=transform)))
     np.testing.assert_allclose(distance_matrix(X), distance_matrix(Xc), rtol=1e-12, atol=1e-12)
     # the sequence kinds do not use the transform
     np.testing.assert_array_equal(

@@ -489,9 +489,9 @@ def _kind_arg(value: str) -> str:
 
 def _default_label(N: int = 100) -> str:
     """The exploration default (cshape.DEFAULT, for N eigenvalues) in words."""
-    from ..descriptors import DEFAULT
+    from ..descriptors.recipe import _given_or_default
 
-    return DEFAULT.for_N(N).label
+    return _given_or_default(None, N).label
 
 
 def chosen_descriptor(args: argparse.Namespace, table: DescriptorTable) -> Descriptor:
@@ -502,12 +502,13 @@ def chosen_descriptor(args: argparse.Namespace, table: DescriptorTable) -> Descr
     (default: the paper's 16, lowered to what ``N`` allows) and ``--transform`` (default:
     the paper's 'weyl').
     """
-    from ..descriptors import DEFAULT, Descriptor
+    from ..descriptors import Descriptor
+    from ..descriptors.recipe import _given_or_default
 
     N = table.N if args.N is None else args.N
     given = {k: v for k, v in (("M", args.M), ("transform", args.transform)) if v is not None}
     if args.kind is None:
-        return DEFAULT.for_N(N).replace(**given)
+        return _given_or_default(None, N).replace(**given)
     if args.M is not None:
         return Descriptor(args.kind, N=N, **given)
     return Descriptor(args.kind, **given).for_N(N)

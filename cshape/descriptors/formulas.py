@@ -410,8 +410,8 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
         mesh = repair_mesh(as_mesh(mesh_or_lam))
         lam = shape_dna(mesh, N=N, bc=bc)
         k = mesh.n_components if bc == "neumann" else None  # one zero mode per piece
-        return (normalize(lam, area=mesh.area if area is None else area, normalization=normalization),
-                k)
+        return (normalize(lam, mesh.area if area is None else area,
+                          normalization=normalization), k)
     lam = check_spectrum(mesh_or_lam, "mesh_or_lam")
     if len(lam) < N:
         raise ValueError(

@@ -27,7 +27,7 @@ from .._checks import (
     check_real,
     check_square,
 )
-from ..compare import median_distances, mds_outliers, scale_255
+from ..compare import mds_outliers, median_distances, scale_255
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -430,9 +430,9 @@ def plot_mds(Y: ArrayLike, names: Sequence[Any] | None = None,
     * the panel is square with equal units on both axes;
     * outliers (:func:`cshape.compare.mds_outliers`: a point whose median distance to the
       others is :data:`cshape.compare.OUTLIER_FACTOR` times the typical one, such as a
-      coarse control cage among fine meshes) are drawn as arrow heads on the border, in their direction, with their
-      name and how many times farther than typical they lie; the other points fill the
-      panel at their own scale, where they separate;
+      coarse control cage among fine meshes) are drawn as arrow heads on the border, in
+      their direction, with their name and how many times farther than typical they lie;
+      the other points fill the panel at their own scale, where they separate;
     * points are named (the part after the last ``/``, at most :data:`LABEL_WIDTH`
       characters) up to ``max_names`` shapes, where a name covers no other; beyond, each
       class's name is written at the median of its points;

@@ -183,7 +183,8 @@ FAMILIES = {
 EXTENSIONS = ("log-Weyl DFT", "log-Weyl DCT", "truncated log spectrum")
 
 
-def family_descriptors(table: DescriptorTable, family: str, M: int, N: int = 100) -> np.ndarray:
+def family_descriptors(table: DescriptorTable, family: str, *, N: int = 100, M: int
+                       ) -> np.ndarray:
     """Descriptors of a :data:`FAMILIES` member with ``2M+1`` values, shape (p, 2M+1).
 
     Raises
@@ -249,7 +250,7 @@ def experiment_retrieval(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 
     for title, fam, M, d in _retrieval_specs(Ms, N):
         try:
             X = (_every_row(table, d) if fam is None
-                 else family_descriptors(table, fam, M, N))
+                 else family_descriptors(table, fam, N=N, M=M))
         except ValueError:
             continue
         s = retrieval_scores(distance_matrix(X), table.labels)
@@ -302,7 +303,7 @@ def experiment_sizes(table: DescriptorTable, *, Ms: Sequence[int] | None = None,
             if fam in skipped:
                 continue
             try:
-                X = family_descriptors(table, fam, M, N)
+                X = family_descriptors(table, fam, N=N, M=M)
             except ValueError as exc:
                 skipped[fam] = str(exc)
                 continue

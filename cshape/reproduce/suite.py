@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..compare import distance_matrix, retrieval_scores
-from ..descriptors import DEFAULT, Descriptor
+from ..descriptors import Descriptor, recipe
 
 if TYPE_CHECKING:
     from collections.abc import Iterable, Sequence
@@ -134,7 +134,7 @@ def choose_default(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 def default_row(rows: Iterable[dict[str, Any]]) -> dict[str, Any] | None:
     """The row of the exploration default :data:`cshape.DEFAULT`."""
-    d = DEFAULT
+    d = recipe.DEFAULT  # read when called: the constant, wherever it is set
     for r in rows:
         if r["kind"] != d.kind:
             continue
