@@ -5,6 +5,7 @@ M-versus-N rule with one message, and the surfaces that take a Descriptor."""
 from __future__ import annotations
 
 import dataclasses
+import json
 
 import numpy as np
 import pytest
@@ -317,6 +318,34 @@ def test_the_table_says_what_it_holds(table):
     for gone in ("M", "transform", "shape_dna", "cshape", "f1", "recipe", "describe_recipe",
                  "descriptor_for"):
         assert not hasattr(table, gone), gone
+
+
+def test_the_command_line_describe_takes_no_M_and_query_honours_it(table, tmp_path, capsys):
+    """`cshape describe` computes eigenvalues only (no -M it would store and not use);
+    `cshape query -M` changes the descriptor it compares and says so."""
+    from conftest import write_off
+
+    from cshape.cli import main
+
+    write_off(tmp_path / "m" / "one.off", shapes.icosphere(1))
+    with pytest.raises(SystemExit) as stop:  # argparse's own one-line error
+        main(["describe", str(tmp_path / "m"), "-N", "5", "-M", "1", "--no-cache"])
+    assert stop.value.code == 2
+    assert "unrecognized arguments: -M 1" in capsys.readouterr().err
+    path = table.save(tmp_path / "t.npz")
+    got = {}
+    for M in ("2", "4"):
+        assert main(["query", str(path), "sphere", "-k", "2", "-M", M, "--json"]) == 0
+        got[M] = json.loads(capsys.readouterr().out)
+        assert (got[M]["kind"], got[M]["M"]) == ("truncated-log", int(M))
+        assert got[M]["descriptor"] == DEFAULT.replace(N=N, M=int(M)).label
+    d2 = {n["name"]: n["distance"] for n in got["2"]["neighbours"]}
+    d4 = {n["name"]: n["distance"] for n in got["4"]["neighbours"]}
+    X = DEFAULT.replace(N=N, M=2).matrix(table.lam, table.areas)
+    assert d2["torus"] == pytest.approx(np.linalg.norm(X[0] - X[1]), rel=1e-12)
+    assert d2 != d4  # -M is used
+    assert main(["query", str(path), "sphere", "--kind", "cshape", "-M", "15"]) == 2
+    assert "M=15: 2M+1 = 31 values cannot be kept from N = 30" in capsys.readouterr().err
 
 
 def test_reproduce_takes_the_papers_descriptor_and_refuses_another(tmp_path):

@@ -333,3 +333,24 @@ def test_bench_pieces_runs_on_a_small_table(table, tmp_path, capsys):
     u, au = bench.lid_union(lam, area, 0.01, table.N)
     np.testing.assert_allclose(bench.rule_a(u, au, 2, 7), bench.rule_a(lam, area, 1, 7)
                                + np.log(1.01), rtol=1e-12)
+
+
+# ------------------------------------------------------------------ the lessons
+def test_lessons_use_the_packages_zero_mode_rule():
+    """Lesson 08 leaves out meshes of several pieces by the package's rule (the component
+    count, else count_zero_modes and ZERO_RTOL), not by a threshold of its own: a zero mode
+    carrying another solver's round-off (1e-7 of the largest eigenvalue, above 1e-8) is one."""
+    import re
+
+    from conftest import REPO
+
+    sources = {p.name: p.read_text() for p in sorted((REPO / "notebooks").glob("[0-9]*.py"))}
+    own = [n for n, src in sources.items() if re.search(r"lam\[:, *1\] *[<>]", src)]
+    assert own == [], own
+    assert "ok = table.zero_modes <= 1" in sources["08_beyond_the_paper.py"]
+    lam = 4 * np.pi * np.arange(30.0)
+    two = np.r_[0.0, 1e-7 * lam[-1], lam[2:]]  # two pieces, the second zero mode not exact
+    t = DescriptorTable(["one", "two"], np.array([lam, two]), [1.0, 1.0])
+    np.testing.assert_array_equal(t.zero_modes, [1, 2])
+    assert two[1] > 1e-8 * two[-1]  # the lesson's former threshold took it for one piece
+    assert cshape.count_zero_modes(two) == 2 and 1e-7 <= ZERO_RTOL
