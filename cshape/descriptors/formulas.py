@@ -99,13 +99,9 @@ NORMALIZATIONS = ("area", "fiedler", "weyl", "none")
 #: The ``transform=`` options of :func:`compact_shape_dna`; ``'weyl'`` is the paper's.
 TRANSFORMS = ("weyl", "log-weyl", "log-weyl-dct")
 FOUR_PI = 4.0 * np.pi
-#: An eigenvalue at most ``ZERO_RTOL`` times the largest of its spectrum is a zero mode.
-#: Two bounds fix it: other solvers' round-off on a zero mode reaches a few ``1e-8`` of the
-#: largest eigenvalue (ARPACK on a real mesh: ``lam_0 = -2.6e-8 lam_99``; a spectrum stored
-#: in float32 carries ``1e-7``), and the smallest non-zero eigenvalue of the real connected
-#: meshes measured is ``4.9e-4`` of the 100th (an 112-vertex control mesh; 9.3e-4 and more
-#: on the 248 meshes of two real labelled collections).  ``1e-5`` leaves a factor of about
-#: 100 above the round-off and 50 below the smallest real ``lam_1``.
+#: An eigenvalue at most ``ZERO_RTOL`` times the largest of its spectrum is a zero mode
+#: (:func:`count_zero_modes`).  How the value was chosen: the guide "Imperfect meshes"
+#: (``docs/guides/imperfect-meshes.md``).
 ZERO_RTOL = 1e-5
 #: With a known component count ``k`` (``zero_modes=``) the ``k`` leading eigenvalues are
 #: zero modes when each is at most ``ZERO_RTOL`` of the largest or ``KNOWN_ZERO_RATIO`` of
@@ -155,6 +151,13 @@ def normalize(lam: ArrayLike, area: float | None = None, *,
     ValueError
         ``lam`` not 1-D, empty or not finite; ``area`` not positive and finite, or missing
         for ``normalization='area'``; an unknown ``normalization``.
+
+    Examples
+    --------
+    >>> normalize([0.0, 2.0, 6.0], 2.0).tolist()
+    [0.0, 4.0, 12.0]
+    >>> normalize([0.0, 2.0, 6.0], normalization="fiedler").tolist()
+    [0.0, 1.0, 3.0]
     """
     x = check_spectrum(lam)
     normalization = check_choice("normalization", normalization, NORMALIZATIONS)
@@ -211,6 +214,11 @@ def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
     int
         ``k``: ``lam_0 .. lam_{k-1}`` are zero modes; ``N`` when all are (too few
         eigenvalues to see past them), ``0`` for a Dirichlet spectrum of open pieces.
+
+    Examples
+    --------
+    >>> count_zero_modes([0.0, 3e-9, 2.0, 6.0])  # two pieces, one zero mode with round-off
+    2
     """
     x = check_spectrum(lam)
     rtol = check_real("rtol", rtol, min=0)
@@ -548,6 +556,15 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
     have the distances of the first ``2M+1`` log-Weyl ratios (kind ``'truncated-log'`` of
     :class:`cshape.Descriptor`).  The measurements behind these choices are
     in ``benchmarks/README.md`` ("Which transform, which N").
+
+    Examples
+    --------
+    A spectrum on the Weyl line ``4 pi i`` (after the area) has nothing left after Eq. (8):
+
+    >>> import numpy as np
+    >>> S = compact_shape_dna(4 * np.pi * np.arange(10.0), N=10, M=2, area=1.0)
+    >>> S.shape, bool(np.allclose(S, 0))
+    ((5,), True)
     """
     transform = _check_transform(transform)
     M = _check_M(M, _check_N(N), transform)  # before the eigensolve
