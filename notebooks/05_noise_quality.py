@@ -134,11 +134,12 @@ fig = plots.new_figure((11, 3.5))
 axs = fig.subplots(1, 2, sharey=True)
 for ax, kind, title in ((axs[0], "shape-dna", "(a) normalised Shape-DNA"),
                         (axs[1], "cshape", "(b) cShape-DNA")):
-    d = {lev: np.linalg.norm(noisy[lev].descriptors(kind) - clean.descriptors(kind), axis=1)
-         for lev in show}
-    top = max(v.max() for v in d.values())
+    desc = Descriptor(kind, N=N, M=M)
+    moved = {lev: np.linalg.norm(noisy[lev].descriptors(desc) - clean.descriptors(desc), axis=1)
+             for lev in show}
+    top = max(v.max() for v in moved.values())
     for lev in show:
-        ax.plot(d[lev] / top, "o-", ms=3, label=f"lambda = {lev}")
+        ax.plot(moved[lev] / top, "o-", ms=3, label=f"lambda = {lev}")
     ax.set(title=title, xlabel="model", xticks=range(len(clean)))
     ax.set_xticklabels(clean.names, rotation=90, fontsize="x-small")
     ax.legend(fontsize="small")
@@ -201,7 +202,7 @@ with warnings.catch_warnings():
 others = {"a sphere": shapes.icosphere(3), "a torus": shapes.torus(48, 24)}
 print(f"distance CM - CS:        {np.linalg.norm(S['CM'] - S['CS']):10.1f}")
 for name, m in others.items():  # for scale: the distance to another shape
-    d = np.linalg.norm(S["CS"] - cshape.compact_shape_dna(m, M, N))
+    d = np.linalg.norm(S["CS"] - cshape.compact_shape_dna(m, N=N, M=M))
     print(f"distance CS - {name:9s} {d:10.1f}")
 plots.plot_cshape_dna(S, title="Fig. 9: cShape-DNA of CM and CS")
 
