@@ -209,10 +209,8 @@ default='cshape'
 
     def replace(self, **changes: Any) -> Descriptor:
         """Return a copy with some fields changed (checked again)."""
-        fields = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
-        kind = changes.pop("kind", fields.pop("kind"))
-        fields.pop("kind", None)
-        return Descriptor(kind, **{**fields, **changes})
+        fields = {**dataclasses.asdict(self), **changes}
+        return Descriptor(fields.pop("kind"), **fields)
 
     def for_N(self, N: int) -> Descriptor:
         """Return the same descriptor for spectra of ``N`` eigenvalues.
