@@ -85,6 +85,8 @@ class Mesh:
         self.faces = _check_faces(faces, len(self.vertices))
         self.vertices.setflags(write=False)
         self.faces.setflags(write=False)
+        # set by repair_mesh on what it returns (merge_tol=0): then there is nothing to repair
+        self._repaired = False
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -427,7 +429,9 @@ def repair_mesh(mesh: MeshLike, *, merge_tol: float = 0.0, warn: bool = True) ->
     Returns
     -------
     Mesh
-        The repaired mesh (the input itself when nothing needed repair).
+        The repaired mesh (the input itself when nothing needed repair).  The result is
+        marked as repaired, so that repairing it again (``merge_tol=0``) returns it at once:
+        a mesh read, repaired and solved is repaired once.
 
     Raises
     ------
@@ -439,6 +443,8 @@ def repair_mesh(mesh: MeshLike, *, merge_tol: float = 0.0, warn: bool = True) ->
     merge_tol = check_real("merge_tol", merge_tol, min=0)
     warn = check_bool("warn", warn)
     mesh = as_mesh(mesh)
+    if merge_tol == 0 and getattr(mesh, "_repaired", False):
+        return mesh
     V = mesh.vertices
     F = mesh.faces
     notes = []
@@ -492,10 +498,13 @@ def repair_mesh(mesh: MeshLike, *, merge_tol: float = 0.0, warn: bool = True) ->
         V = V[used]
         F = new[F]
     if not notes:
+        mesh._repaired = True
         return mesh
     if warn:
         warnings.warn("repaired mesh: " + "; ".join(notes), CShapeWarning, stacklevel=2)
-    return Mesh(V, F)
+    out = Mesh(V, F)
+    out._repaired = True  # welding, then dropping faces and vertices: nothing left to repair
+    return out
 
 
 def _mix64(z: np.ndarray) -> np.ndarray:
