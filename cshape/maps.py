@@ -52,7 +52,7 @@ import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
 from ._checks import check_bool, check_int, check_landmarks, check_real, check_vertex_indices
-from ._threads import one_blas_thread
+from ._eigensolver.threads import one_blas_thread
 from .fem import fem_matrices
 from .mesh import Mesh, MeshLike, as_mesh, repair_mesh
 from .signatures import heat_kernel, wks, wks_energies

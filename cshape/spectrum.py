@@ -29,9 +29,9 @@ mesh of several connected components is solved one component at a time.
 Determinism.  Fixed seeds: the same input gives the same bits in every run, with any
 number of threads (:func:`solver_threads`).
 
-The solver lives in private modules by job: :mod:`cshape._shift` (the shift and its
-factorisation), :mod:`cshape._lanczos` (the iteration), :mod:`cshape._threads` (the thread
-policy), :mod:`cshape._cholmod` (the sparse Cholesky backends).  The derivation is the
+The solver lives in the private subpackage :mod:`cshape._eigensolver`, one module by job:
+``shift`` (the shift and its factorisation), ``lanczos`` (the iteration), ``threads`` (the
+thread policy), ``cholmod`` (the sparse Cholesky backends).  The derivation is the
 eigensolver guide of the documentation; measured figures: ``benchmarks/SCALE.md``.
 """
 
@@ -47,7 +47,6 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 from numpy.typing import NDArray
 
-from . import _shift
 from ._checks import (
     _caller_stacklevel,
     check_bool,
@@ -56,8 +55,12 @@ from ._checks import (
     check_real,
     check_spectrum,
 )
-from ._lanczos import BLOCK_SIZE, MIN_BLOCK_SIZE  # noqa: F401  (block sizes, for benchmarks)
-from ._threads import one_blas_thread, solver_threads
+from ._eigensolver import shift as _shift
+from ._eigensolver.lanczos import (  # noqa: F401  (block sizes, for benchmarks)
+    BLOCK_SIZE,
+    MIN_BLOCK_SIZE,
+)
+from ._eigensolver.threads import one_blas_thread, solver_threads
 from .fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from .fem import _problem as fem
 from .mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
@@ -112,7 +115,7 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     union are kept: identical components would otherwise make every eigenvalue exactly
     repeated once per component, beyond what the block size of the Krylov method can
     resolve.  A connected problem takes the inside shift where it applies
-    (:func:`cshape._shift.solve_inside`), else the shift below the spectrum.
+    (:func:`cshape._eigensolver.shift.solve_inside`), else the shift below the spectrum.
     """
     k = K.shape[0]
     same = _shift.same_pattern(K, B)

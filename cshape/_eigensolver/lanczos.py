@@ -19,8 +19,8 @@ import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 
-from . import _threads
-from ._threads import RowSplit, ThreadChooser, times
+from . import threads as _threads
+from .threads import RowSplit, ThreadChooser, times
 
 #: Block size ``b`` (number of simultaneous right-hand sides).
 BLOCK_SIZE = 8

@@ -24,7 +24,9 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from . import _cholmod, _lanczos, _threads
+from . import cholmod as _cholmod
+from . import lanczos as _lanczos
+from . import threads as _threads
 
 #: Problems with at most this many unknowns put the shift inside the spectrum
 #: (:func:`solve_inside`).  Its factorisation is simplicial (CHOLMOD has no supernodal
