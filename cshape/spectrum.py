@@ -526,8 +526,8 @@ def estimate_seconds(n: int, N: int) -> float:
 
     ``1e-9 n^3`` for the dense path (``n <= DENSE_LIMIT`` or ``3 N >= n``), else
     ``1e-8 n N^2`` (the Lanczos basis of about ``3 N`` vectors of length ``n``, kept
-    orthogonal), plus ``2e-5 n`` (FEM, factorisation), fitted on one core of a 2-core
-    machine (the fit: ``benchmarks/SCALE.md``, "The eigensolver").  The estimate is for
+    orthogonal), plus ``2e-5 n`` (FEM, factorisation); the coefficients are fitted to
+    measured solves (``benchmarks/SCALE.md``, "Operations notes").  The estimate is for
     warnings, not for planning to the minute.
     """
     n, N = float(check_int("n", n, min=0)), float(check_int("N", N, min=1))

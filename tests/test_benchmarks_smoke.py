@@ -326,3 +326,18 @@ def test_maps_measure_and_report(tmp_path, monkeypatch):
     # the identity check: a pose of itself keeps every edge length
     share, stretch = bm.identity_check(S, S)
     assert share == 1.0 and stretch == 0.0
+
+
+def test_choices_bench_compares_like_with_like(tmp_path, capsys):
+    from cshape import shapes
+
+    bc = _load("bench_choices")
+    mesh = shapes.icosphere(2)
+    assert bc.edge_keys(mesh, 1)[2] is True  # the integer keys give np.unique's edges
+    assert bc.distinct_rows(mesh, 1)[2] is True
+    first, second, nbytes = bc.first_touch(rows=1000, cols=3, repeats=1)
+    assert nbytes == 24_000 and first >= 0 and second >= 0
+    bc.main(["--level", "1", "--repeats", "1", "--basis-rows", "100",
+             "--out", str(tmp_path / "c.md")])
+    text = (tmp_path / "c.md").read_text()
+    assert text.count("\n| ") == 4 and "Processor:" in text

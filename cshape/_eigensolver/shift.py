@@ -193,10 +193,9 @@ def solve_inside(K, B, N, same, return_vectors):
 def _basis_beside(k, N, b, threads):
     """Start allocating the Lanczos basis in another thread, if ``threads > 1``; or None.
 
-    The first touch of a big array costs page faults (about 0.6 s for the 500 MB a
-    164K-vertex solve writes first, measured on a virtual machine): done by a second core
-    while the first one factorises, it costs nothing.  Returns a future of the array
-    :func:`~cshape._lanczos.block_lanczos` takes as ``basis``.
+    The first write to a big array costs page faults; a second core writes it while the
+    first one factorises (figures: ``benchmarks/results/choices.md``).  Returns a future of
+    the array :func:`~cshape._eigensolver.lanczos.block_lanczos` takes as ``basis``.
     """
     if threads < 2:
         return None
