@@ -133,7 +133,7 @@ def _check_array(name, x, n=None) -> np.ndarray:
     return a
 
 
-def _columns(x) -> np.ndarray:
+def _columns(x):
     """Return a 1-D array as one column, anything else as it is (for :func:`_check_array`)."""
     a = np.asarray(x) if not isinstance(x, (str, bytes)) else x
     return a[:, None] if isinstance(a, np.ndarray) and a.ndim == 1 else a

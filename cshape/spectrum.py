@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import Literal, overload
+from typing import Any, Literal, overload
 
 import numpy as np
 import scipy.linalg as la
@@ -371,7 +371,7 @@ class Eigenbasis:
                 f"lam=[{self.lam[0]:.3g} .. {self.lam[-1]:.3g}])")
 
 
-def _real_array(name: str, x: object) -> np.ndarray:
+def _real_array(name: str, x: Any) -> np.ndarray:
     """``x`` as a float64 array, or a TypeError naming ``name``."""
     if isinstance(x, (str, bytes)) or np.iscomplexobj(x):
         raise TypeError(f"{name} must be a real array, got {type(x).__name__}")
