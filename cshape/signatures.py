@@ -67,10 +67,6 @@ T_FACTOR = 4.0 * np.log(10.0)
 #: The WKS's Gaussian width in energy steps (Aubry et al. 2011: ``sigma = 7 delta``).
 WKS_WIDTH = 7.0
 
-#: An eigenvalue at most ``ZERO_RTOL`` times the largest counts as zero (``lam_0`` of a
-#: closed or Neumann problem): the one zero tolerance of :mod:`cshape.descriptors`.
-
-
 # ---------------------------------------------------------------------- checks
 #: The ``normalization=`` options: the eigenpairs as they are, or of the shape scaled to
 #: unit area (Section 2.1).
@@ -136,7 +132,7 @@ def _check_scales(name: str, values: ArrayLike, *, positive: bool = True) -> np.
 
 
 def _nonzero(lam: np.ndarray) -> np.ndarray:
-    """Mask of the eigenvalues that are not numerically zero."""
+    """Mask of the eigenvalues that are not zero modes (``ZERO_RTOL``, the descriptors' rule)."""
     return lam > ZERO_RTOL * lam.max()
 
 
