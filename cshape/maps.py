@@ -492,7 +492,7 @@ def transfer_function(f: ArrayLike, C: ArrayLike, source: Eigenbasis, target: Ei
 
 # ---------------------------------------------------------------------- functional map
 def _orientation_ops(mesh, phi, F):
-    """Reduced orientation operators ``Phi^T W_f Phi`` (k x k) for each column ``f`` of F.
+    """Reduced orientation operators ``Phi^T W_f Phi`` (N x N) for each column ``f`` of F.
 
     ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018), times
     ``sqrt(area)``: with ``Phi`` B-orthonormal the operators scale as 1 / length, so this
@@ -603,7 +603,7 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
     """Minimise the energy of :func:`functional_map` (its arguments checked)."""
     kT, kS = M.shape
     H = wd * (DS @ DS.T)
-    R = wd * (DS @ DT.T)  # (k_S, k_T)
+    R = wd * (DS @ DT.T)  # (N_S, N_T)
     C = np.empty((kT, kS))
     for i in range(kT):
         C[i] = np.linalg.solve(H + wl * np.diag(M[i]) + 1e-12 * np.eye(kS), R[:, i])
@@ -618,7 +618,7 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
     # solved by conjugate gradients from the closed-form solution without the orientation
     def hess(x):
         X = x.reshape(kT, kS)
-        RO = X @ OS - OT @ X  # (f, k_T, k_S): C O_S,f - O_T,f C
+        RO = X @ OS - OT @ X  # (f, N_T, N_S): C O_S,f - O_T,f C
         g = X @ H + wl * M * X + 1e-12 * X  # H = wd DS DS^T, symmetric
         g += wo * ((RO @ OSt).sum(axis=0) - (OTt @ RO).sum(axis=0))
         return g.ravel()
