@@ -294,9 +294,24 @@ def test_neighbour_strips_return_figures():
     assert [ax.get_title().split("\n")[0] for ax in fig.axes] == [
         "query", "1. d = 0.5", "2. d = 1.25"]
     pfig = neighbour_strip_plotly(meshes, ["q", "n1", "n2"], [0.5, 1.25], vertical_axis="y")
-    assert len(pfig.data) == 3 and pfig.layout.scene2.camera.up.y == 1
+    assert len(pfig.data) == 3 and pfig.layout.scene2.camera.up.z == 1
+    # y up: the trace's coordinates are the mesh's (z, x, y), drawn upright
+    V = shapes.torus(16, 8).vertices
+    tr = pfig.data[1]
+    np.testing.assert_allclose(np.c_[tr.x, tr.y, tr.z], V[:, [2, 0, 1]], rtol=1e-6)
+    assert pfig.layout.height is None  # the page gives it its size
     with pytest.raises(ValueError, match=r"distances has 1 entries but the strip has 2 neighbours"):
         plot_neighbour_strip(meshes, ["q", "n1", "n2"], [0.5])
+
+
+@pytest.mark.parametrize("n, grid", [(1, (1, 1)), (2, (1, 2)), (4, (2, 2)), (6, (2, 3)),
+                                     (11, (3, 4))])
+def test_strip_grid_keeps_panels_near_square(n, grid):
+    from cshape.plots.explore import strip_grid
+
+    assert strip_grid(n) == grid
+    rows, cols = grid
+    assert rows * cols >= n > (rows - 1) * cols
 
 
 def test_overview_png_and_html_name_the_descriptor_and_left_out():

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .._checks import check_entries, check_labels, check_points, check_square
+from .._checks import check_entries, check_int, check_labels, check_points, check_square
 from .._files import atomic_write
 from ..compare import distance_matrix
 from ..descriptor import Descriptor, select_descriptor
@@ -369,8 +369,11 @@ def figure_html(fig: go.Figure, *, full_html: bool = True, include_plotlyjs: boo
                 ) -> str:
     """A plotly figure as HTML that works offline: plotly.js embedded in the page (no CDN),
     no MathJax."""
-    return fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
-                       include_mathjax=False, config={"displaylogo": False, "responsive": True})
+    text = fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
+                       include_mathjax=False, config={"displaylogo": False, "responsive": True},
+                       default_width="100%", default_height="100vh")
+    # a figure without a height fills the window: no page margin, no scroll bar
+    return text.replace("<body>", '<body style="margin:0">', 1) if full_html else text
 
 
 # =========================================================================== thumbnails
@@ -507,46 +510,67 @@ def plot_neighbour_strip(meshes: Sequence[MeshLike], names: Sequence[object],
     return fig
 
 
-def _camera(axis: str) -> dict[str, dict[str, float]]:
-    up = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}[axis]
-    eye = {"x": (0.4, 1.3, 1.3), "y": (1.3, 0.5, 1.3), "z": (1.3, -1.3, 0.5)}[axis]
-    return {"up": dict(zip("xyz", up, strict=True)), "eye": dict(zip("xyz", eye, strict=True))}
+#: The window a full-page strip is fitted for (pixels): a landscape window, 4:3 at its
+#: narrowest; wider windows only add room.
+_WINDOW = (1200, 900)
+#: Pixels of the strip's title and of each row's panel titles (three lines).
+_STRIP_TITLE, _PANEL_TITLE = 50, 62
+
+
+def strip_grid(n: int, window: tuple[float, float] = _WINDOW) -> tuple[int, int]:
+    """Rows and columns of ``n`` views on a page: the panels as near square as the window
+    allows, with fewer than a row of empty cells.
+
+    >>> strip_grid(6), strip_grid(2), strip_grid(11)
+    ((2, 3), (1, 2), (3, 4))
+    """
+    n = check_int("n", n, min=1)
+    w, h = window
+
+    def badness(rows: int) -> float:
+        cols = -(-n // rows)
+        return abs(np.log((w / cols) / (h / rows)))
+
+    rows = min(range(1, n + 1), key=badness)
+    return rows, -(-n // rows)
 
 
 def neighbour_strip_plotly(meshes: Sequence[MeshLike], names: Sequence[object],
                            distances: ArrayLike, *, labels: Sequence[object] | None = None,
                            title: str | None = None, vertical_axis: str | Sequence[str] = "z",
-                           max_faces: int = HTML_THUMBNAIL_FACES, height: int = 360
-                           ) -> go.Figure:
-    """:func:`plot_neighbour_strip` as an interactive plotly figure (each mesh turns and
-    zooms on its own; hover shows its name).  Parameters as there; returns a
-    ``plotly.graph_objects.Figure``."""
-    import plotly.graph_objects as go
+                           max_faces: int = HTML_THUMBNAIL_FACES) -> go.Figure:
+    """:func:`plot_neighbour_strip` as an interactive plotly figure that fills its page: the
+    views on a grid (:func:`strip_grid`), each lit and framed by
+    :func:`cshape.plots.viewer.add_mesh_view`, each turning and zooming on its own; hover
+    shows a mesh's name.  Parameters as there; returns a ``plotly.graph_objects.Figure``
+    without a size (:func:`figure_html` gives it the window)."""
     from plotly.subplots import make_subplots
+
+    from .viewer import add_mesh_view
 
     n = len(meshes)
     heads, _ = _strip_texts(names, distances, labels, n)
     axes = _axes_list(vertical_axis, n)
-    titles = [f"{h}<br>{html.escape(short_label(nm, 24))}"
-              + (f"<br>[{html.escape(short_label(labels[j], 24))}]" if labels is not None else "")
+    titles = [f"{h}<br>{html.escape(str(nm))}"
+              + (f"<br>[{html.escape(str(labels[j]))}]" if labels is not None else "")
               for j, (h, nm) in enumerate(zip(heads, names, strict=True))]
-    fig = make_subplots(rows=1, cols=n, specs=[[{"type": "scene"}] * n], subplot_titles=titles,
-                        horizontal_spacing=0.01)
+    rows, cols = strip_grid(n)
+    w, h = _WINDOW
+    vspace = _PANEL_TITLE / (h - _STRIP_TITLE) if rows > 1 else 0.0
+    fig = make_subplots(rows=rows, cols=cols, specs=[[{"type": "scene"}] * cols] * rows,
+                        subplot_titles=titles, horizontal_spacing=0.01, vertical_spacing=vspace)
+    panel_h = (h - _STRIP_TITLE - _PANEL_TITLE) * (1 - vspace * (rows - 1)) / rows
+    aspect = (w * (1 - 0.01 * (cols - 1)) / cols) / panel_h
     for j in range(n):
-        V, F = thumbnail_mesh(meshes[j], max_faces)
-        fig.add_trace(go.Mesh3d(
-            x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
-            color="rgb(200,60,50)" if j == 0 else "rgb(185,192,205)", flatshading=True,
-            lighting={"ambient": 0.45, "diffuse": 0.8, "specular": 0.1},
-            hoverinfo="text", hovertext=html.escape(str(names[j])), name=str(names[j]),
-            showscale=False), row=1, col=j + 1)
         scene = "scene" if j == 0 else f"scene{j + 1}"
-        fig.layout[scene].update(
-            aspectmode="data", camera=_camera(axes[j]),
-            xaxis={"visible": False}, yaxis={"visible": False}, zaxis={"visible": False})
+        add_mesh_view(fig, thumbnail_mesh(meshes[j], max_faces), scene=scene,
+                      vertical_axis=axes[j], aspect=aspect,
+                      color="rgb(214, 96, 77)" if j == 0 else "rgb(185, 192, 205)",
+                      hoverinfo="text", hovertext=html.escape(str(names[j])),
+                      name=str(names[j]))
     fig.update_layout(title={"text": html.escape(title) if title else None, "x": 0.5},
-                      height=height, width=max(600, 230 * n), showlegend=False,
-                      margin={"l": 5, "r": 5, "t": 110 if labels is not None else 90, "b": 5})
+                      showlegend=False,
+                      margin={"l": 5, "r": 5, "t": _STRIP_TITLE + _PANEL_TITLE, "b": 5})
     for a in fig.layout.annotations:
         a.font.size = 12
     return fig
