@@ -515,6 +515,8 @@ def plot_neighbour_strip(meshes: Sequence[MeshLike], names: Sequence[object],
 _WINDOW = (1200, 900)
 #: Pixels of the strip's title and of each row's panel titles (three lines).
 _STRIP_TITLE, _PANEL_TITLE = 50, 62
+#: The lowest window whose rows leave their titles room (pixels).
+_LOWEST_WINDOW = 640
 
 
 def strip_grid(n: int, window: tuple[float, float] = _WINDOW) -> tuple[int, int]:
@@ -556,7 +558,8 @@ def neighbour_strip_plotly(meshes: Sequence[MeshLike], names: Sequence[object],
               for j, (h, nm) in enumerate(zip(heads, names, strict=True))]
     rows, cols = strip_grid(n)
     w, h = _WINDOW
-    vspace = _PANEL_TITLE / (h - _STRIP_TITLE) if rows > 1 else 0.0
+    vspace = (_PANEL_TITLE / (_LOWEST_WINDOW - _STRIP_TITLE - _PANEL_TITLE) if rows > 1
+              else 0.0)
     fig = make_subplots(rows=rows, cols=cols, specs=[[{"type": "scene"}] * cols] * rows,
                         subplot_titles=titles, horizontal_spacing=0.01, vertical_spacing=vspace)
     panel_h = (h - _STRIP_TITLE - _PANEL_TITLE) * (1 - vspace * (rows - 1)) / rows
