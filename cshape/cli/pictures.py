@@ -34,7 +34,13 @@ def _cmd_overview(args: argparse.Namespace) -> int:
     from ..batch import DescriptorTable
     from ..compare import mds_embedding
     from ..plots.collection import mds_layout
-    from ..plots.explore import collection_distances, overview_html, plot_overview, save_figure
+    from ..plots.explore import (
+        collection_distances,
+        collection_title,
+        overview_html,
+        plot_overview,
+        save_figure,
+    )
 
     outs = [check_figure_path(o, "--out") for o in args.out]
     if len({o.resolve() for o in outs}) < len(outs):
@@ -67,9 +73,8 @@ def _cmd_overview(args: argparse.Namespace) -> int:
     if not args.quiet:
         lay = mds_layout(Y)
         far = [c.names[i] for i in lay["outliers"].nonzero()[0]]
-        n_classes = len(set(c.labels))
-        msg = (f"cshape overview: {len(c.names)} shapes, {n_classes} classes, compared by "
-               f"{c.descriptor}")
+        msg = (f"cshape overview: {collection_title(len(c.names), len(set(c.labels)))}, "
+               f"compared by {c.descriptor}")
         if c.left_out:
             msg += f"; {len(c.left_out)} left out"
         if far:

@@ -39,8 +39,12 @@ if TYPE_CHECKING:
 # --------------------------------------------------------------------------- plots
 #: An MDS plot names its points up to this many shapes; beyond, only the class legend.
 MDS_MAX_NAMES = 40
-#: A distance matrix gets one tick per shape up to this many shapes; beyond, one per class.
-MATRIX_MAX_NAMES = 40
+#: A distance matrix gets one tick per shape up to this many shapes (in a smaller font when
+#: needed, down to :data:`MIN_TICK_POINTS`); beyond, one per class, or every k-th name for
+#: one class.
+MATRIX_MAX_NAMES = 100
+#: The smallest font of a matrix's names, in points.
+MIN_TICK_POINTS = 4.5
 #: A legend lists up to this many classes in one column; beyond, a figure of its own gets a
 #: legend in columns below the panel (up to :data:`LEGEND_COLUMNS` columns).
 MAX_LEGEND_CLASSES = 20
@@ -492,16 +496,17 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
              level: int) -> bool:
         """Level 0: inside the axes, over no text and no point; 1: over no text; 2: inside."""
         inside = lo_x <= box[0] and box[2] <= hi_x and lo_y <= box[1] and box[3] <= hi_y
-        others = (boxes + obstacles) if level == 0 else boxes if level == 1 else []
+        # a point's own marker is no obstacle to its name
+        near = [b for b in obstacles if not (b[0] < own[0] < b[2] and b[1] < own[1] < b[3])]
+        others = (boxes + near) if level == 0 else boxes if level == 1 else []
         return inside and not any(
             box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
-            and not (b[0] < own[0] < b[2] and b[1] < own[1] < b[3])
             for b in others)
 
     # (horizontal, vertical) side of the point: +1 right / above, -1 left / below, 0 centred
     sides = ((1, 1), (-1, 1), (1, -1), (-1, -1), (0, 1), (0, -1))
     for i, text in enumerate(texts):
-        w, h = 0.62 * size * len(text) * per_pt, 1.25 * size * per_pt
+        w, h = 0.7 * size * len(text) * per_pt, 1.35 * size * per_pt
         placed = None
         for level in range(3 if i < required else 1):
             for sx, sy in sides:
@@ -819,10 +824,11 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
     """Ticks of a (p, p) matrix image that never write over each other.
 
     One tick per shape (short names) when there are at most ``max_names`` shapes and their
-    labels fit the axes' height; else one per class, at the middle of each run of a class,
+    labels fit the axes' height (in a font down to :data:`MIN_TICK_POINTS`); else one per
+    class, at the middle of each run of a class,
     as many as fit (the axes' size after a layout pass without ticks, ``safety`` times
     smaller for the room the tick labels take), with thin white lines at the class
-    boundaries.
+    boundaries; with one class, every k-th name.
 
     Parameters
     ----------
@@ -844,12 +850,18 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
     size = FontProperties(size=fontsize).get_size_in_points()
     n_fit = max(1, int(side_pt / safety / (1.2 * size)))
     runs = _runs([str(x) for x in labels]) if labels is not None and len(labels) == p else []
-    if names is not None and len(names) == p and p <= min(max_names, n_fit):
-        where, text = list(range(p)), short_labels(names)
+    # a name per row, in a smaller font if that fits (names take less room than classes)
+    small = min(size, side_pt / 1.3 / (1.2 * p))
+    if names is not None and len(names) == p and p <= max_names and small >= MIN_TICK_POINTS:
+        where, text, fontsize = list(range(p)), short_labels(names), small
     elif len(runs) > 1:
         mids = np.array([[(a + b - 1) / 2, 0.0] for a, b, _ in runs])
         keep = _spread_out(mids, p / n_fit)
         where, text = [mids[k, 0] for k in keep], [short_label(runs[k][2]) for k in keep]
+    elif names is not None and len(names) == p:  # one class: every k-th name
+        step = -(-p // max(1, int(side_pt / 1.3 / (1.2 * MIN_TICK_POINTS))))
+        where = list(range(0, p, step))
+        text, fontsize = [short_labels(names)[i] for i in where], MIN_TICK_POINTS
     else:
         return side_pt
     ax.set_xticks(where, text, rotation=90, fontsize=fontsize)

@@ -33,6 +33,7 @@ from ..compare import distance_matrix
 from ..descriptor import Descriptor, select_descriptor
 from ..mesh import CShapeWarning, as_mesh
 from .collection import (
+    MATRIX_MAX_NAMES,
     class_styles,
     mds_layout,
     nearest_neighbours,
@@ -604,6 +605,17 @@ def _fmt(x: float | None, spec: str = ".4g") -> str:
     return "-" if x is None or (isinstance(x, float) and np.isnan(x)) else format(x, spec)
 
 
+def collection_title(p: int, n_classes: int) -> str:
+    """How many shapes and classes, in words: ``'64 shapes'`` for a flat folder (one
+    class), ``'200 shapes in 10 classes'``.
+
+    >>> collection_title(64, 1), collection_title(2, 2), collection_title(1, 1)
+    ('64 shapes', '2 shapes in 2 classes', '1 shape')
+    """
+    shapes = f"{p} shape{'s' if p != 1 else ''}"
+    return shapes if n_classes <= 1 else f"{shapes} in {n_classes} classes"
+
+
 def _overview_inputs(D: ArrayLike, names: Sequence[object], labels: Sequence[object],
                      Y: ArrayLike | None, random_state: int | None
                      ) -> tuple[np.ndarray, list[Any], ArrayLike]:
@@ -653,43 +665,50 @@ def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     A, labels, Y = _overview_inputs(D, names, labels, Y, random_state)
     p = len(A)
     rows = sorted(class_summary(A, labels), key=lambda r: (-r["n"], r["label"]))
-    shown = rows[:table_rows]
-    fig = Figure(figsize=(12.0, 5.2 + 0.22 * (len(shown) + 2)), layout="constrained")
-    top, bottom = fig.subfigures(2, 1,  # type: ignore[misc]  # two: an array of them
-                                 height_ratios=[5.2, 0.22 * (len(shown) + 2) + 0.3])
+    n_classes = len(rows)
+    shown = rows[:table_rows] if n_classes > 1 else []  # one class: nothing to tabulate
+    # many shapes (the matrix names them up to MATRIX_MAX_NAMES): a larger figure
+    wide, high = (12.0, 5.2) if p <= 40 else (15.0, 8.0)
+    table_h = 0.22 * (len(shown) + 2) + 0.3 if shown else 0.0
+    fig = Figure(figsize=(wide, high + table_h), layout="constrained")
+    if shown:
+        top, bottom = fig.subfigures(2, 1,  # type: ignore[misc]  # two: an array of them
+                                     height_ratios=[high, table_h])
+    else:
+        top, bottom = fig, None
     ax1, ax2 = top.subplots(1, 2)
     order = _class_order(labels)
     out = mds_layout(Y)["outliers"]
     vmax = colour_limit(A, out)
     plot_distance_matrix(A[np.ix_(order, order)], ax=ax2, names=[names[i] for i in order],
                          labels=[labels[i] for i in order], scale=False, vmax=vmax,
-                         title="distances, by class" + (
+                         title=("distances, by class" if n_classes > 1 else "distances") + (
                              " (colours saturate at the outliers)" if out.any() else ""))
     head = f"{title}: " if title else ""
-    n_classes = len(rows)
-    sup = f"{head}{p} shapes, {n_classes} classes, compared by {descriptor}"
+    sup = f"{head}{collection_title(p, n_classes)}, compared by {descriptor}"
     if left_out:
         sup += (f"\nleft out ({len(left_out)}, cannot be described): "
                 + ", ".join(n for n, _ in left_out[:8]) + (" ..." if len(left_out) > 8 else ""))
     fig.suptitle(sup, fontsize="medium")
-    ax3 = bottom.subplots()
-    ax3.set_axis_off()
-    cells = [[short_label(r["label"], 24), str(r["n"]), _fmt(r["within"]),
-              short_label(r["nearest"], 24) or "-", _fmt(r["gap"]),
-              _fmt(100 * r["nn_same"], ".0f")] for r in shown]
-    if len(rows) > len(shown):
-        rest = rows[len(shown):]
-        cells.append([f"... {len(rest)} more classes", str(sum(r["n"] for r in rest)),
-                      "", "", "", ""])
-    tab = ax3.table(cellText=cells, loc="upper center", cellLoc="left",
-                    colLabels=["class", "shapes", "median distance within",
-                               "nearest other class", "its distance",
-                               "nearest neighbour in class (%)"])
-    tab.auto_set_font_size(False)
-    tab.set_fontsize(8)
-    tab.auto_set_column_width(list(range(6)))
+    if bottom is not None:
+        ax3 = bottom.subplots()
+        ax3.set_axis_off()
+        cells = [[short_label(r["label"], 24), str(r["n"]), _fmt(r["within"]),
+                  short_label(r["nearest"], 24) or "-", _fmt(r["gap"]),
+                  _fmt(100 * r["nn_same"], ".0f")] for r in shown]
+        if len(rows) > len(shown):
+            rest = rows[len(shown):]
+            cells.append([f"... {len(rest)} more classes", str(sum(r["n"] for r in rest)),
+                          "", "", "", ""])
+        tab = ax3.table(cellText=cells, loc="upper center", cellLoc="left",
+                        colLabels=["class", "shapes", "median distance within",
+                                   "nearest other class", "its distance",
+                                   "nearest neighbour in class (%)"])
+        tab.auto_set_font_size(False)
+        tab.set_fontsize(8)
+        tab.auto_set_column_width(list(range(6)))
     # the MDS last: its names are placed in the final layout
-    plot_mds(Y, names, labels, ax=ax1, legend="outside",
+    plot_mds(Y, names, labels if n_classes > 1 else None, ax=ax1, legend="outside",
              title="MDS (Euclidean distances of the descriptors)")
     return fig
 
@@ -761,7 +780,7 @@ def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     parts = [
         "<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
         f"<title>{html.escape(head + 'overview')}</title><style>{_STYLE}</style></head><body>",
-        f"<h1>{html.escape(head)}{p} shapes, {len(rows)} classes</h1>",
+        f"<h1>{html.escape(head)}{collection_title(p, len(rows))}</h1>",
         f"<p>Compared by <b>{html.escape(descriptor)}</b>, Euclidean distance. "
         "Hover a point for its name, class and nearest shapes.</p>",
     ]
@@ -780,17 +799,19 @@ def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object
                                          colour_limit(A, mds_layout(Y)["outliers"])),
                           full_html=False,
                           include_plotlyjs=False),
-              "<h2>Classes</h2>",
-              "<table><tr><th>class</th><th>shapes</th><th>median distance within</th>"
-              "<th>nearest other class</th><th>its distance</th>"
-              "<th>nearest neighbour in class (%)</th></tr>"]
-    for r in sorted(rows, key=lambda r: (-r["n"], r["label"])):
+              ]
+    if len(rows) > 1:  # one class: nothing to tabulate
+        parts += ["<h2>Classes</h2>",
+                  "<table><tr><th>class</th><th>shapes</th><th>median distance within</th>"
+                  "<th>nearest other class</th><th>its distance</th>"
+                  "<th>nearest neighbour in class (%)</th></tr>"]
+    for r in sorted(rows, key=lambda r: (-r["n"], r["label"])) if len(rows) > 1 else []:
         parts.append(
             f"<tr><td>{html.escape(r['label'])}</td><td class='n'>{r['n']}</td>"
             f"<td class='n'>{_fmt(r['within'])}</td><td>{html.escape(r['nearest']) or '-'}</td>"
             f"<td class='n'>{_fmt(r['gap'])}</td>"
             f"<td class='n'>{_fmt(100 * r['nn_same'], '.0f')}</td></tr>")
-    parts += ["</table>", "</body></html>"]
+    parts += ["</table>" if len(rows) > 1 else "", "</body></html>"]
     return "\n".join(parts)
 
 
