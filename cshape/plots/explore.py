@@ -36,6 +36,7 @@ from .collection import (
     MATRIX_MAX_NAMES,
     class_styles,
     mds_layout,
+    named_points,
     nearest_neighbours,
     plot_distance_matrix,
     plot_mds,
@@ -354,6 +355,13 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
             marker={"symbol": "arrow", "angle": [90.0 - lay["angle"][i] for i in sel],
                     "size": 16, "color": [_rgb(styles[codes[i]][1]) for i in sel],
                     "line": {"width": 1, "color": "black"}}))
+    named = [i for i in named_points(P, out) if not out[i]]
+    if named:  # names on the picture (every one when few, else a spread sample)
+        tags = short_labels([str(x) for x in names])
+        fig.add_trace(go.Scatter(
+            x=P[named, 0], y=P[named, 1], mode="text", text=[tags[i] for i in named],
+            textposition="top center", textfont={"size": 10, "color": "#444"},
+            hoverinfo="skip", showlegend=False))
     c, h = lay["centre"], lay["half"]
     fig.update_layout(
         title={"text": html.escape(title) if title else None, "x": 0.5},
@@ -736,14 +744,18 @@ def _matrix_figure(A: np.ndarray, names: Sequence[object], labels: Sequence[str]
         hover = "%{y}<br>%{x}<br>median distance %{z:.4g}<extra></extra>"
         what = (f"median distance between every two classes ({p} shapes are more than "
                 f"{HTML_MATRIX_MAX}, the shape-by-shape matrix would be too large)")
+    font = 11 if len(ticks) <= 40 else 8
     fig = go.Figure(go.Heatmap(z=z, x=ticks, y=ticks, colorscale="Jet", hovertemplate=hover,
                                zmin=0.0, zmax=vmax,
                                colorbar={"title": {"text": "distance"}}))
     fig.update_layout(title={"text": html.escape(f"{what}; {descriptor}"), "x": 0.5},
                       height=700, template="plotly_white",
-                      xaxis={"showticklabels": len(ticks) <= 60, "constrain": "domain"},
-                      yaxis={"autorange": "reversed", "showticklabels": len(ticks) <= 60,
-                             "scaleanchor": "x"},
+                      xaxis={"showticklabels": len(ticks) <= MATRIX_MAX_NAMES,
+                             "constrain": "domain", "tickfont": {"size": font},
+                             "dtick": 1, "automargin": True},
+                      yaxis={"autorange": "reversed", "scaleanchor": "x", "dtick": 1,
+                             "showticklabels": len(ticks) <= MATRIX_MAX_NAMES,
+                             "tickfont": {"size": font}, "automargin": True},
                       margin={"l": 60, "r": 20, "t": 60, "b": 40})
     return fig
 
