@@ -271,7 +271,11 @@ def test_interactive_mds_hover_has_name_class_and_neighbours():
     assert fig.layout.title.text == "by cShape-DNA M=16"
     ind, _ = nearest_neighbours(D, 2)
     hover = {}
+    names_on_picture = [tr for tr in fig.data if tr.mode == "text"]
+    assert len(names_on_picture) == 1 and set(names_on_picture[0].text) == set(names[:-1])
     for tr in fig.data:
+        if tr.mode == "text":
+            continue
         for name, text in zip(tr.customdata, tr.hovertext or tr.text, strict=True):
             hover[name] = text
     assert sorted(hover) == sorted(names)
