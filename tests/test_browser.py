@@ -516,13 +516,13 @@ def _border_hits(px, rect, band=2):
 def _framing_views(tmp_path):
     """Every kind of 3-D view the lessons and the command line make, with the lessons' sizes:
     name -> a page of HTML (written into ``tmp_path``) and the viewport widths to try."""
+    from conftest import write_off
+
     from cshape import eigenpairs, heat_kernel, match_points, plots, shapes, wks
     from cshape import signatures as sg
     from cshape.cli import main
     from cshape.data import poses
     from cshape.plots.explore import figure_html
-
-    from conftest import write_off
 
     rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
     pose = poses.posed_figure("human", 1, voxelsize=0.03, target_vertices=800)

@@ -475,8 +475,8 @@ def _flat_table(p, seed=0, long_names=False):
     """p shapes of one class (a flat folder), spectra spread in two directions."""
     rng = np.random.default_rng(seed)
     i = np.arange(30)
-    lam = np.array([4 * np.pi * np.maximum(i + 3 * rng.random() * np.sin(i / 4 + 6 * rng.random()), 0)
-                    for _ in range(p)])
+    lam = np.array([4 * np.pi * np.maximum(i + 3 * rng.random() * np.sin(i / 4 + 6 * rng.random()),
+                                           0) for _ in range(p)])
     lam[:, 0] = 0.0
     lam[-1] *= 300.0  # a far one (a coarse control cage): an outlier
     stem = "fish_control_mesh_" if long_names else "m"
