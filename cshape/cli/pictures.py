@@ -91,8 +91,8 @@ def add_overview(sub: _SubParsers) -> None:
         description="Draw the overview of a table written by `cshape describe --out`: an MDS "
         "picture (outliers marked on the border, the rest at its own scale; in HTML each "
         "shape's name, class and nearest neighbours on hover), the distance matrix ordered "
-        "by class and a table of the classes (size, spread, nearest other class, how often "
-        "a shape's nearest neighbour is of its class).  The HTML page works offline.  Shapes "
+        "by class and, for two or more classes, a table of them (size, spread, nearest other "
+        "class, how often a shape's nearest neighbour is of its class).  The HTML page works offline.  Shapes "
         "that the descriptor cannot describe are left out and named.",
         epilog="example: cshape overview table.csv --out overview.html --out overview.png",
     )

@@ -9,7 +9,13 @@
 * :func:`view_correspondence`    - two shapes side by side, the second coloured through a point
                                    map from the first (matched points share a colour).
 
-Both return a :class:`plotly.graph_objects.Figure` and never display it: in a notebook the
+Every view is framed and lit one way, by :func:`add_mesh_view`: the mesh upright, lit by
+:data:`LIGHTING`, seen from above its longest side by a camera that :func:`scene_layout` places
+just far enough for the whole mesh to show with a margin, whatever its proportions and the
+panel's (:func:`fit_distance`).  The neighbour strip of ``cshape query --plot`` and the maps'
+views (:mod:`cshape.plots.maps`) draw their meshes with it too.
+
+All return a :class:`plotly.graph_objects.Figure` and never display it: in a notebook the
 figure shows as a cell's last expression.  Drag to rotate, scroll to zoom.
 
 Why plotly: a ``Mesh3d`` figure is rendered by plotly.js in the browser, from JSON alone.  The
@@ -47,6 +53,7 @@ __all__ = [
     "add_mesh_view",
     "default_eye",
     "eigenfunction_explorer",
+    "fit_distance",
     "mesh3d_arrays",
     "mode_data",
     "scene_layout",
