@@ -92,8 +92,8 @@ def add_overview(sub: _SubParsers) -> None:
         "picture (outliers marked on the border, the rest at its own scale; in HTML each "
         "shape's name, class and nearest neighbours on hover), the distance matrix ordered "
         "by class and, for two or more classes, a table of them (size, spread, nearest other "
-        "class, how often a shape's nearest neighbour is of its class).  The HTML page works offline.  Shapes "
-        "that the descriptor cannot describe are left out and named.",
+        "class, how often a shape's nearest neighbour is of its class).  The HTML page works "
+        "offline.  Shapes that the descriptor cannot describe are left out and named.",
         epilog="example: cshape overview table.csv --out overview.html --out overview.png",
     )
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")
