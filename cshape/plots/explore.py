@@ -333,7 +333,8 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
     for c, (lab, col, marker) in enumerate(styles):
         sel = np.flatnonzero((codes == c) & ~out)
         fig.add_trace(Scatter(
-            x=P[sel, 0], y=P[sel, 1], mode="markers", name=short_label(lab, 24),
+            x=P[sel, 0], y=P[sel, 1], mode="markers",
+            name=short_label(lab, 24) if len(styles) > 1 else "shapes",
             legendgroup=str(c), text=[hover[i] for i in sel], hoverinfo="text",
             customdata=[str(names[i]) for i in sel],
             marker={"color": _rgb(col), "symbol": _PLOTLY_SYMBOLS.get(marker, "circle"),
@@ -366,7 +367,9 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
     fig.update_layout(
         title={"text": html.escape(title) if title else None, "x": 0.5},
         height=height, template="plotly_white", hovermode="closest",
-        hoverlabel={"align": "left"}, legend={"title": {"text": "class"}, "itemsizing": "constant"},
+        hoverlabel={"align": "left"}, showlegend=len(styles) > 1 or bool(out.any()),
+        legend={"title": {"text": "class" if len(styles) > 1 else ""},
+                "itemsizing": "constant"},
         xaxis={"range": [c[0] - h, c[0] + h], "title": "MDS 1", "zeroline": False},
         yaxis={"range": [c[1] - h, c[1] + h], "title": "MDS 2", "zeroline": False,
                "scaleanchor": "x", "scaleratio": 1},
