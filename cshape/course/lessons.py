@@ -292,8 +292,10 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
     kernel_env.setdefault("PLOTLY_RENDERER", "plotly_mimetype+notebook")
     kernel_env.update(env or {})
     km = kernel_manager()
+    # no widget state saved: a page without a kernel shows a widget's own static copy (the
+    # text/html of its display data) instead of an empty box waiting for widget JavaScript
     client = NotebookClient(
-        nb, km=km, timeout=int(timeout), allow_errors=False,
+        nb, km=km, timeout=int(timeout), allow_errors=False, store_widget_state=False,
         resources={"metadata": {"path": str(path.parent.resolve())}},
     )
     t0 = time.perf_counter()
