@@ -466,7 +466,7 @@ def _flat_table(p, seed=0, long_names=False):
     lam[:, 0] = 0.0
     lam[-1] *= 300.0  # a far one (a coarse control cage): an outlier
     stem = "fish_control_mesh_" if long_names else "m"
-    return DescriptorTable([f"{stem}{k}" for k in range(p)], lam, np.ones(p), ["flat"] * p, M=4)
+    return DescriptorTable([f"{stem}{k}" for k in range(p)], lam, np.ones(p), ["flat"] * p)
 
 
 def _text_boxes(fig):
@@ -487,7 +487,7 @@ def test_overview_of_a_flat_folder_reads(p, long_names):
     from cshape.plots.collection import LABEL_WIDTH, MDS_SAMPLE_NAMES
 
     table = _flat_table(p, long_names=long_names)
-    c = collection_distances(table, "shape-dna")
+    c = collection_distances(table, Descriptor("shape-dna", N=30))
     fig = plot_overview(c.D, c.names, c.labels, descriptor=c.descriptor, title="flat.csv")
     sup = fig._suptitle.get_text()
     assert sup == f"flat.csv: {p} shapes, compared by Shape-DNA (30 values)"
@@ -524,7 +524,7 @@ def test_overview_of_a_flat_folder_reads(p, long_names):
 
 def test_overview_html_of_a_flat_folder_has_no_class_table():
     table = _flat_table(12)
-    c = collection_distances(table, "shape-dna")
+    c = collection_distances(table, Descriptor("shape-dna", N=30))
     page = overview_html(c.D, c.names, c.labels, descriptor=c.descriptor, title="flat.csv")
     assert "<h1>flat.csv: 12 shapes</h1>" in page
     assert "<h2>Classes</h2>" not in page and "<th>class</th>" not in page
