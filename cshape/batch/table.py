@@ -21,6 +21,7 @@ from ..descriptors import Descriptor, count_zero_modes
 from ..descriptors.recipe import _given_or_default
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
+from ..spectrum import REFINEMENTS
 
 if TYPE_CHECKING:
     import os
@@ -54,6 +55,9 @@ class DescriptorTable:
         Class labels; ``''`` where unknown (the default).
     bc, mass : str
         How the eigenvalues were computed (see :func:`cshape.shape_dna`).
+    refine : {'none', 'extrapolate'}, default='none'
+        Which spectra the table holds (see :func:`cshape.shape_dna`): saved with the table;
+        files written before it existed load as ``'none'``.
     seconds : array_like, shape (p,), optional
         Wall time of each eigensolve (load + FEM + solve), in seconds; as stored in the
         cache for entries that were not recomputed.
@@ -105,7 +109,7 @@ class DescriptorTable:
                  mass: str = "consistent", seconds: ArrayLike | None = None,
                  cached: ArrayLike | None = None,
                  failures: Iterable[tuple[object, object]] = (),
-                 components: ArrayLike | None = None) -> None:
+                 components: ArrayLike | None = None, refine: str = "none") -> None:
         self.names = [str(n) for n in names]
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
@@ -123,6 +127,7 @@ class DescriptorTable:
             raise ValueError(f"labels has {len(self.labels)} entries for {p} names")
         self.bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
         self.mass = check_choice("mass", mass, MASS_TYPES)
+        self.refine = check_choice("refine", refine, REFINEMENTS)
         self.seconds = (np.full(p, np.nan) if seconds is None
                         else np.asarray(seconds, dtype=np.float64).reshape(-1))
         self.cached = (np.zeros(p, bool) if cached is None
@@ -161,7 +166,9 @@ class DescriptorTable:
     def __repr__(self) -> str:
         nlab = len({x for x in self.labels if x})
         fails = f", {len(self.failures)} failed" if self.failures else ""
-        return f"DescriptorTable({len(self)} shapes, N={self.N}, {nlab} classes{fails})"
+        ref = "" if self.refine == "none" else f", refine={self.refine!r}"
+        return (f"DescriptorTable({len(self)} shapes, N={self.N}{ref}, {nlab} classes"
+                f"{fails})")
 
     def index(self, name: object) -> int:
         """Row of the shape called ``name``."""
@@ -180,7 +187,7 @@ class DescriptorTable:
                            dtype=np.int64)
         return DescriptorTable(
             [self.names[i] for i in idx], self.lam[idx], self.areas[idx],
-            [self.labels[i] for i in idx], bc=self.bc, mass=self.mass,
+            [self.labels[i] for i in idx], bc=self.bc, mass=self.mass, refine=self.refine,
             seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures,
             components=self.components[idx])
 
@@ -275,7 +282,8 @@ class DescriptorTable:
     # ------------------------------------------------------------------ persistence
     def _meta(self) -> dict[str, Any]:
         return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": self.N,
-                "bc": self.bc, "mass": self.mass, "failures": [list(f) for f in self.failures]}
+                "bc": self.bc, "mass": self.mass, "refine": self.refine,
+                "failures": [list(f) for f in self.failures]}
 
     def save(self, path: str | os.PathLike[str]) -> Path:
         """Save to ``.npz`` (NumPy arrays only, no pickle) or ``.csv`` (one row per shape).
@@ -283,8 +291,8 @@ class DescriptorTable:
         The CSV is plain: a header ``name,label,area,seconds,cached,components,lam_0,...,
         lam_{N-1}`` and one row per shape, so that ``pandas.read_csv(path)`` reads it with
         no options; floats are written with 17 significant digits, so both formats
-        round-trip exactly.  The metadata (``N``, ``bc``, ``mass``, the failures, the
-        format version) go to the sidecar ``<path>.json`` (e.g.
+        round-trip exactly.  The metadata (``N``, ``bc``, ``mass``, ``refine``, the failures,
+        the format version) go to the sidecar ``<path>.json`` (e.g.
         ``table.csv.json``), written with it; :meth:`load` reads both.
 
         Parameters
@@ -376,6 +384,7 @@ class DescriptorTable:
                            bc=meta["bc"], mass=meta["mass"],
                            seconds=z["seconds"], cached=z["cached"],
                            failures=meta["failures"],
+                           refine=meta.get("refine", "none"),
                            components=z["components"] if "components" in z.files else None)
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
@@ -403,7 +412,7 @@ class DescriptorTable:
         return cls([r[0] for r in body], lam, [float(r[2]) for r in body],
                    [r[1] for r in body], bc=meta["bc"], mass=meta["mass"],
                    seconds=[float(r[3]) for r in body], cached=[r[4] == "1" for r in body],
-                   failures=meta["failures"],
+                   failures=meta["failures"], refine=meta.get("refine", "none"),
                    components=[int(r[5]) for r in body] if start == 6 else None)
 
 
