@@ -124,7 +124,6 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     (["describe", "no/such/folder"], "no file or folder 'no/such/folder'"),
     (["describe", "MESHES", "--out", "table.txt"], "--out must end in .csv or .npz"),
     (["describe", "MESHES/*.stl"], "matches no mesh file"),
-    (["describe", "MESHES", "-N", "20", "-M", "10"], "unrecognized arguments: -M 10"),
     (["info", "no_such.obj"], "no mesh file at 'no_such.obj'"),
     (["query", "no_such.csv", "x"], "no descriptor table at 'no_such.csv'"),
     (["describe"], "the following arguments are required: PATH"),  # argparse's errors too
@@ -136,6 +135,17 @@ def test_expected_failures_end_in_one_line(folder, tmp_path, args, match):
     assert_one_line_error(res, match)
     assert len(res.stderr.strip().splitlines()) == 1, res.stderr
     assert list(tmp_path.iterdir()) == []  # nothing written, not even the cache folder
+
+
+@pytest.mark.slow
+def test_describe_takes_no_descriptor_options(folder, tmp_path):
+    """The table holds eigenvalues; the descriptor is chosen by query and overview."""
+    for option in (["-M", "10"], ["--transform", "log-weyl"]):
+        res = cli("describe", folder, "-N", "20", *option, cache=tmp_path / "c")
+        assert res.returncode == 2 and "Traceback" not in res.stderr
+        assert res.stderr.strip().splitlines() == [
+            f"cshape: error: unrecognized arguments: {' '.join(option)}; see `cshape --help`"]
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_info_topology_angles_and_repair(tmp_path):
@@ -185,8 +195,8 @@ def test_query_by_name_and_by_mesh_file(table_file, folder, tmp_path):
     # a mesh file not in the table: a sphere at a third scale matches both spheres
     ico = shapes.icosphere(2)
     q = write_off(tmp_path / "q.off", (0.5 * ico.vertices, ico.faces))
-    res = cli("query", table_file, q, "-k", "3", "--kind", "cshape", cache=tmp_path / "c",
-              check=True)
+    res = cli("query", table_file, q, "-k", "3", "--kind", "cshape", "-M", "4",
+              cache=tmp_path / "c", check=True)
     lines = res.stdout.splitlines()
     assert lines[0].startswith("nearest to") and "paper's cShape-DNA (M=4 of N=20" in lines[0]
     ranked = [line.split() for line in lines[2:]]

@@ -202,7 +202,7 @@ def test_rule_errors(spectra, call, match):
 
 
 # ------------------------------------------------------------------ one mesh never fails all
-def test_descriptor_matrix_names_every_row_it_cannot_describe(table):
+def test_matrix_names_every_row_it_cannot_describe(table):
     with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 4 "
                        r"shapes \(dozen: 12 of its 30 eigenvalues are zero modes"):
         Descriptor("truncated-log", N=N, M=9).matrix(table.lam, table.areas,
