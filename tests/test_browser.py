@@ -517,7 +517,7 @@ def _framing_views(tmp_path):
     name -> a page of HTML (written into ``tmp_path``) and the viewport widths to try."""
     from conftest import write_off
 
-    from cshape import eigenpairs, heat_kernel, match_points, plots, shapes, wks
+    from cshape import eigenbasis, heat_kernel, match_points, plots, shapes, wks
     from cshape import signatures as sg
     from cshape.cli import main
     from cshape.data import poses
@@ -525,14 +525,13 @@ def _framing_views(tmp_path):
 
     rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
     pose = poses.posed_figure("human", 1, voxelsize=0.03, target_vertices=800)
-    lam, phi = eigenpairs(rest, 40)
-    lam_p, phi_p = eigenpairs(pose, 40)
-    tk = sg.hks_times(lam)
+    basis, basis_p = eigenbasis(rest, N=40), eigenbasis(pose, N=40)
+    tk = sg.hks_times(basis)
     hand = int(np.argmax(rest.vertices[:, 0]))
-    heat = {f"t = {tk[k]:.3g}": heat_kernel(lam, phi, float(tk[k]), hand) for k in (60, 80, 95)}
+    heat = {f"t = {tk[k]:.3g}": heat_kernel(basis, float(tk[k]), hand) for k in (60, 80, 95)}
     long_box = (shapes.cube(4).vertices * [4.0, 1.0, 0.6], shapes.cube(4).faces)  # y up
     ball = shapes.icosphere(2)
-    a, b = wks(lam, phi), wks(lam_p, phi_p)
+    a, b = wks(basis), wks(basis_p)
     figs = {
         "view_mesh": plots.view_mesh(rest),
         "view_mesh_y_up_long": plots.view_mesh(long_box, vertical_axis="y"),
@@ -542,8 +541,8 @@ def _framing_views(tmp_path):
                                              "noisy": shapes.torus(32, 16)}, height=380),
         "lesson09_heat": plots.view_meshes({k: rest for k in heat}, heat, cmap="Viridis",
                                            symmetric=False, height=360),
-        "eigenfunction_explorer": plots.eigenfunction_explorer(rest, 12, eigenpairs=(lam, phi)),
-        "signature_explorer": plots.signature_explorer(rest, "wks", eigenpairs=(lam, phi),
+        "eigenfunction_explorer": plots.eigenfunction_explorer(rest, 12, basis=basis),
+        "signature_explorer": plots.signature_explorer(rest, "wks", basis=basis,
                                                        n_scales=12),
         "correspondence": plots.view_correspondence(rest, pose, match_points(b, a),
                                                     titles=("rest", "pose"), height=380),
@@ -563,7 +562,7 @@ def _framing_views(tmp_path):
     write_off(meshes / "ball.off", ball)
     write_off(meshes / "ring.off", shapes.torus(24, 12))
     assert main(["describe", str(meshes), "--out", str(tmp_path / "m.csv"), "-N", "20",
-                 "-M", "4", "--no-cache", "-q"]) == 0
+                 "--no-cache", "-q"]) == 0
     assert main(["query", str(tmp_path / "m.csv"), "rest", "-k", "4", "--plot",
                  str(tmp_path / "query.html"), "--meshes", str(meshes)]) == 0
     pages["query_plot"] = (tmp_path / "query.html", [(1200, 900), (1280, 720), (1000, 800)])

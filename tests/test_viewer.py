@@ -247,9 +247,9 @@ def test_every_3d_view_is_lit_alike():
     from cshape.plots.viewer import LIGHTING
 
     m = shapes.icosphere(2)
-    lam, phi = cshape.eigenpairs(m, 6)
-    figs = [plots.view_mesh(m), plots.view_meshes({"a": m, "b": m}, {"a": phi[:, 1]}),
-            plots.eigenfunction_explorer(m, 6, eigenpairs=(lam, phi)),
+    basis = cshape.eigenbasis(m, N=6)
+    figs = [plots.view_mesh(m), plots.view_meshes({"a": m, "b": m}, {"a": basis.phi[:, 1]}),
+            plots.eigenfunction_explorer(m, 6, basis=basis),
             plots.view_correspondence(m, m, np.arange(m.n_vertices))]
     for fig in figs:
         for tr in fig.data:
