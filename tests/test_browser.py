@@ -470,7 +470,7 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
         finally:
             browser.close()
     assert asked == []  # plotly.js is in the page; nothing was asked of the network
-    assert "MDS of 13 shapes by paper's cShape-DNA (M=4 of N=30, 9 values)" in title
+    assert "MDS of 13 shapes by paper's cShape-DNA (M=14 of N=30, 29 values)" in title
     assert n_matrix == 1
     assert len(hovers) >= 10  # (points drawn on top of each other share one label)
     assert set(hovers) <= set(names)
