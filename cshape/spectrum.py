@@ -73,12 +73,11 @@ __all__ = ["Eigenbasis", "eigenbasis", "eigenpairs", "estimate_seconds", "shape_
 #: densely by LAPACK: there the sparse path is no faster.
 DENSE_LIMIT = 700
 
+#: Values of the ``refine`` option of :func:`shape_dna` (how the eigenvalues are computed).
+REFINEMENTS = ("none", "extrapolate")
 #: Eigenvalues within this fraction of the largest from 0 are round-off of zero eigenvalues:
 #: the eigensolver sets them to 0, and an :class:`Eigenbasis` refuses anything further below.
 ZERO_ROUNDOFF = 1e-10
-
-#: Values of the ``refine`` option of :func:`shape_dna` (how the eigenvalues are computed).
-REFINEMENTS = ("none", "extrapolate")
 
 #: An eigensolve estimated (:func:`estimate_seconds`) to take longer warns before it starts.
 LONG_SOLVE_SECONDS = 60.0
