@@ -584,10 +584,15 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
     if zero_modes is not None:
         zero_modes = check_int("zero_modes", zero_modes, min=0)
     lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
+    return _compact(lam_norm, M, pieces if zero_modes is None else zero_modes, transform)
+
+
+def _compact(lam_norm: NDArray[np.float64], M: int, zero_modes: int | None, transform: str
+             ) -> NDArray[Any]:
+    """:func:`compact_shape_dna` of a checked, normalised spectrum (M and transform checked)."""
     if transform == "weyl":
         return _dft_crop(_weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
-    r = _log_weyl_sequence(lam_norm, M, pieces if zero_modes is None else zero_modes,
-                           transform)
+    r = _log_weyl_sequence(lam_norm, M, zero_modes, transform)
     if transform == "log-weyl":
         return _dft_crop(r, M)
     return _dct(r)[: 2 * M + 1].copy()
@@ -739,7 +744,12 @@ def f1_feature(lam: ArrayLike, zero_modes: int | None = None, *,
         ``N - 2`` values for a connected closed mesh (``k = 1``); ``k = 0`` for a
         Dirichlet spectrum.  Scale invariant; values in (0, 1].
     """
-    x = check_spectrum(lam, min_len=2)
+    return _f1_feature(check_spectrum(lam, min_len=2), zero_modes, length)
+
+
+def _f1_feature(x: NDArray[np.float64], zero_modes: object, length: object
+                ) -> NDArray[np.float64]:
+    """:func:`f1_feature` of a checked spectrum of at least 2 values."""
     tol = ZERO_RTOL * float(np.abs(x).max())
     mu = _after(x, _zero_modes(x, zero_modes, tol), tol, "F1")
     if len(mu) < 2:

@@ -34,17 +34,18 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._checks import check_choice, check_crop, check_int
+from .._checks import check_choice, check_crop, check_int, check_spectrum
 from .formulas import (
     NORMALIZATIONS,
     TRANSFORMS,
-    compact_shape_dna,
-    count_zero_modes,
-    f1_feature,
-    log_weyl_ratio,
-    normalize,
+    ZERO_RTOL,
+    _compact,
+    _f1_feature,
+    _log_weyl_ratio,
+    _normalize,
     real_form,
 )
+from .formulas import _zero_modes as _leading_zero_modes
 
 __all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor"]
 
@@ -271,16 +272,20 @@ default='cshape'
 
     def _row(self, r: NDArray[np.float64], area: float | None, k: int | None
              ) -> NDArray[Any]:
-        """One descriptor of a checked spectrum; ValueError if it cannot be described."""
+        """One descriptor of a spectrum, checked here once; ValueError if it cannot be described."""
         kind, M, N, norm = self.kind, self.M, self.N, self.normalization
+        r = check_spectrum(r, "lam", min_len=2 if kind == "f1" else 1)
+        if k is not None:
+            k = check_int("zero_modes", k, min=0)
         if kind == "shape-dna":
-            return normalize(r[:N], area, normalization=norm)
+            return _normalize(r[:N], area, norm)
         if kind == "truncated":
-            return normalize(r[: 2 * M + 1], area, normalization=norm)
+            return _normalize(r[: 2 * M + 1], area, norm)
         if kind == "f1":
-            return f1_feature(r[:N], k, length=N - 2)
+            return _f1_feature(r[:N], k, N - 2)
         if kind == "truncated-log":  # r_1 .. r_{2M+1} of the eigenvalues after the zero modes
-            k0 = count_zero_modes(r) if k is None else k
+            k0 = (_leading_zero_modes(r, None, ZERO_RTOL * float(np.abs(r).max()))
+                  if k is None else k)
             kk = max(k0, 1)
             if len(r) - kk < 2 * M + 1:
                 raise ValueError(
@@ -288,11 +293,9 @@ default='cshape'
                     f"components): {len(r) - kk} non-zero ones are left and 2M+1 = "
                     f"{2 * M + 1} are needed (compute N >= {2 * M + 1 + kk} eigenvalues, or "
                     f"use M <= {max(len(r) - kk - 1, 0) // 2})")
-            lam_norm = normalize(r[: 2 * M + 1 + kk], area, normalization=norm)
-            return log_weyl_ratio(lam_norm, k0)
-        lam_norm = normalize(r[:N], area, normalization=norm)
-        S = compact_shape_dna(lam_norm, N=N, M=M, normalization="none",
-                              transform=self.transform, zero_modes=k)
+            lam_norm = _normalize(r[: 2 * M + 1 + kk], area, norm)
+            return _log_weyl_ratio(lam_norm, k0, None)
+        S = _compact(_normalize(r[:N], area, norm), M, k, self.transform)
         return S if kind == "cshape-complex" else real_form(S)
 
     def rows(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
