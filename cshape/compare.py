@@ -185,8 +185,6 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
         pass ``areas=np.ones(p)``.
     kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
 default='cshape'
-        The old spellings 'shape_dna', 'cshape_complex' and 'truncated_log' still work, with
-        a ``DeprecationWarning``.
     M : int, default=16
         Crop half-width: ``2M+1`` values for 'cshape' and 'truncated'.
     N : int, default=100

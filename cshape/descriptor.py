@@ -64,8 +64,7 @@ class Descriptor:
     ----------
     kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
 default='cshape'
-        What is computed; the table of :func:`cshape.compare.descriptor_matrix`.  The old
-        spellings ('shape_dna', ...) work with a ``DeprecationWarning``.
+        What is computed; the table of :func:`cshape.compare.descriptor_matrix`.
     M : int, default=16
         Crop half-width: ``2M+1`` values for 'truncated', 'truncated-log' and the 'cshape'
         kinds (the others do not use it).
@@ -105,8 +104,6 @@ default='cshape'
 
     def __init__(self, kind: str = "cshape", M: int = 16, N: int = 100,
                  transform: str = "weyl", normalization: str = "area") -> None:
-        # written out (not the dataclass's generated __init__) so that a deprecation
-        # warning of an old spelling points at the caller's line
         kind = check_choice("kind", kind, DESCRIPTOR_KINDS)
         transform = check_choice("transform", transform, TRANSFORMS)
         normalization = check_choice("normalization", normalization, NORMALIZATIONS)

@@ -253,8 +253,7 @@ class DescriptorTable:
         ----------
         kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
             Optional.  Default: the exploration default :data:`cshape.DEFAULT` (at the
-            table's ``N``); ``'cshape'`` is the paper's cShape-DNA.  The old spellings
-            ('shape_dna', ...) work with a DeprecationWarning.
+            table's ``N``); ``'cshape'`` is the paper's cShape-DNA.
         M : int, optional
             Default: the default descriptor's ``M`` when ``kind`` is None, else the table's.
         N : int, optional

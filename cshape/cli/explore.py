@@ -480,14 +480,8 @@ _KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "f1")
 
 
 def _kind_arg(value: str) -> str:
-    """``--kind`` value in the current spelling; an old one ('shape_dna') with a warning."""
-    from .._checks import OLD_SPELLINGS
-
-    new = OLD_SPELLINGS.get(value.lower())
-    if new is None:
-        return value.lower()
-    print(f"cshape: warning: --kind {value} is deprecated; write --kind {new}", file=sys.stderr)
-    return new
+    """``--kind`` value, lower case."""
+    return value.lower()
 
 
 def _default_label(N: int = 100) -> str:
