@@ -328,8 +328,6 @@ def add_describe(sub: _SubParsers) -> None:
     p.add_argument("--strict", action="store_true",
                    help="write nothing and exit 2 when any mesh fails (default: the meshes "
                    "that fail are listed and left out, the others are written)")
-    p.add_argument("--keep-going", action="store_true",
-                   help="the default since 0.1: keep the meshes that worked when some fail")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="no progress bar and no summary line")
     p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
