@@ -71,8 +71,7 @@ def _read_entry(cache_dir: str | os.PathLike[str], key: str, N: int) -> dict[str
             area = float(z["area"])
             seconds = float(z["seconds"])
             stored_key = str(z["key"])
-            # the component count (stored since cshape 0.1; -1: an older entry)
-            components = int(z["components"]) if "components" in z.files else -1
+            components = int(z["components"])
         if stored_key != key or lam.ndim != 1 or not np.all(np.isfinite(lam)):
             raise ValueError("inconsistent content")
         if not (np.isfinite(area) and area > 0):

@@ -22,7 +22,7 @@ from .._checks import (
     check_path,
 )
 from .._files import atomic_write
-from ..descriptors import TRANSFORMS, count_zero_modes
+from ..descriptors import TRANSFORMS
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning, Mesh
 from ..spectrum import components_message, estimate_seconds, long_solve_message
@@ -334,9 +334,7 @@ class _Run:
 
     def _warn_pieces_again(self, name: str, res: Result) -> None:
         """The warning the eigensolve gave for a mesh of several pieces, again."""
-        pieces = res.get("components", -1)
-        if pieces < 0 and self.bc == "neumann":  # an entry older than the count
-            pieces = count_zero_modes(res["lam"])
+        pieces = res["components"]
         if pieces > 1:
             warnings.warn(f"{name}: {components_message(pieces)}", CShapeWarning,
                           stacklevel=4)
@@ -381,7 +379,7 @@ class _Run:
             seconds=[results[i]["seconds"] for i in ok],
             cached=[results[i]["cached"] for i in ok], failures=fail_list,
             transform=transform,
-            components=[results[i].get("components", -1) for i in ok])
+            components=[results[i]["components"] for i in ok])
 
 
 #: Below this N no eigensolve of a mesh that fits in memory is estimated to take long
