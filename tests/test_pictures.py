@@ -175,18 +175,15 @@ def test_colour_limit_leaves_the_outliers_out():
 
 
 # ------------------------------------------------------------------------------ descriptors
-def test_descriptor_title_is_the_query_headers_label():
-    """Figures and the query header name a descriptor in the same words."""
-    from cshape.compare import descriptor_label
-
+def test_descriptor_title_names_the_descriptor():
     assert descriptor_title("cshape", M=16) == "paper's cShape-DNA (M=16 of N=100, 33 values)"
     assert descriptor_title("cshape", M=8, transform="log-weyl") == (
         "log-Weyl DFT cShape-DNA (M=8 of N=100, 17 values)")
     assert descriptor_title("shape-dna", N=50) == "Shape-DNA (50 values)"
     assert descriptor_title("f1", N=50) == "F1 (N=50, 48 values)"
-    for kw in ({"kind": "truncated-log", "M": 8, "normalization": "fiedler"},
-               {"kind": "truncated", "M": 3}):
-        assert descriptor_title(**kw) == descriptor_label(**kw)
+    assert descriptor_title("truncated-log", M=8, normalization="fiedler") == (
+        "truncated log spectrum, lam_1-normalised (17 values)")
+    assert descriptor_title("truncated", M=3) == "truncated Shape-DNA (7 values)"
 
 
 def test_collection_distances_of_a_table():
