@@ -111,6 +111,12 @@ def split_mesh_name(path: str | os.PathLike[str]) -> tuple[str, str]:
 
     ``bunny.off`` and ``bunny.off.gz`` both give ``("bunny", ".off")``; the suffix is
     lower-case (``""`` when there is none).
+
+    Examples
+    --------
+    >>> from cshape.readers import split_mesh_name
+    >>> split_mesh_name("scans/Bunny.OFF.gz")
+    ('Bunny', '.off')
     """
     name = check_path("path", path).name
     if name.lower().endswith(".gz"):
