@@ -10,12 +10,9 @@ from __future__ import annotations
 import doctest
 import importlib
 import importlib.util
-import pkgutil
 
 import pytest
 from conftest import REPO
-
-import cshape
 
 #: Modules that are not imported to look for examples: running them is what they do.
 _ENTRY_POINTS = {"cshape.__main__"}
@@ -23,20 +20,14 @@ _ENTRY_POINTS = {"cshape.__main__"}
 _FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
 
-def _group(module: str) -> str:
+def core_modules() -> list[str]:
+    """The names of the core's modules (read from the files: no layer is imported)."""
     spec = importlib.util.spec_from_file_location("import_graph",
                                                   REPO / "tools" / "import_graph.py")
     ig = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(ig)
-    return ig.group(module)
-
-
-def core_modules() -> list[str]:
-    """The names of the core's modules, the package itself first."""
-    names = ["cshape"] + sorted(
-        m.name for m in pkgutil.walk_packages(cshape.__path__, "cshape.")
-    )
-    return [n for n in names if n not in _ENTRY_POINTS and _group(n) == "core"]
+    names = [ig.module_name(p) for p in sorted(ig.PACKAGE.rglob("*.py"))]
+    return sorted(n for n in names if n not in _ENTRY_POINTS and ig.group(n) == "core")
 
 
 def _examples(module: str) -> list[doctest.DocTest]:
