@@ -477,11 +477,6 @@ def add_info(sub: _SubParsers) -> None:
 _KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "f1")
 
 
-def _kind_arg(value: str) -> str:
-    """``--kind`` value, lower case."""
-    return value.lower()
-
-
 def _default_label(N: int = 100) -> str:
     """The exploration default (cshape.DEFAULT) in words."""
     from ..descriptor import select_descriptor
@@ -589,7 +584,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
 def add_descriptor_options(p: argparse.ArgumentParser) -> None:
     """``--kind``, ``-M``, ``-N`` and ``--transform``: which descriptor a command compares
     (``cshape query`` and ``cshape overview``)."""
-    p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
+    p.add_argument("--kind", default=None, choices=_KINDS, type=str.lower,
                    help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
                    "paper's cShape-DNA)")
     p.add_argument("-M", type=int, default=None,
