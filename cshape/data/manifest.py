@@ -265,7 +265,7 @@ def validate_manifest(doc: dict[str, Any], *, source: str = "data_manifest.yaml"
     """Check a parsed manifest against :data:`MANIFEST_SCHEMA`; return it keyed by name.
 
     Besides the fields and their types, checks that names are unique, kinds and layouts
-    known, recipes and their parameter names exist in :mod:`cshape.variants`, ``base``
+    known, recipes and their parameter names exist (:data:`RECIPES`), ``base``
     references name an *earlier* generated item, and sha256 / url / size look right.
 
     Parameters
