@@ -549,9 +549,9 @@ def test_a_task_is_a_frozen_record_with_named_fields(tmp_path):
 
     mesh = shapes.icosphere(1)
     t = Task(index=3, source=mesh, N=5, bc="neumann", mass="consistent", cache_dir=None,
-             key=None)
+             key=None, refine="none")
     assert [f.name for f in dataclasses.fields(Task)] == [
-        "index", "source", "N", "bc", "mass", "cache_dir", "key"]
+        "index", "source", "N", "bc", "mass", "cache_dir", "key", "refine"]
     back = pickle.loads(pickle.dumps(t))
     assert back.index == 3 and back.N == 5 and back.source.n_vertices == mesh.n_vertices
     with pytest.raises(dataclasses.FrozenInstanceError):

@@ -327,3 +327,27 @@ def test_maps_measure_and_report(tmp_path, monkeypatch):
     # the identity check: a pose of itself keeps every edge length
     share, stretch = bm.identity_check(S, S)
     assert share == 1.0 and stretch == 0.0
+
+
+def test_refine_bench_p2_prototype_and_report(tmp_path):
+    br = _load("bench_refine")
+    from cshape import shapes
+
+    # the P2 prototype: the Dirichlet square's 2 pi^2 to order h^4, its mass matrix the area
+    A, B = br.p2_matrices(shapes.square(4), "dirichlet")
+    assert np.isclose(br.p2_matrices(shapes.square(4))[1].sum(), 1.0)
+    lam = br.spectrum(shapes.square(8), "p2", "dirichlet", 3)
+    assert abs(lam[0] / (2 * np.pi**2) - 1) < 1e-3
+    assert np.allclose(br.square_spectrum(3, "neumann"), [0, np.pi**2, np.pi**2])
+    assert np.isclose(br.disk_spectrum(1, "dirichlet")[0], 2.404825557695773**2)
+    known = [("case", 10, [0.1, 0.01, 0.02])]
+    orders = {("square", "linear"): ((8, 16), [0.1, 0.025], 2.0)}
+    pairs = [("spot", 100, 50, [(0.1, 0.2), (0.01, 0.02), (0.01, 0.02)])]
+    costs = [{"size": "1k", "method": "linear", "n": 1000, "seconds": 0.1, "cpu": 0.1,
+              "peak_mib": 80, "extra_mib": 10},
+             {"size": "1k", "method": "extrapolated", "n": 1000, "seconds": 0.3, "cpu": 0.3,
+              "peak_mib": 90, "extra_mib": 20}]
+    text = br.report(known, orders, pairs, costs)
+    assert "| case | 10 | 10 % | 1 % | 2 % |" in text
+    assert "| 1000 | extrapolated | 0.30 | 3.00 |" in text
+    assert "| spot 100 / 50 |" in text

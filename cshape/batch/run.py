@@ -25,7 +25,7 @@ from .._files import atomic_write
 from ..descriptors import TRANSFORMS
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning, Mesh
-from ..spectrum import components_message, estimate_seconds, long_solve_message
+from ..spectrum import REFINEMENTS, components_message, estimate_seconds, long_solve_message
 from ._dask import _run_dask
 from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
 from .table import DescriptorTable
@@ -112,8 +112,8 @@ def collection_records(collection: Any) -> list[tuple[str, str, Any]]:
 def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
              mass: str = "consistent", cache_dir: str | os.PathLike[str] | bool | None = None,
              n_jobs: int | None = 1, client: Any = None, blas_threads: int | None = 1,
-             progress: bool = True, on_error: str = "warn", transform: str = "weyl"
-             ) -> DescriptorTable:
+             progress: bool = True, on_error: str = "warn", transform: str = "weyl",
+             refine: str = "none") -> DescriptorTable:
     """Eigenvalues and descriptors of every mesh of a collection: cached, resumable, parallel.
 
     Parameters
@@ -169,6 +169,9 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
         Default cShape-DNA transform of the returned table (see
         :func:`cshape.compact_shape_dna`); like ``M`` it does not change the eigenvalues or
         the cache, and any transform can be asked of the table later.
+    refine : {'none', 'extrapolate'}, default='none'
+        How the eigenvalues are computed (see :func:`cshape.shape_dna`); recorded in the
+        table, and cached apart from the other kinds.
 
     Returns
     -------
@@ -218,6 +221,7 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     M = check_crop(M, N, log=transform != "weyl")  # the one M-versus-N rule
     bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
     mass = check_choice("mass", mass, MASS_TYPES)
+    refine = check_choice("refine", refine, REFINEMENTS)
     n_jobs = check_n_jobs(n_jobs)
     n_jobs = 1 if n_jobs is None else (os.cpu_count() or 1) if n_jobs == -1 else n_jobs
     if blas_threads is not None:
@@ -227,7 +231,7 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     cache = _cache_folder(cache_dir)
     from tqdm.auto import tqdm
 
-    run = _Run(collection_records(collection), N, bc, mass, cache, on_error)
+    run = _Run(collection_records(collection), N, bc, mass, cache, on_error, refine)
     run.bar = tqdm(total=len(run.records), desc="describe", unit="mesh",
                    disable=not progress)
     try:
@@ -265,8 +269,9 @@ class _Run:
     """
 
     def __init__(self, records: list[tuple[str, str, Any]], N: int, bc: str, mass: str,
-                 cache: Path | None, on_error: str) -> None:
+                 cache: Path | None, on_error: str, refine: str = "none") -> None:
         self.records, self.N, self.bc, self.mass = records, N, bc, mass
+        self.refine = refine
         self.cache, self.on_error = cache, on_error
         self.results: list[Any] = [None] * len(records)  # a Result once row i is done
         self.failures: dict[int, str] = {}
@@ -283,7 +288,8 @@ class _Run:
             key = self._lookup(i, src)
             if key is not False:
                 tasks.append(Task(i, src, self.N, self.bc, self.mass,
-                                  None if self.cache is None else str(self.cache), key))
+                                  None if self.cache is None else str(self.cache), key,
+                                  self.refine))
         return tasks
 
     def _lookup(self, i: int, src: Any) -> str | None | Literal[False]:
@@ -295,7 +301,8 @@ class _Run:
             return False
         if isinstance(src, (str, os.PathLike)):
             if cache is not None:
-                alias = self.aliases[i] = _file_alias(cache, src, self.bc, self.mass)
+                alias = self.aliases[i] = _file_alias(cache, src, self.bc, self.mass,
+                                                      self.refine)
                 known = None if alias is None else _read_alias(alias)
                 hit = None if known is None else _read_entry(cache, known, N)
                 if hit is not None:
@@ -303,7 +310,7 @@ class _Run:
                     return False
             return None
         try:
-            key = mesh_key(src, self.bc, self.mass)
+            key = mesh_key(src, self.bc, self.mass, self.refine)
         except (TypeError, ValueError) as exc:
             self.finish(i, {"ok": False, "error": f"{type(exc).__name__}: {exc}"})
             return False
@@ -378,7 +385,7 @@ class _Run:
             [records[i][1] for i in ok], M=M, bc=self.bc, mass=self.mass,
             seconds=[results[i]["seconds"] for i in ok],
             cached=[results[i]["cached"] for i in ok], failures=fail_list,
-            transform=transform,
+            transform=transform, refine=self.refine,
             components=[results[i]["components"] for i in ok])
 
 
@@ -397,6 +404,7 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     """
     if N < _ESTIMATE_MIN_N or not tasks:
         return
+    refined = tasks[0].refine != "none"
     from ..readers import load_mesh
 
     sizes: list[tuple[int, str]] = []
@@ -411,7 +419,9 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
         sizes.append((n, records[t.index][0]))
     if not sizes:
         return
-    total = sum(estimate_seconds(n, N) for n, _ in sizes)
+    # refine='extrapolate' solves the midpoint subdivision too: about 4n unknowns
+    total = sum(estimate_seconds(n, N) + (estimate_seconds(4 * n, N) if refined else 0.0)
+                for n, _ in sizes)
     n_big, name = max(sizes)
     one = long_solve_message(n_big, N)
     if one is None and total < 2 * 60.0:
@@ -420,7 +430,8 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     hint = one.split("; ", 1)[1] if one and "; " in one else ""
     warnings.warn(
         f"{LONG_RUN_PREFIX} {len(sizes)} eigensolve{'s' if len(sizes) > 1 else ''} of "
-        f"N={N}, about {total / 60:.0f} min in all on one core (a rough estimate, "
+        f"N={N}{' (and of their midpoint subdivisions)' if refined else ''}, about "
+        f"{total / 60:.0f} min in all on one core (a rough estimate, "
         f"1e-8 n N^2 s); the largest, {name} ({n_big} vertices), about "
         f"{big / 60:.0f} min" + (f"; {hint}" if hint else ""),
         CShapeWarning, stacklevel=3)

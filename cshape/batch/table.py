@@ -21,6 +21,7 @@ from ..descriptor import Descriptor, select_descriptor
 from ..descriptors import TRANSFORMS, count_zero_modes
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
+from ..spectrum import REFINEMENTS
 
 if TYPE_CHECKING:
     import os
@@ -58,6 +59,9 @@ class DescriptorTable:
         files written before it existed load as ``'weyl'``.
     bc, mass : str
         How the eigenvalues were computed (see :func:`cshape.shape_dna`).
+    refine : {'none', 'extrapolate'}, default='none'
+        Which spectra the table holds (see :func:`cshape.shape_dna`): saved with the table;
+        files written before it existed load as ``'none'``.
     seconds : array_like, shape (p,), optional
         Wall time of each eigensolve (load + FEM + solve), in seconds; as stored in the
         cache for entries that were not recomputed.
@@ -93,7 +97,7 @@ class DescriptorTable:
                  mass: str = "consistent", seconds: ArrayLike | None = None,
                  cached: ArrayLike | None = None,
                  failures: Iterable[tuple[object, object]] = (), transform: str = "weyl",
-                 components: ArrayLike | None = None) -> None:
+                 components: ArrayLike | None = None, refine: str = "none") -> None:
         self.names = [str(n) for n in names]
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
@@ -113,6 +117,7 @@ class DescriptorTable:
         self.transform = check_choice("transform", transform, TRANSFORMS)
         self.bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
         self.mass = check_choice("mass", mass, MASS_TYPES)
+        self.refine = check_choice("refine", refine, REFINEMENTS)
         self.seconds = (np.full(p, np.nan) if seconds is None
                         else np.asarray(seconds, dtype=np.float64).reshape(-1))
         self.cached = (np.zeros(p, bool) if cached is None
@@ -146,6 +151,7 @@ class DescriptorTable:
         nlab = len({x for x in self.labels if x})
         fails = f", {len(self.failures)} failed" if self.failures else ""
         tr = "" if self.transform == "weyl" else f", transform={self.transform!r}"
+        tr += "" if self.refine == "none" else f", refine={self.refine!r}"
         return (f"DescriptorTable({len(self)} shapes, N={self.N}, M={self.M}{tr}, "
                 f"{nlab} classes{fails})")
 
@@ -167,6 +173,7 @@ class DescriptorTable:
         return DescriptorTable(
             [self.names[i] for i in idx], self.lam[idx], self.areas[idx],
             [self.labels[i] for i in idx], M=self.M, bc=self.bc, mass=self.mass,
+            refine=self.refine,
             seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures,
             transform=self.transform, components=self.components[idx])
 
@@ -329,6 +336,7 @@ class DescriptorTable:
     def _meta(self) -> dict[str, Any]:
         return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": self.N,
                 "M": self.M, "transform": self.transform, "bc": self.bc, "mass": self.mass,
+                "refine": self.refine,
                 "failures": [list(f) for f in self.failures]}
 
     def save(self, path: str | os.PathLike[str]) -> Path:
@@ -337,7 +345,7 @@ class DescriptorTable:
         The CSV is plain: a header ``name,label,area,seconds,cached,components,lam_0,...,
         lam_{N-1}`` and one row per shape, so that ``pandas.read_csv(path)`` reads it with
         no options; floats are written with 17 significant digits, so both formats
-        round-trip exactly.  The metadata (``M``, ``transform``, ``bc``, ``mass``, the
+        round-trip exactly.  The metadata (``M``, ``transform``, ``bc``, ``mass``, ``refine``, the
         failures, the format version) go to the sidecar ``<path>.json`` (e.g.
         ``table.csv.json``), written with it; :meth:`load` reads both.
 
@@ -429,6 +437,7 @@ class DescriptorTable:
                            seconds=z["seconds"], cached=z["cached"],
                            failures=meta["failures"],
                            transform=meta.get("transform", "weyl"),
+                           refine=meta.get("refine", "none"),
                            components=z["components"] if "components" in z.files else None)
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
@@ -457,6 +466,7 @@ class DescriptorTable:
                    [r[1] for r in body], M=meta["M"], bc=meta["bc"], mass=meta["mass"],
                    seconds=[float(r[3]) for r in body], cached=[r[4] == "1" for r in body],
                    failures=meta["failures"], transform=meta.get("transform", "weyl"),
+                   refine=meta.get("refine", "none"),
                    components=[int(r[5]) for r in body] if start == 6 else None)
 
 

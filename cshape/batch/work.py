@@ -40,6 +40,8 @@ class Task:
         The cache folder, or None when caching is off.
     key : str or None
         The mesh's content key; None when the worker computes it from the file.
+    refine : str
+        Mesh refinement of the eigenvalues, as :func:`cshape.shape_dna` takes it.
     """
 
     index: int
@@ -49,6 +51,8 @@ class Task:
     mass: str
     cache_dir: str | None
     key: str | None
+    refine: str
+
 
 #: What a worker sends back: ``{'index', 'ok', 'lam', 'area', ...}`` or ``{'ok': False,
 #: 'error'}``.
@@ -81,24 +85,26 @@ def _work(task: Task) -> Result:
 
 
 def _work_inner(task: Task) -> Result:
-    index, N, bc, mass, key = task.index, task.N, task.bc, task.mass, task.key
+    index, N, bc, mass, key, refine = task.index, task.N, task.bc, task.mass, task.key, \
+        task.refine
     t0 = time.perf_counter()
     try:
         mesh = load_source(task.source)
         if key is None:
-            key = mesh_key(mesh, bc, mass)
+            key = mesh_key(mesh, bc, mass, refine)
             if task.cache_dir is not None:
                 hit = _read_entry(task.cache_dir, key, N)
                 if hit is not None:
                     hit.update(index=index, ok=True)
                     return hit
         fixed = repair_mesh(mesh)
-        lam = shape_dna(fixed, N=N, bc=bc, mass=mass)
+        lam = shape_dna(fixed, N=N, bc=bc, mass=mass, refine=refine)
         return {"index": index, "ok": True, "lam": lam, "area": float(fixed.area),
                 "components": int(fixed.n_components),
                 "key": key, "seconds": time.perf_counter() - t0, "cached": False,
                 "n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
-                "params": {"N": N, "bc": bc, "mass": mass, "cache_version": CACHE_VERSION}}
+                "params": {"N": N, "bc": bc, "mass": mass, "refine": refine,
+                           "cache_version": CACHE_VERSION}}
     except Exception as exc:  # noqa: BLE001 - reported and skipped by describe
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
         return {"index": index, "ok": False, "error": f"{type(exc).__name__}: {msg}"}
