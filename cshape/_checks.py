@@ -6,7 +6,7 @@ The one rule: ``TypeError`` for a wrong type, ``ValueError`` for a value out of 
 message names the argument, the value and the fix, and is the same in every function that
 takes the argument (``N=2.5`` reads ``N must be an integer, got float 2.5`` whether it was
 given to :func:`cshape.shape_dna`, :func:`cshape.describe` or
-:func:`cshape.compare.descriptor_matrix`).  ``bool`` is not an integer nor a number here;
+:class:`cshape.Descriptor`).  ``bool`` is not an integer nor a number here;
 NumPy integers and floats are.
 
 Mode names (descriptor kinds, transforms, normalizations, boundary conditions, mass
@@ -41,6 +41,21 @@ __all__ = [
     "check_square",
     "require_extra",
 ]
+
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+def _caller_stacklevel() -> int:
+    """``stacklevel`` of the first frame outside cshape (where the user wrote the call)."""
+    import sys
+
+    level, frame = 1, sys._getframe(1)
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(
+            _PACKAGE_DIR + os.sep):
+        level += 1
+        frame = frame.f_back
+    return level
+
 
 def _describe(value: object) -> str:
     """``float 2.5``, ``str '10'``, ``NoneType``: the type and the value, for messages."""

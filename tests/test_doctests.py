@@ -42,9 +42,7 @@ EXAMPLES = {m: sum(len(t.examples) for t in _examples(m)) for m in CORE}
 
 #: Examples known to print something else than they say, with the reason; each is a strict
 #: xfail, so the entry must go once the docstring is fixed.
-_STALE = {
-    "cshape.descriptor": "the module docstring shows the label of an earlier DEFAULT",
-}
+_STALE: dict[str, str] = {}
 
 
 def test_the_core_is_found_and_the_layers_are_not():

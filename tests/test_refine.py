@@ -166,7 +166,7 @@ def test_bad_refine_named_everywhere(bad, err, match):
     with pytest.raises(err, match=match):
         cshape.shape_dna(mesh, 5, refine=bad)
     with pytest.raises(err, match=match):
-        describe([mesh], N=5, M=1, refine=bad, cache_dir=False, progress=False)
+        describe([mesh], N=5, refine=bad, cache_dir=False, progress=False)
     with pytest.raises(err, match=match):
         DescriptorTable(["a"], [[0.0, 1.0, 2.0]], [1.0], refine=bad)
 
@@ -191,12 +191,12 @@ def test_too_few_unknowns_for_N_is_the_coarse_meshs_error():
 def test_describe_table_and_files_record_the_kind(tmp_path):
     meshes = [("s", "sphere", shapes.icosphere(2)), ("t", "torus", shapes.torus(16, 8))]
     cache = tmp_path / "cache"
-    plain = describe(meshes, N=12, M=2, cache_dir=cache, progress=False)
-    ext = describe(meshes, N=12, M=2, cache_dir=cache, progress=False, refine=EX)
+    plain = describe(meshes, N=12, cache_dir=cache, progress=False)
+    ext = describe(meshes, N=12, cache_dir=cache, progress=False, refine=EX)
     assert plain.refine == "none" and ext.refine == EX and "refine='extrapolate'" in repr(ext)
     assert not ext.cached.any()  # cached apart from the linear spectra
     np.testing.assert_array_equal(ext.lam[0], cshape.shape_dna(meshes[0][2], 12, refine=EX))
-    again = describe(meshes, N=12, M=2, cache_dir=cache, progress=False, refine=EX)
+    again = describe(meshes, N=12, cache_dir=cache, progress=False, refine=EX)
     assert again.cached.all()
     np.testing.assert_array_equal(again.lam, ext.lam)
     assert ext.select([1]).refine == EX
@@ -217,7 +217,7 @@ def test_command_line_describe_refine(tmp_path, capsys):
 
     write_off(tmp_path / "m" / "ball.off", shapes.icosphere(2))
     out = tmp_path / "t.npz"
-    assert cli_main(["describe", str(tmp_path / "m"), "-N", "12", "-M", "2", "--refine", EX,
+    assert cli_main(["describe", str(tmp_path / "m"), "-N", "12", "--refine", EX,
                      "--no-cache", "-q", "--out", str(out)]) == 0
     table = DescriptorTable.load(out)
     assert table.refine == EX

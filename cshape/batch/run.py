@@ -16,13 +16,11 @@ import numpy as np
 from .._checks import (
     check_bool,
     check_choice,
-    check_crop,
     check_int,
     check_n_jobs,
     check_path,
 )
 from .._files import atomic_write
-from ..descriptors import TRANSFORMS
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning, Mesh
 from ..spectrum import REFINEMENTS, components_message, estimate_seconds, long_solve_message
@@ -109,12 +107,12 @@ def collection_records(collection: Any) -> list[tuple[str, str, Any]]:
 
 
 # =========================================================================== describe
-def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
+def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
              mass: str = "consistent", cache_dir: str | os.PathLike[str] | bool | None = None,
              n_jobs: int | None = 1, client: Any = None, blas_threads: int | None = 1,
-             progress: bool = True, on_error: str = "warn", transform: str = "weyl",
+             progress: bool = True, on_error: str = "warn",
              refine: str = "none") -> DescriptorTable:
-    """Eigenvalues and descriptors of every mesh of a collection: cached, resumable, parallel.
+    """Eigenvalues of every mesh of a collection: cached, resumable, parallel.
 
     Parameters
     ----------
@@ -131,11 +129,9 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
 
         or a mapping ``{name: mesh}``.  Names must be unique.
     N : int, default=100
-        Number of eigenvalues per shape (Shape-DNA length).
-    M : int, default=16
-        Default cShape-DNA half-width of the returned table (any ``M <= (N-1)//2`` can be
-        asked of it later without recomputing; ``M <= (N-2)//2`` for the log-Weyl
-        transforms).
+        Number of eigenvalues per shape (Shape-DNA length).  Every descriptor of at most
+        ``N`` eigenvalues (any ``M``, any transform) is derived from the table later,
+        without another eigensolve.
     bc : {'neumann', 'dirichlet'}, default='neumann'
     mass : {'consistent', 'lumped'}, default='consistent'
     cache_dir : str, os.PathLike, None or False, default=None
@@ -165,10 +161,6 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
         ``'warn'``: a mesh that fails (unreadable file, too few vertices for ``N``, ...) is
         skipped, listed in ``table.failures`` and reported in one warning at the end.
         ``'raise'``: stop at the first failure with a ``RuntimeError``.
-    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
-        Default cShape-DNA transform of the returned table (see
-        :func:`cshape.compact_shape_dna`); like ``M`` it does not change the eigenvalues or
-        the cache, and any transform can be asked of the table later.
     refine : {'none', 'extrapolate'}, default='none'
         How the eigenvalues are computed (see :func:`cshape.shape_dna`); recorded in the
         table, and cached apart from the other kinds.
@@ -183,11 +175,11 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     Raises
     ------
     TypeError
-        An argument of the wrong type (``N=2.5``, ``M=True``, ``progress=1``,
+        An argument of the wrong type (``N=2.5``, ``progress=1``,
         ``cache_dir=3``), with the message every other function gives for it.
     ValueError
-        An argument out of range (``N=0``, ``M`` too large for ``N``, an unknown ``bc``,
-        ``mass``, ``transform`` or ``on_error``, ``n_jobs=0``), before any mesh is read.
+        An argument out of range (``N=0``, an unknown ``bc``, ``mass`` or ``on_error``,
+        ``n_jobs=0``), before any mesh is read.
     RuntimeError
         With ``on_error='raise'``, the first mesh that fails.
 
@@ -203,11 +195,14 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     >>> from cshape.batch import describe
     >>> meshes = [("s1", "sphere", shapes.icosphere(2)), ("s2", "sphere", shapes.icosphere(3)),
     ...           ("t1", "torus", shapes.torus(24, 12))]
-    >>> table = describe(meshes, N=30, M=4, cache_dir=False, progress=False)
+    >>> table = describe(meshes, N=30, cache_dir=False, progress=False)
     >>> table
-    DescriptorTable(3 shapes, N=30, M=4, 2 classes)
-    >>> table.cshape.shape, table.distance_matrix("shape-dna").shape
-    ((3, 9), (3, 3))
+    DescriptorTable(3 shapes, N=30, 2 classes)
+    >>> from cshape import Descriptor
+    >>> table.descriptors(Descriptor("cshape", N=30, M=4)).shape
+    (3, 9)
+    >>> table.distance_matrix(Descriptor("shape-dna", N=30)).shape
+    (3, 3)
 
     Notes
     -----
@@ -216,9 +211,6 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     ``describe`` again computes only what is missing.
     """
     N = check_int("N", N, min=1)
-    M = check_int("M", M, min=0)
-    transform = check_choice("transform", transform, TRANSFORMS)
-    M = check_crop(M, N, log=transform != "weyl")  # the one M-versus-N rule
     bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
     mass = check_choice("mass", mass, MASS_TYPES)
     refine = check_choice("refine", refine, REFINEMENTS)
@@ -247,7 +239,7 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
             _run_processes(tasks, n_jobs, run.finish, run.failures, blas_threads)
     finally:
         run.bar.close()
-    return run.table(M, transform)
+    return run.table()
 
 
 def _cache_folder(cache_dir: str | os.PathLike[str] | bool | None) -> Path | None:
@@ -365,7 +357,7 @@ class _Run:
                 pass  # only the shortcut is lost: the file is read again next time
 
     # ------------------------------------------------------------------ the table
-    def table(self, M: int, transform: str) -> DescriptorTable:
+    def table(self) -> DescriptorTable:
         """The successful meshes in the order of the collection; one warning lists the
         failures."""
         records, results, N = self.records, self.results, self.N
@@ -382,10 +374,10 @@ class _Run:
             [records[i][0] for i in ok],
             np.array([results[i]["lam"][:N] for i in ok]).reshape(len(ok), N),
             [results[i]["area"] for i in ok],
-            [records[i][1] for i in ok], M=M, bc=self.bc, mass=self.mass,
+            [records[i][1] for i in ok], bc=self.bc, mass=self.mass,
             seconds=[results[i]["seconds"] for i in ok],
             cached=[results[i]["cached"] for i in ok], failures=fail_list,
-            transform=transform, refine=self.refine,
+            refine=self.refine,
             components=[results[i]["components"] for i in ok])
 
 
