@@ -94,7 +94,7 @@ def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
 
 
 @pytest.mark.slow
-def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
+def test_describe_failure_list_and_exit_status(folder, tmp_path):
     bad = tmp_path / "in" / "bad.off"
     bad.parent.mkdir()
     bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")  # truncated: one vertex and the face missing
@@ -105,14 +105,12 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     assert "failed: bad:" in res.stderr and "leave out --strict" in res.stderr
     assert not out.exists()
     # by default one mesh never fails the table: it is listed by name and left out
-    for extra in ((), ("--keep-going",)):
-        out.unlink(missing_ok=True)
-        res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, *extra,
-                  cache=tmp_path / "c", check=True)
-        assert "failed: bad:" in res.stderr
-        table = DescriptorTable.load(out)
-        assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
-        assert table.cached.all()  # the first, failed run cached the good mesh
+    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N,
+              cache=tmp_path / "c", check=True)
+    assert "failed: bad:" in res.stderr
+    table = DescriptorTable.load(out)
+    assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
+    assert table.cached.all()  # the first, failed run cached the good mesh
     # every mesh failing is still an error
     res = cli("describe", bad, "--out", out.with_name("u.csv"), "-N", N,
               cache=tmp_path / "c")

@@ -70,11 +70,10 @@ def test_frozen_and_compared_by_value():
         d.replace(M=15)  # a copy is checked again
 
 
-def test_old_spelling_is_stored_in_the_current_one():
-    with pytest.warns(DeprecationWarning, match="kind='shape_dna' is deprecated") as rec:
-        d = Descriptor("shape_dna", N=20)
-    assert d.kind == "shape-dna"
-    assert all(r.filename == __file__ for r in rec)  # the warning points at the caller
+def test_a_kind_has_one_spelling():
+    with pytest.raises(ValueError, match="kind must be one of .*, got 'shape_dna'"):
+        Descriptor("shape_dna", N=20)
+    assert Descriptor("Shape-DNA", N=20).kind == "shape-dna"  # lower-cased
 
 
 # ---------------------------------------------------------------------- size and label

@@ -109,8 +109,9 @@ def test_kernel_is_this_interpreter_and_cli_writes_html(tmp_path, capsys):
         assert (out / "mathjax" / "config" / "local" / "cshape.js").is_file()
         local = out / "mathjax" / "config" / "local" / "cshape.js"
         stamp = local.stat().st_mtime_ns
-        assert offline_mathjax(out) == offline_mathjax(out)  # copied once, not per page
+        url = offline_mathjax(out)  # a second call copies nothing again ...
         assert local.stat().st_mtime_ns == stamp
+        assert f'<script src="{url}"' in page  # ... and gives the URL the page loads
     assert "01_tiny.html" in (out / "index.html").read_text()
     assert "01_tiny.ipynb: ok" in capsys.readouterr().out
 

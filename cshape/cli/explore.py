@@ -335,8 +335,6 @@ def add_describe(sub: _SubParsers) -> None:
     p.add_argument("--strict", action="store_true",
                    help="write nothing and exit 2 when any mesh fails (default: the meshes "
                    "that fail are listed and left out, the others are written)")
-    p.add_argument("--keep-going", action="store_true",
-                   help="the default since 0.1: keep the meshes that worked when some fail")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="no progress bar and no summary line")
     p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
@@ -486,17 +484,6 @@ def add_info(sub: _SubParsers) -> None:
 _KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "f1")
 
 
-def _kind_arg(value: str) -> str:
-    """``--kind`` value in the current spelling; an old one ('shape_dna') with a warning."""
-    from .._checks import OLD_SPELLINGS
-
-    new = OLD_SPELLINGS.get(value.lower())
-    if new is None:
-        return value.lower()
-    print(f"cshape: warning: --kind {value} is deprecated; write --kind {new}", file=sys.stderr)
-    return new
-
-
 def _default_label(N: int = 100) -> str:
     """The exploration default (cshape.DEFAULT, for N eigenvalues) in words."""
     from ..descriptors.recipe import _given_or_default
@@ -617,7 +604,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
 def add_descriptor_options(p: argparse.ArgumentParser) -> None:
     """``--kind``, ``-M``, ``-N`` and ``--transform``: which descriptor a command compares
     (``cshape query`` and ``cshape overview``)."""
-    p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
+    p.add_argument("--kind", default=None, choices=_KINDS, type=str.lower,
                    help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
                    "paper's cShape-DNA)")
     p.add_argument("-M", type=int, default=None,

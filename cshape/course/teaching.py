@@ -8,7 +8,7 @@
 * :func:`retrieval_collection`   - a collection whose descriptors differ (lessons 04 and 08).
 
 A lesson starts with one line, ``from cshape.course.teaching import SMALL, size``, and writes
-``N = size(50, 100)`` where it used to write ``50 if SMALL else 100``.
+its sizes as ``N = size(50, 100)`` (small, full).
 """
 
 from __future__ import annotations
@@ -131,9 +131,9 @@ def retrieval_collection(small: bool | None = None) -> data.Collection:
     Parameters
     ----------
     small : bool, optional
-        Six classes of three coarse members (500-1000 vertices, about 30 s to build, then
-        cached); else the development instance ``creatures-dev`` (12 classes x 10 members,
-        about ten minutes on two cores the first time, then cached).  Default :data:`SMALL`.
+        Six classes of three coarse members (500-1000 vertices); else the development
+        instance ``creatures-dev`` (12 classes x 10 members).  Built the first time, then
+        cached.  Default :data:`SMALL`.
 
     Returns
     -------

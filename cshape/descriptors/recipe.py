@@ -142,8 +142,6 @@ default='cshape'
 
     def __init__(self, kind: str = "cshape", *, N: int = 100, M: int = 16,
                  transform: str = "weyl", normalization: str = "area") -> None:
-        # written out (not the dataclass's generated __init__) so that a deprecation
-        # warning of an old spelling points at the caller's line
         kind = check_choice("kind", kind, DESCRIPTOR_KINDS)
         transform = check_choice("transform", transform, TRANSFORMS)
         normalization = check_choice("normalization", normalization, NORMALIZATIONS)
