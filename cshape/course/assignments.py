@@ -66,6 +66,12 @@ c = get_config()  # noqa: F821
 c.CourseDirectory.course_id = "cshape"
 # the lessons compute spectra: allow a cell up to 20 minutes (nbgrader's default is 30 s)
 c.Execute.timeout = 1200
+# cshape's grading options (cshape.course.grading): no "checksum has changed" warning for
+# the hidden tests that the release left out, and feedback pages whose equations are
+# typeset by the MathJax copy in this folder (mathjax/), with no network
+from cshape.course.grading import configure  # noqa: E402
+
+configure(c)
 """
 
 
