@@ -161,7 +161,9 @@ def test_nbgrader_course_full_cycle(tmp_path):
     for student, folder in submissions.items():
         shutil.copytree(folder, course / "submitted" / student / asg.ASSIGNMENT)
     env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")}
-    asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course, env=env)
+    log = asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course, env=env)
+    # neither the solutions nor the untouched release changed a locked cell
+    assert "has changed!" not in log, [ln for ln in log.splitlines() if "changed!" in ln]
     asg.run_nbgrader("generate_feedback", asg.ASSIGNMENT, "--force", cwd=course)
 
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
@@ -181,6 +183,11 @@ def test_nbgrader_course_full_cycle(tmp_path):
         for path in GRADED:
             page = course / "feedback" / student / asg.ASSIGNMENT / f"{path.stem}.html"
             assert page.is_file() and page.stat().st_size > 1000, page
+            # equations typeset offline, by the course folder's MathJax copy
+            text = page.read_text()
+            assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
+            assert '<script src="../../../mathjax/MathJax.js?config=' in text
+    assert (course / "mathjax" / "MathJax.js").is_file()
     # the solutions ran without an error anywhere, graded or not
     for path in GRADED:
         done = nbformat.read(course / "autograded" / "instructor" / asg.ASSIGNMENT / path.name,
@@ -192,6 +199,33 @@ def test_nbgrader_course_full_cycle(tmp_path):
     graded = (course / "autograded" / "untouched" / asg.ASSIGNMENT / GRADED[0].name).read_text()
     assert "### BEGIN HIDDEN TESTS" in graded
     assert "### BEGIN HIDDEN TESTS" not in (release / GRADED[0].name).read_text()
+
+
+@pytest.mark.slow
+def test_autograde_warns_of_an_edited_locked_cell_only(tmp_path):
+    """The hidden tests the release left out are no change; a student's edit of a locked
+    cell still is (nbgrader's warning, and the cell is graded as released)."""
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
+    lesson = GRADED[0]
+    course = asg.write_course(tmp_path / "course", [lesson])
+    asg.run_nbgrader("generate_assignment", asg.ASSIGNMENT, "--force", cwd=course)
+    release = course / "release" / asg.ASSIGNMENT / lesson.name
+    nb = nbformat.read(release, as_version=4)
+    k, cell = next((k, c) for k, c in enumerate(nb.cells)
+                   if c.metadata.get("nbgrader", {}).get("grade"))
+    cell.source = "assert True  # edited\n" + cell.source
+    for student, book in (("untouched", nbformat.read(release, as_version=4)), ("edited", nb)):
+        folder = course / "submitted" / student / asg.ASSIGNMENT
+        folder.mkdir(parents=True)
+        nbformat.write(book, folder / lesson.name)
+    log = asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course,
+                           env={"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")})
+    changed = [ln for ln in log.splitlines() if "has changed!" in ln]
+    grade_id = cell.metadata["nbgrader"]["grade_id"]
+    assert len(changed) == 1 and f"'checksum' for cell {grade_id} has changed" in changed[0]
+    graded = nbformat.read(course / "autograded" / "edited" / asg.ASSIGNMENT / lesson.name,
+                           as_version=4)
+    assert "# edited" not in graded.cells[k].source
 
 
 def test_copy_lessons_and_refuse_a_used_folder(tmp_path, capsys):
