@@ -275,11 +275,11 @@ def copy_lessons(dest: str | os.PathLike[str], *, src: str | os.PathLike[str] | 
     """Copy the lessons, their student versions and an nbgrader course into ``dest``.
 
     ``dest`` gets ``README.md`` (for instructors: the folder, the lessons and the nbgrader
-    cycle, from :data:`INSTRUCTORS_README`), the lessons ``NN_*.ipynb`` (they run there: they need only
-    an installed cshape), ``student/NN_*.ipynb`` and, for ``nbgrader``, ``nbgrader_config.py``
-    with the graded lessons in ``source/lessons/``.  Everything is written to a temporary
-    folder beside ``dest`` first and moved into place at the end, so a failure leaves no
-    half-written folder.
+    cycle, from :data:`INSTRUCTORS_README`), the lessons ``NN_*.ipynb`` (they run there:
+    they need only an installed cshape), ``student/NN_*.ipynb`` and, for ``nbgrader``,
+    ``nbgrader_config.py`` with the graded lessons in ``source/lessons/``.  Everything is
+    written to a temporary folder beside ``dest`` first and moved into place at the end, so
+    a failure leaves no half-written folder.
 
     Parameters
     ----------
