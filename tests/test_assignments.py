@@ -287,3 +287,24 @@ def test_lessons_from_an_installed_wheel_run_there(installed_wheel_env):
         executed = nbformat.read(out / "01_fem_assembly.ipynb", as_version=4)
         printed = "".join(o.get("text", "") for o in executed.cells[1].outputs)
         assert printed.startswith("cshape ") and "(small sizes)" in printed, printed
+
+
+def test_feedback_pages_are_pointed_at_the_course_mathjax(tmp_path):
+    """The post-convert hook rewrites nbgrader's network MathJax to the course folder's copy,
+    once; other pages are left alone."""
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
+    pytest.importorskip("jupyter_server_mathjax", reason="the notebooks extra")
+    from cshape.course.grading import CDN_MATHJAX, offline_feedback_math
+
+    page = tmp_path / "feedback" / "ada" / "lessons" / "01_x.html"
+    page.parent.mkdir(parents=True)
+    page.write_text(f'<script src="{CDN_MATHJAX}"> </script><p>$x$</p>')
+    other = page.with_name("02_y.html")
+    other.write_text("<p>no math</p>")
+    assert offline_feedback_math(root=tmp_path) == [page]
+    text = page.read_text()
+    assert CDN_MATHJAX not in text
+    src = text.split('src="')[1].split("?")[0]
+    assert src == "../../../mathjax/MathJax.js" and (page.parent / src).resolve().is_file()
+    assert other.read_text() == "<p>no math</p>"
+    assert offline_feedback_math(root=tmp_path) == []  # nothing left to rewrite

@@ -31,6 +31,7 @@ from nbgrader.preprocessors import (
 )
 from nbgrader.preprocessors import OverwriteCells as _NbgraderOverwriteCells
 
+from .._files import atomic_write
 from .lessons import offline_mathjax
 
 __all__ = ["OverwriteCells", "configure", "offline_feedback_math"]
@@ -93,8 +94,8 @@ def offline_feedback_math(assignment: str = "", student: str = "", notebooks: An
     if url is None:
         return []
     for page in pages:
-        text = page.read_text(encoding="utf-8")
-        page.write_text(text.replace(CDN_MATHJAX, f"../../../{url}"), encoding="utf-8")
+        text = page.read_text(encoding="utf-8").replace(CDN_MATHJAX, f"../../../{url}")
+        atomic_write(page, lambda f, text=text: f.write(text), binary=False)
     return pages
 
 
