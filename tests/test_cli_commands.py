@@ -108,6 +108,9 @@ def test_describe_failure_list_and_exit_status(folder, tmp_path):
     res = cli("describe", folder / "torus", bad, "--out", out, "-N", N,
               cache=tmp_path / "c", check=True)
     assert "failed: bad:" in res.stderr
+    # the counts add up to the meshes tried
+    assert "1 meshes (" not in res.stderr
+    assert "1 of 2 meshes described (1 from the cache), 1 failed, in " in res.stderr
     table = DescriptorTable.load(out)
     assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
     assert table.cached.all()  # the first, failed run cached the good mesh
@@ -171,6 +174,10 @@ def test_info_topology_angles_and_repair(tmp_path):
     rows = dict(line.split(None, 1) for line in res.stdout.splitlines()
                 if line.split(None, 1)[0] in ("vertices", "faces", "components", "genus"))
     assert rows == {"vertices": "288", "faces": "576", "components": "1", "genus": "1"}
+    # a folder stands for its mesh files (as describe finds them), in sorted order
+    res = cli("info", tmp_path, "--json", check=True)
+    assert [json.loads(line)["vertices"] for line in res.stdout.splitlines()] == [
+        sq.n_vertices + 1, sq.n_vertices, 288]  # dirty, square, torus
 
 
 @pytest.fixture(scope="module")

@@ -378,7 +378,8 @@ MESH = [
     *[pytest.param(Mesh, dict(vertices=vf[0], faces=vf[1]), exc, match, id=f"Mesh-{name}")
       for name, vf, exc, match in BAD_PAIRS],
     *[pytest.param(cshape.as_mesh, dict(mesh_or_vf=obj), TypeError,
-                   r"expected a cshape.Mesh or a \(vertices, faces\) pair", id=f"as_mesh-{i}")
+                   r"expected a mesh: a cshape.Mesh, a \(vertices, faces\) pair of arrays, or a "
+                   r"mesh object of trimesh .*; got ", id=f"as_mesh-{i}")
       for i, obj in enumerate([(TET_V, TET_F, None), {"v": TET_V}, TET_V, 3, None])],
     pytest.param(cshape.as_mesh, dict(mesh_or_vf="bunny.off"), TypeError,
                  r"got a path \('bunny.off'\) where a mesh was expected; load it first",

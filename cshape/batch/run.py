@@ -22,7 +22,7 @@ from .._checks import (
 )
 from .._files import atomic_write
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
-from ..mesh import CShapeWarning, Mesh
+from ..mesh import CShapeWarning, Mesh, as_mesh, is_mesh_like
 from ..spectrum import REFINEMENTS, components_message, estimate_seconds, long_solve_message
 from ._dask import _run_dask
 from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
@@ -76,6 +76,8 @@ def collection_records(collection: Any) -> list[tuple[str, str, Any]]:
             out.append([name, label, src])
         elif isinstance(item, (tuple, list)) and len(item) == 2 and np.ndim(item[0]) == 2:
             out.append([f"mesh{i}", "", item])
+        elif not isinstance(item, (tuple, list)) and is_mesh_like(item):
+            out.append([f"mesh{i}", "", as_mesh(item)])
         elif _has_attr(type(item), item, "mesh") or _has_attr(type(item), item, "path"):
             try:  # one access: a record may load its mesh lazily (and fail doing so)
                 src = getattr(item, "mesh", None)
@@ -122,7 +124,8 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
         * a path (``str`` or ``os.PathLike``) of a mesh file, read by
           :func:`cshape.load_mesh` in the worker; named by its file stem (by the whole path
           when stems collide);
-        * a :class:`cshape.Mesh` or a ``(vertices, faces)`` pair, named ``mesh<i>``;
+        * a :class:`cshape.Mesh`, a ``(vertices, faces)`` pair or a mesh object of another
+          library (read by :func:`cshape.as_mesh`), named ``mesh<i>``;
         * a ``(name, mesh)`` or ``(name, label, mesh)`` tuple, ``mesh`` as above;
         * a record with attributes ``name``, ``label`` (optional) and ``mesh`` (or
           ``path``), e.g. the records of a cshape data collection;

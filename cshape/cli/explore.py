@@ -239,8 +239,11 @@ def _cmd_describe(args: argparse.Namespace) -> int:
             more = f" and {len(pieces) - 5} more" if len(pieces) > 5 else ""
             several = (f"; {len(pieces)} with several components: {listed}{more} (their "
                        "zero modes are dropped by the log descriptors)")
-        print(f"cshape describe: {len(table)} meshes ({n_cached} from the cache"
-              f"{f', {n_fail} failed' if n_fail else ''}) in {seconds:.1f} s, "
+        # every mesh tried is counted once: described (some from the cache) or failed
+        counts = (f"{len(table)} of {p} meshes described ({n_cached} from the cache), "
+                  f"{n_fail} failed," if n_fail else
+                  f"{len(table)} meshes ({n_cached} from the cache)")
+        print(f"cshape describe: {counts} in {seconds:.1f} s, "
               f"N={table.N}{several}{where}; `cshape query` compares the "
               f"{_default_label(table.N)} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
@@ -423,7 +426,12 @@ def mesh_report(path: str | os.PathLike[str]) -> dict[str, Any]:
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
-    for k, path in enumerate(args.meshes):
+    # a folder or a pattern stands for its mesh files, as in describe
+    paths = [f for arg in args.meshes
+             for f in ([rec[2] for rec in collect_mesh_files([arg])]
+                       if Path(arg).expanduser().is_dir() or glob.has_magic(arg)
+                       else [Path(arg)])]
+    for k, path in enumerate(paths):
         r = mesh_report(path)
         if args.json:
             print(json.dumps(r))
@@ -475,7 +483,9 @@ def add_info(sub: _SubParsers) -> None:
         "repaired mesh's area, components, boundary and non-manifold edges, Euler "
         "characteristic, genus and minimum triangle angle.",
     )
-    p.add_argument("meshes", nargs="+", metavar="MESH", help="mesh file(s)")
+    p.add_argument("meshes", nargs="+", metavar="MESH",
+                   help="mesh files, folders (their mesh files, as describe finds them) or "
+                   "glob patterns")
     p.add_argument("--json", action="store_true", help="one JSON object per mesh")
     p.set_defaults(func=_cmd_info)
 

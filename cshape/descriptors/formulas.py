@@ -77,7 +77,7 @@ from .._checks import (
     check_real,
     check_spectrum,
 )
-from ..mesh import Mesh, MeshLike
+from ..mesh import MeshLike, is_mesh_like
 
 __all__ = [
     "normalize",
@@ -397,9 +397,7 @@ def _check_N(N: object) -> int:
 
 
 def _is_mesh(x: object) -> bool:
-    return isinstance(x, Mesh) or (
-        isinstance(x, (tuple, list)) and len(x) == 2 and np.ndim(x[0]) == 2
-    )
+    return is_mesh_like(x)
 
 
 def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
