@@ -35,15 +35,25 @@ def midpoint_subdivide(V, F):
     return V2, F2
 
 
+def _weyl_padded(lam):
+    """``N`` values: a spectrum of fewer (a mesh of fewer vertices) extended by Weyl's law
+    from its last eigenvalue, ``lam_i = lam_n i / n`` (the product's rule for short rows)."""
+    n = len(lam) - 1
+    return np.concatenate([lam, lam[-1] * np.arange(n + 1, N) / n])
+
+
 def spectra(meshes):
-    """(lam, lam_fine, area, n_vertices) of a sequence of cshape meshes."""
+    """(lam, lam_fine, area, n_vertices) of a sequence of cshape meshes; a mesh of fewer
+    than ``N`` vertices gets all its eigenvalues, extended by Weyl's law."""
     import cshape
 
     out = {"lam": [], "lam_fine": [], "area": [], "n_vertices": []}
     for m in meshes:
         V, F = np.asarray(m.vertices, float), np.asarray(m.faces, np.int64)
-        out["lam"].append(cshape.shape_dna((V, F), N=N))
-        out["lam_fine"].append(cshape.shape_dna(midpoint_subdivide(V, F), N=N))
+        Vf, Ff = midpoint_subdivide(V, F)
+        out["lam"].append(_weyl_padded(cshape.shape_dna((V, F), N=min(N, len(V) - 1))))
+        out["lam_fine"].append(_weyl_padded(cshape.shape_dna((Vf, Ff),
+                                                             N=min(N, len(Vf) - 1))))
         out["area"].append(float(cshape.Mesh(V, F).area))
         out["n_vertices"].append(len(V))
     return {k: np.array(v) for k, v in out.items()}

@@ -67,7 +67,7 @@ GUARD_NN, GUARD_PAIRS = 0.90, 0.80
 #: Worst regrets closer than this are tied.
 TIE = 0.005
 #: The weights tried for the second block of a two-block candidate.
-WEIGHTS = (0.25, 0.5, 1.0, 2.0)
+WEIGHTS = (0.25, 0.5, 1.0, 2.0, 4.0)
 #: The objects of ../shared/meshes left out of the pairs (see the rule).
 PAIRS_LEFT_OUT = ("cube",)
 MEASURES = ("nn", "ft", "st", "dcg", "map")
@@ -75,6 +75,17 @@ FOUR_PI = 4 * np.pi
 
 
 # --------------------------------------------------------------------------- data
+def extrapolated(z):
+    """``(4 lam_fine - lam) / 3`` where the coarse mesh resolves the eigenvalue; else the
+    subdivision's own ``lam_fine``: past the coarse mesh's vertex count (Weyl-extended), or
+    where the correction exceeds half of ``lam_fine`` (outside the asymptotic range: a
+    control cage of 112 vertices at ``i = 90``)."""
+    i = np.arange(z["lam"].shape[1])
+    x = (4 * z["lam_fine"] - z["lam"]) / 3
+    ok = (i[None, :] < (z["n_vertices"][:, None] - 1)) & (x > 0.5 * z["lam_fine"])
+    return np.where(ok, x, z["lam_fine"])
+
+
 def load_sets(realdev: Path, meshes: Path, cache: Path) -> dict:
     """{set: {'lam', 'lam_x' (extrapolated), 'area', 'labels'}} of the six sets and 'pairs'."""
     import _extrapolated as ex
@@ -86,19 +97,18 @@ def load_sets(realdev: Path, meshes: Path, cache: Path) -> dict:
         if list(z["names"]) != [str(f) for f in ref["files"]]:
             raise SystemExit(f"{c}: cached names differ from the reference; delete {cache}")
         out[c] = {"lam": np.asarray(ref["lam"], float), "area": np.asarray(ref["area"], float),
-                  "lam_x": (4 * z["lam_fine"] - z["lam"]) / 3,
-                  "labels": [str(x) for x in ref["labels"]],
+                  "lam_x": extrapolated(z), "labels": [str(x) for x in ref["labels"]],
                   "own_diff": float(np.max(np.abs(z["lam"][:, 1:] - ref["lam"][:, 1:])
                                            / ref["lam"][:, 1:]))}
     for c in SUITE:
         z = np.load(ex.suite_collection(c, cache))
-        out[c] = {"lam": z["lam"], "area": z["area"], "lam_x": (4 * z["lam_fine"] - z["lam"]) / 3,
+        out[c] = {"lam": z["lam"], "area": z["area"], "lam_x": extrapolated(z),
                   "labels": [str(x) for x in z["labels"]]}
     z = np.load(ex.folder_collection(meshes, cache))
     keep = np.array([lab not in PAIRS_LEFT_OUT for lab in z["labels"]])
     labels = [str(x) for x in z["labels"][keep]]
     out["pairs"] = {"lam": z["lam"][keep], "area": z["area"][keep],
-                    "lam_x": ((4 * z["lam_fine"] - z["lam"]) / 3)[keep], "labels": labels,
+                    "lam_x": extrapolated(z)[keep], "labels": labels,
                     "names": [str(x) for x in z["names"][keep]]}
     return out
 
@@ -140,6 +150,21 @@ def full_log(N=100):
     return lambda lam, area: log_weyl(lam, area, N - 1)
 
 
+def detrended_log(degree=3, N=100, power=0.0):
+    """The log-Weyl ratios r_1..r_{N-1} less their least-squares polynomial of ``degree`` in
+    ``i``: the spectrum's fluctuations about its smooth trend.  Linear finite elements raise
+    ``r_i`` by a smooth function of ``i`` (about ``h^2 lam_i``); the polynomial takes it.
+    ``power > 0``: the residual multiplied by ``(i / (N-1))^power`` (high indices weigh more,
+    as in the Shape-DNA's absolute differences)."""
+    def f(lam, area):
+        r = log_weyl(lam, area, N - 1)
+        t = np.arange(1, N) / (N - 1)
+        V = np.vander(t, degree + 1)
+        coef, *_ = np.linalg.lstsq(V, r.T, rcond=None)
+        return (r - (V @ coef).T) * t**power
+    return f
+
+
 def shape_dna(N=100):
     return lambda lam, area: lam[:, :N] * area[:, None]
 
@@ -179,6 +204,8 @@ def candidates():
         for M in (8, 16, 24):
             add(f"log-Weyl {name} M={M} N=100 (area)", f"log-Weyl {name}",
                 log_weyl_crop(M, 100, dct), 2 * M + 1)
+    for deg in (2, 3, 4):
+        add(f"detrended log (degree {deg}) N=100", "detrended log", detrended_log(deg), 99)
     for w in WEIGHTS:
         for M2 in (8, 16):
             for dct in (True, False):
@@ -189,6 +216,16 @@ def candidates():
                     2, w)
         add(f"truncated log M=8 + {w:g} x full log N=100", "two blocks: truncated log + full log",
             two_blocks(truncated_log(8), full_log(100), w), 17 + 99, 2, w)
+        for M in (4, 8):
+            for deg in (2, 3, 4):
+                add(f"truncated log M={M} + {w:g} x detrended log (degree {deg}) N=100",
+                    "two blocks: truncated log + detrended log",
+                    two_blocks(truncated_log(M), detrended_log(deg), w), 2 * M + 1 + 99, 2, w)
+        for M in (4, 8):
+            add(f"truncated log M={M} + {w:g} x sqrt(i)-weighted detrended log (degree 3) "
+                "N=100", "two blocks: truncated log + weighted detrended log",
+                two_blocks(truncated_log(M), detrended_log(3, power=0.5), w),
+                2 * M + 1 + 99, 2, w)
         add(f"truncated log M=16 + {w:g} x log-Weyl DCT M=16 N=100",
             "two blocks: truncated log + log-Weyl DCT",
             two_blocks(truncated_log(16), log_weyl_crop(16, 100, True), w), 66, 2, w)
