@@ -2,9 +2,10 @@
 
 A descriptor is a recipe of five fields, checked once when it is made:
 
-* ``kind``          - what is computed (Section 3.1 of the paper, and one beyond it):
+* ``kind``          - what is computed (Section 3.1 of the paper, and two beyond it):
                       ``'shape-dna'``, ``'truncated'``, ``'cshape'``, ``'cshape-complex'``,
-                      ``'f1'``, ``'truncated-log'`` (see :func:`cshape.compare.descriptor_matrix`);
+                      ``'f1'``, ``'truncated-log'``, ``'two-scale'`` (see
+                      :func:`cshape.compare.descriptor_matrix`);
 * ``M``, ``N``      - the crop half-width (``2M+1`` values) and the Shape-DNA length; the one
                       M-versus-N rule is :func:`cshape._checks.check_crop`;
 * ``transform``     - the cShape-DNA transform (:func:`cshape.compact_shape_dna`);
@@ -20,7 +21,7 @@ figures and the command line compare when no descriptor is asked for.
 >>> PAPER.label
 "paper's cShape-DNA (M=16 of N=100, 33 values)"
 >>> DEFAULT.label, DEFAULT.size
-('truncated log spectrum, lam_1-normalised (17 values)', 17)
+('two-scale log spectrum (9 first + 99 detrended values)', 108)
 """
 
 from __future__ import annotations
@@ -39,16 +40,24 @@ from .descriptors import (
     TRANSFORMS,
     compact_shape_dna,
     count_zero_modes,
+    detrend,
     f1_feature,
     log_weyl_ratio,
     normalize,
     real_form,
+    TREND_DEGREE,
+    _log_weyl_sequence,
 )
 
 __all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor", "select_descriptor"]
 
 #: The descriptor kinds (see :func:`cshape.compare.descriptor_matrix`).
-DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log")
+DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log",
+                    "two-scale")
+#: Weight of the detrended block of the kind 'two-scale' (its row is
+#: ``(r_1 .. r_{2M+1}, TWO_SCALE_WEIGHT * detrend(r_1 .. r_{N-1}))``), chosen with
+#: :data:`DEFAULT` from a grid of round numbers.
+TWO_SCALE_WEIGHT = 2.0
 
 _NORMALISED = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised",
                "none": "eigenvalues as given"}
@@ -62,13 +71,13 @@ class Descriptor:
 
     Parameters
     ----------
-    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
-default='cshape'
+    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log', \
+'two-scale'}, default='cshape'
         What is computed; the table of :func:`cshape.compare.descriptor_matrix`.  The old
         spellings ('shape_dna', ...) work with a ``DeprecationWarning``.
     M : int, default=16
         Crop half-width: ``2M+1`` values for 'truncated', 'truncated-log' and the 'cshape'
-        kinds (the others do not use it).
+        kinds, the first block of 'two-scale' (the others do not use it).
     N : int, default=100
         Shape-DNA length: the eigenvalues ``lam_0 .. lam_{N-1}`` used.
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
@@ -85,7 +94,8 @@ default='cshape'
         An unknown mode, ``M < 0``, ``N < 1``, or ``2M+1`` more values than the kind's
         sequence holds (:func:`cshape._checks.check_crop`: ``N`` eigenvalues for
         'truncated' and the paper's transform, the ``N-1`` log-Weyl ratios for
-        'truncated-log' and the log-Weyl transforms).
+        'truncated-log', 'two-scale' and the log-Weyl transforms); for 'two-scale' also
+        ``N < 6`` (fewer than ``TREND_DEGREE + 2 = 5`` ratios to detrend).
 
     Examples
     --------
@@ -116,6 +126,13 @@ default='cshape'
             check_crop(M, N)
         elif kind == "truncated-log":
             check_crop(M, N, log=True)
+        elif kind == "two-scale":
+            check_crop(M, N, log=True)
+            if N - 1 < TREND_DEGREE + 2:
+                raise ValueError(
+                    f"kind='two-scale' detrends the N-1 log-Weyl ratios by a polynomial of "
+                    f"degree {TREND_DEGREE}, which needs N >= {TREND_DEGREE + 3}, got N = {N}; "
+                    "compute more eigenvalues or use kind='truncated-log'")
         elif kind in ("cshape", "cshape-complex"):
             check_crop(M, N, log=transform != "weyl")
         for name, value in (("kind", kind), ("M", M), ("N", N), ("transform", transform),
@@ -127,10 +144,11 @@ default='cshape'
     def size(self) -> int:
         """Number of values of a row.
 
-        ``N`` for 'shape-dna', ``N - 2`` for 'f1', else ``2M+1`` (complex numbers counted
-        once, as the paper does).
+        ``N`` for 'shape-dna', ``N - 2`` for 'f1', ``2M+1 + N-1`` for 'two-scale', else
+        ``2M+1`` (complex numbers counted once, as the paper does).
         """
-        return {"shape-dna": self.N, "f1": self.N - 2}.get(self.kind, 2 * self.M + 1)
+        return {"shape-dna": self.N, "f1": self.N - 2,
+                "two-scale": 2 * self.M + 1 + self.N - 1}.get(self.kind, 2 * self.M + 1)
 
     @property
     def label(self) -> str:
@@ -150,6 +168,8 @@ default='cshape'
             return f"F1 (N={self.N}, {size} values)"  # scale invariant: no normalisation
         elif self.kind == "truncated":
             base = f"truncated Shape-DNA ({size} values)"
+        elif self.kind == "two-scale":
+            base = f"two-scale log spectrum ({2 * self.M + 1} first + {self.N - 1} detrended values)"
         else:
             base = f"truncated log spectrum ({size} values)"
         if self.normalization == "area":
@@ -193,13 +213,15 @@ default='cshape'
             If ``N`` is too small for any ``M`` of the kind.
         """
         N = check_int("N", N, min=1)
-        top = {"truncated-log": (N - 2) // 2, "truncated": (N - 1) // 2,
+        top = {"truncated-log": (N - 2) // 2, "two-scale": (N - 2) // 2,
+               "truncated": (N - 1) // 2,
                "cshape": (N - 1) // 2 if self.transform == "weyl" else (N - 2) // 2,
                "cshape-complex": (N - 1) // 2 if self.transform == "weyl" else (N - 2) // 2,
                }.get(self.kind, self.M)
-        if top < 0:
-            raise ValueError(f"the descriptor {self.label!r} needs at least 2 eigenvalues "
-                             f"per shape, got N = {N}")
+        least = TREND_DEGREE + 3 if self.kind == "two-scale" else 2
+        if top < 0 or N < least:
+            raise ValueError(f"the descriptor {self.label!r} needs at least {least} "
+                             f"eigenvalues per shape, got N = {N}")
         return self.replace(N=N, M=min(self.M, top))
 
     # ------------------------------------------------------------------ rows
@@ -260,6 +282,10 @@ default='cshape'
                     f"use M <= {max(len(r) - kk - 1, 0) // 2})")
             lam_norm = normalize(r[: 2 * M + 1 + kk], area=area, method=norm)
             return log_weyl_ratio(lam_norm, k0)
+        if kind == "two-scale":  # r_1 .. r_{2M+1} beside the detrended r_1 .. r_{N-1}
+            lam_norm = normalize(r[:N], area=area, method=norm)
+            seq = _log_weyl_sequence(lam_norm, M, k, "kind='two-scale'")
+            return np.concatenate([seq[: 2 * M + 1], TWO_SCALE_WEIGHT * detrend(seq)])
         lam_norm = normalize(r[:N], area=area, method=norm)
         S = compact_shape_dna(lam_norm, M=M, N=N, normalization="none",
                               transform=self.transform, zero_modes=k)
@@ -405,7 +431,7 @@ PAPER = Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area"
 #: in poses) by the best worst first tier, with the generated resolution benchmark as a guard
 #: (nearest neighbour >= 0.9); see ``benchmarks/results/real_collections.md``
 #: (``benchmarks/bench_real_collections.py``).
-DEFAULT = Descriptor("truncated-log", M=8, N=100, transform="weyl", normalization="area")
+DEFAULT = Descriptor("two-scale", M=4, N=100, transform="weyl", normalization="area")
 
 
 def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None = None,

@@ -27,7 +27,7 @@ def spectra():
 # ---------------------------------------------------------------------- checked once
 @pytest.mark.parametrize("fields, exc, match", [
     (dict(kind="dna"), ValueError, r"^kind must be one of \{'shape-dna', 'truncated', 'cshape', "
-     r"'cshape-complex', 'f1', 'truncated-log'\}, got 'dna'$"),
+     r"'cshape-complex', 'f1', 'truncated-log', 'two-scale'\}, got 'dna'$"),
     (dict(kind=3), TypeError, r"^kind must be one of .*, got int 3$"),
     (dict(M=2.0), TypeError, r"^M must be an integer, got float 2\.0$"),
     (dict(M=-1), ValueError, r"^M must be an integer >= 0, got -1$"),
@@ -87,6 +87,10 @@ def test_old_spelling_is_stored_in_the_current_one():
     (Descriptor("cshape", M=8, N=50, transform="log-weyl-dct", normalization="weyl"), 17,
      "log-Weyl DCT cShape-DNA, Weyl-normalised (M=8 of N=50, 17 values)"),
     (Descriptor("f1", N=50, normalization="weyl"), 48, "F1 (N=50, 48 values)"),
+    (Descriptor("two-scale", M=4, N=100), 108,
+     "two-scale log spectrum (9 first + 99 detrended values)"),
+    (Descriptor("two-scale", M=2, N=20, normalization="weyl"), 24,
+     "two-scale log spectrum, Weyl-normalised (5 first + 19 detrended values)"),
 ])
 def test_size_and_label(d, size, label):
     assert d.size == size and d.label == label
@@ -96,16 +100,20 @@ def test_size_and_label(d, size, label):
 
 def test_shipped_descriptors():
     assert PAPER == Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area")
-    assert DEFAULT == Descriptor("truncated-log", M=8, N=100, transform="weyl",
+    assert DEFAULT == Descriptor("two-scale", M=4, N=100, transform="weyl",
                                  normalization="area")
     assert PAPER.label == "paper's cShape-DNA (M=16 of N=100, 33 values)"
-    assert DEFAULT.label == "truncated log spectrum (17 values)"
+    assert DEFAULT.label == "two-scale log spectrum (9 first + 99 detrended values)"
     # the paper's descriptor is compact_shape_dna's default, and reproduce keeps its numbers
     assert cshape.reproduce.PAPER["3.1"]["M"] == PAPER.M
-    assert DEFAULT.for_N(12) == DEFAULT.replace(N=12, M=5)  # M lowered to what N allows
+    assert DEFAULT.for_N(8) == DEFAULT.replace(N=8, M=3)  # M lowered to what N allows
     assert DEFAULT.for_N(1000) == DEFAULT.replace(N=1000)
+    with pytest.raises(ValueError, match="needs at least 6 eigenvalues per shape, got N = 5"):
+        DEFAULT.for_N(5)
+    tl = Descriptor("truncated-log", M=8)
+    assert tl.for_N(12) == tl.replace(N=12, M=5)
     with pytest.raises(ValueError, match="needs at least 2 eigenvalues per shape, got N = 1"):
-        DEFAULT.for_N(1)
+        tl.for_N(1)
 
 
 # ---------------------------------------------------------------------- rows
@@ -140,24 +148,69 @@ def test_other_rows_are_the_stage_functions(spectra):
                                   cshape.normalize(lam[:9], area))
     np.testing.assert_array_equal(Descriptor("f1", N=N).row(lam), cshape.f1_feature(lam))
     np.testing.assert_array_equal(
-        DEFAULT.for_N(N).row(lam, area),
+        Descriptor("truncated-log", M=8, N=N).row(lam, area),
         cshape.log_weyl_ratio(cshape.normalize(lam[:18], area)))
+
+
+def test_two_scale_row_is_first_ratios_beside_detrended_ratios(spectra):
+    from cshape.descriptor import TWO_SCALE_WEIGHT
+    from cshape.descriptors import detrend
+
+    lams, areas = spectra
+    d = Descriptor("two-scale", M=4, N=N)
+    for lam, area in zip(lams, areas, strict=True):
+        r = cshape.log_weyl_ratio(cshape.normalize(lam, area))  # r_1 .. r_29
+        row = d.row(lam, area)
+        assert row.shape == (d.size,) == (9 + 29,)
+        np.testing.assert_array_equal(row[:9], Descriptor("truncated-log", M=4, N=N).row(lam, area))
+        np.testing.assert_allclose(row[9:], TWO_SCALE_WEIGHT * detrend(r), atol=1e-14)
+    # the second block is scale free: another normalisation shifts r by a constant only
+    lam, area = lams[1], areas[1]
+    np.testing.assert_allclose(d.replace(normalization="weyl").row(lam)[9:], d.row(lam, area)[9:],
+                               atol=1e-12)
+    # a smooth drift of the ratios up to the trend's degree (a coarse mesh) leaves it alone
+    i = np.arange(1, N)
+    drift = np.r_[1.0, np.exp(0.02 + 1e-3 * i - 1e-6 * i**3)]
+    np.testing.assert_allclose(d.row(lam * drift, area)[9:], d.row(lam, area)[9:], atol=1e-12)
+    with pytest.raises(ValueError, match=r"^kind='two-scale' detrends the N-1 log-Weyl ratios "
+                                         r"by a polynomial of degree 3, which needs N >= 6, "
+                                         r"got N = 5"):
+        Descriptor("two-scale", M=1, N=5)
+    with pytest.raises(ValueError, match=r"kind='two-scale' needs 2M\+1 = 9 non-zero "
+                                         r"eigenvalues, but 25 of the N = 30 are zero modes"):
+        d.row(np.r_[np.zeros(25), lam[25:]], area, zero_modes=25)
+
+
+def test_detrend_refuses_what_it_cannot_fit():
+    from cshape.descriptors import detrend
+
+    t = np.arange(1, 8) / 7
+    np.testing.assert_allclose(detrend(2 - t + 3 * t**2, degree=2), 0, atol=1e-12)
+    assert abs(float(detrend(np.r_[0.0, 0, 0, 1, 0, 0, 0]) @ t**3)) < 1e-12
+    with pytest.raises(ValueError, match=r"^r has 4 values but a polynomial of degree 3 needs "
+                                         r"at least 5"):
+        detrend(np.ones(4))
+    with pytest.raises(TypeError, match=r"^degree must be an integer"):
+        detrend(np.ones(8), degree=2.0)
+    with pytest.raises(TypeError, match=r"^r must be real"):
+        detrend(np.ones(8) + 0j)
 
 
 def test_matrix_is_descriptor_matrix_and_names_what_it_cannot_describe(spectra):
     lams, areas = spectra
-    for d in (PAPER.replace(M=4, N=N), DEFAULT.for_N(N), Descriptor("f1", N=N)):
+    tl = Descriptor("truncated-log", M=8, N=N)
+    for d in (PAPER.replace(M=4, N=N), tl, DEFAULT.for_N(N), Descriptor("f1", N=N)):
         X = d.matrix(lams, areas)
         assert X.shape == (3, d.size)
         np.testing.assert_array_equal(X, cshape.descriptor_matrix(lams, areas, **d.as_dict()))
         np.testing.assert_array_equal(X, cshape.descriptor_matrix(lams, areas, descriptor=d))
     bad = lams.copy()
     bad[1, :20] = 0.0  # 20 zero modes: 10 non-zero eigenvalues, fewer than 2M+1 = 17
-    X, problems = DEFAULT.for_N(N).rows(bad, areas)
+    X, problems = tl.rows(bad, areas)
     assert X.shape == (2, 17) and list(problems) == [1]
     with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 3 "
                                          r"shapes \(torus: 20 of its 30 eigenvalues"):
-        DEFAULT.for_N(N).matrix(bad, areas, names=["sphere", "torus", "cube"])
+        tl.matrix(bad, areas, names=["sphere", "torus", "cube"])
     with pytest.raises(ValueError, match=r"^kind='cshape' with normalization='area' needs "
                                          r"the surface area: pass area=$"):
         PAPER.replace(M=4, N=N).row(lams[0])
@@ -256,7 +309,8 @@ def test_reproduce_takes_the_papers_descriptor_and_refuses_another(tmp_path):
     assert _paper_descriptor(PAPER.replace(M=8), None, None) == PAPER.replace(M=8)
     out = tmp_path / "report"
     with pytest.raises(ValueError, match=r"^reproduce compares the paper's cShape-DNA, got "
-                                         r"truncated log spectrum \(17 values\)"):
+                                         r"two-scale log spectrum \(9 first \+ 99 "
+                                         r"detrended values\)"):
         reproduce([], out, descriptor=DEFAULT)
     with pytest.raises(ValueError, match=r"^pass either descriptor= or N and M, not both"):
         reproduce([], out, N=30, descriptor=PAPER)
