@@ -38,6 +38,8 @@ from ._checks import check_choice, check_crop, check_int
 from .descriptors import (
     NORMALIZATIONS,
     TRANSFORMS,
+    TREND_DEGREE,
+    _log_weyl_sequence,
     compact_shape_dna,
     count_zero_modes,
     detrend,
@@ -45,8 +47,6 @@ from .descriptors import (
     log_weyl_ratio,
     normalize,
     real_form,
-    TREND_DEGREE,
-    _log_weyl_sequence,
 )
 
 __all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor", "select_descriptor"]
@@ -169,7 +169,8 @@ class Descriptor:
         elif self.kind == "truncated":
             base = f"truncated Shape-DNA ({size} values)"
         elif self.kind == "two-scale":
-            base = f"two-scale log spectrum ({2 * self.M + 1} first + {self.N - 1} detrended values)"
+            base = (f"two-scale log spectrum ({2 * self.M + 1} first + {self.N - 1} detrended "
+                    "values)")
         else:
             base = f"truncated log spectrum ({size} values)"
         if self.normalization == "area":

@@ -569,8 +569,10 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
 
 def _log_weyl_sequence(lam_norm: ArrayLike, M: int, zero_modes: int | None, what: str
                        ) -> NDArray[np.float64]:
-    """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms and of the kind
-    'two-scale' (rule for several pieces); ``what`` names the caller in the message."""
+    """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms and 'two-scale'.
+
+    The rule for several pieces; ``what`` names the caller in the message.
+    """
     x = check_spectrum(lam_norm, "lam_norm", min_len=2)
     N = len(x)
     k0 = _zero_modes(x, zero_modes, ZERO_RTOL * float(np.abs(x).max()))
