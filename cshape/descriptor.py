@@ -439,13 +439,14 @@ def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None 
                       M: int | None = None, N: int | None = None,
                       transform: str | None = None, normalization: str | None = None,
                       base_M: int = 16, base_N: int = 100,
-                      base_transform: str = "weyl") -> Descriptor:
+                      base_transform: str = "weyl",
+                      default: Descriptor | None = None) -> Descriptor:
     """Return the descriptor that a call's arguments select: the one rule of every surface.
 
     * ``descriptor`` given: it, as it is (no other argument may be given);
-    * ``kind=None``: the exploration default :data:`DEFAULT` for spectra of ``N``
-      eigenvalues (:meth:`Descriptor.for_N`), with ``M``, ``transform`` and
-      ``normalization`` where given;
+    * ``kind=None``: ``default`` (the exploration default :data:`DEFAULT` unless given) for
+      spectra of ``N`` eigenvalues (:meth:`Descriptor.for_N`), with ``M``, ``transform``
+      and ``normalization`` where given;
     * a kind by name: with ``M`` and ``transform`` from the base (a table's) unless given,
       and the paper's area normalisation unless given.
 
@@ -457,6 +458,9 @@ def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None 
     base_M, base_N, base_transform
         Where the fields not given come from (a :class:`cshape.DescriptorTable`'s ``M``,
         ``N`` and ``transform``).
+    default : Descriptor, optional
+        What ``kind=None`` selects (a table's :attr:`~cshape.DescriptorTable.descriptor`);
+        ``None``: :data:`DEFAULT`.
 
     Returns
     -------
@@ -481,7 +485,7 @@ def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None 
         return descriptor
     N = base_N if N is None else N
     if kind is None:
-        d = DEFAULT.for_N(N)
+        d = (DEFAULT if default is None else default).for_N(N)
         changes = {k: v for k, v in (("M", M), ("transform", transform),
                                      ("normalization", normalization)) if v is not None}
         return d.replace(**changes) if changes else d

@@ -537,3 +537,56 @@ def test_describe_transform(reference):
         run(small_collection()[:1], cache_dir=False, transform="log-weyl", M=10, N=21)
     with pytest.raises(ValueError, match="transform must be one of"):
         DescriptorTable(["a"], np.ones((1, 3)), [1.0], transform="fft")
+
+
+# ------------------------------------------------------------------ the descriptor of the table
+@pytest.mark.parametrize("suffix", [".npz", ".csv"])
+def test_table_keeps_the_descriptor_it_was_saved_with(tmp_path, reference, suffix, monkeypatch):
+    import cshape
+    from cshape import descriptor
+
+    t = DescriptorTable(reference.names, reference.lam, reference.areas, reference.labels, M=3)
+    assert t.descriptor is None and t.descriptor_for() == cshape.DEFAULT.for_N(t.N)
+    path = t.save(tmp_path / f"t{suffix}")
+    # the default changes later: the saved table still compares what it compared
+    other = cshape.Descriptor("truncated-log", M=4)
+    monkeypatch.setattr(descriptor, "DEFAULT", other)
+    back = DescriptorTable.load(path)
+    assert back.descriptor == cshape.DEFAULT  # the constant of the package, not the patch
+    assert back.descriptor_for() == back.descriptor.for_N(t.N)
+    assert back.describe_recipe() == back.descriptor.for_N(t.N).label
+    np.testing.assert_array_equal(back.descriptors(), t.descriptors(descriptor=back.descriptor
+                                                                    .for_N(t.N)))
+    assert back.select([1, 0]).descriptor == back.descriptor
+    assert t.descriptor_for() == other.for_N(t.N)  # a table made in code follows DEFAULT
+    # a table made with one keeps it; one written before the field loads with None
+    mine = DescriptorTable(reference.names, reference.lam, reference.areas, descriptor=other)
+    assert DescriptorTable.load(mine.save(tmp_path / f"m{suffix}")).descriptor == other
+    old = tmp_path / f"old{suffix}"
+    if suffix == ".csv":
+        _write_v1_csv(reference, old)  # version 1 never stored it
+    else:
+        reference.save(old)
+        with np.load(old) as z:
+            arrays = dict(z)
+        meta = json.loads(str(arrays["meta"]))
+        del meta["descriptor"]
+        arrays["meta"] = np.array(json.dumps(meta))
+        np.savez(old, **arrays)
+    assert DescriptorTable.load(old).descriptor is None
+    with pytest.raises(TypeError, match=r"^descriptor must be a cshape.Descriptor"):
+        DescriptorTable(["a"], np.ones((1, 3)), [1.0], descriptor=other.as_dict())
+
+
+def test_table_with_a_bad_saved_descriptor_is_refused(tmp_path, reference):
+    path = reference.save(tmp_path / "t.npz")
+    with np.load(path) as z:
+        arrays = dict(z)
+    meta = json.loads(str(arrays["meta"]))
+    meta["descriptor"] = {"kind": "two-scale", "M": 4, "N": 100, "colour": "red"}
+    arrays["meta"] = np.array(json.dumps(meta))
+    np.savez(path, **arrays)
+    with pytest.raises(ValueError, match=r"is not a readable cshape descriptor table: its "
+                                         r"descriptor .* is not the fields of a "
+                                         r"cshape.Descriptor"):
+        DescriptorTable.load(path)

@@ -60,7 +60,7 @@ def other_default(monkeypatch):
 # ---------------------------------------------------------------------- the constant
 def test_default_is_one_constant_and_not_the_papers_form_of_compact_shape_dna():
     d = default_descriptor(100)
-    assert d == cshape.DEFAULT.as_dict() == {"kind": "truncated-log", "M": 8, "N": 100,
+    assert d == cshape.DEFAULT.as_dict() == {"kind": "two-scale", "M": 4, "N": 100,
                                              "transform": "weyl", "normalization": "area"}
     assert compare.DEFAULT_DESCRIPTOR is cshape.DEFAULT is descriptor.DEFAULT
     assert compare.PAPER_DESCRIPTOR is cshape.PAPER
@@ -77,7 +77,7 @@ def test_default_lowers_M_to_what_N_allows(table):
     d = default_descriptor(N)
     assert d["N"] == N and d["M"] <= cshape.DEFAULT.M
     X = descriptor_matrix(table.lam, table.areas, **d)  # computable from N eigenvalues
-    assert X.shape == (len(table), 2 * d["M"] + 1)
+    assert X.shape == (len(table), cshape.Descriptor(**d).size)
     assert default_descriptor(1000)["M"] == cshape.DEFAULT.M
     with pytest.raises(ValueError, match="N must be an integer >= 1"):
         default_descriptor(0)
@@ -201,10 +201,15 @@ def test_candidates_cover_every_family_and_fit_N():
     assert fams == {"Shape-DNA", "cShape-DNA (paper)", "log-Weyl DFT", "log-Weyl DCT",
                     "truncated Shape-DNA", "truncated log spectrum", "F1",
                     "truncated log spectrum, Weyl-normalised",
-                    "truncated log spectrum, lam_1-normalised"}
-    assert all(c["size"] == 2 * c["M"] + 1 for c in cands if c["M"] is not None)
+                    "truncated log spectrum, lam_1-normalised", "two-scale log spectrum"}
+    assert all(c["size"] == cshape.Descriptor(c["kind"], M=c["M"], N=c["N"]).size
+               for c in cands if c["M"] is not None)
+    assert all(c["size"] == 2 * c["M"] + 1 for c in cands
+               if c["M"] is not None and c["kind"] != "two-scale")
+    assert default_row(cands) is not None  # the exploration default is a candidate
     small = candidates(20)
-    assert all(c["size"] <= 20 for c in small) and len(small) < len(cands)
+    assert all(c["size"] <= 20 for c in small if c["kind"] != "two-scale")
+    assert len(small) < len(cands)
 
 
 def test_suite_scores_on_a_tiny_suite_are_sane(table):

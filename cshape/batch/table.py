@@ -68,6 +68,11 @@ class DescriptorTable:
     components : array_like of int, shape (p,), optional
         Number of connected components of each (repaired) mesh; ``-1`` where unknown (the
         default; tables written before it was stored).
+    descriptor : Descriptor, optional
+        What the table compares when no kind is asked for (:meth:`descriptor_for` with no
+        kind).  Default ``None``: the exploration default :data:`cshape.DEFAULT`.  Saved
+        with the table, so that a table keeps comparing what it compared when it was
+        written; a file written before it was stored loads with ``None``.
 
     Attributes
     ----------
@@ -93,8 +98,13 @@ class DescriptorTable:
                  mass: str = "consistent", seconds: ArrayLike | None = None,
                  cached: ArrayLike | None = None,
                  failures: Iterable[tuple[object, object]] = (), transform: str = "weyl",
-                 components: ArrayLike | None = None) -> None:
+                 components: ArrayLike | None = None,
+                 descriptor: Descriptor | None = None) -> None:
         self.names = [str(n) for n in names]
+        if descriptor is not None and not isinstance(descriptor, Descriptor):
+            raise TypeError("descriptor must be a cshape.Descriptor (e.g. cshape.DEFAULT) or "
+                            f"None, got {type(descriptor).__name__}")
+        self.descriptor = descriptor
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
         if lam.ndim != 2 or lam.shape[0] != p:
@@ -168,7 +178,8 @@ class DescriptorTable:
             [self.names[i] for i in idx], self.lam[idx], self.areas[idx],
             [self.labels[i] for i in idx], M=self.M, bc=self.bc, mass=self.mass,
             seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures,
-            transform=self.transform, components=self.components[idx])
+            transform=self.transform, components=self.components[idx],
+            descriptor=self.descriptor)
 
     # ------------------------------------------------------------------ descriptors
     def descriptor_for(self, kind: str | None = None, M: int | None = None,
@@ -179,15 +190,16 @@ class DescriptorTable:
         :func:`cshape.descriptor.select_descriptor`, with the table's ``M``, ``N`` and
         ``transform`` as the base).
 
-        ``descriptor`` given: it.  ``kind=None``: the exploration default
-        :data:`cshape.DEFAULT` at the table's ``N`` (its own ``M``, transform and
-        normalisation unless given).  A kind given by name takes the table's ``M`` and
+        ``descriptor`` given: it.  ``kind=None``: the table's :attr:`descriptor` (the
+        exploration default :data:`cshape.DEFAULT` unless the table was made or saved with
+        another) at the table's ``N`` (its own ``M``, transform and normalisation unless
+        given).  A kind given by name takes the table's ``M`` and
         ``transform`` and the paper's area normalisation unless given (``kind='cshape'`` is
         the paper's cShape-DNA with the table's ``M``).
         """
         return select_descriptor(descriptor, kind=kind, M=M, N=N, transform=transform,
                                  normalization=normalization, base_M=self.M, base_N=self.N,
-                                 base_transform=self.transform)
+                                 base_transform=self.transform, default=self.descriptor)
 
     def recipe(self, kind: str | None = None, M: int | None = None, N: int | None = None,
                transform: str | None = None, normalization: str | None = None) -> dict:
@@ -328,9 +340,13 @@ class DescriptorTable:
 
     # ------------------------------------------------------------------ persistence
     def _meta(self) -> dict[str, Any]:
+        from .. import descriptor
+
+        compared = self.descriptor if self.descriptor is not None else descriptor.DEFAULT
         return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": self.N,
                 "M": self.M, "transform": self.transform, "bc": self.bc, "mass": self.mass,
-                "failures": [list(f) for f in self.failures]}
+                "failures": [list(f) for f in self.failures],
+                "descriptor": compared.as_dict()}
 
     def save(self, path: str | os.PathLike[str]) -> Path:
         """Save to ``.npz`` (NumPy arrays only, no pickle) or ``.csv`` (one row per shape).
@@ -339,8 +355,9 @@ class DescriptorTable:
         lam_{N-1}`` and one row per shape, so that ``pandas.read_csv(path)`` reads it with
         no options; floats are written with 17 significant digits, so both formats
         round-trip exactly.  The metadata (``M``, ``transform``, ``bc``, ``mass``, the
-        failures, the format version) go to the sidecar ``<path>.json`` (e.g.
-        ``table.csv.json``), written with it; :meth:`load` reads both.
+        failures, the descriptor compared with no kind (:attr:`descriptor`, or
+        :data:`cshape.DEFAULT` when it is ``None``), the format version) go to the sidecar
+        ``<path>.json`` (e.g. ``table.csv.json``), written with it; :meth:`load` reads both.
 
         Parameters
         ----------
@@ -430,7 +447,8 @@ class DescriptorTable:
                            seconds=z["seconds"], cached=z["cached"],
                            failures=meta["failures"],
                            transform=meta.get("transform", "weyl"),
-                           components=z["components"] if "components" in z.files else None)
+                           components=z["components"] if "components" in z.files else None,
+                           descriptor=_meta_descriptor(meta))
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
             prefix = f"# {_FORMAT} "
@@ -458,7 +476,8 @@ class DescriptorTable:
                    [r[1] for r in body], M=meta["M"], bc=meta["bc"], mass=meta["mass"],
                    seconds=[float(r[3]) for r in body], cached=[r[4] == "1" for r in body],
                    failures=meta["failures"], transform=meta.get("transform", "weyl"),
-                   components=[int(r[5]) for r in body] if start == 6 else None)
+                   components=[int(r[5]) for r in body] if start == 6 else None,
+                   descriptor=_meta_descriptor(meta))
 
 
 def sidecar_path(path: str | os.PathLike[str]) -> Path:
@@ -499,6 +518,20 @@ def check_out_folder(path: str | os.PathLike[str]) -> None:
 
 def _fmt(x: float) -> str:
     return repr(float(x))
+
+
+def _meta_descriptor(meta: dict[str, Any]) -> Descriptor | None:
+    """The descriptor a saved table compares with no kind; ``None`` before it was stored."""
+    d = meta.get("descriptor")
+    if d is None:
+        return None
+    try:
+        if not isinstance(d, dict):
+            raise TypeError(f"got {type(d).__name__}")
+        return Descriptor(**d)
+    except TypeError as exc:
+        raise ValueError(f"its descriptor {d!r} is not the fields of a cshape.Descriptor "
+                         f"({exc})") from None
 
 
 def _check_meta(meta: dict[str, Any], path: str | os.PathLike[str]) -> None:
