@@ -431,17 +431,24 @@ def test_cli_overview_and_query_plot_as_subprocesses(described, tmp_path):
 def test_the_default_descriptor_follows_compare_default_kind(monkeypatch, described, tmp_path,
                                                               capsys):
     """Without a kind the pictures compare cshape.DEFAULT (kind, M and normalisation), and
-    say so."""
+    say so; a saved table keeps comparing the descriptor it was saved with."""
     import cshape.descriptor
+    from cshape.batch import DescriptorTable
 
     monkeypatch.setattr(cshape.descriptor, "DEFAULT", cshape.Descriptor("shape-dna", M=8))
     assert collection_distances(spectra_table()).kind == "shape-dna"
     rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
-    assert rc == 0 and "compared by Shape-DNA (20 values)" in capsys.readouterr().err
-    monkeypatch.setattr(cshape.descriptor, "DEFAULT",
-                        cshape.Descriptor("shape-dna", M=8, normalization="fiedler"))
-    rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
-    assert rc == 0 and "by Shape-DNA, lam_1-normalised" in capsys.readouterr().err
+    assert rc == 0 and ("compared by two-scale log spectrum (9 first + 19 detrended values)"
+                        in capsys.readouterr().err)  # saved before the default changed
+    for default, said in ((cshape.Descriptor("shape-dna", M=8), "by Shape-DNA (20 values)"),
+                          (cshape.Descriptor("shape-dna", M=8, normalization="fiedler"),
+                           "by Shape-DNA, lam_1-normalised")):
+        monkeypatch.setattr(cshape.descriptor, "DEFAULT", default)
+        table = DescriptorTable.load(described / "t.csv")
+        table.descriptor = None  # compares, and is saved with, the default of today
+        table.save(tmp_path / "now.csv")
+        rc = main(["overview", str(tmp_path / "now.csv"), "--out", str(tmp_path / "o.html")])
+        assert rc == 0 and said in capsys.readouterr().err
 
 
 def test_guess_vertical_axis_by_format():
