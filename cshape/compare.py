@@ -135,7 +135,7 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
                       descriptor: Descriptor | None = None) -> NDArray[Any]:
     """Descriptors of many shapes from their eigenvalues, one row per shape.
 
-    The four descriptors of the paper's Section 3.1, and one beyond it:
+    The four descriptors of the paper's Section 3.1, and two beyond it:
 
     ================ ============ =========================================================
     kind             row length   definition
@@ -154,6 +154,10 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
                                   Its distances equal those of the truncated *log spectrum*
                                   ``log lam_1^norm .. log lam_{2M+1}^norm``: ``log 4 pi i``
                                   is the same for every shape
+    'two-scale'      2M+1 + N-1   ``r_1 .. r_{2M+1}`` beside ``2 * detrend(r_1 .. r_{N-1})``
+                                  (:func:`cshape.descriptors.detrend`: the ratios less
+                                  their least-squares cubic in ``i``); the exploration
+                                  default :data:`cshape.DEFAULT`
     ================ ============ =========================================================
 
     The recipe (kind, ``M``, ``N``, normalisation, transform) is a :class:`cshape.Descriptor`
@@ -164,8 +168,8 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
     **Meshes of several pieces** (``k`` components, ``k`` zero eigenvalues), by kind:
     'shape-dna', 'truncated' and 'cshape' with the paper's ``transform='weyl'`` take the
     spectrum as it is, its ``k`` zeros included (Eq. 8 needs no logarithm).
-    'truncated-log', the log-Weyl transforms and 'f1' drop the ``k`` zero modes and index
-    the rest from 1 (``mu_i = lam_{k-1+i}``, normalised by the total area: Weyl's law of
+    'truncated-log', 'two-scale', the log-Weyl transforms and 'f1' drop the ``k`` zero modes
+    and index the rest from 1 (``mu_i = lam_{k-1+i}``, normalised by the total area: Weyl's law of
     the disjoint union; :func:`cshape.nonzero_eigenvalues`): 'truncated-log' is
     ``r_1 .. r_{2M+1}`` of ``mu`` (needs ``N >= 2M+1+k``), the log-Weyl transforms extend
     the ``N-k`` ratios to ``N-1`` by Weyl's law (``r_i = r_{N-k}``) and need ``2M+1``
@@ -183,8 +187,8 @@ def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | 
         Surface areas, used by ``normalization='area'`` (the paper's choice) for all kinds
         but 'f1' (scale invariant already).  For eigenvalues that are already normalised
         pass ``areas=np.ones(p)``.
-    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
-default='cshape'
+    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log', \
+'two-scale'}, default='cshape'
         The old spellings 'shape_dna', 'cshape_complex' and 'truncated_log' still work, with
         a ``DeprecationWarning``.
     M : int, default=16
