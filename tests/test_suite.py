@@ -365,7 +365,7 @@ def test_reproduce_reports_the_suite_with_the_default_marked(tmp_path, monkeypat
     assert "| Shape-DNA 30 | 30 |" in rep
 
 
-def test_bench_suite_script_chooses_on_dev_and_reports_held_out(table, tmp_path, monkeypatch):
+def test_bench_suite_script_reports_the_best_worst_case_and_the_default(table, tmp_path, monkeypatch):
     """benchmarks/bench_suite.py on two tiny 'benchmarks' (the script's core cannot rot)."""
     import importlib.util
     from pathlib import Path
@@ -385,8 +385,9 @@ def test_bench_suite_script_chooses_on_dev_and_reports_held_out(table, tmp_path,
     md = (tmp_path / "suite.md").read_text()
     rows = suite_scores(fake["dev"])
     chosen = choose_default(rows)
-    assert f"**Chosen: {chosen['title']}**" in md and f"| **{chosen['title']}** |" in md
+    assert f"**Best worst case: {chosen['title']}**" in md
+    assert f"| **{chosen['title']}** |" in md
     assert "### Held-out instances (reported, not chosen on): first tier" in md
-    assert rc == (0 if "the descriptor chosen here" in md else 1)
+    assert rc == 0 and "`cshape.DEFAULT` = `Descriptor(kind='two-scale'" in md
     lines = (tmp_path / "suite.csv").read_text().splitlines()
     assert len(lines) == 1 + 2 * 3 * len(rows)  # header, instance x benchmark x descriptor
