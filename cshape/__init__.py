@@ -6,14 +6,15 @@ The core is the method, one module per stage, in pipeline order (data flows one 
    :mod:`cshape.readers`     - :func:`load_mesh` (OBJ, OFF, PLY, STL, ...)
 2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
 3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
-4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
-   :func:`compact_shape_dna` (Eq. 9-10), :func:`log_weyl_ratio`, :func:`real_form`,
-   :func:`inverse_compact_shape_dna`, :func:`f1_feature`; :func:`count_zero_modes` and
-   :func:`nonzero_eigenvalues` (the rule for meshes of several pieces);
-   :mod:`cshape.descriptor`  - :class:`Descriptor`, one recipe as a frozen value:
+4. :mod:`cshape.descriptors` - the formulas (:mod:`~cshape.descriptors.formulas`):
+   :func:`normalize`, :func:`weyl_subtract` (Eq. 8), :func:`compact_shape_dna` (Eq. 9-10),
+   :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
+   :func:`f1_feature`; :func:`count_zero_modes` and :func:`nonzero_eigenvalues` (the rule for
+   meshes of several pieces); and the recipe (:mod:`~cshape.descriptors.recipe`):
+   :class:`Descriptor`, which descriptor, as one frozen value that builds the rows:
    :data:`PAPER` (the paper's cShape-DNA) and :data:`DEFAULT` (the exploration default)
-5. :mod:`cshape.compare`     - :func:`descriptor_matrix`, :func:`distance_matrix`,
-   :func:`scale_255`, :func:`retrieval_scores`, :func:`mds_embedding`;
+5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
+   :func:`retrieval_scores`, :func:`nearest_neighbours`, :func:`mds_embedding`;
    :mod:`cshape.index`       - :class:`DescriptorIndex` (nearest neighbours in a database)
 6. :mod:`cshape.signatures`  - per-point signatures from :func:`eigenpairs`: :func:`hks`,
    :func:`wks`, :func:`si_hks`, :func:`heat_kernel`, :func:`heat_trace`, and
@@ -48,7 +49,6 @@ from typing import Any
 
 from . import shapes
 from .compare import (
-    descriptor_matrix,
     difference_matrix,
     distance_matrix,
     mds_embedding,
@@ -56,10 +56,11 @@ from .compare import (
     scale_255,
     scaled_difference,
 )
-from .descriptor import DEFAULT, PAPER, Descriptor
 from .descriptors import (
+    DEFAULT,
+    PAPER,
+    Descriptor,
     compact_shape_dna,
-    compact_shape_dna_real,
     count_zero_modes,
     f1_feature,
     inverse_compact_shape_dna,
@@ -144,11 +145,9 @@ __all__ = [
     "Mesh",
     "as_mesh",
     "compact_shape_dna",
-    "compact_shape_dna_real",
     "count_zero_modes",
     "data",
     "describe",
-    "descriptor_matrix",
     "difference_matrix",
     "distance_matrix",
     "eigenpairs",

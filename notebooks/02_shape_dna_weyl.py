@@ -89,17 +89,17 @@ print("area-normalised:  ", cshape.normalize(lam_small, mesh.area), "\n         
 # %% [markdown]
 # ### Three normalisations
 #
-# `cshape.normalize(lam, area, method=...)` offers the paper's choice `'area'` and two others from the Shape-DNA
+# `cshape.normalize(lam, area, normalization=...)` offers the paper's choice `'area'` and two others from the Shape-DNA
 # literature: `'fiedler'` divides by the first non-zero eigenvalue, `'weyl'` rescales so that the least-squares
 # slope of $\lambda_i$ against $i$ becomes $4\pi$ (no area needed, handy for point clouds or damaged meshes).
 
 # %%
 fig = plots.new_figure((11, 3.2))
 axs = fig.subplots(1, 3)
-for ax, method in zip(axs, ["area", "fiedler", "weyl"], strict=True):
+for ax, norm in zip(axs, ["area", "fiedler", "weyl"], strict=True):
     for name, lam in spectra.items():
-        ax.plot(cshape.normalize(lam, areas[name], method=method), ".", ms=3, label=name)
-    ax.set(title=f"method='{method}'", xlabel="i")
+        ax.plot(cshape.normalize(lam, areas[name], normalization=norm), ".", ms=3, label=name)
+    ax.set(title=f"normalization='{norm}'", xlabel="i")
 axs[0].plot(4 * np.pi * np.arange(N), "k--", lw=1, label="4 pi i")
 axs[0].legend(fontsize="small")
 fig
@@ -155,9 +155,11 @@ print("visible checks passed")
 ### BEGIN HIDDEN TESTS
 assert np.allclose(weyl_line(3), [0.0, 4 * np.pi, 8 * np.pi]), "weyl_line(3) is [0, 4 pi, 8 pi]"
 _small = [0.0, 2.0, 3.0]
-assert np.allclose(weyl_normalize_mine(_small), cshape.normalize(_small, method="weyl")), _small
+assert np.allclose(weyl_normalize_mine(_small),
+                   cshape.normalize(_small, normalization="weyl")), _small
 for _name, _lam in spectra.items():
-    assert np.allclose(weyl_normalize_mine(_lam), cshape.normalize(_lam, method="weyl")), _name
+    assert np.allclose(weyl_normalize_mine(_lam),
+                       cshape.normalize(_lam, normalization="weyl")), _name
 ### END HIDDEN TESTS
 
 # %% [markdown]
