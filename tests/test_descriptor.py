@@ -12,12 +12,11 @@ import pytest
 
 import cshape
 from cshape import DEFAULT, PAPER, Descriptor, shapes
-
-#: The truncated log spectrum (the default before the two-scale log spectrum).
-TL = Descriptor("truncated-log", N=100, M=8)
 from cshape.batch import DescriptorTable
 
 N = 30
+#: The truncated log spectrum (the default before the two-scale log spectrum).
+TL = Descriptor("truncated-log", N=100, M=8)
 
 
 @pytest.fixture(scope="module")
