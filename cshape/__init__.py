@@ -5,7 +5,9 @@ The core is the method, one module per stage, in pipeline order (data flows one 
 1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`repair_mesh`, :func:`largest_component`;
    :mod:`cshape.readers`     - :func:`load_mesh` (OBJ, OFF, PLY, STL, ...)
 2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
-3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
+3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3);
+   :func:`eigenbasis` - the pairs with ``B``, the area and the mesh as one
+   :class:`Eigenbasis`, what signatures and maps take
 4. :mod:`cshape.descriptors` - the formulas (:mod:`~cshape.descriptors.formulas`):
    :func:`normalize`, :func:`weyl_subtract` (Eq. 8), :func:`compact_shape_dna` (Eq. 9-10),
    :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
@@ -16,7 +18,7 @@ The core is the method, one module per stage, in pipeline order (data flows one 
 5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
    :func:`retrieval_scores`, :func:`nearest_neighbours`, :func:`mds_embedding`;
    :mod:`cshape.index`       - :class:`DescriptorIndex` (nearest neighbours in a database)
-6. :mod:`cshape.signatures`  - per-point signatures from :func:`eigenpairs`: :func:`hks`,
+6. :mod:`cshape.signatures`  - per-point signatures of an :class:`Eigenbasis`: :func:`hks`,
    :func:`wks`, :func:`si_hks`, :func:`heat_kernel`, :func:`heat_trace`, and
    :func:`match_points` (correspondence)
 7. :mod:`cshape.maps`        - maps between shapes: :func:`point_map` (the one call),
@@ -87,7 +89,7 @@ from .maps import (
 from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
 from .readers import load_mesh
 from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
-from .spectrum import eigenpairs, estimate_seconds, shape_dna
+from .spectrum import Eigenbasis, eigenbasis, eigenpairs, estimate_seconds, shape_dna
 
 __version__ = "0.1.0"
 
@@ -150,6 +152,8 @@ __all__ = [
     "describe",
     "difference_matrix",
     "distance_matrix",
+    "Eigenbasis",
+    "eigenbasis",
     "eigenpairs",
     "estimate_seconds",
     "f1_feature",

@@ -169,7 +169,8 @@ for _name, _lam in spectra.items():
 # the Weyl line; (d) the Weyl line subtracted, Eq. (8).
 
 # %%
-lam, phi = cshape.eigenpairs(real, N)
+basis = cshape.eigenbasis(real, N)  # the eigenpairs, with B, the area and the mesh
+lam, phi = basis.lam, basis.phi
 plots.plot_mesh(real, phi[:, 6], title=f"(a) {real_name.split(' (')[0]}: phi_6", elev=15, azim=-120,
                 vertical_axis="y", figsize=(5, 5))
 
@@ -191,10 +192,10 @@ plots.plot_eigenfunctions(real, phi, [1, 2, 3, 5, 10, 20, 30, N - 1], lam, elev=
 # can **drag to rotate** and **scroll to zoom**; the **slider** steps through $\varphi_i$, with $\lambda_i$ in the
 # title. Red and blue are the two signs, white the *nodal lines* where $\varphi_i = 0$: count the nodal domains
 # (the regions of one sign) as $i$ grows. The colour range of every mode is symmetric about 0, because the sign
-# of an eigenfunction is arbitrary. The eigenfunctions are the ones computed above (`eigenpairs=`), not recomputed.
+# of an eigenfunction is arbitrary. The eigenfunctions are the ones computed above (`basis=`), not recomputed.
 
 # %%
-plots.eigenfunction_explorer(real, 21, eigenpairs=(lam, phi), vertical_axis="y")
+plots.eigenfunction_explorer(real, 21, basis=basis, vertical_axis="y")
 
 # %% [markdown]
 # On a symmetric shape eigenvalues repeat. The sphere's are $\ell(\ell+1)/r^2$ with multiplicity $2\ell+1$: slide

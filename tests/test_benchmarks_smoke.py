@@ -350,3 +350,16 @@ def test_refine_bench_p2_prototype_and_report(tmp_path):
     assert "| case | 10 | 10 % | 1 % | 2 % |" in text
     assert "| 1000 | extrapolated | 0.30 | 3.00 |" in text
     assert "| spot 100 / 50 |" in text
+def test_choices_bench_compares_like_with_like(tmp_path, capsys):
+    from cshape import shapes
+
+    bc = _load("bench_choices")
+    mesh = shapes.icosphere(2)
+    assert bc.edge_keys(mesh, 1)[2] is True  # the integer keys give np.unique's edges
+    assert bc.distinct_rows(mesh, 1)[2] is True
+    first, second, nbytes = bc.first_touch(rows=1000, cols=3, repeats=1)
+    assert nbytes == 24_000 and first >= 0 and second >= 0
+    bc.main(["--level", "1", "--repeats", "1", "--basis-rows", "100",
+             "--out", str(tmp_path / "c.md")])
+    text = (tmp_path / "c.md").read_text()
+    assert text.count("\n| ") == 4 and "Processor:" in text

@@ -154,6 +154,8 @@ TAKES = {
     "N": {
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=v),
         "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=v),
+        "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=v),
+        "point_map": lambda v: cshape.point_map(sphere(), sphere(), N=v, N0=2),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=0, N=v),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=0, N=v,
                                                                      normalization="none"),
@@ -171,13 +173,14 @@ TAKES = {
     "area": {
         "normalize": lambda v: cshape.normalize(LAM, area=v),
         "compact_shape_dna": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5, area=v),
-        "heat_trace": lambda v: cshape.heat_trace(LAM, 1.0, area=v),
-        "hks_times": lambda v: cshape.signatures.hks_times(LAM, area=v),
+        "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), v),
     },
     "bc": {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), bc=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, bc=v),
         "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=3, bc=v),
+        "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, bc=v),
+        "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), bc=v),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=1, N=5, bc=v),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5, bc=v),
         "DescriptorTable": lambda v: _bad_table(bc=v),
@@ -187,6 +190,8 @@ TAKES = {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), mass=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, mass=v),
         "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=3, mass=v),
+        "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, mass=v),
+        "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), mass=v),
         "DescriptorTable": lambda v: _bad_table(mass=v),
         "describe": lambda v: _describe(mass=v),
     },
@@ -239,7 +244,7 @@ TAKES = {
 }
 NONE_OK: set[tuple[str, str]] = set()
 #: N = 0 is a legal length of the exact sphere spectrum (an empty array).
-RANGE_DIFFERS = {("N", "sphere_spectrum")}
+RANGE_DIFFERS = {("N", "sphere_spectrum"), ("N", "point_map")}  # point_map: N >= 2
 
 _BC = r"bc must be one of \{'neumann', 'dirichlet'\}, got "
 _MASS = r"mass must be one of \{'consistent', 'lumped'\}, got "

@@ -164,7 +164,12 @@ def normalize(lam: ArrayLike, area: float | None = None, *,
     >>> normalize([0.0, 2.0, 6.0], normalization="fiedler").tolist()
     [0.0, 1.0, 3.0]
     """
-    x = check_spectrum(lam)
+    return _normalize(check_spectrum(lam), area, normalization)
+
+
+def _normalize(x: NDArray[np.float64], area: float | None,
+               normalization: str) -> NDArray[np.float64]:
+    """:func:`normalize` of a checked spectrum ``x`` (the other arguments unchecked)."""
     normalization = check_choice("normalization", normalization, NORMALIZATIONS)
     if normalization == "area":
         if area is None:
@@ -199,7 +204,11 @@ def weyl_subtract(lam_norm: ArrayLike) -> NDArray[np.float64]:
     -------
     lam_prime : ndarray, shape (N,)
     """
-    x = check_spectrum(lam_norm, "lam_norm")
+    return _weyl_subtract(check_spectrum(lam_norm, "lam_norm"))
+
+
+def _weyl_subtract(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Eq. (8) of a checked spectrum."""
     return x - FOUR_PI * np.arange(len(x))
 
 
@@ -357,7 +366,12 @@ def log_weyl_ratio(lam_norm: ArrayLike, zero_modes: int | None = None, *,
         If no eigenvalue is left after the zero modes, or one after them is not positive
         (lam not ascending).
     """
-    x = check_spectrum(lam_norm, "lam_norm", min_len=2)
+    return _log_weyl_ratio(check_spectrum(lam_norm, "lam_norm", min_len=2), zero_modes, length)
+
+
+def _log_weyl_ratio(x: NDArray[np.float64], zero_modes: object, length: object
+                    ) -> NDArray[np.float64]:
+    """:func:`log_weyl_ratio` of a checked spectrum of at least 2 values."""
     length = _check_length(length)
     tol = ZERO_RTOL * float(np.abs(x).max())
     k = max(_zero_modes(x, zero_modes, tol), 1)
@@ -421,11 +435,10 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
         # repair here, once, so that the area is that of the surface whose spectrum is
         # computed (a duplicated face would otherwise count twice in the area only)
         mesh = repair_mesh(as_mesh(mesh_or_lam))
-        lam = shape_dna(mesh, N=N, bc=bc)
+        lam = shape_dna(mesh, N=N, bc=bc)  # N finite ascending eigenvalues: nothing to check
         k = mesh.n_components if bc == "neumann" else None  # one zero mode per piece
-        return (normalize(lam, mesh.area if area is None else area,
-                          normalization=normalization), k)
-    lam = check_spectrum(mesh_or_lam, "mesh_or_lam")
+        return _normalize(lam, mesh.area if area is None else area, normalization), k
+    lam = check_spectrum(mesh_or_lam, "mesh_or_lam")  # the one check of the eigenvalues
     if len(lam) < N:
         raise ValueError(
             f"got {len(lam)} eigenvalues but N={N}; pass N={len(lam)} or compute more eigenvalues"
@@ -446,7 +459,7 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
             CShapeWarning, stacklevel=3,
         )
         return lam, None
-    return normalize(lam, area=area, normalization=normalization), None
+    return _normalize(lam, area, normalization), None
 
 
 def _dft_crop(x: NDArray[np.float64], M: int) -> NDArray[np.complex128]:
@@ -577,7 +590,7 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
         zero_modes = check_int("zero_modes", zero_modes, min=0)
     lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
     if transform == "weyl":
-        return _dft_crop(weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
+        return _dft_crop(_weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
     r = _log_weyl_sequence(lam_norm, M, pieces if zero_modes is None else zero_modes,
                            f"transform={transform!r}")
     if transform == "log-weyl":
@@ -585,13 +598,13 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
     return _dct(r)[: 2 * M + 1].copy()
 
 
-def _log_weyl_sequence(lam_norm: ArrayLike, M: int, zero_modes: int | None, what: str
+def _log_weyl_sequence(x: NDArray[np.float64], M: int, zero_modes: int | None, what: str
                        ) -> NDArray[np.float64]:
     """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms and 'two-scale'.
 
-    The rule for several pieces; ``what`` names the caller in the message.
+    The rule for several pieces.  ``x``: the checked, normalised spectrum, ``N >= 2M + 2``
+    values; ``what`` names the caller in the message.
     """
-    x = check_spectrum(lam_norm, "lam_norm", min_len=2)
     N = len(x)
     k0 = _zero_modes(x, zero_modes, ZERO_RTOL * float(np.abs(x).max()))
     k = max(k0, 1)  # lam_0 is dropped also when positive (Dirichlet)
@@ -600,7 +613,7 @@ def _log_weyl_sequence(lam_norm: ArrayLike, M: int, zero_modes: int | None, what
             f"{what} needs 2M+1 = {2 * M + 1} non-zero eigenvalues, but "
             f"{k} of the N = {N} are zero modes (a mesh of {k} components) and {N - k} are "
             f"left: use N >= {2 * M + 1 + k} or M <= {max(N - k - 1, 0) // 2}")
-    return log_weyl_ratio(x, k0, length=N - 1)
+    return _log_weyl_ratio(x, k0, N - 1)
 
 
 #: Degree of the polynomial in the index that :func:`detrend` removes by default.  Linear
