@@ -61,7 +61,7 @@ def test_describe_matches_shape_dna(reference):
         assert reference.areas[i] == pytest.approx(mesh.area)
     assert not reference.cached.any()
     assert reference.failures == []
-    assert reference.descriptors().shape == (6, 17)  # DEFAULT at N = 20: M = 8
+    assert reference.descriptors().shape == (6, 28)  # DEFAULT at N = 20: 9 + 19 values
     assert reference.descriptors(Descriptor("cshape", N=N, M=2)).shape == (6, 5)
     assert reference.distance_matrix(Descriptor("shape-dna", N=N)).shape == (6, 6)
 

@@ -237,7 +237,8 @@ def test_descriptor_rows_matrix_kinds(spectra):
     M, N = 4, 30
     for kind in DESCRIPTOR_KINDS:
         X = Descriptor(kind, N=N, M=M).matrix(lams, areas)
-        assert X.shape == (3, {"shape-dna": N, "f1": N - 2}.get(kind, 2 * M + 1)), kind
+        assert X.shape == (3, {"shape-dna": N, "f1": N - 2,
+                               "two-scale": 2 * M + 1 + N - 1}.get(kind, 2 * M + 1)), kind
     sd = Descriptor("shape-dna", N=N, M=M).matrix(lams, areas)
     np.testing.assert_allclose(sd[2], normalize(lams[2], areas[2]))
     np.testing.assert_allclose(Descriptor("truncated", N=N, M=M).matrix(lams, areas),

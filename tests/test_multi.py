@@ -124,7 +124,8 @@ def test_every_kind_describes_a_multi_piece_mesh(spectra):
     for kind in cshape.descriptors.DESCRIPTOR_KINDS:
         for transform in cshape.descriptors.TRANSFORMS:
             X = Descriptor(kind, N=N, M=M, transform=transform).matrix([lam], [area])
-            assert X.shape == (1, {"shape-dna": N, "f1": N - 2}.get(kind, 2 * M + 1))
+            assert X.shape == (1, {"shape-dna": N, "f1": N - 2, "two-scale": 2 * M + N}.get(
+                kind, 2 * M + 1))
             assert np.all(np.isfinite(X))
 
 

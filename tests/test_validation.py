@@ -251,7 +251,7 @@ _MASS = r"mass must be one of \{'consistent', 'lumped'\}, got "
 _NORM = r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}, got "
 _TR = r"transform must be one of \{'weyl', 'log-weyl', 'log-weyl-dct'\}, got "
 _KIND = (r"kind must be one of \{'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', "
-         r"'truncated-log'\}, got ")
+         r"'truncated-log', 'two-scale'\}, got ")
 _JOBS = r"n_jobs must be a positive integer or -1 \(all cores\), got "
 SAME_ERROR = [
     # (argument, bad value, exception, message)

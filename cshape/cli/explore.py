@@ -491,7 +491,7 @@ def add_info(sub: _SubParsers) -> None:
 
 
 # ============================================================================ query
-_KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "f1")
+_KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "two-scale", "f1")
 
 
 def _default_label(N: int = 100) -> str:
