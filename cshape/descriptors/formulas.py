@@ -661,8 +661,11 @@ def detrend(r: ArrayLike, degree: int = TREND_DEGREE) -> NDArray[np.float64]:
     >>> bool(np.allclose(detrend(1 + 2 * t - t**3), 0))
     True
     """
-    x = check_spectrum(r, "r")
-    degree = check_int("degree", degree, min=0)
+    return _detrend(check_spectrum(r, "r"), check_int("degree", degree, min=0))
+
+
+def _detrend(x: NDArray[np.float64], degree: int = TREND_DEGREE) -> NDArray[np.float64]:
+    """:func:`detrend` of a checked sequence ``x`` (``degree`` checked)."""
     if len(x) < degree + 2:
         raise ValueError(f"r has {len(x)} values but a polynomial of degree {degree} needs "
                          f"at least {degree + 2} to leave a residual; use a longer sequence "

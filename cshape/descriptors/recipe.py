@@ -42,11 +42,11 @@ from .formulas import (
     TREND_DEGREE,
     ZERO_RTOL,
     _compact,
+    _detrend,
     _f1_feature,
     _log_weyl_ratio,
     _log_weyl_sequence,
     _normalize,
-    detrend,
     real_form,
 )
 from .formulas import _zero_modes as _leading_zero_modes
@@ -320,7 +320,7 @@ class Descriptor:
             return _log_weyl_ratio(lam_norm, k0, None)
         if kind == "two-scale":  # r_1 .. r_{2M+1} beside the detrended r_1 .. r_{N-1}
             seq = _log_weyl_sequence(_normalize(r[:N], area, norm), M, k, "kind='two-scale'")
-            return np.concatenate([seq[: 2 * M + 1], TWO_SCALE_WEIGHT * detrend(seq)])
+            return np.concatenate([seq[: 2 * M + 1], TWO_SCALE_WEIGHT * _detrend(seq)])
         S = _compact(_normalize(r[:N], area, norm), M, k, self.transform)
         return S if kind == "cshape-complex" else real_form(S)
 
