@@ -125,7 +125,9 @@ class DescriptorIndex:
         ValueError
             The descriptor can describe none of the shapes.
         """
-        d = _given_or_default(descriptor, table.N)
+        own = getattr(table, "descriptor", None)  # what the table compares, saved with it
+        d = own if descriptor is None and own is not None else _given_or_default(descriptor,
+                                                                                 table.N)
         # warns about and leaves out what it cannot describe
         X, rows = table.described(d, stacklevel=4)
         if len(X) == 0:

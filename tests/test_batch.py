@@ -513,10 +513,17 @@ def test_tables_of_earlier_versions_load_and_mean_what_they_meant(tmp_path, refe
     assert loaded.names == reference.names and loaded.labels == reference.labels
     np.testing.assert_array_equal(loaded.lam, reference.lam)
     np.testing.assert_array_equal(loaded.areas, reference.areas)
-    for d in (None, Descriptor("cshape", N=N, M=4), Descriptor("shape-dna", N=N)):
+    for d in (Descriptor("cshape", N=N, M=4), Descriptor("shape-dna", N=N)):
         np.testing.assert_array_equal(loaded.descriptors(d), reference.descriptors(d))
-    new = DescriptorTable.load(loaded.save(tmp_path / f"new{suffix}"))  # written as version 3
+    # with no descriptor: what the table compared when it was written (version 1 saved none:
+    # the default of those versions; the .npz here keeps the descriptor its metadata name)
+    then = (Descriptor("truncated-log", N=100, M=8).for_N(N) if suffix == ".csv"
+            else reference.descriptor)
+    assert loaded.descriptor == then
+    np.testing.assert_array_equal(loaded.descriptors(), reference.descriptors(then))
+    new = DescriptorTable.load(loaded.save(tmp_path / f"new{suffix}"))  # the current version
     np.testing.assert_array_equal(new.lam, reference.lam)
+    assert new.descriptor == then
 
 
 def test_a_table_of_a_later_version_is_refused_by_name(tmp_path, reference):
@@ -524,12 +531,12 @@ def test_a_table_of_a_later_version_is_refused_by_name(tmp_path, reference):
     with np.load(path) as z:
         arrays = dict(z)
     meta = json.loads(str(arrays["meta"]))
-    meta["format_version"] = 4
+    meta["format_version"] = 5
     arrays["meta"] = np.array(json.dumps(meta))
     np.savez(path, **arrays)
     with pytest.raises(ValueError, match=r"not a cshape descriptor table of a version this "
                                          r"cshape reads \(format 'cshape-descriptor-table', "
-                                         r"version 4\)"):
+                                         r"version 5\)"):
         DescriptorTable.load(path)
 
 
@@ -567,3 +574,47 @@ def test_a_task_is_a_frozen_record_with_named_fields(tmp_path):
     np.testing.assert_array_equal(res["lam"], shape_dna(mesh, N=5))
     bad = _work(dataclasses.replace(t, source=tmp_path / "missing.off"))
     assert not bad["ok"] and bad["index"] == 3 and "FileNotFoundError" in bad["error"]
+
+
+# ------------------------------------------------------------- the table's own descriptor
+def test_a_saved_table_keeps_comparing_what_it_compared(tmp_path):
+    """A table saves the descriptor it compares with no argument; a table of an older
+    format loads with that format's default, the truncated log spectrum of 17 values."""
+    import json
+
+    from cshape import DEFAULT, PAPER, Descriptor, DescriptorTable
+
+    i = np.arange(40.0)
+    lam = np.array([4 * np.pi * i * (1 + 0.1 * k * np.sin(i)) for k in range(4)])
+    lam[:, 0] = 0.0
+    table = DescriptorTable(list("abcd"), lam, np.ones(4))
+    assert table.descriptor == DEFAULT.for_N(40)
+    own = DescriptorTable(list("abcd"), lam, np.ones(4), descriptor=PAPER.for_N(40))
+    for suffix in (".npz", ".csv"):
+        path = tmp_path / f"t{suffix}"
+        own.save(path)
+        back = DescriptorTable.load(path)
+        assert back.descriptor == PAPER.for_N(40)
+        np.testing.assert_array_equal(back.descriptors(), own.descriptors(PAPER.for_N(40)))
+        assert back.select([0, 2]).descriptor == PAPER.for_N(40)
+    # format 3 (no descriptor saved): the default of that format
+    table.save(tmp_path / "old.csv")
+    side = tmp_path / "old.csv.json"
+    meta = json.loads(side.read_text())
+    del meta["descriptor"]
+    meta["format_version"] = 3
+    side.write_text(json.dumps(meta))
+    old = DescriptorTable.load(tmp_path / "old.csv")
+    assert old.descriptor == Descriptor("truncated-log", N=40, M=8)
+    assert old.descriptors().shape == (4, 17)
+
+
+def test_a_table_refuses_a_descriptor_it_cannot_hold():
+    from cshape import PAPER, DescriptorTable
+
+    lam = np.tile(np.arange(40.0), (2, 1))
+    with pytest.raises(ValueError, match=r"needs 100 eigenvalues per shape but the table "
+                                         r"holds N = 40; pass descriptor.for_N\(N\)"):
+        DescriptorTable(["a", "b"], lam, np.ones(2), descriptor=PAPER)
+    with pytest.raises(TypeError, match="descriptor must be a cshape.Descriptor"):
+        DescriptorTable(["a", "b"], lam, np.ones(2), descriptor="cshape")

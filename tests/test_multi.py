@@ -267,7 +267,8 @@ def test_csv_reads_with_plain_pandas_and_keeps_the_metadata(table, tmp_path):
     np.testing.assert_array_equal(df[[f"lam_{i}" for i in range(N)]].to_numpy(), t.lam)
     assert df["components"].tolist() == [1, 1, 2, 12]
     meta = json.loads((tmp_path / "t.csv.json").read_text())
-    assert meta["format_version"] == 3 and "M" not in meta and "transform" not in meta
+    assert meta["format_version"] == 4 and "M" not in meta and "transform" not in meta
+    assert meta["descriptor"]["kind"] == t.descriptor.kind
     back = DescriptorTable.load(path)
     assert (back.bc, back.mass, back.failures) == ("neumann", "consistent", t.failures)
     np.testing.assert_array_equal(back.components, t.components)

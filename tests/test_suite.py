@@ -47,6 +47,12 @@ def table():
 OTHER = Descriptor("cshape", N=N, M=3, transform="log-weyl-dct", normalization="fiedler")
 
 
+def fresh(t: DescriptorTable) -> DescriptorTable:
+    """The same spectra in a table made now: it compares the current constant (a table
+    keeps the descriptor of the time it was made, saved with it)."""
+    return DescriptorTable(t.names, t.lam, t.areas, t.labels, components=t.components)
+
+
 @pytest.fixture
 def other_default(monkeypatch):
     """Replace the exploration default by a log-Weyl DCT cShape-DNA with M=3: a surface that
@@ -87,6 +93,7 @@ def test_default_lowers_M_to_what_N_allows(table):
 
 # ---------------------------------------------------------------------- every surface
 def test_table_descriptors_and_distances_default_to_the_constant(table, other_default):
+    table = fresh(table)
     X = table.descriptors()
     np.testing.assert_array_equal(X, other_default.matrix(table.lam, table.areas))
     assert X.shape == (len(table), 7)
@@ -105,6 +112,7 @@ def test_table_default_is_the_shipped_constant(table):
 
 
 def test_index_defaults_to_the_constant(table, other_default):
+    table = fresh(table)
     index = DescriptorIndex.from_table(table)
     assert index.descriptor_ == other_default
     paper = DescriptorIndex.from_table(table, PAPER.replace(N=N, M=4))
@@ -129,6 +137,7 @@ def test_query_header_says_what_it_compared(table, tmp_path, capsys):
 
 
 def test_query_follows_the_constant(table, tmp_path, capsys, other_default):
+    table = fresh(table)
     path = table.save(tmp_path / "t.npz")
     assert cli_main(["query", str(path), "e0-3-1", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)
@@ -136,7 +145,18 @@ def test_query_follows_the_constant(table, tmp_path, capsys, other_default):
                       normalization=got["normalization"]) == other_default
 
 
+def test_a_saved_table_is_queried_by_what_it_was_saved_with(table, tmp_path, capsys,
+                                                           monkeypatch):
+    path = table.save(tmp_path / "t.npz")  # under the shipped constant
+    monkeypatch.setattr(recipe, "DEFAULT", OTHER.replace(N=100))
+    assert cli_main(["query", str(path), "e0-3-1", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert Descriptor(got["kind"], N=got["N"], M=got["M"], transform=got["transform"],
+                      normalization=got["normalization"]) == table.descriptor != OTHER
+
+
 def test_describe_summary_shows_the_default(table, capsys, other_default):
+    table = fresh(table)
     from cshape.cli.explore import _print_table
 
     _print_table(table)
@@ -146,6 +166,7 @@ def test_describe_summary_shows_the_default(table, capsys, other_default):
 
 def test_collection_distances_default_to_the_constant(table, other_default):
     """The MDS and overview of one's own collection (cshape.plots, `cshape overview`)."""
+    table = fresh(table)
     c = collection_distances(table)
     np.testing.assert_allclose(c.D, table.distance_matrix())
     assert c.descriptor == other_default

@@ -5,6 +5,7 @@ areas, every descriptor derived from them, and its file formats (.npz, .csv).
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import warnings
 import zipfile
@@ -33,8 +34,12 @@ _FORMAT = "cshape-descriptor-table"
 #: 1: CSV with a ``# cshape-descriptor-table {json}`` first line; 2: plain CSV (``pandas``
 #: reads it with no options) with a ``components`` column, metadata in ``<file>.json``;
 #: 3: as 2, without the ``M`` and ``transform`` of versions 1-2 (defaults of a keyword form
-#: of :meth:`DescriptorTable.descriptors` that the descriptor now says; read and not used).
-_FORMAT_VERSION = 3
+#: of :meth:`DescriptorTable.descriptors` that the descriptor now says; read and not used);
+#: 4: as 3, with the table's :attr:`~DescriptorTable.descriptor` (its fields).
+_FORMAT_VERSION = 4
+#: What a table of format 1-3 compares when no descriptor is given: the exploration default
+#: of those formats, the area-normalised truncated log spectrum of 17 values.
+_DESCRIPTOR_BEFORE_4 = Descriptor("truncated-log", N=100, M=8)
 #: The columns before ``lam_0`` of a version-2 CSV.
 _CSV_COLUMNS = ("name", "label", "area", "seconds", "cached", "components")
 
@@ -68,6 +73,12 @@ class DescriptorTable:
     components : array_like of int, shape (p,), optional
         Number of connected components of each (repaired) mesh; ``-1`` where unknown (the
         default; tables written before it was stored).
+    descriptor : Descriptor, optional
+        What the table compares when a method is given no descriptor: default
+        :data:`cshape.DEFAULT` at the table's ``N``.  Saved with the table, so that a saved
+        table keeps comparing what it compared when it was written; tables of the formats
+        before it was saved load with the exploration default of those formats, the
+        area-normalised truncated log spectrum of 17 values.
 
     Attributes
     ----------
@@ -83,8 +94,8 @@ class DescriptorTable:
     -----
     **Which descriptor.**  Every method that describes the shapes takes one
     :class:`cshape.Descriptor` (``descriptor=``, e.g. :data:`cshape.PAPER`); without one
-    it compares the exploration default :data:`cshape.DEFAULT` at the table's ``N``
-    (:meth:`cshape.Descriptor.for_N`).
+    it compares the table's own :attr:`descriptor` (by default the exploration default
+    :data:`cshape.DEFAULT` at the table's ``N``, :meth:`cshape.Descriptor.for_N`).
 
     **Meshes of several pieces.**  The descriptors that need positive eigenvalues
     (``'truncated-log'``, ``'f1'``, the log-Weyl transforms) drop each shape's zero modes
@@ -109,7 +120,8 @@ class DescriptorTable:
                  mass: str = "consistent", seconds: ArrayLike | None = None,
                  cached: ArrayLike | None = None,
                  failures: Iterable[tuple[object, object]] = (),
-                 components: ArrayLike | None = None, refine: str = "none") -> None:
+                 components: ArrayLike | None = None, refine: str = "none",
+                 descriptor: Descriptor | None = None) -> None:
         self.names = [str(n) for n in names]
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
@@ -128,6 +140,12 @@ class DescriptorTable:
         self.bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
         self.mass = check_choice("mass", mass, MASS_TYPES)
         self.refine = check_choice("refine", refine, REFINEMENTS)
+        self.descriptor: Descriptor | None = _table_descriptor(descriptor, lam.shape[1])
+        if self.descriptor is not None and self.descriptor.min_eigenvalues > lam.shape[1]:
+            raise ValueError(
+                f"descriptor {self.descriptor.label!r} needs {self.descriptor.min_eigenvalues} "
+                f"eigenvalues per shape but the table holds N = {lam.shape[1]}; pass "
+                "descriptor.for_N(N)")
         self.seconds = (np.full(p, np.nan) if seconds is None
                         else np.asarray(seconds, dtype=np.float64).reshape(-1))
         self.cached = (np.zeros(p, bool) if cached is None
@@ -188,6 +206,7 @@ class DescriptorTable:
         return DescriptorTable(
             [self.names[i] for i in idx], self.lam[idx], self.areas[idx],
             [self.labels[i] for i in idx], bc=self.bc, mass=self.mass, refine=self.refine,
+            descriptor=self.descriptor,
             seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures,
             components=self.components[idx])
 
@@ -204,7 +223,7 @@ class DescriptorTable:
         descriptor : Descriptor, optional
             Default: :data:`cshape.DEFAULT` at the table's ``N``.
         """
-        d = _given_or_default(descriptor, self.N)
+        d = _chosen(self, descriptor)
         _X, bad = d.rows(self.lam, self.areas, self.zero_modes)
         mask = np.ones(len(self), dtype=bool)
         mask[list(bad)] = False
@@ -244,7 +263,7 @@ class DescriptorTable:
             The descriptor needs more eigenvalues than the table has (``N``), or it can
             describe none of the shapes.
         """
-        d = _given_or_default(descriptor, self.N)
+        d = _chosen(self, descriptor)
         X, _rows = self.described(d, stacklevel=4)
         if len(X) == 0:
             raise ValueError(
@@ -267,7 +286,7 @@ class DescriptorTable:
         rows : ndarray of int, shape (q,)
             The table row of each row of ``X`` (those :meth:`usable` marks).
         """
-        d = _given_or_default(descriptor, self.N)
+        d = _chosen(self, descriptor)
         X, bad = d.rows(self.lam, self.areas, self.zero_modes)
         if warn:
             self._warn_left_out(d, bad, stacklevel=stacklevel)
@@ -283,6 +302,8 @@ class DescriptorTable:
     def _meta(self) -> dict[str, Any]:
         return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": self.N,
                 "bc": self.bc, "mass": self.mass, "refine": self.refine,
+                "descriptor": (None if self.descriptor is None
+                               else dataclasses.asdict(self.descriptor)),
                 "failures": [list(f) for f in self.failures]}
 
     def save(self, path: str | os.PathLike[str]) -> Path:
@@ -385,6 +406,7 @@ class DescriptorTable:
                            seconds=z["seconds"], cached=z["cached"],
                            failures=meta["failures"],
                            refine=meta.get("refine", "none"),
+                           descriptor=_saved_descriptor(meta, int(meta["N"])),
                            components=z["components"] if "components" in z.files else None)
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
@@ -413,6 +435,7 @@ class DescriptorTable:
                    [r[1] for r in body], bc=meta["bc"], mass=meta["mass"],
                    seconds=[float(r[3]) for r in body], cached=[r[4] == "1" for r in body],
                    failures=meta["failures"], refine=meta.get("refine", "none"),
+                   descriptor=_saved_descriptor(meta, N),
                    components=[int(r[5]) for r in body] if start == 6 else None)
 
 
@@ -466,7 +489,7 @@ def collection_distances(table: DescriptorTable, descriptor: Descriptor | None =
     ValueError
         If no shape (or a single one) can be described.
     """
-    d = _given_or_default(descriptor, table.N)
+    d = _chosen(table, descriptor)
     X, bad = d.rows(table.lam, table.areas, table.zero_modes)
     rows = np.setdiff1d(np.arange(len(table)), np.fromiter(bad, dtype=np.int64))
     left_out = [(table.names[i], " ".join(str(why).split())) for i, why in bad.items()]
@@ -532,3 +555,43 @@ def _check_meta(meta: dict[str, Any], path: str | os.PathLike[str]) -> None:
             f"{str(path)!r} is not a cshape descriptor table of a version this cshape reads "
             f"(format {meta.get('format')!r}, version {meta.get('format_version')!r})"
         )
+
+
+def _saved_descriptor(meta: dict[str, Any], N: int) -> Descriptor | None:
+    """The descriptor a saved table compares by default: the one its metadata name (format
+    4), else the default of formats 1-3 at the table's ``N``; a sidecar that is missing gives
+    :data:`cshape.DEFAULT`."""
+    fields = meta.get("descriptor")
+    if isinstance(fields, dict):
+        try:
+            return Descriptor(fields.get("kind", ""), **{k: v for k, v in fields.items()
+                                                         if k != "kind"})
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"the table's metadata name a descriptor that cshape cannot "
+                             f"make ({exc}); delete its 'descriptor' entry to compare with "
+                             "cshape.DEFAULT") from None
+    if int(meta.get("format_version", _FORMAT_VERSION)) < 4:
+        try:
+            return _DESCRIPTOR_BEFORE_4.for_N(N)
+        except ValueError:  # too few eigenvalues for any row of it
+            return None
+    return _table_descriptor(None, N)
+
+
+def _table_descriptor(descriptor: Descriptor | None, N: int) -> Descriptor | None:
+    """A table's own descriptor: the one given (checked), else :data:`cshape.DEFAULT` for
+    ``N`` eigenvalues, or None when ``N`` is too small for any row of it (a method that
+    needs a row then says so)."""
+    if descriptor is not None:
+        return _given_or_default(descriptor, N)
+    try:
+        return _given_or_default(None, N)
+    except ValueError:
+        return None
+
+
+def _chosen(table: DescriptorTable, descriptor: Descriptor | None) -> Descriptor:
+    """``descriptor`` checked, else the table's own (an error naming N when it has none)."""
+    if descriptor is None and table.descriptor is not None:
+        return table.descriptor
+    return _given_or_default(descriptor, table.N)

@@ -245,7 +245,7 @@ def _cmd_describe(args: argparse.Namespace) -> int:
                   f"{len(table)} meshes ({n_cached} from the cache)")
         print(f"cshape describe: {counts} in {seconds:.1f} s, "
               f"N={table.N}{several}{where}; `cshape query` compares the "
-              f"{_default_label(table.N)} (--kind cshape: the paper's)", file=sys.stderr)
+              f"{_table_label(table)} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
 
 
@@ -295,7 +295,7 @@ def _print_table(table: DescriptorTable, width: int = 4) -> None:
     rows = dict(zip(kept.tolist(), S, strict=True))
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
-    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_default_label(table.N)}: "
+    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_table_label(table)}: "
           f"first {min(width, S.shape[1])} values")
     pieces = _pieces(table)
     for i, name in enumerate(table.names):
@@ -501,6 +501,19 @@ def _default_label(N: int = 100) -> str:
     return _given_or_default(None, N).label
 
 
+def _descriptor_default(N: int) -> Descriptor:
+    from ..descriptors.recipe import _given_or_default
+
+    return _given_or_default(None, N)
+
+
+def _table_label(table: DescriptorTable) -> str:
+    """What the table compares when no descriptor is asked for, in words."""
+    if table.descriptor is not None:
+        return table.descriptor.label
+    return f"no row of {_default_label()} fits N = {table.N}"
+
+
 def chosen_descriptor(args: argparse.Namespace, table: DescriptorTable) -> Descriptor:
     """The :class:`cshape.Descriptor` of ``--kind``, ``-M``, ``-N`` and ``--transform``.
 
@@ -510,12 +523,13 @@ def chosen_descriptor(args: argparse.Namespace, table: DescriptorTable) -> Descr
     the paper's 'weyl').
     """
     from ..descriptors import Descriptor
-    from ..descriptors.recipe import _given_or_default
 
     N = table.N if args.N is None else args.N
     given = {k: v for k, v in (("M", args.M), ("transform", args.transform)) if v is not None}
-    if args.kind is None:
-        return _given_or_default(None, N).replace(**given)
+    if args.kind is None:  # what the table compares (saved with it), at -N
+        own = table.descriptor or _descriptor_default(N)
+        d = own if N == own.N else own.for_N(N)
+        return d.replace(**given)
     if args.M is not None:
         return Descriptor(args.kind, N=N, **given)
     return Descriptor(args.kind, **given).for_N(N)
@@ -615,8 +629,8 @@ def add_descriptor_options(p: argparse.ArgumentParser) -> None:
     """``--kind``, ``-M``, ``-N`` and ``--transform``: which descriptor a command compares
     (``cshape query`` and ``cshape overview``)."""
     p.add_argument("--kind", default=None, choices=_KINDS, type=str.lower,
-                   help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
-                   "paper's cShape-DNA)")
+                   help="descriptor compared (default: the one saved with the table, "
+                   f"for a new table {_default_label()}; 'cshape' is the paper's cShape-DNA)")
     p.add_argument("-M", type=int, default=None,
                    help="crop half-width, 2M+1 values (default: the default descriptor's, or "
                    "with --kind the paper's 16, lowered to what N allows)")
