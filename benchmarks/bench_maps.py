@@ -50,7 +50,7 @@ from pathlib import Path
 import numpy as np
 
 import cshape
-from cshape import maps
+from cshape import _nearest, maps
 from cshape import signatures as sg
 from cshape.data import poses
 from cshape.spectrum import solve_eigenproblem
@@ -388,7 +388,7 @@ def _nn_methods(big, k):
 
     out = {"numpy blocked products (1024 rows, BLAS threads)": (_blocked_nearest, 3),
            "cshape.map_to_pointwise (fused products, 2 threads x 1 BLAS thread)": (
-               maps._nearest_rows, 3),
+               _nearest.nearest_rows, 3),
            "scikit-learn brute": (sk("brute"), 3),
            "scipy cKDTree (2 workers)": (lambda q, p: cKDTree(p).query(q, workers=-1)[1],
                                          1 if big else 3),

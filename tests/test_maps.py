@@ -8,7 +8,7 @@ import pytest
 from scipy.spatial.distance import cdist
 
 import cshape
-from cshape import shapes
+from cshape import _nearest, shapes
 from cshape.signatures import wks_energies
 
 K, K0 = 60, 20
@@ -54,57 +54,6 @@ def basis(blob):
     lam, phi = cshape.eigenpairs(blob, K)
     _, B = cshape.fem_matrices(blob)
     return lam, phi, B
-
-
-# ---------------------------------------------------------------------- geodesics
-def _sphere_error(subdivisions):
-    m = shapes.icosphere(subdivisions)
-    X = m.vertices / np.linalg.norm(m.vertices, axis=1, keepdims=True)
-    exact = np.arccos(np.clip(X @ X[0], -1.0, 1.0))
-    d = cshape.geodesic_distance(m, 0)
-    assert d[0] == 0.0 and (d >= 0).all()
-    return np.abs(d - exact).mean() / np.pi
-
-
-def test_geodesic_distance_on_the_unit_sphere_is_the_great_circle_distance():
-    e3, e4 = _sphere_error(3), _sphere_error(4)
-    assert e4 < 0.03
-    assert e4 < e3  # converges as the mesh is refined
-
-
-def test_geodesic_distance_on_a_plane_is_the_euclidean_distance():
-    m = shapes.square(40)
-    V = m.vertices
-    c = int(np.argmin(np.linalg.norm(V[:, :2] - 0.5, axis=1)))
-    exact = np.linalg.norm(V - V[c], axis=1)
-    d = cshape.geodesic_distance(m, c)
-    inside = exact < 0.35  # away from the boundary
-    assert np.abs(d - exact)[inside].max() < 0.02
-    assert np.abs(d - exact)[inside].mean() < 0.01
-
-
-def test_heat_geodesics_distances_are_symmetric_and_the_set_distance_is_their_minimum(blob):
-    geo = cshape.HeatGeodesics(blob)
-    src = np.array([0, 100, 400])
-    D = geo.distances(src)
-    assert D.shape == (blob.n_vertices, 3)
-    # d(a, b) ~ d(b, a): the method is not symmetric exactly, to within its error
-    scale = np.sqrt(blob.area)
-    assert abs(D[100, 0] - D[0, 1]) < 0.05 * scale
-    d = geo.distance(src)
-    assert np.all(d[src] == 0)
-    assert np.abs(d - D.min(axis=1)).mean() < 0.02 * scale
-    assert np.abs(d - D.min(axis=1)).max() < 0.1 * scale
-
-
-def test_geodesic_errors_are_zero_for_the_truth_and_the_distance_otherwise(blob):
-    n = blob.n_vertices
-    v = np.arange(0, n, 50)
-    assert np.all(cshape.geodesic_errors(blob, np.arange(n), vertices=v) == 0)
-    wrong = np.full(n, 7)
-    geo = cshape.HeatGeodesics(blob)
-    err = cshape.geodesic_errors(blob, wrong, vertices=v, geodesics=geo)
-    np.testing.assert_allclose(err, geo.distances(v)[7, :], rtol=1e-12)
 
 
 # ---------------------------------------------------------------------- maps
@@ -218,23 +167,45 @@ def test_maps_reject_a_C_larger_than_the_bases(basis):
         cshape.zoomout(np.eye(K0), phi, phi, B, 10)
 
 
-def test_geodesics_reject_bad_sources(blob):
-    with pytest.raises(ValueError, match=r"sources holds vertex index -1"):
-        cshape.geodesic_distance(blob, -1)
-    with pytest.raises(TypeError, match="sources must be an integer array"):
-        cshape.geodesic_distance(blob, 0.5)
-    with pytest.raises(ValueError, match="sources is empty"):
-        cshape.geodesic_distance(blob, np.array([], dtype=int))
-    with pytest.raises(ValueError, match="m must be"):
-        cshape.HeatGeodesics(blob, m=0.0)
-
-
 def test_functional_map_rejects_mismatched_descriptors(basis):
     lam, phi, B = basis
     with pytest.raises(ValueError, match="desc_source has 3 descriptors and desc_target 4"):
         cshape.functional_map(lam, phi, B, lam, phi, B, phi[:, :3], phi[:, :4])
-    with pytest.raises(ValueError, match="lam_source .* must have one eigenvalue per column"):
+    with pytest.raises(ValueError, match="lam_source has 5 eigenvalues but phi_source has 60 "
+                       "columns"):
         cshape.functional_map(lam[:5], phi, B, lam, phi, B, phi[:, :3], phi[:, :3])
+
+
+def test_maps_name_the_argument_whose_shape_does_not_fit(blob, basis):
+    """Arrays of mismatched shapes: the argument, its shape and the fix, never numpy's
+    reshape or matmul error."""
+    lam, phi, B = basis
+    n = len(phi)
+    d = phi[:, :3]
+    with pytest.raises(ValueError, match=rf"desc_source has shape \(15,\) but phi_source has "
+                       rf"{n} rows.*one row per vertex"):
+        cshape.functional_map(lam, phi, B, lam, phi, B, np.ones(15), d)
+    with pytest.raises(ValueError, match=rf"desc_target has shape \(5, 3\) but phi_target has {n}"):
+        cshape.functional_map(lam, phi, B, lam, phi, B, d, d[:5])
+    with pytest.raises(ValueError, match=rf"B_target has shape \(10, 10\) but phi_target has "
+                       rf"{n} rows.*mass matrix of the same mesh"):
+        cshape.functional_map(lam, phi, B, lam, phi, B[:10, :10], d, d)
+    with pytest.raises(ValueError, match=rf"source has 42 vertices but phi_source has {n} rows"):
+        cshape.functional_map(lam, phi, B, lam, phi, B, d, d, source=shapes.icosphere(1),
+                              target=blob)
+    C = np.eye(K0)
+    with pytest.raises(ValueError, match=r"B_target has shape \(10, 10\)"):
+        cshape.zoomout(C, phi, phi, B[:10, :10])
+    with pytest.raises(ValueError, match=r"B_source has shape \(10, 10\)"):
+        cshape.zoomout(C, phi, phi, B, bijective=True, B_source=B[:10, :10])
+    with pytest.raises(ValueError, match=r"B_target has shape \(10, 10\)"):
+        cshape.pointwise_to_map(np.arange(n), phi, phi, B[:10, :10])
+    with pytest.raises(ValueError, match=rf"f has shape \(7,\) but phi_source has {n} rows"):
+        cshape.transfer_function(np.ones(7), C, phi, phi, B)
+    with pytest.raises(ValueError, match=r"f has shape \(\)"):
+        cshape.transfer_function(1.0, C, phi, phi, B)
+    with pytest.raises(ValueError, match=r"B_source has shape \(10, 10\)"):
+        cshape.transfer_function(phi[:, 0], C, phi, phi, B[:10, :10])
 
 
 def _mirror_symmetric():
@@ -307,7 +278,7 @@ def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
     """Blocks, threads, scikit-learn's search (big problems) and the 3-d k-d tree path give
     the argmin of the full distances."""
     if big:
-        monkeypatch.setattr(cshape.maps, "NN_SKLEARN_PAIRS", 1)
+        monkeypatch.setattr(_nearest, "NN_SKLEARN_PAIRS", 1)
     rng = np.random.default_rng(3)
     for n_t, n_s, k in ((1500, 1200, 40), (300, 250, 3)):
         phiT, phiS = rng.standard_normal((n_t, k)), rng.standard_normal((n_s, k))
