@@ -21,6 +21,10 @@ NN_BLOCK = 512
 #: Threads sharing the blocks (at most the CPUs).
 NN_THREADS = 2
 
+#: From this many (query, point) pairs on, the blocks are shared among threads (below, starting
+#: the threads costs more than they gain).
+NN_THREAD_PAIRS = 10**7
+
 #: From this many (query, point) pairs on, scikit-learn's brute-force search (the full-size
 #: map of 10K-vertex meshes and up); below, the blocks above.
 NN_SKLEARN_PAIRS = 10**8
@@ -60,6 +64,8 @@ def nearest_rows(queries, points, block=None):
 
     starts = range(0, len(queries), block)
     threads = min(len(starts), NN_THREADS, os.cpu_count() or 1)
+    if len(queries) * len(points) < NN_THREAD_PAIRS:
+        threads = 1
     with one_blas_thread():
         if threads > 1:
             with ThreadPoolExecutor(threads) as pool:

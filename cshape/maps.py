@@ -45,7 +45,15 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import check_bool, check_int, check_landmarks, check_real, check_vertex_indices
+from . import _candidates
+from ._checks import (
+    check_bool,
+    check_choice,
+    check_int,
+    check_landmarks,
+    check_real,
+    check_vertex_indices,
+)
 from ._nearest import nearest_rows
 from ._threads import one_blas_thread
 from .fem import fem_matrices
@@ -467,7 +475,7 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
               n_descriptors: int = 100, orientation: bool = True,
               zoomout_steps: bool | int = True, landmarks: ArrayLike | None = None,
               bijective: bool = False, sample: int | None = 3000,
-              return_map: bool = False, random_state: int = 0
+              initial: str = "search", return_map: bool = False, random_state: int = 0
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Map the vertices of two meshes in one call, by functional maps and ZoomOut.
 
@@ -476,8 +484,16 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     2. WKS descriptors (:func:`cshape.wks`, the shapes scaled to unit area, ``n_descriptors``
        energies of the source), plus heat kernels from the landmarks when given;
     3. ``C`` of size ``k0`` by :func:`functional_map` (with the orientation term);
-    4. :func:`zoomout` to size ``k``;
-    5. the vertex map :func:`map_to_pointwise`.
+    4. with ``initial='search'`` and no landmarks, more starting maps: every sign pattern of
+       the first few eigenfunctions (between different bodies these still correspond one to
+       one, while the descriptors no longer agree), upsampled on samples, the two of the
+       smallest spectral residual that differ;
+    5. :func:`zoomout` of each start to size ``k`` and its vertex map
+       (:func:`map_to_pointwise`);
+    6. of the maps whose residual ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the
+       smallest, the one whose image triangles keep the orientation of the source on the
+       largest share of the target's area (a mirror image reverses them all); without
+       ``orientation``, the one of the smallest residual.
 
     Parameters
     ----------
@@ -502,6 +518,10 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
         Bijective ZoomOut (see :func:`zoomout`).
     sample : int or None, default=3000
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
+    initial : {'search', 'descriptors'}, default='search'
+        'search': the descriptors' map and the sign patterns compete (step 4-6);
+        'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
+        'descriptors'.
     return_map : bool, default=False
         Also return ``C`` (``k x k``).
     random_state : int, default=0
@@ -532,6 +552,7 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     else:
         step = check_int("zoomout_steps", zoomout_steps, min=1)
     bijective = check_bool("bijective", bijective)
+    initial = check_choice("initial", initial, ("search", "descriptors"))
     return_map = check_bool("return_map", return_map)
     lm = check_landmarks(landmarks, S.n_vertices, T.n_vertices)
     if k > min(S.n_vertices, T.n_vertices):
@@ -546,6 +567,25 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     C = functional_map(lS[:k0], pS[:, :k0], BS, lT[:k0], pT[:, :k0], BT, dS, dT,
                        source=S, target=T,
                        orientation_weight=ORIENTATION_WEIGHT if orientation else 0.0)
+    starts = [C]
+    if initial == "search" and lm is None and step:
+        wT = np.asarray(BT.sum(axis=1)).ravel()
+        with one_blas_thread():  # small products: spinning BLAS threads only slow them
+            starts += _candidates.sign_candidates(pS, pT, wT,
+                                                  np.random.default_rng(random_state))
+    if len(starts) > 1:
+        # each start upsampled to a common size, compared there; the one kept goes on to k
+        m = max(min(k, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
+        found = []
+        for C in starts:
+            if step:
+                C = zoomout(C, pS, pT, BT, m, step=step, sample=sample, bijective=bijective,
+                            B_source=BS, random_state=random_state)
+            p = map_to_pointwise(C, pS, pT)
+            n = min(C.shape)
+            found.append((C, (_candidates.residual(C[:n, :n], pS, pT, p),
+                              _candidates.orientation_share(S, T, p) if orientation else 0.0)))
+        C = found[_candidates.pick([sc for _C, sc in found])][0]
     if step:
         C = zoomout(C, pS, pT, BT, k, step=step, sample=sample, bijective=bijective,
                     B_source=BS, random_state=random_state)

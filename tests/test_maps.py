@@ -8,7 +8,7 @@ import pytest
 from scipy.spatial.distance import cdist
 
 import cshape
-from cshape import _nearest, shapes
+from cshape import _candidates, _nearest, shapes
 from cshape.signatures import wks_energies
 
 K, K0 = 60, 20
@@ -234,8 +234,49 @@ def test_the_orientation_term_tells_a_shape_from_its_mirror_image(symmetric):
     p = cshape.point_map(S, S, k=K, k0=K0)
     assert (p == np.arange(n)).mean() > 0.95
     assert (p == mirror).mean() < 0.1
-    q = cshape.point_map(S, S, k=K, k0=K0, orientation=False)
+    q = cshape.point_map(S, S, k=K, k0=K0, orientation=False, initial="descriptors")
     assert (q == mirror).mean() > 0.3  # without it the reflection is as good a match
+
+
+def test_the_orientation_share_is_one_for_the_identity_and_zero_for_a_mirror(symmetric):
+    S, mirror = symmetric
+    assert _candidates.orientation_share(S, S, np.arange(S.n_vertices)) == pytest.approx(1.0)
+    assert _candidates.orientation_share(S, S, mirror) < 0.05
+
+
+def test_the_search_keeps_the_oriented_map_among_those_that_fit():
+    # residuals within 20 % of the smallest compete on orientation; a worse fit does not
+    assert _candidates.pick([(1.0, 0.2), (1.1, 0.9), (1.5, 1.0)]) == 1
+    assert _candidates.pick([(1.0, 0.9), (1.1, 0.2)]) == 0
+    assert _candidates.pick([(1.0, 0.0), (1.0, 0.0)]) == 0  # without orientation: the best fit
+
+
+def test_point_map_search_finds_the_map_between_bodies_of_another_shape():
+    """A generated figure and a pose of it made stockier (x, y by 1.3, z by 0.9): the
+    descriptors no longer agree and their map fails; the sign patterns find it."""
+    from cshape.data import poses
+
+    rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
+    pose = poses.posed_figure("human", 0, voxelsize=0.03, target_vertices=800)
+    stocky = cshape.Mesh(pose.vertices * [1.3, 1.3, 0.9], pose.faces)
+    geo = cshape.HeatGeodesics(rest)
+    v = np.arange(0, rest.n_vertices, 5)
+    err = {init: cshape.geodesic_errors(rest, cshape.point_map(rest, stocky, k=50, k0=20,
+                                                               initial=init),
+                                        vertices=v, geodesics=geo).mean() / np.sqrt(rest.area)
+           for init in ("descriptors", "search")}
+    assert err["descriptors"] > 0.2
+    assert err["search"] < 0.05
+
+
+def test_landmarks_override_the_search(symmetric):
+    S, _mirror = symmetric
+    lm = [[0, 0], [100, 100], [400, 400]]
+    a = cshape.point_map(S, S, k=K, k0=K0, landmarks=lm)
+    b = cshape.point_map(S, S, k=K, k0=K0, landmarks=lm, initial="descriptors")
+    np.testing.assert_array_equal(a, b)
+    with pytest.raises(ValueError, match="initial"):
+        cshape.point_map(S, S, initial="best")
 
 
 @pytest.mark.parametrize("to_mirror", [False, True])
