@@ -6,6 +6,9 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_maps.py             # every TOSCA pose pair (maps_tosca.md)
     .venv/bin/python benchmarks/bench_maps.py --timing    # 16K, 46K, 63K vertices (maps_timing.md)
     .venv/bin/python benchmarks/bench_maps.py --calibrate # orientation weight, generated poses
+    .venv/bin/python benchmarks/bench_maps.py --people after   # point_map between different
+                                                     # people (FAUST) and poses (maps_people.md)
+    .venv/bin/python benchmarks/bench_maps.py --people-pictures  # a failed and a repaired map
 
 Pairs whose true map is the identity (the same vertices, moved):
 
@@ -653,6 +656,31 @@ def write_people(command, labels=("before", "after")):
     return "\n".join(lines)
 
 
+def people_pictures():
+    """A failed and a repaired map between two generated bodies (no data needed):
+    ``maps_people_failed.png`` (``initial='descriptors'``) and ``maps_people_repaired.png``
+    (``initial='search'``), the generated human at rest to its pose 0 made stockier."""
+    from cshape import plots
+
+    small = {"voxelsize": 0.03, "target_vertices": 800}
+    body = poses.posed_figure("human", rest=True, **small)
+    stocky = poses.posed_figure("human", 0, **small)
+    stocky = cshape.Mesh(stocky.vertices * [1.3, 1.3, 0.9], stocky.faces)
+    geo = cshape.HeatGeodesics(body)
+    out = []
+    for initial, name, what in (("descriptors", "failed", "initial='descriptors'"),
+                                ("search", "repaired", "initial='search' (default)")):
+        p = cshape.point_map(body, stocky, k=50, k0=20, initial=initial)
+        err = cshape.geodesic_errors(body, p, geodesics=geo).mean() / np.sqrt(body.area)
+        fig = plots.plot_map(body, stocky, p, values=body.vertices[:, 0], cmap="coolwarm",
+                             titles=("body at rest, coloured by x",
+                                     f"a stockier body, {what}: error {err:.3f}"))
+        path = RESULTS / f"maps_people_{name}.png"
+        fig.savefig(path, dpi=90, bbox_inches="tight")
+        out.append(f"{path.name}: {what}, mean geodesic error / sqrt(area) {err:.3f}")
+    return "\n".join(out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="the generated poses only")
@@ -675,12 +703,18 @@ def main(argv=None):
                          "on TOSCA pose pairs, saved as maps_people_LABEL.csv; maps_people.md "
                          "shows the labels 'before' and 'after' side by side")
     ap.add_argument("--no-tosca", action="store_true", help="with --people: FAUST only")
+    ap.add_argument("--people-pictures", action="store_true",
+                    help="a failed and a repaired map between generated bodies "
+                         "(maps_people_failed.png, maps_people_repaired.png)")
     ap.add_argument("--max-vertices", type=int, default=0,
                     help="skip TOSCA characters with more vertices (default: none)")
     args = ap.parse_args(argv)
     command = " ".join(sys.argv[1:] if argv is None else argv)
     if args.calibrate:
         print(write_calibration(calibrate(), command))
+        return
+    if args.people_pictures:
+        print(people_pictures())
         return
     if args.people:
         people(args.people, tosca=not args.no_tosca)
