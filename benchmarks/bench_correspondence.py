@@ -98,16 +98,14 @@ def icp(X, Y, iterations=50):
 
 def descriptors(rest, pose, N=100, n_scales=100):
     """Per-vertex descriptors of the rest pose and the pose, by name: (a, b) pairs."""
-    la, pa = cshape.eigenpairs(rest, N)
-    lb, pb = cshape.eigenpairs(pose, N)
-    t = sg.hks_times(la, n_scales)
-    e, sigma = sg.wks_energies(la, n_scales)
+    ba, bb = cshape.eigenbasis(rest, N), cshape.eigenbasis(pose, N)
+    t = sg.hks_times(ba, n_scales)
+    e, sigma = sg.wks_energies(ba, n_scales)
     R, tr = procrustes(rest.vertices, pose.vertices)
     return {
-        "HKS": (cshape.hks(la, pa, t, normalization="trace"),
-                cshape.hks(lb, pb, t, normalization="trace")),
-        "WKS": (cshape.wks(la, pa, e, sigma), cshape.wks(lb, pb, e, sigma)),
-        "SI-HKS": (cshape.si_hks(la, pa), cshape.si_hks(lb, pb)),
+        "HKS": (cshape.hks(ba, t, scale="trace"), cshape.hks(bb, t, scale="trace")),
+        "WKS": (cshape.wks(ba, e, sigma), cshape.wks(bb, e, sigma)),
+        "SI-HKS": (cshape.si_hks(ba), cshape.si_hks(bb)),
         "xyz, rigid oracle": (rest.vertices @ R.T + tr, pose.vertices),
         "xyz, ICP": (icp(rest.vertices, pose.vertices), pose.vertices),
     }

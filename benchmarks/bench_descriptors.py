@@ -42,7 +42,7 @@ from _common import machine_summary  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
-#: (row title, descriptor_matrix kind, transform); every row has 2M+1 numbers.
+#: (row title, kind of cshape.Descriptor, transform); every row has 2M+1 numbers.
 ROWS = (
     ("cShape-DNA (paper)", "cshape", "weyl"),
     ("log-Weyl DFT", "cshape", "log-weyl"),
@@ -56,10 +56,12 @@ MEASURES = ("nn", "ft", "st", "map")
 
 def descriptors(table, title, M, N):
     """The descriptor matrix (p, 2M+1) of row ``title`` of :data:`ROWS`."""
+    from cshape import Descriptor
+
     kind, transform = {t: (k, tr) for t, k, tr in ROWS}[title]
-    if kind == "f1":
-        return table.descriptors("f1", N=2 * M + 3)  # lam_1 / lam_2 .. lam_1 / lam_{2M+2}
-    return table.descriptors(kind, M=M, N=N, transform=transform)
+    if kind == "f1":  # lam_1 / lam_2 .. lam_1 / lam_{2M+2}
+        return table.descriptors(Descriptor("f1", N=2 * M + 3))
+    return table.descriptors(Descriptor(kind, N=N, M=M, transform=transform))
 
 
 def connected_only(table):
@@ -83,10 +85,11 @@ def score_table(table, Ms, N):
     list of dict
         ``descriptor``, ``M``, ``size`` and the :data:`MEASURES`.
     """
+    from cshape import Descriptor
     from cshape.compare import distance_matrix, retrieval_scores
 
     out = []
-    ref = retrieval_scores(table.distance_matrix("shape-dna", N=N), table.labels)
+    ref = retrieval_scores(table.distance_matrix(Descriptor("shape-dna", N=N)), table.labels)
     out.append({"descriptor": f"Shape-DNA N={N}", "M": "", "size": N,
                 **{k: ref[k] for k in MEASURES}})
     for M in Ms:
@@ -119,11 +122,12 @@ def paired(table, M, N, a="log-weyl-dct", b="log-weyl", measures=("ft", "map")):
     Both transforms rank the same queries, so the per-query differences are paired; the
     standard error is ``std(diff, ddof=1) / sqrt(q)`` over the ``q`` scored queries.
     """
+    from cshape import Descriptor
     from cshape.compare import retrieval_per_query
 
-    pa = retrieval_per_query(table.distance_matrix("cshape", M=M, N=N, transform=a),
+    pa = retrieval_per_query(table.distance_matrix(Descriptor("cshape", N=N, M=M, transform=a)),
                              table.labels)
-    pb = retrieval_per_query(table.distance_matrix("cshape", M=M, N=N, transform=b),
+    pb = retrieval_per_query(table.distance_matrix(Descriptor("cshape", N=N, M=M, transform=b)),
                              table.labels)
     out = {}
     for k in measures:
@@ -140,14 +144,15 @@ def n_sweep(table, Ms=(8, 16), Ns=(40, 50, 67, 100)):
     transforms have the distances of the truncated log spectrum (an orthogonal DCT, a
     scaled unitary DFT).  Returns a list of dicts ``M, N, transform, ft, map``.
     """
+    from cshape import Descriptor
     from cshape.compare import retrieval_scores
 
     out = []
     for M in Ms:
         for N in sorted({2 * M + 2, *[n for n in Ns if 2 * M + 2 <= n <= table.N]}):
             for tr in ("weyl", "log-weyl", "log-weyl-dct"):
-                s = retrieval_scores(table.distance_matrix("cshape", M=M, N=N, transform=tr),
-                                     table.labels)
+                d = Descriptor("cshape", N=N, M=M, transform=tr)
+                s = retrieval_scores(table.distance_matrix(d), table.labels)
                 out.append({"M": M, "N": N, "transform": tr, "ft": s["ft"], "map": s["map"]})
     return out
 

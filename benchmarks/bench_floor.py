@@ -14,7 +14,7 @@ one sparse Cholesky factorisation of ``S = K - sigma B`` plus the triangular sol
 * the stages, each timed on its own: repair checks and FEM assembly (``spectrum._prepare``),
   the connected-components check, the factorisation as the solver does it
   (``_shift.CholeskyOperator``), the bare factorisation of the backend in use
-  (``cshape._cholmod.factorize``) and cholespy's (LaPy's) on ready arrays, and the
+  (``cshape._eigensolver.cholmod.factorize``) and cholespy's (LaPy's) on ready arrays, and the
   block Lanczos iteration ``_lanczos.block_lanczos`` with its solves counted and timed;
 * ``floor (method)``: bare factorisation + as many multi-right-hand-side solves (blocks of
   ``b`` columns) as the Lanczos iteration used; ``floor (ideal)``: bare factorisation +
@@ -115,7 +115,7 @@ class CountingProducts:
         self.products = 0
 
     def __enter__(self):
-        from cshape import _threads
+        from cshape._eigensolver import threads as _threads
 
         self._orig = _threads.RowSplit.bmul
         counter = self
@@ -128,7 +128,7 @@ class CountingProducts:
         return self
 
     def __exit__(self, *exc):
-        from cshape import _threads
+        from cshape._eigensolver import threads as _threads
 
         _threads.RowSplit.bmul = self._orig
 
@@ -151,7 +151,8 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     -------
     dict
         Times in seconds (``total``, ``prepare``, ``components``, ``factor_solver``,
-        ``factor_bare`` (the backend of ``cshape._cholmod``, ``backend``), ``factor_cholespy``,
+        ``factor_bare`` (the backend of ``cshape._eigensolver.cholmod``, ``backend``),
+        ``factor_cholespy``,
         ``lanczos``, ``lanczos_solves``, ``floor_method``, ``floor_ideal``,
         ``solve_per_column`` (dict: right-hand sides -> seconds per column)), counts
         (``solve_calls``, ``solve_columns``, ``block_size``, ``n``) and ``variants`` (list of
@@ -161,7 +162,11 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     import scipy.sparse.csgraph as csgraph
 
     import cshape
-    from cshape import _cholmod, _lanczos, _shift, _threads, spectrum
+    from cshape import spectrum
+    from cshape._eigensolver import cholmod as _cholmod
+    from cshape._eigensolver import lanczos as _lanczos
+    from cshape._eigensolver import shift as _shift
+    from cshape._eigensolver import threads as _threads
 
     cshape.shape_dna(make_mesh("tiny"), N=min(N, 100))  # warm-up: imports, first calls
     b0 = spectrum.BLOCK_SIZE

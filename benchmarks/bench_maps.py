@@ -25,7 +25,7 @@ For each pair, with ``N = 100`` eigenpairs of each shape and the WKS of :func:`c
 (100 energies of the source, every 5th kept, shapes scaled to unit area):
 
 * ``nearest WKS``: :func:`cshape.match_points` on the 100 WKS values;
-* ``FM k0=30``: :func:`cshape.functional_map` (size 30) and :func:`cshape.map_to_pointwise`,
+* ``FM N0=30``: :func:`cshape.functional_map` (size 30) and :func:`cshape.map_to_pointwise`,
   with and without the orientation term (weight ``cshape.maps.ORIENTATION_WEIGHT``);
 * ``FM + ZoomOut``: the same, then :func:`cshape.zoomout` to size 100 (3000 samples per shape,
   as :func:`cshape.point_map` does).
@@ -56,7 +56,6 @@ import cshape
 from cshape import maps
 from cshape import signatures as sg
 from cshape.data import poses
-from cshape.spectrum import solve_eigenproblem
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import cpu_summary, load_average  # noqa: E402
@@ -72,7 +71,7 @@ N_ROWS = 2000
 THRESHOLD = 0.05
 #: Median relative change of pose 0's edge lengths under the identity, at most.
 IDENTITY_STRETCH = 0.02
-METHODS = ("nearest WKS", "FM k0=30, no orientation", "FM k0=30, orientation",
+METHODS = ("nearest WKS", "FM N0=30, no orientation", "FM N0=30, orientation",
            "FM + ZoomOut, no orientation", "FM + ZoomOut, orientation")
 GOAL = 0.80
 
@@ -169,13 +168,10 @@ def measure(S, T, truth=None, *, n=N, k0=K0, orientation_weight=None):
     sqrt(area), mapping seconds)}, seconds of eigenpairs + descriptors)``."""
     wo = maps.ORIENTATION_WEIGHT if orientation_weight is None else orientation_weight
     t = time.perf_counter()
-    AS, BS = cshape.fem_matrices(S)
-    AT, BT = cshape.fem_matrices(T)
-    lS, pS = solve_eigenproblem(AS, BS, n)
-    lT, pT = solve_eigenproblem(AT, BT, n)
-    e, sigma = sg.wks_energies(lS, N_ENERGIES, area=S.area)
-    dS = cshape.wks(lS, pS, e, sigma, area=S.area)
-    dT = cshape.wks(lT, pT, e, sigma, area=T.area)
+    bS, bT = cshape.eigenbasis(S, n), cshape.eigenbasis(T, n)
+    e, sigma = sg.wks_energies(bS, N_ENERGIES, normalization="area")
+    dS = cshape.wks(bS, e, sigma, normalization="area")
+    dT = cshape.wks(bT, e, sigma, normalization="area")
     common_s = time.perf_counter() - t
 
     truth = np.arange(T.n_vertices) if truth is None else np.asarray(truth)
@@ -190,7 +186,6 @@ def measure(S, T, truth=None, *, n=N, k0=K0, orientation_weight=None):
     far = int(np.argmax(D.max(axis=1)))
     diameter = max(float(D.max()), float(geo.distances([far]).max()))
     sqrt_area = np.sqrt(S.area)
-    pT_rows = pT[rows]
     out = {}
 
     def score(name, p, seconds):
@@ -207,15 +202,15 @@ def measure(S, T, truth=None, *, n=N, k0=K0, orientation_weight=None):
     for orient in (False, True):
         label = "orientation" if orient else "no orientation"
         t = time.perf_counter()
-        C = cshape.functional_map(lS[:k0], pS[:, :k0], BS, lT[:k0], pT[:, :k0], BT,
-                                  dS[:, ::STRIDE], dT[:, ::STRIDE], source=S, target=T,
+        C = cshape.functional_map(bS.truncate(k0), bT.truncate(k0),
+                                  dS[:, ::STRIDE], dT[:, ::STRIDE],
                                   orientation_weight=wo if orient else 0.0)
         fm_s = time.perf_counter() - t
-        score(f"FM k0={k0}, {label}", cshape.map_to_pointwise(C, pS, pT_rows),
+        score(f"FM N0={k0}, {label}", cshape.map_to_pointwise(C, bS, bT, vertices=rows),
               time.perf_counter() - t)
         t = time.perf_counter()
-        Z = cshape.zoomout(C, pS, pT, BT, n, sample=SAMPLE)
-        score(f"FM + ZoomOut, {label}", cshape.map_to_pointwise(Z, pS, pT_rows),
+        Z = cshape.zoomout(C, bS, bT, n, sample=SAMPLE)
+        score(f"FM + ZoomOut, {label}", cshape.map_to_pointwise(Z, bS, bT, vertices=rows),
               fm_s + time.perf_counter() - t)
     return out, common_s
 
@@ -233,7 +228,7 @@ def write_accuracy(rows, name, command, checks=None, total=None, note=""):
     lines = _header("Vertex maps between poses: nearest signature, functional maps, ZoomOut",
                     command)
     lines += [
-        f"`N = {N}` eigenpairs per shape, `k0 = {K0}`, ZoomOut to {N} with {SAMPLE} samples, "
+        f"`N = {N}` eigenpairs per shape, `N0 = {K0}`, ZoomOut to {N} with {SAMPLE} samples, "
         f"orientation weight {maps.ORIENTATION_WEIGHT:g} (the operators of shapes scaled to "
         "unit area), chosen on the generated poses (`maps_orientation_weight.md`): the TOSCA "
         "poses are held out.",
@@ -311,28 +306,26 @@ def calibrate(seeds=(0, 1, 2)):
     out = {}
     for kind in ("human", "quadruped"):
         rest = poses.posed_figure(kind, rest=True)
-        lS, pS = cshape.eigenpairs(rest, N)
-        _, BS = cshape.fem_matrices(rest)
+        bS = cshape.eigenbasis(rest, N)
         diag = np.linalg.norm(rest.vertices.max(0) - rest.vertices.min(0))
-        e, sigma = sg.wks_energies(lS, N_ENERGIES, area=rest.area)
-        dS = cshape.wks(lS, pS, e, sigma, area=rest.area)[:, ::STRIDE]
+        e, sigma = sg.wks_energies(bS, N_ENERGIES, normalization="area")
+        dS = cshape.wks(bS, e, sigma, normalization="area")[:, ::STRIDE]
         for seed in seeds:
             T = poses.posed_figure(kind, seed)
-            lT, pT = cshape.eigenpairs(T, N)
-            _, BT = cshape.fem_matrices(T)
-            dT = cshape.wks(lT, pT, e, sigma, area=T.area)[:, ::STRIDE]
+            bT = cshape.eigenbasis(T, N)
+            dT = cshape.wks(bT, e, sigma, normalization="area")[:, ::STRIDE]
 
             def within(p, rest=rest, diag=diag):
                 return float((np.linalg.norm(rest.vertices[p] - rest.vertices, axis=1)
                               <= THRESHOLD * diag).mean())
 
             for w in WEIGHTS:
-                C = cshape.functional_map(lS[:K0], pS[:, :K0], BS, lT[:K0], pT[:, :K0], BT,
-                                          dS, dT, source=rest, target=T, orientation_weight=w)
-                Z = cshape.zoomout(C, pS, pT, BT, N, sample=SAMPLE)
+                C = cshape.functional_map(bS.truncate(K0), bT.truncate(K0), dS, dT,
+                                          orientation_weight=w)
+                Z = cshape.zoomout(C, bS, bT, N, sample=SAMPLE)
                 out[f"{kind} rest -> pose {seed}", w] = (
-                    within(cshape.map_to_pointwise(C, pS, pT)),
-                    within(cshape.map_to_pointwise(Z, pS, pT)))
+                    within(cshape.map_to_pointwise(C, bS, bT)),
+                    within(cshape.map_to_pointwise(Z, bS, bT)))
                 print(kind, seed, w, out[f"{kind} rest -> pose {seed}", w], flush=True)
     return out
 
@@ -462,18 +455,14 @@ def timing(repeats=3):
                   "ZoomOut 30 -> 100 (3000 samples)": [], "vertex map (n_T x n_S, k = 100)": []}
         for _ in range(1):  # the stages once (point_map itself ``repeats`` times)
             t0 = time.perf_counter()
-            AS, BS = cshape.fem_matrices(S)
-            AT, BT = cshape.fem_matrices(T)
-            lS, pS = solve_eigenproblem(AS, BS, N)
-            lT, pT = solve_eigenproblem(AT, BT, N)
+            bS, bT = cshape.eigenbasis(S, N), cshape.eigenbasis(T, N)
             t1 = time.perf_counter()
-            dS, dT = maps._descriptors(lS, pS, S.area, lT, pT, T.area, N_ENERGIES, None)
-            C = cshape.functional_map(lS[:K0], pS[:, :K0], BS, lT[:K0], pT[:, :K0], BT, dS, dT,
-                                      source=S, target=T)
+            dS, dT = maps._descriptors(bS, bT, N_ENERGIES, None)
+            C = cshape.functional_map(bS.truncate(K0), bT.truncate(K0), dS, dT)
             t2 = time.perf_counter()
-            Z = cshape.zoomout(C, pS, pT, BT, N, sample=SAMPLE)
+            Z = cshape.zoomout(C, bS, bT, N, sample=SAMPLE)
             t3 = time.perf_counter()
-            cshape.map_to_pointwise(Z, pS, pT)
+            cshape.map_to_pointwise(Z, bS, bT)
             t4 = time.perf_counter()
             for key, s in zip(stages, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
                 stages[key].append(s)
@@ -485,8 +474,8 @@ def timing(repeats=3):
             continue
         big = S.n_vertices > 30000
         for k in (30, 100):
-            Q = np.ascontiguousarray(pT[:, :k])
-            P = pS[:, :k] @ Z[:k, :k].T
+            Q = np.ascontiguousarray(bT.phi[:, :k])
+            P = bS.phi[:, :k] @ Z[:k, :k].T
             ref = _blocked_nearest(Q, P)
             dref = np.linalg.norm(Q - P[ref], axis=1)
             for name, (f, reps) in _nn_methods(big, k).items():
@@ -500,7 +489,7 @@ def timing(repeats=3):
 
 def write_timing(stage_rows, nn_rows, command):
     lines = _header("Time of a vertex map between two poses (`cshape.point_map`)", command)
-    lines += [f"`point_map(source, target)` with its defaults (`k = {N}`, `k0 = {K0}`, "
+    lines += [f"`point_map(source, target)` with its defaults (`N = {N}`, `N0 = {K0}`, "
               f"orientation, ZoomOut with {SAMPLE} samples); median of the runs.  Goal: under "
               "60 s per 60K-vertex pair on 2 cores.  The 63K pair is TOSCA centaur0 -> "
               "centaur1 with every edge split at its midpoint on each pose's own faces "
@@ -670,7 +659,7 @@ def people_pictures():
     out = []
     for initial, name, what in (("descriptors", "failed", "initial='descriptors'"),
                                 ("search", "repaired", "initial='search' (default)")):
-        p = cshape.point_map(body, stocky, k=50, k0=20, initial=initial)
+        p = cshape.point_map(body, stocky, N=50, N0=20, initial=initial)
         err = cshape.geodesic_errors(body, p, geodesics=geo).mean() / np.sqrt(body.area)
         fig = plots.plot_map(body, stocky, p, values=body.vertices[:, 0], cmap="coolwarm",
                              titles=("body at rest, coloured by x",

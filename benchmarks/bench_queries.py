@@ -18,7 +18,7 @@ against the area-normalised Shape-DNA with N = 100:
    ``1 + 0.03 g0 + 0.03 g1 i/N + 0.005 e_i`` (``g0, g1, e_i`` standard normal): the
    few-percent, low-frequency changes that deformation, noise and remeshing cause.  The
    cShape-DNA rows are computed from these spectra with a vectorised Eq. (8)-(10) and
-   :func:`cshape.real_form`, checked against :func:`cshape.compare.descriptor_matrix`.
+   :func:`cshape.real_form`, checked against :meth:`cshape.Descriptor.matrix`.
 3. *Queries*: new perturbations of the base spectra, ``k = 10`` neighbours, exact search by
 
    * ``DescriptorIndex``: :class:`cshape.DescriptorIndex` (scikit-learn; its 'auto' choice:
@@ -92,7 +92,7 @@ def base_spectra(count, N=100, seed=0, resolution="low"):
     collection = _sibling("bench_throughput").make_collection(count, resolution, seed=seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        table = describe(collection, N=N, M=1, cache_dir=False, progress=False)
+        table = describe(collection, N=N, cache_dir=False, progress=False)
     return table.lam * table.areas[:, None]
 
 
@@ -139,8 +139,7 @@ def cshape_rows(lam_norm, M):
     Returns
     -------
     ndarray, shape (p, 2M+1)
-        Same values as ``cshape.compare.descriptor_matrix(lam_norm, np.ones(p), 'cshape',
-        M=M, N=N)``.
+        Same values as ``Descriptor('cshape', N=N, M=M).matrix(lam_norm, np.ones(p))``.
     """
     from cshape import real_form
 
@@ -332,11 +331,11 @@ def main(argv=None):
     lam_db = perturb(base, size, rng)
     lam_q = perturb(base, n_batch, rng)
     # the vectorised cShape-DNA must equal the library's, row by row
-    from cshape.compare import descriptor_matrix
+    from cshape import Descriptor
 
     for name, (kind, M) in DESCRIPTORS.items():
         if kind == "cshape":
-            ref = descriptor_matrix(lam_db[:50], np.ones(50), "cshape", M=M, N=base.shape[1])
+            ref = Descriptor("cshape", N=base.shape[1], M=M).matrix(lam_db[:50], np.ones(50))
             np.testing.assert_allclose(cshape_rows(lam_db[:50], M), ref, rtol=1e-12,
                                        atol=1e-9, err_msg=name)
     print(f"database: {size:,} spectra synthesised; {n_batch} queries, k = {args.k}, "

@@ -305,7 +305,8 @@ def candidates():
 
 def crosscheck(real):
     """Largest difference between this script's distances and cshape's, per descriptor."""
-    from cshape.compare import descriptor_matrix, distance_matrix
+    from cshape import Descriptor
+    from cshape.compare import distance_matrix
 
     checks = (("truncated log M=8 (lam_1)", truncated_log(8, "fiedler"),
                {"kind": "truncated-log", "M": 8, "normalization": "fiedler"}),
@@ -320,8 +321,8 @@ def crosscheck(real):
         diff = 0.0
         for d in real:
             A = distance_matrix(f(d))
-            B = distance_matrix(descriptor_matrix(d["lam"], d["area"], N=100,
-                                                  zero_modes=d["zero_modes"], **kw))
+            B = distance_matrix(Descriptor(**kw, N=100).matrix(d["lam"], d["area"],
+                                                               zero_modes=d["zero_modes"]))
             diff = max(diff, float(np.abs(A - B).max() / B.max()))
         out.append((title, diff))
     return out
@@ -533,7 +534,7 @@ def main(argv=None):
         f"{best_any['title']} ({best_any['worst']:.3f}; first tier "
         f"{best_any['real'][S]['ft']:.3f} on {S}, weight picked on these collections; "
         f"resolutions-dev NN {best_any['suite']['resolutions']['nn']:.3f}).", "",
-        "Check of this script's descriptors against `cshape.compare.descriptor_matrix` "
+        "Check of this script's descriptors against `cshape.Descriptor.matrix` "
         "(largest difference of the distance matrices, reference spectra): "
         + "; ".join(f"{t}: {v:.1g}" for t, v in crosscheck(real)) + ".", "",
         "From cshape's own eigenvalues of the meshes instead of the reference spectra "

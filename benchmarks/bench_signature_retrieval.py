@@ -71,15 +71,13 @@ def weighted_quantiles(X, w, qs=QUANTILES):
 def shape_descriptors(mesh, N=100):
     """The three global descriptors of one mesh, by name."""
     mesh = cshape.repair_mesh(cshape.as_mesh(mesh), warn=False)
-    lam, phi = cshape.eigenpairs(mesh, N)
-    B = cshape.fem_matrices(mesh)[1]
-    w = np.asarray(B.sum(axis=1)).ravel()  # vertex areas (lumped mass)
+    basis = cshape.eigenbasis(mesh, N)
+    w = np.asarray(basis.B.sum(axis=1)).ravel()  # vertex areas (lumped mass)
     t, e, sigma = fixed_scales(N)
-    A = mesh.area
-    h = np.log(cshape.hks(lam, phi, t, area=A))
-    k = np.log(np.maximum(cshape.wks(lam, phi, e, sigma, area=A), 1e-300))
+    h = np.log(cshape.hks(basis, t, normalization="area"))
+    k = np.log(np.maximum(cshape.wks(basis, e, sigma, normalization="area"), 1e-300))
     return {
-        "log spectrum": log_weyl_ratio(normalize(lam, area=A)),
+        "log spectrum": log_weyl_ratio(normalize(basis.lam, area=basis.area)),
         "HKS quantiles": weighted_quantiles(h, w).ravel(),
         "WKS quantiles": weighted_quantiles(k, w).ravel(),
     }

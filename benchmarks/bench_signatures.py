@@ -70,16 +70,17 @@ def time_signatures(mesh, N=100, n_scales=100, n_match=1000, seed=0):
     Returns
     -------
     dict
-        ``n``, ``N``, ``n_scales`` and the seconds ``eigenpairs``, ``hks``, ``wks``,
+        ``n``, ``N``, ``n_scales`` and the seconds ``eigenpairs`` (:func:`cshape.eigenbasis`),
+        ``hks``, ``wks``,
         ``si_hks``, ``heat_kernel``, ``match_points`` (``n_match`` vertices against all),
         with the shapes of the results (``hks_shape`` ...).
     """
-    (lam, phi), t_eig = _timed(cshape.eigenpairs, mesh, N)
+    basis, t_eig = _timed(cshape.eigenbasis, mesh, N)
     r = {"n": mesh.n_vertices, "N": N, "n_scales": n_scales, "eigenpairs": t_eig}
-    h, r["hks"] = _timed(cshape.hks, lam, phi, n_times=n_scales)
-    w, r["wks"] = _timed(cshape.wks, lam, phi, n_energies=n_scales)
-    s, r["si_hks"] = _timed(cshape.si_hks, lam, phi)
-    _, r["heat_kernel"] = _timed(cshape.heat_kernel, lam, phi, float(sg.hks_times(lam)[50]), 0)
+    h, r["hks"] = _timed(cshape.hks, basis, n_times=n_scales)
+    w, r["wks"] = _timed(cshape.wks, basis, n_energies=n_scales)
+    s, r["si_hks"] = _timed(cshape.si_hks, basis)
+    _, r["heat_kernel"] = _timed(cshape.heat_kernel, basis, float(sg.hks_times(basis)[50]), 0)
     rng = np.random.default_rng(seed)
     sub = rng.choice(mesh.n_vertices, size=min(n_match, mesh.n_vertices), replace=False)
     logh = np.log(h)
@@ -139,9 +140,12 @@ def eigenpairs_vs_lapy(mesh, N=100, repeats=3):
     # multiplet (see bench_spectrum.py): compare with the LaPy run that agrees best
     diffs = [max_relative_difference(lam, ref[0]) for ref in lapy_runs]
     best = int(np.argmin(diffs))
-    t = sg.hks_times(lam)
-    h_cs = cshape.hks(lam, phi, t)
-    h_lapy = cshape.hks(np.maximum(lapy_runs[best][0], 0.0), lapy_runs[best][1], t)
+    B = cshape.fem_matrices(VF)[1]  # the same linear FEM mass as LaPy's
+    basis = cshape.Eigenbasis(lam, phi, B)
+    t = sg.hks_times(basis)
+    h_cs = cshape.hks(basis, t)
+    h_lapy = cshape.hks(cshape.Eigenbasis(np.maximum(lapy_runs[best][0], 0.0),
+                                          lapy_runs[best][1], B), t)
     lapy = {k: min(v) for k, v in t_lapy.items()}
     return {
         "n": mesh.n_vertices, "N": N, "repeats": repeats,

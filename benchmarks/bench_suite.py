@@ -64,12 +64,12 @@ def tables(instance, N, jobs):
 def paired_margin(tables, a, b):
     """Per benchmark: mean and standard error over the queries of ``ft(a) - ft(b)``."""
     from cshape.compare import distance_matrix, retrieval_per_query
-    from cshape.reproduce.suite import _matrix
+    from cshape.reproduce.suite import _descriptor
 
     out = {}
     for name, table in tables.items():
-        qa = retrieval_per_query(distance_matrix(_matrix(table, a)), table.labels)["ft"]
-        qb = retrieval_per_query(distance_matrix(_matrix(table, b)), table.labels)["ft"]
+        qa, qb = (retrieval_per_query(distance_matrix(table.descriptors(_descriptor(r))),
+                                      table.labels)["ft"] for r in (a, b))
         d = (qa - qb)[~np.isnan(qa - qb)]
         out[name] = (float(d.mean()), float(d.std(ddof=1) / np.sqrt(len(d))))
     return out
@@ -82,8 +82,8 @@ def main(argv=None):
     ap.add_argument("--out", default="suite", help="file stem in benchmarks/results")
     args = ap.parse_args(argv)
 
-    from cshape import descriptor
     from cshape.data.suite import BENCHMARKS, SUITE
+    from cshape.descriptors import recipe
     from cshape.reproduce.suite import (
         MEASURES,
         choose_default,
@@ -100,7 +100,7 @@ def main(argv=None):
     margin = paired_margin(dev_tables, chosen, runner)
     held = suite_scores(tables("held-out", args.N, args.jobs))
     held_chosen = next(r for r in held if r["title"] == chosen["title"])
-    const = descriptor.DEFAULT
+    const = recipe.DEFAULT
     const_row = default_row(dev)
     agrees = const_row is not None and const_row["title"] == chosen["title"]
 

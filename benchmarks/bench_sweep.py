@@ -64,7 +64,8 @@ from pathlib import Path
 import numpy as np
 
 import cshape
-from cshape import _cholmod, shapes, spectrum
+from cshape import shapes, spectrum
+from cshape._eigensolver import cholmod as _cholmod
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import (  # noqa: E402

@@ -181,15 +181,15 @@ def start_dask(n_workers=2):
     return cluster, distributed.Client(cluster)
 
 
-def run_mode(collection, mode, *, N=100, M=16, n_jobs=2):
+def run_mode(collection, mode, *, N=100, n_jobs=2):
     """Describe the whole collection once in one mode, into a fresh temporary cache.
 
     Parameters
     ----------
     collection : list of (name, label, Mesh)
     mode : {'serial', 'processes', 'dask'}
-    N, M : int
-        Shape-DNA length and cShape-DNA half-width.
+    N : int
+        Shape-DNA length.
     n_jobs : int, default=2
         Worker processes of the 'processes' and 'dask' modes.
 
@@ -220,7 +220,7 @@ def run_mode(collection, mode, *, N=100, M=16, n_jobs=2):
                 warnings.catch_warnings():
             warnings.simplefilter("ignore")
             t0 = time.perf_counter()
-            table = describe(collection, N=N, M=M, cache_dir=cache, progress=False, **kwargs)
+            table = describe(collection, N=N, cache_dir=cache, progress=False, **kwargs)
             seconds = time.perf_counter() - t0
             if table.cached.any():
                 raise RuntimeError("a mesh came from the cache; the benchmark needs a cold one")

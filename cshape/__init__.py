@@ -5,17 +5,20 @@ The core is the method, one module per stage, in pipeline order (data flows one 
 1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`repair_mesh`, :func:`largest_component`;
    :mod:`cshape.readers`     - :func:`load_mesh` (OBJ, OFF, PLY, STL, ...)
 2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
-3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3)
-4. :mod:`cshape.descriptors` - :func:`normalize`, :func:`weyl_subtract` (Eq. 8),
-   :func:`compact_shape_dna` (Eq. 9-10), :func:`log_weyl_ratio`, :func:`real_form`,
-   :func:`inverse_compact_shape_dna`, :func:`f1_feature`; :func:`count_zero_modes` and
-   :func:`nonzero_eigenvalues` (the rule for meshes of several pieces);
-   :mod:`cshape.descriptor`  - :class:`Descriptor`, one recipe as a frozen value:
+3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3);
+   :func:`eigenbasis` - the pairs with ``B``, the area and the mesh as one
+   :class:`Eigenbasis`, what signatures and maps take
+4. :mod:`cshape.descriptors` - the formulas (:mod:`~cshape.descriptors.formulas`):
+   :func:`normalize`, :func:`weyl_subtract` (Eq. 8), :func:`compact_shape_dna` (Eq. 9-10),
+   :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
+   :func:`f1_feature`; :func:`count_zero_modes` and :func:`nonzero_eigenvalues` (the rule for
+   meshes of several pieces); and the recipe (:mod:`~cshape.descriptors.recipe`):
+   :class:`Descriptor`, which descriptor, as one frozen value that builds the rows:
    :data:`PAPER` (the paper's cShape-DNA) and :data:`DEFAULT` (the exploration default)
-5. :mod:`cshape.compare`     - :func:`descriptor_matrix`, :func:`distance_matrix`,
-   :func:`scale_255`, :func:`retrieval_scores`, :func:`mds_embedding`;
+5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
+   :func:`retrieval_scores`, :func:`nearest_neighbours`, :func:`mds_embedding`;
    :mod:`cshape.index`       - :class:`DescriptorIndex` (nearest neighbours in a database)
-6. :mod:`cshape.signatures`  - per-point signatures from :func:`eigenpairs`: :func:`hks`,
+6. :mod:`cshape.signatures`  - per-point signatures of an :class:`Eigenbasis`: :func:`hks`,
    :func:`wks`, :func:`si_hks`, :func:`heat_kernel`, :func:`heat_trace`, and
    :func:`match_points` (correspondence)
 7. :mod:`cshape.maps`        - maps between shapes: :func:`point_map` (the one call),
@@ -48,7 +51,6 @@ from typing import Any
 
 from . import shapes
 from .compare import (
-    descriptor_matrix,
     difference_matrix,
     distance_matrix,
     mds_embedding,
@@ -56,10 +58,11 @@ from .compare import (
     scale_255,
     scaled_difference,
 )
-from .descriptor import DEFAULT, PAPER, Descriptor
 from .descriptors import (
+    DEFAULT,
+    PAPER,
+    Descriptor,
     compact_shape_dna,
-    compact_shape_dna_real,
     count_zero_modes,
     f1_feature,
     inverse_compact_shape_dna,
@@ -83,7 +86,7 @@ from .maps import (
 from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
 from .readers import load_mesh
 from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
-from .spectrum import eigenpairs, estimate_seconds, shape_dna
+from .spectrum import Eigenbasis, eigenbasis, eigenpairs, estimate_seconds, shape_dna
 
 __version__ = "0.1.0"
 
@@ -141,13 +144,13 @@ __all__ = [
     "Mesh",
     "as_mesh",
     "compact_shape_dna",
-    "compact_shape_dna_real",
     "count_zero_modes",
     "data",
     "describe",
-    "descriptor_matrix",
     "difference_matrix",
     "distance_matrix",
+    "Eigenbasis",
+    "eigenbasis",
     "eigenpairs",
     "estimate_seconds",
     "f1_feature",

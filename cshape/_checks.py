@@ -6,7 +6,7 @@ The one rule: ``TypeError`` for a wrong type, ``ValueError`` for a value out of 
 message names the argument, the value and the fix, and is the same in every function that
 takes the argument (``N=2.5`` reads ``N must be an integer, got float 2.5`` whether it was
 given to :func:`cshape.shape_dna`, :func:`cshape.describe` or
-:func:`cshape.compare.descriptor_matrix`).  ``bool`` is not an integer nor a number here;
+:class:`cshape.Descriptor`).  ``bool`` is not an integer nor a number here;
 NumPy integers and floats are.
 
 Mode names (descriptor kinds, transforms, normalizations, boundary conditions, mass

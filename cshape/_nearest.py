@@ -12,7 +12,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from ._threads import one_blas_thread
+from ._eigensolver.threads import one_blas_thread
 
 #: Query rows per matrix product: a block holds ``NN_BLOCK x n_S`` distances
 #: (512 x 60,000 x 8 bytes = 0.25 GB).

@@ -1,24 +1,21 @@
 """Stage 5 of the pipeline: comparing descriptors (Section 3 of the paper).
 
-* :func:`descriptor_matrix`  - one descriptor per row, for the four kinds the paper compares:
-                               normalised Shape-DNA (``N`` values), truncated Shape-DNA
-                               (first ``2M+1`` values), cShape-DNA (``2M+1`` reals, with any
-                               ``transform`` of :func:`cshape.compact_shape_dna`) and F1, and
-                               the truncated log-Weyl ratio (beyond the paper);
+The descriptors themselves are rows of a :class:`cshape.Descriptor` (its
+:meth:`~cshape.Descriptor.matrix`); this module compares them:
+
 * :func:`distance_matrix`    - Euclidean distances between rows (Section 3.1);
 * :func:`scale_255`          - a distance matrix scaled to ``[0, 255]`` (Fig. 3 a-b);
 * :func:`difference_matrix`, :func:`scaled_difference` - the absolute difference of two scaled
                                matrices and its mean and standard deviation (Fig. 3c, 6, 7);
-* :func:`retrieval_scores`   - nearest neighbour, first and second tier, E-measure, DCG and
-                               mean average precision (Princeton Shape Benchmark definitions);
+* :func:`retrieval_scores`, :func:`retrieval_per_query` - nearest neighbour, first and second
+                               tier, E-measure, DCG and mean average precision (Princeton
+                               Shape Benchmark definitions);
+* :func:`nearest_neighbours` - each shape's ``k`` nearest other shapes in a distance matrix;
 * :func:`mds_embedding`      - 2-D multidimensional scaling coordinates (Fig. 4-5; drawn by
-                               :func:`cshape.plots.plot_mds`).
+                               :func:`cshape.plots.plot_mds`), and :func:`mds_outliers`, the
+                               points that lie far from the rest.
 
-The recipe of a descriptor (kind, ``M``, ``N``, transform, normalisation) is one frozen value,
-:class:`cshape.Descriptor` (:mod:`cshape.descriptor`), which builds the rows; the functions
-here take its fields as keyword arguments, or ``descriptor=``.  Exact nearest-neighbour
-queries against a large database: :class:`cshape.index.DescriptorIndex`.
-
+Exact nearest-neighbour queries against a large database: :class:`cshape.DescriptorIndex`.
 Every function takes and returns plain NumPy arrays.
 """
 
@@ -35,239 +32,31 @@ from ._checks import (
     check_descriptors,
     check_int,
     check_labels,
+    check_points,
+    check_real,
     check_square,
 )
-from .descriptor import DEFAULT, DESCRIPTOR_KINDS, PAPER, Descriptor
 
 __all__ = [
-    "DEFAULT_DESCRIPTOR",
-    "DESCRIPTOR_KINDS",
-    "PAPER_DESCRIPTOR",
-    "default_descriptor",
-    "descriptor_label",
-    "descriptor_matrix",
-    "descriptor_rows",
-    "descriptor_size",
     "difference_matrix",
     "distance_matrix",
     "mds_embedding",
+    "mds_outliers",
+    "nearest_neighbours",
     "retrieval_per_query",
     "retrieval_scores",
-    "row_problems",
     "scale_255",
     "scaled_difference",
 ]
 
 #: The E-measure of the Princeton Shape Benchmark looks at the first 32 results.
 E_MEASURE_DEPTH = 32
-
-#: The exploration default, :data:`cshape.DEFAULT` (a :class:`cshape.Descriptor`; the same
-#: object).  The surfaces read :data:`cshape.descriptor.DEFAULT` when they are called.
-DEFAULT_DESCRIPTOR = DEFAULT
-#: The paper's cShape-DNA, :data:`cshape.PAPER` (the same object): ``--kind cshape``.
-PAPER_DESCRIPTOR = PAPER
-
-
-# --------------------------------------------------------------------------- descriptors
-def descriptor_size(kind: str, M: int = 16, N: int = 100) -> int:
-    """Return the number of values of a descriptor of the given kind (its storage, in numbers).
-
-    ``Descriptor(kind, M, N).size`` (:attr:`cshape.Descriptor.size`).
-
-    Parameters
-    ----------
-    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
-    M, N : int
-        See :func:`descriptor_matrix`.
-
-    Returns
-    -------
-    int
-        ``N`` for 'shape-dna', ``2M+1`` for 'truncated', 'truncated-log', 'cshape' and
-        'cshape-complex' (complex numbers counted once, as the paper does; the same for
-        every transform), ``N - 2`` for 'f1' (for every mesh: see
-        :func:`descriptor_matrix` for meshes of several pieces).
-    """
-    return Descriptor(kind, M=M, N=N).size
-
-
-def default_descriptor(N: int = 100) -> dict[str, Any]:
-    """Return the exploration default (:data:`cshape.DEFAULT`) for shapes with ``N`` eigenvalues.
-
-    Parameters
-    ----------
-    N : int, default=100
-        Eigenvalues available per shape.  With fewer than the default needs, ``M`` is
-        lowered to the largest the kind allows (the label says so).
-
-    Returns
-    -------
-    dict
-        ``{'kind', 'M', 'N', 'transform', 'normalization'}``, keyword arguments of
-        :func:`descriptor_matrix`: ``select_descriptor(N=N).as_dict()``.
-    """
-    from .descriptor import select_descriptor
-
-    return select_descriptor(N=check_int("N", N, min=1)).as_dict()
-
-
-def descriptor_label(kind: str, M: int = 16, N: int = 100, transform: str = "weyl",
-                     normalization: str = "area") -> str:
-    """Say what a descriptor compares, in words: ``Descriptor(...).label``.
-
-    The normalisation is named when it is not the paper's (the area).
-
-    >>> descriptor_label("truncated-log", M=16)
-    'truncated log spectrum (33 values)'
-    >>> descriptor_label("truncated-log", M=8, normalization="weyl")
-    'truncated log spectrum, Weyl-normalised (17 values)'
-    >>> descriptor_label("cshape", M=16, N=100)
-    "paper's cShape-DNA (M=16 of N=100, 33 values)"
-    """
-    return Descriptor(kind, M=M, N=N, transform=transform, normalization=normalization).label
-
-
-def descriptor_matrix(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
-                      kind: str = "cshape", M: int = 16, N: int = 100, *,
-                      normalization: str = "area", transform: str = "weyl",
-                      zero_modes: ArrayLike | None = None,
-                      names: Sequence[str] | None = None,
-                      descriptor: Descriptor | None = None) -> NDArray[Any]:
-    """Descriptors of many shapes from their eigenvalues, one row per shape.
-
-    The four descriptors of the paper's Section 3.1, and one beyond it:
-
-    ================ ============ =========================================================
-    kind             row length   definition
-    ================ ============ =========================================================
-    'shape-dna'      N            normalised Shape-DNA: ``lam[:N] * area`` (Section 2.1)
-    'truncated'      2M+1         the first ``2M+1`` values of the normalised Shape-DNA
-                                  (Fig. 5 a-e: "the first 33, 17, 9, 5 and 3 eigenvalues")
-    'cshape'         2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10, or the ``transform``
-                                  given) in its real form (:func:`cshape.real_form`: same
-                                  Euclidean distances)
-    'cshape-complex' 2M+1         the cShape-DNA as :func:`cshape.compact_shape_dna` returns
-                                  it (complex for the DFT transforms, real for the DCT)
-    'f1'             N-2          F1 feature ``lam_1 / lam_i`` of ``lam[:N]`` (Fig. 5f)
-    'truncated-log'  2M+1         the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
-                                  (:func:`cshape.log_weyl_ratio`; needs ``2M+2`` eigenvalues).
-                                  Its distances equal those of the truncated *log spectrum*
-                                  ``log lam_1^norm .. log lam_{2M+1}^norm``: ``log 4 pi i``
-                                  is the same for every shape
-    ================ ============ =========================================================
-
-    The recipe (kind, ``M``, ``N``, normalisation, transform) is a :class:`cshape.Descriptor`
-    (``descriptor=``, or built from the keywords); this function is its
-    :meth:`~cshape.Descriptor.matrix`.  ``2M+1`` values must fit in ``N`` eigenvalues (the
-    ``N-1`` log-Weyl ratios for 'truncated-log' and the log-Weyl transforms).
-
-    **Meshes of several pieces** (``k`` components, ``k`` zero eigenvalues), by kind:
-    'shape-dna', 'truncated' and 'cshape' with the paper's ``transform='weyl'`` take the
-    spectrum as it is, its ``k`` zeros included (Eq. 8 needs no logarithm).
-    'truncated-log', the log-Weyl transforms and 'f1' drop the ``k`` zero modes and index
-    the rest from 1 (``mu_i = lam_{k-1+i}``, normalised by the total area: Weyl's law of
-    the disjoint union; :func:`cshape.nonzero_eigenvalues`): 'truncated-log' is
-    ``r_1 .. r_{2M+1}`` of ``mu`` (needs ``N >= 2M+1+k``), the log-Weyl transforms extend
-    the ``N-k`` ratios to ``N-1`` by Weyl's law (``r_i = r_{N-k}``) and need ``2M+1``
-    measured ones, 'f1' is ``mu_1 / mu_i`` for ``i = 2..N-1``, extended the same way
-    (``mu_i = mu_{N-k} i / (N-k)``), and needs two.  A row without enough non-zero
-    eigenvalues cannot be described: :func:`row_problems` says which and why.
-
-    Parameters
-    ----------
-    lams : array_like, shape (p, n), or sequence of p 1-D arrays
-        Ascending eigenvalues of each shape (``lam_0`` first); each needs at least
-        ``N`` values (``2M+1`` for 'truncated', ``2M+2`` for 'truncated-log').  Ragged rows
-        are allowed.
-    areas : array_like, shape (p,), optional
-        Surface areas, used by ``normalization='area'`` (the paper's choice) for all kinds
-        but 'f1' (scale invariant already).  For eigenvalues that are already normalised
-        pass ``areas=np.ones(p)``.
-    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
-default='cshape'
-        The old spellings 'shape_dna', 'cshape_complex' and 'truncated_log' still work, with
-        a ``DeprecationWarning``.
-    M : int, default=16
-        Crop half-width: ``2M+1`` values for 'cshape' and 'truncated'.
-    N : int, default=100
-        Shape-DNA length for 'shape-dna', 'cshape' and 'f1'.
-    normalization : {'area', 'fiedler', 'weyl'}, default='area'
-        See :func:`cshape.normalize`.
-    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
-        The transform of the 'cshape' and 'cshape-complex' kinds (see
-        :func:`cshape.compact_shape_dna`); the other kinds do not use it.
-    zero_modes : array_like of int, shape (p,), optional
-        Number of zero eigenvalues of each shape (its connected components, e.g.
-        :attr:`cshape.DescriptorTable.zero_modes`); a negative entry or ``None``: counted
-        from that row's eigenvalues (:func:`cshape.count_zero_modes`).
-    names : sequence of str, length p, optional
-        Shape names, for the error messages (default: ``row <i>``).
-    descriptor : Descriptor, optional
-        The recipe as one value (e.g. :data:`cshape.PAPER`); then ``kind``, ``M``, ``N``,
-        ``normalization`` and ``transform`` are not used.
-
-    Returns
-    -------
-    X : ndarray, shape (p, d)
-        float64, or complex128 for 'cshape-complex' with a DFT transform; ``d`` as in the
-        table.
-
-    Raises
-    ------
-    ValueError
-        Unknown ``kind``, ``2M+1`` more than ``N`` allows, too few eigenvalues in a row,
-        missing or wrong-length ``areas``, or rows that cannot be described (all of them
-        named, with the reason; see :func:`row_problems`).
-    """
-    d = descriptor if descriptor is not None else Descriptor(
-        kind, M=M, N=N, transform=transform, normalization=normalization)
-    return d.matrix(lams, areas, zero_modes, names=names)
-
-
-def descriptor_rows(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
-                    kind: str = "cshape", M: int = 16, N: int = 100, *,
-                    normalization: str = "area", transform: str = "weyl",
-                    zero_modes: ArrayLike | None = None,
-                    descriptor: Descriptor | None = None
-                    ) -> tuple[NDArray[Any], dict[int, str]]:
-    """Return the descriptors of the rows that can be described, and why the others cannot.
-
-    Takes the arguments of :func:`descriptor_matrix` (:meth:`cshape.Descriptor.rows`).
-
-    Returns
-    -------
-    X : ndarray, shape (q, d)
-        The descriptors of the ``q`` rows that can be described, in order (``q = 0``:
-        shape ``(0, 0)``).
-    problems : dict of int to str
-        ``{row: reason}`` of the others (see :func:`row_problems`).
-    """
-    d = descriptor if descriptor is not None else Descriptor(
-        kind, M=M, N=N, transform=transform, normalization=normalization)
-    return d.rows(lams, areas, zero_modes)
-
-
-def row_problems(lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
-                 kind: str = "cshape", M: int = 16, N: int = 100, *,
-                 normalization: str = "area", transform: str = "weyl",
-                 zero_modes: ArrayLike | None = None,
-                 descriptor: Descriptor | None = None) -> dict[int, str]:
-    """Return the rows of :func:`descriptor_matrix` that cannot be described, with the reason.
-
-    Takes the arguments of :func:`descriptor_matrix`.  A row cannot be described when it
-    has too few non-zero eigenvalues for the kind (a mesh of many pieces with a small
-    ``N``), when its eigenvalues are not ascending, or when its area is not a positive
-    number.  Errors in the arguments themselves (an unknown kind, ``M`` too large for
-    ``N``) are raised, as by :func:`descriptor_matrix`.
-
-    Returns
-    -------
-    dict of int to str
-        ``{row: reason}``; empty when every row can be described.
-    """
-    return descriptor_rows(lams, areas, kind, M, N, normalization=normalization,
-                           transform=transform, zero_modes=zero_modes,
-                           descriptor=descriptor)[1]
+#: A point of an embedding is an outlier when its median distance to the other points is
+#: more than this many times the typical one (:func:`mds_outliers`).
+OUTLIER_FACTOR = 5.0
+#: :func:`median_distances` measures each point's median distance to at most this many
+#: points (evenly spaced through the rows), to stay within memory on large collections.
+OUTLIER_REFERENCE_POINTS = 2000
 
 
 # --------------------------------------------------------------------------- distances
@@ -503,6 +292,47 @@ def retrieval_scores(D: ArrayLike, labels: Sequence[Hashable] | ArrayLike, *,
     return {k: float(np.nanmean(v)) for k, v in per.items()}
 
 
+def nearest_neighbours(D: ArrayLike, k: int = 3) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Each shape's ``k`` nearest other shapes in a distance matrix.
+
+    Parameters
+    ----------
+    D : array_like, shape (p, p)
+        Distances.
+    k : int, default=3
+        At most ``p - 1`` are returned.
+
+    Returns
+    -------
+    ind : ndarray of int, shape (p, min(k, p - 1))
+        Row ``i``: the nearest shapes to shape ``i``, nearest first, ``i`` itself left out
+        (by index: a duplicate at distance 0 is a neighbour); ties in the order of rows.
+    dist : ndarray, shape (p, min(k, p - 1))
+        Their distances.
+
+    Raises
+    ------
+    TypeError
+        ``k`` not an integer.
+    ValueError
+        ``D`` not square, negative or not finite; ``k < 1``.
+
+    Examples
+    --------
+    >>> ind, dist = nearest_neighbours([[0, 1, 3], [1, 0, 1], [3, 1, 0]], k=2)
+    >>> ind.tolist(), dist.tolist()
+    ([[1, 2], [0, 2], [1, 0]], [[1.0, 3.0], [1.0, 1.0], [1.0, 3.0]])
+    """
+    A = check_square(D, "D")
+    k = check_int("k", k, min=1)
+    p = len(A)
+    k = min(k, p - 1)
+    B = A.astype(np.float64, copy=True)
+    np.fill_diagonal(B, np.inf)
+    ind = np.argsort(B, axis=1, kind="stable")[:, :k]
+    return ind, np.take_along_axis(A, ind, axis=1).astype(np.float64)
+
+
 # --------------------------------------------------------------------------- MDS
 def mds_embedding(D: ArrayLike, *, n_components: int = 2, random_state: Any = 0,
                   n_init: int = 4, max_iter: int = 300) -> NDArray[np.float64]:
@@ -552,3 +382,74 @@ def mds_embedding(D: ArrayLike, *, n_components: int = 2, random_state: Any = 0,
         mds = MDS(n_components=n_components, dissimilarity="precomputed", n_init=n_init,
                   random_state=random_state, max_iter=max_iter)
     return mds.fit_transform(A)
+
+
+def median_distances(Y: ArrayLike, *, reference: int = OUTLIER_REFERENCE_POINTS
+                     ) -> NDArray[np.float64]:
+    """Each point's median Euclidean distance to the other points.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, d)
+    reference : int, default=OUTLIER_REFERENCE_POINTS
+        Measure against at most this many points, evenly spaced through the rows (all of
+        them when ``p <= reference``), a point never against itself.
+
+    Returns
+    -------
+    ndarray, shape (p,)
+        Zeros when ``p < 2``.
+    """
+    Y = check_points(Y)
+    reference = check_int("reference", reference, min=1)
+    p = len(Y)
+    if p < 2:
+        return np.zeros(p)
+    ref = np.unique(np.linspace(0, p - 1, min(p, reference)).round().astype(np.int64))
+    out = np.empty(p)
+    for start in range(0, p, 512):  # blocks of rows: memory 512 x reference
+        rows = np.arange(start, min(p, start + 512))
+        d = np.linalg.norm(Y[rows, None, :] - Y[None, ref, :], axis=2)
+        own = rows[:, None] == ref[None, :]
+        d[own] = np.inf  # not against itself: sorted last, and left out of the count
+        d.sort(axis=1)
+        m = len(ref) - own.any(axis=1)  # values counted in each row
+        lo, hi = (m - 1) // 2, m // 2
+        r = np.arange(len(rows))
+        out[rows] = (d[r, lo] + d[r, hi]) / 2
+    return out
+
+
+def mds_outliers(Y: ArrayLike, *, factor: float = OUTLIER_FACTOR) -> NDArray[np.bool_]:
+    """Return the points of an embedding that lie far from the rest (a robust rule).
+
+    Point ``i`` is an outlier when its median distance to the other points,
+    ``m_i = median_j |Y_i - Y_j|`` (:func:`median_distances`), exceeds ``factor`` times the
+    median of all ``m``.  Fewer than half of the points can be outliers.
+
+    Parameters
+    ----------
+    Y : array_like, shape (p, d)
+        Coordinates (an MDS embedding, :func:`mds_embedding`).
+    factor : float, default=OUTLIER_FACTOR
+        Greater than 1.
+
+    Returns
+    -------
+    ndarray of bool, shape (p,)
+        None when ``p < 3`` or when most points coincide (a typical distance of 0).
+
+    Raises
+    ------
+    ValueError
+        ``Y`` not a 2-D array of finite coordinates; ``factor <= 1``.
+    """
+    Y = check_points(Y)
+    factor = check_real("factor", factor, above=1)
+    if len(Y) < 3:
+        return np.zeros(len(Y), dtype=bool)
+    m = median_distances(Y)
+    typical = float(np.median(m))
+    if not typical > 0:
+        return np.zeros(len(Y), dtype=bool)
+    return m > factor * typical

@@ -64,12 +64,17 @@ class _FEMProblem:
     mollified : float
         The intrinsic-mollification length added to every edge (0 unless the mesh has
         zero-area triangles).
+    B_vertices : scipy.sparse.csr_matrix, shape (n, n)
+        The mass matrix over all mesh vertices (``B`` itself for Neumann): the inner
+        product of functions on the vertices.
     """
 
     def __init__(self, A: sp.csr_matrix, B: sp.csr_matrix, free: NDArray[np.int64],
-                 n_vertices: int, area: float, bc: str, mollified: float) -> None:
+                 n_vertices: int, area: float, bc: str, mollified: float,
+                 B_vertices: sp.csr_matrix | None = None) -> None:
         self.A = A
         self.B = B
+        self.B_vertices = B if B_vertices is None else B_vertices
         self.free = free
         self.n_vertices = n_vertices
         self.area = area
@@ -333,6 +338,7 @@ def _problem(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent", *,
             stacklevel=3,
         )
     n = mesh.n_vertices
+    B_vertices = B
     if bc == "dirichlet":
         fixed = np.union1d(mesh.boundary_vertices, mesh.nonmanifold_vertices)
         free = np.setdiff1d(np.arange(n), fixed)
@@ -345,7 +351,7 @@ def _problem(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent", *,
         B = B[free][:, free].tocsr()
     else:
         free = np.arange(n)
-    return _FEMProblem(A, B, free, n, mesh.area, bc, eps)
+    return _FEMProblem(A, B, free, n, mesh.area, bc, eps, B_vertices)
 
 
 def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"

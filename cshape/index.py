@@ -9,7 +9,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._checks import check_choice, check_descriptors, check_int, check_n_jobs
-from .descriptor import Descriptor, select_descriptor
+from .descriptors import Descriptor
+from .descriptors.recipe import _given_or_default
 
 #: The exact search methods of :class:`sklearn.neighbors.NearestNeighbors` (its spelling).
 ALGORITHMS = ("auto", "brute", "kd_tree", "ball_tree")
@@ -20,8 +21,6 @@ class TableLike(Protocol):
 
     lam: NDArray[np.float64]
     areas: NDArray[np.float64]
-    M: int
-    transform: str
 
     @property
     def N(self) -> int:
@@ -66,13 +65,12 @@ class DescriptorIndex:
     nn_ : sklearn.neighbors.NearestNeighbors
         The fitted index.
     descriptor_ : Descriptor or None
-        How the rows were made from eigenvalues (:class:`cshape.Descriptor`: ``kind``,
-        ``M``, ``N``, ``normalization``, ``transform``), when built with :meth:`from_table`;
-        :meth:`query_spectra` describes queries with it, so a query can never use another
-        transform.  :attr:`recipe_` is the same as a dict, :attr:`descriptor` in words.
+        How the rows were made from eigenvalues (a :class:`cshape.Descriptor`), when built
+        with :meth:`from_table`; :meth:`query_spectra` describes queries with it, so a
+        query can never use another transform.
     rows_ : ndarray of int, shape (n,)
         The table row of each database row (:meth:`from_table` leaves out the shapes the
-        kind cannot describe); ``arange(n)`` for an index built from descriptors.
+        descriptor cannot describe); ``arange(n)`` for an index built from descriptors.
 
     Examples
     --------
@@ -98,40 +96,17 @@ class DescriptorIndex:
         self.descriptor_: Descriptor | None = None
         self.rows_ = np.arange(len(self.X_))
 
-    @property
-    def recipe_(self) -> dict[str, Any] | None:
-        """:attr:`descriptor_` as keyword arguments of :func:`cshape.compare.descriptor_matrix`.
-
-        ``kind``, ``M``, ``N``, ``transform``, ``normalization``; None without one.
-        """
-        return None if self.descriptor_ is None else self.descriptor_.as_dict()
-
     @classmethod
-    def from_table(cls, table: TableLike, kind: str | None = None, M: int | None = None,
-                   N: int | None = None, *, transform: str | None = None,
-                   normalization: str | None = None, descriptor: Descriptor | None = None,
+    def from_table(cls, table: TableLike, descriptor: Descriptor | None = None, *,
                    algorithm: str = "auto", n_jobs: int | None = None) -> DescriptorIndex:
         """Build an index of a :class:`cshape.DescriptorTable`'s descriptors, with their recipe.
 
         Parameters
         ----------
         table : DescriptorTable
-        kind : str, optional
-            See :func:`descriptor_matrix`.  Default: the exploration default
-            :data:`cshape.compare.DEFAULT_DESCRIPTOR` (``'cshape'`` is the paper's).
-        M, N : int, optional
-            Default: the default descriptor's ``M`` when ``kind`` is None, else the table's;
-            the table's ``N``.
-        transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
-            Default: the table's ``transform`` (see :func:`cshape.compact_shape_dna`) for a
-            named kind.
-        normalization : {'area', 'fiedler', 'weyl'}, optional
-            Default: the default descriptor's when ``kind`` is None, else 'area' (the
-            paper's).
         descriptor : Descriptor, optional
-            The descriptor as one value (e.g. :data:`cshape.PAPER`), instead of ``kind``,
-            ``M``, ``N``, ``transform`` and ``normalization``
-            (:func:`cshape.descriptor.select_descriptor`).
+            Which descriptor (e.g. :data:`cshape.PAPER`); default: :data:`cshape.DEFAULT`
+            at the table's ``N``.
         algorithm, n_jobs
             As for the constructor.
 
@@ -139,18 +114,24 @@ class DescriptorIndex:
         -------
         DescriptorIndex
             With :attr:`descriptor_` set, for :meth:`query_spectra`, and :attr:`rows_`: the
-            shapes the kind cannot describe (a mesh of many pieces with too few non-zero
-            eigenvalues) are left out with a :class:`cshape.CShapeWarning` naming them.
+            shapes the descriptor cannot describe (a mesh of many pieces with too few
+            non-zero eigenvalues) are left out with a :class:`cshape.CShapeWarning` naming
+            them.
+
+        Raises
+        ------
+        TypeError
+            ``descriptor`` not a :class:`cshape.Descriptor`.
+        ValueError
+            The descriptor can describe none of the shapes.
         """
-        d = select_descriptor(descriptor, kind=kind, M=M, N=N, transform=transform,
-                              normalization=normalization, base_M=table.M, base_N=table.N,
-                              base_transform=table.transform)
+        d = _given_or_default(descriptor, table.N)
         # warns about and leaves out what it cannot describe
-        X, rows = table.described(descriptor=d, stacklevel=4)
+        X, rows = table.described(d, stacklevel=4)
         if len(X) == 0:
             raise ValueError(
-                f"kind={d.kind!r} cannot describe any of the {len(table.lam)} shapes (see the "
-                "warning); choose another kind or compute more eigenvalues")
+                f"{d.label} cannot describe any of the {len(table.lam)} shapes (see the "
+                "warning); choose another descriptor or compute more eigenvalues")
         index = cls(X, algorithm=algorithm, n_jobs=n_jobs)
         index.descriptor_ = d
         index.rows_ = rows
@@ -200,14 +181,6 @@ class DescriptorIndex:
     def __len__(self) -> int:
         """Return the number of database descriptors."""
         return len(self.X_)
-
-    @property
-    def descriptor(self) -> str | None:
-        """What the rows are, in words (:attr:`cshape.Descriptor.label`).
-
-        Set when built with :meth:`from_table`; None otherwise.
-        """
-        return None if self.descriptor_ is None else self.descriptor_.label
 
     def query(self, Y: ArrayLike | None = None, k: int = 1
               ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:

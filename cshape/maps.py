@@ -1,9 +1,11 @@
 """Stage 7 of the pipeline: maps between shapes (functional maps, ZoomOut).
 
 A *functional map* (Ovsjanikov et al. 2012) carries functions from a source shape ``S`` to a
-target shape ``T``.  In the truncated, B-orthonormal eigenbases ``Phi_S`` (``n_S x k_S``)
-and ``Phi_T`` (``n_T x k_T``) of :func:`cshape.eigenpairs` it is a small matrix ``C``
-(``k_T x k_S``): a function ``f = Phi_S a`` on ``S`` goes to ``Phi_T C a`` on ``T``.  A
+target shape ``T``.  In the truncated, B-orthonormal eigenbases ``Phi_S`` (``n_S x N_S``)
+and ``Phi_T`` (``n_T x N_T``) of :func:`cshape.eigenbasis` it is a small matrix ``C``
+(``N_T x N_S``): a function ``f = Phi_S a`` on ``S`` goes to ``Phi_T C a`` on ``T``.  The
+functions here take the two :class:`cshape.Eigenbasis` values (``phi``, ``B``, ``lam`` and
+the mesh of each shape).  A
 vertex map ``p`` (for each target vertex ``y``, a source vertex ``p[y]``; the pyFM
 ``p2p_21`` convention) and ``C`` determine each other:
 
@@ -16,7 +18,7 @@ function                    what it does
 ==========================  =================================================================
 :func:`point_map`           the one call: two meshes in, ``p`` (shape ``(n_T,)``) out
 :func:`functional_map`      ``C`` from descriptors, Laplacian commutativity, orientation
-:func:`zoomout`             spectral upsampling of ``C`` from ``k0`` to ``k`` (Melzi et al. 2019)
+:func:`zoomout`             spectral upsampling of ``C`` from ``N0`` to ``N`` (Melzi et al. 2019)
 :func:`map_to_pointwise`    ``p`` from ``C`` (exact nearest neighbours)
 :func:`pointwise_to_map`    ``C`` from ``p``
 :func:`transfer_function`   a function on ``S`` carried to ``T`` through ``C``
@@ -24,7 +26,7 @@ function                    what it does
 
 The errors of a map are measured with :mod:`cshape.geodesics` (:func:`cshape.geodesic_errors`).
 
-The energy of :func:`functional_map`, for descriptors ``D_S = Phi_S^T B_S F_S`` (``k_S x d``)
+The energy of :func:`functional_map`, for descriptors ``D_S = Phi_S^T B_S F_S`` (``N_S x d``)
 and ``D_T`` projected on the bases, eigenvalues ``lam_S``, ``lam_T``:
 
 ``E(C) = w_d ||C D_S - D_T||^2 + w_l sum_ij C_ij^2 (lam_T,i - lam_S,j)^2
@@ -41,7 +43,6 @@ left from right; this term can, because it uses the surface's orientation (face 
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
@@ -54,13 +55,12 @@ from ._checks import (
     check_real,
     check_vertex_indices,
 )
+from ._eigensolver.threads import one_blas_thread
 from ._nearest import nearest_rows
-from ._threads import one_blas_thread
-from .fem import fem_matrices
 from .geodesics import _check_mesh, face_gradients
 from .mesh import MeshLike, as_mesh
 from .signatures import heat_kernel, wks, wks_energies
-from .spectrum import solve_eigenproblem
+from .spectrum import Eigenbasis, eigenbasis
 
 __all__ = [
     "functional_map",
@@ -82,140 +82,137 @@ DESCRIPTOR_STRIDE = 5
 
 
 # ---------------------------------------------------------------------- checks
-def _check_basis(name, phi, n=None) -> np.ndarray:
-    if isinstance(phi, (str, bytes)) or np.iscomplexobj(phi):
-        raise TypeError(f"{name} must be a real array of shape (n, k), got {type(phi).__name__}")
-    a = np.asarray(phi, dtype=np.float64)
-    if a.ndim != 2:
-        raise ValueError(f"{name} must have shape (n, k) (one column per eigenfunction), "
-                         f"got shape {a.shape}")
-    if n is not None and a.shape[0] != n:
-        raise ValueError(f"{name} has {a.shape[0]} rows, expected {n} (one per vertex)")
-    if not np.isfinite(a).all():
-        raise ValueError(f"{name} contains NaN or infinite values")
-    return a
+def _check_eigenbasis(name: str, basis: object) -> Eigenbasis:
+    if not isinstance(basis, Eigenbasis):
+        raise TypeError(
+            f"{name} must be a cshape.Eigenbasis, got {type(basis).__name__}; compute it with "
+            f"cshape.eigenbasis(mesh, N) (or build one from arrays: cshape.Eigenbasis(lam, "
+            "phi, B))"
+        )
+    return basis
 
 
-def _check_rows(name, x, n, basis) -> np.ndarray:
-    """Return values per vertex, shape ``(n,)`` or ``(n, m)`` (``n`` the rows of ``basis``)."""
+def _check_array(name, x, n=None) -> np.ndarray:
+    """``x`` as a finite real 2-D float array (of ``n`` rows if given), or a clear error."""
     if isinstance(x, (str, bytes)) or np.iscomplexobj(x):
-        raise TypeError(f"{name} must be a real array of shape (n, m), got {type(x).__name__}")
+        raise TypeError(f"{name} must be a real 2-D array, got {type(x).__name__}")
     a = np.asarray(x, dtype=np.float64)
-    if a.ndim not in (1, 2) or a.shape[0] != n:
-        raise ValueError(f"{name} has shape {a.shape} but {basis} has {n} rows (one per "
-                         f"vertex); pass {name} of shape ({n},) or ({n}, m), one row per vertex "
-                         "of the same mesh")
+    if a.ndim != 2:
+        raise ValueError(f"{name} must be a 2-D array, got shape {a.shape}")
+    if n is not None and a.shape[0] != n:
+        raise ValueError(f"{name} has shape {np.shape(x)}: {a.shape[0]} rows where the basis "
+                         f"has {n} vertices; pass one row per vertex of the basis's mesh")
     if not np.isfinite(a).all():
         raise ValueError(f"{name} contains NaN or infinite values")
     return a
 
 
-def _check_mass(name, B, n, basis):
-    """Return ``B`` if it has shape ``(n, n)``, ``n`` the rows of ``basis``, or raise."""
-    if not sp.issparse(B):
-        if isinstance(B, (str, bytes)) or np.iscomplexobj(B):
-            raise TypeError(f"{name} must be a real (sparse) matrix of shape (n, n), got "
-                            f"{type(B).__name__}")
-        B = np.asarray(B, dtype=np.float64)
-    if B.ndim != 2 or B.shape != (n, n):
-        raise ValueError(f"{name} has shape {B.shape} but {basis} has {n} rows (one per "
-                         f"vertex); pass the mass matrix of the same mesh, shape ({n}, {n}) "
-                         "(cshape.fem_matrices)")
-    return B
+def _columns(x):
+    """Return a 1-D array as one column, anything else as it is (for :func:`_check_array`)."""
+    a = np.asarray(x) if not isinstance(x, (str, bytes)) else x
+    return a[:, None] if isinstance(a, np.ndarray) and a.ndim == 1 else a
 
 
-def _check_C(C, k_target=None, k_source=None) -> np.ndarray:
-    C = _check_basis("C", C)
-    if (k_target is not None and C.shape[0] > k_target) or (
-            k_source is not None and C.shape[1] > k_source):
-        raise ValueError(f"C has shape {C.shape}, larger than the bases (k_target={k_target}, "
-                         f"k_source={k_source}); pass C of shape (k_T, k_S) with k_T, k_S at "
+def _check_C(C, N_target=None, N_source=None) -> np.ndarray:
+    C = _check_array("C", C)
+    if (N_target is not None and C.shape[0] > N_target) or (
+            N_source is not None and C.shape[1] > N_source):
+        raise ValueError(f"C has shape {C.shape}, larger than the bases (N_target={N_target}, "
+                         f"N_source={N_source}); pass C of shape (N_T, N_S) with N_T, N_S at "
                          "most the basis sizes")
     return C
 
 
-def map_to_pointwise(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike
-                     ) -> NDArray[np.int64]:
+def map_to_pointwise(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, *,
+                     vertices: ArrayLike | None = None) -> NDArray[np.int64]:
     """Convert a functional map to a vertex map: ``p[y] = argmin_x ||Phi_T[y] - C Phi_S[x]||``.
 
-    Exact nearest neighbours in ``k_T`` dimensions by blocked dense matrix products
+    Exact nearest neighbours in ``N_T`` dimensions by blocked dense matrix products
     (k-d trees degrade to a scan in 30-100 dimensions).
 
     Parameters
     ----------
-    C : array_like, shape (k_T, k_S)
-    phi_source : array_like, shape (n_S, >= k_S)
-    phi_target : array_like, shape (n_T, >= k_T)
+    C : array_like, shape (N_T, N_S)
+        At most the sizes of the bases (their first ``N_T``, ``N_S`` eigenfunctions are used).
+    source, target : Eigenbasis
+        The bases of the two shapes (:func:`cshape.eigenbasis`).
+    vertices : array_like of int, shape (s,), optional
+        The target vertices to map; default all.
 
     Returns
     -------
-    ndarray of int64, shape (n_T,)
+    ndarray of int64, shape (n_T,) or (s,)
         For each target vertex, a source vertex (pyFM's ``p2p_21``).
     """
-    pS = _check_basis("phi_source", phi_source)
-    pT = _check_basis("phi_target", phi_target)
-    C = _check_C(C, pT.shape[1], pS.shape[1])
+    source = _check_eigenbasis("source", source)
+    target = _check_eigenbasis("target", target)
+    C = _check_C(C, target.N, source.N)
+    pT = target.phi
+    if vertices is not None:
+        pT = pT[check_vertex_indices("vertices", vertices, target.n_vertices)]
     kT, kS = C.shape
-    return nearest_rows(np.ascontiguousarray(pT[:, :kT]), pS[:, :kS] @ C.T)
+    return nearest_rows(np.ascontiguousarray(pT[:, :kT]), source.phi[:, :kS] @ C.T)
 
 
-def pointwise_to_map(p2p: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
-                     B_target: sp.spmatrix | ArrayLike) -> NDArray[np.float64]:
-    """Convert a vertex map to a functional map: ``C = Phi_T^T B_T Pi Phi_S``, (k_T, k_S).
+def pointwise_to_map(p2p: ArrayLike, source: Eigenbasis, target: Eigenbasis
+                     ) -> NDArray[np.float64]:
+    """Convert a vertex map to a functional map: ``C = Phi_T^T B_T Pi Phi_S``, (N_T, N_S).
 
     Parameters
     ----------
     p2p : array_like of int, shape (n_T,)
-    phi_source : array_like, shape (n_S, k_S)
-    phi_target : array_like, shape (n_T, k_T)
-        B_T-orthonormal, so ``Phi_T^T B_T`` is the projection onto the target basis.
-    B_target : sparse matrix, shape (n_T, n_T)
-        The target's mass matrix (:func:`cshape.fem_matrices`).
+        For each target vertex, a source vertex.
+    source, target : Eigenbasis
+        The bases of the two shapes (:func:`cshape.eigenbasis`), of sizes ``N_S`` and
+        ``N_T`` (``target.truncate(N)`` for fewer); ``Phi_T^T B_T`` is the projection onto
+        the target basis.
     """
-    pS = _check_basis("phi_source", phi_source)
-    pT = _check_basis("phi_target", phi_target)
+    source = _check_eigenbasis("source", source)
+    target = _check_eigenbasis("target", target)
+    pS, pT = source.phi, target.phi
     p2p = check_vertex_indices("p2p", p2p, len(pS))
     if len(p2p) != len(pT):
-        raise ValueError(f"p2p has {len(p2p)} entries but phi_target {len(pT)} rows; p2p has "
-                         "one source vertex per target vertex")
-    B_target = _check_mass("B_target", B_target, len(pT), "phi_target")
-    return pT.T @ (B_target @ pS[p2p])
+        raise ValueError(f"p2p has {len(p2p)} entries but the target {len(pT)} vertices; p2p "
+                         "has one source vertex per target vertex")
+    return pT.T @ (target.B @ pS[p2p])
 
 
-def transfer_function(f: ArrayLike, C: ArrayLike, phi_source: ArrayLike,
-                      phi_target: ArrayLike, B_source: sp.spmatrix | ArrayLike
+def transfer_function(f: ArrayLike, C: ArrayLike, source: Eigenbasis, target: Eigenbasis
                       ) -> NDArray[np.float64]:
     """Carry functions from the source to the target through ``C``.
 
     ``f_T = Phi_T C Phi_S^T B_S f``: project on the source basis, map the coefficients,
     synthesise on the target (Ovsjanikov et al. 2012, Eq. 1).  Smooth functions survive;
-    detail above the ``k_S``-th eigenfunction is lost (use ``f[p2p]`` for that).
+    detail above the ``N_S``-th eigenfunction is lost (use ``f[p2p]`` for that).
 
     Parameters
     ----------
     f : array_like, shape (n_S,) or (n_S, m)
-    C : array_like, shape (k_T, k_S)
-    phi_source : array_like, shape (n_S, >= k_S)
-    phi_target : array_like, shape (n_T, >= k_T)
-    B_source : sparse matrix, shape (n_S, n_S)
+    C : array_like, shape (N_T, N_S)
+        At most the sizes of the bases (their first ``N_T``, ``N_S`` eigenfunctions are used).
+    source, target : Eigenbasis
+        The bases of the two shapes (:func:`cshape.eigenbasis`).
 
     Returns
     -------
     ndarray, shape (n_T,) or (n_T, m)
     """
-    pS = _check_basis("phi_source", phi_source)
-    pT = _check_basis("phi_target", phi_target)
+    source = _check_eigenbasis("source", source)
+    target = _check_eigenbasis("target", target)
+    pS, pT = source.phi, target.phi
     C = _check_C(C, pT.shape[1], pS.shape[1])
     kT, kS = C.shape
-    f = _check_rows("f", f, len(pS), "phi_source")
-    B_source = _check_mass("B_source", B_source, len(pS), "phi_source")
-    a = pS[:, :kS].T @ (B_source @ f)
+    f = np.asarray(f, dtype=np.float64)
+    if f.ndim not in (1, 2) or f.shape[0] != len(pS):
+        raise ValueError(f"f has shape {f.shape} but the source has {len(pS)} vertices; pass "
+                         f"f of shape ({len(pS)},) or ({len(pS)}, m), one row per vertex")
+    a = pS[:, :kS].T @ (source.B @ f)
     return pT[:, :kT] @ (C @ a)
 
 
 # ---------------------------------------------------------------------- functional map
 def _orientation_ops(mesh, phi, F):
-    """Reduced orientation operators ``Phi^T W_f Phi`` (k x k) for each column ``f`` of F.
+    """Reduced orientation operators ``Phi^T W_f Phi`` (N x N) for each column ``f`` of F.
 
     ``W_f[i, j] = int psi_i <n x grad f, grad psi_j>`` (Ren et al. 2018), times
     ``sqrt(area)``: with ``Phi`` B-orthonormal the operators scale as 1 / length, so this
@@ -238,17 +235,13 @@ def _orientation_ops(mesh, phi, F):
     return np.array(ops) * np.sqrt(areas.sum())
 
 
-def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
-                   B_source: sp.spmatrix | ArrayLike,
-                   lam_target: ArrayLike, phi_target: ArrayLike,
-                   B_target: sp.spmatrix | ArrayLike,
-                   desc_source: ArrayLike, desc_target: ArrayLike, *,
-                   source: MeshLike | None = None, target: MeshLike | None = None,
+def functional_map(source: Eigenbasis, target: Eigenbasis, desc_source: ArrayLike,
+                   desc_target: ArrayLike, *,
                    descriptor_weight: float = DESCRIPTOR_WEIGHT,
                    laplacian_weight: float = LAPLACIAN_WEIGHT,
                    orientation_weight: float = ORIENTATION_WEIGHT,
                    maxiter: int = 1000) -> NDArray[np.float64]:
-    """Compute the functional map ``C`` (``k_T x k_S``) that best preserves descriptors.
+    """Compute the functional map ``C`` (``N_T x N_S``) that best preserves descriptors.
 
     Minimises (Ovsjanikov et al. 2012, Eq. 5-6; Ren et al. 2018, Eq. 8)
 
@@ -259,58 +252,44 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     unit B-norm on its shape), eigenvalues divided by the largest source eigenvalue, and
     ``O_f`` the reduced orientation operators of the descriptors (each divided by the mean
     norm of its field, and taken on the shape scaled to unit area, so that ``C`` and the
-    weights do not depend on the unit of length).  Without the orientation term (``w_o = 0``
-    or no meshes) every row of ``C`` is an independent ridge regression, solved in closed
-    form:
+    weights do not depend on the unit of length).  Without the orientation term (``w_o = 0``)
+    every row of ``C`` is an independent ridge regression, solved in closed form:
     ``(D_S D_S^T + w_l/w_d diag((lam_T,i - lam_S)^2)) c_i = D_S D_T[i]``.  With it the rows
     couple; ``E`` stays a convex quadratic, minimised exactly by conjugate gradients on its
     normal equations, started from the closed-form solution.
 
     Parameters
     ----------
-    lam_source, lam_target : array_like, shape (k_S,), (k_T,)
-    phi_source, phi_target : array_like, shape (n_S, k_S), (n_T, k_T)
-        B-orthonormal eigenfunctions (:func:`cshape.eigenpairs`).
-    B_source, B_target : sparse matrix, shape (n_S, n_S), (n_T, n_T)
-        Mass matrices (:func:`cshape.fem_matrices`).
+    source, target : Eigenbasis
+        The bases of the two shapes (:func:`cshape.eigenbasis`), of sizes ``N_S`` and
+        ``N_T`` (``basis.truncate(N)`` for fewer).  The orientation term needs their meshes
+        (the faces' orientation).
     desc_source, desc_target : array_like, shape (n_S, d), (n_T, d)
         Corresponding descriptors (e.g. :func:`cshape.wks` at the same energies).
-    source, target : Mesh or (vertices, faces), optional
-        The meshes; required for the orientation term (it needs the faces' orientation).
     descriptor_weight, laplacian_weight, orientation_weight : float
         ``w_d``, ``w_l``, ``w_o`` (>= 0).
     maxiter : int, default=1000
-        Conjugate-gradient iterations (the orientation term only).
+        Conjugate-gradient iterations (the orientation term only; 0 leaves it out).
 
     Returns
     -------
-    ndarray, shape (k_T, k_S)
+    ndarray, shape (N_T, N_S)
+
+    Raises
+    ------
+    ValueError
+        ``orientation_weight > 0`` with a basis built without its mesh, descriptors of
+        different counts or rows, both ``w_d`` and ``w_l`` zero.
     """
-    lS = np.asarray(lam_source, dtype=float).ravel()
-    lT = np.asarray(lam_target, dtype=float).ravel()
-    pS = _check_basis("phi_source", phi_source)
-    pT = _check_basis("phi_target", phi_target)
-    for name, lam, phi in (("lam_source", lS, pS), ("lam_target", lT, pT)):
-        if len(lam) != phi.shape[1]:
-            raise ValueError(f"{name} has {len(lam)} eigenvalues but phi_{name[4:]} has "
-                             f"{phi.shape[1]} columns; pass one eigenvalue per eigenfunction "
-                             f"(lam[:k], phi[:, :k])")
-    B_source = _check_mass("B_source", B_source, len(pS), "phi_source")
-    B_target = _check_mass("B_target", B_target, len(pT), "phi_target")
-    FS = _check_rows("desc_source", desc_source, len(pS), "phi_source").reshape(len(pS), -1)
-    FT = _check_rows("desc_target", desc_target, len(pT), "phi_target").reshape(len(pT), -1)
+    source = _check_eigenbasis("source", source)
+    target = _check_eigenbasis("target", target)
+    lS, lT = source.lam, target.lam
+    pS, pT = source.phi, target.phi
+    FS = _check_array("desc_source", _columns(desc_source), len(pS))
+    FT = _check_array("desc_target", _columns(desc_target), len(pT))
     if FS.shape[1] != FT.shape[1]:
         raise ValueError(f"desc_source has {FS.shape[1]} descriptors and desc_target "
                          f"{FT.shape[1]}; compute both at the same scales")
-    meshes = []
-    for name, mesh, phi in (("source", source, pS), ("target", target, pT)):
-        m = None if mesh is None else _check_mesh(name, mesh)
-        if m is not None and m.n_vertices != len(phi):
-            raise ValueError(f"{name} has {m.n_vertices} vertices but phi_{name} has "
-                             f"{len(phi)} rows; pass the mesh whose eigenfunctions phi_{name} "
-                             "holds")
-        meshes.append(m)
-    source, target = meshes
     wd = check_real("descriptor_weight", descriptor_weight, min=0)
     wl = check_real("laplacian_weight", laplacian_weight, min=0)
     wo = check_real("orientation_weight", orientation_weight, min=0)
@@ -318,27 +297,37 @@ def functional_map(lam_source: ArrayLike, phi_source: ArrayLike,
     if wd == 0 and wl == 0:
         raise ValueError("descriptor_weight and laplacian_weight are both 0; C is then not "
                          "determined; use descriptor_weight > 0")
+    if wo > 0 and maxiter > 0:
+        for name, b in (("source", source), ("target", target)):
+            if b.mesh is None:
+                raise ValueError(
+                    f"{name} has no mesh, and the orientation term (orientation_weight="
+                    f"{wo:g}) needs its faces; compute the basis with cshape.eigenbasis(mesh) "
+                    "or pass orientation_weight=0"
+                )
+    B_source, B_target = source.B, target.B
     nS = np.sqrt(np.einsum("ij,ij->j", FS, B_source @ FS))
     nT = np.sqrt(np.einsum("ij,ij->j", FT, B_target @ FT))
     keep = (nS > 0) & (nT > 0)
     FS, FT = FS[:, keep] / nS[keep], FT[:, keep] / nT[keep]
     DS, DT = pS.T @ (B_source @ FS), pT.T @ (B_target @ FT)
     scale = max(float(np.abs(lS).max()), np.finfo(float).tiny)
-    M = np.square(lT[:, None] / scale - lS[None, :] / scale)  # (k_T, k_S)
+    M = np.square(lT[:, None] / scale - lS[None, :] / scale)  # (N_T, N_S)
     # closed form per row: (wd DS DS^T + wl diag(M_i)) c_i = wd DS DT_i
-    with one_blas_thread():  # k x k products: spinning BLAS threads only slow them
-        return _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT)
+    with one_blas_thread():  # N x N products: spinning BLAS threads only slow them
+        return _solve_map(DS, DT, M, wd, wl, wo, maxiter, source.mesh, target.mesh, pS, pT,
+                          FS, FT)
 
 
 def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
     """Minimise the energy of :func:`functional_map` (its arguments checked)."""
     kT, kS = M.shape
     H = wd * (DS @ DS.T)
-    R = wd * (DS @ DT.T)  # (k_S, k_T)
+    R = wd * (DS @ DT.T)  # (N_S, N_T)
     C = np.empty((kT, kS))
     for i in range(kT):
         C[i] = np.linalg.solve(H + wl * np.diag(M[i]) + 1e-12 * np.eye(kS), R[:, i])
-    if wo == 0 or source is None or target is None or maxiter == 0:
+    if wo == 0 or maxiter == 0:
         return C
     OS = _orientation_ops(source, pS, FS)
     OT = _orientation_ops(target, pT, FT)
@@ -349,7 +338,7 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
     # solved by conjugate gradients from the closed-form solution without the orientation
     def hess(x):
         X = x.reshape(kT, kS)
-        RO = X @ OS - OT @ X  # (f, k_T, k_S): C O_S,f - O_T,f C
+        RO = X @ OS - OT @ X  # (f, N_T, N_S): C O_S,f - O_T,f C
         g = X @ H + wl * M * X + 1e-12 * X  # H = wd DS DS^T, symmetric
         g += wo * ((RO @ OSt).sum(axis=0) - (OTt @ RO).sum(axis=0))
         return g.ravel()
@@ -361,14 +350,12 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
 
 
 # ---------------------------------------------------------------------- ZoomOut
-def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
-            B_target: sp.spmatrix | np.ndarray, k: int | None = None, *, step: int = 1,
-            sample: int | None = None, bijective: bool = False,
-            B_source: sp.spmatrix | np.ndarray | None = None,
+def zoomout(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, N: int | None = None, *,
+            step: int = 1, sample: int | None = None, bijective: bool = False,
             random_state: int = 0) -> NDArray[np.float64]:
     """Spectral upsampling of a functional map (ZoomOut, Melzi et al. 2019, Algorithm 1).
 
-    From ``C`` of size ``k0``, repeat until size ``k``: the vertex map of ``C``
+    From ``C`` of size ``N0``, repeat until size ``N``: the vertex map of ``C``
     (:func:`map_to_pointwise`), then ``C`` of size ``+step`` from it
     (``C = Phi_T^T B_T Pi Phi_S``, Eq. 4 of Melzi et al.).  Each step makes the map more
     nearly an isometry between more eigenfunctions; the noise of the first map, in the high
@@ -377,46 +364,41 @@ def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
     With ``sample``, the iterations use that many random vertices of each shape (the
     map of the samples to all source vertices nearest in spectral space is replaced by a
     map to the source samples; ``C`` is fitted by least squares on the target samples,
-    weighted by their mass): the cost falls from ``n_T n_S k`` to ``sample^2 k`` per step,
+    weighted by their mass): the cost falls from ``n_T n_S N`` to ``sample^2 N`` per step,
     with the same result to within a few per cent of accuracy (Magnet and Ovsjanikov 2021).
 
     Parameters
     ----------
-    C : array_like, shape (k0, k0)
-    phi_source, phi_target : array_like, shape (n_S, >= k), (n_T, >= k)
-    B_target : sparse matrix, shape (n_T, n_T)
-    k : int, optional
-        Final size (default: all the columns of the bases).
+    C : array_like, shape (N0, N0)
+    source, target : Eigenbasis
+        The bases of the two shapes (:func:`cshape.eigenbasis`), of at least ``N`` pairs.
+    N : int, optional
+        Final size (default: the size of the smaller basis).
     step : int, default=1
         Basis functions added per iteration.
     sample : int, optional
         Vertices per shape used in the iterations (default: all).
     bijective : bool, default=False
         Average ``C`` with the adjoint of the map the other way, ``(Phi_S^T B_S Pi_ST
-        Phi_T)^T``, at every step, so the map is pushed towards a bijection (needs
-        ``B_source``).
-    B_source : sparse matrix, shape (n_S, n_S), optional
+        Phi_T)^T``, at every step, so the map is pushed towards a bijection.
     random_state : int, default=0
         Seed of the samples.
 
     Returns
     -------
-    ndarray, shape (k, k)
+    ndarray, shape (N, N)
     """
-    pS = _check_basis("phi_source", phi_source)
-    pT = _check_basis("phi_target", phi_target)
+    source = _check_eigenbasis("source", source)
+    target = _check_eigenbasis("target", target)
+    pS, pT = source.phi, target.phi
+    B_source, B_target = source.B, target.B
     C = _check_C(C, pT.shape[1], pS.shape[1])
     kmax = min(pS.shape[1], pT.shape[1])
-    k = kmax if k is None else check_int("k", k, min=max(C.shape), max=kmax)
+    k = kmax if N is None else check_int("N", N, min=max(C.shape), max=kmax)
     step = check_int("step", step, min=1)
     bijective = check_bool("bijective", bijective)
-    if bijective and B_source is None:
-        raise ValueError("bijective=True needs B_source (the source's mass matrix)")
-    B_target = _check_mass("B_target", B_target, len(pT), "phi_target")
-    if B_source is not None:
-        B_source = _check_mass("B_source", B_source, len(pS), "phi_source")
     wT = np.asarray(B_target.sum(axis=1)).ravel()
-    wS = None if B_source is None else np.asarray(B_source.sum(axis=1)).ravel()
+    wS = np.asarray(B_source.sum(axis=1)).ravel()
     if sample is not None:
         sample = check_int("sample", sample, min=1)
         rng = np.random.default_rng(random_state)
@@ -436,7 +418,6 @@ def zoomout(C: ArrayLike, phi_source: ArrayLike, phi_target: ArrayLike,
             kc = min(kc + step, k)
             C = _fit(subT[:, :kc], subS[p, :kc], wT[iT], B_target if full else None)
             if bijective:
-                assert wS is not None  # bijective=True was refused above without B_source
                 q = nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
                 C2 = _fit(subS[:, :kc], subT[q, :kc], wS[iS], B_source if full else None)
                 C = 0.5 * (C + C2.T)
@@ -459,19 +440,20 @@ def _fit(phiT, phiS_mapped, w, B):
 
 
 # ---------------------------------------------------------------------- one call
-def _descriptors(lam_s, phi_s, area_s, lam_t, phi_t, area_t, n_descr, landmarks):
-    e, sigma = wks_energies(lam_s, n_descr, area=area_s)
-    dS = wks(lam_s, phi_s, e, sigma, area=area_s)[:, ::DESCRIPTOR_STRIDE]
-    dT = wks(lam_t, phi_t, e, sigma, area=area_t)[:, ::DESCRIPTOR_STRIDE]
+def _descriptors(source, target, n_descr, landmarks):
+    """WKS (and landmark heat kernels) of two bases at the source's energies, unit area."""
+    e, sigma = wks_energies(source, n_descr, normalization="area")
+    dS = wks(source, e, sigma, normalization="area")[:, ::DESCRIPTOR_STRIDE]
+    dT = wks(target, e, sigma, normalization="area")[:, ::DESCRIPTOR_STRIDE]
     if landmarks is not None:
         # heat kernels from the landmarks, at a few times (units of the area)
         for t in (0.002, 0.005, 0.01):
-            dS = np.hstack([dS, heat_kernel(lam_s, phi_s, t, landmarks[:, 0], area=area_s)])
-            dT = np.hstack([dT, heat_kernel(lam_t, phi_t, t, landmarks[:, 1], area=area_t)])
+            dS = np.hstack([dS, heat_kernel(source, t, landmarks[:, 0], normalization="area")])
+            dT = np.hstack([dT, heat_kernel(target, t, landmarks[:, 1], normalization="area")])
     return dS, dT
 
 
-def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
+def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
               n_descriptors: int = 100, orientation: bool = True,
               zoomout_steps: bool | int = True, landmarks: ArrayLike | None = None,
               bijective: bool = False, sample: int | None = 3000,
@@ -479,29 +461,30 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Map the vertices of two meshes in one call, by functional maps and ZoomOut.
 
-    1. ``A``, ``B`` of each mesh (:func:`cshape.fem_matrices`, assembled once) and its ``k``
-       eigenpairs (:func:`cshape.spectrum.solve_eigenproblem`);
+    1. the :class:`cshape.Eigenbasis` of each mesh, ``N`` pairs (:func:`cshape.eigenbasis`:
+       ``A`` and ``B`` assembled once);
     2. WKS descriptors (:func:`cshape.wks`, the shapes scaled to unit area, ``n_descriptors``
        energies of the source), plus heat kernels from the landmarks when given;
-    3. ``C`` of size ``k0`` by :func:`functional_map` (with the orientation term);
-    4. with ``initial='search'`` and no landmarks, more starting maps: every sign pattern of
-       the first few eigenfunctions (between different bodies these still correspond one to
-       one, while the descriptors no longer agree), upsampled on samples, the two of the
-       smallest spectral residual that differ;
-    5. :func:`zoomout` of each start to size ``k`` and its vertex map
-       (:func:`map_to_pointwise`);
-    6. of the maps whose residual ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the
-       smallest, the one whose image triangles keep the orientation of the source on the
-       largest share of the target's area (a mirror image reverses them all); without
-       ``orientation``, the one of the smallest residual.
+    3. ``C`` of size ``N0`` by :func:`functional_map` (with the orientation term);
+    4. with ``initial='search'``, ZoomOut and no landmarks, more starting maps: every sign
+       pattern of the first few eigenfunctions (between different bodies these still
+       correspond one to one, while the descriptors no longer agree), upsampled on samples,
+       the two of the smallest spectral residual that differ;
+    5. each start upsampled by :func:`zoomout` to a common size and its vertex map
+       (:func:`map_to_pointwise`); of the maps whose residual
+       ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, the one whose
+       image triangles keep the orientation of the source on the largest share of the
+       target's area (a mirror image reverses them all) is kept; without ``orientation``,
+       the one of the smallest residual;
+    6. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
 
     Parameters
     ----------
     source, target : Mesh or (vertices, faces)
         Consistently oriented triangle meshes without duplicate or unreferenced vertices.
-    k : int, default=100
+    N : int, default=100
         Final basis size (eigenpairs computed per mesh).
-    k0 : int, default=30
+    N0 : int, default=30
         Size of the first functional map.
     n_descriptors : int, default=100
         WKS energies (Aubry et al.'s default grid); every ``DESCRIPTOR_STRIDE``-th is kept
@@ -510,8 +493,8 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
         Use the orientation-preserving term (Ren et al. 2018): without it a left-right
         symmetric shape may be mapped onto its mirror image.
     zoomout_steps : bool or int, default=True
-        ZoomOut from ``k0`` to ``k`` (an int: basis functions added per step; True: 1).
-        False: the map of the size-``k0`` ``C``.
+        ZoomOut from ``N0`` to ``N`` (an int: basis functions added per step; True: 1).
+        False: the map of the size-``N0`` ``C``.
     landmarks : array_like of int, shape (L, 2), optional
         Known corresponding vertices ``(source vertex, target vertex)``.
     bijective : bool, default=False
@@ -519,32 +502,32 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     sample : int or None, default=3000
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
     initial : {'search', 'descriptors'}, default='search'
-        'search': the descriptors' map and the sign patterns compete (step 4-6);
+        'search': the descriptors' map and the sign patterns compete (steps 4-5);
         'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
         'descriptors'.
     return_map : bool, default=False
-        Also return ``C`` (``k x k``).
+        Also return ``C`` (``N x N``).
     random_state : int, default=0
 
     Returns
     -------
     p2p : ndarray of int64, shape (n_target,)
         ``p2p[y]`` is the source vertex matched to target vertex ``y`` (pyFM's ``p2p_21``).
-    C : ndarray, shape (k, k)
+    C : ndarray, shape (N, N)
         Only with ``return_map=True``.
 
     Examples
     --------
     >>> import numpy as np, cshape
     >>> mesh = cshape.shapes.icosphere(2)
-    >>> p = cshape.point_map(mesh, mesh, k=20, k0=10)
+    >>> p = cshape.point_map(mesh, mesh, N=20, N0=10)
     >>> p.shape
     (162,)
     """
     S = _check_mesh("source", source)
     T = _check_mesh("target", target)
-    k = check_int("k", k, min=2)
-    k0 = check_int("k0", k0, min=2, max=k)
+    N = check_int("N", N, min=2)
+    N0 = check_int("N0", N0, min=2, max=N)
     n_descriptors = check_int("n_descriptors", n_descriptors, min=int(4 * 7) + 1)
     orientation = check_bool("orientation", orientation)
     if isinstance(zoomout_steps, (bool, np.bool_)):
@@ -555,39 +538,37 @@ def point_map(source: MeshLike, target: MeshLike, *, k: int = 100, k0: int = 30,
     initial = check_choice("initial", initial, ("search", "descriptors"))
     return_map = check_bool("return_map", return_map)
     lm = check_landmarks(landmarks, S.n_vertices, T.n_vertices)
-    if k > min(S.n_vertices, T.n_vertices):
-        raise ValueError(f"k={k} is more than the vertices of the smaller mesh "
-                         f"({min(S.n_vertices, T.n_vertices)}); use a smaller k")
-    # A and B assembled once per mesh, for the eigenpairs and the maps
-    AS, BS = fem_matrices(S)
-    AT, BT = fem_matrices(T)
-    lS, pS = solve_eigenproblem(AS, BS, k)
-    lT, pT = solve_eigenproblem(AT, BT, k)
-    dS, dT = _descriptors(lS, pS, S.area, lT, pT, T.area, n_descriptors, lm)
-    C = functional_map(lS[:k0], pS[:, :k0], BS, lT[:k0], pT[:, :k0], BT, dS, dT,
-                       source=S, target=T,
+    if N > min(S.n_vertices, T.n_vertices):
+        raise ValueError(f"N={N} is more than the vertices of the smaller mesh "
+                         f"({min(S.n_vertices, T.n_vertices)}); use a smaller N")
+    bS, bT = eigenbasis(S, N), eigenbasis(T, N)
+    dS, dT = _descriptors(bS, bT, n_descriptors, lm)
+    C = functional_map(bS.truncate(N0), bT.truncate(N0), dS, dT,
                        orientation_weight=ORIENTATION_WEIGHT if orientation else 0.0)
-    starts = [C]
     if initial == "search" and lm is None and step:
-        wT = np.asarray(BT.sum(axis=1)).ravel()
-        with one_blas_thread():  # small products: spinning BLAS threads only slow them
-            starts += _candidates.sign_candidates(pS, pT, wT,
-                                                  np.random.default_rng(random_state))
-    if len(starts) > 1:
-        # each start upsampled to a common size, compared there; the one kept goes on to k
-        m = max(min(k, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
-        found = []
-        for C in starts:
-            if step:
-                C = zoomout(C, pS, pT, BT, m, step=step, sample=sample, bijective=bijective,
-                            B_source=BS, random_state=random_state)
-            p = map_to_pointwise(C, pS, pT)
-            n = min(C.shape)
-            found.append((C, (_candidates.residual(C[:n, :n], pS, pT, p),
-                              _candidates.orientation_share(S, T, p) if orientation else 0.0)))
-        C = found[_candidates.pick([sc for _C, sc in found])][0]
+        C = _search(C, bS, bT, N, orientation, dict(step=step, sample=sample,
+                                                    bijective=bijective,
+                                                    random_state=random_state))
     if step:
-        C = zoomout(C, pS, pT, BT, k, step=step, sample=sample, bijective=bijective,
-                    B_source=BS, random_state=random_state)
-    p2p = map_to_pointwise(C, pS, pT)
+        C = zoomout(C, bS, bT, N, step=step, sample=sample, bijective=bijective,
+                    random_state=random_state)
+    p2p = map_to_pointwise(C, bS, bT)
     return (p2p, C) if return_map else p2p
+
+
+def _search(C, bS, bT, N, orientation, zoom):
+    """Return the start that steps 4-5 of :func:`point_map` keep, at the common size."""
+    wT = np.asarray(bT.B.sum(axis=1)).ravel()
+    with one_blas_thread():  # small products: spinning BLAS threads only slow them
+        starts = [C] + _candidates.sign_candidates(bS.phi, bT.phi, wT,
+                                                   np.random.default_rng(zoom["random_state"]))
+    m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
+    found, scores = [], []
+    for C in starts:
+        C = zoomout(C, bS, bT, m, **zoom)
+        p = map_to_pointwise(C, bS, bT)
+        found.append(C)
+        scores.append((_candidates.residual(C, bS.phi, bT.phi, p),
+                       _candidates.orientation_share(bS.mesh, bT.mesh, p) if orientation
+                       else 0.0))
+    return found[_candidates.pick(scores)]

@@ -2,8 +2,8 @@
 
 Shape-DNA keeps the eigenvalues ``lam``; the eigenfunctions ``phi`` (``A phi_i = -lam_i B
 phi_i``, Eq. 3, B-orthonormal: ``phi.T @ B @ phi = I``) describe each *point*.  Everything here
-takes the output of :func:`cshape.eigenpairs` and uses every pair it is given: pass
-``lam[:k], phi[:, :k]`` to use fewer.
+takes an :class:`cshape.Eigenbasis` (:func:`cshape.eigenbasis`) and uses every pair it holds:
+pass ``basis.truncate(N)`` to use fewer.
 
 =====================  =====================================================================
 function               definition
@@ -20,24 +20,24 @@ function               definition
 =====================  =====================================================================
 
 Per-vertex signatures are arrays of shape ``(n, number of scales)``, one row per row of
-``phi``.  :func:`cshape.eigenpairs` repairs a mesh first (duplicate or unreferenced vertices
-removed), and ``n`` is then the repaired mesh's vertex count: call
-:func:`cshape.repair_mesh` yourself to keep the rows and your vertex indices in step.
+``phi``.  :func:`cshape.eigenbasis` repairs a mesh first (duplicate or unreferenced vertices
+removed), and ``n`` is then the vertex count of the repaired mesh, ``basis.mesh``.
 
-Normalisations
---------------
-* ``normalization='trace'`` divides by the signature's integral over the surface, so each
-  column integrates to 1: the heat trace ``Z(t)`` for the HKS (Sun et al.'s scaled HKS),
+Normalisation and scale
+-----------------------
+* ``normalization='area'`` gives the signature of the shape scaled to unit area, the
+  paper's normalisation of Section 2.1 (``lam -> lam * area``, ``phi -> phi * sqrt(area)``,
+  ``area`` the basis's): times are then in units of the area, energies are
+  ``log(lam * area)``, and values are dimensionless, so a scaled copy of a shape has the same
+  signature.  With ``'none'``, the HKS of a shape scaled by ``s`` is ``HKS_s(x, s^2 t) =
+  HKS(x, t) / s^2``.
+* ``scale='trace'`` divides by the signature's integral over the surface, so each column
+  integrates to 1: the heat trace ``Z(t)`` for the HKS (Sun et al.'s scaled HKS),
   ``sum_i exp(-(e - log lam_i)^2 / (2 sigma^2))`` for the WKS (Aubry et al.'s ``C_e``, the
   WKS default).  Since ``int_M k_t(x, x) dx = Z(t)``, a surface whose HKS is constant (the
   sphere) has ``HKS = Z(t) / area``.  On a mesh the integral ``1^T B s`` of a signature ``s``
   equals ``Z(t)`` (or 1) exactly for the lumped mass matrix (``mass='lumped'``) and up to the
   discretisation error for the consistent one (``1^T B phi_i^2 != phi_i^T B phi_i``).
-* ``area=...`` gives the signature of the shape scaled to unit area, the paper's
-  normalisation of Section 2.1 (``lam -> lam * area``, ``phi -> phi * sqrt(area)``): times are
-  then in units of the area, energies are ``log(lam * area)``, and values are dimensionless, so
-  a scaled copy of a shape has the same signature.  Without it, the HKS of a shape scaled by
-  ``s`` is ``HKS_s(x, s^2 t) = HKS(x, t) / s^2``.
 """
 
 from __future__ import annotations
@@ -45,8 +45,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._checks import check_bool, check_choice, check_int, check_real, check_spectrum
+from ._checks import check_bool, check_choice, check_int, check_real
 from .descriptors import ZERO_RTOL
+from .spectrum import Eigenbasis
 
 __all__ = [
     "heat_kernel",
@@ -66,20 +67,36 @@ T_FACTOR = 4.0 * np.log(10.0)
 #: The WKS's Gaussian width in energy steps (Aubry et al. 2011: ``sigma = 7 delta``).
 WKS_WIDTH = 7.0
 
-#: An eigenvalue at most ``ZERO_RTOL`` times the largest counts as zero (``lam_0`` of a
-#: closed or Neumann problem): the one zero tolerance of :mod:`cshape.descriptors`.
-
-
 # ---------------------------------------------------------------------- checks
-def _check_lam(lam: ArrayLike, *, nonneg: bool = True) -> np.ndarray:
-    lam = check_spectrum(lam, "lam")
-    scale = float(np.abs(lam).max())
-    if nonneg and lam.min() < -ZERO_RTOL * max(scale, np.finfo(float).tiny):
-        raise ValueError(
-            f"lam must be eigenvalues >= 0 (A f = -lam B f), got a minimum of {lam.min():.6g}; "
-            "pass the eigenvalues from cshape.eigenpairs"
+#: The ``normalization=`` options: the eigenpairs as they are, or of the shape scaled to
+#: unit area (Section 2.1).
+NORMALIZATIONS = ("none", "area")
+
+
+def _check_basis(basis: object) -> Eigenbasis:
+    if not isinstance(basis, Eigenbasis):
+        raise TypeError(
+            f"basis must be a cshape.Eigenbasis, got {type(basis).__name__}; compute it with "
+            "cshape.eigenbasis(mesh, N) (or build one from arrays: cshape.Eigenbasis(lam, "
+            "phi, B))"
         )
-    return np.maximum(lam, 0.0) if nonneg else lam
+    return basis
+
+
+def _eigenvalues(basis: object, normalization: object) -> np.ndarray:
+    """``lam`` of a checked basis, times the area for ``normalization='area'``."""
+    basis = _check_basis(basis)
+    normalization = check_choice("normalization", normalization, NORMALIZATIONS)
+    return basis.lam * basis.area if normalization == "area" else basis.lam
+
+
+def _pairs(basis: object, normalization: object) -> tuple[np.ndarray, np.ndarray]:
+    """``(lam, phi)`` of a checked basis, scaled to unit area for ``normalization='area'``."""
+    basis = _check_basis(basis)
+    normalization = check_choice("normalization", normalization, NORMALIZATIONS)
+    if normalization == "area":
+        return basis.lam * basis.area, basis.phi * np.sqrt(basis.area)
+    return basis.lam, basis.phi
 
 
 def _as_real_2d(x: ArrayLike, name: str) -> np.ndarray:
@@ -90,25 +107,6 @@ def _as_real_2d(x: ArrayLike, name: str) -> np.ndarray:
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be a real array, got {type(x).__name__}") from None
     return a
-
-
-def _check_pairs(lam: ArrayLike, phi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """``lam`` (N,) and ``phi`` (n, N) as float arrays, or a clear error."""
-    lam = _check_lam(lam)
-    phi = _as_real_2d(phi, "phi")
-    if phi.ndim != 2:
-        raise ValueError(
-            f"phi must have shape (n, N) (one column per eigenvalue), got shape {phi.shape}; "
-            "pass the eigenfunctions from cshape.eigenpairs"
-        )
-    if phi.shape[1] != len(lam):
-        raise ValueError(
-            f"phi has {phi.shape[1]} columns but lam has {len(lam)} eigenvalues; pass "
-            "lam[:k] and phi[:, :k] of the same eigenpairs"
-        )
-    if not np.isfinite(phi).all():
-        raise ValueError("phi contains NaN or infinite values")
-    return lam, phi
 
 
 def _check_positive(name: str, value: object, *, allow_none: bool = True) -> float | None:
@@ -133,15 +131,8 @@ def _check_scales(name: str, values: ArrayLike, *, positive: bool = True) -> np.
     return a
 
 
-def _scaled(lam: np.ndarray, phi: np.ndarray, area: float | None) -> tuple[np.ndarray, np.ndarray]:
-    """Return the eigenpairs of the shape scaled to unit area (Section 2.1), or unchanged."""
-    if area is None:
-        return lam, phi
-    return lam * area, phi * np.sqrt(area)
-
-
 def _nonzero(lam: np.ndarray) -> np.ndarray:
-    """Mask of the eigenvalues that are not numerically zero."""
+    """Mask of the eigenvalues that are not zero modes (``ZERO_RTOL``, the descriptors' rule)."""
     return lam > ZERO_RTOL * lam.max()
 
 
@@ -156,64 +147,60 @@ def _first_nonzero(lam: np.ndarray) -> float:
 
 
 # ---------------------------------------------------------------------- heat
-def heat_trace(lam: ArrayLike, t: ArrayLike, *, area: float | None = None) -> np.ndarray:
-    """Compute the heat trace ``Z(t) = sum_i exp(-lam_i t)`` over the given eigenvalues.
+def heat_trace(basis: Eigenbasis, t: ArrayLike, *, normalization: str = "none") -> np.ndarray:
+    """Compute the heat trace ``Z(t) = sum_i exp(-lam_i t)`` over the basis's eigenvalues.
 
     ``Z(t) = int_M k_t(x, x) dx``: the integral of the HKS over the surface.
 
     Parameters
     ----------
-    lam : array_like, shape (N,)
-        Eigenvalues of ``A f = -lam B f`` (Eq. 3), ``>= 0``.
+    basis : Eigenbasis
+        The ``N`` eigenpairs (:func:`cshape.eigenbasis`); only ``lam`` is used.
     t : float or array_like, shape (T,)
-        Positive times (units of length^2, or of the area with ``area=``).
-    area : float, optional
-        Surface area: the trace of the shape scaled to unit area, ``sum_i exp(-lam_i area t)``.
+        Positive times (units of length^2, or of the area with ``normalization='area'``).
+    normalization : {'none', 'area'}, default='none'
+        ``'area'``: the trace of the shape scaled to unit area, ``sum_i exp(-lam_i area t)``.
 
     Returns
     -------
     ndarray, shape (T,)
     """
-    lam = _check_lam(lam)
+    lam = _eigenvalues(basis, normalization)
     t = _check_scales("t", t)
-    area = _check_positive("area", area)
-    if area is not None:
-        lam = lam * area
     return np.exp(-np.outer(t, lam)).sum(axis=1)
 
 
-def heat_kernel(lam: ArrayLike, phi: ArrayLike, t: float, sources: ArrayLike, *,
-                area: float | None = None) -> np.ndarray:
+def heat_kernel(basis: Eigenbasis, t: float, sources: ArrayLike, *,
+                normalization: str = "none") -> np.ndarray:
     """Compute the heat kernel ``k_t(x, y) = sum_i exp(-lam_i t) phi_i(x) phi_i(y)`` from vertices.
 
     The temperature at every vertex ``x`` at time ``t`` after a unit of heat was put at
     ``y`` (a Dirac delta: ``int k_t(x, y) dx = 1`` for Neumann or closed surfaces).
-    Truncated to the ``N`` given eigenpairs, it is smooth at the scale of the ``N``-th
-    eigenfunction: for small ``t`` it needs many eigenpairs.
+    Truncated to the ``N`` eigenpairs of the basis, it is smooth at the scale of the
+    ``N``-th eigenfunction: for small ``t`` it needs many eigenpairs.
 
     Parameters
     ----------
-    lam : array_like, shape (N,)
-    phi : array_like, shape (n, N)
-        B-orthonormal eigenfunctions, from :func:`cshape.eigenpairs`.
+    basis : Eigenbasis
+        The ``N`` eigenpairs (:func:`cshape.eigenbasis`).
     t : float
         Positive time.
     sources : int or array_like of int, shape (s,)
         Vertex indices ``y``.
-    area : float, optional
-        Surface area: the kernel of the shape scaled to unit area (see the module notes).
+    normalization : {'none', 'area'}, default='none'
+        ``'area'``: the kernel of the shape scaled to unit area (see the module notes).
 
     Returns
     -------
-    ndarray, shape (n,) for one source, (n, s) for several
-        ``k_t(x, y)``, rows ``x`` (all vertices), columns ``y``; symmetric in ``x, y``.
+    ndarray, shape (n, N_sources)
+        ``k_t(x, y)``, rows ``x`` (all vertices), columns ``y``; shape (n,) for one source
+        given as an int.  Symmetric in ``x, y``.
     """
-    lam, phi = _check_pairs(lam, phi)
+    basis = _check_basis(basis)
     tt = _check_scales("t", t)
     if tt.size != 1:
         raise ValueError(f"t must be one time, got {tt.size} values; call once per time")
-    area = _check_positive("area", area)
-    n = phi.shape[0]
+    n = basis.n_vertices
     src = np.asarray(sources)
     if src.dtype.kind not in "iu" or src.ndim > 1:
         raise TypeError(
@@ -224,13 +211,14 @@ def heat_kernel(lam: ArrayLike, phi: ArrayLike, t: float, sources: ArrayLike, *,
             f"sources holds vertex index {int(src.max() if src.max() >= n else src.min())}, "
             f"outside [0, {n - 1}]; indices are zero-based vertex numbers"
         )
-    lam, phi = _scaled(lam, phi, area)
+    lam, phi = _pairs(basis, normalization)
     w = np.exp(-lam * tt[0])
     return phi @ (w[:, None] * phi[src].T) if src.ndim else phi @ (w * phi[src])
 
 
 # ---------------------------------------------------------------------- HKS
-def hks_times(lam: ArrayLike, n_times: int = 100, *, area: float | None = None) -> np.ndarray:
+def hks_times(basis: Eigenbasis, n_times: int = 100, *, normalization: str = "none"
+              ) -> np.ndarray:
     """Return the default HKS times of Sun et al. (2009): log-spaced over the spectrum's range.
 
     ``t`` runs from ``4 ln 10 / lam_max`` to ``4 ln 10 / lam_1`` (``lam_1`` the first
@@ -239,27 +227,28 @@ def hks_times(lam: ArrayLike, n_times: int = 100, *, area: float | None = None) 
 
     Parameters
     ----------
-    lam : array_like, shape (N,)
+    basis : Eigenbasis
+        Only ``lam`` is used.
     n_times : int, default=100
-    area : float, optional
-        Times for the shape scaled to unit area (in units of the area).
+    normalization : {'none', 'area'}, default='none'
+        ``'area'``: times for the shape scaled to unit area (in units of the area).
 
     Returns
     -------
     ndarray, shape (n_times,)
         Ascending.
     """
-    lam = _check_lam(lam)
-    n_times = check_int("n_times", n_times, min=1)
-    area = _check_positive("area", area)
-    if area is not None:
-        lam = lam * area
+    lam = _eigenvalues(basis, normalization)
+    return _hks_times(lam, check_int("n_times", n_times, min=1))
+
+
+def _hks_times(lam: np.ndarray, n_times: int) -> np.ndarray:
     lam1 = _first_nonzero(lam)
     return np.geomspace(T_FACTOR / lam.max(), T_FACTOR / lam1, n_times)
 
 
-def hks(lam: ArrayLike, phi: ArrayLike, t: ArrayLike | None = None, *, n_times: int = 100,
-        area: float | None = None, normalization: str = "none") -> np.ndarray:
+def hks(basis: Eigenbasis, t: ArrayLike | None = None, *, n_times: int = 100,
+        normalization: str = "none", scale: str = "none") -> np.ndarray:
     """Heat kernel signature ``HKS(x, t) = k_t(x, x) = sum_i exp(-lam_i t) phi_i(x)^2``.
 
     The heat that stays at ``x`` after time ``t`` (Sun, Ovsjanikov and Guibas 2009): small
@@ -268,19 +257,17 @@ def hks(lam: ArrayLike, phi: ArrayLike, t: ArrayLike | None = None, *, n_times: 
 
     Parameters
     ----------
-    lam : array_like, shape (N,)
-        Eigenvalues, ``>= 0`` (the ``N`` used are all those given).
-    phi : array_like, shape (n, N)
-        B-orthonormal eigenfunctions, from :func:`cshape.eigenpairs`.
+    basis : Eigenbasis
+        The ``N`` eigenpairs (:func:`cshape.eigenbasis`), all used.
     t : float or array_like, shape (T,), optional
-        Positive times.  Default: ``n_times`` values from :func:`hks_times` (computed
-        after the ``area`` scaling, if any).
+        Positive times.  Default: ``n_times`` values from :func:`hks_times` (for the
+        normalised eigenvalues).
     n_times : int, default=100
         Number of default times (ignored when ``t`` is given).
-    area : float, optional
-        Surface area: the HKS of the shape scaled to unit area (times in units of the area,
+    normalization : {'none', 'area'}, default='none'
+        ``'area'``: the HKS of the shape scaled to unit area (times in units of the area,
         values multiplied by it), invariant to scale.
-    normalization : {'none', 'trace'}, default='none'
+    scale : {'none', 'trace'}, default='none'
         ``'trace'`` divides each column by the heat trace ``Z(t)`` (Sun et al.'s scaled HKS),
         so that it integrates to 1 over the surface (see the module notes).
 
@@ -292,25 +279,24 @@ def hks(lam: ArrayLike, phi: ArrayLike, t: ArrayLike | None = None, *, n_times: 
     Examples
     --------
     >>> import cshape
-    >>> lam, phi = cshape.eigenpairs(cshape.shapes.icosphere(3), N=16)
-    >>> h = cshape.hks(lam, phi)   # (642, 100): on the unit sphere ~ heat_trace / (4 pi)
+    >>> basis = cshape.eigenbasis(cshape.shapes.icosphere(3), N=16)
+    >>> cshape.hks(basis).shape   # on the unit sphere ~ heat_trace / (4 pi)
+    (642, 100)
     """
-    lam, phi = _check_pairs(lam, phi)
     n_times = check_int("n_times", n_times, min=1)
-    area = _check_positive("area", area)
-    normalization = check_choice("normalization", normalization, ("none", "trace"))
-    lam, phi = _scaled(lam, phi, area)
-    t = hks_times(lam, n_times) if t is None else _check_scales("t", t)
+    scale = check_choice("scale", scale, ("none", "trace"))
+    lam, phi = _pairs(basis, normalization)
+    t = _hks_times(lam, n_times) if t is None else _check_scales("t", t)
     E = np.exp(-np.outer(lam, t))  # (N, T)
     out = np.square(phi) @ E
-    if normalization == "trace":
+    if scale == "trace":
         out /= E.sum(axis=0)
     return out
 
 
 # ---------------------------------------------------------------------- WKS
-def wks_energies(lam: ArrayLike, n_energies: int = 100, *,
-                 area: float | None = None) -> tuple[np.ndarray, float]:
+def wks_energies(basis: Eigenbasis, n_energies: int = 100, *, normalization: str = "none"
+                 ) -> tuple[np.ndarray, float]:
     """Return the default WKS energies and width of Aubry et al. (2011).
 
     With ``e_1 = log lam_1`` (first non-zero) and ``e_N = log lam_max``, the step is
@@ -320,23 +306,23 @@ def wks_energies(lam: ArrayLike, n_energies: int = 100, *,
 
     Parameters
     ----------
-    lam : array_like, shape (N,)
-        At least two distinct non-zero eigenvalues.
+    basis : Eigenbasis
+        At least two distinct non-zero eigenvalues; only ``lam`` is used.
     n_energies : int, default=100
         At least 29 (``4 sigma`` must fit in the range).
-    area : float, optional
-        Energies of the shape scaled to unit area (``log(lam * area)``).
+    normalization : {'none', 'area'}, default='none'
+        ``'area'``: energies of the shape scaled to unit area (``log(lam * area)``).
 
     Returns
     -------
     energies : ndarray, shape (n_energies,)
     sigma : float
     """
-    lam = _check_lam(lam)
-    n_energies = check_int("n_energies", n_energies, min=1)
-    area = _check_positive("area", area)
-    if area is not None:
-        lam = lam * area
+    lam = _eigenvalues(basis, normalization)
+    return _wks_energies(lam, check_int("n_energies", n_energies, min=1))
+
+
+def _wks_energies(lam: np.ndarray, n_energies: int) -> tuple[np.ndarray, float]:
     e1, eN = np.log(_first_nonzero(lam)), np.log(lam.max())
     if not eN > e1:
         raise ValueError(
@@ -353,9 +339,9 @@ def wks_energies(lam: ArrayLike, n_energies: int = 100, *,
     return np.linspace(e1 + 2 * sigma, eN - 2 * sigma, n_energies), float(sigma)
 
 
-def wks(lam: ArrayLike, phi: ArrayLike, energies: ArrayLike | None = None,
-        sigma: float | None = None, *, n_energies: int = 100,
-        area: float | None = None, normalization: str = "trace") -> np.ndarray:
+def wks(basis: Eigenbasis, energies: ArrayLike | None = None, sigma: float | None = None, *,
+        n_energies: int = 100, normalization: str = "none", scale: str = "trace"
+        ) -> np.ndarray:
     """Wave kernel signature (Aubry, Schlickewei and Cremers 2011).
 
     ``WKS(x, e) = C_e sum_i phi_i(x)^2 g_i(e)``, ``g_i(e) = exp(-(e - log lam_i)^2 /
@@ -366,9 +352,8 @@ def wks(lam: ArrayLike, phi: ArrayLike, energies: ArrayLike | None = None,
 
     Parameters
     ----------
-    lam : array_like, shape (N,)
-    phi : array_like, shape (n, N)
-        B-orthonormal eigenfunctions, from :func:`cshape.eigenpairs`.
+    basis : Eigenbasis
+        The ``N`` eigenpairs (:func:`cshape.eigenbasis`), all used.
     energies : float or array_like, shape (E,), optional
         Log-energies ``e``.  Default: :func:`wks_energies`.
     sigma : float, optional
@@ -376,10 +361,10 @@ def wks(lam: ArrayLike, phi: ArrayLike, energies: ArrayLike | None = None,
         be given with explicit ``energies``.
     n_energies : int, default=100
         Number of default energies (ignored when ``energies`` is given).
-    area : float, optional
-        Surface area: the WKS of the shape scaled to unit area (energies ``log(lam area)``,
+    normalization : {'none', 'area'}, default='none'
+        ``'area'``: the WKS of the shape scaled to unit area (energies ``log(lam area)``,
         values multiplied by the area), invariant to scale.
-    normalization : {'trace', 'none'}, default='trace'
+    scale : {'trace', 'none'}, default='trace'
         ``'trace'`` multiplies by ``C_e`` (each column integrates to 1 over the surface);
         ``'none'`` leaves it out.
 
@@ -387,14 +372,12 @@ def wks(lam: ArrayLike, phi: ArrayLike, energies: ArrayLike | None = None,
     -------
     ndarray, shape (n, E)
     """
-    lam, phi = _check_pairs(lam, phi)
     n_energies = check_int("n_energies", n_energies, min=1)
-    area = _check_positive("area", area)
     sigma = _check_positive("sigma", sigma)
-    normalization = check_choice("normalization", normalization, ("trace", "none"))
-    lam, phi = _scaled(lam, phi, area)
+    scale = check_choice("scale", scale, ("trace", "none"))
+    lam, phi = _pairs(basis, normalization)
     if energies is None:
-        energies, default_sigma = wks_energies(lam, n_energies)
+        energies, default_sigma = _wks_energies(lam, n_energies)
         sigma = default_sigma if sigma is None else sigma
     else:
         energies = _check_scales("energies", energies, positive=False)
@@ -408,7 +391,7 @@ def wks(lam: ArrayLike, phi: ArrayLike, energies: ArrayLike | None = None,
         raise ValueError("lam has no non-zero eigenvalue: the WKS needs log(lam_i)")
     G = np.exp(-np.square(energies[None, :] - np.log(lam[keep])[:, None]) / (2 * sigma**2))
     out = np.square(phi[:, keep]) @ G  # (n, E)
-    if normalization == "trace":
+    if scale == "trace":
         total = G.sum(axis=0)
         if (total == 0).any():
             e = float(energies[np.flatnonzero(total == 0)[0]])
@@ -444,7 +427,7 @@ def si_hks_tau(step: float = 1 / 8) -> np.ndarray:
     return np.arange(-24.0, 16.0 + step / 2, step)
 
 
-def si_hks(lam: ArrayLike, phi: ArrayLike, tau: ArrayLike | None = None, *, base: float = 2.0,
+def si_hks(basis: Eigenbasis, tau: ArrayLike | None = None, *, base: float = 2.0,
            n_freqs: int = 6) -> np.ndarray:
     """Scale-invariant HKS (Bronstein and Kokkinos 2010).
 
@@ -466,10 +449,9 @@ def si_hks(lam: ArrayLike, phi: ArrayLike, tau: ArrayLike | None = None, *, base
 
     Parameters
     ----------
-    lam : array_like, shape (N,)
-    phi : array_like, shape (n, N)
-        B-orthonormal eigenfunctions of a closed or Neumann problem (``lam_0 = 0``, so the
-        HKS is positive everywhere).
+    basis : Eigenbasis
+        The ``N`` eigenpairs (:func:`cshape.eigenbasis`) of a closed or Neumann problem
+        (``lam_0 = 0``, so the HKS is positive everywhere).
     tau : array_like, shape (T,), optional
         Evenly spaced, increasing log-times.  Default: :func:`si_hks_tau` (``T = 321``).
     base : float, default=2.0
@@ -481,7 +463,7 @@ def si_hks(lam: ArrayLike, phi: ArrayLike, tau: ArrayLike | None = None, *, base
     -------
     ndarray, shape (n, n_freqs)
     """
-    lam, phi = _check_pairs(lam, phi)
+    lam, phi = _pairs(basis, "none")
     base = check_real("base", base, positive=True)
     if base == 1.0:
         raise ValueError("base must differ from 1 (t = base^tau), got 1.0")
@@ -564,7 +546,7 @@ def match_points(sig_a: ArrayLike, sig_b: ArrayLike, *, mutual: bool = False) ->
     """Match every vertex of shape a to the vertex of shape b with the nearest signature.
 
     The distance is Euclidean over the columns (scales); transform the signatures first to
-    weight them (e.g. :func:`hks` with ``normalization='trace'`` and log-spaced times is Sun
+    weight them (e.g. :func:`hks` with ``scale='trace'`` and log-spaced times is Sun
     et al.'s distance; ``np.log`` of it weighs the scales equally).
 
     Parameters

@@ -8,8 +8,11 @@ boundary conditions, once per connected component.
 What is returned.  :func:`shape_dna` gives the ``N`` smallest eigenvalues, ascending,
 ``lam[0]`` included (Shape-DNA, Section 2.1); :func:`eigenpairs` also gives the
 eigenfunctions ``phi`` (n, N), B-orthonormal (``phi.T @ B @ phi = I``), with the same
-eigenvalues bit for bit.  Round-off of zero eigenvalues (below ``1e-10`` times the
-largest) is set to 0.  :func:`solve_eigenproblem` does the same for given ``A`` and ``B``.
+eigenvalues bit for bit.  :func:`eigenbasis` gives the same pairs as one frozen
+:class:`Eigenbasis` with the mass matrix ``B``, the area and the (repaired) mesh: what the
+signatures (:mod:`cshape.signatures`) and the maps (:mod:`cshape.maps`) take.  Round-off of
+zero eigenvalues (below :data:`ZERO_ROUNDOFF` times the largest) is set to 0.
+:func:`solve_eigenproblem` does the same for given ``A`` and ``B``.
 
 Accuracy.  Small problems (at most :data:`DENSE_LIMIT` unknowns, or ``3 N`` or more of
 them) are solved densely by LAPACK.  Larger ones use block shift-invert Lanczos on one
@@ -26,16 +29,17 @@ mesh of several connected components is solved one component at a time.
 Determinism.  Fixed seeds: the same input gives the same bits in every run, with any
 number of threads (:func:`solver_threads`).
 
-The solver lives in private modules by job: :mod:`cshape._shift` (the shift and its
-factorisation), :mod:`cshape._lanczos` (the iteration), :mod:`cshape._threads` (the thread
-policy), :mod:`cshape._cholmod` (the sparse Cholesky backends).  The derivation is the
+The solver lives in the private subpackage :mod:`cshape._eigensolver`, one module by job:
+``shift`` (the shift and its factorisation), ``lanczos`` (the iteration), ``threads`` (the
+thread policy), ``cholmod`` (the sparse Cholesky backends).  The derivation is the
 eigensolver guide of the documentation; measured figures: ``benchmarks/SCALE.md``.
 """
 
 from __future__ import annotations
 
 import warnings
-from typing import Literal, overload
+from dataclasses import dataclass, field
+from typing import Any, Literal, overload
 
 import numpy as np
 import scipy.linalg as la
@@ -43,19 +47,37 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 from numpy.typing import NDArray
 
-from . import _shift
-from ._checks import check_bool, check_int, check_real
-from ._lanczos import BLOCK_SIZE, MIN_BLOCK_SIZE  # noqa: F401  (block sizes, for benchmarks)
-from ._threads import one_blas_thread, solver_threads
+from . import _refine
+from ._checks import (
+    _caller_stacklevel,
+    check_bool,
+    check_choice,
+    check_int,
+    check_real,
+    check_spectrum,
+)
+from ._eigensolver import shift as _shift
+from ._eigensolver.lanczos import (  # noqa: F401  (block sizes, for benchmarks)
+    BLOCK_SIZE,
+    MIN_BLOCK_SIZE,
+)
+from ._eigensolver.threads import one_blas_thread, solver_threads
+from .fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from .fem import _problem as fem
-from .mesh import CShapeWarning, MeshLike, as_mesh, repair_mesh
+from .mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
-__all__ = ["eigenpairs", "estimate_seconds", "shape_dna", "solve_eigenproblem",
-           "solver_threads"]
+__all__ = ["Eigenbasis", "eigenbasis", "eigenpairs", "estimate_seconds", "shape_dna",
+           "solve_eigenproblem", "solver_threads"]
 
 #: Problems with at most this many unknowns (or ``3 N`` or more of them) are solved
 #: densely by LAPACK: there the sparse path is no faster.
 DENSE_LIMIT = 700
+
+#: Values of the ``refine`` option of :func:`shape_dna` (how the eigenvalues are computed).
+REFINEMENTS = ("none", "extrapolate")
+#: Eigenvalues within this fraction of the largest from 0 are round-off of zero eigenvalues:
+#: the eigensolver sets them to 0, and an :class:`Eigenbasis` refuses anything further below.
+ZERO_ROUNDOFF = 1e-10
 
 #: An eigensolve estimated (:func:`estimate_seconds`) to take longer warns before it starts.
 LONG_SOLVE_SECONDS = 60.0
@@ -96,7 +118,7 @@ def _solve_sparse(K, B, N, sigma, return_vectors):
     union are kept: identical components would otherwise make every eigenvalue exactly
     repeated once per component, beyond what the block size of the Krylov method can
     resolve.  A connected problem takes the inside shift where it applies
-    (:func:`cshape._shift.solve_inside`), else the shift below the spectrum.
+    (:func:`cshape._eigensolver.shift.solve_inside`), else the shift below the spectrum.
     """
     k = K.shape[0]
     same = _shift.same_pattern(K, B)
@@ -130,7 +152,8 @@ def _solve_components(K, B, N, sigma, return_vectors, ncomp, labels):
         Bc = Bp[lo:hi, lo:hi]
         Nc = min(N, len(idx))
         if _is_dense(len(idx), Nc):
-            lc, pc = _dense(Kc, Bc, Nc, return_vectors)
+            with one_blas_thread():  # as in solve_eigenproblem's dense path
+                lc, pc = _dense(Kc, Bc, Nc, return_vectors)
         else:
             lc, pc = _solve_sparse(Kc, Bc, Nc, sigma, return_vectors)
         lams.append(lc)
@@ -207,11 +230,211 @@ def solve_eigenproblem(A: sp.spmatrix, B: sp.spmatrix, N: int, *, return_vectors
     # in any unit keep their small eigenvalues
     area = float(B.sum())
     scale = max(float(np.abs(lam).max()), 4.0 * np.pi / area if area > 0 else 0.0)
-    lam[np.abs(lam) < 1e-10 * scale] = 0.0
+    lam[np.abs(lam) < ZERO_ROUNDOFF * scale] = 0.0
     lam = np.maximum(lam, 0.0)
     if return_vectors:
         return lam, phi  # phi is set when return_vectors
     return lam
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Eigenbasis:
+    """The ``N`` smallest eigenpairs of a mesh with its mass matrix: one value, computed once.
+
+    What the signatures (:func:`cshape.hks`, :func:`cshape.wks`, ...) and the maps
+    (:func:`cshape.functional_map`, :func:`cshape.zoomout`, ...) take.  Usually made by
+    :func:`eigenbasis`; the constructor builds one from plain arrays (another solver's
+    eigenpairs, say) and validates them.  The arrays are kept as read-only views.
+
+    Parameters
+    ----------
+    lam : array_like, shape (N,)
+        Eigenvalues of ``A f = -lam B f`` (Eq. 3), ``>= 0``: negative round-off down to
+        ``ZERO_ROUNDOFF`` times the largest is set to 0, anything below is refused.
+    phi : array_like, shape (n, N)
+        Eigenfunctions on the ``n`` mesh vertices, ``phi[:, i]`` for ``lam[i]``,
+        B-orthonormal: ``phi.T @ B @ phi = I``.
+    B : scipy.sparse matrix or array_like, shape (n, n)
+        Mass matrix over the mesh vertices (:func:`cshape.fem_matrices`), stored as CSR.
+    area : float, optional
+        Surface area.  Default: ``B.sum()``.
+    mesh : Mesh, optional
+        The mesh of ``n`` vertices the pairs belong to (the orientation term of
+        :func:`cshape.functional_map` needs it).
+    bc : {'neumann', 'dirichlet'}, default='neumann'
+    mass : {'consistent', 'lumped'}, default='consistent'
+        How the pairs were computed (see :func:`cshape.fem_matrices`).
+
+    Attributes
+    ----------
+    N : int
+        Number of eigenpairs.
+    n_vertices : int
+        Number of rows of ``phi``.
+
+    Raises
+    ------
+    TypeError
+        ``lam``, ``phi`` or ``B`` not real arrays, ``mesh`` not a Mesh, ``bc`` or ``mass``
+        not a string.
+    ValueError
+        Shapes that do not agree, NaN or infinite values, negative eigenvalues, an area
+        that is not positive, an unknown ``bc`` or ``mass``.
+
+    Examples
+    --------
+    >>> import cshape
+    >>> basis = cshape.eigenbasis(cshape.shapes.icosphere(3), N=16)
+    >>> basis
+    Eigenbasis(N=16, n_vertices=642, bc='neumann', mass='consistent', area=12.5, lam=[0 .. 12.2])
+    >>> basis.truncate(4).lam.round(2)  # the unit sphere: 0, then 2 (three times)
+    array([0.  , 2.01, 2.01, 2.01])
+    """
+
+    lam: NDArray[np.float64]
+    phi: NDArray[np.float64]
+    B: sp.csr_matrix
+    area: float = None  # type: ignore[assignment]  # set from B when not given
+    mesh: Mesh | None = field(default=None, kw_only=True)
+    bc: str = field(default="neumann", kw_only=True)
+    mass: str = field(default="consistent", kw_only=True)
+
+    def __post_init__(self) -> None:
+        """Validate the fields and store them normalised (read-only arrays, CSR ``B``)."""
+        lam = _check_eigenvalues(self.lam)
+        phi = _real_array("phi", self.phi)
+        if phi.ndim != 2 or phi.shape[1] != len(lam):
+            raise ValueError(
+                f"phi must have shape (n, N) = (n, {len(lam)}), one column per eigenvalue, "
+                f"got shape {phi.shape}; pass lam[:N] and phi[:, :N] of the same eigenpairs"
+            )
+        if not np.isfinite(phi).all():
+            raise ValueError("phi contains NaN or infinite values")
+        n = phi.shape[0]
+        B = self.B
+        if not sp.issparse(B):
+            B = _real_array("B", B)
+        if B.ndim != 2 or B.shape != (n, n):
+            raise ValueError(
+                f"B must be the mass matrix of shape (n, n) = ({n}, {n}) (one row per row of "
+                f"phi), got shape {B.shape}; pass the B of cshape.fem_matrices(mesh)"
+            )
+        B = sp.csr_matrix(B, dtype=np.float64)
+        area = float(B.sum()) if self.area is None else check_real("area", self.area,
+                                                                     positive=True)
+        if not area > 0:
+            raise ValueError(f"B sums to {area:.6g}: a mass matrix sums to the (positive) "
+                             "surface area; pass the B of cshape.fem_matrices(mesh)")
+        if self.mesh is not None:
+            if not isinstance(self.mesh, Mesh):
+                raise TypeError(f"mesh must be a cshape.Mesh or None, got "
+                                f"{type(self.mesh).__name__}")
+            if self.mesh.n_vertices != n:
+                raise ValueError(
+                    f"mesh has {self.mesh.n_vertices} vertices but phi has {n} rows; pass the "
+                    "(repaired) mesh whose eigenpairs these are"
+                )
+        set_ = object.__setattr__
+        set_(self, "lam", _read_only(lam))
+        set_(self, "phi", _read_only(phi))
+        set_(self, "B", B)
+        set_(self, "area", area)
+        set_(self, "bc", check_choice("bc", self.bc, BOUNDARY_CONDITIONS))
+        set_(self, "mass", check_choice("mass", self.mass, MASS_TYPES))
+
+    @property
+    def N(self) -> int:
+        """Number of eigenpairs ``N``."""
+        return int(self.lam.shape[0])
+
+    @property
+    def n_vertices(self) -> int:
+        """Number of vertices ``n`` (rows of ``phi``)."""
+        return int(self.phi.shape[0])
+
+    def truncate(self, N: int) -> Eigenbasis:
+        """Return the basis of the first ``N`` eigenpairs (views, not copies).
+
+        Parameters
+        ----------
+        N : int
+            ``1 <= N <= self.N``.
+        """
+        N = check_int("N", N, min=1, max=self.N)
+        out = object.__new__(Eigenbasis)
+        for name, value in (("lam", self.lam[:N]), ("phi", self.phi[:, :N]), ("B", self.B),
+                            ("area", self.area), ("mesh", self.mesh), ("bc", self.bc),
+                            ("mass", self.mass)):
+            object.__setattr__(out, name, value)
+        return out
+
+    def __repr__(self) -> str:
+        """Sizes, conditions, area and the range of the eigenvalues, on one line."""
+        return (f"Eigenbasis(N={self.N}, n_vertices={self.n_vertices}, bc={self.bc!r}, "
+                f"mass={self.mass!r}, area={self.area:.3g}, "
+                f"lam=[{self.lam[0]:.3g} .. {self.lam[-1]:.3g}])")
+
+
+def _real_array(name: str, x: Any) -> np.ndarray:
+    """``x`` as a float64 array, or a TypeError naming ``name``."""
+    if isinstance(x, (str, bytes)) or np.iscomplexobj(x):
+        raise TypeError(f"{name} must be a real array, got {type(x).__name__}")
+    try:
+        return np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real array, got {type(x).__name__}") from None
+
+
+def _check_eigenvalues(lam: object) -> NDArray[np.float64]:
+    """``lam`` checked (:func:`cshape._checks.check_spectrum`), ``>= 0`` up to round-off."""
+    lam = check_spectrum(lam, "lam")
+    scale = float(np.abs(lam).max())
+    if lam.min() < -ZERO_ROUNDOFF * max(scale, np.finfo(float).tiny):
+        raise ValueError(
+            f"lam must be eigenvalues >= 0 (A f = -lam B f), got a minimum of {lam.min():.6g}; "
+            "pass the eigenvalues from cshape.eigenpairs"
+        )
+    return lam if lam.min() >= 0 else np.maximum(lam, 0.0)
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    """Return a read-only view of ``a`` (``a`` itself stays writable)."""
+    v = a.view()
+    v.setflags(write=False)
+    return v
+
+
+def eigenbasis(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
+               ) -> Eigenbasis:
+    """Compute the :class:`Eigenbasis` of a mesh: its ``N`` smallest eigenpairs, ``B``, the area.
+
+    The mesh is repaired once (:func:`cshape.repair_mesh`), assembled once and solved once;
+    ``lam`` and ``phi`` are those of :func:`eigenpairs` for the same arguments, bit for bit.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+    N : int, default=100
+        Number of eigenpairs (lam_0 included).
+    bc : {'neumann', 'dirichlet'}, default='neumann'
+        See :func:`cshape.fem_matrices`.
+    mass : {'consistent', 'lumped'}, default='consistent'
+
+    Returns
+    -------
+    Eigenbasis
+        ``lam`` (N,), ``phi`` (n, N) on the vertices of the repaired mesh (zero on fixed
+        vertices for ``bc='dirichlet'``), ``B`` (n, n) the mass matrix over all its
+        vertices, ``area`` the mesh's area, ``mesh`` the repaired mesh.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`eigenpairs`.
+    """
+    mesh, problem, lam, phi = _solve_pairs(mesh, N, bc, mass)
+    return Eigenbasis(lam, phi, problem.B_vertices, problem.area, mesh=mesh, bc=problem.bc,
+                      mass=check_choice("mass", mass, MASS_TYPES))
 
 
 def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
@@ -248,13 +471,19 @@ def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
         ``N < 1`` or more than the unknowns, an unknown ``bc`` or ``mass``, an invalid or
         zero-area mesh.
     """
-    problem = _prepare(mesh, N, bc, mass)
+    _, problem, lam, phi = _solve_pairs(mesh, N, bc, mass)
+    return lam, phi
+
+
+def _solve_pairs(mesh, N, bc, mass):
+    """``(repaired mesh, FEM problem, lam, phi on the vertices)``: the one path of the pairs."""
+    mesh, problem = _prepare(mesh, N, bc, mass)
     lam, phi = solve_eigenproblem(problem.A, problem.B, N, return_vectors=True)
-    return lam, problem.to_vertices(phi)
+    return mesh, problem, lam, problem.to_vertices(phi)
 
 
-def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
-              ) -> NDArray[np.float64]:
+def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent",
+              refine: str = "none") -> NDArray[np.float64]:
     """Shape-DNA: the ``N`` smallest Laplace-Beltrami eigenvalues of a mesh (Section 2.1).
 
     Parameters
@@ -266,6 +495,18 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
         Number of eigenvalues, lam_0 included.  Must not exceed the number of unknowns.
     bc : {'neumann', 'dirichlet'}, default='neumann'
     mass : {'consistent', 'lumped'}, default='consistent'
+    refine : {'none', 'extrapolate'}, default='none'
+        ``'none'``: the eigenvalues of the linear FEM problem of Eq. (3)-(7), whose error
+        grows like ``h^2 lam^2`` (``h`` the edge length).  ``'extrapolate'``: Richardson
+        extrapolation ``(4 lam_fine - lam) / 3`` over one midpoint subdivision of the
+        mesh (every triangle split into four, kept flat; ``lam_fine`` its eigenvalues),
+        paired by index.  It removes the ``h^2`` term of the error against the spectrum
+        of the polyhedral surface where the subdivision repeats the mesh's pattern at half
+        the size (the error is then ``O(h^4)``); elsewhere the term shrinks by a large
+        factor but need not vanish.  It solves a second problem of about four times the
+        unknowns.  (A curved surface differs from its polyhedron by ``O(h^2)`` in its
+        metric, a small error that does not grow with the index.)  :func:`eigenpairs`
+        has no such option: eigenfunctions are not extrapolated.
 
     Returns
     -------
@@ -276,7 +517,7 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
     Raises
     ------
     TypeError, ValueError
-        As :func:`eigenpairs`.
+        As :func:`eigenpairs`; also an unknown ``refine``.
 
     Notes
     -----
@@ -292,8 +533,18 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
     >>> lam.round(2)  # the unit sphere: 0, then 2 (three times)
     array([0.  , 2.01, 2.01, 2.01])
     """
-    problem = _prepare(mesh, N, bc, mass)
-    return solve_eigenproblem(problem.A, problem.B, N, return_vectors=False)
+    refine = check_choice("refine", refine, REFINEMENTS)
+    mesh, problem = _prepare(mesh, N, bc, mass)
+    lam = solve_eigenproblem(problem.A, problem.B, N, return_vectors=False)
+    if refine == "none":
+        return lam
+    fine = fem(_refine.midpoint_subdivision(mesh), bc=problem.bc, mass=mass, repair=False)
+    long = long_solve_message(fine.n_unknowns, N)  # the subdivided mesh's solve
+    if long:
+        warnings.warn(f"refine='extrapolate' solves its midpoint subdivision too: {long}",
+                      CShapeWarning, stacklevel=2)
+    lam_fine = solve_eigenproblem(fine.A, fine.B, N, return_vectors=False)
+    return _refine.extrapolate(lam, lam_fine)
 
 
 def estimate_seconds(n: int, N: int) -> float:
@@ -301,8 +552,8 @@ def estimate_seconds(n: int, N: int) -> float:
 
     ``1e-9 n^3`` for the dense path (``n <= DENSE_LIMIT`` or ``3 N >= n``), else
     ``1e-8 n N^2`` (the Lanczos basis of about ``3 N`` vectors of length ``n``, kept
-    orthogonal), plus ``2e-5 n`` (FEM, factorisation), fitted on one core of a 2-core
-    machine (the fit: ``benchmarks/SCALE.md``, "The eigensolver").  The estimate is for
+    orthogonal), plus ``2e-5 n`` (FEM, factorisation); the coefficients are fitted to
+    measured solves (``benchmarks/SCALE.md``, "Operations notes").  The estimate is for
     warnings, not for planning to the minute.
     """
     n, N = float(check_int("n", n, min=0)), float(check_int("N", N, min=1))
@@ -347,6 +598,7 @@ def components_message(ncomp: int) -> str:
 
 
 def _prepare(mesh, N, bc, mass):
+    """``(repaired mesh, FEM problem)`` of an eigensolve of ``N`` pairs, with its warnings."""
     # repair first, so that the components counted are those of the mesh that is solved
     # (a welded STL triangle soup is one piece, not one per triangle)
     mesh = repair_mesh(as_mesh(mesh))
@@ -359,8 +611,8 @@ def _prepare(mesh, N, bc, mass):
     else:
         ncomp = mesh.n_components
     if ncomp > 1:
-        warnings.warn(components_message(ncomp), CShapeWarning, stacklevel=3)
+        warnings.warn(components_message(ncomp), CShapeWarning, stacklevel=_caller_stacklevel())
     long = long_solve_message(problem.n_unknowns, N)
     if long:
-        warnings.warn(long, CShapeWarning, stacklevel=3)
-    return problem
+        warnings.warn(long, CShapeWarning, stacklevel=_caller_stacklevel())
+    return mesh, problem

@@ -89,17 +89,17 @@ print("area-normalised:  ", cshape.normalize(lam_small, mesh.area), "\n         
 # %% [markdown]
 # ### Three normalisations
 #
-# `cshape.normalize(lam, area, method=...)` offers the paper's choice `'area'` and two others from the Shape-DNA
+# `cshape.normalize(lam, area, normalization=...)` offers the paper's choice `'area'` and two others from the Shape-DNA
 # literature: `'fiedler'` divides by the first non-zero eigenvalue, `'weyl'` rescales so that the least-squares
 # slope of $\lambda_i$ against $i$ becomes $4\pi$ (no area needed, handy for point clouds or damaged meshes).
 
 # %%
 fig = plots.new_figure((11, 3.2))
 axs = fig.subplots(1, 3)
-for ax, method in zip(axs, ["area", "fiedler", "weyl"], strict=True):
+for ax, norm in zip(axs, ["area", "fiedler", "weyl"], strict=True):
     for name, lam in spectra.items():
-        ax.plot(cshape.normalize(lam, areas[name], method=method), ".", ms=3, label=name)
-    ax.set(title=f"method='{method}'", xlabel="i")
+        ax.plot(cshape.normalize(lam, areas[name], normalization=norm), ".", ms=3, label=name)
+    ax.set(title=f"normalization='{norm}'", xlabel="i")
 axs[0].plot(4 * np.pi * np.arange(N), "k--", lw=1, label="4 pi i")
 axs[0].legend(fontsize="small")
 fig
@@ -155,9 +155,11 @@ print("visible checks passed")
 ### BEGIN HIDDEN TESTS
 assert np.allclose(weyl_line(3), [0.0, 4 * np.pi, 8 * np.pi]), "weyl_line(3) is [0, 4 pi, 8 pi]"
 _small = [0.0, 2.0, 3.0]
-assert np.allclose(weyl_normalize_mine(_small), cshape.normalize(_small, method="weyl")), _small
+assert np.allclose(weyl_normalize_mine(_small),
+                   cshape.normalize(_small, normalization="weyl")), _small
 for _name, _lam in spectra.items():
-    assert np.allclose(weyl_normalize_mine(_lam), cshape.normalize(_lam, method="weyl")), _name
+    assert np.allclose(weyl_normalize_mine(_lam),
+                       cshape.normalize(_lam, normalization="weyl")), _name
 ### END HIDDEN TESTS
 
 # %% [markdown]
@@ -167,7 +169,8 @@ for _name, _lam in spectra.items():
 # the Weyl line; (d) the Weyl line subtracted, Eq. (8).
 
 # %%
-lam, phi = cshape.eigenpairs(real, N)
+basis = cshape.eigenbasis(real, N)  # the eigenpairs, with B, the area and the mesh
+lam, phi = basis.lam, basis.phi
 plots.plot_mesh(real, phi[:, 6], title=f"(a) {real_name.split(' (')[0]}: phi_6", elev=15, azim=-120,
                 vertical_axis="y", figsize=(5, 5))
 
@@ -189,10 +192,10 @@ plots.plot_eigenfunctions(real, phi, [1, 2, 3, 5, 10, 20, 30, N - 1], lam, elev=
 # can **drag to rotate** and **scroll to zoom**; the **slider** steps through $\varphi_i$, with $\lambda_i$ in the
 # title. Red and blue are the two signs, white the *nodal lines* where $\varphi_i = 0$: count the nodal domains
 # (the regions of one sign) as $i$ grows. The colour range of every mode is symmetric about 0, because the sign
-# of an eigenfunction is arbitrary. The eigenfunctions are the ones computed above (`eigenpairs=`), not recomputed.
+# of an eigenfunction is arbitrary. The eigenfunctions are the ones computed above (`basis=`), not recomputed.
 
 # %%
-plots.eigenfunction_explorer(real, 21, eigenpairs=(lam, phi), vertical_axis="y")
+plots.eigenfunction_explorer(real, 21, basis=basis, vertical_axis="y")
 
 # %% [markdown]
 # On a symmetric shape eigenvalues repeat. The sphere's are $\ell(\ell+1)/r^2$ with multiplicity $2\ell+1$: slide

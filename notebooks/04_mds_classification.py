@@ -71,15 +71,17 @@ fig
 # %% [markdown]
 # ## Fig. 3: scaled distance matrices and their difference
 #
-# `table.distance_matrix(kind, M=...)` builds the descriptors from the stored eigenvalues (no new eigensolve)
-# and their Euclidean distances. Shapes are in collection order, so each class is a block on the diagonal.
+# A `cshape.Descriptor` says which descriptor: its kind, `N` and `M` (`cshape.PAPER` is the paper's
+# cShape-DNA, `M = 16` of `N = 100`). `table.distance_matrix(descriptor)` builds the descriptors from the stored
+# eigenvalues (no new eigensolve) and their Euclidean distances. Shapes are in collection order, so each class
+# is a block on the diagonal.
 
 # %%
-from cshape import compare
+from cshape import Descriptor, compare
 
 M = 16 if 2 * 16 + 1 <= N else (N - 1) // 2
-D_sdna = table.distance_matrix("shape-dna")
-D_cs = table.distance_matrix("cshape", M=M)
+D_sdna = table.distance_matrix(Descriptor("shape-dna", N=N))
+D_cs = table.distance_matrix(Descriptor("cshape", N=N, M=M))
 mean, std = compare.scaled_difference(D_sdna, D_cs)
 plots.plot_matrices(
     [compare.scale_255(D_sdna), compare.scale_255(D_cs), compare.difference_matrix(D_sdna, D_cs)],
@@ -107,7 +109,7 @@ axs = fig.subplots(nrows, 3).ravel()
 plots.plot_mds(compare.mds_embedding(D_sdna), labels=table.labels, ax=axs[0],
                  title=f"(a) Shape-DNA, N={N}")
 for ax, m in zip(axs[1:], Ms, strict=False):
-    Y = compare.mds_embedding(table.distance_matrix("cshape", M=m))
+    Y = compare.mds_embedding(table.distance_matrix(Descriptor("cshape", N=N, M=m)))
     plots.plot_mds(Y, labels=table.labels, ax=ax, title=f"cShape-DNA M={m} ({2 * m + 1} values)")
 for ax in axs[1:]:  # one legend is enough
     if ax.get_legend() is not None:
@@ -126,9 +128,9 @@ fig
 fig = plots.new_figure((11, 3.6 * nrows))
 axs = fig.subplots(nrows, 3).ravel()
 for ax, m in zip(axs, Ms, strict=False):
-    Y = compare.mds_embedding(table.distance_matrix("truncated", M=m))
+    Y = compare.mds_embedding(table.distance_matrix(Descriptor("truncated", N=N, M=m)))
     plots.plot_mds(Y, labels=table.labels, ax=ax, title=f"first {2 * m + 1} eigenvalues")
-Y = compare.mds_embedding(table.distance_matrix("f1"))
+Y = compare.mds_embedding(table.distance_matrix(Descriptor("f1", N=N)))
 plots.plot_mds(Y, labels=table.labels, ax=axs[len(Ms)], title=f"(f) F1, N={N}")
 for ax in axs[1:]:  # one legend is enough
     if ax.get_legend() is not None:
@@ -167,14 +169,18 @@ for k, (label, mesh) in enumerate(first.items()):
 fig
 
 # %%
-D_ret = ctable.distance_matrix("shape-dna")
+def scores(descriptor):
+    """The retrieval measures of one descriptor on the creatures."""
+    return compare.retrieval_scores(ctable.distance_matrix(descriptor), ctable.labels)
+
+
+D_ret = ctable.distance_matrix(Descriptor("shape-dna", N=N))
 rows = [("Shape-DNA", N, compare.retrieval_scores(D_ret, ctable.labels))]
 for m in Ms:
-    rows.append((f"cShape-DNA M={m}", 2 * m + 1,
-                 compare.retrieval_scores(ctable.distance_matrix("cshape", M=m), ctable.labels)))
+    rows.append((f"cShape-DNA M={m}", 2 * m + 1, scores(Descriptor("cshape", N=N, M=m))))
     rows.append((f"truncated, first {2 * m + 1}", 2 * m + 1,
-                 compare.retrieval_scores(ctable.distance_matrix("truncated", M=m), ctable.labels)))
-rows.append(("F1", N - 2, compare.retrieval_scores(ctable.distance_matrix("f1"), ctable.labels)))
+                 scores(Descriptor("truncated", N=N, M=m))))
+rows.append(("F1", N - 2, scores(Descriptor("f1", N=N))))
 keys = ["nn", "ft", "st", "e", "dcg", "map"]
 print(f"{'descriptor':24s} {'size':>4s} " + " ".join(f"{k:>6s}" for k in keys))
 for name, n_values, sc in rows:
@@ -185,8 +191,7 @@ fig = plots.new_figure((6, 3.6))
 ax = fig.add_subplot()
 sizes = [2 * m + 1 for m in Ms]
 for kind, marker in (("cshape", "o-"), ("truncated", "s--")):
-    ft = [compare.retrieval_scores(ctable.distance_matrix(kind, M=m), ctable.labels)["ft"]
-          for m in Ms]
+    ft = [scores(Descriptor(kind, N=N, M=m))["ft"] for m in Ms]
     ax.plot(sizes, ft, marker, label=kind)
 ax.axhline(rows[0][2]["ft"], color="k", lw=0.8, label=f"Shape-DNA, N={N}")
 ax.set(xlabel="descriptor size (values)", ylabel="first tier", xscale="log",

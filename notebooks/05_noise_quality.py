@@ -79,12 +79,12 @@ plots.view_meshes({f"{name}, clean": mesh,
 # `batch.describe` caches eigenvalues by mesh content, so rerunning this notebook only computes what is new.
 
 # %%
-clean = batch.describe(collection, N=N, M=M, progress=not SMALL)
+clean = batch.describe(collection, N=N, progress=not SMALL)
 noisy = {}
 for lev in levels:
     noisy_items = [(n, lab, variants.add_normal_noise(m, lev, random_state=0))
                    for n, lab, m in collection]
-    noisy[lev] = batch.describe(noisy_items, N=N, M=M, progress=not SMALL)
+    noisy[lev] = batch.describe(noisy_items, N=N, progress=not SMALL)
 print(clean)
 
 # %% [markdown]
@@ -94,12 +94,13 @@ print(clean)
 # ones, for the normalised Shape-DNA (top) and the cShape-DNA (bottom).
 
 # %%
-from cshape import compare
+from cshape import Descriptor, compare
 
 diffs, titles, stats = {"shape-dna": [], "cshape": []}, {"shape-dna": [], "cshape": []}, []
 for lev in levels:
     for kind in ("shape-dna", "cshape"):
-        D0, D1 = clean.distance_matrix(kind), noisy[lev].distance_matrix(kind)
+        d = Descriptor(kind, N=N, M=M)
+        D0, D1 = clean.distance_matrix(d), noisy[lev].distance_matrix(d)
         mean, std = compare.scaled_difference(D0, D1)
         diffs[kind].append(compare.difference_matrix(D0, D1))
         titles[kind].append(f"lambda={lev}: {mean:.1f} / {std:.1f}")
@@ -133,11 +134,12 @@ fig = plots.new_figure((11, 3.5))
 axs = fig.subplots(1, 2, sharey=True)
 for ax, kind, title in ((axs[0], "shape-dna", "(a) normalised Shape-DNA"),
                         (axs[1], "cshape", "(b) cShape-DNA")):
-    d = {lev: np.linalg.norm(noisy[lev].descriptors(kind) - clean.descriptors(kind), axis=1)
-         for lev in show}
-    top = max(v.max() for v in d.values())
+    desc = Descriptor(kind, N=N, M=M)
+    moved = {lev: np.linalg.norm(noisy[lev].descriptors(desc) - clean.descriptors(desc), axis=1)
+             for lev in show}
+    top = max(v.max() for v in moved.values())
     for lev in show:
-        ax.plot(d[lev] / top, "o-", ms=3, label=f"lambda = {lev}")
+        ax.plot(moved[lev] / top, "o-", ms=3, label=f"lambda = {lev}")
     ax.set(title=title, xlabel="model", xticks=range(len(clean)))
     ax.set_xticklabels(clean.names, rotation=90, fontsize="x-small")
     ax.legend(fontsize="small")
@@ -196,11 +198,11 @@ import warnings
 
 with warnings.catch_warnings():
     warnings.simplefilter("ignore", cshape.CShapeWarning)  # CM has near-degenerate triangles
-    S = {name: cshape.compact_shape_dna(m, M=M, N=N) for name, m in (("CM", CM), ("CS", CS))}
+    S = {name: cshape.compact_shape_dna(m, N=N, M=M) for name, m in (("CM", CM), ("CS", CS))}
 others = {"a sphere": shapes.icosphere(3), "a torus": shapes.torus(48, 24)}
 print(f"distance CM - CS:        {np.linalg.norm(S['CM'] - S['CS']):10.1f}")
 for name, m in others.items():  # for scale: the distance to another shape
-    d = np.linalg.norm(S["CS"] - cshape.compact_shape_dna(m, M, N))
+    d = np.linalg.norm(S["CS"] - cshape.compact_shape_dna(m, N=N, M=M))
     print(f"distance CS - {name:9s} {d:10.1f}")
 plots.plot_cshape_dna(S, title="Fig. 9: cShape-DNA of CM and CS")
 

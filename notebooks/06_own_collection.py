@@ -84,7 +84,7 @@ print(list(zip(coll.names, coll.labels, strict=True)))
 #
 # `batch.describe` stores each mesh's eigenvalues in the cache folder under a key made from the mesh's
 # *content* (and the boundary condition): renaming or moving a file does not invalidate it, changing a vertex
-# does. Only `N` eigenvalues per mesh are kept; every descriptor (any `M`) is derived from them.
+# does. Only `N` eigenvalues per mesh are kept; every descriptor (any `M`, any transform) is derived from them.
 
 # %%
 import time
@@ -94,11 +94,11 @@ from cshape import batch
 N, M = size(30, 100), size(8, 16)
 cache = work / "cache"
 t0 = time.perf_counter()
-table = batch.describe(coll, N=N, M=M, cache_dir=cache, progress=False)
+table = batch.describe(coll, N=N, cache_dir=cache, progress=False)
 print(f"first run:  {time.perf_counter() - t0:5.2f} s, "
       f"from cache: {table.cached.sum()} of {len(table)}")
 t0 = time.perf_counter()
-table = batch.describe(coll, N=N, M=M, cache_dir=cache, progress=False)
+table = batch.describe(coll, N=N, cache_dir=cache, progress=False)
 print(f"second run: {time.perf_counter() - t0:5.2f} s, "
       f"from cache: {table.cached.sum()} of {len(table)}")
 table
@@ -112,7 +112,7 @@ table
 
 # %%
 t0 = time.perf_counter()
-par = batch.describe(coll, N=N, M=M, cache_dir=work / "cache-parallel", n_jobs=2,
+par = batch.describe(coll, N=N, cache_dir=work / "cache-parallel", n_jobs=2,
                      progress=False)
 print(f"2 processes: {time.perf_counter() - t0:5.2f} s;",
       "same eigenvalues:", np.allclose(par.lam, table.lam))
@@ -126,7 +126,7 @@ else:
     with Client(processes=False, n_workers=1, threads_per_worker=2,
                 dashboard_address=None) as client:
         t0 = time.perf_counter()
-        dsk = batch.describe(coll, N=N, M=M, cache_dir=False, client=client, progress=False)
+        dsk = batch.describe(coll, N=N, cache_dir=False, client=client, progress=False)
         print(f"Dask (in-process cluster): {time.perf_counter() - t0:5.2f} s;",
               "same eigenvalues:", np.allclose(dsk.lam, table.lam))
 
@@ -137,11 +137,12 @@ else:
 # shape the collection has never seen: a noisy, rotated, larger copy of one of the tori (rotation and scale do
 # not change the normalised spectrum; the noise does, a little).
 #
-# With no `kind`, the index (like `table.descriptors()`, `table.distance_matrix()` and `cshape query`)
-# compares the **exploration default**, `cshape.DEFAULT`: the descriptor whose *worst* first tier over two
-# real labelled collections (a category benchmark and characters in poses) was highest, with the same shape
-# at several resolutions as a guard. The paper's cShape-DNA is one argument away: `kind="cshape"`. Always print
-# which descriptor compared your shapes (`index.descriptor`).
+# Which descriptor is one value, a `cshape.Descriptor`. With none given, the index (like `table.descriptors()`,
+# `table.distance_matrix()` and `cshape query`) compares the **exploration default**, `cshape.DEFAULT`: the
+# descriptor whose *worst* first tier over two real labelled collections (a category benchmark and characters
+# in poses) was highest, with the same shape at several resolutions as a guard. The paper's cShape-DNA is one
+# value away: `cshape.PAPER` (here with our `N` and `M`). Always print which descriptor compared your shapes
+# (`index.descriptor_.label`).
 
 # %%
 print("default:", cshape.DEFAULT)
@@ -151,10 +152,11 @@ R = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1]])
 query = cshape.Mesh(1.7 * base.vertices @ R.T, base.faces)
 query = variants.add_normal_noise(query, 0.3, random_state=1)
 lam_q = cshape.shape_dna(query, N=N)
+paper = cshape.PAPER.replace(N=N, M=M)  # the paper's cShape-DNA, with our N and M
 for index in (cshape.DescriptorIndex.from_table(table),  # the default
-              cshape.DescriptorIndex.from_table(table, "cshape", M=M)):  # the paper's
+              cshape.DescriptorIndex.from_table(table, paper)):
     dist, ind = index.query_spectra(lam_q, query.area, k=3)
-    print("nearest by the", index.descriptor)
+    print("nearest by the", index.descriptor_.label)
     for d, i in zip(dist[0], ind[0], strict=True):
         print(f"    {table.names[i]:10s} ({table.labels[i]:7s}) distance {d:8.3f}")
 plots.plot_mesh(query, title="the query: a noisy, rotated, scaled torus", edges=False)
@@ -171,10 +173,9 @@ import matplotlib.pyplot as plt
 from cshape import compare
 
 fig, axs = plt.subplots(1, 2, figsize=(10, 4.5))
-for ax, kind in zip(axs, (None, "cshape"), strict=True):
-    Y = compare.mds_embedding(table.distance_matrix(kind))
-    plots.plot_mds(Y, table.names, table.labels, ax=ax,
-                   title=f"MDS by the {table.describe_recipe(kind)}")
+for ax, descriptor in zip(axs, (cshape.DEFAULT.for_N(N), paper), strict=True):
+    Y = compare.mds_embedding(table.distance_matrix(descriptor))
+    plots.plot_mds(Y, table.names, table.labels, ax=ax, title=f"MDS by the {descriptor.label}")
 fig.tight_layout()
 
 # %% [markdown]
@@ -225,4 +226,5 @@ print("removed", work, "| exists:", work.exists())
 #    time spent: FEM assembly or the eigensolve? (`cshape.fem_matrices` vs `cshape.shape_dna`.)
 # 4. Build a `DescriptorIndex` of the F1 features and of the cShape-DNA with $M = 2$. Which one finds the torus?
 # 5. `cshape.DEFAULT` was chosen on two real collections. Score it against the paper's
-#    cShape-DNA on your own labelled folder with `compare.retrieval_scores(table.distance_matrix(kind), table.labels)`.
+#    cShape-DNA on your own labelled folder with
+#    `compare.retrieval_scores(table.distance_matrix(descriptor), table.labels)`.

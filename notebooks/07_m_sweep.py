@@ -56,7 +56,7 @@ from cshape.plots import widgets
 sweep = widgets.MSweep.from_table(table)
 for M in [16, 8, 4, 2, 1]:
     if 2 * M + 1 <= N:
-        print(sweep.state(M, N).summary())
+        print(sweep.state(M, N=N).summary())
 
 # %% [markdown]
 # ## Fig. 6 for this collection
@@ -65,7 +65,7 @@ for M in [16, 8, 4, 2, 1]:
 # from the Shape-DNA matrix ($N$ eigenvalues), on one colour scale.
 
 # %%
-states = [sweep.state(M, N) for M in (8, 4, 2, 1)]
+states = [sweep.state(M, N=N) for M in (8, 4, 2, 1)]
 plots.plot_matrices([s.D for s in states], [f"M = {s.M}" for s in states], vmax=255)
 
 # %%

@@ -66,9 +66,11 @@ def describe_collection(coll):
 
     Generated meshes are built with PyMeshLab once, then cached, and so are the eigenvalues.
     Shapes whose mesh has several components (lam_1 = 0: no logarithm) are left out, and said so.
+    The zero modes are counted by the package's rule (table.zero_modes: the mesh's component
+    count, else cshape.count_zero_modes, eigenvalues at most ZERO_RTOL of the largest).
     """
     table = batch.describe(coll, N=N, progress=not SMALL)
-    ok = table.lam[:, 1] > 1e-8 * table.lam[:, -1]
+    ok = table.zero_modes <= 1
     if not ok.all():
         print(f"{coll.name}: left out (several components, lam_1 = 0):",
               ", ".join(n for n, k in zip(table.names, ok, strict=True) if not k))
@@ -143,7 +145,7 @@ def fisher_ratio(X, labels):
     return between / within
 
 
-lam_norm = table.descriptors("shape-dna")  # (P, N): lam_i * area, Section 2.1
+lam_norm = table.lam_norm  # (P, N): lam_i * area, Section 2.1
 i = np.arange(N)
 share = distance_share(lam_norm)
 F = fisher_ratio(lam_norm[:, 1:], labels)  # lam_0 = 0 for every closed mesh
@@ -341,8 +343,8 @@ fig
 # ### How many eigenvalues should the crop see?
 #
 # Section 1 says the high indices separate the classes least, and Section 3 that both crops summarise all $N-1$
-# values of $r$. So compute the same descriptors from fewer eigenvalues: `table.distance_matrix(..., N=n)` uses
-# the first `n` of the stored ones (no new eigensolve). At $N = 2M+2$ nothing is cropped any more: the $2M+1$
+# values of $r$. So compute the same descriptors from fewer eigenvalues: a descriptor with `N=n` uses the first
+# `n` of the stored ones (no new eigensolve). At $N = 2M+2$ nothing is cropped any more: the $2M+1$
 # coefficients are an orthogonal transform of $r_1, \dots, r_{2M+1}$, with the distances of the truncated log
 # spectrum.
 
@@ -353,10 +355,11 @@ for n_values, ls in zip(SIZES, ("-", "--"), strict=True):
     M = (n_values - 1) // 2
     Ns = [n for n in (n_values + 1, 25, 34, 50, 75, 100) if n_values + 1 <= n <= table.N]
     for tr, color in (("log-weyl", "C1"), ("log-weyl-dct", "C0")):
-        ft = [compare.retrieval_scores(table.distance_matrix("cshape", M=M, N=n, transform=tr),
-                                       table.labels)["ft"] for n in Ns]
+        ft = [compare.retrieval_scores(
+            table.distance_matrix(cshape.Descriptor("cshape", N=n, M=M, transform=tr)),
+            table.labels)["ft"] for n in Ns]
         ax.plot(Ns, ft, ls, color=color, marker=".", label=f"{tr}, {n_values} numbers")
-    paper = compare.retrieval_scores(table.distance_matrix("cshape", M=M, transform="weyl"),
+    paper = compare.retrieval_scores(table.distance_matrix(cshape.PAPER.replace(M=M)),
                                      table.labels)["ft"]
     ax.plot([table.N], [paper], "k" + ("o" if n_values == SIZES[0] else "s"), mfc="none",
             label=f"paper, {n_values} numbers, N={table.N}")
@@ -397,7 +400,7 @@ fig
 #    Why is it less honest to report (hint: the weights are learned from the very collection you score)?
 # 3. **Choose on one, report on another.** On the development instance (`creatures-dev`,
 #    `cshape.data.load_collection("creatures-dev")`, about ten minutes to build the first time) pick the size $2M+1$, $M = 1, \dots, 16$, at which the log-Weyl DCT has its best first tier
-#    (`table.distance_matrix("cshape", M=m, transform="log-weyl-dct")`). Report that descriptor's first tier on the
+#    (`table.distance_matrix(cshape.Descriptor("cshape", N=N, M=m, transform="log-weyl-dct"))`). Report that descriptor's first tier on the
 #    held-out `creatures`. Is it lower than on the instance you chose on? Do the same for the truncated log
 #    spectrum. (`cshape reproduce` makes the table for every size.)
 # 4. **Mesh detail.** Describe the collection with `N = 200` and repeat Section 1: does the share of the last

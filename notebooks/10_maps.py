@@ -27,12 +27,12 @@
 # 4. refine a map with ZoomOut and measure it the standard way: geodesic error over $\sqrt{\text{area}}$, and the share of
 #    points within 5 % of the geodesic diameter.
 #
-# **The formulas.** $\Phi_S$ ($n_S \times k_S$) and $\Phi_T$ ($n_T \times k_T$) hold the first eigenfunctions of the source
-# $S$ and the target $T$, B-orthonormal ($\Phi^T B \Phi = I$, `cshape.eigenpairs`). A point map $p$ (for each target vertex
+# **The formulas.** $\Phi_S$ ($n_S \times N_S$) and $\Phi_T$ ($n_T \times N_T$) hold the first eigenfunctions of the source
+# $S$ and the target $T$, B-orthonormal ($\Phi^T B \Phi = I$; `cshape.eigenbasis` holds them with $B$ and the mesh). A point map $p$ (for each target vertex
 # $y$ a source vertex $p[y]$; the matrix $\Pi$ with $\Pi_{y, p[y]} = 1$) carries a function $f$ on $S$ to $f \circ p = \Pi f$
 # on $T$. In the bases, $f = \Phi_S a$ goes to $\Phi_T C a$ with
 #
-# $$C = \Phi_T^T B_T\, \Pi\, \Phi_S \qquad (k_T \times k_S).$$
+# $$C = \Phi_T^T B_T\, \Pi\, \Phi_S \qquad (N_T \times N_S).$$
 #
 # Ovsjanikov et al. find $C$ without knowing $p$. Descriptors that a correct map carries to each other (WKS at the same
 # energies, $F_S$ on $S$ and $F_T$ on $T$, one column each) have coefficients $D_S = \Phi_S^T B_S F_S$ and
@@ -62,10 +62,10 @@ from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes a
 from cshape.data import poses
 
 np.set_printoptions(precision=3, suppress=True, linewidth=100)
-K = size(50, 100)  # eigenpairs of each shape: the final size of the map
-K0 = size(20, 30)  # the size of the first functional map
+N = size(50, 100)  # eigenpairs of each shape: the final size of the map
+N0 = size(20, 30)  # the size of the first functional map
 TEMPLATE = size({"voxelsize": 0.03, "target_vertices": 800}, {})  # the posed figures' size
-print("cshape", cshape.__version__, "(small sizes)" if SMALL else "", f"k0 = {K0}, k = {K}")
+print("cshape", cshape.__version__, "(small sizes)" if SMALL else "", f"N0 = {N0}, N = {N}")
 
 # %% [markdown]
 # ## 1 · The map we want, written as $C$
@@ -79,13 +79,12 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "", f"k0 = {K0
 # %%
 rest = poses.posed_figure("quadruped", rest=True, **TEMPLATE)
 pose = poses.posed_figure("quadruped", 0, **TEMPLATE)
-lam_s, phi_s = cshape.eigenpairs(rest, K)
-lam_t, phi_t = cshape.eigenpairs(pose, K)
-_, B_s = cshape.fem_matrices(rest)
-_, B_t = cshape.fem_matrices(pose)
+b_s = cshape.eigenbasis(rest, N)  # lam, phi (n_S, N), B and the mesh of the source
+b_t = cshape.eigenbasis(pose, N)
+b_s0, b_t0 = b_s.truncate(N0), b_t.truncate(N0)  # their first N0 eigenpairs
 n = pose.n_vertices
 truth = np.arange(n)
-C_true = cshape.pointwise_to_map(truth, phi_s[:, :K0], phi_t[:, :K0], B_t)
+C_true = cshape.pointwise_to_map(truth, b_s0, b_t0)
 print(f"{rest.n_vertices} vertices, {rest.n_faces} triangles; C* is {C_true.shape[0]} x {C_true.shape[1]}")
 print(f"share of C*'s energy on its diagonal: {plots.diagonal_share(C_true):.1%}, within 2 of it: "
       f"{plots.diagonal_share(C_true, band=2):.1%}")
@@ -93,16 +92,16 @@ plots.plot_functional_map(C_true, title="C* of the true map (the identity)")
 
 # %% [markdown]
 # $C$ carries any function: project on the source basis, multiply by $C$, synthesise on the target
-# (`cshape.transfer_function`). A smooth function survives; detail above the $k$-th eigenfunction is lost. Here the
+# (`cshape.transfer_function`). A smooth function survives; detail above the $N$-th eigenfunction is lost. Here the
 # height on the rest pose, carried to the pose through $C^\star$ of growing size and compared with the height carried
 # by the true map itself:
 
 # %%
-for k in (5, 10, K0, K):
-    Ck = cshape.pointwise_to_map(truth, phi_s[:, :k], phi_t[:, :k], B_t)
-    g = cshape.transfer_function(rest.vertices[:, 2], Ck, phi_s[:, :k], phi_t[:, :k], B_s)
+for k in (5, 10, N0, N):
+    Ck = cshape.pointwise_to_map(truth, b_s.truncate(k), b_t.truncate(k))
+    g = cshape.transfer_function(rest.vertices[:, 2], Ck, b_s, b_t)  # a k x k C uses the first k pairs
     z = rest.vertices[:, 2]
-    print(f"k = {k:>3}: relative error of the carried height {np.linalg.norm(g - z) / np.linalg.norm(z):.3f}")
+    print(f"N = {k:>3}: relative error of the carried height {np.linalg.norm(g - z) / np.linalg.norm(z):.3f}")
 
 # %% [markdown]
 # ## 2 · $C$ from descriptors (Ovsjanikov et al. 2012)
@@ -117,9 +116,9 @@ for k in (5, 10, K0, K):
 # $\sqrt{\text{area}}$ (Kim et al.'s measure) and as the share of target vertices within 5 % of the geodesic diameter.
 
 # %%
-e, sigma = sg.wks_energies(lam_s, 100, area=rest.area)
-F_s = cshape.wks(lam_s, phi_s, e, sigma, area=rest.area)[:, ::5]
-F_t = cshape.wks(lam_t, phi_t, e, sigma, area=pose.area)[:, ::5]
+e, sigma = sg.wks_energies(b_s, 100, normalization="area")
+F_s = cshape.wks(b_s, e, sigma, normalization="area")[:, ::5]
+F_t = cshape.wks(b_t, e, sigma, normalization="area")[:, ::5]
 geo = cshape.HeatGeodesics(rest)
 D_geo = geo.distances(np.arange(rest.n_vertices))  # (n, n): every vertex of the source
 diameter = D_geo.max()
@@ -138,8 +137,8 @@ table = {}
 t0 = time.perf_counter()
 table["nearest WKS (lesson 9)"] = (cshape.match_points(F_t, F_s), time.perf_counter() - t0)
 t0 = time.perf_counter()
-C_plain = cshape.functional_map(lam_s[:K0], phi_s[:, :K0], B_s, lam_t[:K0], phi_t[:, :K0], B_t, F_s, F_t)
-table["functional map"] = (cshape.map_to_pointwise(C_plain, phi_s, phi_t), time.perf_counter() - t0)
+C_plain = cshape.functional_map(b_s0, b_t0, F_s, F_t, orientation_weight=0)
+table["functional map"] = (cshape.map_to_pointwise(C_plain, b_s, b_t), time.perf_counter() - t0)
 for name, (p, seconds) in table.items():
     err, within, wrong = measure(p)
     print(f"{name:<26} error/sqrt(area) {err:.3f}  within 5 %: {within:.1%}  wrong side: {wrong:.1%}  ({seconds:.2f} s)")
@@ -158,21 +157,21 @@ plots.plot_functional_map(C_plain, title="C from the WKS, Eq. (5)-(6) of Ovsjani
 
 # %%
 mirror = poses.mirror_map("quadruped", rest)
-C_mirror = cshape.pointwise_to_map(mirror, phi_s[:, :K0], phi_t[:, :K0], B_t)
+C_mirror = cshape.pointwise_to_map(mirror, b_s0, b_t0)
 
 
 def energies(C):
     """The two terms of Ovsjanikov et al.'s energy, with functional_map's scalings."""
-    F_sn = F_s / np.sqrt(np.einsum("ij,ij->j", F_s, B_s @ F_s))
-    F_tn = F_t / np.sqrt(np.einsum("ij,ij->j", F_t, B_t @ F_t))
-    D_s = phi_s[:, :K0].T @ (B_s @ F_sn)
-    D_t = phi_t[:, :K0].T @ (B_t @ F_tn)
-    ls, lt = lam_s[:K0] / lam_s[K0 - 1], lam_t[:K0] / lam_s[K0 - 1]
+    F_sn = F_s / np.sqrt(np.einsum("ij,ij->j", F_s, b_s.B @ F_s))
+    F_tn = F_t / np.sqrt(np.einsum("ij,ij->j", F_t, b_t.B @ F_t))
+    D_s = b_s0.phi.T @ (b_s.B @ F_sn)
+    D_t = b_t0.phi.T @ (b_t.B @ F_tn)
+    ls, lt = b_s0.lam / b_s0.lam[-1], b_t0.lam / b_s0.lam[-1]
     return np.sum((C @ D_s - D_t) ** 2), np.sum(C**2 * (lt[:, None] - ls[None, :]) ** 2)
 
 
 shuffled = np.random.default_rng(0).permutation(n)
-C_shuffled = cshape.pointwise_to_map(shuffled, phi_s[:, :K0], phi_t[:, :K0], B_t)
+C_shuffled = cshape.pointwise_to_map(shuffled, b_s0, b_t0)
 for name, C in (("C* (the identity)", C_true), ("C_m (the mirror)", C_mirror), ("a shuffled map", C_shuffled)):
     ed, el = energies(C)
     print(f"{name:<18} descriptor term {ed:.4f}  Laplacian term {el:.4f}")
@@ -185,18 +184,17 @@ fig
 # %% [markdown]
 # The minimiser of such an energy may take either, or a mixture, region by region: above, a large share of the
 # vertices away from the symmetry plane were sent to the wrong side, by the nearest WKS and by the functional map alike
-# (and the functional map of size $k_0$ alone is not even better than the nearest WKS). The orientation-preserving term of
+# (and the functional map of size $N_0$ alone is not even better than the nearest WKS). The orientation-preserving term of
 # Ren et al. (2018) adds $w_o \sum_f \|C\, O_{S,f} - O_{T,f}\, C\|^2$, where $O_f$ is the operator "derivative along
 # $n \times \nabla f$" (the gradient of the descriptor $f$ turned by a right angle about the normal) in the bases. It
 # uses the faces' orientation, and changes sign under a mirror. Colour the rest pose by $y$ (one side blue, the other
-# red) and look at the legs of the pose, first without the term, then with it (`orientation_weight`, on by default
-# when the meshes are given):
+# red) and look at the legs of the pose, first without the term, then with it (`orientation_weight`, on by default:
+# the eigenbases carry their meshes):
 
 # %%
 t0 = time.perf_counter()
-C_orient = cshape.functional_map(lam_s[:K0], phi_s[:, :K0], B_s, lam_t[:K0], phi_t[:, :K0], B_t, F_s, F_t,
-                                 source=rest, target=pose)
-table["+ orientation term"] = (cshape.map_to_pointwise(C_orient, phi_s, phi_t), time.perf_counter() - t0)
+C_orient = cshape.functional_map(b_s0, b_t0, F_s, F_t)
+table["+ orientation term"] = (cshape.map_to_pointwise(C_orient, b_s, b_t), time.perf_counter() - t0)
 for name in ("functional map", "+ orientation term"):
     print(f"{name:<20} wrong side: {measure(table[name][0])[2]:.1%} of the vertices off the symmetry plane")
 plots.plot_map(rest, pose, table["functional map"][0], values=side, cmap="coolwarm",
@@ -209,23 +207,23 @@ plots.plot_map(rest, pose, table["+ orientation term"][0], values=side, cmap="co
 # %% [markdown]
 # ## 4 · ZoomOut
 #
-# A map of size $k_0$ sees only smooth functions, so its points are blurred. ZoomOut (Melzi et al. 2019) alternates the
+# A map of size $N_0$ sees only smooth functions, so its points are blurred. ZoomOut (Melzi et al. 2019) alternates the
 # two directions of the first section, one more eigenfunction at a time: the point map of $C$ (nearest neighbours with
-# $k$ eigenfunctions), then $C$ of size $k+1$ from that point map ($C = \Phi_T^T B_T \Pi \Phi_S$). Each step keeps
+# $N$ eigenfunctions), then $C$ of size $N+1$ from that point map ($C = \Phi_T^T B_T \Pi \Phi_S$). Each step keeps
 # what is consistent with an isometry at the larger size; the noise of the first map, in the high frequencies, is
 # filtered out. It also makes a *consistent* map out of the mixture of identity and mirror that the map without the
 # orientation term was: often the mirror, which is an isometry too (the wrong-side column).
 
 # %%
 t0 = time.perf_counter()
-C_zoom_plain = cshape.zoomout(C_plain, phi_s, phi_t, B_t, K)
-table["+ ZoomOut, no orientation"] = (cshape.map_to_pointwise(C_zoom_plain, phi_s, phi_t),
+C_zoom_plain = cshape.zoomout(C_plain, b_s, b_t, N)
+table["+ ZoomOut, no orientation"] = (cshape.map_to_pointwise(C_zoom_plain, b_s, b_t),
                                       time.perf_counter() - t0 + table["functional map"][1])
 t0 = time.perf_counter()
-C_zoom = cshape.zoomout(C_orient, phi_s, phi_t, B_t, K)
-table["+ ZoomOut"] = (cshape.map_to_pointwise(C_zoom, phi_s, phi_t), time.perf_counter() - t0 + table["+ orientation term"][1])
+C_zoom = cshape.zoomout(C_orient, b_s, b_t, N)
+table["+ ZoomOut"] = (cshape.map_to_pointwise(C_zoom, b_s, b_t), time.perf_counter() - t0 + table["+ orientation term"][1])
 t0 = time.perf_counter()
-table["cshape.point_map (one call)"] = (cshape.point_map(rest, pose, k=K, k0=K0), time.perf_counter() - t0)
+table["cshape.point_map (one call)"] = (cshape.point_map(rest, pose, N=N, N0=N0), time.perf_counter() - t0)
 print(f"{'method':<28} {'error/sqrt(area)':>16} {'within 5 %':>11} {'wrong side':>11} {'seconds':>8}")
 for name, (p, seconds) in table.items():
     err, within, wrong = measure(p)
@@ -251,8 +249,8 @@ feet = [int(np.argmin(np.where((np.sign(along) == sx) & (np.sign(side) == sy), h
         for sx in (-1, 1) for sy in (-1, 1)]
 tips = feet + [int(np.argmax(along)), int(np.argmin(along))]  # the four feet, the head, the tail
 landmarks = np.column_stack([tips, tips])
-p_lm = cshape.point_map(rest, pose, k=K, k0=K0, orientation=False, zoomout_steps=False, landmarks=landmarks)
-p_no = cshape.point_map(rest, pose, k=K, k0=K0, orientation=False, zoomout_steps=False)
+p_lm = cshape.point_map(rest, pose, N=N, N0=N0, orientation=False, zoomout_steps=False, landmarks=landmarks)
+p_no = cshape.point_map(rest, pose, N=N, N0=N0, orientation=False, zoomout_steps=False)
 for name, p in (("no orientation, no landmarks", p_no), ("no orientation, 6 landmarks", p_lm)):
     err, within, wrong = measure(p)
     print(f"{name:<30} within 5 %: {within:.1%}  wrong side: {wrong:.1%}")
@@ -293,7 +291,7 @@ geo_body = cshape.HeatGeodesics(body)
 across = {}
 for initial in ("descriptors", "search"):
     t0 = time.perf_counter()
-    across[initial] = cshape.point_map(body, stocky, k=50, k0=20, initial=initial)
+    across[initial] = cshape.point_map(body, stocky, N=50, N0=20, initial=initial)
     err = cshape.geodesic_errors(body, across[initial], geodesics=geo_body)
     print(f"initial={initial!r:<14} error/sqrt(area) {err.mean() / np.sqrt(body.area):.3f}  "
           f"({time.perf_counter() - t0:.1f} s)")
@@ -329,11 +327,11 @@ plots.plot_map(body, stocky, across["search"], values=left_right, cmap="coolwarm
 # %% [markdown]
 # ## Exercises
 #
-# 1. *(graded, below)* Write `fmap_mine(D_s, D_t, lam_s, lam_t, w)`: the $C$ ($k_T \times k_S$) minimising
+# 1. *(graded, below)* Write `fmap_mine(D_s, D_t, lam_s, lam_t, w)`: the $C$ ($N_T \times N_S$) minimising
 #    $\|C D_S - D_T\|_F^2 + w \sum_{ij} C_{ij}^2 (\lambda_{T,i} - \lambda_{S,j})^2$, row by row, with NumPy only. It is
 #    checked against `cshape.functional_map` without the orientation term.
 # 2. **How many descriptors?** Keep every 10th, 5th and 2nd WKS energy. How do the accuracy and the wrong-side share of
-#    the functional map (without ZoomOut) change? What happens with fewer descriptors than $k_0$?
+#    the functional map (without ZoomOut) change? What happens with fewer descriptors than $N_0$?
 # 3. **The Laplacian weight.** Solve with $w_l = 0, 10^{-3}, 10^{-2}, 10^{-1}, 1$ (`laplacian_weight=`). Plot
 #    `plots.diagonal_share(C, band=2)` and the accuracy against $w_l$. Why does $w_l = 0$ still give a usable $C$ here?
 # 4. **Flip it yourself.** Multiply the rows of `C_orient` of the antisymmetric eigenfunctions by $-1$ (find them:
@@ -343,7 +341,7 @@ plots.plot_map(body, stocky, across["search"], values=left_right, cmap="coolwarm
 
 # %% nbgrader={"grade": false, "grade_id": "fmap_mine", "locked": false, "schema_version": 3, "solution": true, "task": false}
 def fmap_mine(D_s, D_t, lam_s, lam_t, w):
-    """C (k_T x k_S) minimising ||C D_s - D_t||^2 + w sum_ij C_ij^2 (lam_t[i] - lam_s[j])^2."""
+    """C (N_T x N_S) minimising ||C D_s - D_t||^2 + w sum_ij C_ij^2 (lam_t[i] - lam_s[j])^2."""
     ### BEGIN SOLUTION
     D_s = np.asarray(D_s, dtype=float)
     D_t = np.asarray(D_t, dtype=float)
@@ -363,13 +361,12 @@ def check_fmap(fn, w=1e-2):
 
     D_s D_s^T has rank at most the number of descriptors, so C is compared by the energy it reaches (which every
     exact solver reaches to many digits), not entry by entry."""
-    F_sn = F_s / np.sqrt(np.einsum("ij,ij->j", F_s, B_s @ F_s))
-    F_tn = F_t / np.sqrt(np.einsum("ij,ij->j", F_t, B_t @ F_t))
-    D_s = phi_s[:, :K0].T @ (B_s @ F_sn)
-    D_t = phi_t[:, :K0].T @ (B_t @ F_tn)
-    ls, lt = lam_s[:K0] / lam_s[K0 - 1], lam_t[:K0] / lam_s[K0 - 1]
-    want = cshape.functional_map(ls, phi_s[:, :K0], B_s, lt, phi_t[:, :K0], B_t, F_sn, F_tn,
-                                 laplacian_weight=w, orientation_weight=0.0)
+    F_sn = F_s / np.sqrt(np.einsum("ij,ij->j", F_s, b_s.B @ F_s))
+    F_tn = F_t / np.sqrt(np.einsum("ij,ij->j", F_t, b_t.B @ F_t))
+    D_s = b_s0.phi.T @ (b_s.B @ F_sn)
+    D_t = b_t0.phi.T @ (b_t.B @ F_tn)
+    ls, lt = b_s0.lam / b_s0.lam[-1], b_t0.lam / b_s0.lam[-1]  # functional_map's scaling
+    want = cshape.functional_map(b_s0, b_t0, F_sn, F_tn, laplacian_weight=w, orientation_weight=0.0)
 
     def energy(C, w=w):
         return np.sum((C @ D_s - D_t) ** 2) + w * np.sum(C**2 * (lt[:, None] - ls[None, :]) ** 2)
@@ -405,7 +402,7 @@ assert np.allclose(_got, [[(3 + 2) / (5 + 4 * 1.0)]]), f"the 1 x 1 example by ha
 _rng = np.random.default_rng(1)
 _Ds, _Dt = _rng.normal(size=(4, 4)), _rng.normal(size=(3, 4))
 assert np.allclose(fmap_mine(_Ds, _Dt, np.arange(4.0), np.arange(3.0), 0.0), _Dt @ np.linalg.inv(_Ds))
-# k_T differs from k_S, lists work as well as arrays
+# N_T differs from N_S, lists work as well as arrays
 assert fmap_mine(_Ds.tolist(), _Dt.tolist(), list(range(4)), [0.0, 1.0, 2.0], 0.1).shape == (3, 4)
 # a huge weight keeps only the entries of equal eigenvalues
 _big = fmap_mine(_Ds, _Dt, np.arange(4.0), np.arange(3.0), 1e12)

@@ -128,6 +128,27 @@ def test_no_alias_machinery_for_module_names_no_issue_fixed(old):
         importlib.import_module(old)
 
 
+def test_the_descriptor_stage_is_one_package_of_formulas_and_the_recipe():
+    """``cshape.descriptors`` holds the formulas (``formulas``) and the recipe (``recipe``),
+    under names that cannot be confused; the top level keeps its names."""
+    import cshape
+    import cshape.course.teaching
+    import cshape.reproduce
+    from cshape.descriptors import formulas, recipe
+
+    assert not (REPO / "cshape" / "descriptor.py").exists()
+    assert not (REPO / "cshape" / "descriptors.py").exists()
+    assert cshape.descriptors.__file__.endswith("__init__.py")
+    assert cshape.compact_shape_dna is formulas.compact_shape_dna
+    assert cshape.Descriptor is recipe.Descriptor
+    assert cshape.DEFAULT is recipe.DEFAULT and cshape.PAPER is recipe.PAPER
+    assert isinstance(cshape.PAPER, cshape.Descriptor)
+    assert isinstance(cshape.reproduce.PAPER_RESULTS, dict)  # the paper's numbers
+    assert cshape.course.teaching.CITATION.startswith("Z. Gao")  # the paper's citation
+    ig = _import_graph()
+    assert ig.group("cshape.descriptors.recipe") == "core"
+
+
 def test_public_names_that_issues_fixed_still_work():
     import cshape
     from cshape import plots

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cshape import CShapeWarning, Mesh, shape_dna, shapes
+from cshape import CShapeWarning, Descriptor, Mesh, shape_dna, shapes
 from cshape.batch import DescriptorTable, describe, mesh_key
 from cshape.batch._dask import _SAMPLERS, _pause_samplers, _resume_samplers
 
@@ -41,7 +41,6 @@ def entries(cache: Path):
 def run(collection, **kw):
     kw.setdefault("progress", False)
     kw.setdefault("N", N)
-    kw.setdefault("M", 4)
     return describe(collection, **kw)
 
 
@@ -62,17 +61,17 @@ def test_describe_matches_shape_dna(reference):
         assert reference.areas[i] == pytest.approx(mesh.area)
     assert not reference.cached.any()
     assert reference.failures == []
-    assert reference.cshape.shape == (6, 9)
-    assert reference.descriptors("cshape", M=2).shape == (6, 5)
-    assert reference.distance_matrix("shape-dna").shape == (6, 6)
+    assert reference.descriptors().shape == (6, 17)  # DEFAULT at N = 20: M = 8
+    assert reference.descriptors(Descriptor("cshape", N=N, M=2)).shape == (6, 5)
+    assert reference.distance_matrix(Descriptor("shape-dna", N=N)).shape == (6, 6)
 
 
-def test_cache_is_reused_for_other_M_and_smaller_N(tmp_path, reference):
+def test_cache_is_reused_for_smaller_N(tmp_path, reference):
     first = run(small_collection(), cache_dir=tmp_path)
     assert not first.cached.any()
     assert len(entries(tmp_path)) == 6
     np.testing.assert_array_equal(first.lam, reference.lam)
-    again = run(small_collection(), cache_dir=tmp_path, M=2)
+    again = run(small_collection(), cache_dir=tmp_path)
     assert again.cached.all()
     np.testing.assert_array_equal(again.lam, first.lam)
     shorter = run(small_collection(), cache_dir=tmp_path, N=10)
@@ -184,9 +183,6 @@ def test_invalid_parameters():
     col = small_collection()[:1]
     with pytest.raises(ValueError, match=r"n_jobs must be a positive integer or -1"):
         run(col, cache_dir=False, n_jobs=0)
-    with pytest.raises(ValueError, match=r"^M=10: 2M\+1 = 21 values cannot be kept from N = 20 "
-                       r"eigenvalues; use M <= 9 or N >= 21$"):
-        run(col, cache_dir=False, M=10)
     with pytest.raises(ValueError, match=r"bc must be one of"):
         run(col, cache_dir=False, bc="robin")
 
@@ -205,8 +201,8 @@ def test_table_round_trip(tmp_path, reference, suffix):
     np.testing.assert_array_equal(back.areas, t.areas)
     np.testing.assert_array_equal(back.seconds, t.seconds)
     np.testing.assert_array_equal(back.cached, t.cached)
-    assert (back.M, back.bc, back.mass, back.failures) == (t.M, t.bc, t.mass, t.failures)
-    np.testing.assert_array_equal(back.cshape, t.cshape)
+    assert (back.N, back.bc, back.mass, back.failures) == (t.N, t.bc, t.mass, t.failures)
+    np.testing.assert_array_equal(back.descriptors(), t.descriptors())
     np.testing.assert_array_equal(back.components, t.components)
     files = sorted(p.name for p in tmp_path.iterdir())  # no temp file left
     assert files == ([f"table{suffix}"] if suffix == ".npz"
@@ -216,7 +212,7 @@ def test_table_round_trip(tmp_path, reference, suffix):
 def _write_v1_csv(table, path, drop=()):
     """A CSV table as cshape wrote it before format version 2 (metadata on a first line)."""
     meta = {"format": "cshape-descriptor-table", "format_version": 1, "N": table.N,
-            "M": table.M, "transform": table.transform, "bc": table.bc, "mass": table.mass,
+            "M": 4, "transform": "weyl", "bc": table.bc, "mass": table.mass,
             "failures": [list(f) for f in table.failures]}
     for key in drop:
         del meta[key]
@@ -340,7 +336,7 @@ from cshape.batch import describe
 
 if __name__ == "__main__":
     col = [(f"s{{i}}", "sphere", shapes.icosphere(3, radius=1.0 + 0.1 * i)) for i in range({n})]
-    t = describe(col, N=30, M=4, cache_dir=sys.argv[1], n_jobs={n_jobs}, progress=False)
+    t = describe(col, N=30, cache_dir=sys.argv[1], n_jobs={n_jobs}, progress=False)
     print(json.dumps({{"ok": t.names, "failures": t.failures}}))
 """
 
@@ -374,12 +370,12 @@ def check_resume(cache):
     for p in done:
         with np.load(p, allow_pickle=False) as z:
             assert z["lam"].shape == (30,) and np.all(np.isfinite(z["lam"]))
-    table = describe(collection_for_resume(), N=30, M=4, cache_dir=cache, progress=False)
+    table = describe(collection_for_resume(), N=30, cache_dir=cache, progress=False)
     assert len(table) == N_KILL and table.failures == []
     assert int(table.cached.sum()) == len(done)
     assert {p: p.stat().st_mtime_ns for p in done} == stamps  # not rewritten
     assert len(entries(cache)) == N_KILL
-    fresh = describe(collection_for_resume()[:3], N=30, M=4, cache_dir=False, progress=False)
+    fresh = describe(collection_for_resume()[:3], N=30, cache_dir=False, progress=False)
     np.testing.assert_array_equal(table.lam[:3], fresh.lam)
 
 
@@ -421,7 +417,7 @@ from cshape.batch import describe
 
 print("script body ran")
 col = [(f"s{i}", "sphere", shapes.icosphere(2, radius=1.0 + 0.1 * i)) for i in range(4)]
-t = describe(col, N=20, M=4, cache_dir=sys.argv[1], n_jobs=2, progress=False)
+t = describe(col, N=20, cache_dir=sys.argv[1], n_jobs=2, progress=False)
 print(json.dumps({"ok": t.names, "failures": t.failures, "lam": t.lam.tolist()}))
 """
 
@@ -442,7 +438,7 @@ def test_parallel_describe_from_a_plain_script_without_main_guard(tmp_path):
     assert summary["ok"] == ["s0", "s1", "s2", "s3"]
     assert len(entries(tmp_path / "cache")) == 4
     col = [(f"s{i}", "sphere", shapes.icosphere(2, radius=1.0 + 0.1 * i)) for i in range(4)]
-    ref = describe(col, N=20, M=4, cache_dir=False, progress=False)
+    ref = describe(col, N=20, cache_dir=False, progress=False)
     np.testing.assert_array_equal(np.array(summary["lam"]), ref.lam)
 
 
@@ -497,43 +493,53 @@ def test_unchanged_files_are_found_in_the_cache_without_reading_them(tmp_path):
     new = run([p], cache_dir=tmp_path / "c")
     assert not new.cached.any()
     assert new.areas[0] == pytest.approx(first.areas[0] / 4, rel=1e-5)
-# ------------------------------------------------------------------ the transform of the table
+# ------------------------------------------------------------------ saved tables keep loading
 @pytest.mark.parametrize("suffix", [".npz", ".csv"])
-def test_table_transform_is_saved_and_old_files_load_as_weyl(tmp_path, reference, suffix):
-    t = DescriptorTable(reference.names, reference.lam, reference.areas, reference.labels,
-                        M=3, transform="LOG-WEYL")
-    assert t.transform == "log-weyl" and "transform='log-weyl'" in repr(t)
-    np.testing.assert_array_equal(t.cshape, t.descriptors("cshape", transform="log-weyl"))
-    assert not np.allclose(t.cshape, t.descriptors("cshape", transform="weyl"))
-    np.testing.assert_array_equal(t.select([2, 0]).cshape, t.cshape[[2, 0]])
-    back = DescriptorTable.load(t.save(tmp_path / f"t{suffix}"))
-    assert back.transform == "log-weyl"
-    np.testing.assert_array_equal(back.distance_matrix(), t.distance_matrix())
-    # a file written before the field existed: same content, no "transform" in the metadata
+def test_tables_of_earlier_versions_load_and_mean_what_they_meant(tmp_path, reference, suffix):
+    """Versions 1-2 stored an M and a transform (defaults of a keyword form of descriptors());
+    they still load, with the same eigenvalues, areas, names and descriptors."""
     old = tmp_path / f"old{suffix}"
     if suffix == ".csv":
-        _write_v1_csv(reference, old, drop=("transform",))
+        _write_v1_csv(reference, old)
     else:
         reference.save(old)
         with np.load(old) as z:
             arrays = dict(z)
         meta = json.loads(str(arrays["meta"]))
-        del meta["transform"]
+        meta.update(format_version=2, M=3, transform="log-weyl")
         arrays["meta"] = np.array(json.dumps(meta))
         np.savez(old, **arrays)
     loaded = DescriptorTable.load(old)
-    assert loaded.transform == "weyl"
-    np.testing.assert_array_equal(loaded.cshape, reference.cshape)
+    assert loaded.names == reference.names and loaded.labels == reference.labels
+    np.testing.assert_array_equal(loaded.lam, reference.lam)
+    np.testing.assert_array_equal(loaded.areas, reference.areas)
+    for d in (None, Descriptor("cshape", N=N, M=4), Descriptor("shape-dna", N=N)):
+        np.testing.assert_array_equal(loaded.descriptors(d), reference.descriptors(d))
+    new = DescriptorTable.load(loaded.save(tmp_path / f"new{suffix}"))  # written as version 3
+    np.testing.assert_array_equal(new.lam, reference.lam)
 
 
-def test_describe_transform(reference):
-    t = run(small_collection()[:2], cache_dir=False, transform="log-weyl-dct", M=3)
-    assert t.transform == "log-weyl-dct" and t.cshape.shape == (2, 7)
-    np.testing.assert_array_equal(t.lam, reference.lam[:2])
-    with pytest.raises(ValueError, match=r"transform must be one of"):
-        run(small_collection()[:1], cache_dir=False, transform="log")
-    with pytest.raises(ValueError, match=r"M=10: 2M\+1 = 21 values cannot be kept from the "
-                       r"N-1 = 20 log-Weyl ratios.*use M <= 9 or N >= 22"):
-        run(small_collection()[:1], cache_dir=False, transform="log-weyl", M=10, N=21)
-    with pytest.raises(ValueError, match="transform must be one of"):
-        DescriptorTable(["a"], np.ones((1, 3)), [1.0], transform="fft")
+def test_a_table_of_a_later_version_is_refused_by_name(tmp_path, reference):
+    path = reference.save(tmp_path / "t.npz")
+    with np.load(path) as z:
+        arrays = dict(z)
+    meta = json.loads(str(arrays["meta"]))
+    meta["format_version"] = 4
+    arrays["meta"] = np.array(json.dumps(meta))
+    np.savez(path, **arrays)
+    with pytest.raises(ValueError, match=r"not a cshape descriptor table of a version this "
+                                         r"cshape reads \(format 'cshape-descriptor-table', "
+                                         r"version 4\)"):
+        DescriptorTable.load(path)
+
+
+def test_describe_and_the_table_take_no_descriptor_fields(reference):
+    """describe computes eigenvalues; which descriptor is asked of the table later."""
+    with pytest.raises(TypeError, match="unexpected keyword argument 'M'"):
+        run(small_collection()[:1], cache_dir=False, M=3)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'transform'"):
+        run(small_collection()[:1], cache_dir=False, transform="log-weyl")
+    with pytest.raises(TypeError, match="unexpected keyword argument 'M'"):
+        DescriptorTable(["a"], np.ones((1, 3)), [1.0], M=3)
+    d = Descriptor("cshape", N=N, M=3, transform="log-weyl-dct")
+    assert reference.descriptors(d).shape == (6, 7)

@@ -66,7 +66,7 @@ def test_throughput_collection_and_serial_mode(results):
     col = tp.make_collection(4, "tiny", seed=1)
     assert len({name for name, _, _ in col}) == 4
     assert all(100 < m.n_vertices < 500 for _, _, m in col)
-    r = tp.run_mode(col, "serial", N=20, M=4)
+    r = tp.run_mode(col, "serial", N=20)
     assert r["meshes"] == 4 and r["failed"] == 0 and r["per_minute"] > 0
     assert r["table"].lam.shape == (4, 20)
     with pytest.raises(ValueError, match="mode"):
@@ -77,7 +77,7 @@ def test_throughput_collection_and_serial_mode(results):
 @pytest.mark.slow
 def test_queries_descriptors_and_exact_search(results):
     q = _load("bench_queries")
-    from cshape.compare import descriptor_matrix
+    from cshape import Descriptor
 
     rng = np.random.default_rng(0)
     base = np.sort(rng.uniform(0, 4 * np.pi * 100, (5, 100)), axis=1)
@@ -86,7 +86,7 @@ def test_queries_descriptors_and_exact_search(results):
     assert lam.shape == (300, 100) and np.all(lam[:, 0] == 0)
     for M in (1, 16):
         np.testing.assert_allclose(q.cshape_rows(lam[:20], M),
-                                   descriptor_matrix(lam[:20], np.ones(20), "cshape", M=M),
+                                   Descriptor("cshape", M=M).matrix(lam[:20], np.ones(20)),
                                    rtol=1e-12, atol=1e-9)
     X = q.descriptors(lam, "cShape-DNA M=16")
     Q = q.descriptors(q.perturb(base, 7, rng), "cShape-DNA M=16")
@@ -326,3 +326,40 @@ def test_maps_measure_and_report(tmp_path, monkeypatch):
     # the identity check: a pose of itself keeps every edge length
     share, stretch = bm.identity_check(S, S)
     assert share == 1.0 and stretch == 0.0
+
+
+def test_refine_bench_p2_prototype_and_report(tmp_path):
+    br = _load("bench_refine")
+    from cshape import shapes
+
+    # the P2 prototype: the Dirichlet square's 2 pi^2 to order h^4, its mass matrix the area
+    A, B = br.p2_matrices(shapes.square(4), "dirichlet")
+    assert np.isclose(br.p2_matrices(shapes.square(4))[1].sum(), 1.0)
+    lam = br.spectrum(shapes.square(8), "p2", "dirichlet", 3)
+    assert abs(lam[0] / (2 * np.pi**2) - 1) < 1e-3
+    assert np.allclose(br.square_spectrum(3, "neumann"), [0, np.pi**2, np.pi**2])
+    assert np.isclose(br.disk_spectrum(1, "dirichlet")[0], 2.404825557695773**2)
+    known = [("case", 10, [0.1, 0.01, 0.02])]
+    orders = {("square", "linear"): ((8, 16), [0.1, 0.025], 2.0)}
+    pairs = [("spot", 100, 50, [(0.1, 0.2), (0.01, 0.02), (0.01, 0.02)])]
+    costs = [{"size": "1k", "method": "linear", "n": 1000, "seconds": 0.1, "cpu": 0.1,
+              "peak_mib": 80, "extra_mib": 10},
+             {"size": "1k", "method": "extrapolated", "n": 1000, "seconds": 0.3, "cpu": 0.3,
+              "peak_mib": 90, "extra_mib": 20}]
+    text = br.report(known, orders, pairs, costs)
+    assert "| case | 10 | 10 % | 1 % | 2 % |" in text
+    assert "| 1000 | extrapolated | 0.30 | 3.00 |" in text
+    assert "| spot 100 / 50 |" in text
+def test_choices_bench_compares_like_with_like(tmp_path, capsys):
+    from cshape import shapes
+
+    bc = _load("bench_choices")
+    mesh = shapes.icosphere(2)
+    assert bc.edge_keys(mesh, 1)[2] is True  # the integer keys give np.unique's edges
+    assert bc.distinct_rows(mesh, 1)[2] is True
+    first, second, nbytes = bc.first_touch(rows=1000, cols=3, repeats=1)
+    assert nbytes == 24_000 and first >= 0 and second >= 0
+    bc.main(["--level", "1", "--repeats", "1", "--basis-rows", "100",
+             "--out", str(tmp_path / "c.md")])
+    text = (tmp_path / "c.md").read_text()
+    assert text.count("\n| ") == 4 and "Processor:" in text

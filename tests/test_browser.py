@@ -410,11 +410,10 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
     sync_api = _playwright()
     from conftest import write_off
 
-    from cshape import shapes
-    from cshape.batch import DescriptorTable
+    from cshape import PAPER, shapes
+    from cshape.batch import DescriptorTable, collection_distances
     from cshape.cli import main
-    from cshape.plots.collection import nearest_neighbours
-    from cshape.plots.explore import collection_distances
+    from cshape.compare import nearest_neighbours
 
     # a collection of 12 spectra in 3 classes, and one far away (a coarse control cage)
     rng = np.random.default_rng(0)
@@ -424,12 +423,12 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
                     for lab in labels])
     lam[-1] *= 300.0
     names = [f"shape{k}" for k in range(12)] + ["cage"]
-    table = DescriptorTable(names, lam, np.ones(13), labels, M=4)
+    table = DescriptorTable(names, lam, np.ones(13), labels)
     table.save(tmp_path / "t.csv")
     # the paper's cShape-DNA: lam_99 x 300 makes the cage an outlier under it
     assert main(["overview", str(tmp_path / "t.csv"), "--out", str(tmp_path / "o.html"),
                  "--kind", "cshape"]) == 0
-    c = collection_distances(table, "cshape")
+    c = collection_distances(table, PAPER.for_N(30))  # what --kind cshape compares
     ind, _ = nearest_neighbours(c.D, 3)
     expected = {n: [c.names[j] for j in ind[k]] for k, n in enumerate(c.names)}
     # four meshes in two classes, described, and the strip of one query
@@ -440,7 +439,7 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
     write_off(meshes / "ring" / "thin.off", shapes.torus(24, 12, r=0.3))
     write_off(meshes / "ring" / "fat.off", shapes.torus(24, 12, r=0.45))
     assert main(["describe", str(meshes), "--out", str(tmp_path / "m.csv"), "-N", "20",
-                 "-M", "4", "--no-cache", "-q"]) == 0
+                 "--no-cache", "-q"]) == 0
     assert main(["query", str(tmp_path / "m.csv"), "small", "-k", "2", "--plot",
                  str(tmp_path / "strip.html"), "--meshes", str(meshes)]) == 0
     ARTIFACTS.mkdir(exist_ok=True)

@@ -1,5 +1,5 @@
-"""The sparse Cholesky backends of the eigensolver (cshape/_cholmod.py): known answers, the
-same eigenvalues from each, the choice by CSHAPE_CHOLESKY, and errors."""
+"""The sparse Cholesky backends of the eigensolver (cshape/_eigensolver/cholmod.py): known
+answers, the same eigenvalues from each, the choice by CSHAPE_CHOLESKY, and errors."""
 
 import os
 import platform
@@ -12,8 +12,8 @@ import scipy.linalg as la
 import scipy.sparse as sp
 
 import cshape
-from cshape import _cholmod
-from cshape._shift import CholeskyOperator
+from cshape._eigensolver import cholmod as _cholmod
+from cshape._eigensolver.shift import CholeskyOperator
 from cshape.spectrum import solve_eigenproblem
 
 WORKING = [name for name in _cholmod.BACKENDS if _cholmod._probe(name)[0]]
@@ -151,7 +151,8 @@ def test_openblas_kernels_follow_the_processor_and_keep_the_users_choice(tmp_pat
 def test_cvxopts_openblas_gets_the_kernels_and_the_environment_is_left_as_it_was():
     # in a new process: NumPy's OpenBLAS keeps its own kernels, cvxopt's takes
     # openblas_coretype()'s, and OPENBLAS_CORETYPE is not left set for child processes
-    code = ("import os, ctypes, glob, numpy, cshape; from cshape import _cholmod; "
+    code = ("import os, ctypes, glob, numpy, cshape; "
+            "from cshape._eigensolver import cholmod as _cholmod; "
             "assert _cholmod.backend() == 'cholmod'; import cvxopt; "
             "lib = glob.glob(os.path.dirname(cvxopt.__file__) + '/../cvxopt.libs/libopenblas*'); "
             "ob = ctypes.CDLL(lib[0]) if lib else None; "

@@ -18,7 +18,7 @@ import pytest
 from conftest import write_off
 
 import cshape
-from cshape import shapes
+from cshape import Descriptor, shapes
 from cshape.batch import DescriptorTable
 
 N, M = 20, 4
@@ -65,32 +65,29 @@ def folder(tmp_path_factory):
 @pytest.mark.slow
 def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
     out = tmp_path / "table.csv"
-    res = cli("describe", folder, "--out", out, "-N", N, "-M", M, "--jobs", 2,
+    res = cli("describe", folder, "--out", out, "-N", N, "--jobs", 2,
               cache=tmp_path / "c", check=True)
     table = DescriptorTable.load(out)
     assert sorted(zip(table.names, table.labels, strict=True)) == [
         ("big", "sphere"), ("ring", "torus"), ("small", "sphere")]
-    assert (table.N, table.M) == (N, M) and not table.cached.any()
+    assert table.N == N and not table.cached.any()
     assert "3 meshes (0 from the cache)" in res.stderr
     # the eigenvalues are the library's
     lam = cshape.shape_dna(cshape.load_mesh(folder / "torus" / "ring.off"), N=N)
     np.testing.assert_allclose(table.lam[table.index("ring")], lam, rtol=1e-12, atol=1e-12)
     # cShape-DNA is scale invariant: the two spheres have the same descriptor
-    S = table.descriptors("cshape")
+    S = table.descriptors(Descriptor("cshape", N=N, M=M))
     assert np.abs(S[table.index("big")] - S[table.index("small")]).max() < 1e-8
 
-    # a glob over the same files, another transform, to .npz: every mesh from the cache
-    # (the eigenvalues do not depend on the transform), labels = parent folder
+    # a glob over the same files, to .npz: every mesh from the cache, labels = parent folder
     out2 = tmp_path / "again.npz"
-    res = cli("describe", f"{folder}/*/*.off", "--out", out2, "-N", N, "-M", M,
-              "--transform", "log-weyl", cache=tmp_path / "c", check=True)
+    res = cli("describe", f"{folder}/*/*.off", "--out", out2, "-N", N, cache=tmp_path / "c",
+              check=True)
     again = DescriptorTable.load(out2)
     assert again.cached.all() and "3 from the cache" in res.stderr
-    assert again.transform == "log-weyl"
+    d = Descriptor("cshape", N=N, M=M, transform="log-weyl")
     np.testing.assert_array_equal(
-        again.descriptors("cshape"),
-        DescriptorTable.load(out).descriptors("cshape", transform="log-weyl")[
-            [table.index(n) for n in again.names]])
+        again.descriptors(d), table.descriptors(d)[[table.index(n) for n in again.names]])
     assert sorted(again.names) == sorted(table.names)
     assert again.labels[again.index("ring")] == "torus"
     np.testing.assert_array_equal(again.lam[again.index("ring")], table.lam[table.index("ring")])
@@ -102,7 +99,7 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     bad.parent.mkdir()
     bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")  # truncated: one vertex and the face missing
     out = tmp_path / "t.csv"
-    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M, "--strict",
+    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "--strict",
               cache=tmp_path / "c")
     assert_one_line_error(res, "1 of 2 meshes failed")
     assert "failed: bad:" in res.stderr and "leave out --strict" in res.stderr
@@ -110,14 +107,14 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     # by default one mesh never fails the table: it is listed by name and left out
     for extra in ((), ("--keep-going",)):
         out.unlink(missing_ok=True)
-        res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, "-M", M, *extra,
+        res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, *extra,
                   cache=tmp_path / "c", check=True)
         assert "failed: bad:" in res.stderr
         table = DescriptorTable.load(out)
         assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
         assert table.cached.all()  # the first, failed run cached the good mesh
     # every mesh failing is still an error
-    res = cli("describe", bad, "--out", out.with_name("u.csv"), "-N", N, "-M", M,
+    res = cli("describe", bad, "--out", out.with_name("u.csv"), "-N", N,
               cache=tmp_path / "c")
     assert_one_line_error(res, "1 of 1 meshes failed")
 
@@ -127,7 +124,7 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     (["describe", "no/such/folder"], "no file or folder 'no/such/folder'"),
     (["describe", "MESHES", "--out", "table.txt"], "--out must end in .csv or .npz"),
     (["describe", "MESHES/*.stl"], "matches no mesh file"),
-    (["describe", "MESHES", "-N", "20", "-M", "10"], "use M <= 9"),
+    (["describe", "MESHES", "-N", "20", "-M", "10"], "unrecognized arguments: -M 10"),
     (["info", "no_such.obj"], "no mesh file at 'no_such.obj'"),
     (["query", "no_such.csv", "x"], "no descriptor table at 'no_such.csv'"),
     (["describe"], "the following arguments are required: PATH"),  # argparse's errors too
@@ -172,7 +169,7 @@ def test_info_topology_angles_and_repair(tmp_path):
 def table_file(folder, tmp_path_factory):
     out = tmp_path_factory.mktemp("table") / "table.npz"
     recs = [(p.stem, p.parent.name, p) for p in sorted(folder.glob("*/*.off"))]
-    cshape.describe(recs, N=N, M=M, cache_dir=False, progress=False).save(out)
+    cshape.describe(recs, N=N, cache_dir=False, progress=False).save(out)
     return out
 
 
@@ -226,11 +223,11 @@ def test_real_meshes_describe_info_query(shared_meshes, tmp_path):
     """The real meshes: a torus, a coarse unit sphere, and cubes too coarse for N=30."""
     out = tmp_path / "real.csv"
     dirs = [shared_meshes / d for d in ("torus", "sphere", "cube")]
-    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, "--strict",
+    res = cli("describe", *dirs, "--out", out, "-N", 30, "--strict",
               cache=tmp_path / "c")
     assert_one_line_error(res, "2 of 4 meshes failed")  # cube.obj has 26 vertices, 30 > 26
     assert "failed: cube: ValueError: N=30 eigenvalues requested" in res.stderr
-    res = cli("describe", *dirs, "--out", out, "-N", 30, "-M", 4, cache=tmp_path / "c",
+    res = cli("describe", *dirs, "--out", out, "-N", 30, cache=tmp_path / "c",
               check=True)  # by default the cubes are listed and left out
     assert "failed: cube: ValueError: N=30 eigenvalues requested" in res.stderr
     table = DescriptorTable.load(out)
@@ -259,7 +256,7 @@ def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
                                   protocol="tcp://", host="127.0.0.1",
                                   dashboard_address=":0") as cluster:
         cli("describe", folder, "--dask", cluster.scheduler_address, "--out", out, "-N", N,
-            "-M", M, "--no-cache", check=True)
+            "--no-cache", check=True)
     table = DescriptorTable.load(out)
     lam = cshape.shape_dna(cshape.load_mesh(folder / "torus" / "ring.off"), N=N)
     np.testing.assert_allclose(table.lam[table.index("ring")], lam, rtol=1e-12, atol=1e-12)
@@ -268,7 +265,7 @@ def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
         pass
     env = {"DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"}
     res = cli("describe", folder, "--dask", f"tcp://127.0.0.1:{port}", "--no-cache",
-              "-N", N, "-M", M, env=env)
+              "-N", N, env=env)
     assert_one_line_error(res, f"Timed out trying to connect to tcp://127.0.0.1:{port}")
 
 

@@ -7,11 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cshape import compact_shape_dna, compact_shape_dna_real, normalize, shape_dna, shapes
+from cshape import Descriptor, compact_shape_dna, normalize, real_form, shape_dna, shapes
 from cshape.compare import (
-    DESCRIPTOR_KINDS,
-    descriptor_matrix,
-    descriptor_size,
     difference_matrix,
     distance_matrix,
     mds_embedding,
@@ -20,6 +17,7 @@ from cshape.compare import (
     scale_255,
     scaled_difference,
 )
+from cshape.descriptors import DESCRIPTOR_KINDS
 from cshape.index import DescriptorIndex
 from cshape.plots.collection import plot_distance_matrix, plot_mds
 
@@ -225,7 +223,7 @@ def test_retrieval_rejects():
         retrieval_scores(D, "ababa")
 
 
-# ------------------------------------------------------------------ descriptor_matrix
+# ------------------------------------------------------------------ Descriptor.matrix
 @pytest.fixture
 def spectra():
     meshes = [shapes.icosphere(2), shapes.icosphere(2, radius=2.0), shapes.torus(24, 12)]
@@ -238,22 +236,22 @@ def test_descriptor_matrix_kinds(spectra):
     lams, areas = spectra
     M, N = 4, 30
     for kind in DESCRIPTOR_KINDS:
-        X = descriptor_matrix(lams, areas, kind=kind, M=M, N=N)
-        assert X.shape == (3, descriptor_size(kind, M, N)), kind
-    sd = descriptor_matrix(lams, areas, "shape-dna", M=M, N=N)
+        X = Descriptor(kind, N=N, M=M).matrix(lams, areas)
+        assert X.shape == (3, {"shape-dna": N, "f1": N - 2}.get(kind, 2 * M + 1)), kind
+    sd = Descriptor("shape-dna", N=N, M=M).matrix(lams, areas)
     np.testing.assert_allclose(sd[2], normalize(lams[2], areas[2]))
-    np.testing.assert_allclose(descriptor_matrix(lams, areas, "truncated", M=M, N=N),
+    np.testing.assert_allclose(Descriptor("truncated", N=N, M=M).matrix(lams, areas),
                                sd[:, : 2 * M + 1])
-    np.testing.assert_allclose(descriptor_matrix(lams, areas, "cshape", M=M, N=N)[2],
-                               compact_shape_dna_real(lams[2], M=M, N=N, area=areas[2]))
-    np.testing.assert_allclose(descriptor_matrix(lams, areas, "cshape-complex", M=M, N=N)[2],
+    np.testing.assert_allclose(Descriptor("cshape", N=N, M=M).matrix(lams, areas)[2],
+                               real_form(compact_shape_dna(lams[2], M=M, N=N, area=areas[2])))
+    np.testing.assert_allclose(Descriptor("cshape-complex", N=N, M=M).matrix(lams, areas)[2],
                                compact_shape_dna(lams[2], M=M, N=N, area=areas[2]))
 
 
 def test_descriptor_matrix_real_and_complex_cshape_give_the_same_distances(spectra):
     lams, areas = spectra
-    Dr = distance_matrix(descriptor_matrix(lams, areas, "cshape", M=5, N=30))
-    Dc = distance_matrix(descriptor_matrix(lams, areas, "cshape-complex", M=5, N=30))
+    Dr = distance_matrix(Descriptor("cshape", N=30, M=5).matrix(lams, areas))
+    Dc = distance_matrix(Descriptor("cshape-complex", N=30, M=5).matrix(lams, areas))
     np.testing.assert_allclose(Dr, Dc, atol=1e-9 * Dr.max())
     # scale invariance: the unit and radius-2 spheres have the same normalised descriptors
     assert Dr[0, 1] < 1e-6 * Dr.max()
@@ -262,24 +260,24 @@ def test_descriptor_matrix_real_and_complex_cshape_give_the_same_distances(spect
 def test_descriptor_matrix_ragged_rows(spectra):
     lams, areas = spectra
     rows = [lams[0], lams[1][:20], lams[2]]
-    X = descriptor_matrix(rows, areas, "shape-dna", N=20)
+    X = Descriptor("shape-dna", N=20).matrix(rows, areas)
     assert X.shape == (3, 20)
 
 
 def test_descriptor_matrix_rejects(spectra):
     lams, areas = spectra
     with pytest.raises(ValueError, match=r"kind must be one of"):
-        descriptor_matrix(lams, areas, kind="heat")
+        Descriptor("heat").matrix(lams, areas)
     with pytest.raises(ValueError, match=r"needs areas"):
-        descriptor_matrix(lams, None, kind="cshape", M=4, N=30)
+        Descriptor("cshape", N=30, M=4).matrix(lams, None)
     with pytest.raises(ValueError, match=r"areas has 2 entries but lams has 3 rows"):
-        descriptor_matrix(lams, areas[:2], kind="shape-dna", N=30)
+        Descriptor("shape-dna", N=30).matrix(lams, areas[:2])
     with pytest.raises(ValueError, match=r"lams\[1\] has shape \(10,\)"):
-        descriptor_matrix([lams[0], lams[1][:10]], areas[:2], kind="shape-dna", N=30)
+        Descriptor("shape-dna", N=30).matrix([lams[0], lams[1][:10]], areas[:2])
     with pytest.raises(ValueError, match=r"2M\+1 = 31 values cannot be kept from N = 30"):
-        descriptor_matrix(lams, areas, kind="cshape", M=15, N=30)
+        Descriptor("cshape", N=30, M=15).matrix(lams, areas)
     # F1 needs no area
-    assert descriptor_matrix(lams, None, kind="f1", N=30).shape == (3, 28)
+    assert Descriptor("f1", N=30).matrix(lams, None).shape == (3, 28)
 
 
 # ------------------------------------------------------------------ MDS and plots
@@ -355,22 +353,23 @@ def test_descriptor_index_rejects():
 @pytest.mark.parametrize("transform", ["weyl", "log-weyl", "log-weyl-dct"])
 def test_descriptor_matrix_transforms(spectra, transform):
     lams, areas = spectra
-    X = descriptor_matrix(lams, areas, "cshape", M=4, N=30, transform=transform)
-    Xc = descriptor_matrix(lams, areas, "cshape-complex", M=4, N=30, transform=transform)
+    X = Descriptor("cshape", N=30, M=4, transform=transform).matrix(lams, areas)
+    Xc = Descriptor("cshape-complex", N=30, M=4, transform=transform).matrix(lams, areas)
     assert X.shape == Xc.shape == (3, 9) and X.dtype == np.float64
     for i in range(3):
         np.testing.assert_array_equal(
-            X[i], compact_shape_dna_real(lams[i], M=4, N=30, area=areas[i], transform=transform))
+            X[i], real_form(compact_shape_dna(lams[i], N=30, M=4, area=areas[i],
+                                              transform=transform)))
     np.testing.assert_allclose(distance_matrix(X), distance_matrix(Xc), rtol=1e-12, atol=1e-12)
     # the sequence kinds do not use the transform
     np.testing.assert_array_equal(
-        descriptor_matrix(lams, areas, "truncated", M=4, N=30, transform=transform),
-        descriptor_matrix(lams, areas, "truncated", M=4, N=30))
+        Descriptor("truncated", N=30, M=4, transform=transform).matrix(lams, areas),
+        Descriptor("truncated", N=30, M=4).matrix(lams, areas))
 
 
 def test_truncated_log_is_the_truncated_log_spectrum(spectra):
     lams, areas = spectra
-    X = descriptor_matrix(lams, areas, "truncated-log", M=4, N=30)
+    X = Descriptor("truncated-log", N=30, M=4).matrix(lams, areas)
     assert X.shape == (3, 9)
     for i in range(3):  # r_1 .. r_9 = log(lam_i A / (4 pi i))
         np.testing.assert_allclose(
@@ -379,30 +378,31 @@ def test_truncated_log_is_the_truncated_log_spectrum(spectra):
     np.testing.assert_allclose(distance_matrix(X), distance_matrix(logs), atol=1e-12)
     with pytest.raises(ValueError, match=r"^M=4: 2M\+1 = 9 values cannot be kept from the N-1 = 8 "
                        r"log-Weyl ratios \(lam_0 has no logarithm\); use M <= 3 or N >= 10$"):
-        descriptor_matrix(lams[:, :9], areas, "truncated-log", M=4, N=9)
+        Descriptor("truncated-log", N=9, M=4).matrix(lams[:, :9], areas)
 
 
 def test_descriptor_matrix_transform_errors(spectra):
     lams, areas = spectra
     with pytest.raises(ValueError, match=r"transform must be one of"):
-        descriptor_matrix(lams, areas, "cshape", M=4, N=30, transform="dct")
+        Descriptor("cshape", N=30, M=4, transform="dct").matrix(lams, areas)
     with pytest.raises(ValueError, match=r"N-1 = 29 log-Weyl ratios.*use M <= 14"):
-        descriptor_matrix(lams, areas, "cshape", M=15, N=30, transform="log-weyl")
-    assert descriptor_matrix(lams, areas, "cshape", M=14, N=30, transform="log-weyl").shape \
+        Descriptor("cshape", N=30, M=15, transform="log-weyl").matrix(lams, areas)
+    assert Descriptor("cshape", N=30, M=14, transform="log-weyl").matrix(lams, areas).shape \
         == (3, 29)
 
 
-def test_index_from_table_queries_spectra_with_the_tables_transform(spectra):
+def test_index_from_table_queries_spectra_with_its_descriptor(spectra):
     from cshape import DescriptorTable
 
     lams, areas = spectra
-    table = DescriptorTable(["a", "b", "c"], lams, areas, M=4, transform="log-weyl-dct")
-    index = DescriptorIndex.from_table(table, "cshape")
-    assert index.recipe_["transform"] == "log-weyl-dct" and index.recipe_["M"] == 4
-    np.testing.assert_array_equal(index.X_, table.descriptors("cshape"))
+    table = DescriptorTable(["a", "b", "c"], lams, areas)
+    d = Descriptor("cshape", N=30, M=4, transform="log-weyl-dct")
+    index = DescriptorIndex.from_table(table, d)
+    assert index.descriptor_ == d
+    np.testing.assert_array_equal(index.X_, table.descriptors(d))
     dist, ind = index.query_spectra(lams[2] * 2.0, areas[2] / 2.0, k=2)  # same normalised lam
     assert ind[0, 0] == 2 and dist[0, 0] < 1e-12
-    other = DescriptorIndex.from_table(table, "cshape", transform="weyl", M=2)
-    np.testing.assert_allclose(other.X_, descriptor_matrix(lams, areas, "cshape", M=2, N=30))
+    other = DescriptorIndex.from_table(table, d.replace(transform="weyl", M=2))
+    np.testing.assert_allclose(other.X_, Descriptor("cshape", N=30, M=2).matrix(lams, areas))
     with pytest.raises(ValueError, match="build it with DescriptorIndex.from_table"):
         DescriptorIndex(index.X_).query_spectra(lams, areas)

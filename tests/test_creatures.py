@@ -213,7 +213,7 @@ def test_shape_dna_retrieval_does_not_saturate(small):
     from cshape.reproduce import FAMILIES, experiment_sizes
 
     _, _, table = small
-    s = retrieval_scores(table.distance_matrix("shape-dna", N=100), table.labels)
+    s = retrieval_scores(table.distance_matrix(cshape.Descriptor("shape-dna", N=100)), table.labels)
     chance = 2 / 35  # first tier of a random ranking: (class size - 1) / (p - 1)
     assert chance < s["ft"] < 0.9 and s["nn"] < 0.9  # far from perfect
     # ... and the classes are real and the descriptors differ: some descriptor is far above

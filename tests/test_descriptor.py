@@ -1,9 +1,11 @@
-"""The Descriptor value: checked once, its size and label, rows equal to the functions of the
-stages, the shipped PAPER and DEFAULT, and the one M-versus-N rule with one message."""
+"""The Descriptor value: checked once, its size and label, rows equal to the formulas (and to
+an independent computation of Eq. 8-10, bit for bit), the shipped PAPER and DEFAULT, the one
+M-versus-N rule with one message, and the surfaces that take a Descriptor."""
 
 from __future__ import annotations
 
 import dataclasses
+import json
 
 import numpy as np
 import pytest
@@ -11,7 +13,6 @@ import pytest
 import cshape
 from cshape import DEFAULT, PAPER, Descriptor, shapes
 from cshape.batch import DescriptorTable
-from cshape.descriptor import select_descriptor
 
 N = 30
 
@@ -62,7 +63,8 @@ def test_frozen_and_compared_by_value():
     d = Descriptor("cshape", M=4, N=30)
     with pytest.raises(dataclasses.FrozenInstanceError):
         d.M = 5  # type: ignore[misc]
-    assert d == Descriptor("cshape", 4, 30) and hash(d) == hash(Descriptor("cshape", 4, 30))
+    assert d == Descriptor("cshape", N=30, M=4)
+    assert hash(d) == hash(Descriptor("cshape", N=30, M=4))
     assert d.replace(M=5) == Descriptor("cshape", M=5, N=30) and d.M == 4
     with pytest.raises(ValueError, match=r"^M=15: 2M\+1 = 31 values cannot be kept"):
         d.replace(M=15)  # a copy is checked again
@@ -90,18 +92,30 @@ def test_old_spelling_is_stored_in_the_current_one():
 ])
 def test_size_and_label(d, size, label):
     assert d.size == size and d.label == label
-    assert cshape.compare.descriptor_size(d.kind, d.M, d.N) == size
-    assert cshape.compare.descriptor_label(**d.as_dict()) == label
+    assert d.matrix(4 * np.pi * np.arange(100.0)[None, :] * [[1.0], [1.1]],
+                    np.ones(2)).shape == (2, size)
+
+
+def test_N_and_M_are_keywords_N_first():
+    d = Descriptor("cshape", N=50, M=8)
+    assert [f.name for f in dataclasses.fields(d)] == ["kind", "N", "M", "transform",
+                                                       "normalization"]
+    assert repr(d) == ("Descriptor(kind='cshape', N=50, M=8, transform='weyl', "
+                       "normalization='area')")
+    with pytest.raises(TypeError, match="positional argument"):
+        Descriptor("cshape", 8, 50)  # type: ignore[misc]
+    with pytest.raises(TypeError, match="positional argument"):
+        cshape.compact_shape_dna(np.arange(50.0), 8, 50)  # type: ignore[misc]
 
 
 def test_shipped_descriptors():
-    assert PAPER == Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area")
-    assert DEFAULT == Descriptor("truncated-log", M=8, N=100, transform="weyl",
+    assert PAPER == Descriptor("cshape", N=100, M=16, transform="weyl", normalization="area")
+    assert DEFAULT == Descriptor("truncated-log", N=100, M=8, transform="weyl",
                                  normalization="area")
     assert PAPER.label == "paper's cShape-DNA (M=16 of N=100, 33 values)"
     assert DEFAULT.label == "truncated log spectrum (17 values)"
     # the paper's descriptor is compact_shape_dna's default, and reproduce keeps its numbers
-    assert cshape.reproduce.PAPER["3.1"]["M"] == PAPER.M
+    assert cshape.reproduce.PAPER_RESULTS["3.1"]["M"] == PAPER.M
     assert DEFAULT.for_N(12) == DEFAULT.replace(N=12, M=5)  # M lowered to what N allows
     assert DEFAULT.for_N(1000) == DEFAULT.replace(N=1000)
     with pytest.raises(ValueError, match="needs at least 2 eigenvalues per shape, got N = 1"):
@@ -128,7 +142,8 @@ def test_log_weyl_rows_are_compact_shape_dna(spectra, transform):
     for lam, area in zip(lams, areas, strict=True):
         np.testing.assert_array_equal(
             d.row(lam, area),
-            cshape.compact_shape_dna_real(lam, M=5, N=N, area=area, transform=transform))
+            cshape.real_form(cshape.compact_shape_dna(lam, M=5, N=N, area=area,
+                                                      transform=transform)))
 
 
 def test_other_rows_are_the_stage_functions(spectra):
@@ -144,13 +159,16 @@ def test_other_rows_are_the_stage_functions(spectra):
         cshape.log_weyl_ratio(cshape.normalize(lam[:18], area)))
 
 
-def test_matrix_is_descriptor_matrix_and_names_what_it_cannot_describe(spectra):
+def test_matrix_stacks_the_rows_and_names_what_it_cannot_describe(spectra):
     lams, areas = spectra
     for d in (PAPER.replace(M=4, N=N), DEFAULT.for_N(N), Descriptor("f1", N=N)):
         X = d.matrix(lams, areas)
         assert X.shape == (3, d.size)
-        np.testing.assert_array_equal(X, cshape.descriptor_matrix(lams, areas, **d.as_dict()))
-        np.testing.assert_array_equal(X, cshape.descriptor_matrix(lams, areas, descriptor=d))
+        np.testing.assert_array_equal(
+            X, np.vstack([d.row(lam, a) for lam, a in zip(lams, areas, strict=True)]))
+        X2, problems = d.rows(list(lams), areas)
+        np.testing.assert_array_equal(X2, X)
+        assert problems == {}
     bad = lams.copy()
     bad[1, :20] = 0.0  # 20 zero modes: 10 non-zero eigenvalues, fewer than 2M+1 = 17
     X, problems = DEFAULT.for_N(N).rows(bad, areas)
@@ -192,10 +210,6 @@ def test_one_M_versus_N_message_everywhere():
         Descriptor("cshape", M=8, N=12)
     with pytest.raises(ValueError, match=msg):
         cshape.compact_shape_dna(lam, M=8, N=12, normalization="none")
-    with pytest.raises(ValueError, match=msg):
-        cshape.descriptor_matrix(lam[None, :], [1.0], "cshape", M=8, N=12)
-    with pytest.raises(ValueError, match=msg):
-        cshape.describe([shapes.icosphere(1)], N=12, M=8, cache_dir=False, progress=False)
     log = (r"^M=8: 2M\+1 = 17 values cannot be kept from the N-1 = 12 log-Weyl ratios \(lam_0 "
            r"has no logarithm\); use M <= 5 or N >= 18$")
     with pytest.raises(ValueError, match=log):
@@ -205,46 +219,133 @@ def test_one_M_versus_N_message_everywhere():
     with pytest.raises(ValueError, match=log):
         cshape.compact_shape_dna(np.r_[lam, 200.0], M=8, N=13, normalization="none",
                                  transform="log-weyl-dct")
-    with pytest.raises(ValueError, match=log):
-        cshape.describe([shapes.icosphere(1)], N=13, M=8, transform="log-weyl",
-                        cache_dir=False, progress=False)
+
+
+# ---------------------------------------------------------------------- the same bits
+#: A fixed spectrum (ascending, lam_0 = 0) and area, and values of the rows computed before
+#: the descriptor modules moved into cshape/descriptors/ (cshape at ca9e8df).
+_LAM = np.arange(100.0) + 0.3 * np.sin(np.arange(100.0))
+_AREA = 3.0
+_PAPER_ROW = {0: -47353.1932659132, 1: 676.9278806773906, 2: -21524.770493301017,
+              31: 660.2928254668889, 32: -1291.2420125881642}
+_DEFAULT_ROW = {0: -1.207317275329019, 1: -1.3045513268218625, 2: -1.4183986047880586,
+                15: -1.4378247683494747, 16: -1.4495233650360373}
+
+
+def _paper_by_hand(lam, area, N=100, M=16):
+    """Eq. (8)-(10) with numpy alone: normalise, subtract 4 pi i, DFT, shift, crop."""
+    lam_prime = lam[:N] * area - 4.0 * np.pi * np.arange(N)  # Eq. (8)
+    shifted = np.fft.fftshift(np.fft.fft(lam_prime))  # Eq. (9), zero frequency at N // 2
+    return shifted[N // 2 - M: N // 2 + M + 1]  # Eq. (10)
+
+
+def test_the_papers_descriptor_is_eq_8_to_10_bit_for_bit():
+    S = _paper_by_hand(_LAM, _AREA)
+    np.testing.assert_array_equal(cshape.compact_shape_dna(_LAM, area=_AREA), S)
+    np.testing.assert_array_equal(PAPER.replace(kind="cshape-complex").row(_LAM, _AREA), S)
+    real = np.empty(33)
+    real[0] = S[16].real
+    real[1::2] = np.sqrt(2.0) * S[17:].real
+    real[2::2] = np.sqrt(2.0) * S[17:].imag
+    np.testing.assert_array_equal(PAPER.row(_LAM, _AREA), real)
+    np.testing.assert_allclose(PAPER.row(_LAM, _AREA)[list(_PAPER_ROW)],
+                               list(_PAPER_ROW.values()), rtol=1e-12)
+    # the mesh form: the eigensolve, then the same formula on its spectrum and area
+    mesh = shapes.icosphere(2)
+    lam = cshape.shape_dna(mesh, N=100)
+    np.testing.assert_array_equal(cshape.compact_shape_dna(mesh),
+                                  _paper_by_hand(lam, mesh.area))
+
+
+def test_the_default_is_the_truncated_log_spectrum_bit_for_bit():
+    i = np.arange(1, 18)
+    by_hand = np.log(_LAM[1:18] * _AREA / (4.0 * np.pi * i))
+    np.testing.assert_array_equal(DEFAULT.row(_LAM, _AREA), by_hand)
+    np.testing.assert_allclose(DEFAULT.row(_LAM, _AREA)[list(_DEFAULT_ROW)],
+                               list(_DEFAULT_ROW.values()), rtol=1e-12)
 
 
 # ---------------------------------------------------------------------- the surfaces take one
 @pytest.fixture(scope="module")
 def table(spectra):
     lams, areas = spectra
-    return DescriptorTable(["sphere", "torus", "cube"], lams, areas, ["a", "b", "c"], M=4)
+    return DescriptorTable(["sphere", "torus", "cube"], lams, areas, ["a", "b", "c"])
 
 
-def test_surfaces_take_a_descriptor(table):
+def test_surfaces_take_a_descriptor(table, spectra):
+    lams, areas = spectra
     d = PAPER.replace(M=4, N=N)
-    np.testing.assert_array_equal(table.descriptors(descriptor=d), table.descriptors("cshape"))
+    np.testing.assert_array_equal(table.descriptors(d), d.matrix(lams, areas))
+    np.testing.assert_array_equal(table.descriptors(), DEFAULT.for_N(N).matrix(lams, areas))
     np.testing.assert_array_equal(table.distance_matrix(descriptor=d),
-                                  table.distance_matrix("cshape"))
-    assert table.descriptor_for() == DEFAULT.for_N(N)
-    assert table.descriptor_for("cshape") == d
-    index = cshape.DescriptorIndex.from_table(table, descriptor=d)
-    assert index.descriptor_ == d and index.descriptor == d.label
-    assert index.recipe_ == d.as_dict()
+                                  cshape.distance_matrix(d.matrix(lams, areas)))
+    index = cshape.DescriptorIndex.from_table(table, d)
+    assert index.descriptor_ == d
+    assert cshape.DescriptorIndex.from_table(table).descriptor_ == DEFAULT.for_N(N)
     dist, ind = index.query_spectra(table.lam[1], table.areas[1], k=1)
     assert ind[0, 0] == 1 and dist[0, 0] == 0.0
-    pytest.importorskip("matplotlib")
-    from cshape.plots.explore import collection_distances
-
-    c = collection_distances(table, descriptor=d)
-    np.testing.assert_array_equal(c.D, table.distance_matrix("cshape"))
-    assert c.descriptor == d.label and c.kind == "cshape"
+    c = cshape.batch.collection_distances(table, d)
+    np.testing.assert_array_equal(c.D, table.distance_matrix(d))
+    assert c.descriptor == d and c.left_out == [] and c.rows.tolist() == [0, 1, 2]
 
 
-def test_descriptor_and_fields_are_not_both_given(table):
-    with pytest.raises(ValueError, match=r"^pass either descriptor= or kind, M, not both"):
-        table.descriptors("cshape", M=3, descriptor=PAPER)
+@pytest.mark.parametrize("call", [
+    lambda t: t.descriptors("cshape"),
+    lambda t: t.distance_matrix("shape-dna"),
+    lambda t: t.usable("f1"),
+    lambda t: cshape.DescriptorIndex.from_table(t, "cshape"),
+    lambda t: cshape.batch.collection_distances(t, "cshape"),
+])
+def test_a_kind_by_name_is_refused_with_the_fix(table, call):
     with pytest.raises(TypeError, match=r"^descriptor must be a cshape.Descriptor \(e.g. "
-                                        r"cshape.PAPER\), got dict$"):
-        select_descriptor(PAPER.as_dict())  # type: ignore[arg-type]
-    with pytest.raises(TypeError, match=r"unexpected keyword argument 'zero_mode'"):
-        table.descriptors(zero_mode=1)
+                                        r"cshape.PAPER\) or None \(cshape.DEFAULT\), got str "
+                                        r"\(a kind: Descriptor\('(cshape|shape-dna|f1)', "
+                                        r"N=\.\.\.\)\)$"):
+        call(table)
+
+
+def test_a_descriptor_needing_more_eigenvalues_than_the_table_holds(table):
+    with pytest.raises(ValueError, match=r"lams\[0\] has shape \(30,\) but kind='cshape' "
+                                         r"needs at least 100 eigenvalues"):
+        table.descriptors(PAPER)
+
+
+def test_the_table_says_what_it_holds(table):
+    assert repr(table) == "DescriptorTable(3 shapes, N=30, 3 classes)"
+    np.testing.assert_array_equal(table.lam_norm, table.lam * table.areas[:, None])
+    np.testing.assert_array_equal(table.lam_norm,
+                                  table.descriptors(Descriptor("shape-dna", N=N)))
+    for gone in ("M", "transform", "shape_dna", "cshape", "f1", "recipe", "describe_recipe",
+                 "descriptor_for"):
+        assert not hasattr(table, gone), gone
+
+
+def test_the_command_line_describe_takes_no_M_and_query_honours_it(table, tmp_path, capsys):
+    """`cshape describe` computes eigenvalues only (no -M it would store and not use);
+    `cshape query -M` changes the descriptor it compares and says so."""
+    from conftest import write_off
+
+    from cshape.cli import main
+
+    write_off(tmp_path / "m" / "one.off", shapes.icosphere(1))
+    with pytest.raises(SystemExit) as stop:  # argparse's own one-line error
+        main(["describe", str(tmp_path / "m"), "-N", "5", "-M", "1", "--no-cache"])
+    assert stop.value.code == 2
+    assert "unrecognized arguments: -M 1" in capsys.readouterr().err
+    path = table.save(tmp_path / "t.npz")
+    got = {}
+    for M in ("2", "4"):
+        assert main(["query", str(path), "sphere", "-k", "2", "-M", M, "--json"]) == 0
+        got[M] = json.loads(capsys.readouterr().out)
+        assert (got[M]["kind"], got[M]["M"]) == ("truncated-log", int(M))
+        assert got[M]["descriptor"] == DEFAULT.replace(N=N, M=int(M)).label
+    d2 = {n["name"]: n["distance"] for n in got["2"]["neighbours"]}
+    d4 = {n["name"]: n["distance"] for n in got["4"]["neighbours"]}
+    X = DEFAULT.replace(N=N, M=2).matrix(table.lam, table.areas)
+    assert d2["torus"] == pytest.approx(np.linalg.norm(X[0] - X[1]), rel=1e-12)
+    assert d2 != d4  # -M is used
+    assert main(["query", str(path), "sphere", "--kind", "cshape", "-M", "15"]) == 2
+    assert "M=15: 2M+1 = 31 values cannot be kept from N = 30" in capsys.readouterr().err
 
 
 def test_reproduce_takes_the_papers_descriptor_and_refuses_another(tmp_path):

@@ -56,7 +56,7 @@ def test_real_form_preserves_distances():
                 np.linalg.norm(S[i] - S[j]), rel=1e-12, abs=1e-9
             )
     np.testing.assert_allclose(
-        cshape.compact_shape_dna_real(lams[0], M=6, N=40, normalization="none"), R[0])
+        cshape.real_form(cshape.compact_shape_dna(lams[0], M=6, N=40, normalization="none")), R[0])
     with pytest.raises(ValueError, match="odd last dimension"):
         cshape.real_form(np.zeros(4, complex))
 
@@ -103,9 +103,10 @@ def test_compact_from_mesh_equals_from_eigenvalues():
 def test_normalisations():
     lam = np.array([0.0, 2.0, 2.0, 2.0, 6.0])
     np.testing.assert_allclose(cshape.normalize(lam, area=4 * np.pi), lam * 4 * np.pi)
-    np.testing.assert_allclose(cshape.normalize(lam, method="fiedler"), lam / 2.0)
+    np.testing.assert_allclose(cshape.normalize(lam, normalization="fiedler"), lam / 2.0)
     line = 3.0 * np.arange(10)
-    np.testing.assert_allclose(cshape.normalize(line, method="weyl"), FOUR_PI * np.arange(10))
+    np.testing.assert_allclose(cshape.normalize(line, normalization="weyl"),
+                               FOUR_PI * np.arange(10))
 
 
 @pytest.mark.parametrize(
@@ -113,8 +114,9 @@ def test_normalisations():
     [
         (lambda: cshape.normalize([0, 1, 2]), ValueError, "needs the surface area"),
         (lambda: cshape.normalize([0, 1, 2], area=-1), ValueError, "area must be a positive"),
-        (lambda: cshape.normalize([0, 1, 2], area=1, method="max"), ValueError, "method must be"),
-        (lambda: cshape.normalize([0, 0, 0], method="fiedler"), ValueError, "no non-zero"),
+        (lambda: cshape.normalize([0, 1, 2], area=1, normalization="max"), ValueError,
+         "normalization must be"),
+        (lambda: cshape.normalize([0, 0, 0], normalization="fiedler"), ValueError, "no non-zero"),
         (lambda: cshape.normalize([[0, 1]], area=1), ValueError, "1-D"),
         (lambda: cshape.normalize([0, np.nan], area=1), ValueError, "NaN"),
         (lambda: cshape.compact_shape_dna(LAM_NORM, M=4, N=8), ValueError, r"use M <= 3"),
@@ -292,8 +294,8 @@ def test_real_form_distance_identity_for_every_transform(transform):
             assert np.linalg.norm(R[i] - R[j]) == pytest.approx(
                 np.linalg.norm(S[i] - S[j]), rel=1e-12, abs=1e-12)
     np.testing.assert_array_equal(
-        cshape.compact_shape_dna_real(lams[0], M=6, N=40, normalization="none",
-                                      transform=transform),
+        cshape.real_form(cshape.compact_shape_dna(lams[0], M=6, N=40, normalization="none",
+                                      transform=transform)),
         R[0])
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cshape import plots
+from cshape import Descriptor, plots
 from cshape.batch import DescriptorTable
 from cshape.plots.collection import (
     LEGEND_COLUMNS,
@@ -32,7 +32,7 @@ def synthetic_table(p, n_classes, N=30, seed=0):
     i = np.arange(N)
     lam = np.array([4 * np.pi * i * np.sort(base[lab] * (1 + 0.01 * rng.random(N)))
                     for lab in labels])
-    return DescriptorTable(names, lam, np.ones(p), labels, M=4)
+    return DescriptorTable(names, lam, np.ones(p), labels)
 
 
 def drawn(fig):
@@ -125,8 +125,8 @@ def test_overlapping_names_are_dropped_by_their_drawn_extents():
 @pytest.mark.parametrize("p, n_classes", [(3, 3), (60, 6)])
 def test_report_mds_figure_panels_square_with_one_legend(p, n_classes):
     table = synthetic_table(p, n_classes)
-    panels = [(f"cShape-DNA M={m}", "cshape", {"M": m}) for m in (4, 2, 1)]
-    panels += [("Shape-DNA", "shape-dna", {}), ("F1", "f1", {})]
+    panels = [(f"cShape-DNA M={m}", Descriptor("cshape", N=30, M=m)) for m in (4, 2, 1)]
+    panels += [("Shape-DNA", Descriptor("shape-dna", N=30)), ("F1", Descriptor("f1", N=30))]
     fig = drawn(_mds_figure(table, panels, random_state=0))
     shown = [ax for ax in fig.axes if ax.get_visible()]
     assert len(shown) == 5
@@ -141,7 +141,7 @@ def test_report_mds_figure_panels_square_with_one_legend(p, n_classes):
 @pytest.mark.parametrize("p, n_classes", [(3, 3), (30, 3), (1000, 300)])
 def test_matrix_figures_square_with_class_ticks(p, n_classes):
     table = synthetic_table(p, n_classes)
-    D = table.distance_matrix("cshape")
+    D = table.distance_matrix(Descriptor("cshape", N=30, M=4))
     fig = drawn(plots.plot_matrices([D, D], ["a", "b"], scale=True, names=table.names,
                                     labels=table.labels))
     for ax in fig.axes[:2]:

@@ -38,7 +38,7 @@ def test_every_file_gets_the_umask_permissions(tmp_path, mask):
     try:
         write_off(tmp_path / "in" / "ring.off", shapes.torus(12, 6))
         table = describe([tmp_path / "in" / "ring.off", ("ball", "", shapes.icosphere(1))],
-                         N=8, M=2, cache_dir=tmp_path / "cache", progress=False)
+                         N=8, cache_dir=tmp_path / "cache", progress=False)
         out = tmp_path / "out"
         out.mkdir()
         table.save(out / "t.npz")
@@ -247,7 +247,7 @@ def test_describe_command_announces_a_long_run_at_once(tmp_path, capsys, monkeyp
     real_work = run._work
     monkeypatch.setattr(run, "_work", lambda t: (order.append(capsys.readouterr().err),
                                                  real_work(t))[1])
-    assert main(["describe", str(tmp_path / "m"), "-N", "6", "-M", "1", "--no-cache",
+    assert main(["describe", str(tmp_path / "m"), "-N", "6", "--no-cache",
                  "-q"]) == 0
     assert "cshape describe: warning: long run ahead: 1 eigensolve of N=6, about 10 min" \
         in order[0]  # printed before the eigensolve started
@@ -258,6 +258,6 @@ def test_describe_command_announces_a_long_run_at_once(tmp_path, capsys, monkeyp
 def test_no_estimate_for_small_n(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        t = describe([("ball", "", shapes.icosphere(1))], N=8, M=2, cache_dir=False,
+        t = describe([("ball", "", shapes.icosphere(1))], N=8, cache_dir=False,
                      progress=False)
     assert isinstance(t, DescriptorTable) and np.all(np.isfinite(t.lam))

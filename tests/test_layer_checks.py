@@ -92,6 +92,12 @@ def _plots():
     return collection
 
 
+def _compare():
+    from cshape import compare
+
+    return compare
+
+
 def _explore():
     from cshape.plots import explore
 
@@ -124,17 +130,17 @@ PLOTS = [
                  r"outliers must be one of \{'auto'\}, got 'yes'", id="mds-outliers"),
     pytest.param(lambda: _plots().plot_mds(Y12, outliers=[True]), ValueError,
                  r"outliers has 1 entries but Y has 12 points", id="mds-outliers-mask"),
-    pytest.param(lambda: _plots().mds_outliers(Y12, factor=0.5), ValueError,
+    pytest.param(lambda: _compare().mds_outliers(Y12, factor=0.5), ValueError,
                  r"factor must be a finite number > 1, got 0\.5", id="outliers-factor"),
-    pytest.param(lambda: _plots().mds_outliers(np.zeros(4)), ValueError,
+    pytest.param(lambda: _compare().mds_outliers(np.zeros(4)), ValueError,
                  r"Y must have shape \(p, d\), got \(4,\)", id="outliers-Y"),
     pytest.param(lambda: _plots().mds_layout(Y12, margin=-0.1), ValueError,
                  r"margin must be a finite number >= 0, got -0\.1", id="layout-margin"),
-    pytest.param(lambda: _plots().median_distances(Y12, reference=0), ValueError,
+    pytest.param(lambda: _compare().median_distances(Y12, reference=0), ValueError,
                  r"reference must be an integer >= 1, got 0", id="median-reference"),
-    pytest.param(lambda: _plots().nearest_neighbours(np.zeros((3, 3)), k=1.0), TypeError,
+    pytest.param(lambda: _compare().nearest_neighbours(np.zeros((3, 3)), k=1.0), TypeError,
                  r"k must be an integer, got float 1\.0", id="neighbours-k-float"),
-    pytest.param(lambda: _plots().nearest_neighbours(np.zeros((3, 3)), k=0), ValueError,
+    pytest.param(lambda: _compare().nearest_neighbours(np.zeros((3, 3)), k=0), ValueError,
                  r"k must be an integer >= 1, got 0", id="neighbours-k-0"),
     pytest.param(lambda: _plots().plot_distance_matrix(np.zeros((3, 3)), names=["a"]),
                  ValueError, r"names has 1 entries but D has 3 rows", id="matrix-names"),

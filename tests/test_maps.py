@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 from scipy.spatial.distance import cdist
 
 import cshape
 from cshape import _candidates, _nearest, shapes
 from cshape.signatures import wks_energies
 
-K, K0 = 60, 20
+N, N0 = 60, 20
 
 
 def _blob(subdivisions=3):
@@ -51,27 +52,31 @@ def shuffled(blob):
 
 @pytest.fixture(scope="module")
 def basis(blob):
-    lam, phi = cshape.eigenpairs(blob, K)
-    _, B = cshape.fem_matrices(blob)
-    return lam, phi, B
+    return cshape.eigenbasis(blob, N)
+
+
+@pytest.fixture(scope="module")
+def target_basis(shuffled):
+    return cshape.eigenbasis(shuffled[0], N)
 
 
 # ---------------------------------------------------------------------- maps
 def test_functional_map_of_identical_bases_is_the_identity(blob, basis):
-    lam, phi, B = basis
-    wks = cshape.wks(lam, phi, n_energies=100, area=blob.area)[:, ::5]
-    for kw in ({"orientation_weight": 0.0}, {"source": blob, "target": blob}):
-        C = cshape.functional_map(lam[:K0], phi[:, :K0], B, lam[:K0], phi[:, :K0], B, wks, wks,
-                                  **kw)
-        assert C.shape == (K0, K0)
+    wks = cshape.wks(basis, n_energies=100, normalization="area")[:, ::5]
+    b0 = basis.truncate(N0)
+    for kw in ({"orientation_weight": 0.0}, {}):
+        C = cshape.functional_map(b0, b0, wks, wks, **kw)
+        assert C.shape == (N0, N0)
         np.testing.assert_allclose(np.abs(np.diag(C)), 1.0, atol=1e-3)
         assert np.abs(C - np.diag(np.diag(C))).max() < 1e-3
-        p = cshape.map_to_pointwise(C, phi[:, :K0], phi[:, :K0])
+        p = cshape.map_to_pointwise(C, b0, b0)
         assert (p == np.arange(blob.n_vertices)).mean() > 0.99
+        v = np.arange(0, blob.n_vertices, 7)
+        np.testing.assert_array_equal(cshape.map_to_pointwise(C, b0, b0, vertices=v), p[v])
 
 
 def test_point_map_of_a_mesh_to_itself_is_the_identity(blob):
-    p = cshape.point_map(blob, blob, k=K, k0=K0)
+    p = cshape.point_map(blob, blob, N=N, N0=N0)
     assert p.shape == (blob.n_vertices,) and p.dtype == np.int64
     assert (p == np.arange(blob.n_vertices)).mean() > 0.95
 
@@ -80,49 +85,47 @@ def test_point_map_of_a_mesh_to_itself_is_the_identity(blob):
                                      {"bijective": True}])
 def test_point_map_recovers_a_permutation_and_a_rigid_motion(blob, shuffled, options):
     target, perm = shuffled
-    p, C = cshape.point_map(blob, target, k=K, k0=K0, return_map=True, **options)
+    p, C = cshape.point_map(blob, target, N=N, N0=N0, return_map=True, **options)
     assert p.shape == (target.n_vertices,)
-    assert C.shape == ((K, K) if options.get("zoomout_steps", True) else (K0, K0))
+    assert C.shape == ((N, N) if options.get("zoomout_steps", True) else (N0, N0))
     assert (p == perm).mean() > 0.9
 
 
-def test_pointwise_to_map_and_back(blob, shuffled, basis):
+def test_pointwise_to_map_and_back(blob, shuffled, basis, target_basis):
     target, perm = shuffled
-    _, phiS, _ = basis
-    _, phiT = cshape.eigenpairs(target, K)
-    _, BT = cshape.fem_matrices(target)
-    C = cshape.pointwise_to_map(perm, phiS, phiT, BT)
+    C = cshape.pointwise_to_map(perm, basis, target_basis)
     # the exact map is an isometry: C is orthogonal (up to the truncation), |C_ii| ~ 1
-    assert np.abs(C[:K0, :K0].T @ C[:K0, :K0] - np.eye(K0)).max() < 0.05
-    p = cshape.map_to_pointwise(C, phiS, phiT)
+    assert np.abs(C[:N0, :N0].T @ C[:N0, :N0] - np.eye(N0)).max() < 0.05
+    p = cshape.map_to_pointwise(C, basis, target_basis)
     assert (p == perm).mean() > 0.95
+    # of truncated bases: the leading block
+    np.testing.assert_allclose(
+        cshape.pointwise_to_map(perm, basis.truncate(N0), target_basis.truncate(10)),
+        C[:10, :N0], rtol=1e-12, atol=1e-14)
 
 
 def test_zoomout_keeps_a_good_map_and_grows_it(blob, basis):
-    _, phi, B = basis
-    C = cshape.zoomout(np.eye(K0), phi, phi, B, K)
-    assert C.shape == (K, K)
-    np.testing.assert_allclose(C, np.eye(K), atol=1e-8)
+    C = cshape.zoomout(np.eye(N0), basis, basis, N)
+    assert C.shape == (N, N)
+    np.testing.assert_allclose(C, np.eye(N), atol=1e-8)
 
 
-def test_transfer_function_carries_smooth_functions(blob, shuffled, basis):
+def test_transfer_function_carries_smooth_functions(blob, shuffled, basis, target_basis):
     target, perm = shuffled
-    _, phiS, BS = basis
-    _, phiT = cshape.eigenpairs(target, K)
-    _, BT = cshape.fem_matrices(target)
+    bS, bT = basis, target_basis
     f = blob.vertices[:, 0] + 0.5 * blob.vertices[:, 1] ** 2  # smooth on the source
-    C = cshape.pointwise_to_map(perm, phiS, phiT, BT)
-    g = cshape.transfer_function(f, C, phiS, phiT, BS)
+    C = cshape.pointwise_to_map(perm, bS, bT)
+    g = cshape.transfer_function(f, C, bS, bT)
     assert g.shape == (target.n_vertices,)
     rel = np.linalg.norm(g - f[perm]) / np.linalg.norm(f)
     assert rel < 0.05
     # and back: the inverse map's C carries g to f
-    Cinv = cshape.pointwise_to_map(np.argsort(perm), phiT, phiS, BS)
-    back = cshape.transfer_function(g, Cinv, phiT, phiS, BT)
+    Cinv = cshape.pointwise_to_map(np.argsort(perm), bT, bS)
+    back = cshape.transfer_function(g, Cinv, bT, bS)
     assert np.linalg.norm(back - f) / np.linalg.norm(f) < 0.05
     # several functions at once
     F = np.column_stack([f, 2 * f])
-    np.testing.assert_allclose(cshape.transfer_function(F, C, phiS, phiT, BS)[:, 1], 2 * g)
+    np.testing.assert_allclose(cshape.transfer_function(F, C, bS, bT)[:, 1], 2 * g)
 
 
 # ---------------------------------------------------------------------- checks
@@ -138,14 +141,16 @@ def test_point_map_rejects_a_mesh_with_unreferenced_vertices(blob):
 
 
 def test_point_map_rejects_bad_sizes(blob):
-    with pytest.raises(ValueError, match="k must be an integer >= 2, got 1"):
-        cshape.point_map(blob, blob, k=1)
-    with pytest.raises(TypeError, match="k must be an integer, got float"):
-        cshape.point_map(blob, blob, k=20.0)
-    with pytest.raises(ValueError, match=r"k0 must be an integer in \[2, 20\], got 30"):
-        cshape.point_map(blob, blob, k=20, k0=30)
-    with pytest.raises(ValueError, match="k=5000 is more than the vertices"):
-        cshape.point_map(blob, blob, k=5000)
+    with pytest.raises(ValueError, match="N must be an integer >= 2, got 1"):
+        cshape.point_map(blob, blob, N=1)
+    with pytest.raises(TypeError, match="N must be an integer, got float"):
+        cshape.point_map(blob, blob, N=20.0)
+    with pytest.raises(ValueError, match=r"N0 must be an integer in \[2, 20\], got 30"):
+        cshape.point_map(blob, blob, N=20, N0=30)
+    with pytest.raises(ValueError, match="N=5000 is more than the vertices"):
+        cshape.point_map(blob, blob, N=5000)
+    with pytest.raises(TypeError, match="got an unexpected keyword argument 'k'"):
+        cshape.point_map(blob, blob, k=20)
 
 
 def test_point_map_rejects_bad_landmarks(blob):
@@ -158,54 +163,59 @@ def test_point_map_rejects_bad_landmarks(blob):
 
 
 def test_maps_reject_a_C_larger_than_the_bases(basis):
-    _, phi, B = basis
     with pytest.raises(ValueError, match=r"C has shape \(70, 70\), larger than the bases"):
-        cshape.map_to_pointwise(np.eye(70), phi, phi)
-    with pytest.raises(ValueError, match="C must have shape"):
-        cshape.transfer_function(phi[:, 0], np.ones(5), phi, phi, B)
-    with pytest.raises(ValueError, match=r"k must be an integer in \[20, 60\], got 10"):
-        cshape.zoomout(np.eye(K0), phi, phi, B, 10)
+        cshape.map_to_pointwise(np.eye(70), basis, basis)
+    with pytest.raises(ValueError, match="C must be a 2-D array"):
+        cshape.transfer_function(basis.phi[:, 0], np.ones(5), basis, basis)
+    with pytest.raises(ValueError, match=r"N must be an integer in \[20, 60\], got 10"):
+        cshape.zoomout(np.eye(N0), basis, basis, 10)
+
+
+@pytest.mark.parametrize("call", [
+    lambda b: cshape.map_to_pointwise(np.eye(3), b.phi, b),
+    lambda b: cshape.pointwise_to_map(np.arange(b.n_vertices), b, (b.lam, b.phi)),
+    lambda b: cshape.zoomout(np.eye(3), b.phi, b),
+    lambda b: cshape.transfer_function(b.phi[:, 0], np.eye(3), b, b.phi),
+    lambda b: cshape.functional_map(b.phi, b, b.phi, b.phi),
+])
+def test_maps_take_eigenbases(basis, call):
+    with pytest.raises(TypeError, match=r"(source|target) must be a cshape.Eigenbasis, got"):
+        call(basis)
+
+
+def test_the_orientation_term_needs_the_meshes(basis):
+    bare = cshape.Eigenbasis(basis.lam[:N0], basis.phi[:, :N0], basis.B)
+    d = basis.phi[:, :5]
+    with pytest.raises(ValueError, match=r"source has no mesh, and the orientation term "
+                       r"\(orientation_weight=0.0003\) needs its faces"):
+        cshape.functional_map(bare, basis.truncate(N0), d, d)
+    C = cshape.functional_map(bare, basis.truncate(N0), d, d, orientation_weight=0)
+    assert C.shape == (N0, N0)
 
 
 def test_functional_map_rejects_mismatched_descriptors(basis):
-    lam, phi, B = basis
+    phi = basis.phi
     with pytest.raises(ValueError, match="desc_source has 3 descriptors and desc_target 4"):
-        cshape.functional_map(lam, phi, B, lam, phi, B, phi[:, :3], phi[:, :4])
-    with pytest.raises(ValueError, match="lam_source has 5 eigenvalues but phi_source has 60 "
-                       "columns"):
-        cshape.functional_map(lam[:5], phi, B, lam, phi, B, phi[:, :3], phi[:, :3])
+        cshape.functional_map(basis, basis, phi[:, :3], phi[:, :4])
+    with pytest.raises(ValueError, match=r"desc_target has shape \(5, 3\): 5 rows where the "
+                       r"basis has 642 vertices; pass one row per vertex"):
+        cshape.functional_map(basis, basis, phi[:, :3], phi[:5, :3])
+    with pytest.raises(ValueError, match=r"desc_source has shape \(15, 1\): 15 rows where"):
+        cshape.functional_map(basis, basis, np.ones(15), phi[:, :3])
 
 
-def test_maps_name_the_argument_whose_shape_does_not_fit(blob, basis):
+def test_maps_name_the_argument_whose_shape_does_not_fit(basis):
     """Arrays of mismatched shapes: the argument, its shape and the fix, never numpy's
     reshape or matmul error."""
-    lam, phi, B = basis
-    n = len(phi)
-    d = phi[:, :3]
-    with pytest.raises(ValueError, match=rf"desc_source has shape \(15,\) but phi_source has "
-                       rf"{n} rows.*one row per vertex"):
-        cshape.functional_map(lam, phi, B, lam, phi, B, np.ones(15), d)
-    with pytest.raises(ValueError, match=rf"desc_target has shape \(5, 3\) but phi_target has {n}"):
-        cshape.functional_map(lam, phi, B, lam, phi, B, d, d[:5])
-    with pytest.raises(ValueError, match=rf"B_target has shape \(10, 10\) but phi_target has "
-                       rf"{n} rows.*mass matrix of the same mesh"):
-        cshape.functional_map(lam, phi, B, lam, phi, B[:10, :10], d, d)
-    with pytest.raises(ValueError, match=rf"source has 42 vertices but phi_source has {n} rows"):
-        cshape.functional_map(lam, phi, B, lam, phi, B, d, d, source=shapes.icosphere(1),
-                              target=blob)
-    C = np.eye(K0)
-    with pytest.raises(ValueError, match=r"B_target has shape \(10, 10\)"):
-        cshape.zoomout(C, phi, phi, B[:10, :10])
-    with pytest.raises(ValueError, match=r"B_source has shape \(10, 10\)"):
-        cshape.zoomout(C, phi, phi, B, bijective=True, B_source=B[:10, :10])
-    with pytest.raises(ValueError, match=r"B_target has shape \(10, 10\)"):
-        cshape.pointwise_to_map(np.arange(n), phi, phi, B[:10, :10])
-    with pytest.raises(ValueError, match=rf"f has shape \(7,\) but phi_source has {n} rows"):
-        cshape.transfer_function(np.ones(7), C, phi, phi, B)
+    n = basis.n_vertices
+    C = np.eye(N0)
+    with pytest.raises(ValueError, match=rf"f has shape \(7,\) but the source has {n} "
+                       r"vertices; pass f of shape"):
+        cshape.transfer_function(np.ones(7), C, basis, basis)
     with pytest.raises(ValueError, match=r"f has shape \(\)"):
-        cshape.transfer_function(1.0, C, phi, phi, B)
-    with pytest.raises(ValueError, match=r"B_source has shape \(10, 10\)"):
-        cshape.transfer_function(phi[:, 0], C, phi, phi, B[:10, :10])
+        cshape.transfer_function(1.0, C, basis, basis)
+    with pytest.raises(ValueError, match=r"p2p has 5 entries but the target"):
+        cshape.pointwise_to_map(np.arange(5), basis, basis)
 
 
 def _mirror_symmetric():
@@ -231,11 +241,74 @@ def test_the_orientation_term_tells_a_shape_from_its_mirror_image(symmetric):
     S, mirror = symmetric
     n = S.n_vertices
     assert (mirror != np.arange(n)).mean() > 0.9
-    p = cshape.point_map(S, S, k=K, k0=K0)
+    p = cshape.point_map(S, S, N=N, N0=N0)
     assert (p == np.arange(n)).mean() > 0.95
     assert (p == mirror).mean() < 0.1
-    q = cshape.point_map(S, S, k=K, k0=K0, orientation=False, initial="descriptors")
+    q = cshape.point_map(S, S, N=N, N0=N0, orientation=False, initial="descriptors")
     assert (q == mirror).mean() > 0.3  # without it the reflection is as good a match
+
+
+@pytest.mark.parametrize("to_mirror", [False, True])
+def test_landmarks_decide_between_a_shape_and_its_mirror_image(symmetric, to_mirror):
+    """Without the orientation term, three landmarks on one side (z > 0) choose the map:
+    matched to themselves they give the identity, matched to their reflections the
+    reflection (which the orientation term would refuse)."""
+    S, mirror = symmetric
+    V = S.vertices
+    up = np.flatnonzero(V[:, 2] > 0.25)
+    top = up[[np.argmin(V[up, 0]), np.argmax(V[up, 0]), np.argmax(V[up, 1])]]
+    assert len(set(top)) == 3
+    truth = mirror if to_mirror else np.arange(S.n_vertices)
+    landmarks = np.column_stack([truth[top], top])  # (source vertex, target vertex)
+    p = cshape.point_map(S, S, N=N, N0=N0, orientation=False, landmarks=landmarks)
+    assert (p == truth).mean() > 0.9
+    assert (p[top] == truth[top]).all()  # the landmarks themselves are matched exactly
+
+
+def test_functional_map_does_not_depend_on_the_unit_of_length(blob, shuffled):
+    """Descriptors scaled to unit B-norm, eigenvalues to the largest, orientation operators
+    to the unit-area shape: the same C for meshes in millimetres and in metres."""
+    target, _ = shuffled
+    out = []
+    for s in (1.0, 1000.0):
+        S, T = cshape.Mesh(s * blob.vertices, blob.faces), cshape.Mesh(s * target.vertices,
+                                                                        target.faces)
+        bS, bT = cshape.eigenbasis(S, N0), cshape.eigenbasis(T, N0)
+        e, sigma = wks_energies(bS, 100, normalization="area")
+        dS = cshape.wks(bS, e, sigma, normalization="area")[:, ::5]
+        dT = cshape.wks(bT, e, sigma, normalization="area")[:, ::5]
+        out.append(cshape.functional_map(bS, bT, dS, dT))
+    # eigenvectors scale by 1/s (B-orthonormal), signs alike: C is the same
+    np.testing.assert_allclose(out[1], out[0], atol=1e-6)
+
+
+@pytest.mark.parametrize("big", [False, True])
+def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
+    """Blocks, threads, scikit-learn's search (big problems) and the 3-d k-d tree path give
+    the argmin of the full distances."""
+    if big:
+        monkeypatch.setattr(_nearest, "NN_SKLEARN_PAIRS", 1)
+    rng = np.random.default_rng(3)
+    for n_t, n_s, k in ((1500, 1200, 40), (300, 250, 3)):
+        phiT, phiS = rng.standard_normal((n_t, k)), rng.standard_normal((n_s, k))
+        C = rng.standard_normal((k, k))
+        lam = np.arange(k, dtype=float)
+        bS = cshape.Eigenbasis(lam, phiS, sp.identity(n_s, format="csr"))
+        bT = cshape.Eigenbasis(lam, phiT, sp.identity(n_t, format="csr"))
+        p = cshape.map_to_pointwise(C, bS, bT)
+        full = cdist(phiT, phiS @ C.T, "sqeuclidean")  # differences, not products
+        np.testing.assert_array_equal(p, np.argmin(full, axis=1))
+
+
+def test_pointwise_to_map_of_the_identity_is_the_identity_matrix(basis):
+    n = basis.n_vertices
+    np.testing.assert_allclose(cshape.pointwise_to_map(np.arange(n), basis, basis), np.eye(N),
+                               atol=1e-10)
+
+
+def test_bijective_zoomout_keeps_a_good_map(basis):
+    C = cshape.zoomout(np.eye(N0), basis, basis, N, bijective=True)
+    np.testing.assert_allclose(C, np.eye(N), atol=1e-8)
 
 
 def test_the_orientation_share_is_one_for_the_identity_and_zero_for_a_mirror(symmetric):
@@ -261,7 +334,7 @@ def test_point_map_search_finds_the_map_between_bodies_of_another_shape():
     stocky = cshape.Mesh(pose.vertices * [1.3, 1.3, 0.9], pose.faces)
     geo = cshape.HeatGeodesics(rest)
     v = np.arange(0, rest.n_vertices, 5)
-    err = {init: cshape.geodesic_errors(rest, cshape.point_map(rest, stocky, k=50, k0=20,
+    err = {init: cshape.geodesic_errors(rest, cshape.point_map(rest, stocky, N=50, N0=20,
                                                                initial=init),
                                         vertices=v, geodesics=geo).mean() / np.sqrt(rest.area)
            for init in ("descriptors", "search")}
@@ -272,73 +345,8 @@ def test_point_map_search_finds_the_map_between_bodies_of_another_shape():
 def test_landmarks_override_the_search(symmetric):
     S, _mirror = symmetric
     lm = [[0, 0], [100, 100], [400, 400]]
-    a = cshape.point_map(S, S, k=K, k0=K0, landmarks=lm)
-    b = cshape.point_map(S, S, k=K, k0=K0, landmarks=lm, initial="descriptors")
+    a = cshape.point_map(S, S, N=N, N0=N0, landmarks=lm)
+    b = cshape.point_map(S, S, N=N, N0=N0, landmarks=lm, initial="descriptors")
     np.testing.assert_array_equal(a, b)
     with pytest.raises(ValueError, match="initial"):
         cshape.point_map(S, S, initial="best")
-
-
-@pytest.mark.parametrize("to_mirror", [False, True])
-def test_landmarks_decide_between_a_shape_and_its_mirror_image(symmetric, to_mirror):
-    """Without the orientation term, three landmarks on one side (z > 0) choose the map:
-    matched to themselves they give the identity, matched to their reflections the
-    reflection (which the orientation term would refuse)."""
-    S, mirror = symmetric
-    V = S.vertices
-    up = np.flatnonzero(V[:, 2] > 0.25)
-    top = up[[np.argmin(V[up, 0]), np.argmax(V[up, 0]), np.argmax(V[up, 1])]]
-    assert len(set(top)) == 3
-    truth = mirror if to_mirror else np.arange(S.n_vertices)
-    landmarks = np.column_stack([truth[top], top])  # (source vertex, target vertex)
-    p = cshape.point_map(S, S, k=K, k0=K0, orientation=False, landmarks=landmarks)
-    assert (p == truth).mean() > 0.9
-    assert (p[top] == truth[top]).all()  # the landmarks themselves are matched exactly
-
-
-def test_functional_map_does_not_depend_on_the_unit_of_length(blob, shuffled):
-    """Descriptors scaled to unit B-norm, eigenvalues to the largest, orientation operators
-    to the unit-area shape: the same C for meshes in millimetres and in metres."""
-    target, _ = shuffled
-    out = []
-    for s in (1.0, 1000.0):
-        S, T = cshape.Mesh(s * blob.vertices, blob.faces), cshape.Mesh(s * target.vertices,
-                                                                        target.faces)
-        (lS, pS), (lT, pT) = cshape.eigenpairs(S, K0), cshape.eigenpairs(T, K0)
-        BS, BT = cshape.fem_matrices(S)[1], cshape.fem_matrices(T)[1]
-        e, sigma = wks_energies(lS, 100, area=S.area)
-        dS = cshape.wks(lS, pS, e, sigma, area=S.area)[:, ::5]
-        dT = cshape.wks(lT, pT, e, sigma, area=T.area)[:, ::5]
-        out.append(cshape.functional_map(lS, pS, BS, lT, pT, BT, dS, dT, source=S, target=T))
-    # eigenvectors scale by 1/s (B-orthonormal), signs alike: C is the same
-    np.testing.assert_allclose(out[1], out[0], atol=1e-6)
-
-
-@pytest.mark.parametrize("big", [False, True])
-def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
-    """Blocks, threads, scikit-learn's search (big problems) and the 3-d k-d tree path give
-    the argmin of the full distances."""
-    if big:
-        monkeypatch.setattr(_nearest, "NN_SKLEARN_PAIRS", 1)
-    rng = np.random.default_rng(3)
-    for n_t, n_s, k in ((1500, 1200, 40), (300, 250, 3)):
-        phiT, phiS = rng.standard_normal((n_t, k)), rng.standard_normal((n_s, k))
-        C = rng.standard_normal((k, k))
-        p = cshape.map_to_pointwise(C, phiS, phiT)
-        full = cdist(phiT, phiS @ C.T, "sqeuclidean")  # differences, not products
-        np.testing.assert_array_equal(p, np.argmin(full, axis=1))
-
-
-def test_pointwise_to_map_of_the_identity_is_the_identity_matrix(basis):
-    _, phi, B = basis
-    n = phi.shape[0]
-    np.testing.assert_allclose(cshape.pointwise_to_map(np.arange(n), phi, phi, B), np.eye(K),
-                               atol=1e-10)
-
-
-def test_bijective_zoomout_needs_the_source_mass_and_keeps_a_good_map(basis):
-    _, phi, B = basis
-    with pytest.raises(ValueError, match="bijective=True needs B_source"):
-        cshape.zoomout(np.eye(K0), phi, phi, B, K, bijective=True)
-    C = cshape.zoomout(np.eye(K0), phi, phi, B, K, bijective=True, B_source=B)
-    np.testing.assert_allclose(C, np.eye(K), atol=1e-8)

@@ -17,9 +17,8 @@ import pytest
 from conftest import write_off
 
 import cshape
-from cshape import shapes
+from cshape import Descriptor, shapes
 from cshape.batch import DescriptorTable, describe
-from cshape.compare import descriptor_matrix, row_problems
 from cshape.descriptors import ZERO_RTOL
 
 N, M = 30, 4
@@ -60,8 +59,7 @@ def table(spectra):
     names = ["torus", "sphere", "two", "dozen"]
     lam = np.array([lam_t, spectra[1][0], spectra[2][0], spectra[12][0]])
     areas = [torus.area, spectra[1][1], spectra[2][1], spectra[12][1]]
-    return DescriptorTable(names, lam, areas, ["t", "s", "s", "s"], M=M,
-                           components=[1, 1, 2, 12])
+    return DescriptorTable(names, lam, areas, ["t", "s", "s", "s"], components=[1, 1, 2, 12])
 
 
 # ------------------------------------------------------------------ the rule
@@ -123,10 +121,10 @@ def test_fixed_length_descriptors_extend_by_weyls_law(spectra):
 
 def test_every_kind_describes_a_multi_piece_mesh(spectra):
     lam, area = spectra[2]
-    for kind in cshape.compare.DESCRIPTOR_KINDS:
+    for kind in cshape.descriptors.DESCRIPTOR_KINDS:
         for transform in cshape.descriptors.TRANSFORMS:
-            X = descriptor_matrix([lam], [area], kind=kind, M=M, N=N, transform=transform)
-            assert X.shape == (1, cshape.compare.descriptor_size(kind, M=M, N=N))
+            X = Descriptor(kind, N=N, M=M, transform=transform).matrix([lam], [area])
+            assert X.shape == (1, {"shape-dna": N, "f1": N - 2}.get(kind, 2 * M + 1))
             assert np.all(np.isfinite(X))
 
 
@@ -207,35 +205,37 @@ def test_rule_errors(spectra, call, match):
 def test_descriptor_matrix_names_every_row_it_cannot_describe(table):
     with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 4 "
                        r"shapes \(dozen: 12 of its 30 eigenvalues are zero modes"):
-        descriptor_matrix(table.lam, table.areas, kind="truncated-log", M=9, N=N,
-                          names=table.names, zero_modes=table.zero_modes)
-    bad = row_problems(table.lam, table.areas, kind="truncated-log", M=9, N=N)
+        Descriptor("truncated-log", N=N, M=9).matrix(table.lam, table.areas,
+                                                     names=table.names,
+                                                     zero_modes=table.zero_modes)
+    bad = Descriptor("truncated-log", N=N, M=9).rows(table.lam, table.areas)[1]
     assert list(bad) == [3] and "2M+1 = 19 are needed" in bad[3]
 
 
 def test_table_leaves_out_with_a_warning_and_answers_the_rest(table):
     np.testing.assert_array_equal(table.zero_modes, [1, 1, 2, 12])
-    for kind in cshape.compare.DESCRIPTOR_KINDS:  # M = 4: every shape can be described
+    for kind in cshape.descriptors.DESCRIPTOR_KINDS:  # M = 4: every shape can be described
         with warnings.catch_warnings():
             warnings.simplefilter("error")
-            assert len(table.descriptors(kind)) == 4
+            assert len(table.descriptors(Descriptor(kind, N=N, M=M))) == 4
+    d9 = Descriptor("truncated-log", N=N, M=9)
     with pytest.warns(cshape.CShapeWarning, match=r"cannot describe 1 of 4 shapes, left out: "
                       r"dozen \(12 of its 30"):
-        D = table.distance_matrix("truncated-log", M=9)
-    np.testing.assert_array_equal(table.usable("truncated-log", M=9), [True, True, True, False])
-    sub = table.select(table.usable("truncated-log", M=9))
-    np.testing.assert_array_equal(D, sub.distance_matrix("truncated-log", M=9))
+        D = table.distance_matrix(d9)
+    np.testing.assert_array_equal(table.usable(d9), [True, True, True, False])
+    sub = table.select(table.usable(d9))
+    np.testing.assert_array_equal(D, sub.distance_matrix(d9))
     with pytest.warns(cshape.CShapeWarning, match="dozen"):
-        X = table.descriptors("cshape", M=9, transform="log-weyl-dct")
+        X = table.descriptors(Descriptor("cshape", N=N, M=9, transform="log-weyl-dct"))
     assert X.shape == (3, 19)
     with pytest.raises(ValueError, match="cannot describe any of the 1 shapes"), \
             pytest.warns(cshape.CShapeWarning):
-        table.select([3]).descriptors("truncated-log", M=9)
+        table.select([3]).descriptors(d9)
 
 
 def test_index_maps_its_rows_to_the_table(table):
     with pytest.warns(cshape.CShapeWarning, match="dozen"):
-        index = cshape.DescriptorIndex.from_table(table, "truncated-log", M=9)
+        index = cshape.DescriptorIndex.from_table(table, Descriptor("truncated-log", N=N, M=9))
     np.testing.assert_array_equal(index.rows_, [0, 1, 2])
     dist, ind = index.query_spectra(table.lam[2], table.areas[2], k=1, zero_modes=[2])
     assert index.rows_[ind[0, 0]] == 2 and dist[0, 0] == 0.0
@@ -246,9 +246,9 @@ def test_index_maps_its_rows_to_the_table(table):
 def test_components_are_cached_and_warned_again_on_a_cached_run(sphere, tmp_path):
     meshes = [("two", "s", copies(sphere, 2)), ("one", "s", sphere)]
     with pytest.warns(cshape.CShapeWarning, match="two: mesh has 2 connected components"):
-        first = describe(meshes, N=N, M=M, cache_dir=tmp_path, progress=False)
+        first = describe(meshes, N=N, cache_dir=tmp_path, progress=False)
     with pytest.warns(cshape.CShapeWarning, match="two: mesh has 2 connected components"):
-        again = describe(meshes, N=N, M=M, cache_dir=tmp_path, progress=False)
+        again = describe(meshes, N=N, cache_dir=tmp_path, progress=False)
     assert again.cached.all() and not first.cached.any()
     np.testing.assert_array_equal(again.components, [2, 1])
     np.testing.assert_array_equal(again.zero_modes, [2, 1])
@@ -257,9 +257,8 @@ def test_components_are_cached_and_warned_again_on_a_cached_run(sphere, tmp_path
 # ------------------------------------------------------------------ files
 def test_csv_reads_with_plain_pandas_and_keeps_the_metadata(table, tmp_path):
     pd = pytest.importorskip("pandas")
-    t = DescriptorTable(table.names, table.lam, table.areas, table.labels, M=3,
-                        transform="log-weyl", failures=[("bad", "ValueError: x")],
-                        components=table.components)
+    t = DescriptorTable(table.names, table.lam, table.areas, table.labels,
+                        failures=[("bad", "ValueError: x")], components=table.components)
     path = t.save(tmp_path / "t.csv")
     df = pd.read_csv(path)
     assert list(df.columns[:6]) == ["name", "label", "area", "seconds", "cached", "components"]
@@ -267,14 +266,14 @@ def test_csv_reads_with_plain_pandas_and_keeps_the_metadata(table, tmp_path):
     np.testing.assert_array_equal(df[[f"lam_{i}" for i in range(N)]].to_numpy(), t.lam)
     assert df["components"].tolist() == [1, 1, 2, 12]
     meta = json.loads((tmp_path / "t.csv.json").read_text())
-    assert (meta["format_version"], meta["M"], meta["transform"]) == (2, 3, "log-weyl")
+    assert meta["format_version"] == 3 and "M" not in meta and "transform" not in meta
     back = DescriptorTable.load(path)
-    assert (back.M, back.transform, back.failures) == (3, "log-weyl", t.failures)
+    assert (back.bc, back.mass, back.failures) == ("neumann", "consistent", t.failures)
     np.testing.assert_array_equal(back.components, t.components)
     (tmp_path / "t.csv.json").unlink()  # a CSV copied alone: defaults, with a warning
     with pytest.warns(cshape.CShapeWarning, match=r"no metadata file .*t.csv.json"):
         alone = DescriptorTable.load(path)
-    assert (alone.M, alone.transform) == (16, "weyl")
+    assert (alone.bc, alone.mass) == ("neumann", "consistent")
     np.testing.assert_array_equal(alone.lam, t.lam)
 
 
@@ -283,7 +282,7 @@ def test_out_into_a_missing_folder_names_it(tmp_path, capsys):
 
     write_off(tmp_path / "m" / "one.off", shapes.icosphere(1))
     out = tmp_path / "no_such" / "t.csv"
-    assert main(["describe", str(tmp_path / "m"), "-N", "5", "-M", "1", "--out", str(out),
+    assert main(["describe", str(tmp_path / "m"), "-N", "5", "--out", str(out),
                  "--no-cache"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"the folder {str(out.parent)!r} does not exist" in err[0]
@@ -298,9 +297,9 @@ def test_cli_describe_and_query_report_pieces(sphere, tmp_path, capsys):
     write_off(tmp_path / "m" / "dozen.off", copies(sphere, 12))
     write_off(tmp_path / "m" / "one.off", sphere)
     out = tmp_path / "t.csv"
-    assert main(["describe", str(tmp_path / "m"), "-N", str(N), "-M", "4", "--out", str(out),
+    assert main(["describe", str(tmp_path / "m"), "-N", str(N), "--out", str(out),
                  "--no-cache", "-q"]) == 0
-    assert main(["describe", str(tmp_path / "m"), "-N", str(N), "-M", "4", "--no-cache"]) == 0
+    assert main(["describe", str(tmp_path / "m"), "-N", str(N), "--no-cache"]) == 0
     cap = capsys.readouterr()
     assert "2 with several components: dozen (12), two (2)" in cap.err
     line = next(x for x in cap.out.splitlines() if x.startswith("dozen"))
@@ -334,3 +333,24 @@ def test_bench_pieces_runs_on_a_small_table(table, tmp_path, capsys):
     u, au = bench.lid_union(lam, area, 0.01, table.N)
     np.testing.assert_allclose(bench.rule_a(u, au, 2, 7), bench.rule_a(lam, area, 1, 7)
                                + np.log(1.01), rtol=1e-12)
+
+
+# ------------------------------------------------------------------ the lessons
+def test_lessons_use_the_packages_zero_mode_rule():
+    """Lesson 08 leaves out meshes of several pieces by the package's rule (the component
+    count, else count_zero_modes and ZERO_RTOL), not by a threshold of its own: a zero mode
+    carrying another solver's round-off (1e-7 of the largest eigenvalue, above 1e-8) is one."""
+    import re
+
+    from conftest import REPO
+
+    sources = {p.name: p.read_text() for p in sorted((REPO / "notebooks").glob("[0-9]*.py"))}
+    own = [n for n, src in sources.items() if re.search(r"lam\[:, *1\] *[<>]", src)]
+    assert own == [], own
+    assert "ok = table.zero_modes <= 1" in sources["08_beyond_the_paper.py"]
+    lam = 4 * np.pi * np.arange(30.0)
+    two = np.r_[0.0, 1e-7 * lam[-1], lam[2:]]  # two pieces, the second zero mode not exact
+    t = DescriptorTable(["one", "two"], np.array([lam, two]), [1.0, 1.0])
+    np.testing.assert_array_equal(t.zero_modes, [1, 2])
+    assert two[1] > 1e-8 * two[-1]  # the lesson's former threshold took it for one piece
+    assert cshape.count_zero_modes(two) == 2 and 1e-7 <= ZERO_RTOL

@@ -9,32 +9,28 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 from conftest import write_off
 
-from cshape import shapes
-from cshape.batch import DescriptorTable
+import cshape
+from cshape import Descriptor, shapes
+from cshape.batch import DescriptorTable, collection_distances
 from cshape.cli import main
-from cshape.compare import distance_matrix
+from cshape.compare import distance_matrix, mds_outliers, median_distances, nearest_neighbours
+from cshape.descriptors import recipe
 from cshape.mesh import CShapeWarning
 from cshape.plots.collection import (
     border_points,
     class_styles,
     mds_layout,
-    mds_outliers,
-    median_distances,
-    nearest_neighbours,
     plot_mds,
     spread_on_border,
 )
 from cshape.plots.explore import (
     class_summary,
-    collection_distances,
     colour_limit,
-    descriptor_title,
     interactive_mds,
     neighbour_strip_plotly,
     overview_html,
@@ -59,7 +55,12 @@ def spectra_table(p=8, n_classes=2, N=30, seed=0, **kw):
     i = np.arange(N)
     lam = np.array([4 * np.pi * i * (1 + 0.2 * int(lab[1:]) + 0.01 * rng.random(N))
                      for lab in labels])
-    return DescriptorTable([f"shape{k}" for k in range(p)], lam, np.ones(p), labels, M=4, **kw)
+    return DescriptorTable([f"shape{k}" for k in range(p)], lam, np.ones(p), labels, **kw)
+
+
+#: The descriptors of the pictures' tests: spectra_table's N = 30, M = 4.
+LOG9 = Descriptor("truncated-log", N=30, M=4)
+SD30 = Descriptor("shape-dna", N=30)
 
 
 # ------------------------------------------------------------------------------ outliers
@@ -175,38 +176,23 @@ def test_colour_limit_leaves_the_outliers_out():
 
 
 # ------------------------------------------------------------------------------ descriptors
-def test_descriptor_title_is_the_query_headers_label():
-    """Figures and the query header name a descriptor in the same words."""
-    from cshape.compare import descriptor_label
-
-    assert descriptor_title("cshape", M=16) == "paper's cShape-DNA (M=16 of N=100, 33 values)"
-    assert descriptor_title("cshape", M=8, transform="log-weyl") == (
-        "log-Weyl DFT cShape-DNA (M=8 of N=100, 17 values)")
-    assert descriptor_title("shape-dna", N=50) == "Shape-DNA (50 values)"
-    assert descriptor_title("f1", N=50) == "F1 (N=50, 48 values)"
-    for kw in ({"kind": "truncated-log", "M": 8, "normalization": "fiedler"},
-               {"kind": "truncated", "M": 3}):
-        assert descriptor_title(**kw) == descriptor_label(**kw)
-
-
 def test_collection_distances_of_a_table():
     table = spectra_table()
-    c = collection_distances(table, "truncated-log")
-    assert np.allclose(c.D, table.distance_matrix("truncated-log"))
+    c = collection_distances(table, LOG9)
+    assert np.allclose(c.D, table.distance_matrix(LOG9))
     assert c.rows.tolist() == list(range(8)) and c.left_out == [] and c.names == table.names
-    assert c.descriptor == "truncated log spectrum (9 values)"
+    assert c.descriptor == LOG9 and c.descriptor.label == "truncated log spectrum (9 values)"
 
 
 def test_collection_distances_leaves_out_what_cannot_be_described():
-    """Any object with the table's attributes; a row without a positive area is left out."""
+    """A row without a positive area is left out and named."""
     t = spectra_table(p=5)
     areas = t.areas.copy()
     areas[2] = 0.0
-    plain = SimpleNamespace(names=t.names, labels=t.labels, lam=t.lam, areas=areas, M=4,
-                            N=30, transform="weyl")
+    table = DescriptorTable(t.names, t.lam, areas, t.labels)
     with pytest.warns(CShapeWarning, match=r"1 of 5 shapes cannot be described by "
                                            r"Shape-DNA \(30 values\) .* left out .*: shape2"):
-        c = collection_distances(plain, "shape-dna")
+        c = collection_distances(table, SD30)
     assert c.rows.tolist() == [0, 1, 3, 4] and [n for n, _ in c.left_out] == ["shape2"]
     assert c.names == ["shape0", "shape1", "shape3", "shape4"]
     assert np.allclose(c.D, distance_matrix(t.lam[[0, 1, 3, 4]]))
@@ -219,20 +205,23 @@ def test_collection_distances_with_meshes_of_several_pieces():
     lam = t.lam.copy()
     lam[1, 1] = 0.0  # two pieces
     lam[3, :25] = 0.0  # 25 pieces: 5 non-zero eigenvalues, truncated-log M=4 needs 10
-    table = DescriptorTable(t.names, lam, t.areas, t.labels, M=4)
+    table = DescriptorTable(t.names, lam, t.areas, t.labels)
     with pytest.warns(CShapeWarning, match=r"1 of 5 shapes cannot be described .*: shape3"):
-        c = collection_distances(table, "truncated-log")
+        c = collection_distances(table, LOG9)
     assert c.rows.tolist() == [0, 1, 2, 4] and [n for n, _ in c.left_out] == ["shape3"]
-    assert np.allclose(c.D, distance_matrix(
-        table.select([0, 1, 2, 4]).descriptors("truncated-log")))
+    assert np.allclose(c.D, distance_matrix(table.select([0, 1, 2, 4]).descriptors(LOG9)))
 
 
 def test_collection_distances_errors():
     table = spectra_table(p=3)
-    with pytest.raises(ValueError, match="kind must be one of"):
+    with pytest.raises(TypeError, match=r"descriptor must be a cshape.Descriptor .* got str"):
         collection_distances(table, "nope")
-    with pytest.raises(ValueError, match="2M\\+1 = 41 values cannot be kept"):
-        collection_distances(table, "cshape", M=20)
+    with pytest.raises(ValueError, match=r"lams\[0\] has shape \(30,\) but kind='cshape' needs "
+                                         r"at least 100 eigenvalues"):
+        collection_distances(table, cshape.PAPER)
+    with pytest.raises(ValueError, match=r"only 0 of the 3 shapes can be described"), \
+            pytest.warns(CShapeWarning):
+        collection_distances(DescriptorTable(table.names, table.lam, np.zeros(3)), SD30)
 
 
 # ------------------------------------------------------------------------------ thumbnails
@@ -301,7 +290,7 @@ def test_neighbour_strips_return_figures():
 
 def test_overview_png_and_html_name_the_descriptor_and_left_out():
     table = spectra_table(p=10, n_classes=3)
-    c = collection_distances(table, "shape-dna")
+    c = collection_distances(table, SD30)
     fig = plot_overview(c.D, c.names, c.labels, descriptor=c.descriptor, title="t.csv",
                         left_out=[("broken", "two pieces")])
     sup = fig._suptitle.get_text()
@@ -340,7 +329,7 @@ def _umask():
 # ------------------------------------------------------------------------------ command line
 @pytest.fixture(scope="module")
 def described(tmp_path_factory):
-    """Four small meshes in two classes, described into t.csv (N=20, M=4)."""
+    """Four small meshes in two classes, described into t.csv (N=20)."""
     root = tmp_path_factory.mktemp("own")
     ico = shapes.icosphere(2)
     write_off(root / "meshes" / "round" / "small.off", ico)
@@ -348,7 +337,7 @@ def described(tmp_path_factory):
     write_off(root / "meshes" / "ring" / "thin.off", shapes.torus(24, 12, r=0.3))
     write_off(root / "meshes" / "ring" / "fat.off", shapes.torus(24, 12, r=0.45))
     table = root / "t.csv"
-    assert main(["describe", str(root / "meshes"), "--out", str(table), "-N", "20", "-M", "4",
+    assert main(["describe", str(root / "meshes"), "--out", str(table), "-N", "20",
                  "--no-cache", "-q"]) == 0
     return root
 
@@ -356,7 +345,7 @@ def described(tmp_path_factory):
 def test_cli_overview_writes_html_and_png(described, tmp_path, capsys):
     html, png = tmp_path / "o.html", tmp_path / "o.png"
     rc = main(["overview", str(described / "t.csv"), "--out", str(html), "--out", str(png),
-               "--kind", "truncated-log"])
+               "--kind", "truncated-log", "-M", "4"])
     err = capsys.readouterr().err
     assert rc == 0, err
     assert "4 shapes, 2 classes, compared by truncated log spectrum (9 values)" in err
@@ -428,18 +417,15 @@ def test_cli_overview_and_query_plot_as_subprocesses(described, tmp_path):
     assert len(res.stderr.strip().splitlines()) == 1
 
 
-def test_the_default_descriptor_follows_compare_default_kind(monkeypatch, described, tmp_path,
-                                                              capsys):
-    """Without a kind the pictures compare cshape.DEFAULT (kind, M and normalisation), and
-    say so."""
-    import cshape.descriptor
-
-    monkeypatch.setattr(cshape.descriptor, "DEFAULT", cshape.Descriptor("shape-dna", M=8))
-    assert collection_distances(spectra_table()).kind == "shape-dna"
+def test_the_default_descriptor_follows_the_constant(monkeypatch, described, tmp_path, capsys):
+    """Without a descriptor the pictures compare cshape.DEFAULT (at the table's N), and say
+    so."""
+    monkeypatch.setattr(recipe, "DEFAULT", Descriptor("shape-dna", M=8))
+    assert collection_distances(spectra_table()).descriptor == SD30.replace(M=8)
     rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
     assert rc == 0 and "compared by Shape-DNA (20 values)" in capsys.readouterr().err
-    monkeypatch.setattr(cshape.descriptor, "DEFAULT",
-                        cshape.Descriptor("shape-dna", M=8, normalization="fiedler"))
+    monkeypatch.setattr(recipe, "DEFAULT",
+                        Descriptor("shape-dna", M=8, normalization="fiedler"))
     rc = main(["overview", str(described / "t.csv"), "--out", str(tmp_path / "o.html")])
     assert rc == 0 and "by Shape-DNA, lam_1-normalised" in capsys.readouterr().err
 

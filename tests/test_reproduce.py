@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 
-from cshape import CShapeWarning, data, shapes
+from cshape import CShapeWarning, Descriptor, data, shapes
 from cshape.batch import DescriptorTable
 from cshape.cli import main
 from cshape.compare import distance_matrix, retrieval_scores
@@ -93,7 +93,7 @@ def test_reproduce_writes_a_report(tmp_path):
     for title in ("Shape-DNA", "cShape-DNA (paper) M=4", "log-Weyl DFT M=4", "log-Weyl DCT M=2",
                   "truncated Shape-DNA 9", "truncated log spectrum 5", "truncated F1 3"):
         assert title in by_title, title
-    want = retrieval_scores(distance_matrix(family_descriptors(btable, "log-Weyl DFT", 4, 30)),
+    want = retrieval_scores(distance_matrix(family_descriptors(btable, "log-Weyl DFT", N=30, M=4)),
                             btable.labels)
     assert by_title["log-Weyl DFT M=4"]["ft"] == pytest.approx(want["ft"])
     # the size table: every family at every size, and the verdict under it
@@ -125,7 +125,7 @@ def test_experiment_sizes_picks_the_best_family_by_its_scores():
     sz = experiment_sizes(t, Ms=(5, 2), N=40)
     assert sz["Ms"] == [5, 2] and sz["families"] == list(FAMILIES)
     for r in sz["rows"]:
-        ft = {f: retrieval_scores(distance_matrix(family_descriptors(t, f, r["M"], 40)),
+        ft = {f: retrieval_scores(distance_matrix(family_descriptors(t, f, N=40, M=r["M"])),
                                   labels)["ft"] for f in FAMILIES}
         assert r["scores"]["truncated F1"]["ft"] == pytest.approx(ft["truncated F1"])
         top = max(ft.values())
@@ -134,7 +134,7 @@ def test_experiment_sizes_picks_the_best_family_by_its_scores():
             assert r["lead"] == pytest.approx(top - ft[r["runner_up"]])
             assert r["lead_se"] >= 0
     assert sz["reference"]["ft"] == pytest.approx(
-        retrieval_scores(t.distance_matrix("shape-dna", N=40), labels)["ft"])
+        retrieval_scores(t.distance_matrix(Descriptor("shape-dna", N=40)), labels)["ft"])
 
 
 def test_experiment_sizes_skips_a_family_it_cannot_compute():

@@ -16,7 +16,11 @@ import pytest
 import scipy.linalg as la
 
 import cshape
-from cshape import _cholmod, _lanczos, _shift, _threads, shapes, spectrum
+from cshape import shapes, spectrum
+from cshape._eigensolver import cholmod as _cholmod
+from cshape._eigensolver import lanczos as _lanczos
+from cshape._eigensolver import shift as _shift
+from cshape._eigensolver import threads as _threads
 
 
 def _KB(mesh):

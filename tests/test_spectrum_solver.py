@@ -1,4 +1,4 @@
-"""The sparse eigensolver: block shift-invert Lanczos (cshape/_lanczos.py) and its fallback.
+"""The sparse eigensolver: block shift-invert Lanczos (cshape/_eigensolver/lanczos.py), fallback.
 
 Known answers (dense LAPACK, ARPACK with ``tol=0``, exact sphere multiplicities) and
 properties (B-orthonormal vectors, determinism, several components).  No timings here:
@@ -14,7 +14,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import cshape
-from cshape import _lanczos, _shift, _threads, shapes, spectrum
+from cshape import shapes, spectrum
+from cshape._eigensolver import lanczos as _lanczos
+from cshape._eigensolver import shift as _shift
+from cshape._eigensolver import threads as _threads
 from cshape.mesh import CShapeWarning
 
 

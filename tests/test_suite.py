@@ -1,9 +1,9 @@
 """The benchmark suite (identities, resolutions) and the exploration default it chose.
 
 The default descriptor is one constant, :data:`cshape.DEFAULT` (a :class:`cshape.Descriptor`);
-every surface that compares shapes with no kind given must read it (the tests change the
-constant and check that each surface follows), and the paper's cShape-DNA stays one option
-away.
+every surface that compares shapes with no descriptor given must read it (the tests change
+the constant and check that each surface follows), and the paper's cShape-DNA stays one
+option away (``cshape.PAPER``, ``--kind cshape``).
 """
 
 from __future__ import annotations
@@ -15,15 +15,11 @@ import numpy as np
 import pytest
 
 import cshape
-from cshape import compare, descriptor, shapes
-from cshape.batch import DescriptorTable
+from cshape import PAPER, Descriptor, compare, shapes
+from cshape.batch import DescriptorTable, collection_distances
 from cshape.cli import main as cli_main
-from cshape.compare import (
-    default_descriptor,
-    descriptor_label,
-    descriptor_matrix,
-    retrieval_scores,
-)
+from cshape.compare import retrieval_scores
+from cshape.descriptors import recipe
 from cshape.index import DescriptorIndex
 from cshape.reproduce.suite import candidates, choose_default, default_row, suite_scores
 
@@ -44,26 +40,30 @@ def table():
                 lams.append(lam)
                 areas.append(cshape.Mesh(V, base.faces).area)
                 labels.append(f"e{k}")
-    return DescriptorTable(names, np.array(lams), areas, labels, M=4)
+    return DescriptorTable(names, np.array(lams), areas, labels)
+
+
+#: The replacement default of :func:`other_default`, at the table's N.
+OTHER = Descriptor("cshape", N=N, M=3, transform="log-weyl-dct", normalization="fiedler")
 
 
 @pytest.fixture
 def other_default(monkeypatch):
-    """Replace the exploration default by the paper's cShape-DNA with M=3 (log-Weyl DCT):
-    a surface that copied the constant instead of reading it would not follow."""
-    monkeypatch.setattr(descriptor, "DEFAULT", cshape.Descriptor(
-        "cshape", M=3, N=100, transform="log-weyl-dct", normalization="fiedler"))
-    return {"kind": "cshape", "M": 3, "N": N, "transform": "log-weyl-dct",
-            "normalization": "fiedler"}
+    """Replace the exploration default by a log-Weyl DCT cShape-DNA with M=3: a surface that
+    copied the constant instead of reading it would not follow."""
+    monkeypatch.setattr(recipe, "DEFAULT", OTHER.replace(N=100))
+    return OTHER
 
 
 # ---------------------------------------------------------------------- the constant
 def test_default_is_one_constant_and_not_the_papers_form_of_compact_shape_dna():
-    d = default_descriptor(100)
-    assert d == cshape.DEFAULT.as_dict() == {"kind": "truncated-log", "M": 8, "N": 100,
-                                             "transform": "weyl", "normalization": "area"}
-    assert compare.DEFAULT_DESCRIPTOR is cshape.DEFAULT is descriptor.DEFAULT
-    assert compare.PAPER_DESCRIPTOR is cshape.PAPER
+    assert cshape.DEFAULT is recipe.DEFAULT is cshape.descriptors.DEFAULT
+    assert cshape.DEFAULT == Descriptor("truncated-log", N=100, M=8)
+    assert cshape.PAPER is recipe.PAPER and cshape.PAPER == Descriptor("cshape", N=100, M=16)
+    for gone in ("DEFAULT_DESCRIPTOR", "PAPER_DESCRIPTOR", "default_descriptor",
+                 "descriptor_label", "descriptor_size", "descriptor_matrix", "descriptor_rows",
+                 "row_problems"):
+        assert not hasattr(compare, gone), gone
     # compact_shape_dna keeps the paper's Eq. (8)-(10) as its default, bit for bit
     lam = cshape.shape_dna(shapes.icosphere(2), N=40)
     area = shapes.icosphere(2).area
@@ -74,66 +74,46 @@ def test_default_is_one_constant_and_not_the_papers_form_of_compact_shape_dna():
 
 
 def test_default_lowers_M_to_what_N_allows(table):
-    d = default_descriptor(N)
-    assert d["N"] == N and d["M"] <= cshape.DEFAULT.M
-    X = descriptor_matrix(table.lam, table.areas, **d)  # computable from N eigenvalues
-    assert X.shape == (len(table), 2 * d["M"] + 1)
-    assert default_descriptor(1000)["M"] == cshape.DEFAULT.M
+    d = cshape.DEFAULT.for_N(N)
+    assert d.N == N and d.M <= cshape.DEFAULT.M
+    X = d.matrix(table.lam, table.areas)  # computable from N eigenvalues
+    assert X.shape == (len(table), 2 * d.M + 1)
+    assert cshape.DEFAULT.for_N(1000).M == cshape.DEFAULT.M
     with pytest.raises(ValueError, match="N must be an integer >= 1"):
-        default_descriptor(0)
-
-
-def test_descriptor_label_names_the_descriptor():
-    assert descriptor_label("truncated-log", M=16) == "truncated log spectrum (33 values)"
-    assert descriptor_label("cshape", M=16, N=100) == (
-        "paper's cShape-DNA (M=16 of N=100, 33 values)")
-    assert descriptor_label("cshape", M=8, N=50, transform="log-weyl-dct").startswith(
-        "log-Weyl DCT")
-    assert descriptor_label("shape-dna", N=100) == "Shape-DNA (100 values)"
-    assert descriptor_label("truncated-log", M=8, normalization="fiedler") == (
-        "truncated log spectrum, lam_1-normalised (17 values)")
-    with pytest.raises(ValueError, match="kind must be one of"):
-        descriptor_label("dna")
+        cshape.DEFAULT.for_N(0)
 
 
 # ---------------------------------------------------------------------- every surface
 def test_table_descriptors_and_distances_default_to_the_constant(table, other_default):
     X = table.descriptors()
-    np.testing.assert_array_equal(X, descriptor_matrix(table.lam, table.areas, **other_default))
+    np.testing.assert_array_equal(X, other_default.matrix(table.lam, table.areas))
     assert X.shape == (len(table), 7)
-    np.testing.assert_array_equal(table.distance_matrix(),
-                                  compare.distance_matrix(X))
-    assert table.recipe() == other_default
-    # a kind given by name keeps the table's M and transform: the paper's one option away
+    np.testing.assert_array_equal(table.distance_matrix(), compare.distance_matrix(X))
+    np.testing.assert_array_equal(table.usable(), np.ones(len(table), bool))
+    # the paper's descriptor is one value away
     np.testing.assert_array_equal(
-        table.descriptors("cshape"),
-        descriptor_matrix(table.lam, table.areas, kind="cshape", M=4, N=N, transform="weyl",
-                          normalization="area"))
-    assert table.recipe("cshape")["normalization"] == "area"
+        table.descriptors(PAPER.for_N(N)),
+        Descriptor("cshape", N=N, M=14, transform="weyl", normalization="area").matrix(
+            table.lam, table.areas))
 
 
 def test_table_default_is_the_shipped_constant(table):
-    d = default_descriptor(table.N)
-    np.testing.assert_array_equal(table.descriptors(),
-                                  descriptor_matrix(table.lam, table.areas, **d))
-    assert table.describe_recipe() == descriptor_label(**d)
+    np.testing.assert_array_equal(
+        table.descriptors(), Descriptor("truncated-log", N=N, M=8).matrix(table.lam, table.areas))
 
 
 def test_index_defaults_to_the_constant(table, other_default):
     index = DescriptorIndex.from_table(table)
-    assert {k: index.recipe_[k] for k in other_default} == other_default
-    assert index.descriptor == descriptor_label(**other_default)
-    paper = DescriptorIndex.from_table(table, "cshape")
-    assert paper.recipe_["transform"] == "weyl" and paper.recipe_["M"] == 4
-    assert paper.recipe_["normalization"] == "area"
-    assert paper.descriptor.startswith("paper's cShape-DNA")
+    assert index.descriptor_ == other_default
+    paper = DescriptorIndex.from_table(table, PAPER.replace(N=N, M=4))
+    assert paper.descriptor_.label.startswith("paper's cShape-DNA")
 
 
 def test_query_header_says_what_it_compared(table, tmp_path, capsys):
     path = table.save(tmp_path / "t.npz")
     assert cli_main(["query", str(path), "e1-3-1", "-k", "3"]) == 0
     out = capsys.readouterr().out.splitlines()
-    label = descriptor_label(**default_descriptor(N))
+    label = cshape.DEFAULT.for_N(N).label
     assert out[0].startswith("nearest to 'e1-3-1' by the " + label)
     # the same shape at another scale and resolution is nearest (distance ~0 for the scale)
     ranked = [line.split() for line in out[2:]]
@@ -142,13 +122,16 @@ def test_query_header_says_what_it_compared(table, tmp_path, capsys):
     assert cli_main(["query", str(path), "e1-3-1", "--kind", "cshape", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)
     assert got["kind"] == "cshape" and got["descriptor"].startswith("paper's cShape-DNA")
+    # --kind cshape: the paper's, its M lowered to what the table's N allows
+    assert (got["N"], got["M"], got["transform"]) == (N, 14, "weyl")
 
 
 def test_query_follows_the_constant(table, tmp_path, capsys, other_default):
     path = table.save(tmp_path / "t.npz")
     assert cli_main(["query", str(path), "e0-3-1", "--json"]) == 0
     got = json.loads(capsys.readouterr().out)
-    assert {k: got[k] for k in other_default} == other_default
+    assert Descriptor(got["kind"], N=got["N"], M=got["M"], transform=got["transform"],
+                      normalization=got["normalization"]) == other_default
 
 
 def test_describe_summary_shows_the_default(table, capsys, other_default):
@@ -156,29 +139,26 @@ def test_describe_summary_shows_the_default(table, capsys, other_default):
 
     _print_table(table)
     head = capsys.readouterr().out.splitlines()[0]
-    assert descriptor_label(**other_default) in head
+    assert other_default.label in head
 
 
-def test_collection_pictures_default_to_the_constant(table, other_default):
+def test_collection_distances_default_to_the_constant(table, other_default):
     """The MDS and overview of one's own collection (cshape.plots, `cshape overview`)."""
-    pytest.importorskip("matplotlib")
-    from cshape.plots.explore import collection_distances
-
     c = collection_distances(table)
     np.testing.assert_allclose(c.D, table.distance_matrix())
-    assert c.kind == "cshape"
-    assert "log-Weyl DCT" in c.descriptor and "lam_1-normalised" in c.descriptor
-    paper = collection_distances(table, "cshape")
-    np.testing.assert_allclose(paper.D, table.distance_matrix("cshape"))
+    assert c.descriptor == other_default
+    paper = collection_distances(table, PAPER.for_N(N))
+    np.testing.assert_allclose(paper.D, table.distance_matrix(PAPER.for_N(N)))
 
 
 def test_lesson_06_uses_the_default_and_the_paper_beside_it():
     from pathlib import Path
 
     src = (Path(__file__).resolve().parents[1] / "notebooks" / "06_own_collection.py").read_text()
-    assert "DescriptorIndex.from_table(table)" in src  # no kind: the default
-    assert re.search(r"from_table\(table, \"cshape\"", src)  # the paper's, one option away
-    assert "table.distance_matrix(kind)" in src and "describe_recipe(kind)" in src
+    assert "DescriptorIndex.from_table(table)" in src  # no descriptor: the default
+    assert re.search(r"paper = cshape\.PAPER\.replace\(", src)  # the paper's, one value away
+    assert "from_table(table, paper)" in src
+    assert "table.distance_matrix(descriptor)" in src and "descriptor.label" in src
 
 
 # ---------------------------------------------------------------------- choosing
@@ -210,7 +190,7 @@ def test_candidates_cover_every_family_and_fit_N():
 def test_suite_scores_on_a_tiny_suite_are_sane(table):
     """Two 'benchmarks' of the ellipsoid table (shape classes; resolution pairs)."""
     by_res = DescriptorTable(table.names, table.lam, table.areas,
-                             [n.rsplit("-", 1)[0] for n in table.names], M=4)
+                             [n.rsplit("-", 1)[0] for n in table.names])
     rows = suite_scores({"shapes": table, "scales": by_res})
     assert rows and all(set(r["scores"]) == {"shapes", "scales"} for r in rows)
     for r in rows:
@@ -219,7 +199,7 @@ def test_suite_scores_on_a_tiny_suite_are_sane(table):
     sd = next(r for r in rows if r["kind"] == "shape-dna")
     # the same mesh at twice the size has the same normalised spectrum: its partner is first
     assert sd["scores"]["scales"]["nn"] == 1.0
-    ref = retrieval_scores(table.distance_matrix("shape-dna"), table.labels)
+    ref = retrieval_scores(table.distance_matrix(Descriptor("shape-dna", N=N)), table.labels)
     assert sd["scores"]["shapes"]["ft"] == pytest.approx(ref["ft"])
     assert choose_default(rows)["worst"] == max(r["worst"] for r in rows)
 
@@ -317,8 +297,8 @@ def test_identity_poses_share_the_template_and_resolutions_differ():
     assert a.n_components == 1 and a.is_closed
     # retrieval: the other resolution of the same pose is nearer than another identity
     lams = [cshape.shape_dna(m, N=20) for m in (a, c, other)]
-    D = compare.distance_matrix(descriptor_matrix(
-        lams, [m.area for m in (a, c, other)], kind="truncated-log", M=8))
+    D = compare.distance_matrix(Descriptor("truncated-log", N=20, M=8).matrix(
+        lams, [m.area for m in (a, c, other)]))
     assert D[0, 1] < D[0, 2]
 
 
@@ -340,7 +320,7 @@ def test_reproduce_reports_the_suite_with_the_default_marked(tmp_path, monkeypat
     from cshape.reproduce import reproduce
 
     # a size the N = 30 candidates have
-    monkeypatch.setattr(descriptor, "DEFAULT", cshape.DEFAULT.replace(M=8))
+    monkeypatch.setattr(recipe, "DEFAULT", cshape.DEFAULT.replace(M=8))
     recs = []
     for k, (a, b) in enumerate([(1.0, 1.0), (2.0, 1.0), (3.0, 2.0)]):
         for sub in (2, 3):
@@ -370,7 +350,7 @@ def test_bench_suite_script_chooses_on_dev_and_reports_held_out(table, tmp_path,
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
     by_res = DescriptorTable(table.names, table.lam, table.areas,
-                             [n.rsplit("-", 1)[0] for n in table.names], M=4)
+                             [n.rsplit("-", 1)[0] for n in table.names])
     held = table.select(list(range(0, len(table), 2)) + list(range(1, len(table), 2)))
     fake = {"dev": {"creatures": table, "identities": by_res, "resolutions": table},
             "held-out": {"creatures": held, "identities": by_res, "resolutions": held}}

@@ -167,7 +167,7 @@ def test_pickled_eigenvalue_cache_entry_is_recomputed_not_executed(tmp_path):
     np.savez(cache / f"{key}.npz", lam=arr, area=np.float64(1.0), seconds=np.float64(0.0),
              key=np.array(key))
     with pytest.warns(cshape.CShapeWarning, match="corrupt cache entry"):
-        table = describe([("ball", mesh)], N=6, M=2, cache_dir=cache, progress=False)
+        table = describe([("ball", mesh)], N=6, cache_dir=cache, progress=False)
     assert not marker.exists()
     np.testing.assert_allclose(table.lam[0], cshape.shape_dna(mesh, N=6), atol=1e-12)
 
@@ -521,7 +521,7 @@ def test_full_disk_is_a_clear_error_and_leaves_nothing(tmp_path, monkeypatch, wh
 def test_descriptor_table_save_on_a_full_disk_leaves_nothing(tmp_path, monkeypatch):
     from cshape.batch import describe
 
-    table = describe([("ball", shapes.icosphere(1))], N=5, M=1, cache_dir=False,
+    table = describe([("ball", shapes.icosphere(1))], N=5, cache_dir=False,
                      progress=False)
     monkeypatch.setattr(os, "replace", lambda *a: (_ for _ in ()).throw(
         OSError(errno.ENOSPC, "No space left on device")))

@@ -24,7 +24,7 @@ from meshfiles import F_OOR, MALFORMED, OFF_TET, TET_F, TET_V, ply_be_double
 import cshape
 import cshape.signatures
 import cshape.spectrum
-from cshape import Mesh, shapes
+from cshape import Descriptor, Mesh, shapes
 from cshape._checks import (
     check_bool,
     check_choice,
@@ -34,7 +34,7 @@ from cshape._checks import (
     check_real,
 )
 from cshape.batch import DescriptorTable, describe
-from cshape.compare import DESCRIPTOR_KINDS, descriptor_matrix, descriptor_size
+from cshape.descriptors import DESCRIPTOR_KINDS
 from cshape.fem import _problem as fem
 from cshape.index import DescriptorIndex
 from cshape.spectrum import solve_eigenproblem, solver_threads
@@ -55,8 +55,7 @@ def sphere():
 def table():
     rng = np.random.default_rng(0)
     lam = np.c_[np.zeros(4), np.cumsum(rng.uniform(0.5, 2.0, (4, 29)), axis=1)]
-    return DescriptorTable(["a", "b", "c", "d"], lam, rng.uniform(1, 2, 4), ["x", "x", "y", "y"],
-                           M=3)
+    return DescriptorTable(["a", "b", "c", "d"], lam, rng.uniform(1, 2, 4), ["x", "x", "y", "y"])
 
 
 @pytest.fixture
@@ -139,11 +138,11 @@ def test_checks_return_plain_python_values():
 # ====================================================================== one argument, one error
 def _bad_table(**kw):
     t = table()
-    return DescriptorTable(t.names, t.lam, t.areas, t.labels, **{"M": 3, **kw})
+    return DescriptorTable(t.names, t.lam, t.areas, t.labels, **kw)
 
 
 def _describe(**kw):
-    return describe([("s", sphere())], **{"N": 9, "M": 2, "cache_dir": False,
+    return describe([("s", sphere())], **{"N": 9, "cache_dir": False,
                                          "progress": False, **kw})
 
 
@@ -155,41 +154,33 @@ TAKES = {
     "N": {
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=v),
         "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=v),
+        "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=v),
+        "point_map": lambda v: cshape.point_map(sphere(), sphere(), N=v, N0=2),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=0, N=v),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=0, N=v,
                                                                      normalization="none"),
-        "compact_shape_dna_real": lambda v: cshape.compact_shape_dna_real(LAM, M=0, N=v,
-                                                                          normalization="none"),
         "inverse_compact_shape_dna": lambda v: cshape.inverse_compact_shape_dna(S1, N=v),
-        "descriptor_matrix": lambda v: descriptor_matrix(table().lam, table().areas,
-                                                         "shape-dna", N=v),
-        "descriptor_size": lambda v: descriptor_size("shape-dna", N=v),
-        "DescriptorTable.descriptors": lambda v: table().descriptors("shape-dna", N=v),
-        "DescriptorIndex.from_table": lambda v: DescriptorIndex.from_table(table(), N=v),
-        "describe": lambda v: _describe(N=v, M=0),
+        "Descriptor": lambda v: Descriptor("shape-dna", N=v),
+        "describe": lambda v: _describe(N=v),
         "sphere_spectrum": lambda v: shapes.sphere_spectrum(v),
     },
     "M": {
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=v, N=9),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=v, N=9,
                                                                      normalization="none"),
-        "descriptor_matrix": lambda v: descriptor_matrix(table().lam, table().areas, M=v, N=9),
-        "descriptor_size": lambda v: descriptor_size("cshape", M=v),
-        "DescriptorTable": lambda v: _bad_table(M=v),
-        "DescriptorTable.descriptors": lambda v: table().descriptors(M=v),
-        "DescriptorIndex.from_table": lambda v: DescriptorIndex.from_table(table(), M=v),
-        "describe": lambda v: _describe(M=v),
+        "Descriptor": lambda v: Descriptor("cshape", N=9, M=v),
     },
     "area": {
         "normalize": lambda v: cshape.normalize(LAM, area=v),
         "compact_shape_dna": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5, area=v),
-        "heat_trace": lambda v: cshape.heat_trace(LAM, 1.0, area=v),
-        "hks_times": lambda v: cshape.signatures.hks_times(LAM, area=v),
+        "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), v),
     },
     "bc": {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), bc=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, bc=v),
         "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=3, bc=v),
+        "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, bc=v),
+        "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), bc=v),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=1, N=5, bc=v),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5, bc=v),
         "DescriptorTable": lambda v: _bad_table(bc=v),
@@ -199,6 +190,8 @@ TAKES = {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), mass=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, mass=v),
         "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=3, mass=v),
+        "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, mass=v),
+        "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), mass=v),
         "DescriptorTable": lambda v: _bad_table(mass=v),
         "describe": lambda v: _describe(mass=v),
     },
@@ -207,26 +200,17 @@ TAKES = {
                                                                       normalization=v),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5,
                                                                      normalization=v),
-        "descriptor_matrix": lambda v: descriptor_matrix(table().lam, table().areas,
-                                                         normalization=v, M=3, N=9),
-        "DescriptorTable.descriptors": lambda v: table().descriptors(normalization=v),
+        "normalize": lambda v: cshape.normalize(LAM, 1.0, normalization=v),
+        "Descriptor": lambda v: Descriptor("cshape", N=9, M=3, normalization=v),
     },
     "transform": {
         "compact_shape_dna": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5, transform=v),
         "inverse_compact_shape_dna": lambda v: cshape.inverse_compact_shape_dna(S1, 5,
                                                                                 transform=v),
-        "descriptor_matrix": lambda v: descriptor_matrix(table().lam, table().areas, M=3,
-                                                         N=9, transform=v),
-        "DescriptorTable": lambda v: _bad_table(transform=v),
-        "DescriptorTable.descriptors": lambda v: table().descriptors(transform=v),
-        "describe": lambda v: _describe(transform=v),
+        "Descriptor": lambda v: Descriptor("cshape", N=9, M=3, transform=v),
     },
     "kind": {
-        "descriptor_matrix": lambda v: descriptor_matrix(table().lam, table().areas, v),
-        "descriptor_size": lambda v: descriptor_size(v),
-        "DescriptorTable.descriptors": lambda v: table().descriptors(v),
-        "DescriptorTable.distance_matrix": lambda v: table().distance_matrix(v),
-        "DescriptorIndex.from_table": lambda v: DescriptorIndex.from_table(table(), v),
+        "Descriptor": lambda v: Descriptor(v),
     },
     "length": {
         "nonzero_eigenvalues": lambda v: cshape.nonzero_eigenvalues(LAM, length=v),
@@ -258,14 +242,9 @@ TAKES = {
     },
     "R": {"torus": lambda v: shapes.torus(4, 3, R=v, r=0.1)},
 }
-NONE_OK = {("N", "DescriptorTable.descriptors"), ("N", "DescriptorIndex.from_table"),
-           ("M", "DescriptorTable.descriptors"), ("M", "DescriptorIndex.from_table"),
-           ("transform", "DescriptorTable.descriptors"), ("kind", "DescriptorTable.descriptors"),
-           ("kind", "DescriptorTable.distance_matrix"), ("kind", "DescriptorIndex.from_table"),
-           ("normalization", "DescriptorTable.descriptors"),
-           ("normalization", "DescriptorIndex.from_table")}
+NONE_OK: set[tuple[str, str]] = set()
 #: N = 0 is a legal length of the exact sphere spectrum (an empty array).
-RANGE_DIFFERS = {("N", "sphere_spectrum")}
+RANGE_DIFFERS = {("N", "sphere_spectrum"), ("N", "point_map")}  # point_map: N >= 2
 
 _BC = r"bc must be one of \{'neumann', 'dirichlet'\}, got "
 _MASS = r"mass must be one of \{'consistent', 'lumped'\}, got "
@@ -534,9 +513,9 @@ DESCRIPTORS = [
           ("strings", ["a", "b"], TypeError, "1-D array of real eigenvalues")]
       for fn_name, fn in [("normalize", lambda lam_or: cshape.normalize(lam_or, area=1.0)),
                           ("weyl_subtract", lambda lam_or: cshape.weyl_subtract(lam_or))]],
-    *[pytest.param(cshape.normalize, dict(lam=LAM, area=1.0, method=m), exc,
-                   r"method must be one of \{'area', 'fiedler', 'weyl', 'none'\}",
-                   id=f"method-{m!r}")
+    *[pytest.param(cshape.normalize, dict(lam=LAM, area=1.0, normalization=m), exc,
+                   r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}",
+                   id=f"normalization-{m!r}")
       for m, exc in [("max", ValueError), ("", ValueError), (None, TypeError), (1, TypeError)]],
     pytest.param(cshape.real_form, dict(S_c=np.ones(4, complex)), ValueError,
                  "odd last dimension", id="real_form-even"),
@@ -552,8 +531,12 @@ def test_descriptors(no_eigensolve, call, kwargs, exc, match):
 
 # ====================================================================== comparison and index
 COMPARE = [
-    pytest.param(descriptor_size, dict(kind="cshape", M=-1), ValueError,
-                 r"^M must be an integer >= 0, got -1$", id="descriptor_size-M"),
+    pytest.param(Descriptor, dict(kind="cshape", M=-1), ValueError,
+                 r"^M must be an integer >= 0, got -1$", id="Descriptor-M"),
+    pytest.param(lambda descriptor: table().descriptors(descriptor), dict(descriptor="cshape"),
+                 TypeError, r"^descriptor must be a cshape.Descriptor \(e.g. cshape.PAPER\) or "
+                 r"None \(cshape.DEFAULT\), got str \(a kind: Descriptor\('cshape', N=...\)\)$",
+                 id="DescriptorTable.descriptors-kind"),
     pytest.param(cshape.compare.scaled_difference, dict(D1=np.zeros((2, 2)), D2=np.zeros((2, 2)),
                                                         include_diagonal="no"),
                  TypeError, r"^include_diagonal must be True or False, got str 'no'$",
@@ -593,10 +576,8 @@ BATCH = [
     pytest.param(_describe, dict(on_error="ignore"), ValueError,
                  r"^on_error must be one of \{'warn', 'raise'\}, got 'ignore'$",
                  id="describe-on_error"),
-    pytest.param(_describe, dict(N=9, M=5), ValueError,
-                 r"^M=5: 2M\+1 = 11 values cannot be kept from N = 9 eigenvalues; use M <= 4 "
-                 r"or N >= 11$",
-                 id="describe-M-too-large"),
+    pytest.param(_describe, dict(M=5), TypeError,
+                 r"unexpected keyword argument 'M'", id="describe-M-is-not-its-business"),
     pytest.param(lambda path: table().save(path), dict(path=3), TypeError,
                  r"^path must be a path \(str or os\.PathLike\), got int 3$", id="save-path"),
     pytest.param(DescriptorTable.load, dict(path=None), TypeError,
@@ -859,8 +840,7 @@ OLD_KINDS = {"shape_dna": "shape-dna", "cshape_complex": "cshape-complex",
 def _old_kinds_table():
     rng = np.random.default_rng(0)
     lam = np.c_[np.zeros(4), np.cumsum(rng.uniform(0.5, 2.0, (4, 29)), axis=1)]
-    return DescriptorTable(["a", "b", "c", "d"], lam, rng.uniform(1, 2, 4), ["x", "x", "y", "y"],
-                           M=3)
+    return DescriptorTable(["a", "b", "c", "d"], lam, rng.uniform(1, 2, 4), ["x", "x", "y", "y"])
 
 
 def test_mode_names_are_hyphenated_lower_case():
@@ -874,13 +854,12 @@ def test_mode_names_are_hyphenated_lower_case():
 def test_old_kind_spellings_warn_and_give_the_same_descriptors(old, new):
     t = _old_kinds_table()
     with pytest.warns(DeprecationWarning, match=f"kind='{old}' is deprecated; write kind='{new}'"):
-        X_old = descriptor_matrix(t.lam, t.areas, old, M=3, N=20)
-    np.testing.assert_array_equal(X_old, descriptor_matrix(t.lam, t.areas, new, M=3, N=20))
+        X_old = Descriptor(old, N=20, M=3).matrix(t.lam, t.areas)
+    np.testing.assert_array_equal(X_old, Descriptor(new, N=20, M=3).matrix(t.lam, t.areas))
     with pytest.warns(DeprecationWarning, match="is deprecated") as rec:
-        np.testing.assert_array_equal(t.descriptors(old, N=20), t.descriptors(new, N=20))
-        assert descriptor_size(old, M=3, N=20) == descriptor_size(new, M=3, N=20)
-        index = DescriptorIndex.from_table(t, old, N=20)
-    assert index.recipe_["kind"] == new  # stored in the current spelling
+        d = Descriptor(old, N=20, M=3)
+    assert d.kind == new and d == Descriptor(new, N=20, M=3)  # stored in the current spelling
+    np.testing.assert_array_equal(t.descriptors(d), t.descriptors(Descriptor(new, N=20, M=3)))
     assert all(r.filename == __file__ for r in rec)  # the warning points at the caller
 
 
@@ -901,17 +880,20 @@ def test_cli_query_accepts_the_old_kind_with_a_warning(tmp_path, capsys):
     assert "Shape-DNA" in out and "(20 values)" in out  # the kind asked for, N = 20
 
 
-def test_a_saved_table_with_an_old_transform_spelling_still_loads(tmp_path):
+def test_a_saved_table_of_version_2_with_an_old_transform_spelling_still_loads(tmp_path):
     import json
+    import warnings
 
     from cshape.batch.table import sidecar_path
 
     path = _old_kinds_table().save(tmp_path / "t.csv")
     side = sidecar_path(path)
     meta = json.loads(side.read_text())
-    meta["transform"] = "log_weyl_dct"  # an underscore spelling of a mode name
+    # version 2 stored M and a transform (in any spelling); they are read and not used
+    meta.update(format_version=2, M=4, transform="log_weyl_dct")
     side.write_text(json.dumps(meta))
-    with pytest.warns(DeprecationWarning, match="transform='log_weyl_dct' is deprecated"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         back = DescriptorTable.load(path)
-    assert back.transform == "log-weyl-dct"
     np.testing.assert_array_equal(back.lam, _old_kinds_table().lam)
+    np.testing.assert_array_equal(back.descriptors(), _old_kinds_table().descriptors())

@@ -19,8 +19,13 @@ def sphere():
 
 
 @pytest.fixture(scope="module")
-def pairs(sphere):
-    return cshape.eigenpairs(sphere, 12)
+def basis(sphere):
+    return cshape.eigenbasis(sphere, 12)
+
+
+@pytest.fixture(scope="module")
+def pairs(basis):
+    return basis.lam, basis.phi
 
 
 # ------------------------------------------------------------------------------ pure parts
@@ -81,7 +86,7 @@ def test_mesh3d_arrays(sphere):
 
 
 # ------------------------------------------------------------------------------ figures
-def test_explorer_has_one_frame_per_mode_and_a_slider(sphere, pairs):
+def test_explorer_has_one_frame_per_mode_and_a_slider(sphere, pairs, basis):
     fig = plots.eigenfunction_explorer(sphere, 12, start=3)
     assert isinstance(fig, go.Figure)
     assert len(fig.frames) == 12 and [f.name for f in fig.frames] == [str(i) for i in range(12)]
@@ -99,8 +104,8 @@ def test_explorer_has_one_frame_per_mode_and_a_slider(sphere, pairs):
     (trace,) = fig.data
     np.testing.assert_array_equal(trace.intensity, fig.frames[3].data[0].intensity)
     assert fig.layout.title.text == fig.frames[3].layout.title.text
-    # given eigenpairs are used as they are
-    fig2 = plots.eigenfunction_explorer(sphere, 5, eigenpairs=pairs)
+    # a given basis is used as it is
+    fig2 = plots.eigenfunction_explorer(sphere, 5, basis=basis)
     np.testing.assert_array_equal(fig2.frames[4].data[0].intensity, phi[:, 4].astype(np.float32))
 
 
@@ -122,8 +127,10 @@ def test_explorer_repairs_the_mesh_once(sphere):
     (dict(n_modes=4, vertical_axis="up"), ValueError, "vertical_axis must be one of"),
     (dict(n_modes=4, height=10), ValueError, "height must be a finite number >= 100, got 10"),
     (dict(n_modes=4, height="tall"), TypeError, "height must be a real number, got str"),
-    (dict(n_modes=20, eigenpairs=(np.zeros(5), np.zeros((162, 5)))), ValueError,
-     "N >= n_modes = 20"),
+    (dict(n_modes=20, basis=cshape.Eigenbasis(np.zeros(5), np.zeros((162, 5)), np.eye(162))),
+     ValueError, "basis has 5 eigenpairs on 162 vertices.*N >= 20"),
+    (dict(n_modes=4, basis=(np.zeros(5), np.zeros((162, 5)))), TypeError,
+     "basis must be a cshape.Eigenbasis, got tuple"),
 ])
 def test_explorer_rejects_bad_arguments(sphere, kwargs, exc, match):
     with pytest.raises(exc, match=match):

@@ -23,8 +23,8 @@ def ellipsoid():
 
 
 @pytest.fixture(scope="module")
-def pairs(ellipsoid):
-    return cshape.eigenpairs(ellipsoid, 40)
+def basis(ellipsoid):
+    return cshape.eigenbasis(ellipsoid, 40)
 
 
 def test_scale_data_per_column_log_range_and_titles():
@@ -52,23 +52,22 @@ def test_scale_data_rejects_bad_arguments(kwargs, exc, match):
         scale_data(**kwargs)
 
 
-def test_signature_explorer_frames_are_the_hks_at_spread_times(ellipsoid, pairs):
-    lam, phi = pairs
-    fig = plots.signature_explorer(ellipsoid, eigenpairs=pairs, n_scales=5)
+def test_signature_explorer_frames_are_the_hks_at_spread_times(ellipsoid, basis):
+    fig = plots.signature_explorer(ellipsoid, basis=basis, n_scales=5)
     assert len(fig.frames) == 5 and len(fig.layout.sliders[0].steps) == 5
-    t = sg.hks_times(lam)
-    h = sg.hks(lam, phi, t)
+    t = sg.hks_times(basis)
+    h = sg.hks(basis, t)
     cols = [0, 25, 50, 74, 99]  # 5 of the 100 default times, evenly spread
     for frame, c in zip(fig.frames, cols, strict=True):
         np.testing.assert_allclose(frame.data[0].intensity, np.log10(h[:, c]), rtol=1e-5)
         assert f"{t[c]:.4g}" in frame.layout.title.text
     assert fig.layout.sliders[0].active == 2  # the middle step first
     np.testing.assert_allclose(fig.data[0].intensity, fig.frames[2].data[0].intensity)
-    # WKS: Aubry's energies; computed here when no eigenpairs are given
+    # WKS: Aubry's energies; computed here when no basis is given
     fig_w = plots.signature_explorer(ellipsoid, "wks", N=40, n_scales=3, log=False, start=0)
-    e, sigma = sg.wks_energies(lam)
+    e, sigma = sg.wks_energies(basis)
     np.testing.assert_allclose(fig_w.frames[0].data[0].intensity,
-                               sg.wks(lam, phi, e[:1], sigma)[:, 0], rtol=1e-4)
+                               sg.wks(basis, e[:1], sigma)[:, 0], rtol=1e-4)
     assert fig_w.layout.sliders[0].currentvalue.prefix == "e = "
 
 
@@ -77,10 +76,12 @@ def test_signature_explorer_frames_are_the_hks_at_spread_times(ellipsoid, pairs)
     ({"n_scales": 0}, ValueError, r"n_scales must be an integer in \[1, 100\], got 0"),
     ({"n_scales": 2.0}, TypeError, "n_scales must be an integer, got float"),
     ({"start": 7, "n_scales": 5}, ValueError, r"start must be an integer in \[0, 4\]"),
-    ({"eigenpairs": (np.ones(3), np.ones((5, 3)))}, ValueError, "phi of shape"),
+    ({"basis": cshape.Eigenbasis(np.ones(3), np.ones((5, 3)), np.eye(5))}, ValueError,
+     "basis has 3 eigenpairs on 5 vertices, but the"),
+    ({"basis": (np.ones(3), np.ones((5, 3)))}, TypeError, "basis must be a cshape.Eigenbasis"),
 ])
-def test_signature_explorer_rejects_bad_arguments(ellipsoid, pairs, kwargs, exc, match):
-    kwargs = {"eigenpairs": pairs, **kwargs}
+def test_signature_explorer_rejects_bad_arguments(ellipsoid, basis, kwargs, exc, match):
+    kwargs = {"basis": basis, **kwargs}
     with pytest.raises(exc, match=match):
         plots.signature_explorer(ellipsoid, **kwargs)
 

@@ -101,7 +101,7 @@ def test_installed_cshape_describe_on_a_folder(installed_wheel_env, tmp_path):
     paths = [save_mesh(folder / "round" / "sphere.off", shapes.icosphere(2)),
              save_mesh(folder / "ring" / "torus.ply", shapes.torus(24, 12), binary=True)]
     out = tmp_path / "table.csv"
-    r = installed_wheel_env.run("cshape", "describe", folder, "-N", 12, "-M", 3, "--out", out,
+    r = installed_wheel_env.run("cshape", "describe", folder, "-N", 12, "--out", out,
                                 "-q")
     assert r.returncode == 0, r.stderr
     table = cshape.DescriptorTable.load(out)

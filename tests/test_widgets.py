@@ -34,8 +34,8 @@ def test_sweep_state_matches_the_descriptors(collection):
     for i in range(6):  # Eq. (8)-(10), row by row
         S = cshape.compact_shape_dna(t.lam[i], M=4, N=N, area=t.areas[i])
         np.testing.assert_allclose(st.coefficients[i], S, rtol=1e-12, atol=1e-9)
-    D_ref = compare.distance_matrix(compare.descriptor_matrix(t.lam, t.areas, "shape-dna", N=N))
-    D = compare.distance_matrix(compare.descriptor_matrix(t.lam, t.areas, "cshape", M=4, N=N))
+    D_ref = compare.distance_matrix(cshape.Descriptor("shape-dna", N=N).matrix(t.lam, t.areas))
+    D = compare.distance_matrix(cshape.Descriptor("cshape", N=N, M=4).matrix(t.lam, t.areas))
     np.testing.assert_allclose(st.D_ref, compare.scale_255(D_ref), atol=1e-9)
     np.testing.assert_allclose(st.D, compare.scale_255(D), atol=1e-9)
     mean, std = compare.scaled_difference(D_ref, D)
@@ -49,10 +49,10 @@ def test_sweep_state_matches_the_descriptors(collection):
 def test_reconstruction_is_exact_when_nothing_is_cropped(collection):
     t = collection
     sweep = widgets.MSweep.from_table(t)
-    st = sweep.state(11, 23)  # 2M+1 = N: every frequency kept
+    st = sweep.state(11, N=23)  # 2M+1 = N: every frequency kept
     np.testing.assert_allclose(st.reconstruction, st.lam_prime, atol=1e-9)
     assert st.reconstruction_error.max() < 1e-12
-    small = sweep.state(1, 23)
+    small = sweep.state(1, N=23)
     assert np.all(small.reconstruction_error > st.reconstruction_error)
     rebuilt = cshape.inverse_compact_shape_dna(small.coefficients[0], 23, add_weyl=False)
     np.testing.assert_allclose(small.reconstruction[0], rebuilt, atol=1e-9)
@@ -82,7 +82,7 @@ def test_M_independent_stages_are_computed_once(collection, monkeypatch):
 ])
 def test_sweep_state_rejects_bad_M_and_N(collection, M, N, match):
     with pytest.raises(ValueError, match=match):
-        widgets.MSweep.from_table(collection).state(M, N)
+        widgets.MSweep.from_table(collection).state(M, N=N)
 
 
 def test_sweep_validation(collection):
@@ -174,7 +174,7 @@ def test_plots_return_figures_without_pyplot():
         plots.plot_dft(lam, mesh.area, 2),
         plots.plot_reconstruction_error([1, 2], [0.5, 0.1]),
         plots.plot_convergence([0.2, 0.1], [[1e-2, 2.5e-3]]),
-        plots.plot_cshape_dna({"s": cshape.compact_shape_dna(lam, 2, 12, mesh.area)}),
+        plots.plot_cshape_dna({"s": cshape.compact_shape_dna(lam, N=12, M=2, area=mesh.area)}),
         plots.plot_matrices([np.eye(3), np.ones((3, 3))], ["a", "b"]),
     ]
     assert all(isinstance(f, Figure) for f in figs)
@@ -200,7 +200,7 @@ def test_plot_validation():
 def test_sweep_state_for_every_transform_matches_the_descriptors(collection, transform):
     t = collection
     sweep = widgets.MSweep.from_table(t, mds=False)
-    st = sweep.state(4, N, transform=transform)
+    st = sweep.state(4, N=N, transform=transform)
     assert st.transform == transform and st.coefficients.shape == (6, 9)
     L = N if transform == "weyl" else N - 1
     assert st.lam_prime.shape == st.reconstruction.shape == st.spectra.shape == (6, L)
@@ -209,14 +209,14 @@ def test_sweep_state_for_every_transform_matches_the_descriptors(collection, tra
         np.testing.assert_allclose(st.coefficients[i], S, rtol=1e-12, atol=1e-12)
         rec = cshape.inverse_compact_shape_dna(S, N, add_weyl=False, transform=transform)
         np.testing.assert_allclose(st.reconstruction[i], rec, atol=1e-12)
-    X = compare.descriptor_matrix(t.lam, t.areas, "cshape", M=4, N=N, transform=transform)
+    X = cshape.Descriptor("cshape", N=N, M=4, transform=transform).matrix(t.lam, t.areas)
     np.testing.assert_allclose(st.D, compare.scale_255(compare.distance_matrix(X)), atol=1e-9)
     # the Shape-DNA reference does not depend on the transform, and is computed once
-    np.testing.assert_array_equal(st.D_ref, sweep.state(4, N, transform="weyl").D_ref)
+    np.testing.assert_array_equal(st.D_ref, sweep.state(4, N=N, transform="weyl").D_ref)
     assert len(sweep._ref) == 1
     if transform != "weyl":
         assert "(" + transform + ")" in st.summary()
-        full = sweep.state(widgets.max_M(N, transform), N, transform=transform)  # 2M+1 = N-1
+        full = sweep.state(widgets.max_M(N, transform), N=N, transform=transform)  # 2M+1 = N-1
         np.testing.assert_allclose(full.reconstruction, full.lam_prime, atol=1e-12)
 
 
@@ -230,9 +230,9 @@ def test_max_M_and_clamp_for_the_transforms():
 
 def test_sweep_rejects_M_beyond_the_log_weyl_bound(collection):
     sweep = widgets.MSweep.from_table(collection.select(range(4)), mds=False)
-    sweep.state(11, 23)  # fine for the paper's transform
+    sweep.state(11, N=23)  # fine for the paper's transform
     with pytest.raises(ValueError, match=r"M must be in \[0, 10\] for N = 23 \(2M\+1 <= N-1\)"):
-        sweep.state(11, 23, transform="log-weyl")
+        sweep.state(11, N=23, transform="log-weyl")
     with pytest.raises(ValueError, match="transform must be one of"):
         widgets.MSweep.from_table(collection, transform="log")
 

@@ -38,11 +38,27 @@ def layer_modules(layer: str, rev: str | None) -> list[str]:
 
 
 def source(module: str, rev: str | None) -> str:
-    path = f"cshape/{module}.py"
+    """The text of ``cshape/<module>.py``, or of every module of the package
+    ``cshape/<module>/`` (a stage in several modules, such as ``descriptors``)."""
     if rev is None:
-        return (ROOT / path).read_text()
-    return subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:{path}"], check=True,
-                          capture_output=True, text=True).stdout
+        path = ROOT / "cshape" / f"{module}.py"
+        if path.is_file():
+            return path.read_text()
+        return "\n".join(p.read_text() for p in sorted((ROOT / "cshape" / module).glob("*.py"))
+                         if p.name != "__init__.py")
+
+    def show(path: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:{path}"],
+                              capture_output=True, text=True)
+
+    one = show(f"cshape/{module}.py")
+    if one.returncode == 0:
+        return one.stdout
+    out = subprocess.run(["git", "-C", str(ROOT), "ls-tree", "--name-only",
+                          f"{rev}:cshape/{module}"], check=True, capture_output=True,
+                         text=True).stdout
+    return "\n".join(show(f"cshape/{module}/{n}").stdout for n in sorted(out.split())
+                     if n.endswith(".py") and n != "__init__.py")
 
 
 def params(fn: ast.FunctionDef | ast.AsyncFunctionDef, method: bool):

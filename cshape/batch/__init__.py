@@ -2,8 +2,10 @@
 
 :func:`describe` computes the Shape-DNA (the ``N`` smallest eigenvalues, Section 2.1) of
 every mesh of a collection and returns a :class:`DescriptorTable`, from which every
-descriptor of :func:`cshape.compare.descriptor_matrix` (normalised / truncated Shape-DNA,
-cShape-DNA for any ``M``, F1) is derived without another eigensolve.
+descriptor (a :class:`cshape.Descriptor`: normalised / truncated Shape-DNA, cShape-DNA for
+any ``M``, F1, ...) is derived without another eigensolve; :func:`collection_distances` gives
+the distances of a collection under one descriptor, with the shapes it cannot describe left
+out and named.
 
 The cache
 ---------
@@ -11,7 +13,7 @@ Each mesh's eigenvalues are stored in ``cache_dir`` as one ``<key>.npz`` file (N
 arrays only, read with ``allow_pickle=False``), where ``key`` is the SHA-256 of the mesh
 content (vertex and face bytes) and of the parameters that change the eigenvalues
 (``bc``, ``mass``, :data:`CACHE_VERSION`).  ``N`` is not part of the key: an entry with at
-least ``N`` eigenvalues serves any smaller ``N`` (the first ``N`` values), and any ``M``.
+least ``N`` eigenvalues serves any smaller ``N`` (the first ``N`` values).
 Entries are written atomically (temporary file in the same folder, then ``os.replace``) by
 the calling process only, as each result arrives, so an interrupted run (Ctrl-C, a killed
 process or worker) leaves only complete entries and the next run resumes where it stopped.
@@ -29,6 +31,7 @@ from __future__ import annotations
 
 from .cache import CACHE_VERSION, default_cache_dir, mesh_key
 from .run import describe
-from .table import DescriptorTable
+from .table import CollectionDistances, DescriptorTable, collection_distances
 
-__all__ = ["CACHE_VERSION", "DescriptorTable", "default_cache_dir", "describe", "mesh_key"]
+__all__ = ["CACHE_VERSION", "CollectionDistances", "DescriptorTable", "collection_distances",
+           "default_cache_dir", "describe", "mesh_key"]

@@ -27,8 +27,8 @@ def _malloc_as_a_plain_process() -> bool:
     ``distributed.nanny.pre-spawn-environ``), to hand freed memory back to the system
     promptly.  Setting any such variable also freezes glibc's adaptive mmap threshold at
     128 KiB: every temporary array above it (an eigensolve makes thousands, 0.1-10 MB each)
-    is then mapped fresh and page-faulted in again, which made each eigensolve of
-    ``describe`` about 1.35x slower in Dask workers than in a local process pool.  Here the
+    is then mapped fresh and page-faulted in again, which slows the eigensolves of
+    ``describe`` in Dask workers (``benchmarks/SCALE.md``, "Operations notes").  Here the
     thresholds are set, through ``mallopt``, to the values glibc adapts to by itself: mmap
     above 32 MiB, trim above 64 MiB.  A worker keeps at most 64 MiB of freed memory.
 
@@ -58,8 +58,8 @@ def _dask_work(task: Task) -> Result:
 
     A worker process started by a nanny runs with one BLAS / OpenMP thread already (the
     nanny's ``distributed.nanny.pre-spawn-environ`` sets ``OMP_NUM_THREADS=1`` and friends)
-    and with ``MALLOC_TRIM_THRESHOLD_=65536``, which slows eigensolves down by about 1.35x:
-    on its first task each such process sets glibc's thresholds back to a plain process's
+    and with ``MALLOC_TRIM_THRESHOLD_=65536``, which slows eigensolves down: on its first
+    task each such process sets glibc's thresholds back to a plain process's
     (:func:`_malloc_as_a_plain_process`), whoever started the cluster.  Nothing is changed
     in a process that is not a child process (a threads-only cluster runs tasks in the
     client's own process).  Users who start their own cluster need do nothing; to get the
@@ -81,8 +81,7 @@ def _dask_work(task: Task) -> Result:
 #: Periodic callbacks of a Dask worker's event loop that :func:`_run_dask` pauses: the
 #: statistical profiler (a stack sample of the task thread every 10 ms) and the 20 ms tick
 #: that watches the event loop.  Both take the GIL from the thread computing an eigensolve
-#: dozens of times a second; with them paused, describe's eigensolves in Dask workers took
-#: about 10 % less time (50 meshes, 2 workers: 27.4 / 25.5 s vs 30.7 / 28.7 s).
+#: dozens of times a second (figures: ``benchmarks/SCALE.md``, "Many meshes").
 _SAMPLERS = ("profile", "profile-cycle", "tick")
 
 

@@ -31,13 +31,14 @@ def default_cache_dir() -> Path:
     return cache_root() / "eigenvalues"
 
 
-def mesh_key(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent") -> str:
+def mesh_key(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent",
+             refine: str = "none") -> str:
     """Cache key: SHA-256 (hex) of the mesh content and the eigenvalue parameters.
 
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
-    bc, mass : str
+    bc, mass, refine : str
         See :func:`cshape.shape_dna`.
 
     Returns
@@ -49,11 +50,17 @@ def mesh_key(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent") -> s
     V = np.ascontiguousarray(mesh.vertices, dtype="<f8")
     F = np.ascontiguousarray(mesh.faces, dtype="<i8")
     h = hashlib.sha256()
-    h.update(f"cshape-lam-v{CACHE_VERSION}|bc={bc}|mass={mass}|".encode())
+    h.update(f"cshape-lam-v{CACHE_VERSION}|bc={bc}|mass={mass}|{_refine_tag(refine)}".encode())
     h.update(f"{V.shape}|{F.shape}|".encode())
     h.update(V.tobytes())
     h.update(F.tobytes())
     return h.hexdigest()
+
+
+def _refine_tag(refine: str) -> str:
+    """The part of a key that names ``refine``: empty for ``'none'`` (the keys of plain
+    linear FEM are those written before the option existed)."""
+    return "" if refine == "none" else f"refine={refine}|"
 
 
 def _entry_path(cache_dir: str | os.PathLike[str], key: str) -> Path:
@@ -89,7 +96,7 @@ def _read_entry(cache_dir: str | os.PathLike[str], key: str, N: int) -> dict[str
 
 
 def _file_alias(cache_dir: str | os.PathLike[str], path: str | os.PathLike[str], bc: str,
-                mass: str) -> Path | None:
+                mass: str, refine: str = "none") -> Path | None:
     """``cache_dir/files/<h>.key`` for a mesh file (see the module notes), None if unreadable."""
     try:
         p = Path(path).resolve()
@@ -97,7 +104,8 @@ def _file_alias(cache_dir: str | os.PathLike[str], path: str | os.PathLike[str],
     except OSError:
         return None
     h = hashlib.sha256(
-        f"cshape-file-v{CACHE_VERSION}|bc={bc}|mass={mass}|{p}|{st.st_size}|"
+        f"cshape-file-v{CACHE_VERSION}|bc={bc}|mass={mass}|{_refine_tag(refine)}{p}|"
+        f"{st.st_size}|"
         f"{st.st_mtime_ns}".encode()).hexdigest()
     return Path(cache_dir) / "files" / f"{h}.key"
 

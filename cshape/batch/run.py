@@ -16,16 +16,15 @@ import numpy as np
 from .._checks import (
     check_bool,
     check_choice,
-    check_crop,
     check_int,
     check_n_jobs,
     check_path,
 )
 from .._files import atomic_write
-from ..descriptors import TRANSFORMS, count_zero_modes
+from ..descriptors import count_zero_modes
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning, Mesh
-from ..spectrum import components_message, estimate_seconds, long_solve_message
+from ..spectrum import REFINEMENTS, components_message, estimate_seconds, long_solve_message
 from ._dask import _run_dask
 from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
 from .table import DescriptorTable
@@ -109,12 +108,12 @@ def collection_records(collection: Any) -> list[tuple[str, str, Any]]:
 
 
 # =========================================================================== describe
-def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
+def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
              mass: str = "consistent", cache_dir: str | os.PathLike[str] | bool | None = None,
              n_jobs: int | None = 1, client: Any = None, blas_threads: int | None = 1,
-             progress: bool = True, on_error: str = "warn", transform: str = "weyl"
-             ) -> DescriptorTable:
-    """Eigenvalues and descriptors of every mesh of a collection: cached, resumable, parallel.
+             progress: bool = True, on_error: str = "warn",
+             refine: str = "none") -> DescriptorTable:
+    """Eigenvalues of every mesh of a collection: cached, resumable, parallel.
 
     Parameters
     ----------
@@ -131,11 +130,9 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
 
         or a mapping ``{name: mesh}``.  Names must be unique.
     N : int, default=100
-        Number of eigenvalues per shape (Shape-DNA length).
-    M : int, default=16
-        Default cShape-DNA half-width of the returned table (any ``M <= (N-1)//2`` can be
-        asked of it later without recomputing; ``M <= (N-2)//2`` for the log-Weyl
-        transforms).
+        Number of eigenvalues per shape (Shape-DNA length).  Every descriptor of at most
+        ``N`` eigenvalues (any ``M``, any transform) is derived from the table later,
+        without another eigensolve.
     bc : {'neumann', 'dirichlet'}, default='neumann'
     mass : {'consistent', 'lumped'}, default='consistent'
     cache_dir : str, os.PathLike, None or False, default=None
@@ -165,10 +162,9 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
         ``'warn'``: a mesh that fails (unreadable file, too few vertices for ``N``, ...) is
         skipped, listed in ``table.failures`` and reported in one warning at the end.
         ``'raise'``: stop at the first failure with a ``RuntimeError``.
-    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
-        Default cShape-DNA transform of the returned table (see
-        :func:`cshape.compact_shape_dna`); like ``M`` it does not change the eigenvalues or
-        the cache, and any transform can be asked of the table later.
+    refine : {'none', 'extrapolate'}, default='none'
+        How the eigenvalues are computed (see :func:`cshape.shape_dna`); recorded in the
+        table, and cached apart from the other kinds.
 
     Returns
     -------
@@ -180,11 +176,11 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     Raises
     ------
     TypeError
-        An argument of the wrong type (``N=2.5``, ``M=True``, ``progress=1``,
+        An argument of the wrong type (``N=2.5``, ``progress=1``,
         ``cache_dir=3``), with the message every other function gives for it.
     ValueError
-        An argument out of range (``N=0``, ``M`` too large for ``N``, an unknown ``bc``,
-        ``mass``, ``transform`` or ``on_error``, ``n_jobs=0``), before any mesh is read.
+        An argument out of range (``N=0``, an unknown ``bc``, ``mass`` or ``on_error``,
+        ``n_jobs=0``), before any mesh is read.
     RuntimeError
         With ``on_error='raise'``, the first mesh that fails.
 
@@ -200,11 +196,14 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     >>> from cshape.batch import describe
     >>> meshes = [("s1", "sphere", shapes.icosphere(2)), ("s2", "sphere", shapes.icosphere(3)),
     ...           ("t1", "torus", shapes.torus(24, 12))]
-    >>> table = describe(meshes, N=30, M=4, cache_dir=False, progress=False)
+    >>> table = describe(meshes, N=30, cache_dir=False, progress=False)
     >>> table
-    DescriptorTable(3 shapes, N=30, M=4, 2 classes)
-    >>> table.cshape.shape, table.distance_matrix("shape-dna").shape
-    ((3, 9), (3, 3))
+    DescriptorTable(3 shapes, N=30, 2 classes)
+    >>> from cshape import Descriptor
+    >>> table.descriptors(Descriptor("cshape", N=30, M=4)).shape
+    (3, 9)
+    >>> table.distance_matrix(Descriptor("shape-dna", N=30)).shape
+    (3, 3)
 
     Notes
     -----
@@ -213,11 +212,9 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     ``describe`` again computes only what is missing.
     """
     N = check_int("N", N, min=1)
-    M = check_int("M", M, min=0)
-    transform = check_choice("transform", transform, TRANSFORMS)
-    M = check_crop(M, N, log=transform != "weyl")  # the one M-versus-N rule
     bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
     mass = check_choice("mass", mass, MASS_TYPES)
+    refine = check_choice("refine", refine, REFINEMENTS)
     n_jobs = check_n_jobs(n_jobs)
     n_jobs = 1 if n_jobs is None else (os.cpu_count() or 1) if n_jobs == -1 else n_jobs
     if blas_threads is not None:
@@ -227,7 +224,7 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
     cache = _cache_folder(cache_dir)
     from tqdm.auto import tqdm
 
-    run = _Run(collection_records(collection), N, bc, mass, cache, on_error)
+    run = _Run(collection_records(collection), N, bc, mass, cache, on_error, refine)
     run.bar = tqdm(total=len(run.records), desc="describe", unit="mesh",
                    disable=not progress)
     try:
@@ -243,7 +240,7 @@ def describe(collection: Any, N: int = 100, M: int = 16, *, bc: str = "neumann",
             _run_processes(tasks, n_jobs, run.finish, run.failures, blas_threads)
     finally:
         run.bar.close()
-    return run.table(M, transform)
+    return run.table()
 
 
 def _cache_folder(cache_dir: str | os.PathLike[str] | bool | None) -> Path | None:
@@ -265,8 +262,9 @@ class _Run:
     """
 
     def __init__(self, records: list[tuple[str, str, Any]], N: int, bc: str, mass: str,
-                 cache: Path | None, on_error: str) -> None:
+                 cache: Path | None, on_error: str, refine: str = "none") -> None:
         self.records, self.N, self.bc, self.mass = records, N, bc, mass
+        self.refine = refine
         self.cache, self.on_error = cache, on_error
         self.results: list[Any] = [None] * len(records)  # a Result once row i is done
         self.failures: dict[int, str] = {}
@@ -283,7 +281,8 @@ class _Run:
             key = self._lookup(i, src)
             if key is not False:
                 tasks.append((i, src, self.N, self.bc, self.mass,
-                              None if self.cache is None else str(self.cache), key))
+                              None if self.cache is None else str(self.cache), key,
+                              self.refine))
         return tasks
 
     def _lookup(self, i: int, src: Any) -> str | None | Literal[False]:
@@ -295,7 +294,8 @@ class _Run:
             return False
         if isinstance(src, (str, os.PathLike)):
             if cache is not None:
-                alias = self.aliases[i] = _file_alias(cache, src, self.bc, self.mass)
+                alias = self.aliases[i] = _file_alias(cache, src, self.bc, self.mass,
+                                                      self.refine)
                 known = None if alias is None else _read_alias(alias)
                 hit = None if known is None else _read_entry(cache, known, N)
                 if hit is not None:
@@ -303,7 +303,7 @@ class _Run:
                     return False
             return None
         try:
-            key = mesh_key(src, self.bc, self.mass)
+            key = mesh_key(src, self.bc, self.mass, self.refine)
         except (TypeError, ValueError) as exc:
             self.finish(i, {"ok": False, "error": f"{type(exc).__name__}: {exc}"})
             return False
@@ -360,7 +360,7 @@ class _Run:
                 pass  # only the shortcut is lost: the file is read again next time
 
     # ------------------------------------------------------------------ the table
-    def table(self, M: int, transform: str) -> DescriptorTable:
+    def table(self) -> DescriptorTable:
         """The successful meshes in the order of the collection; one warning lists the
         failures."""
         records, results, N = self.records, self.results, self.N
@@ -377,10 +377,10 @@ class _Run:
             [records[i][0] for i in ok],
             np.array([results[i]["lam"][:N] for i in ok]).reshape(len(ok), N),
             [results[i]["area"] for i in ok],
-            [records[i][1] for i in ok], M=M, bc=self.bc, mass=self.mass,
+            [records[i][1] for i in ok], bc=self.bc, mass=self.mass,
             seconds=[results[i]["seconds"] for i in ok],
             cached=[results[i]["cached"] for i in ok], failures=fail_list,
-            transform=transform,
+            refine=self.refine,
             components=[results[i].get("components", -1) for i in ok])
 
 
@@ -399,6 +399,7 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     """
     if N < _ESTIMATE_MIN_N or not tasks:
         return
+    refined = tasks[0][7] != "none"
     from ..readers import load_mesh
 
     sizes: list[tuple[int, str]] = []
@@ -413,7 +414,9 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
         sizes.append((n, records[t[0]][0]))
     if not sizes:
         return
-    total = sum(estimate_seconds(n, N) for n, _ in sizes)
+    # refine='extrapolate' solves the midpoint subdivision too: about 4n unknowns
+    total = sum(estimate_seconds(n, N) + (estimate_seconds(4 * n, N) if refined else 0.0)
+                for n, _ in sizes)
     n_big, name = max(sizes)
     one = long_solve_message(n_big, N)
     if one is None and total < 2 * 60.0:
@@ -422,7 +425,8 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     hint = one.split("; ", 1)[1] if one and "; " in one else ""
     warnings.warn(
         f"{LONG_RUN_PREFIX} {len(sizes)} eigensolve{'s' if len(sizes) > 1 else ''} of "
-        f"N={N}, about {total / 60:.0f} min in all on one core (a rough estimate, "
+        f"N={N}{' (and of their midpoint subdivisions)' if refined else ''}, about "
+        f"{total / 60:.0f} min in all on one core (a rough estimate, "
         f"1e-8 n N^2 s); the largest, {name} ({n_big} vertices), about "
         f"{big / 60:.0f} min" + (f"; {hint}" if hint else ""),
         CShapeWarning, stacklevel=3)

@@ -10,17 +10,18 @@ import warnings
 import zipfile
 from collections import Counter
 from pathlib import Path
-from typing import IO, TYPE_CHECKING, Any
+from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .._checks import check_choice, check_int, check_path
+from .._checks import check_choice, check_path
 from .._files import atomic_write
 from ..compare import distance_matrix
-from ..descriptor import Descriptor, select_descriptor
-from ..descriptors import TRANSFORMS, count_zero_modes
+from ..descriptors import Descriptor, count_zero_modes
+from ..descriptors.recipe import _given_or_default
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
+from ..spectrum import REFINEMENTS
 
 if TYPE_CHECKING:
     import os
@@ -30,8 +31,10 @@ if TYPE_CHECKING:
 
 _FORMAT = "cshape-descriptor-table"
 #: 1: CSV with a ``# cshape-descriptor-table {json}`` first line; 2: plain CSV (``pandas``
-#: reads it with no options) with a ``components`` column, metadata in ``<file>.json``.
-_FORMAT_VERSION = 2
+#: reads it with no options) with a ``components`` column, metadata in ``<file>.json``;
+#: 3: as 2, without the ``M`` and ``transform`` of versions 1-2 (defaults of a keyword form
+#: of :meth:`DescriptorTable.descriptors` that the descriptor now says; read and not used).
+_FORMAT_VERSION = 3
 #: The columns before ``lam_0`` of a version-2 CSV.
 _CSV_COLUMNS = ("name", "label", "area", "seconds", "cached", "components")
 
@@ -50,14 +53,11 @@ class DescriptorTable:
         Surface areas (for the area normalisation of Section 2.1).
     labels : sequence of str, length p, optional
         Class labels; ``''`` where unknown (the default).
-    M : int, default=16
-        Default crop half-width of the cShape-DNA for :meth:`descriptors`.
-    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
-        Default transform of the cShape-DNA for :meth:`descriptors` (see
-        :func:`cshape.compact_shape_dna`; ``'weyl'`` is the paper's).  Saved with the table;
-        files written before it existed load as ``'weyl'``.
     bc, mass : str
         How the eigenvalues were computed (see :func:`cshape.shape_dna`).
+    refine : {'none', 'extrapolate'}, default='none'
+        Which spectra the table holds (see :func:`cshape.shape_dna`): saved with the table;
+        files written before it existed load as ``'none'``.
     seconds : array_like, shape (p,), optional
         Wall time of each eigensolve (load + FEM + solve), in seconds; as stored in the
         cache for entries that were not recomputed.
@@ -73,27 +73,43 @@ class DescriptorTable:
     ----------
     N : int
         Number of eigenvalues per shape (``lam.shape[1]``).
+    lam_norm : ndarray, shape (p, N)
+        The area-normalised eigenvalues ``lam * area`` (Section 2.1).
     zero_modes : ndarray of int, shape (p,)
         Number of zero eigenvalues of each shape: its component count (Neumann), else
         counted from its eigenvalues (:func:`cshape.count_zero_modes`).
 
     Notes
     -----
+    **Which descriptor.**  Every method that describes the shapes takes one
+    :class:`cshape.Descriptor` (``descriptor=``, e.g. :data:`cshape.PAPER`); without one
+    it compares the exploration default :data:`cshape.DEFAULT` at the table's ``N``
+    (:meth:`cshape.Descriptor.for_N`).
+
     **Meshes of several pieces.**  The descriptors that need positive eigenvalues
     (``'truncated-log'``, ``'f1'``, the log-Weyl transforms) drop each shape's zero modes
-    (see :func:`cshape.compare.descriptor_matrix`).  A shape that still cannot be described
-    under a kind (too few non-zero eigenvalues) is left out of :meth:`descriptors`,
-    :meth:`distance_matrix` and :class:`cshape.DescriptorIndex`, with a warning that names
-    it; :meth:`usable` says which rows are kept, and ``table.select(table.usable(kind))``
-    is the table of those rows.
+    (see :class:`cshape.Descriptor`).  A shape that still cannot be described (too few
+    non-zero eigenvalues) is left out of :meth:`descriptors`, :meth:`distance_matrix` and
+    :class:`cshape.DescriptorIndex`, with a warning that names it; :meth:`usable` says
+    which rows are kept, and ``table.select(table.usable(descriptor))`` is the table of
+    those rows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from cshape import PAPER, DescriptorTable
+    >>> lam = np.arange(100.0)[None, :] * [[1.0], [1.1]]
+    >>> table = DescriptorTable(["a", "b"], lam, [1.0, 1.0])
+    >>> table.descriptors().shape, table.descriptors(PAPER).shape
+    ((2, 17), (2, 33))
     """
 
     def __init__(self, names: Iterable[object], lam: ArrayLike, areas: ArrayLike,
-                 labels: Iterable[object] | None = None, *, M: int = 16, bc: str = "neumann",
+                 labels: Iterable[object] | None = None, *, bc: str = "neumann",
                  mass: str = "consistent", seconds: ArrayLike | None = None,
                  cached: ArrayLike | None = None,
-                 failures: Iterable[tuple[object, object]] = (), transform: str = "weyl",
-                 components: ArrayLike | None = None) -> None:
+                 failures: Iterable[tuple[object, object]] = (),
+                 components: ArrayLike | None = None, refine: str = "none") -> None:
         self.names = [str(n) for n in names]
         p = len(self.names)
         lam = np.asarray(lam, dtype=np.float64)
@@ -109,10 +125,9 @@ class DescriptorTable:
         self.labels = [""] * p if labels is None else ["" if x is None else str(x) for x in labels]
         if len(self.labels) != p:
             raise ValueError(f"labels has {len(self.labels)} entries for {p} names")
-        self.M = check_int("M", M, min=0)
-        self.transform = check_choice("transform", transform, TRANSFORMS)
         self.bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
         self.mass = check_choice("mass", mass, MASS_TYPES)
+        self.refine = check_choice("refine", refine, REFINEMENTS)
         self.seconds = (np.full(p, np.nan) if seconds is None
                         else np.asarray(seconds, dtype=np.float64).reshape(-1))
         self.cached = (np.zeros(p, bool) if cached is None
@@ -128,7 +143,13 @@ class DescriptorTable:
     # ------------------------------------------------------------------ basics
     @property
     def N(self) -> int:
+        """Number of eigenvalues per shape (``lam.shape[1]``)."""
         return int(self.lam.shape[1])
+
+    @property
+    def lam_norm(self) -> np.ndarray:
+        """The area-normalised eigenvalues ``lam * area`` (Section 2.1), shape (p, N)."""
+        return self.lam * self.areas[:, None]
 
     def __len__(self) -> int:
         return len(self.names)
@@ -145,9 +166,9 @@ class DescriptorTable:
     def __repr__(self) -> str:
         nlab = len({x for x in self.labels if x})
         fails = f", {len(self.failures)} failed" if self.failures else ""
-        tr = "" if self.transform == "weyl" else f", transform={self.transform!r}"
-        return (f"DescriptorTable({len(self)} shapes, N={self.N}, M={self.M}{tr}, "
-                f"{nlab} classes{fails})")
+        ref = "" if self.refine == "none" else f", refine={self.refine!r}"
+        return (f"DescriptorTable({len(self)} shapes, N={self.N}{ref}, {nlab} classes"
+                f"{fails})")
 
     def index(self, name: object) -> int:
         """Row of the shape called ``name``."""
@@ -166,69 +187,24 @@ class DescriptorTable:
                            dtype=np.int64)
         return DescriptorTable(
             [self.names[i] for i in idx], self.lam[idx], self.areas[idx],
-            [self.labels[i] for i in idx], M=self.M, bc=self.bc, mass=self.mass,
+            [self.labels[i] for i in idx], bc=self.bc, mass=self.mass, refine=self.refine,
             seconds=self.seconds[idx], cached=self.cached[idx], failures=self.failures,
-            transform=self.transform, components=self.components[idx])
+            components=self.components[idx])
 
     # ------------------------------------------------------------------ descriptors
-    def descriptor_for(self, kind: str | None = None, M: int | None = None,
-                       N: int | None = None, transform: str | None = None,
-                       normalization: str | None = None, *,
-                       descriptor: Descriptor | None = None) -> Descriptor:
-        """The :class:`cshape.Descriptor` these arguments select (the rule of every surface,
-        :func:`cshape.descriptor.select_descriptor`, with the table's ``M``, ``N`` and
-        ``transform`` as the base).
+    def usable(self, descriptor: Descriptor | None = None) -> np.ndarray:
+        """Which shapes the descriptor can describe: boolean mask, shape (p,).
 
-        ``descriptor`` given: it.  ``kind=None``: the exploration default
-        :data:`cshape.DEFAULT` at the table's ``N`` (its own ``M``, transform and
-        normalisation unless given).  A kind given by name takes the table's ``M`` and
-        ``transform`` and the paper's area normalisation unless given (``kind='cshape'`` is
-        the paper's cShape-DNA with the table's ``M``).
+        A shape cannot be described when it has too few non-zero eigenvalues for the
+        descriptor (a mesh of many pieces), see :meth:`cshape.Descriptor.rows`.  Warns
+        nothing.
+
+        Parameters
+        ----------
+        descriptor : Descriptor, optional
+            Default: :data:`cshape.DEFAULT` at the table's ``N``.
         """
-        return select_descriptor(descriptor, kind=kind, M=M, N=N, transform=transform,
-                                 normalization=normalization, base_M=self.M, base_N=self.N,
-                                 base_transform=self.transform)
-
-    def recipe(self, kind: str | None = None, M: int | None = None, N: int | None = None,
-               transform: str | None = None, normalization: str | None = None) -> dict:
-        """:meth:`descriptor_for` as keyword arguments of
-        :func:`cshape.compare.descriptor_matrix`.
-
-        Returns
-        -------
-        dict
-            ``{'kind', 'M', 'N', 'transform', 'normalization'}``.
-        """
-        return self.descriptor_for(kind, M, N, transform, normalization).as_dict()
-
-    def describe_recipe(self, kind: str | None = None, M: int | None = None,
-                        N: int | None = None, transform: str | None = None,
-                        normalization: str | None = None) -> str:
-        """The descriptor :meth:`descriptor_for` selects, in words (its
-        :attr:`~cshape.Descriptor.label`, for titles and headers)."""
-        return self.descriptor_for(kind, M, N, transform, normalization).label
-
-    def _descriptor(self, kind: str | None, M: int | None, N: int | None,
-                    transform: str | None, kwargs: dict[str, Any]) -> Descriptor:
-        kwargs = dict(kwargs)
-        norm = kwargs.pop("normalization", None)
-        descriptor = kwargs.pop("descriptor", None)
-        if kwargs:
-            raise TypeError(f"unexpected keyword argument {next(iter(kwargs))!r}; the "
-                            "descriptor is chosen by kind, M, N, transform, normalization "
-                            "or descriptor")
-        return self.descriptor_for(kind, M, N, transform, norm, descriptor=descriptor)
-
-    def usable(self, kind: str | None = None, M: int | None = None,
-               N: int | None = None, *, transform: str | None = None,
-               **kwargs: Any) -> np.ndarray:
-        """Which shapes can be described under a kind: boolean mask, shape (p,).
-
-        A shape cannot be described when it has too few non-zero eigenvalues for the kind
-        (a mesh of many pieces), see :func:`cshape.compare.row_problems`.  Takes the
-        arguments of :meth:`descriptors`; warns nothing.
-        """
-        d = self._descriptor(kind, M, N, transform, kwargs)
+        d = _given_or_default(descriptor, self.N)
         _X, bad = d.rows(self.lam, self.areas, self.zero_modes)
         mask = np.ones(len(self), dtype=bool)
         mask[list(bad)] = False
@@ -240,96 +216,73 @@ class DescriptorTable:
             shown = "; ".join(f"{self.names[i]} ({m})" for i, m in list(bad.items())[:5])
             more = f"; and {len(bad) - 5} more" if len(bad) > 5 else ""
             warnings.warn(
-                f"kind={d.kind!r} cannot describe {len(bad)} of {len(self)} shapes, "
+                f"{d.label} cannot describe {len(bad)} of {len(self)} shapes, "
                 f"left out: {shown}{more}",
                 CShapeWarning, stacklevel=stacklevel)
 
-    def descriptors(self, kind: str | None = None, M: int | None = None,
-                    N: int | None = None, *, transform: str | None = None,
-                    **kwargs: Any) -> np.ndarray:
-        """Descriptor matrix, one row per shape; see :func:`cshape.compare.descriptor_matrix`.
+    def descriptors(self, descriptor: Descriptor | None = None) -> np.ndarray:
+        """Descriptor matrix, one row per shape (:meth:`cshape.Descriptor.rows`).
 
         Parameters
         ----------
-        kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}
-            Optional.  Default: the exploration default :data:`cshape.DEFAULT` (at the
-            table's ``N``); ``'cshape'`` is the paper's cShape-DNA.  The old spellings
-            ('shape_dna', ...) work with a DeprecationWarning.
-        M : int, optional
-            Default: the default descriptor's ``M`` when ``kind`` is None, else the table's.
-        N : int, optional
-            Default: the table's ``N``; a smaller ``N`` uses the first ``N`` eigenvalues.
-        transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
-            Default: the table's ``transform`` (used by the 'cshape' kinds).
-        **kwargs
-            ``normalization`` ({'area', 'fiedler', 'weyl'}; default: the default
-            descriptor's when ``kind`` is None, else 'area', the paper's), or
-            ``descriptor``: a :class:`cshape.Descriptor` (e.g. :data:`cshape.PAPER`)
-            instead of all of these.
+        descriptor : Descriptor, optional
+            Which descriptor (e.g. :data:`cshape.PAPER`, the paper's cShape-DNA, or
+            ``Descriptor('shape-dna', N=table.N)``).  Default: :data:`cshape.DEFAULT` at the
+            table's ``N`` (:meth:`cshape.Descriptor.for_N`).
 
         Returns
         -------
-        ndarray, shape (q, d)
+        ndarray, shape (q, size)
             One row per shape that can be described (``q = p`` unless some are left out,
             with a :class:`cshape.CShapeWarning` naming them; :meth:`usable` marks them).
+
+        Raises
+        ------
+        TypeError
+            ``descriptor`` not a :class:`cshape.Descriptor`.
+        ValueError
+            The descriptor needs more eigenvalues than the table has (``N``), or it can
+            describe none of the shapes.
         """
-        X, _rows = self.described(kind, M, N, transform=transform, stacklevel=4, **kwargs)
+        d = _given_or_default(descriptor, self.N)
+        X, _rows = self.described(d, stacklevel=4)
         if len(X) == 0:
-            d = self._descriptor(kind, M, N, transform, kwargs)
             raise ValueError(
-                f"kind={d.kind!r} cannot describe any of the {len(self)} shapes "
-                "(see the warning); choose another kind or compute more eigenvalues")
+                f"{d.label} cannot describe any of the {len(self)} shapes (see the warning); "
+                "choose another descriptor or compute more eigenvalues")
         return X
 
-    def described(self, kind: str | None = None, M: int | None = None,
-                  N: int | None = None, *, transform: str | None = None, warn: bool = True,
-                  stacklevel: int = 3, **kwargs: Any) -> tuple[np.ndarray, np.ndarray]:
+    def described(self, descriptor: Descriptor | None = None, *, warn: bool = True,
+                  stacklevel: int = 3) -> tuple[np.ndarray, np.ndarray]:
         """The descriptors and the table rows they belong to, computed once.
 
-        Takes the arguments of :meth:`descriptors`; with ``warn`` (default) the rows left out
-        are named in a :class:`cshape.CShapeWarning`.  Unlike :meth:`descriptors`, no row at
-        all is not an error.
+        Takes the descriptor of :meth:`descriptors`; with ``warn`` (default) the rows left
+        out are named in a :class:`cshape.CShapeWarning`.  Unlike :meth:`descriptors`, no
+        row at all is not an error.
 
         Returns
         -------
-        X : ndarray, shape (q, d)
+        X : ndarray, shape (q, size)
             As :meth:`descriptors`.
         rows : ndarray of int, shape (q,)
             The table row of each row of ``X`` (those :meth:`usable` marks).
         """
-        d = self._descriptor(kind, M, N, transform, kwargs)
+        d = _given_or_default(descriptor, self.N)
         X, bad = d.rows(self.lam, self.areas, self.zero_modes)
         if warn:
             self._warn_left_out(d, bad, stacklevel=stacklevel)
         rows = np.setdiff1d(np.arange(len(self)), np.fromiter(bad, dtype=np.int64))
         return X, rows
 
-    def distance_matrix(self, kind: str | None = None, M: int | None = None,
-                        N: int | None = None, *, transform: str | None = None,
-                        **kwargs: Any) -> np.ndarray:
+    def distance_matrix(self, descriptor: Descriptor | None = None) -> np.ndarray:
         """Euclidean distance matrix (q, q) of :meth:`descriptors` (the same rows and
-        defaults)."""
-        return distance_matrix(self.descriptors(kind, M=M, N=N, transform=transform, **kwargs))
-
-    @property
-    def shape_dna(self) -> np.ndarray:
-        """Area-normalised Shape-DNA, shape (p, N)."""
-        return self.descriptors("shape-dna")
-
-    @property
-    def cshape(self) -> np.ndarray:
-        """cShape-DNA with the table's ``M`` and ``transform``, real form, shape (p, 2M+1)."""
-        return self.descriptors("cshape")
-
-    @property
-    def f1(self) -> np.ndarray:
-        """F1 feature, shape (p, N-2)."""
-        return self.descriptors("f1")
+        default)."""
+        return distance_matrix(self.descriptors(descriptor))
 
     # ------------------------------------------------------------------ persistence
     def _meta(self) -> dict[str, Any]:
         return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": self.N,
-                "M": self.M, "transform": self.transform, "bc": self.bc, "mass": self.mass,
+                "bc": self.bc, "mass": self.mass, "refine": self.refine,
                 "failures": [list(f) for f in self.failures]}
 
     def save(self, path: str | os.PathLike[str]) -> Path:
@@ -338,8 +291,8 @@ class DescriptorTable:
         The CSV is plain: a header ``name,label,area,seconds,cached,components,lam_0,...,
         lam_{N-1}`` and one row per shape, so that ``pandas.read_csv(path)`` reads it with
         no options; floats are written with 17 significant digits, so both formats
-        round-trip exactly.  The metadata (``M``, ``transform``, ``bc``, ``mass``, the
-        failures, the format version) go to the sidecar ``<path>.json`` (e.g.
+        round-trip exactly.  The metadata (``N``, ``bc``, ``mass``, ``refine``, the failures,
+        the format version) go to the sidecar ``<path>.json`` (e.g.
         ``table.csv.json``), written with it; :meth:`load` reads both.
 
         Parameters
@@ -386,9 +339,11 @@ class DescriptorTable:
         """Read a table written by :meth:`save` (``.npz`` or ``.csv``).
 
         A ``.csv`` is read with its sidecar ``<path>.json``; without the sidecar (a CSV
-        copied alone) it loads with the defaults ``M=16``, ``transform='weyl'``,
-        ``bc='neumann'``, ``mass='consistent'`` and a warning.  Tables of format version 1
-        (the metadata on a first ``#`` line of the CSV) load as well.
+        copied alone) it loads with the defaults ``bc='neumann'``, ``mass='consistent'`` and
+        a warning.  Tables of format versions 1 (the metadata on a first ``#`` line of the
+        CSV) and 2 load as well: their eigenvalues, areas, names and labels mean what they
+        meant; the ``M`` and ``transform`` they store (the defaults of a keyword form of
+        :meth:`descriptors`) are not used: a :class:`cshape.Descriptor` says them.
 
         Raises
         ------
@@ -426,10 +381,10 @@ class DescriptorTable:
                 _check_meta(meta, path)
                 lam = z["lam"].reshape(-1, int(meta["N"]))
                 return cls(z["names"].tolist(), lam, z["areas"], z["labels"].tolist(),
-                           M=meta["M"], bc=meta["bc"], mass=meta["mass"],
+                           bc=meta["bc"], mass=meta["mass"],
                            seconds=z["seconds"], cached=z["cached"],
                            failures=meta["failures"],
-                           transform=meta.get("transform", "weyl"),
+                           refine=meta.get("refine", "none"),
                            components=z["components"] if "components" in z.files else None)
         with open(path, newline="", encoding="utf-8") as f:
             first = f.readline()
@@ -455,10 +410,80 @@ class DescriptorTable:
                              f"but its metadata say N = {N}")
         lam = np.array([[float(x) for x in r[start:]] for r in body]).reshape(len(body), N)
         return cls([r[0] for r in body], lam, [float(r[2]) for r in body],
-                   [r[1] for r in body], M=meta["M"], bc=meta["bc"], mass=meta["mass"],
+                   [r[1] for r in body], bc=meta["bc"], mass=meta["mass"],
                    seconds=[float(r[3]) for r in body], cached=[r[4] == "1" for r in body],
-                   failures=meta["failures"], transform=meta.get("transform", "weyl"),
+                   failures=meta["failures"], refine=meta.get("refine", "none"),
                    components=[int(r[5]) for r in body] if start == 6 else None)
+
+
+class CollectionDistances(NamedTuple):
+    """The distances of a described collection under one descriptor.
+
+    Attributes
+    ----------
+    D : ndarray, shape (q, q)
+        Euclidean distances of the descriptors of the rows kept.
+    rows : ndarray of int, shape (q,)
+        The table rows kept, in order.
+    names, labels : list of str, length q
+        Their names and classes.
+    left_out : list of (str, str)
+        ``(name, reason)`` of every row that could not be described.
+    descriptor : Descriptor
+        The descriptor compared (its :attr:`~cshape.Descriptor.label` says it in words).
+    """
+
+    D: np.ndarray
+    rows: np.ndarray
+    names: list[str]
+    labels: list[str]
+    left_out: list[tuple[str, str]]
+    descriptor: Descriptor
+
+
+def collection_distances(table: DescriptorTable, descriptor: Descriptor | None = None
+                         ) -> CollectionDistances:
+    """Distances between the shapes of a described collection, under one descriptor.
+
+    One shape never fails the collection: a row that cannot be described (a mesh of
+    several pieces, too few eigenvalues) is left out, and one :class:`cshape.CShapeWarning`
+    names every such row.  What the figures of a collection draw (MDS, overview).
+
+    Parameters
+    ----------
+    table : DescriptorTable
+    descriptor : Descriptor, optional
+        Default: :data:`cshape.DEFAULT` at the table's ``N``.
+
+    Returns
+    -------
+    CollectionDistances
+
+    Raises
+    ------
+    TypeError
+        ``descriptor`` not a :class:`cshape.Descriptor`.
+    ValueError
+        If no shape (or a single one) can be described.
+    """
+    d = _given_or_default(descriptor, table.N)
+    X, bad = d.rows(table.lam, table.areas, table.zero_modes)
+    rows = np.setdiff1d(np.arange(len(table)), np.fromiter(bad, dtype=np.int64))
+    left_out = [(table.names[i], " ".join(str(why).split())) for i, why in bad.items()]
+    p, title = len(table), d.label
+    if left_out:
+        shown = ", ".join(n for n, _ in left_out[:10])
+        more = f" and {len(left_out) - 10} more" if len(left_out) > 10 else ""
+        warnings.warn(
+            f"{len(left_out)} of {p} shapes cannot be described by {title} and are left "
+            f"out of the figures: {shown}{more} ({left_out[0][1]})",
+            CShapeWarning, stacklevel=2)
+    if len(rows) < 2:
+        raise ValueError(
+            f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "
+            "needs two or more: choose another descriptor (descriptor=...)")
+    return CollectionDistances(distance_matrix(X), rows, [table.names[i] for i in rows],
+                               [table.labels[i] for i in rows], left_out, d)
 
 
 def sidecar_path(path: str | os.PathLike[str]) -> Path:
@@ -472,10 +497,10 @@ def _read_sidecar(path: str | os.PathLike[str], N: int) -> dict[str, Any]:
     if not side.is_file():
         warnings.warn(
             f"{str(path)!r} has no metadata file {str(side)!r} (written with it by "
-            "DescriptorTable.save); read with M=16, transform='weyl', bc='neumann', "
-            "mass='consistent'", CShapeWarning, stacklevel=4)
-        return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": N, "M": 16,
-                "transform": "weyl", "bc": "neumann", "mass": "consistent", "failures": []}
+            "DescriptorTable.save); read with bc='neumann', mass='consistent'",
+            CShapeWarning, stacklevel=4)
+        return {"format": _FORMAT, "format_version": _FORMAT_VERSION, "N": N,
+                "bc": "neumann", "mass": "consistent", "failures": []}
     try:
         meta = json.loads(side.read_text(encoding="utf-8"))
     except (OSError, UnicodeError, json.JSONDecodeError) as exc:

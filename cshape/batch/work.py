@@ -18,8 +18,8 @@ if TYPE_CHECKING:
     from ..mesh import MeshLike
 
 #: One eigensolve of a batch run: (row, mesh or path, N, bc, mass, cache folder or None,
-#: content key, None when the worker computes it from the file).
-Task = tuple[int, Any, int, str, str, str | None, str | None]
+#: content key, None when the worker computes it from the file; refine).
+Task = tuple[int, Any, int, str, str, str | None, str | None, str]
 #: What a worker sends back: ``{'index', 'ok', 'lam', 'area', ...}`` or ``{'ok': False,
 #: 'error'}``.
 Result = dict[str, Any]
@@ -51,24 +51,25 @@ def _work(task: Task) -> Result:
 
 
 def _work_inner(task: Task) -> Result:
-    index, source, N, bc, mass, cache_dir, key = task
+    index, source, N, bc, mass, cache_dir, key, refine = task
     t0 = time.perf_counter()
     try:
         mesh = load_source(source)
         if key is None:
-            key = mesh_key(mesh, bc, mass)
+            key = mesh_key(mesh, bc, mass, refine)
             if cache_dir is not None:
                 hit = _read_entry(cache_dir, key, N)
                 if hit is not None:
                     hit.update(index=index, ok=True)
                     return hit
         fixed = repair_mesh(mesh)
-        lam = shape_dna(fixed, N=N, bc=bc, mass=mass)
+        lam = shape_dna(fixed, N=N, bc=bc, mass=mass, refine=refine)
         return {"index": index, "ok": True, "lam": lam, "area": float(fixed.area),
                 "components": int(fixed.n_components),
                 "key": key, "seconds": time.perf_counter() - t0, "cached": False,
                 "n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
-                "params": {"N": N, "bc": bc, "mass": mass, "cache_version": CACHE_VERSION}}
+                "params": {"N": N, "bc": bc, "mass": mass, "refine": refine,
+                           "cache_version": CACHE_VERSION}}
     except Exception as exc:  # noqa: BLE001 - reported and skipped by describe
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
         return {"index": index, "ok": False, "error": f"{type(exc).__name__}: {msg}"}

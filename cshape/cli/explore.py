@@ -24,6 +24,7 @@ status 2.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import glob
 import json
 import os
@@ -43,7 +44,7 @@ if TYPE_CHECKING:
     import numpy as np
 
     from ..batch import DescriptorTable
-    from ..descriptor import Descriptor
+    from ..descriptors import Descriptor
 
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
@@ -172,6 +173,12 @@ def _transforms() -> tuple[str, ...]:
     return TRANSFORMS
 
 
+def _refinements() -> tuple[str, ...]:
+    from ..spectrum import REFINEMENTS
+
+    return REFINEMENTS
+
+
 # ============================================================================ describe
 def _cmd_describe(args: argparse.Namespace) -> int:
     from ..batch import describe
@@ -196,9 +203,9 @@ def _cmd_describe(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     with _warnings_now((LONG_RUN_PREFIX,), "describe") as caught:
         table = describe(
-            records, N=args.N, M=args.M, bc=args.bc, n_jobs=args.jobs, client=args.dask,
+            records, N=args.N, bc=args.bc, n_jobs=args.jobs, client=args.dask,
             cache_dir=False if args.no_cache else args.cache_dir, progress=_progress(args),
-            on_error="warn", transform=args.transform,
+            on_error="warn", refine=args.refine,
         )
     seconds = time.perf_counter() - t0
     # describe's own summary of the failures is replaced by the list below; each mesh's
@@ -234,8 +241,8 @@ def _cmd_describe(args: argparse.Namespace) -> int:
                        "zero modes are dropped by the log descriptors)")
         print(f"cshape describe: {len(table)} meshes ({n_cached} from the cache"
               f"{f', {n_fail} failed' if n_fail else ''}) in {seconds:.1f} s, "
-              f"N={table.N}, M={table.M}{several}{where}; `cshape query` compares the "
-              f"{table.describe_recipe()} (--kind cshape: the paper's)", file=sys.stderr)
+              f"N={table.N}{several}{where}; `cshape query` compares the "
+              f"{_default_label(table.N)} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
 
 
@@ -285,7 +292,7 @@ def _print_table(table: DescriptorTable, width: int = 4) -> None:
     rows = dict(zip(kept.tolist(), S, strict=True))
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
-    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {table.describe_recipe()}: "
+    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_default_label(table.N)}: "
           f"first {min(width, S.shape[1])} values")
     pieces = _pieces(table)
     for i, name in enumerate(table.names):
@@ -302,19 +309,19 @@ def add_describe(sub: _SubParsers) -> None:
         description="Compute the Shape-DNA (N smallest Laplace-Beltrami eigenvalues) of every "
         "mesh under PATH (mesh files, folders searched recursively, glob patterns; class "
         "labels from sub-folder names) and write a descriptor table, from which every "
-        "descriptor (cShape-DNA for any M, Shape-DNA, F1) is derived.  Eigenvalues are "
-        "cached: a second run over the same meshes reads them back.",
+        "descriptor (cShape-DNA for any M and transform, Shape-DNA, F1) is derived: "
+        "`cshape query` and `cshape overview` choose it (--kind, -M, --transform).  "
+        "Eigenvalues are cached: a second run over the same meshes reads them back.",
         epilog="example: cshape describe meshes/ --out table.csv",
     )
     p.add_argument("paths", nargs="+", metavar="PATH", help="mesh files, folders or globs")
     p.add_argument("-N", type=int, default=100, help="Shape-DNA length N (default 100)")
-    p.add_argument("-M", type=int, default=16,
-                   help="cShape-DNA half-width M: 2M+1 values (default 16)")
-    p.add_argument("--transform", default="weyl", choices=_transforms(),
-                   help="cShape-DNA transform: 'weyl' (the paper, default), 'log-weyl' or "
-                   "'log-weyl-dct' (see cshape.compact_shape_dna)")
     p.add_argument("--bc", default="neumann", choices=("neumann", "dirichlet"),
                    help="boundary condition on open surfaces (default neumann)")
+    p.add_argument("--refine", default="none", choices=_refinements(),
+                   help="'none': linear FEM (the paper, default); 'extrapolate': Richardson "
+                   "extrapolation over one midpoint subdivision, eigenvalues that depend far "
+                   "less on the mesh resolution, at several times the cost (see cshape.shape_dna)")
     p.add_argument("--jobs", type=int, default=1,
                    help="local worker processes (default 1; -1: all cores)")
     p.add_argument("--dask", metavar="ADDRESS", default=None,
@@ -491,16 +498,30 @@ def _kind_arg(value: str) -> str:
 
 
 def _default_label(N: int = 100) -> str:
-    """The exploration default (cshape.DEFAULT) in words."""
-    from ..descriptor import select_descriptor
+    """The exploration default (cshape.DEFAULT, for N eigenvalues) in words."""
+    from ..descriptors.recipe import _given_or_default
 
-    return select_descriptor(N=N).label
+    return _given_or_default(None, N).label
 
 
 def chosen_descriptor(args: argparse.Namespace, table: DescriptorTable) -> Descriptor:
-    """The :class:`cshape.Descriptor` of ``--kind``, ``-M``, ``-N`` and ``--transform``,
-    with the table's ``M``, ``N`` and transform where not given."""
-    return table.descriptor_for(args.kind, args.M, args.N, args.transform)
+    """The :class:`cshape.Descriptor` of ``--kind``, ``-M``, ``-N`` and ``--transform``.
+
+    Without ``--kind``: :data:`cshape.DEFAULT` at ``-N`` (default: the table's ``N``), with
+    ``-M`` and ``--transform`` where given.  With it: that kind at ``-N``, with ``-M``
+    (default: the paper's 16, lowered to what ``N`` allows) and ``--transform`` (default:
+    the paper's 'weyl').
+    """
+    from ..descriptors import Descriptor
+    from ..descriptors.recipe import _given_or_default
+
+    N = table.N if args.N is None else args.N
+    given = {k: v for k, v in (("M", args.M), ("transform", args.transform)) if v is not None}
+    if args.kind is None:
+        return _given_or_default(None, N).replace(**given)
+    if args.M is not None:
+        return Descriptor(args.kind, N=N, **given)
+    return Descriptor(args.kind, **given).for_N(N)
 
 
 def _query_target(args: argparse.Namespace, table: DescriptorTable
@@ -517,8 +538,8 @@ def _query_target(args: argparse.Namespace, table: DescriptorTable
     if Path(target).is_file():
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N, M=table.M,
-                           bc=table.bc, mass=table.mass, transform=table.transform,
+            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N,
+                           bc=table.bc, mass=table.mass, refine=table.refine,
                            cache_dir=False if args.no_cache else args.cache_dir,
                            progress=False, on_error="warn")
         print_warnings(caught, "query", False, skip=("describe: ",))
@@ -548,8 +569,10 @@ def _cmd_query(args: argparse.Namespace) -> int:
         warnings.simplefilter("always")
         index = DescriptorIndex.from_table(table, descriptor=chosen_descriptor(args, table))
     print_warnings(caught, "query", False)
+    desc = index.descriptor_
+    assert desc is not None  # from_table gives the index its descriptor
     by = (f"--kind {args.kind}" if args.kind
-          else f"the default descriptor ({index.descriptor})")
+          else f"the default descriptor ({desc.label})")
     target = args.target
     lam, area, exclude, what, pieces = _query_target(args, table)
     rows = index.rows_  # the table rows the kind describes
@@ -566,26 +589,23 @@ def _cmd_query(args: argparse.Namespace) -> int:
     hits = [(float(d), int(rows[i])) for d, i in zip(dist[0], ind[0], strict=True)
             if rows[i] != exclude]
     hits = hits[:k]
-    r = index.recipe_
-    assert r is not None  # from_table gives the index its descriptor
-    desc = index.descriptor
     if k < args.k:
         print(f"cshape query: only {k} other shapes in the table"
               f"{' that ' + by + ' describes' if len(rows) < len(table) else ''}",
               file=sys.stderr)
     if args.plot is not None:
         wrote = write_neighbour_strip(args, table, hits, None if exclude is not None else target,
-                                      desc)
+                                      desc.label)
         print(f"cshape query: wrote {wrote}", file=sys.stderr)
     if args.json:
-        print(json.dumps({"query": target, **r, "descriptor": desc,
+        print(json.dumps({"query": target, **dataclasses.asdict(desc), "descriptor": desc.label,
                           "neighbours": [{"rank": j + 1, "name": table.names[i],
                                           "label": table.labels[i], "distance": d}
                                          for j, (d, i) in enumerate(hits)]}))
         return 0
     among = (f"the {len(table)} shapes" if len(rows) == len(table)
              else f"the {len(rows)} of {len(table)} shapes it describes")
-    print(f"nearest to {what} by the {desc}, Euclidean distance, among {among} of "
+    print(f"nearest to {what} by the {desc.label}, Euclidean distance, among {among} of "
           f"{args.table}:")
     w = max([len(table.names[i]) for _, i in hits] + [4])
     print(f"{'rank':>4}  {'distance':>11}  {'name':<{w}}  label")
@@ -602,11 +622,11 @@ def add_descriptor_options(p: argparse.ArgumentParser) -> None:
                    "paper's cShape-DNA)")
     p.add_argument("-M", type=int, default=None,
                    help="crop half-width, 2M+1 values (default: the default descriptor's, or "
-                   "the table's M with --kind)")
+                   "with --kind the paper's 16, lowered to what N allows)")
     p.add_argument("-N", type=int, default=None,
                    help="use the first N eigenvalues (default: the table's N)")
     p.add_argument("--transform", default=None, choices=_transforms(),
-                   help="cShape-DNA transform (default: the table's)")
+                   help="cShape-DNA transform (default: the paper's 'weyl')")
 
 
 def add_query(sub: _SubParsers) -> None:
@@ -615,7 +635,7 @@ def add_query(sub: _SubParsers) -> None:
         help="the nearest shapes of a descriptor table to a mesh file or a shape of the table",
         description="Load a table written by `cshape describe --out` and list the k shapes "
         "nearest to MESH_OR_NAME (a shape of the table, or a mesh file, described with the "
-        "table's N, boundary condition, mass matrix and transform), with their distances.",
+        "table's N, boundary condition and mass matrix), with their distances.",
         epilog="example: cshape query table.csv spot -k 5 --plot spot.png --meshes meshes/",
     )
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")

@@ -31,10 +31,10 @@ __all__ = ["add_overview"]
 
 # ============================================================================ overview
 def _cmd_overview(args: argparse.Namespace) -> int:
-    from ..batch import DescriptorTable
+    from ..batch import DescriptorTable, collection_distances
     from ..compare import mds_embedding
     from ..plots.collection import mds_layout
-    from ..plots.explore import collection_distances, overview_html, plot_overview, save_figure
+    from ..plots.explore import overview_html, plot_overview, save_figure
 
     outs = [check_figure_path(o, "--out") for o in args.out]
     if len({o.resolve() for o in outs}) < len(outs):
@@ -69,7 +69,7 @@ def _cmd_overview(args: argparse.Namespace) -> int:
         far = [c.names[i] for i in lay["outliers"].nonzero()[0]]
         n_classes = len(set(c.labels))
         msg = (f"cshape overview: {len(c.names)} shapes, {n_classes} classes, compared by "
-               f"{c.descriptor}")
+               f"{c.descriptor.label}")
         if c.left_out:
             msg += f"; {len(c.left_out)} left out"
         if far:

@@ -2,7 +2,7 @@
 
 * :data:`SMALL` and :func:`size` - the one size switch of every lesson (``CSHAPE_SMALL=1``,
   which ``cshape notebooks --small`` and the test suite set, makes meshes and ``N`` small);
-* :data:`PAPER`                  - the reference of the paper the lessons follow;
+* :data:`CITATION`               - the reference of the paper the lessons follow;
 * :func:`spot`, :func:`real_mesh` - the real mesh of lessons 02 and 03, shipped in the package;
 * :func:`demo_collection`        - the labelled collection of lessons 04, 05 and 07;
 * :func:`retrieval_collection`   - a collection whose descriptors differ (lessons 04 and 08).
@@ -25,7 +25,7 @@ from ..readers import load_mesh
 _T = TypeVar("_T")
 
 __all__ = [
-    "PAPER",
+    "CITATION",
     "SMALL",
     "demo_collection",
     "real_mesh",
@@ -39,7 +39,7 @@ __all__ = [
 SMALL = os.environ.get("CSHAPE_SMALL") == "1"
 
 #: The paper the lessons follow.
-PAPER = ("Z. Gao, Z. Yu and X. Pang, A compact shape descriptor for triangular surface "
+CITATION = ("Z. Gao, Z. Yu and X. Pang, A compact shape descriptor for triangular surface "
          "meshes, Computer-Aided Design 53 (2014) 62-69")
 
 

@@ -26,15 +26,12 @@ require_extra("cshape.plots", "plots", ("matplotlib", "plotly"))
 from .collection import (  # noqa: E402
     annotate_points,
     matrix_ticks,
-    mds_outliers,
-    nearest_neighbours,
     plot_distance_matrix,
     plot_mds,
     short_label,
     short_labels,
 )
 from .explore import (  # noqa: E402
-    collection_distances,
     interactive_mds,
     neighbour_strip_plotly,
     overview_html,
@@ -72,14 +69,11 @@ from .viewer import (  # noqa: E402
 
 __all__ = [
     "annotate_points",
-    "collection_distances",
     "diagonal_share",
     "eigenfunction_explorer",
     "interactive_mds",
     "map_colours",
     "matrix_ticks",
-    "mds_outliers",
-    "nearest_neighbours",
     "neighbour_strip_plotly",
     "new_figure",
     "overview_html",

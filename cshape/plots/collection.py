@@ -2,10 +2,9 @@
 (Fig. 3, 6), with short readable labels, and the pure functions behind them.
 
 * :func:`plot_mds` - the MDS scatter plot: square, one colour and marker per class, names
-  where they fit, outliers (:func:`mds_outliers`) marked at the border (:func:`border_points`)
-  so that the rest is drawn at a scale where it separates;
+  where they fit, outliers (:func:`cshape.compare.mds_outliers`) marked at the border
+  (:func:`border_points`) so that the rest is drawn at a scale where it separates;
 * :func:`plot_distance_matrix`, :func:`matrix_ticks` - the matrix image and its ticks;
-* :func:`nearest_neighbours` - each shape's ``k`` nearest shapes, for hover texts and strips;
 * :func:`short_label`, :func:`short_labels`, :func:`annotate_points` - readable labels.
 """
 
@@ -28,7 +27,7 @@ from .._checks import (
     check_real,
     check_square,
 )
-from ..compare import scale_255
+from ..compare import mds_outliers, median_distances, scale_255
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -49,12 +48,6 @@ MAX_LEGEND_CLASSES = 20
 LEGEND_COLUMNS = 4
 #: Marker shapes of the classes: classes 0-19 are circles in 20 colours, 20-39 squares, ...
 CLASS_MARKERS = "os^Dv<>pP*Xh"
-#: A point is an outlier of an MDS picture when its median distance to the other points is
-#: more than this many times the typical one (:func:`mds_outliers`).
-OUTLIER_FACTOR = 5.0
-#: :func:`mds_outliers` measures each point's median distance to at most this many points
-#: (evenly spaced through the rows) to stay within memory on large collections.
-OUTLIER_REFERENCE_POINTS = 2000
 #: Longest point or tick label, in characters; longer names are cut in the middle.
 LABEL_WIDTH = 16
 
@@ -188,77 +181,10 @@ def _set_square(ax: Axes, centre: NDArray[np.float64], half: float) -> None:
 
 
 # --------------------------------------------------------------------------- outliers
-def median_distances(Y: ArrayLike, *, reference: int = OUTLIER_REFERENCE_POINTS
-                     ) -> NDArray[np.float64]:
-    """Each point's median Euclidean distance to the other points.
-
-    Parameters
-    ----------
-    Y : array_like, shape (p, d)
-    reference : int, default=OUTLIER_REFERENCE_POINTS
-        Measure against at most this many points, evenly spaced through the rows (all of
-        them when ``p <= reference``), a point never against itself.
-
-    Returns
-    -------
-    ndarray, shape (p,)
-        Zeros when ``p < 2``.
-    """
-    Y = check_points(Y)
-    reference = check_int("reference", reference, min=1)
-    p = len(Y)
-    if p < 2:
-        return np.zeros(p)
-    ref = np.unique(np.linspace(0, p - 1, min(p, reference)).round().astype(np.int64))
-    out = np.empty(p)
-    for start in range(0, p, 512):  # blocks of rows: memory 512 x reference
-        rows = np.arange(start, min(p, start + 512))
-        d = np.linalg.norm(Y[rows, None, :] - Y[None, ref, :], axis=2)
-        own = rows[:, None] == ref[None, :]
-        d[own] = np.inf  # not against itself: sorted last, and left out of the count
-        d.sort(axis=1)
-        m = len(ref) - own.any(axis=1)  # values counted in each row
-        lo, hi = (m - 1) // 2, m // 2
-        r = np.arange(len(rows))
-        out[rows] = (d[r, lo] + d[r, hi]) / 2
-    return out
-
-
-def mds_outliers(Y: ArrayLike, *, factor: float = OUTLIER_FACTOR) -> NDArray[np.bool_]:
-    """The points of a picture that lie far from the rest: a robust rule.
-
-    Point ``i`` is an outlier when its median distance to the other points,
-    ``m_i = median_j |Y_i - Y_j|``, exceeds ``factor`` times the median of all ``m``.
-    A Gaussian cloud of 4000 points reaches at most 4.3 times the median (a thin 1-D
-    cloud; 2.9 in 2-D), so the default flags none of it; a coarse control cage among
-    finer meshes reaches 8 to 55.  Fewer than half of the points can be outliers.
-
-    Parameters
-    ----------
-    Y : array_like, shape (p, d)
-        Coordinates (an MDS embedding).
-    factor : float, default=OUTLIER_FACTOR
-
-    Returns
-    -------
-    ndarray of bool, shape (p,)
-        None when ``p < 3`` or when most points coincide (a typical distance of 0).
-    """
-    Y = check_points(Y)
-    factor = check_real("factor", factor, above=1)
-    if len(Y) < 3:
-        return np.zeros(len(Y), dtype=bool)
-    m = median_distances(Y)
-    typical = float(np.median(m))
-    if not typical > 0:
-        return np.zeros(len(Y), dtype=bool)
-    return m > factor * typical
-
-
 def outlier_ratios(Y: ArrayLike) -> NDArray[np.float64]:
     """Each point's median distance to the others over the median of those: how many
     times farther than typical a point lies (compared with ``factor`` by
-    :func:`mds_outliers`)."""
+    :func:`cshape.compare.mds_outliers`)."""
     m = median_distances(Y)
     typical = float(np.median(m)) if len(m) else 0.0
     return m / typical if typical > 0 else np.ones_like(m)
@@ -357,39 +283,7 @@ def spread_on_border(P: ArrayLike, centre: ArrayLike, half: float, gap: float
     return out
 
 
-# --------------------------------------------------------------------------- neighbours
-def nearest_neighbours(D: ArrayLike, k: int = 3) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """Each shape's ``k`` nearest other shapes in a distance matrix.
-
-    Parameters
-    ----------
-    D : array_like, shape (p, p)
-        Distances.
-    k : int, default=3
-        At most ``p - 1`` are returned.
-
-    Returns
-    -------
-    ind : ndarray of int, shape (p, min(k, p - 1))
-        Row ``i``: the nearest shapes to shape ``i``, nearest first, ``i`` itself left out
-        (by index: a duplicate at distance 0 is a neighbour); ties in the order of rows.
-    dist : ndarray, shape (p, min(k, p - 1))
-        Their distances.
-
-    >>> ind, dist = nearest_neighbours([[0, 1, 3], [1, 0, 1], [3, 1, 0]], k=2)
-    >>> ind.tolist(), dist.tolist()
-    ([[1, 2], [0, 2], [1, 0]], [[1.0, 3.0], [1.0, 1.0], [1.0, 3.0]])
-    """
-    A = check_square(D, "D")
-    k = check_int("k", k, min=1)
-    p = len(A)
-    k = min(k, p - 1)
-    B = A.astype(np.float64, copy=True)
-    np.fill_diagonal(B, np.inf)
-    ind = np.argsort(B, axis=1, kind="stable")[:, :k]
-    return ind, np.take_along_axis(A, ind, axis=1).astype(np.float64)
-
-
+# --------------------------------------------------------------------------- labels
 def _side_points(ax: Axes) -> float:
     """The shorter side of ``ax`` in points (after a layout pass, if the figure has a
     layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
@@ -479,7 +373,7 @@ def mds_layout(Y: ArrayLike, outliers: str | ArrayLike | None = "auto", *,
     ----------
     Y : array_like, shape (p, 2)
     outliers : 'auto', None or array_like of bool, default='auto'
-        'auto': :func:`mds_outliers`; None: no outliers (every point where it is).
+        'auto': :func:`cshape.compare.mds_outliers`; None: no outliers (every point where it is).
     margin : float, default=0.08
         Room around the inliers, as a fraction of their extent on each side.
 
@@ -534,11 +428,11 @@ def plot_mds(Y: ArrayLike, names: Sequence[Any] | None = None,
     Readable from 3 to thousands of shapes with any names, and with outliers:
 
     * the panel is square with equal units on both axes;
-    * outliers (:func:`mds_outliers`: a point whose median distance to the others is
-      :data:`OUTLIER_FACTOR` times the typical one, such as a coarse control cage among
-      fine meshes) are drawn as arrow heads on the border, in their direction, with their
-      name and how many times farther than typical they lie; the other points fill the
-      panel at their own scale, where they separate;
+    * outliers (:func:`cshape.compare.mds_outliers`: a point whose median distance to the
+      others is :data:`cshape.compare.OUTLIER_FACTOR` times the typical one, such as a
+      coarse control cage among fine meshes) are drawn as arrow heads on the border, in
+      their direction, with their name and how many times farther than typical they lie;
+      the other points fill the panel at their own scale, where they separate;
     * points are named (the part after the last ``/``, at most :data:`LABEL_WIDTH`
       characters) up to ``max_names`` shapes, where a name covers no other; beyond, each
       class's name is written at the median of its points;

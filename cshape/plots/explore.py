@@ -1,7 +1,9 @@
 """Pictures for exploring one's own collection: which shapes lie near which.
 
-* :func:`collection_distances` - the distance matrix of a described collection under one
-  descriptor, with the rows that cannot be described left out (and named in a warning);
+The distances they draw come from :func:`cshape.batch.collection_distances` (the rows that
+cannot be described left out and named), the neighbours and outliers from
+:func:`cshape.compare.nearest_neighbours` and :func:`cshape.compare.mds_outliers`.
+
 * :func:`interactive_mds`      - the MDS as a plotly figure: each shape's name, class and
   nearest neighbours on hover, outliers on the border, at any size;
 * :func:`plot_neighbour_strip`, :func:`neighbour_strip_plotly` - a query and its nearest
@@ -11,31 +13,27 @@
 * :func:`figure_html`, :func:`save_figure` - offline HTML (plotly.js embedded, no network)
   and atomic writes of any of these figures.
 
-Every figure names the descriptor it compared (:func:`descriptor_title`).  The pure
-functions behind the pictures (:func:`class_summary`, :func:`thumbnail_mesh`, and
-:func:`cshape.plots.collection.nearest_neighbours`, :func:`~cshape.plots.collection.mds_layout`)
-are tested directly.
+Every figure names the descriptor it compared (its :attr:`cshape.Descriptor.label`).  The
+pure functions behind the pictures (:func:`class_summary`, :func:`thumbnail_mesh`,
+:func:`~cshape.plots.collection.mds_layout`) are tested directly.
 """
 
 from __future__ import annotations
 
 import html
 import os
-import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._checks import check_entries, check_labels, check_points, check_square
 from .._files import atomic_write
-from ..compare import distance_matrix
-from ..descriptor import Descriptor, select_descriptor
-from ..mesh import CShapeWarning, as_mesh
+from ..compare import nearest_neighbours
+from ..mesh import as_mesh
 from .collection import (
     class_styles,
     mds_layout,
-    nearest_neighbours,
     plot_distance_matrix,
     plot_mds,
     short_label,
@@ -49,19 +47,15 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from numpy.typing import ArrayLike
 
-    from ..batch import DescriptorTable
+    from ..descriptors import Descriptor
     from ..mesh import MeshLike
 
     #: a distance matrix, shape (p, p)
     _Matrix = np.ndarray | Sequence[Sequence[float]]
 
 __all__ = [
-    "CollectionDistances",
     "class_summary",
-    "collection_distances",
     "colour_limit",
-    "default_kind",
-    "descriptor_title",
     "figure_html",
     "guess_vertical_axis",
     "interactive_mds",
@@ -86,120 +80,6 @@ OVERVIEW_TABLE_ROWS = 20
 _PLOTLY_SYMBOLS = {"o": "circle", "s": "square", "^": "triangle-up", "D": "diamond",
                    "v": "triangle-down", "<": "triangle-left", ">": "triangle-right",
                    "p": "pentagon", "P": "cross", "*": "star", "X": "x", "h": "hexagon"}
-
-
-# =========================================================================== descriptors
-def default_kind() -> str:
-    """The kind compared when none is asked for: that of :data:`cshape.DEFAULT` (with its
-    ``M`` and normalisation)."""
-    from .. import descriptor
-
-    return descriptor.DEFAULT.kind
-
-
-def descriptor_title(kind: str, M: int = 16, N: int = 100, transform: str = "weyl",
-                     normalization: str = "area") -> str:
-    """What a figure compared, in words: the :attr:`cshape.Descriptor.label`, which the
-    query header and ``cshape describe`` use too.
-
-    >>> descriptor_title("truncated-log", M=8)
-    'truncated log spectrum (17 values)'
-    >>> descriptor_title("truncated-log", M=8, normalization="weyl")
-    'truncated log spectrum, Weyl-normalised (17 values)'
-    """
-    return Descriptor(kind, M=M, N=N, transform=transform, normalization=normalization).label
-
-
-class CollectionDistances(NamedTuple):
-    """The distances of a described collection under one descriptor.
-
-    Attributes
-    ----------
-    D : ndarray, shape (q, q)
-        Euclidean distances of the descriptors of the rows kept.
-    rows : ndarray of int, shape (q,)
-        The table rows kept, in order.
-    names, labels : list of str, length q
-        Their names and classes.
-    left_out : list of (str, str)
-        ``(name, reason)`` of every row that could not be described.
-    descriptor : str
-        The :attr:`~cshape.Descriptor.label` of the descriptor compared.
-    kind : str
-    """
-
-    D: np.ndarray
-    rows: np.ndarray
-    names: list[str]
-    labels: list[str]
-    left_out: list[tuple[str, str]]
-    descriptor: str
-    kind: str
-
-
-def collection_distances(table: DescriptorTable, kind: str | None = None, *, M: int | None = None,
-                         N: int | None = None, transform: str | None = None,
-                         normalization: str | None = None,
-                         descriptor: Descriptor | None = None) -> CollectionDistances:
-    """Distances between the shapes of a described collection, under one descriptor.
-
-    One shape never fails the collection: a row that cannot be described under ``kind``
-    (a mesh of several pieces, too few eigenvalues) is left out, and one
-    :class:`cshape.CShapeWarning` names every such row.
-
-    Parameters
-    ----------
-    table : DescriptorTable
-        Or any object with ``names``, ``labels``, ``lam`` (p, n), ``areas`` (p,), ``M``,
-        ``N`` and ``transform``.
-    kind : str, optional
-        See :func:`cshape.compare.descriptor_matrix`; default: the exploration default
-        :data:`cshape.DEFAULT` (kind, ``M`` and normalisation).
-    M, N, transform : optional
-        Default: the default descriptor's ``M`` and transform when ``kind`` is None, else
-        the table's; the table's ``N``.
-    normalization : {'area', 'fiedler', 'weyl'}, optional
-        Default: the default descriptor's when ``kind`` is None, else 'area' (the paper's).
-    descriptor : Descriptor, optional
-        The descriptor as one value (e.g. :data:`cshape.PAPER`) instead of ``kind``, ``M``,
-        ``N``, ``transform`` and ``normalization``.
-
-    Returns
-    -------
-    CollectionDistances
-
-    Raises
-    ------
-    ValueError
-        If no shape (or a single one) can be described under ``kind``, or ``kind`` is
-        unknown.
-    """
-    d = select_descriptor(descriptor, kind=kind, M=M, N=N, transform=transform,
-                          normalization=normalization, base_M=table.M, base_N=table.N,
-                          base_transform=table.transform)
-    title = d.label
-    p = len(table.names)
-    areas = np.asarray(table.areas, dtype=np.float64).reshape(-1)
-    zero_modes = getattr(table, "zero_modes", None)
-    if zero_modes is not None:
-        zero_modes = np.asarray(zero_modes)
-    X, bad = d.rows(table.lam, areas, zero_modes)
-    rows = np.array([i for i in range(p) if i not in bad], dtype=np.int64)
-    left_out = [(table.names[i], " ".join(str(why).split())) for i, why in bad.items()]
-    if left_out:
-        shown = ", ".join(n for n, _ in left_out[:10])
-        more = f" and {len(left_out) - 10} more" if len(left_out) > 10 else ""
-        warnings.warn(
-            f"{len(left_out)} of {p} shapes cannot be described by {title} and are left "
-            f"out of the figures: {shown}{more} ({left_out[0][1]})",
-            CShapeWarning, stacklevel=2)
-    if len(rows) < 2:
-        raise ValueError(
-            f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "
-            "needs two or more: choose another kind (kind=...)")
-    D = distance_matrix(X)
-    return CollectionDistances(D, rows, [table.names[i] for i in rows],
-                               [table.labels[i] for i in rows], left_out, title, d.kind)
 
 
 # =========================================================================== classes
@@ -300,7 +180,7 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
         The distances; without it the hover shows no neighbours.
     k : int, default=3
     title : str, optional
-        Say which descriptor was compared (:func:`descriptor_title`).
+        Say which descriptor was compared (its :attr:`cshape.Descriptor.label`).
     outliers : 'auto', None or array_like of bool, default='auto'
         See :func:`cshape.plots.collection.mds_layout`.
     height : int, default=650
@@ -463,7 +343,7 @@ def plot_neighbour_strip(meshes: Sequence[MeshLike], names: Sequence[object],
     labels : sequence of str, optional
         Class of each mesh, written under its name.
     title : str, optional
-        Say which descriptor was compared (:func:`descriptor_title`).
+        Say which descriptor was compared (its :attr:`cshape.Descriptor.label`).
     vertical_axis : {'z', 'y', 'x'} or sequence of them, default='z'
         The axis drawn upwards, for all meshes or each (see :func:`guess_vertical_axis`).
     max_faces : int, default=THUMBNAIL_FACES
@@ -593,21 +473,34 @@ def _overview_inputs(D: ArrayLike, names: Sequence[object], labels: Sequence[obj
     return A, labels, Y
 
 
+def _compared(descriptor: Descriptor | None) -> str:
+    """What was compared, in words: the descriptor's label."""
+    from ..descriptors import Descriptor
+
+    if descriptor is None:
+        return "the descriptors"
+    if not isinstance(descriptor, Descriptor):
+        raise TypeError("descriptor must be a cshape.Descriptor (its label goes in the title), "
+                        f"got {type(descriptor).__name__}")
+    return descriptor.label
+
+
 def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object], *,
-                  Y: ArrayLike | None = None, descriptor: str = "", title: str | None = None,
-                  left_out: Sequence[tuple[str, str]] = (), random_state: int | None = 0,
-                  table_rows: int = OVERVIEW_TABLE_ROWS) -> Figure:
+                  Y: ArrayLike | None = None, descriptor: Descriptor | None = None,
+                  title: str | None = None, left_out: Sequence[tuple[str, str]] = (),
+                  random_state: int | None = 0, table_rows: int = OVERVIEW_TABLE_ROWS
+                  ) -> Figure:
     """The overview of a described collection on one page: MDS, distance matrix, classes.
 
     Parameters
     ----------
     D : array_like, shape (p, p)
-        Distances (:func:`collection_distances`).
+        Distances (:func:`cshape.batch.collection_distances`).
     names, labels : sequence of str, length p
     Y : array_like, shape (p, 2), optional
         MDS coordinates; computed from ``D`` when not given.
-    descriptor : str
-        What was compared (:func:`descriptor_title`), in the title.
+    descriptor : Descriptor, optional
+        What was compared; its :attr:`~cshape.Descriptor.label` goes in the title.
     title : str, optional
         First line of the title (e.g. the table's file name).
     left_out : sequence of (str, str)
@@ -624,6 +517,7 @@ def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     from matplotlib.figure import Figure
 
     A, labels, Y = _overview_inputs(D, names, labels, Y, random_state)
+    what = _compared(descriptor)
     p = len(A)
     rows = sorted(class_summary(A, labels), key=lambda r: (-r["n"], r["label"]))
     shown = rows[:table_rows]
@@ -640,7 +534,7 @@ def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object
                              " (colours saturate at the outliers)" if out.any() else ""))
     head = f"{title}: " if title else ""
     n_classes = len(rows)
-    sup = f"{head}{p} shapes, {n_classes} classes, compared by {descriptor}"
+    sup = f"{head}{p} shapes, {n_classes} classes, compared by {what}"
     if left_out:
         sup += (f"\nleft out ({len(left_out)}, cannot be described): "
                 + ", ".join(n for n, _ in left_out[:8]) + (" ..." if len(left_out) > 8 else ""))
@@ -709,9 +603,9 @@ th{text-align:left;background:#f4f4f4}td.n{text-align:right}.note{color:#555}"""
 
 
 def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object], *,
-                  Y: ArrayLike | None = None, descriptor: str = "", title: str | None = None,
-                  left_out: Sequence[tuple[str, str]] = (), k: int = 3,
-                  random_state: int | None = 0) -> str:
+                  Y: ArrayLike | None = None, descriptor: Descriptor | None = None,
+                  title: str | None = None, left_out: Sequence[tuple[str, str]] = (),
+                  k: int = 3, random_state: int | None = 0) -> str:
     """The overview of a described collection as one offline HTML page.
 
     An interactive MDS (:func:`interactive_mds`: names, classes and nearest neighbours on
@@ -725,23 +619,24 @@ def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     str
     """
     A, labels, Y = _overview_inputs(D, names, labels, Y, random_state)
+    what = _compared(descriptor)
     p = len(A)
     rows = class_summary(A, labels)
     head = f"{title}: " if title else ""
     mds = interactive_mds(Y, names, labels, D=A, k=k, outliers="auto",
-                          title=f"MDS of {p} shapes by {descriptor}")
+                          title=f"MDS of {p} shapes by {what}")
     n_out = int(mds_layout(Y)["outliers"].sum())
     parts = [
         "<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
         f"<title>{html.escape(head + 'overview')}</title><style>{_STYLE}</style></head><body>",
         f"<h1>{html.escape(head)}{p} shapes, {len(rows)} classes</h1>",
-        f"<p>Compared by <b>{html.escape(descriptor)}</b>, Euclidean distance. "
+        f"<p>Compared by <b>{html.escape(what)}</b>, Euclidean distance. "
         "Hover a point for its name, class and nearest shapes.</p>",
     ]
     if left_out:
         items = "".join(f"<li>{html.escape(n)}: {html.escape(w)}</li>" for n, w in left_out)
         parts.append(f"<p class='note'>Left out ({len(left_out)}: they cannot be described by "
-                     f"{html.escape(descriptor)}):</p><ul class='note'>{items}</ul>")
+                     f"{html.escape(what)}):</p><ul class='note'>{items}</ul>")
     parts += ["<h2>MDS</h2>"]
     if n_out:
         parts.append(f"<p class='note'>{n_out} outlier{'s' if n_out > 1 else ''} (median "
@@ -749,7 +644,7 @@ def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object
                      "border, pointing their way; the rest is drawn at its own scale.</p>")
     parts += [figure_html(mds, full_html=False, include_plotlyjs=True),
               "<h2>Distance matrix</h2>",
-              figure_html(_matrix_figure(A, names, labels, descriptor,
+              figure_html(_matrix_figure(A, names, labels, what,
                                          colour_limit(A, mds_layout(Y)["outliers"])),
                           full_html=False,
                           include_plotlyjs=False),

@@ -31,7 +31,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._checks import check_int
-from ..descriptors import FOUR_PI, inverse_compact_shape_dna, normalize, weyl_subtract
+from ..descriptors import inverse_compact_shape_dna, normalize, weyl_subtract
+from ..descriptors.formulas import FOUR_PI
 from ..mesh import as_mesh
 from .viewer import eigenfunction_explorer, view_mesh, view_meshes
 

@@ -5,7 +5,7 @@
 * :func:`plot_map`            - the source and the target side by side (matplotlib), the target
                                 coloured through the map, matched landmarks as marked points of
                                 one colour per pair;
-* :func:`plot_functional_map` - the functional map ``C`` (``k_T x k_S``) as an image on a
+* :func:`plot_functional_map` - the functional map ``C`` (``N_T x N_S``) as an image on a
                                 diverging colour map centred on 0;
 * :func:`diagonal_share`      - the share of ``C``'s energy near its diagonal (near 1 for
                                 near-isometric shapes, whose eigenfunctions correspond in order);
@@ -155,7 +155,7 @@ def diagonal_share(C: ArrayLike, band: int = 0) -> float:
 
     Parameters
     ----------
-    C : array_like, shape (k_T, k_S)
+    C : array_like, shape (N_T, N_S)
     band : int, default=0
         Half-width of the band (0: the diagonal only).
 
@@ -177,10 +177,10 @@ def _check_map(C: ArrayLike) -> NDArray[np.float64]:
     try:
         C = np.asarray(C, dtype=np.float64)
     except (TypeError, ValueError):
-        raise TypeError(f"C must be a 2-D array of numbers (k_T x k_S), got "
+        raise TypeError(f"C must be a 2-D array of numbers (N_T x N_S), got "
                         f"{type(C).__name__}") from None
     if C.ndim != 2 or 0 in C.shape:
-        raise ValueError(f"C must be a non-empty 2-D array (k_T x k_S), got shape {C.shape}")
+        raise ValueError(f"C must be a non-empty 2-D array (N_T x N_S), got shape {C.shape}")
     if not np.all(np.isfinite(C)):
         raise ValueError("C holds NaN or inf; pass a finite functional map")
     return C
@@ -263,7 +263,7 @@ def plot_functional_map(C: ArrayLike, *, ax: Axes | None = None, cmap: str = MAP
 
     Parameters
     ----------
-    C : array_like, shape (k_T, k_S)
+    C : array_like, shape (N_T, N_S)
         From :func:`cshape.functional_map`, :func:`cshape.zoomout` or
         ``cshape.point_map(..., return_map=True)``.
     ax : matplotlib.axes.Axes, optional

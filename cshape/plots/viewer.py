@@ -42,6 +42,7 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
     from ..mesh import Mesh, MeshLike
+    from ..spectrum import Eigenbasis
 
 __all__ = [
     "default_eye",
@@ -352,13 +353,31 @@ def view_mesh(mesh: MeshLike, scalars: ArrayLike | None = None, *, cmap: str | N
                        title=title, height=height)
 
 
+def _basis_of(mesh: Mesh, basis: object, N: int, at_least: int) -> Eigenbasis:
+    """``basis`` checked against the (repaired) mesh, or the mesh's basis of ``N`` pairs."""
+    from ..spectrum import Eigenbasis, eigenbasis
+
+    if basis is None:
+        return eigenbasis(mesh, N)
+    if not isinstance(basis, Eigenbasis):
+        raise TypeError(f"basis must be a cshape.Eigenbasis, got {type(basis).__name__}; "
+                        "compute it with cshape.eigenbasis(mesh, N)")
+    if basis.n_vertices != mesh.n_vertices or basis.N < at_least:
+        raise ValueError(
+            f"basis has {basis.N} eigenpairs on {basis.n_vertices} vertices, but the (repaired) "
+            f"mesh has {mesh.n_vertices} and at least {at_least} pairs are needed; pass "
+            f"cshape.eigenbasis(mesh, N) of this mesh with N >= {at_least}"
+        )
+    return basis
+
+
 def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
-                           eigenpairs: tuple[ArrayLike, ArrayLike] | None = None,
+                           basis: Eigenbasis | None = None,
                            start: int = 1, cmap: str = DIVERGING, vertical_axis: str = "z",
                            height: int = 520) -> go.Figure:
     """A mesh coloured by its eigenfunction ``phi_i``, with a slider over ``i``.
 
-    The eigenpairs of Eq. (3) are computed once (:func:`cshape.eigenpairs`); every mode's
+    The eigenpairs of Eq. (3) are computed once (:func:`cshape.eigenbasis`); every mode's
     colours travel with the figure as one plotly frame, so the slider works without a
     kernel, also in exported HTML.  The colour range of each mode is symmetric about 0
     (:func:`symmetric_limits`): red and blue are the two signs, white the nodal lines.
@@ -370,9 +389,9 @@ def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
         Repaired first (:func:`cshape.repair_mesh`, with its warning) when it needs it.
     n_modes : int, default=12
         Number of eigenpairs ``lam_0 .. lam_{n_modes-1}`` on the slider.
-    eigenpairs : (lam, phi), optional
-        Already computed ``cshape.eigenpairs(mesh, N)`` with ``N >= n_modes`` (on the
-        repaired mesh); skips the eigensolve.
+    basis : Eigenbasis, optional
+        Already computed ``cshape.eigenbasis(mesh, N)`` with ``N >= n_modes``; skips the
+        eigensolve.
     start : int, default=1
         The mode shown first (``phi_0`` is constant under Neumann conditions).
     cmap : str, default='RdBu_r'
@@ -388,25 +407,13 @@ def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
     """
     import plotly.graph_objects as go
 
-    from ..spectrum import eigenpairs as _eigenpairs
-
     n_modes = check_int("n_modes", n_modes, min=1)
     start = check_int("start", start, min=0, max=n_modes - 1)
     vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
     height = _check_height(height)
     mesh = repair_mesh(as_mesh(mesh))
-    if eigenpairs is None:
-        lam, phi = _eigenpairs(mesh, n_modes)
-    else:
-        lam, phi = (np.asarray(a, dtype=np.float64) for a in eigenpairs)
-        if phi.ndim != 2 or phi.shape[0] != mesh.n_vertices or len(lam) < n_modes \
-                or phi.shape[1] != len(lam):
-            raise ValueError(
-                f"eigenpairs must be (lam, phi) with phi of shape (n_vertices, N) = "
-                f"({mesh.n_vertices}, N >= n_modes = {n_modes}), got lam {np.shape(lam)}, phi "
-                f"{phi.shape}; pass cshape.eigenpairs(mesh, N) of the same (repaired) mesh"
-            )
-    modes = mode_data(lam[:n_modes], phi[:, :n_modes])
+    basis = _basis_of(mesh, basis, n_modes, n_modes)
+    modes = mode_data(basis.lam[:n_modes], basis.phi[:, :n_modes])
     first = modes[int(start)]
     trace = go.Mesh3d(**_upright_arrays(mesh, vertical_axis), intensity=first["values"],
                       intensitymode="vertex",
@@ -488,7 +495,7 @@ def scale_data(sig: ArrayLike, scales: ArrayLike, *, signature: str = "hks", log
 
 
 def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
-                       eigenpairs: tuple[ArrayLike, ArrayLike] | None = None, N: int = 100,
+                       basis: Eigenbasis | None = None, N: int = 100,
                        n_scales: int = 20, log: bool = True, start: int | None = None,
                        cmap: str = SEQUENTIAL, vertical_axis: str = "z", height: int = 520
                        ) -> go.Figure:
@@ -505,10 +512,10 @@ def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
     mesh : Mesh or (vertices, faces)
         Repaired first (:func:`cshape.repair_mesh`) when it needs it.
     signature : {'hks', 'wks'}, default='hks'
-    eigenpairs : (lam, phi), optional
-        Already computed ``cshape.eigenpairs(mesh, N)`` of the (repaired) mesh.
+    basis : Eigenbasis, optional
+        Already computed ``cshape.eigenbasis(mesh, N)``; skips the eigensolve.
     N : int, default=100
-        Eigenpairs to compute when ``eigenpairs`` is not given.
+        Eigenpairs to compute when ``basis`` is not given.
     n_scales : int, default=20
         Steps of the slider (at most 100).
     log : bool, default=True
@@ -528,29 +535,18 @@ def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
 
     from .. import signatures as sg
     from .._checks import check_int
-    from ..spectrum import eigenpairs as _eigenpairs
-
     signature = check_choice("signature", signature, tuple(_SIGNATURES))
     n_scales = check_int("n_scales", n_scales, min=1, max=100)
     vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
     height = _check_height(height)
     mesh = repair_mesh(as_mesh(mesh))
-    if eigenpairs is None:
-        lam, phi = _eigenpairs(mesh, check_int("N", N, min=2))
-    else:
-        lam, phi = (np.asarray(a, dtype=np.float64) for a in eigenpairs)
-        if phi.ndim != 2 or phi.shape[0] != mesh.n_vertices:
-            raise ValueError(
-                f"eigenpairs must be (lam, phi) with phi of shape (n_vertices, N) = "
-                f"({mesh.n_vertices}, N), got phi {phi.shape}; pass cshape.eigenpairs(mesh, N) "
-                "of the same (repaired) mesh"
-            )
+    basis = _basis_of(mesh, basis, check_int("N", N, min=2) if basis is None else 2, 2)
     if signature == "hks":
-        scales = sg.hks_times(lam)
-        sig = sg.hks(lam, phi, scales)
+        scales = sg.hks_times(basis)
+        sig = sg.hks(basis, scales)
     else:
-        scales, sigma = sg.wks_energies(lam)
-        sig = sg.wks(lam, phi, scales, sigma)
+        scales, sigma = sg.wks_energies(basis)
+        sig = sg.wks(basis, scales, sigma)
     cols = np.unique(np.round(np.linspace(0, len(scales) - 1, n_scales)).astype(int))
     steps_data = scale_data(sig[:, cols], scales[cols], signature=signature, log=log)
     start = len(steps_data) // 2 if start is None else check_int(

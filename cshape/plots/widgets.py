@@ -10,7 +10,7 @@ The logic is a chain of pure functions on eigenvalues, which the tests call dire
   distances, difference statistics and MDS.  ``transform='log-weyl'`` / ``'log-weyl-dct'``
   sweep the extensions of :func:`cshape.compact_shape_dna` instead (the log-Weyl ratio, its
   DFT or DCT) against the same Shape-DNA reference.
-* :func:`sweep_state` is the one-call form: ``MSweep(...).state(M, N)``.
+* :func:`sweep_state` is the one-call form: ``MSweep(...).state(M, N=N)``.
 * :func:`m_sweep_widget` is a thin ipywidgets shell over :class:`MSweep` and
   :func:`cshape.plots.plot_m_sweep`; it returns the widget and never displays it.
 
@@ -246,7 +246,7 @@ class MSweep:
         tr = self.transform if transform is None else self._check_transform(transform)
         ref_key = (N, norm)
         if ref_key not in self._ref:
-            lam_norm = np.vstack([normalize(r[:N], a, method=norm)
+            lam_norm = np.vstack([normalize(r[:N], a, normalization=norm)
                                   for r, a in zip(self.lams, self.areas, strict=True)])
             D_ref = scale_255(distance_matrix(lam_norm))
             self._ref[ref_key] = {"lam_norm": lam_norm, "D_ref": D_ref,
@@ -279,7 +279,7 @@ class MSweep:
         r, r_ref = retrieval_scores(D, self.labels), retrieval_scores(D_ref, self.labels)
         return {"nn": r["nn"], "ft": r["ft"], "nn_ref": r_ref["nn"], "ft_ref": r_ref["ft"]}
 
-    def state(self, M: int, N: int | None = None, normalization: str | None = None,
+    def state(self, M: int, *, N: int | None = None, normalization: str | None = None,
               transform: str | None = None) -> SweepState:
         """The sweep at one ``M`` (cached); raises ``ValueError`` unless
         ``0 <= M <= max_M(N, transform)``.
@@ -348,7 +348,7 @@ class MSweep:
 
 
 def sweep_state(lams: Iterable[ArrayLike], areas: ArrayLike, labels: Iterable[object] | None = None,
-                M: int = 16, N: int | None = None, normalization: str = "area", *,
+                *, N: int | None = None, M: int = 16, normalization: str = "area",
                 names: Iterable[object] | None = None, mds: bool = True,
                 random_state: int | None = 0, transform: str = "weyl") -> SweepState:
     """The M sweep at one ``M`` in one call: crop, reconstruction, distances, statistics, MDS.
@@ -360,10 +360,10 @@ def sweep_state(lams: Iterable[ArrayLike], areas: ArrayLike, labels: Iterable[ob
     areas : array_like, shape (p,)
     labels : sequence of str, optional
         Class labels.
-    M : int, default=16
-        Crop half-width, ``0 <= M <= (N-1)//2``.
     N : int, optional
         Shape-DNA length (default: the shortest row of ``lams``).
+    M : int, default=16
+        Crop half-width, ``0 <= M <= (N-1)//2``.
     normalization : {'area', 'fiedler', 'weyl'}, default='area'
     names : sequence of str, optional
     mds : bool, default=True
@@ -381,7 +381,7 @@ def sweep_state(lams: Iterable[ArrayLike], areas: ArrayLike, labels: Iterable[ob
     """
     sweep = MSweep(lams, areas, names, labels, normalization=normalization, mds=mds,
                    random_state=random_state, transform=transform)
-    return sweep.state(M, N)
+    return sweep.state(M, N=N)
 
 
 # ------------------------------------------------------------------------------ widget
@@ -526,7 +526,8 @@ class MSweepWidget(_VBox):
         N = int(c["N"].value)
         tr = c["transform"].value
         M = clamp_M(c["M"].value, N, tr)
-        self.state = self.sweep.state(M, N, c["normalization"].value, tr)
+        self.state = self.sweep.state(M, N=N, normalization=c["normalization"].value,
+                                      transform=tr)
         fig = plot_m_sweep(self.state, shape=int(c["shape"].value or 0), figsize=self._figsize)
         self.image.value = _png(fig, self._dpi)
         self.stats.value = f"<b>{self.state.summary()}</b>"

@@ -21,7 +21,7 @@ from __future__ import annotations
 from .experiments import (
     EXTENSIONS,
     FAMILIES,
-    PAPER,
+    PAPER_RESULTS,
     experiment_3_1,
     experiment_3_2,
     experiment_cost,
@@ -37,7 +37,7 @@ from .report import reproduce
 __all__ = [
     "EXTENSIONS",
     "FAMILIES",
-    "PAPER",
+    "PAPER_RESULTS",
     "experiment_3_1",
     "experiment_3_2",
     "experiment_cost",

@@ -12,12 +12,16 @@ import numpy as np
 
 from ..batch import DescriptorTable
 from ..compare import difference_matrix, distance_matrix, retrieval_scores, scaled_difference
+from ..descriptors import Descriptor
 from ..index import DescriptorIndex
 
 if TYPE_CHECKING:
     from collections.abc import Iterable, Sequence
 
-PAPER: dict[str, Any] = {
+#: The numbers the paper reports, by section: 3.1 (mean and standard deviation of the
+#: difference image), 3.2 (the same for each ``M``), 3.3 (for each noise level) and the
+#: space saving it quotes; the report sets its own results beside them.
+PAPER_RESULTS: dict[str, Any] = {
     "3.1": {"M": 16, "mean": 0.68, "std": 0.69},
     "3.2": {8: (1.3, 1.1), 4: (2.3, 1.8), 2: (4.8, 3.1), 1: (6.0, 3.8)},
     "3.3": {
@@ -55,8 +59,8 @@ def experiment_3_1(table: DescriptorTable, *, N: int = 100, M: int = 16) -> dict
         ``D_shape_dna``, ``D_cshape`` (p, p).
     """
     _need(table)
-    D_sd = table.distance_matrix("shape-dna", N=N)
-    D_cs = table.distance_matrix("cshape", M=M, N=N)
+    D_sd = table.distance_matrix(Descriptor("shape-dna", N=N))
+    D_cs = table.distance_matrix(Descriptor("cshape", N=N, M=M))
     mean, std = scaled_difference(D_sd, D_cs)
     return {"N": N, "M": M, "mean": mean, "std": std, "D_shape_dna": D_sd, "D_cshape": D_cs}
 
@@ -79,20 +83,23 @@ def experiment_3_2(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 4, 2, 
         'log-weyl-dct': {...}, 'truncated-log': {...}, 'f1': (mean, std)}``.
     """
     _need(table)
-    D_sd = table.distance_matrix("shape-dna", N=N)
+    D_sd = table.distance_matrix(Descriptor("shape-dna", N=N))
     out: dict[str, Any] = {"N": N, "cshape": {}, "truncated": {}}
     for M in Ms:
-        out["cshape"][M] = scaled_difference(D_sd, table.distance_matrix("cshape", M=M, N=N))
-        out["truncated"][M] = scaled_difference(D_sd, table.distance_matrix("truncated", M=M))
+        out["cshape"][M] = scaled_difference(
+            D_sd, table.distance_matrix(Descriptor("cshape", N=N, M=M)))
+        out["truncated"][M] = scaled_difference(
+            D_sd, table.distance_matrix(Descriptor("truncated", N=N, M=M)))
     for key in ("log-weyl", "log-weyl-dct", "truncated-log"):
         kind, kw = ("truncated-log", {}) if key == "truncated-log" else ("cshape",
                                                                          {"transform": key})
         try:
-            out[key] = {M: scaled_difference(D_sd, table.distance_matrix(kind, M=M, N=N, **kw))
-                        for M in Ms if 2 * M + 1 <= N - 1}
+            out[key] = {M: scaled_difference(
+                D_sd, table.distance_matrix(Descriptor(kind, N=N, M=M, **kw)))
+                for M in Ms if 2 * M + 1 <= N - 1}
         except ValueError:
             out[key] = {}
-    out["f1"] = scaled_difference(D_sd, table.distance_matrix("f1", N=N))
+    out["f1"] = scaled_difference(D_sd, table.distance_matrix(Descriptor("f1", N=N)))
     return out
 
 
@@ -140,11 +147,10 @@ def experiment_noise(clean: DescriptorTable, noisy: dict[float, DescriptorTable]
                 "noisy table; the experiment needs at least 3"
             )
         res: dict[str, Any] = {"names": [clean.names[i] for i in ci]}
-        kinds: tuple[tuple[str, dict[str, Any]], ...] = (("shape-dna", {"N": N}),
-                                                         ("cshape", {"M": M, "N": N}))
-        for kind, kw in kinds:
-            Xc = clean.select(ci).descriptors(kind, **kw)
-            Xn = table.select(ni).descriptors(kind, **kw)
+        for kind, d in (("shape-dna", Descriptor("shape-dna", N=N)),
+                        ("cshape", Descriptor("cshape", N=N, M=M))):
+            Xc = clean.select(ci).descriptors(d)
+            Xn = table.select(ni).descriptors(d)
             res[kind] = scaled_difference(distance_matrix(Xc), distance_matrix(Xn))
             res["change_" + kind] = np.linalg.norm(Xn - Xc, axis=1)
             res["diff_" + kind] = difference_matrix(distance_matrix(Xc), distance_matrix(Xn))
@@ -152,16 +158,17 @@ def experiment_noise(clean: DescriptorTable, noisy: dict[float, DescriptorTable]
     return out
 
 
-def _descriptor_specs(Ms: Sequence[int], N: int) -> list[tuple[str, str, dict[str, Any]]]:
-    specs = [("Shape-DNA", "shape-dna", {"N": N})]
-    specs += [(f"cShape-DNA M={M}", "cshape", {"M": M, "N": N}) for M in Ms]
-    specs += [(f"truncated Shape-DNA {2 * M + 1}", "truncated", {"M": M}) for M in Ms]
-    specs += [("F1", "f1", {"N": N})]
+def _descriptor_specs(Ms: Sequence[int], N: int) -> list[tuple[str, Descriptor]]:
+    specs = [("Shape-DNA", Descriptor("shape-dna", N=N))]
+    specs += [(f"cShape-DNA M={M}", Descriptor("cshape", N=N, M=M)) for M in Ms]
+    specs += [(f"truncated Shape-DNA {2 * M + 1}", Descriptor("truncated", N=N, M=M))
+              for M in Ms]
+    specs += [("F1", Descriptor("f1", N=N))]
     return specs
 
 
 #: The descriptor families of the equal-size comparison (:func:`experiment_sizes`): title ->
-#: (kind of :func:`cshape.compare.descriptor_matrix`, its keywords).  Every family has
+#: (kind of :class:`cshape.Descriptor`, its other fields but ``N`` and ``M``).  Every family has
 #: ``2M+1`` values at half-width ``M``; 'truncated F1' keeps the first ``2M+1`` F1 values.
 FAMILIES = {
     "cShape-DNA (paper)": ("cshape", {"transform": "weyl"}),
@@ -176,7 +183,8 @@ FAMILIES = {
 EXTENSIONS = ("log-Weyl DFT", "log-Weyl DCT", "truncated log spectrum")
 
 
-def family_descriptors(table: DescriptorTable, family: str, M: int, N: int = 100) -> np.ndarray:
+def family_descriptors(table: DescriptorTable, family: str, *, N: int = 100, M: int
+                       ) -> np.ndarray:
     """Descriptors of a :data:`FAMILIES` member with ``2M+1`` values, shape (p, 2M+1).
 
     Raises
@@ -190,34 +198,36 @@ def family_descriptors(table: DescriptorTable, family: str, M: int, N: int = 100
         raise ValueError(f"family must be one of {list(FAMILIES)}, got {family!r}")
     kind, kw = FAMILIES[family]
     if kind == "f1":
-        X = _every_row(table, "f1", N=N)
+        X = _every_row(table, Descriptor("f1", N=N))
         if X.shape[1] < 2 * M + 1:
             raise ValueError(f"F1 of N={N} has {X.shape[1]} values, fewer than 2M+1 = "
                              f"{2 * M + 1}; use a larger N")
         return X[:, : 2 * M + 1]
-    return _every_row(table, kind, M=M, N=N, **kw)
+    return _every_row(table, Descriptor(kind, N=N, M=M, **kw))
 
 
-def _every_row(table: DescriptorTable, kind: str | None, **kw: Any) -> np.ndarray:
-    """``table.descriptors(kind, ...)``, or a ValueError if it cannot describe every shape
+def _every_row(table: DescriptorTable, descriptor: Descriptor) -> np.ndarray:
+    """``table.descriptors(descriptor)``, or a ValueError if it cannot describe every shape
     (the measures need every shape)."""
-    X, rows = table.described(kind, warn=False, **kw)
+    X, rows = table.described(descriptor, warn=False)
     if len(rows) < len(table):
         bad = [table.names[i] for i in np.setdiff1d(np.arange(len(table)), rows)]
-        raise ValueError(f"{kind!r} cannot describe {len(bad)} shapes: {', '.join(bad[:5])}")
+        raise ValueError(f"{descriptor.label} cannot describe {len(bad)} shapes: "
+                         f"{', '.join(bad[:5])}")
     return X
 
 
 def _retrieval_specs(Ms: Sequence[int], N: int) -> list[tuple[Any, ...]]:
-    """(title, family or None, M, kind, keywords) of every row of the retrieval table."""
-    specs: list[tuple[Any, ...]] = [("Shape-DNA", None, None, "shape-dna", {"N": N}),
-             ("log spectrum (all N-1 log-Weyl ratios)", None, None, "truncated-log",
-              {"M": (N - 2) // 2}),
-             ("F1", None, None, "f1", {"N": N})]
+    """(title, family or None, M, descriptor or None) of every row of the retrieval table."""
+    specs: list[tuple[Any, ...]] = [
+        ("Shape-DNA", None, None, Descriptor("shape-dna", N=N)),
+        ("log spectrum (all N-1 log-Weyl ratios)", None, None,
+         Descriptor("truncated-log", N=N, M=(N - 2) // 2)),
+        ("F1", None, None, Descriptor("f1", N=N))]
     for M in Ms:
         for fam in FAMILIES:
             specs.append((f"{fam} M={M}" if FAMILIES[fam][0] == "cshape"
-                          else f"{fam} {2 * M + 1}", fam, M, None, None))
+                          else f"{fam} {2 * M + 1}", fam, M, None))
     return specs
 
 
@@ -237,10 +247,10 @@ def experiment_retrieval(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 
         ``M``, ``size`` and the six measures.
     """
     rows = []
-    for title, fam, M, kind, kw in _retrieval_specs(Ms, N):
+    for title, fam, M, d in _retrieval_specs(Ms, N):
         try:
-            X = (_every_row(table, kind, **kw) if fam is None
-                 else family_descriptors(table, fam, M, N))
+            X = (_every_row(table, d) if fam is None
+                 else family_descriptors(table, fam, N=N, M=M))
         except ValueError:
             continue
         s = retrieval_scores(distance_matrix(X), table.labels)
@@ -283,7 +293,7 @@ def experiment_sizes(table: DescriptorTable, *, Ms: Sequence[int] | None = None,
         Ms = range(min(16, (N - 3) // 2), 0, -1)
     Ms = [int(m) for m in Ms]
     labels = table.labels
-    ref = retrieval_scores(table.distance_matrix("shape-dna", N=N), labels)
+    ref = retrieval_scores(table.distance_matrix(Descriptor("shape-dna", N=N)), labels)
     sizes = Counter(labels)
     n_queries = sum(sizes[x] >= 2 for x in labels)
     rows, skipped = [], {}
@@ -293,7 +303,7 @@ def experiment_sizes(table: DescriptorTable, *, Ms: Sequence[int] | None = None,
             if fam in skipped:
                 continue
             try:
-                X = family_descriptors(table, fam, M, N)
+                X = family_descriptors(table, fam, N=N, M=M)
             except ValueError as exc:
                 skipped[fam] = str(exc)
                 continue
@@ -420,14 +430,14 @@ def experiment_cost(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 4, 2,
     rng = np.random.default_rng(random_state)
     rows_idx = rng.integers(0, len(table), size=database_size)
     q_idx = rng.integers(0, database_size, size=n_queries)
-    warm = table.descriptors("shape-dna", N=N)  # first calls pay imports and allocations
+    warm = table.descriptors(Descriptor("shape-dna", N=N))  # first calls pay imports
     distance_matrix(warm)
     DescriptorIndex(warm, algorithm="brute").query(warm[:1], k=1)
     rows = []
-    for title, kind, kw in _descriptor_specs(Ms, N):
-        if kind == "truncated":
+    for title, d in _descriptor_specs(Ms, N):
+        if d.kind == "truncated":
             continue
-        X = table.descriptors(kind, **kw)
+        X = table.descriptors(d)
         scale = float(np.abs(X).max()) or 1.0
         big = X[rows_idx] + 1e-6 * scale * rng.standard_normal((database_size, X.shape[1]))
         index = DescriptorIndex(big, algorithm="brute")

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from ..batch import DescriptorTable
+    from ..descriptors import Descriptor
 
 
 # --------------------------------------------------------------------------- figures
@@ -68,13 +69,13 @@ def _drop_overlapping_texts(fig: Figure) -> int:
 
 
 def _mds_figure(table: DescriptorTable,
-                panels: Sequence[tuple[str, str, dict[str, Any]]], random_state: int | None
+                panels: Sequence[tuple[str, Descriptor]], random_state: int | None
                 ) -> Figure:
     """MDS panels (Fig. 4-5): square, names up to MDS_MAX_NAMES shapes, one class legend."""
     fig, axs = _grid(len(panels))
     Ys = []
-    for ax, (title, kind, kw) in zip(axs, panels, strict=False):
-        Ys.append(mds_embedding(table.distance_matrix(kind, **kw), random_state=random_state))
+    for ax, (title, d) in zip(axs, panels, strict=False):
+        Ys.append(mds_embedding(table.distance_matrix(d), random_state=random_state))
         plot_mds(Ys[-1], labels=table.labels, ax=ax, title=title, legend=False)
     handles, labels = axs[0].get_legend_handles_labels()
     if handles and len(handles) <= MAX_LEGEND_CLASSES:

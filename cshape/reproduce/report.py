@@ -14,13 +14,12 @@ import numpy as np
 from .._files import atomic_write
 from ..batch import describe
 from ..compare import difference_matrix
-from ..descriptor import PAPER as PAPER_DESCRIPTOR  # PAPER here: the paper's numbers
-from ..descriptor import Descriptor, select_descriptor
+from ..descriptors import PAPER, Descriptor
 from .experiments import (
     _MEASURES,
     EXTENSIONS,
     NOISE_LEVELS,
-    PAPER,
+    PAPER_RESULTS,
     _need,
     experiment_3_1,
     experiment_3_2,
@@ -153,7 +152,7 @@ def reproduce(records: Iterable[Any], out_dir: str | os.PathLike[str], *, N: int
     run = _Run(N=d.N, M=d.M, Ms=(d.M, *[m for m in Ms if m != d.M]), smaller_Ms=tuple(Ms),
                noise_levels=tuple(noise_levels), noise_seed=noise_seed, quality=quality,
                example=example, random_state=random_state, size_Ms=size_Ms,
-               describe={"N": d.N, "M": d.M, "cache_dir": cache_dir, "n_jobs": n_jobs,
+               describe={"N": d.N, "cache_dir": cache_dir, "n_jobs": n_jobs,
                          "client": client, "progress": progress})
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -191,8 +190,11 @@ def _paper_descriptor(descriptor: Descriptor | None, N: int | None, M: int | Non
     """The cShape-DNA of Section 3: ``descriptor``, or :data:`cshape.PAPER` with N and M."""
     if descriptor is None:
         given = {k: v for k, v in (("N", N), ("M", M)) if v is not None}
-        return PAPER_DESCRIPTOR.replace(**given)
-    d = select_descriptor(descriptor)
+        return PAPER.replace(**given)
+    if not isinstance(descriptor, Descriptor):
+        raise TypeError("descriptor must be a cshape.Descriptor (e.g. cshape.PAPER), got "
+                        f"{type(descriptor).__name__}")
+    d = descriptor
     if N is not None or M is not None:
         raise ValueError("pass either descriptor= or N and M, not both "
                          "(descriptor.replace(M=...) changes M)")
@@ -314,7 +316,7 @@ def _figures(parts: dict[str, Any], results: dict[str, Any], run: _Run) -> dict[
         figs.update(_noise_figures(plots, table, results["3.3"]))
     if run.quality is not None:
         a, b = (table.index(q) for q in run.quality)
-        S = PAPER_DESCRIPTOR.replace(kind="cshape-complex", M=M, N=N).matrix(
+        S = PAPER.replace(kind="cshape-complex", M=M, N=N).matrix(
             table.lam[[a, b]], table.areas[[a, b]])
         figs["fig9_quality"] = plots.plot_cshape_dna({run.quality[0]: S[0],
                                                       run.quality[1]: S[1]})
@@ -334,13 +336,14 @@ def _section_3_figures(plots: ModuleType, table: DescriptorTable, r31: dict[str,
         [difference_matrix(D_sd, r31["D_cshape"])],
         [f"(c) difference: mean {r31['mean']:.2f}, std {r31['std']:.2f}"], **ticks)
     figs["fig4_mds_cshape"] = _mds_figure(
-        table, [(f"Shape-DNA N={N}", "shape-dna", {"N": N})]
-        + [(f"cShape-DNA M={m}", "cshape", {"M": m, "N": N}) for m in run.Ms],
+        table, [(f"Shape-DNA N={N}", Descriptor("shape-dna", N=N))]
+        + [(f"cShape-DNA M={m}", Descriptor("cshape", N=N, M=m)) for m in run.Ms],
         run.random_state)
     figs["fig5_mds_truncated_f1"] = _mds_figure(
-        table, [(f"truncated N={2 * m + 1}", "truncated", {"M": m}) for m in run.Ms]
-        + [(f"F1 N={N}", "f1", {"N": N})], run.random_state)
-    D_ms = [table.distance_matrix("cshape", M=m, N=N) for m in Ms]
+        table, [(f"truncated N={2 * m + 1}", Descriptor("truncated", N=N, M=m))
+                for m in run.Ms]
+        + [(f"F1 N={N}", Descriptor("f1", N=N))], run.random_state)
+    D_ms = [table.distance_matrix(Descriptor("cshape", N=N, M=m)) for m in Ms]
     figs["fig6_matrices"] = plots.plot_matrices(D_ms, [f"cShape-DNA M={m}" for m in Ms],
                                                 scale=True, **ticks)
     figs["fig6_differences"] = plots.plot_matrices(
@@ -392,9 +395,9 @@ def _describable_rows(table: DescriptorTable, M: int, N: int) -> np.ndarray:
     """
     N = min(N, table.N)
     M = min(M, (N - 2) // 2)
-    ok = table.usable("truncated-log", M=M, N=N)
-    ok &= table.usable("cshape", M=M, N=N, transform="log-weyl-dct")
-    ok &= table.usable("f1", N=N)
+    ok = table.usable(Descriptor("truncated-log", N=N, M=M))
+    ok &= table.usable(Descriptor("cshape", N=N, M=M, transform="log-weyl-dct"))
+    ok &= table.usable(Descriptor("f1", N=N))
     return np.flatnonzero(ok)
 
 
@@ -480,7 +483,7 @@ def _suite_report(res: dict[str, Any]) -> list[str]:
     d = st["default"]
     s = ["## The benchmark suite", "",
          f"Every descriptor on every benchmark: {bench}. Bold: the exploration default "
-         "(`cshape.compare.DEFAULT_DESCRIPTOR`, chosen by its worst first tier on the "
+         "(`cshape.DEFAULT`, chosen by its worst first tier on the "
          "development instances; see benchmarks/results/suite.md)"
          + (f", here worst {d['worst']:.3f}, mean {d['mean']:.3f}." if d else "."), ""]
     for m in ("ft", "nn"):
@@ -491,14 +494,14 @@ def _suite_report(res: dict[str, Any]) -> list[str]:
 
 def _section_3_2_report(res: dict[str, Any]) -> list[str]:
     """The report's Section 3.2: every M against Shape-DNA, beside the paper's numbers."""
-    N, p31 = res["N"], PAPER["3.1"]
+    N, p31 = res["N"], PAPER_RESULTS["3.1"]
     s = []
     r32 = res["3.2"]
     ext = [(k, t) for k, t in (("log-weyl", "log-Weyl DFT*"), ("log-weyl-dct", "log-Weyl DCT*"),
                                ("truncated-log", "truncated log spectrum*")) if r32.get(k)]
     rows = []
     for m in r32["cshape"]:
-        paper = PAPER["3.2"].get(m)
+        paper = PAPER_RESULTS["3.2"].get(m)
         if paper is None and m == p31["M"]:
             paper = (p31["mean"], p31["std"])
         rows.append([m, 2 * m + 1, _pair(r32["cshape"][m]), _pair(r32["truncated"][m])]
@@ -516,7 +519,7 @@ def _section_3_2_report(res: dict[str, Any]) -> list[str]:
 
 def _report(res: dict[str, Any], figs: dict[str, Figure], title: str) -> str:
     N, M = res["N"], res["M"]
-    p31 = PAPER["3.1"]
+    p31 = PAPER_RESULTS["3.1"]
     s = [f"# {title}", "",
          f"{res['n_shapes']} shapes in {len(res['classes'])} classes; N = {N}, M = {M}. "
          f"Run time {res['seconds']:.0f} s. The paper's numbers are for the McGill database "
@@ -542,7 +545,7 @@ def _report(res: dict[str, Any], figs: dict[str, Figure], title: str) -> str:
     s += _retrieval_report(res)
     s += _suite_report(res)
     s += ["## Size and comparison time", "",
-          f"Paper: cShape-DNA saves \"up to {PAPER['saving']:.0%}\" of space and time "
+          f"Paper: cShape-DNA saves \"up to {PAPER_RESULTS['saving']:.0%}\" of space and time "
           f"(3 values instead of 100 at M=1). Times (best of 5): the full distance matrix "
           f"of the {res['n_shapes']} shapes; the distances of 100 queries to a database of "
           "20000 descriptors resampled from them (scan: the comparison cost); and the exact "
@@ -559,8 +562,8 @@ def _report(res: dict[str, Any], figs: dict[str, Figure], title: str) -> str:
     if res["3.3"]:
         rows = []
         for lv, r in sorted(res["3.3"].items()):
-            psd = PAPER["3.3"]["shape-dna"].get(lv)
-            pcs = PAPER["3.3"]["cshape"].get(lv)
+            psd = PAPER_RESULTS["3.3"]["shape-dna"].get(lv)
+            pcs = PAPER_RESULTS["3.3"]["cshape"].get(lv)
             rows.append([f"{lv:g}", _pair(r["shape-dna"], 1), _pair(psd, 1),
                          _pair(r["cshape"], 1), _pair(pcs, 1)])
         s += ["## 3.3 Noise", "",

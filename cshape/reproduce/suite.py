@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..compare import descriptor_label, distance_matrix, retrieval_scores
+from ..compare import distance_matrix, retrieval_scores
+from ..descriptors import Descriptor, recipe
 
 if TYPE_CHECKING:
     from collections.abc import Iterable, Sequence
@@ -80,11 +81,11 @@ def candidates(N: int = 100, Ms: Sequence[int] = SUITE_MS) -> list[dict[str, Any
 CANDIDATES = candidates()
 
 
-def _matrix(table: DescriptorTable, c: dict[str, Any]) -> np.ndarray:
-    kw = {"N": c["N"], "transform": c["transform"], "normalization": c["normalization"]}
-    if c["M"] is not None:
-        kw["M"] = c["M"]
-    return table.descriptors(c["kind"], **kw)
+def _descriptor(c: dict[str, Any]) -> Descriptor:
+    """The :class:`cshape.Descriptor` of a candidate row."""
+    M = {} if c["M"] is None else {"M": c["M"]}
+    return Descriptor(c["kind"], N=c["N"], transform=c["transform"],
+                      normalization=c["normalization"], **M)
 
 
 def suite_scores(tables: dict[str, DescriptorTable], *,
@@ -113,14 +114,13 @@ def suite_scores(tables: dict[str, DescriptorTable], *,
         scores: dict[str, dict[str, float]] = {}
         try:
             for name, table in tables.items():
-                s = retrieval_scores(distance_matrix(_matrix(table, c)), table.labels)
+                s = retrieval_scores(distance_matrix(table.descriptors(_descriptor(c))),
+                                     table.labels)
                 scores[name] = {k: s[k] for k in MEASURES}
         except ValueError:
             continue
         ft = [s["ft"] for s in scores.values()]
-        rows.append({**c, "label": descriptor_label(c["kind"], M=c["M"] or 0, N=c["N"],
-                                                    transform=c["transform"],
-                                                    normalization=c["normalization"]),
+        rows.append({**c, "label": _descriptor(c).label,
                      "scores": scores, "worst": float(min(ft)), "mean": float(np.mean(ft))})
     return rows
 
@@ -134,9 +134,7 @@ def choose_default(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 def default_row(rows: Iterable[dict[str, Any]]) -> dict[str, Any] | None:
     """The row of the exploration default :data:`cshape.DEFAULT`."""
-    from .. import descriptor
-
-    d = descriptor.DEFAULT
+    d = recipe.DEFAULT  # read when called: the constant, wherever it is set
     for r in rows:
         if r["kind"] != d.kind:
             continue

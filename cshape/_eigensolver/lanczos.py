@@ -19,8 +19,8 @@ import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 
-from . import _threads
-from ._threads import RowSplit, ThreadChooser, times
+from . import threads as _threads
+from .threads import RowSplit, ThreadChooser, times
 
 #: Block size ``b`` (number of simultaneous right-hand sides).
 BLOCK_SIZE = 8
@@ -30,9 +30,9 @@ BLOCK_SIZE = 8
 #: :data:`BLOCK_SIZE`, at once when two threads help, each reading the factor once.
 BLOCK_SIZE_THREADED = 16
 
-#: From this many unknowns the block size is :data:`BLOCK_SIZE` again: blocks of 16 grew
-#: the Krylov space of the 1M-vertex torus from 312 to 400 dimensions (slower with any
-#: threads; ``benchmarks/SCALE.md``), where they still gained at 655K.
+#: From this many unknowns the block size is :data:`BLOCK_SIZE` again, blocks of
+#: :data:`BLOCK_SIZE_THREADED` no longer paying for the larger Krylov space they build
+#: (``benchmarks/SCALE.md``, "Threads").
 BIG_BLOCK_MAX_UNKNOWNS = 800_000
 
 

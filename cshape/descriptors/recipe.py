@@ -4,23 +4,24 @@ A descriptor is a recipe of five fields, checked once when it is made:
 
 * ``kind``          - what is computed (Section 3.1 of the paper, and one beyond it):
                       ``'shape-dna'``, ``'truncated'``, ``'cshape'``, ``'cshape-complex'``,
-                      ``'f1'``, ``'truncated-log'`` (see :func:`cshape.compare.descriptor_matrix`);
-* ``M``, ``N``      - the crop half-width (``2M+1`` values) and the Shape-DNA length; the one
-                      M-versus-N rule is :func:`cshape._checks.check_crop`;
+                      ``'f1'``, ``'truncated-log'`` (the table of :class:`Descriptor`);
+* ``N``, ``M``      - the Shape-DNA length and the crop half-width (``2M+1`` values); the
+                      one M-versus-N rule is :func:`cshape._checks.check_crop`;
 * ``transform``     - the cShape-DNA transform (:func:`cshape.compact_shape_dna`);
 * ``normalization`` - the scale normalisation (:func:`cshape.normalize`).
 
 It knows its :attr:`~Descriptor.size` and its :attr:`~Descriptor.label`, and builds a
-:meth:`~Descriptor.row` from one spectrum or a :meth:`~Descriptor.matrix` from many.  Two are
-shipped: :data:`PAPER`, the paper's cShape-DNA (Eq. 8-10, ``M = 16`` of ``N = 100``,
-area-normalised), and :data:`DEFAULT`, the exploration default that tables, the index, the
-figures and the command line compare when no descriptor is asked for.
+:meth:`~Descriptor.row` from one spectrum, or the :meth:`~Descriptor.matrix` (or
+:meth:`~Descriptor.rows`) of many.  Two are shipped: :data:`PAPER`, the paper's cShape-DNA
+(Eq. 8-10, ``M = 16`` of ``N = 100``, area-normalised), and :data:`DEFAULT`, the exploration
+default that tables, the index, the figures and the command line compare when no descriptor
+is given.
 
 >>> from cshape import PAPER, DEFAULT
 >>> PAPER.label
 "paper's cShape-DNA (M=16 of N=100, 33 values)"
 >>> DEFAULT.label, DEFAULT.size
-('truncated log spectrum, lam_1-normalised (17 values)', 17)
+('truncated log spectrum (17 values)', 17)
 """
 
 from __future__ import annotations
@@ -33,8 +34,8 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import check_choice, check_crop, check_int
-from .descriptors import (
+from .._checks import check_choice, check_crop, check_int
+from .formulas import (
     NORMALIZATIONS,
     TRANSFORMS,
     compact_shape_dna,
@@ -45,9 +46,9 @@ from .descriptors import (
     real_form,
 )
 
-__all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor", "select_descriptor"]
+__all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor"]
 
-#: The descriptor kinds (see :func:`cshape.compare.descriptor_matrix`).
+#: The descriptor kinds (the table of :class:`Descriptor`).
 DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log")
 
 _NORMALISED = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised",
@@ -58,19 +59,54 @@ _TRANSFORM_NAMES = {"weyl": "paper's cShape-DNA", "log-weyl": "log-Weyl DFT cSha
 
 @dataclass(frozen=True, init=False)
 class Descriptor:
-    """A descriptor recipe: kind, ``M``, ``N``, transform and normalisation, checked once.
+    """A descriptor recipe: kind, ``N``, ``M``, transform and normalisation, checked once.
+
+    The four descriptors of the paper's Section 3.1, and two beyond it:
+
+    ================ ============ =========================================================
+    kind             row length   definition
+    ================ ============ =========================================================
+    'shape-dna'      N            normalised Shape-DNA: ``lam[:N] * area`` (Section 2.1)
+    'truncated'      2M+1         the first ``2M+1`` values of the normalised Shape-DNA
+                                  (Fig. 5 a-e: "the first 33, 17, 9, 5 and 3 eigenvalues")
+    'cshape'         2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10, or the ``transform``
+                                  given) in its real form (:func:`cshape.real_form`: same
+                                  Euclidean distances)
+    'cshape-complex' 2M+1         the cShape-DNA as :func:`cshape.compact_shape_dna` returns
+                                  it (complex for the DFT transforms, real for the DCT)
+    'f1'             N-2          F1 feature ``lam_1 / lam_i`` of ``lam[:N]`` (Fig. 5f)
+    'truncated-log'  2M+1         the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
+                                  (:func:`cshape.log_weyl_ratio`; needs ``2M+2``
+                                  eigenvalues).  Its distances equal those of the truncated
+                                  *log spectrum* ``log lam_1^norm .. log lam_{2M+1}^norm``:
+                                  ``log 4 pi i`` is the same for every shape
+    ================ ============ =========================================================
+
+    ``2M+1`` values must fit in ``N`` eigenvalues (the ``N-1`` log-Weyl ratios for
+    'truncated-log' and the log-Weyl transforms).
+
+    **Meshes of several pieces** (``k`` components, ``k`` zero eigenvalues), by kind:
+    'shape-dna', 'truncated' and 'cshape' with the paper's ``transform='weyl'`` take the
+    spectrum as it is, its ``k`` zeros included (Eq. 8 needs no logarithm).
+    'truncated-log', the log-Weyl transforms and 'f1' drop the ``k`` zero modes and index
+    the rest from 1 (``mu_i = lam_{k-1+i}``, normalised by the total area: Weyl's law of
+    the disjoint union; :func:`cshape.nonzero_eigenvalues`): 'truncated-log' is
+    ``r_1 .. r_{2M+1}`` of ``mu`` (needs ``N >= 2M+1+k``), the log-Weyl transforms extend
+    the ``N-k`` ratios to ``N-1`` by Weyl's law (``r_i = r_{N-k}``) and need ``2M+1``
+    measured ones, 'f1' is ``mu_1 / mu_i`` for ``i = 2..N-1``, extended the same way
+    (``mu_i = mu_{N-k} i / (N-k)``), and needs two.  A row without enough non-zero
+    eigenvalues cannot be described: :meth:`rows` says which and why.
 
     Parameters
     ----------
     kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
 default='cshape'
-        What is computed; the table of :func:`cshape.compare.descriptor_matrix`.  The old
-        spellings ('shape_dna', ...) work with a ``DeprecationWarning``.
+        What is computed, as in the table above.
+    N : int, default=100
+        Shape-DNA length: the eigenvalues ``lam_0 .. lam_{N-1}`` used (keyword only).
     M : int, default=16
         Crop half-width: ``2M+1`` values for 'truncated', 'truncated-log' and the 'cshape'
-        kinds (the others do not use it).
-    N : int, default=100
-        Shape-DNA length: the eigenvalues ``lam_0 .. lam_{N-1}`` used.
+        kinds (the others do not use it; keyword only).
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
         The cShape-DNA transform of the 'cshape' kinds (:func:`cshape.compact_shape_dna`).
     normalization : {'area', 'fiedler', 'weyl', 'none'}, default='area'
@@ -80,9 +116,9 @@ default='cshape'
     Raises
     ------
     TypeError
-        A mode that is not a string, ``M`` or ``N`` not an integer.
+        A mode that is not a string, ``N`` or ``M`` not an integer.
     ValueError
-        An unknown mode, ``M < 0``, ``N < 1``, or ``2M+1`` more values than the kind's
+        An unknown mode, ``N < 1``, ``M < 0``, or ``2M+1`` more values than the kind's
         sequence holds (:func:`cshape._checks.check_crop`: ``N`` eigenvalues for
         'truncated' and the paper's transform, the ``N-1`` log-Weyl ratios for
         'truncated-log' and the log-Weyl transforms).
@@ -90,7 +126,7 @@ default='cshape'
     Examples
     --------
     >>> from cshape import Descriptor
-    >>> d = Descriptor("cshape", M=8, N=50, transform="log-weyl-dct")
+    >>> d = Descriptor("cshape", N=50, M=8, transform="log-weyl-dct")
     >>> d.size, d.label
     (17, 'log-Weyl DCT cShape-DNA (M=8 of N=50, 17 values)')
     >>> d.replace(M=4).size
@@ -98,27 +134,27 @@ default='cshape'
     """
 
     kind: str = "cshape"
-    M: int = 16
     N: int = 100
+    M: int = 16
     transform: str = "weyl"
     normalization: str = "area"
 
-    def __init__(self, kind: str = "cshape", M: int = 16, N: int = 100,
+    def __init__(self, kind: str = "cshape", *, N: int = 100, M: int = 16,
                  transform: str = "weyl", normalization: str = "area") -> None:
         # written out (not the dataclass's generated __init__) so that a deprecation
         # warning of an old spelling points at the caller's line
         kind = check_choice("kind", kind, DESCRIPTOR_KINDS)
         transform = check_choice("transform", transform, TRANSFORMS)
         normalization = check_choice("normalization", normalization, NORMALIZATIONS)
-        M = check_int("M", M, min=0)
         N = check_int("N", N, min=1)
+        M = check_int("M", M, min=0)
         if kind == "truncated":
             check_crop(M, N)
         elif kind == "truncated-log":
             check_crop(M, N, log=True)
         elif kind in ("cshape", "cshape-complex"):
             check_crop(M, N, log=transform != "weyl")
-        for name, value in (("kind", kind), ("M", M), ("N", N), ("transform", transform),
+        for name, value in (("kind", kind), ("N", N), ("M", M), ("transform", transform),
                             ("normalization", normalization)):
             object.__setattr__(self, name, value)  # the checked, current spelling
 
@@ -171,16 +207,10 @@ default='cshape'
         return {"truncated": 2 * self.M + 1, "truncated-log": 2 * self.M + 2}.get(self.kind,
                                                                                self.N)
 
-    def as_dict(self) -> dict[str, Any]:
-        """Return ``{'kind', 'M', 'N', 'transform', 'normalization'}`` as a dict.
-
-        They are keyword arguments of :func:`cshape.compare.descriptor_matrix`.
-        """
-        return dataclasses.asdict(self)
-
     def replace(self, **changes: Any) -> Descriptor:
         """Return a copy with some fields changed (checked again)."""
-        return Descriptor(**{**self.as_dict(), **changes})
+        fields = {**dataclasses.asdict(self), **changes}
+        return Descriptor(fields.pop("kind"), **fields)
 
     def for_N(self, N: int) -> Descriptor:
         """Return the same descriptor for spectra of ``N`` eigenvalues.
@@ -244,9 +274,9 @@ default='cshape'
         """One descriptor of a checked spectrum; ValueError if it cannot be described."""
         kind, M, N, norm = self.kind, self.M, self.N, self.normalization
         if kind == "shape-dna":
-            return normalize(r[:N], area=area, method=norm)
+            return normalize(r[:N], area, normalization=norm)
         if kind == "truncated":
-            return normalize(r[: 2 * M + 1], area=area, method=norm)
+            return normalize(r[: 2 * M + 1], area, normalization=norm)
         if kind == "f1":
             return f1_feature(r[:N], k, length=N - 2)
         if kind == "truncated-log":  # r_1 .. r_{2M+1} of the eigenvalues after the zero modes
@@ -258,10 +288,10 @@ default='cshape'
                     f"components): {len(r) - kk} non-zero ones are left and 2M+1 = "
                     f"{2 * M + 1} are needed (compute N >= {2 * M + 1 + kk} eigenvalues, or "
                     f"use M <= {max(len(r) - kk - 1, 0) // 2})")
-            lam_norm = normalize(r[: 2 * M + 1 + kk], area=area, method=norm)
+            lam_norm = normalize(r[: 2 * M + 1 + kk], area, normalization=norm)
             return log_weyl_ratio(lam_norm, k0)
-        lam_norm = normalize(r[:N], area=area, method=norm)
-        S = compact_shape_dna(lam_norm, M=M, N=N, normalization="none",
+        lam_norm = normalize(r[:N], area, normalization=norm)
+        S = compact_shape_dna(lam_norm, N=N, M=M, normalization="none",
                               transform=self.transform, zero_modes=k)
         return S if kind == "cshape-complex" else real_form(S)
 
@@ -329,7 +359,7 @@ default='cshape'
             more = f"; and {len(problems) - 5} more" if len(problems) > 5 else ""
             raise ValueError(
                 f"kind={self.kind!r} cannot describe {len(problems)} of {p} shapes "
-                f"({shown}{more}); leave them out (cshape.compare.row_problems lists them; "
+                f"({shown}{more}); leave them out (Descriptor.rows lists them; "
                 "a DescriptorTable leaves them out with a warning) or choose another kind")
         return X
 
@@ -393,71 +423,28 @@ def _row_names(names: Sequence[Any] | None, p: int) -> list[str]:
 
 #: The paper's cShape-DNA: Eq. (8)-(10), ``M = 16`` of ``N = 100``, area-normalised (the
 #: default of :func:`cshape.compact_shape_dna`): ``--kind cshape`` on the command line.
-PAPER = Descriptor("cshape", M=16, N=100, transform="weyl", normalization="area")
+PAPER = Descriptor("cshape", N=100, M=16, transform="weyl", normalization="area")
 
-#: The exploration default: what :meth:`cshape.DescriptorTable.descriptors` and
-#: ``.distance_matrix()`` with no kind, :class:`cshape.DescriptorIndex`, ``cshape query``,
-#: ``cshape overview``, ``cshape describe``'s summary and the MDS of one's own collection
-#: compare (through :func:`select_descriptor`, at the table's ``N``: :meth:`Descriptor.for_N`).
-#: The truncated log spectrum normalised by area: the row is the first ``2M+1`` log-Weyl
-#: ratios ``log(lam_i * area / (4 pi i))``, ``i = 1 .. 2M+1``, of the eigenvalues after the
-#: zero modes.  Chosen on two real labelled collections (a category benchmark and characters
-#: in poses) by the best worst first tier, with the generated resolution benchmark as a guard
-#: (nearest neighbour >= 0.9); see ``benchmarks/results/real_collections.md``
-#: (``benchmarks/bench_real_collections.py``).
-DEFAULT = Descriptor("truncated-log", M=8, N=100, transform="weyl", normalization="area")
+#: The exploration default: what a :class:`cshape.DescriptorTable`, a
+#: :class:`cshape.DescriptorIndex`, the figures of a collection and the command line compare
+#: when no descriptor is given (at the table's ``N``: :meth:`Descriptor.for_N`).  The
+#: truncated log spectrum normalised by area: the row is the first ``2M+1`` log-Weyl ratios
+#: ``log(lam_i * area / (4 pi i))``, ``i = 1 .. 2M+1``, of the eigenvalues after the zero
+#: modes.  How it was chosen: the guide "Choosing a descriptor"
+#: (``docs/guides/choosing-a-descriptor.md``).
+DEFAULT = Descriptor("truncated-log", N=100, M=8, transform="weyl", normalization="area")
 
 
-def select_descriptor(descriptor: Descriptor | None = None, *, kind: str | None = None,
-                      M: int | None = None, N: int | None = None,
-                      transform: str | None = None, normalization: str | None = None,
-                      base_M: int = 16, base_N: int = 100,
-                      base_transform: str = "weyl") -> Descriptor:
-    """Return the descriptor that a call's arguments select: the one rule of every surface.
+def _given_or_default(descriptor: object, N: int) -> Descriptor:
+    """``descriptor`` checked, or :data:`DEFAULT` for spectra of ``N`` eigenvalues when None.
 
-    * ``descriptor`` given: it, as it is (no other argument may be given);
-    * ``kind=None``: the exploration default :data:`DEFAULT` for spectra of ``N``
-      eigenvalues (:meth:`Descriptor.for_N`), with ``M``, ``transform`` and
-      ``normalization`` where given;
-    * a kind by name: with ``M`` and ``transform`` from the base (a table's) unless given,
-      and the paper's area normalisation unless given.
-
-    Parameters
-    ----------
-    descriptor : Descriptor, optional
-    kind, M, N, transform, normalization : optional
-        The fields, as keyword arguments.
-    base_M, base_N, base_transform
-        Where the fields not given come from (a :class:`cshape.DescriptorTable`'s ``M``,
-        ``N`` and ``transform``).
-
-    Returns
-    -------
-    Descriptor
-
-    Raises
-    ------
-    TypeError
-        ``descriptor`` not a :class:`Descriptor`.
-    ValueError
-        ``descriptor`` given with another field; the errors of :class:`Descriptor`.
+    The one rule of the surfaces that take ``descriptor=`` (tables, the index, the figures).
     """
-    if descriptor is not None:
-        if not isinstance(descriptor, Descriptor):
-            raise TypeError("descriptor must be a cshape.Descriptor (e.g. cshape.PAPER), got "
-                            f"{type(descriptor).__name__}")
-        given = [n for n, v in (("kind", kind), ("M", M), ("N", N), ("transform", transform),
-                                ("normalization", normalization)) if v is not None]
-        if given:
-            raise ValueError(f"pass either descriptor= or {', '.join(given)}, not both "
-                             f"(descriptor.replace({given[0]}=...) changes a field)")
-        return descriptor
-    N = base_N if N is None else N
-    if kind is None:
-        d = DEFAULT.for_N(N)
-        changes = {k: v for k, v in (("M", M), ("transform", transform),
-                                     ("normalization", normalization)) if v is not None}
-        return d.replace(**changes) if changes else d
-    return Descriptor(kind, M=base_M if M is None else M, N=N,
-                      transform=base_transform if transform is None else transform,
-                      normalization="area" if normalization is None else normalization)
+    if descriptor is None:
+        return DEFAULT.for_N(N)
+    if not isinstance(descriptor, Descriptor):
+        hint = (f" (a kind: Descriptor({descriptor!r}, N=...))"
+                if isinstance(descriptor, str) else "")
+        raise TypeError("descriptor must be a cshape.Descriptor (e.g. cshape.PAPER) or None "
+                        f"(cshape.DEFAULT), got {type(descriptor).__name__}{hint}")
+    return descriptor

@@ -1,4 +1,4 @@
-"""Stage 4 of the pipeline: descriptors from eigenvalues (Section 2.1 and 2.3).
+"""The formulas of stage 4: descriptors from eigenvalues (Section 2.1 and 2.3).
 
 * :func:`normalize`             - scale invariance (Section 2.1): area, first non-zero
                                   eigenvalue, or fitted Weyl slope;
@@ -69,7 +69,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import (
+from .._checks import (
     check_bool,
     check_choice,
     check_crop,
@@ -77,13 +77,12 @@ from ._checks import (
     check_real,
     check_spectrum,
 )
-from .mesh import Mesh, MeshLike
+from ..mesh import Mesh, MeshLike
 
 __all__ = [
     "normalize",
     "weyl_subtract",
     "compact_shape_dna",
-    "compact_shape_dna_real",
     "log_weyl_ratio",
     "real_form",
     "inverse_compact_shape_dna",
@@ -100,13 +99,9 @@ NORMALIZATIONS = ("area", "fiedler", "weyl", "none")
 #: The ``transform=`` options of :func:`compact_shape_dna`; ``'weyl'`` is the paper's.
 TRANSFORMS = ("weyl", "log-weyl", "log-weyl-dct")
 FOUR_PI = 4.0 * np.pi
-#: An eigenvalue at most ``ZERO_RTOL`` times the largest of its spectrum is a zero mode.
-#: Two bounds fix it: other solvers' round-off on a zero mode reaches a few ``1e-8`` of the
-#: largest eigenvalue (ARPACK on a real mesh: ``lam_0 = -2.6e-8 lam_99``; a spectrum stored
-#: in float32 carries ``1e-7``), and the smallest non-zero eigenvalue of the real connected
-#: meshes measured is ``4.9e-4`` of the 100th (an 112-vertex control mesh; 9.3e-4 and more
-#: on the 248 meshes of two real labelled collections).  ``1e-5`` leaves a factor of about
-#: 100 above the round-off and 50 below the smallest real ``lam_1``.
+#: An eigenvalue at most ``ZERO_RTOL`` times the largest of its spectrum is a zero mode
+#: (:func:`count_zero_modes`).  How the value was chosen: the guide "Imperfect meshes"
+#: (``docs/guides/imperfect-meshes.md``).
 ZERO_RTOL = 1e-5
 #: With a known component count ``k`` (``zero_modes=``) the ``k`` leading eigenvalues are
 #: zero modes when each is at most ``ZERO_RTOL`` of the largest or ``KNOWN_ZERO_RATIO`` of
@@ -125,8 +120,8 @@ def _first_nonzero(lam: NDArray[np.float64]) -> int:
     return int(nz[0])
 
 
-def normalize(lam: ArrayLike, area: float | None = None,
-              method: str = "area") -> NDArray[np.float64]:
+def normalize(lam: ArrayLike, area: float | None = None, *,
+              normalization: str = "area") -> NDArray[np.float64]:
     """Scale-normalise a Shape-DNA (Section 2.1).
 
     Parameters
@@ -134,8 +129,8 @@ def normalize(lam: ArrayLike, area: float | None = None,
     lam : array_like, shape (N,)
         Ascending eigenvalues, lam_0 first.
     area : float, optional
-        Surface area of the mesh; required for ``method='area'``.
-    method : {'area', 'fiedler', 'weyl', 'none'}, default='area'
+        Surface area of the mesh; required for ``normalization='area'``.
+    normalization : {'area', 'fiedler', 'weyl', 'none'}, default='area'
         ``'area'`` multiplies by the surface area (the paper's choice); afterwards the
         values lie around the Weyl line ``4 pi i``.  ``'fiedler'`` divides by the first
         non-zero eigenvalue.  ``'weyl'`` multiplies by ``4 pi / s`` where ``s`` is the
@@ -151,28 +146,42 @@ def normalize(lam: ArrayLike, area: float | None = None,
     Raises
     ------
     TypeError
-        Complex or non-numeric ``lam``; ``area`` not a real number; ``method`` not a string.
+        Complex or non-numeric ``lam``; ``area`` not a real number; ``normalization`` not
+        a string.
     ValueError
         ``lam`` not 1-D, empty or not finite; ``area`` not positive and finite, or missing
-        for ``method='area'``; an unknown ``method``.
+        for ``normalization='area'``; an unknown ``normalization``.
+
+    Examples
+    --------
+    >>> normalize([0.0, 2.0, 6.0], 2.0).tolist()
+    [0.0, 4.0, 12.0]
+    >>> normalize([0.0, 2.0, 6.0], normalization="fiedler").tolist()
+    [0.0, 1.0, 3.0]
     """
-    x = check_spectrum(lam)
-    method = check_choice("method", method, NORMALIZATIONS)
-    if method == "area":
+    return _normalize(check_spectrum(lam), area, normalization)
+
+
+def _normalize(x: NDArray[np.float64], area: float | None,
+               normalization: str) -> NDArray[np.float64]:
+    """:func:`normalize` of a checked spectrum ``x`` (the other arguments unchecked)."""
+    normalization = check_choice("normalization", normalization, NORMALIZATIONS)
+    if normalization == "area":
         if area is None:
             raise ValueError(
-                "method='area' needs the surface area: pass area=mesh.area "
-                "(or use method='weyl', which needs no area)"
+                "normalization='area' needs the surface area: pass area=mesh.area "
+                "(or use normalization='weyl', which needs no area)"
             )
         return x * check_real("area", area, positive=True)
-    if method == "fiedler":
+    if normalization == "fiedler":
         return x / x[_first_nonzero(x)]
-    if method == "none":
+    if normalization == "none":
         return x.copy()
     i = np.arange(len(x), dtype=np.float64)
     s = float(i @ x) / float(i @ i) if len(x) > 1 else 0.0
     if s <= 0:
-        raise ValueError("method='weyl' needs at least two eigenvalues with a positive trend")
+        raise ValueError("normalization='weyl' needs at least two eigenvalues with a "
+                         "positive trend")
     return x * (FOUR_PI / s)
 
 
@@ -190,7 +199,11 @@ def weyl_subtract(lam_norm: ArrayLike) -> NDArray[np.float64]:
     -------
     lam_prime : ndarray, shape (N,)
     """
-    x = check_spectrum(lam_norm, "lam_norm")
+    return _weyl_subtract(check_spectrum(lam_norm, "lam_norm"))
+
+
+def _weyl_subtract(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Eq. (8) of a checked spectrum."""
     return x - FOUR_PI * np.arange(len(x))
 
 
@@ -210,6 +223,11 @@ def count_zero_modes(lam: ArrayLike, *, rtol: float = ZERO_RTOL) -> int:
     int
         ``k``: ``lam_0 .. lam_{k-1}`` are zero modes; ``N`` when all are (too few
         eigenvalues to see past them), ``0`` for a Dirichlet spectrum of open pieces.
+
+    Examples
+    --------
+    >>> count_zero_modes([0.0, 3e-9, 2.0, 6.0])  # two pieces, one zero mode with round-off
+    2
     """
     x = check_spectrum(lam)
     rtol = check_real("rtol", rtol, min=0)
@@ -343,7 +361,12 @@ def log_weyl_ratio(lam_norm: ArrayLike, zero_modes: int | None = None, *,
         If no eigenvalue is left after the zero modes, or one after them is not positive
         (lam not ascending).
     """
-    x = check_spectrum(lam_norm, "lam_norm", min_len=2)
+    return _log_weyl_ratio(check_spectrum(lam_norm, "lam_norm", min_len=2), zero_modes, length)
+
+
+def _log_weyl_ratio(x: NDArray[np.float64], zero_modes: object, length: object
+                    ) -> NDArray[np.float64]:
+    """:func:`log_weyl_ratio` of a checked spectrum of at least 2 values."""
     length = _check_length(length)
     tol = ZERO_RTOL * float(np.abs(x).max())
     k = max(_zero_modes(x, zero_modes, tol), 1)
@@ -401,17 +424,16 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
                 "normalization='none' is for eigenvalues that are already normalised; a mesh "
                 "is normalised by its own area: use normalization='area' (the default)"
             )
-        from .mesh import as_mesh, repair_mesh
-        from .spectrum import shape_dna
+        from ..mesh import as_mesh, repair_mesh
+        from ..spectrum import shape_dna
 
         # repair here, once, so that the area is that of the surface whose spectrum is
         # computed (a duplicated face would otherwise count twice in the area only)
         mesh = repair_mesh(as_mesh(mesh_or_lam))
-        lam = shape_dna(mesh, N=N, bc=bc)
+        lam = shape_dna(mesh, N=N, bc=bc)  # N finite ascending eigenvalues: nothing to check
         k = mesh.n_components if bc == "neumann" else None  # one zero mode per piece
-        return (normalize(lam, area=mesh.area if area is None else area, method=normalization),
-                k)
-    lam = check_spectrum(mesh_or_lam, "mesh_or_lam")
+        return _normalize(lam, mesh.area if area is None else area, normalization), k
+    lam = check_spectrum(mesh_or_lam, "mesh_or_lam")  # the one check of the eigenvalues
     if len(lam) < N:
         raise ValueError(
             f"got {len(lam)} eigenvalues but N={N}; pass N={len(lam)} or compute more eigenvalues"
@@ -422,7 +444,7 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
     if normalization == "area" and area is None:
         import warnings
 
-        from .mesh import CShapeWarning
+        from ..mesh import CShapeWarning
 
         warnings.warn(
             "compact_shape_dna got eigenvalues without area=: they are taken as already "
@@ -432,7 +454,7 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
             CShapeWarning, stacklevel=3,
         )
         return lam, None
-    return normalize(lam, area=area, method=normalization), None
+    return _normalize(lam, area, normalization), None
 
 
 def _dft_crop(x: NDArray[np.float64], M: int) -> NDArray[np.complex128]:
@@ -449,8 +471,8 @@ def _dct(x: NDArray[np.float64]) -> NDArray[np.float64]:
     return dct(x, type=2, norm="ortho")
 
 
-def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 100,
-                      area: float | None = None, *, bc: str = "neumann",
+def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int = 16,
+                      area: float | None = None, bc: str = "neumann",
                       normalization: str = "area", transform: str = "weyl",
                       zero_modes: int | None = None) -> NDArray[Any]:
     """Compact Shape-DNA (cShape-DNA), Eq. (8)-(10), and its log-Weyl extensions.
@@ -484,11 +506,11 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
         normalised ones need ``normalization='none'``.  Eigenvalues with neither are taken as
         normalised, with a :class:`cshape.CShapeWarning` (a raw spectrum would silently be
         off by the area factor).  Only the first ``N`` are used.
+    N : int, default=100
+        Length of the Shape-DNA (``lam_0 .. lam_{N-1}``).
     M : int, default=16
         Crop half-width; the descriptor has ``2M+1`` values.  ``0 <= M <= (N-1)//2`` for
         ``'weyl'``, ``0 <= M <= (N-2)//2`` for the log-Weyl transforms (``2M+1 <= N-1``).
-    N : int, default=100
-        Length of the Shape-DNA (``lam_0 .. lam_{N-1}``).
     area : float, optional
         Surface area used for the normalisation (default for a mesh: ``mesh.area``).
     bc : {'neumann', 'dirichlet'}, default='neumann'
@@ -545,8 +567,17 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
     shapes with.  Fewer eigenvalues beyond ``2M+1`` (a smaller ``N``) retrieve better on the
     benchmark collections; at ``N = 2M+2`` nothing is cropped and both log-Weyl transforms
     have the distances of the first ``2M+1`` log-Weyl ratios (kind ``'truncated-log'`` of
-    :func:`cshape.compare.descriptor_matrix`).  The measurements behind these choices are
+    :class:`cshape.Descriptor`).  The measurements behind these choices are
     in ``benchmarks/README.md`` ("Which transform, which N").
+
+    Examples
+    --------
+    A spectrum on the Weyl line ``4 pi i`` (after the area) has nothing left after Eq. (8):
+
+    >>> import numpy as np
+    >>> S = compact_shape_dna(4 * np.pi * np.arange(10.0), N=10, M=2, area=1.0)
+    >>> S.shape, bool(np.allclose(S, 0))
+    ((5,), True)
     """
     transform = _check_transform(transform)
     M = _check_M(M, _check_N(N), transform)  # before the eigensolve
@@ -554,7 +585,7 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
         zero_modes = check_int("zero_modes", zero_modes, min=0)
     lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
     if transform == "weyl":
-        return _dft_crop(weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
+        return _dft_crop(_weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
     r = _log_weyl_sequence(lam_norm, M, pieces if zero_modes is None else zero_modes,
                            transform)
     if transform == "log-weyl":
@@ -562,10 +593,12 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 1
     return _dct(r)[: 2 * M + 1].copy()
 
 
-def _log_weyl_sequence(lam_norm: ArrayLike, M: int, zero_modes: int | None, transform: str
+def _log_weyl_sequence(x: NDArray[np.float64], M: int, zero_modes: int | None, transform: str
                        ) -> NDArray[np.float64]:
-    """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms (rule for several pieces)."""
-    x = check_spectrum(lam_norm, "lam_norm", min_len=2)
+    """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms (rule for several pieces).
+
+    ``x``: the checked, normalised spectrum, ``N >= 2M + 2`` values (:func:`_check_M`).
+    """
     N = len(x)
     k0 = _zero_modes(x, zero_modes, ZERO_RTOL * float(np.abs(x).max()))
     k = max(k0, 1)  # lam_0 is dropped also when positive (Dirichlet)
@@ -574,7 +607,7 @@ def _log_weyl_sequence(lam_norm: ArrayLike, M: int, zero_modes: int | None, tran
             f"transform={transform!r} needs 2M+1 = {2 * M + 1} non-zero eigenvalues, but "
             f"{k} of the N = {N} are zero modes (a mesh of {k} components) and {N - k} are "
             f"left: use N >= {2 * M + 1 + k} or M <= {max(N - k - 1, 0) // 2}")
-    return log_weyl_ratio(x, k0, length=N - 1)
+    return _log_weyl_ratio(x, k0, N - 1)
 
 
 def real_form(S_c: ArrayLike) -> NDArray[np.float64]:
@@ -612,15 +645,6 @@ def real_form(S_c: ArrayLike) -> NDArray[np.float64]:
     out[..., 1::2] = np.sqrt(2.0) * pos.real
     out[..., 2::2] = np.sqrt(2.0) * pos.imag
     return out
-
-
-def compact_shape_dna_real(mesh_or_lam: MeshLike | ArrayLike, M: int = 16, N: int = 100,
-                           area: float | None = None, **kwargs: Any) -> NDArray[np.float64]:
-    """:func:`compact_shape_dna` in its :func:`real_form`: shape (2M+1,), float64.
-
-    Takes the same keywords (``bc``, ``normalization``, ``transform``, ``zero_modes``).
-    """
-    return real_form(compact_shape_dna(mesh_or_lam, M=M, N=N, area=area, **kwargs))
 
 
 def inverse_compact_shape_dna(S_c: ArrayLike, N: int, *, add_weyl: bool = True,
@@ -706,8 +730,8 @@ def f1_feature(lam: ArrayLike, zero_modes: int | None = None, *,
         (:func:`count_zero_modes`).
     length : int, optional
         Return exactly ``length`` ratios, past the measured ones extended by Weyl's law
-        (``mu_i = mu_{N-k} i / (N-k)``); :func:`cshape.compare.descriptor_matrix` asks for
-        ``N - 2``, the length of a connected mesh.
+        (``mu_i = mu_{N-k} i / (N-k)``); :class:`cshape.Descriptor` asks for ``N - 2``,
+        the length of a connected mesh.
 
     Returns
     -------

@@ -17,7 +17,7 @@ import threading
 
 import numpy as np
 
-from ._checks import check_int
+from .._checks import check_int
 
 #: Problems with at least this many unknowns split their tall products into
 #: :data:`ROW_PARTS` fixed row ranges, which threads may compute at once.

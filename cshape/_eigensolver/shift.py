@@ -24,7 +24,9 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from . import _cholmod, _lanczos, _threads
+from . import cholmod as _cholmod
+from . import lanczos as _lanczos
+from . import threads as _threads
 
 #: Problems with at most this many unknowns put the shift inside the spectrum
 #: (:func:`solve_inside`).  Its factorisation is simplicial (CHOLMOD has no supernodal
@@ -191,10 +193,9 @@ def solve_inside(K, B, N, same, return_vectors):
 def _basis_beside(k, N, b, threads):
     """Start allocating the Lanczos basis in another thread, if ``threads > 1``; or None.
 
-    The first touch of a big array costs page faults (about 0.6 s for the 500 MB a
-    164K-vertex solve writes first, measured on a virtual machine): done by a second core
-    while the first one factorises, it costs nothing.  Returns a future of the array
-    :func:`~cshape._lanczos.block_lanczos` takes as ``basis``.
+    The first write to a big array costs page faults; a second core writes it while the
+    first one factorises (figures: ``benchmarks/results/choices.md``).  Returns a future of
+    the array :func:`~cshape._eigensolver.lanczos.block_lanczos` takes as ``basis``.
     """
     if threads < 2:
         return None

@@ -69,9 +69,8 @@ _CHOLMOD_REAL, _CHOLMOD_A = 1, 0
 
 
 #: OpenBLAS kernels for CHOLMOD's BLAS on an Intel processor with AVX-512, where the cvxopt
-#: wheel's OpenBLAS (0.3.15) picks its SkylakeX kernels: its Haswell (AVX2) kernels solve
-#: 16 right-hand sides 17 % faster there (and factorise 4 % faster; 164K vertices, Intel
-#: Xeon, ``benchmarks/SCALE.md``).
+#: wheel's OpenBLAS (0.3.15) would pick its SkylakeX kernels (:func:`openblas_coretype`;
+#: the measurement behind the choice: ``benchmarks/SCALE.md``, "Against LaPy").
 AVX512_CORETYPE = "Haswell"
 
 
