@@ -20,6 +20,9 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade "pip>=25.1"
 	$(PY) -m pip install --quiet -e ".[all]" --group test --group bench --group docs
+	@# JupyterLab of this venv lists each lesson once: its .ipynb, not the source NN_topic.py
+	mkdir -p $(VENV)/etc/jupyter
+	cp tools/jupyter_server_config.json $(VENV)/etc/jupyter/jupyter_server_config.json
 	touch $(STAMP)
 
 demo: $(STAMP)

@@ -2,7 +2,7 @@
 
 Run from the repository root::
 
-    .venv/bin/python -m cshape describe ../shared/meshes --out /tmp/shared.npz --keep-going
+    .venv/bin/python -m cshape describe ../shared/meshes --out /tmp/shared.npz
     .venv/bin/python benchmarks/bench_pieces.py /tmp/shared.npz
 
 A mesh of ``k`` components has ``k`` zero eigenvalues; cshape drops them and indexes the rest

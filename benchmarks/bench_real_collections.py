@@ -1,38 +1,49 @@
-"""Candidate exploration defaults scored on real labelled collections and on the generated suite.
+"""Candidate exploration defaults scored on three real labelled collections and the generated
+suite, and the choice by the smallest worst regret.
 
 Usage::
 
     .venv/bin/python benchmarks/bench_real_collections.py --realdev ../shared/realdev \\
-        --out benchmarks/results/real_collections.md
+        --meshes ../shared/meshes --out benchmarks/results/real_collections.md
 
-``--realdev`` is a folder with ``shrec07-dev/`` (category level: 10 classes of the SHREC 2007
-watertight benchmark, 200 meshes) and ``tosca-dev/`` (instance level: 6 TOSCA characters in
-poses, 48 meshes), each with its meshes (``.off.gz``), ``classes.csv`` and
-``reference-spectra.npz`` (``lam`` (p, 100) raw, ``area``, ``labels``); without it the script
-says so and exits with status 2.
+``--realdev`` is a folder with ``shrec07-dev/`` (category level: 10 classes of SHREC 2007
+watertight, 200 meshes), ``tosca-dev/`` (instance level: 6 TOSCA characters in poses, 48
+meshes) and ``faust-dev/`` (instance level, hard: 5 people of FAUST in 10 poses each), each
+with its meshes, ``classes.csv`` and ``reference-spectra.npz``; without it the script says so
+and exits with status 2.  ``--meshes`` is ``../shared/meshes`` (real meshes; the objects
+with several files: the same object at another resolution, a control cage or another
+triangulation).
 
-Every candidate is scored by retrieval (:func:`cshape.compare.retrieval_scores`, Princeton
-Shape Benchmark definitions: NN, first and second tier, DCG, mAP) on
+Sets.  Every candidate is scored by retrieval (:func:`cshape.compare.retrieval_per_query`,
+Princeton Shape Benchmark definitions: NN, first and second tier, DCG, mAP) on six sets: the
+three real collections (linear-FEM eigenvalues: their reference spectra) and the three
+development instances of the generated suite (:mod:`cshape.data.suite`: ``creatures-dev``,
+category level; ``identities-dev``, instance level; ``resolutions-dev``, the same shape
+meshed three ways).  Each candidate is also scored on **extrapolated spectra**: one midpoint
+subdivision of every mesh, a second linear-FEM solve, ``(4 lam_fine - lam) / 3``
+(Richardson; :mod:`_extrapolated`, cached under ``--cache``, outside the repository).
 
-* both real collections: eigenvalue descriptors from the **reference spectra** (an
-  independent linear-FEM + ARPACK solver); descriptors that need more than eigenvalues
-  (heat / wave kernel signatures, the intrinsic Delaunay Laplacian, D2) from cshape's own
-  eigenpairs of the meshes (:mod:`_real_features`);
-* the development instances of the generated suite (``creatures-dev``, ``identities-dev``,
-  ``resolutions-dev``; :mod:`cshape.data.suite`), from cached :func:`cshape.describe` tables.
+Rule (stated before the scores were seen):
 
-Rule: among the candidates with nothing fitted on the real collections (a weight chosen
-on them cannot be judged by its scores there) whose ``resolutions-dev`` nearest neighbour is
-at least ``GUARD_NN`` (the same shape meshed another way must still be found), take the
-highest **worst first tier over the two real collections**; candidates within ``TIE`` of it
-are tied, and the tie goes to the simplest: eigenvalues only (what ``cshape describe``
-stores), then fewer values, then the higher mean of the two.  Fitted combinations are
-scored and reported (what lies beyond the plateau), never chosen.
+1. **Regret.**  On each set ``s`` of the six, a candidate's regret is
+   ``max_c FT_s(c) - FT_s(candidate)``: its first-tier shortfall from the best candidate on
+   that set.  The best is taken over the candidates computable from what
+   :func:`cshape.shape_dna` gives (linear FEM); candidates on extrapolated spectra are scored
+   against the same bests (a negative regret: better than every linear one).
+2. **Guards.**  Nearest neighbour ``>= GUARD_NN`` (0.9) on ``resolutions-dev`` (the same
+   shape meshed otherwise stays the nearest neighbour), and ``>= GUARD_PAIRS`` (0.8) on the
+   same-object pairs of ``../shared/meshes`` (the 11 meshes of spot, fish, penguin and sword
+   whose folder holds another version of the same object; each queries the other 15 meshes
+   of the folder, the two cubes left out: an open and a closed cube are two shapes).
+3. **Choice.**  Among the guarded candidates computable today (linear FEM: the
+   product's spectra), the smallest **worst regret over the six sets**.  Candidates within
+   ``TIE`` (0.005) of it are tied; the tie goes to the simpler: fewer blocks, then fewer
+   values, then the smaller mean regret.
+4. Weights of two-block candidates come from a grid of round numbers
+   (``WEIGHTS``); choosing one of them is a fit on these six sets, and is reported as such.
 
-Per-mesh features are cached under ``--cache`` (default ``/tmp/realdev_cache``): without a
-cache the script computes 248 eigenpair sets, 248 intrinsic Delaunay spectra and (with LaPy)
-248 LaPy spectra, about 15 minutes on 2 shared cores, and the suite's 384 eigenpair sets
-(about 2 minutes); with the cache, 20 seconds.
+Aim: a worst regret of at most 0.02 (within 0.02 of the best candidate on every set at
+once).
 """
 
 from __future__ import annotations
@@ -48,544 +59,392 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import machine_summary  # noqa: E402
 
-COLLECTIONS = ("shrec07-dev", "tosca-dev")
-SUITE_BENCHES = ("creatures", "identities", "resolutions")
-#: The rule's guard: nearest neighbour on ``resolutions-dev``.
-GUARD_NN = 0.90
-#: First-tier differences below this are ties.
-TIE = 0.01
+REAL = ("shrec07-dev", "tosca-dev", "faust-dev")
+SUITE = ("creatures-dev", "identities-dev", "resolutions-dev")
+SETS = REAL + SUITE
+#: The guards: nearest neighbour on ``resolutions-dev`` and on the pairs of shared meshes.
+GUARD_NN, GUARD_PAIRS = 0.90, 0.80
+#: Worst regrets closer than this are tied.
+TIE = 0.005
+#: The weights tried for the second block of a two-block candidate.
+WEIGHTS = (0.25, 0.5, 1.0, 2.0, 4.0)
+#: The objects of ../shared/meshes left out of the pairs (see the rule).
+PAIRS_LEFT_OUT = ("cube",)
+MEASURES = ("nn", "ft", "st", "dcg", "map")
 FOUR_PI = 4 * np.pi
-#: Zero-mode count for the benchmark's own descriptors: generous, the collections' piece
-#: counts are known (every realdev mesh is connected; the suite tables store theirs).
-ZERO_RTOL = 1e-6
 
 
 # --------------------------------------------------------------------------- data
-def load_real(folder: Path, cache: Path) -> dict:
-    """Reference spectra, labels and the cached cshape features of one real collection."""
-    import _real_features
-
-    ref = np.load(folder / "reference-spectra.npz")
-    files = [str(f) for f in ref["files"]]
-    missing = [f for f in files
-               if not (cache / folder.name / (f[: -len(".off.gz")] + ".npz")).exists()]
-    if missing:
-        print(f"{folder.name}: computing features of {len(missing)} meshes (cached in "
-              f"{cache})", file=sys.stderr)
-        _real_features.main([str(folder), str(cache)])
-    feats = [np.load(cache / folder.name / (f[: -len(".off.gz")] + ".npz")) for f in files]
-    out = {"name": folder.name, "files": files, "labels": [str(x) for x in ref["labels"]],
-           "lam": np.asarray(ref["lam"], float), "area": np.asarray(ref["area"], float),
-           "own_lam": np.array([f["lam"] for f in feats]),
-           "own_area": np.array([float(f["area"]) for f in feats])}
-    for key in ("hks_q", "wks_q", "d2", "lam_idl", "lam_arpack", "n_vertices"):
-        out[key] = np.array([f[key] for f in feats])
-    if all("lam_lapy" in f for f in feats):
-        out["lam_lapy"] = np.array([f["lam_lapy"] for f in feats])
-    out["zero_modes"] = np.array([_count_zero(x) for x in out["lam"]])
-    return out
+def extrapolated(z):
+    """``(4 lam_fine - lam) / 3`` where the coarse mesh resolves the eigenvalue; else the
+    subdivision's own ``lam_fine``: past the coarse mesh's vertex count (Weyl-extended), or
+    where the correction exceeds half of ``lam_fine`` (outside the asymptotic range: a
+    control cage of 112 vertices at ``i = 90``)."""
+    i = np.arange(z["lam"].shape[1])
+    x = (4 * z["lam_fine"] - z["lam"]) / 3
+    ok = (i[None, :] < (z["n_vertices"][:, None] - 1)) & (x > 0.5 * z["lam_fine"])
+    return np.where(ok, x, z["lam_fine"])
 
 
-def load_suite(cache: Path) -> dict:
-    """{benchmark: data} of the suite's development instances (cached)."""
-    import _real_features
+def load_sets(realdev: Path, meshes: Path, cache: Path) -> dict:
+    """{set: {'lam', 'lam_x' (extrapolated), 'area', 'labels'}} of the six sets and 'pairs'."""
+    import _extrapolated as ex
 
-    path = cache / "suite-dev.npz"
-    if not path.exists():
-        from bench_suite import tables
-
-        arrays = {}
-        for b, tab in tables("dev", 100, 1).items():
-            arrays.update({f"{b}_lam": tab.lam, f"{b}_area": tab.areas,
-                           f"{b}_labels": np.array(tab.labels, dtype=str),
-                           f"{b}_names": np.array(tab.names, dtype=str),
-                           f"{b}_zero_modes": tab.zero_modes})
-        np.savez(path, **arrays)
-    z = np.load(path)
     out = {}
-    for b in SUITE_BENCHES:
-        fpath = cache / f"suite-{b}-features.npz"
-        if not fpath.exists():
-            _real_features.suite_features(b, fpath)
-        f = np.load(fpath)
-        if list(f["names"]) != list(z[f"{b}_names"]):
-            raise SystemExit(f"{fpath}: names differ from the {b} table; delete the cache")
-        out[b] = {"name": f"{b}-dev", "labels": [str(x) for x in z[f"{b}_labels"]],
-                  "lam": z[f"{b}_lam"], "area": z[f"{b}_area"],
-                  "zero_modes": np.asarray(z[f"{b}_zero_modes"]),
-                  "own_lam": f["lam"], "own_area": z[f"{b}_area"],
-                  **{k: f[k] for k in ("hks_q", "wks_q", "d2", "lam_idl")}}
+    for c in REAL:
+        ref = np.load(realdev / c / "reference-spectra.npz")
+        z = np.load(ex.real_collection(realdev / c, cache))
+        if list(z["names"]) != [str(f) for f in ref["files"]]:
+            raise SystemExit(f"{c}: cached names differ from the reference; delete {cache}")
+        out[c] = {"lam": np.asarray(ref["lam"], float), "area": np.asarray(ref["area"], float),
+                  "lam_x": extrapolated(z), "labels": [str(x) for x in ref["labels"]],
+                  "own_diff": float(np.max(np.abs(z["lam"][:, 1:] - ref["lam"][:, 1:])
+                                           / ref["lam"][:, 1:]))}
+    for c in SUITE:
+        z = np.load(ex.suite_collection(c, cache))
+        out[c] = {"lam": z["lam"], "area": z["area"], "lam_x": extrapolated(z),
+                  "labels": [str(x) for x in z["labels"]]}
+    z = np.load(ex.folder_collection(meshes, cache))
+    keep = np.array([lab not in PAIRS_LEFT_OUT for lab in z["labels"]])
+    labels = [str(x) for x in z["labels"][keep]]
+    out["pairs"] = {"lam": z["lam"][keep], "area": z["area"][keep],
+                    "lam_x": extrapolated(z)[keep], "labels": labels,
+                    "names": [str(x) for x in z["names"][keep]]}
     return out
-
-
-def _count_zero(lam, rtol=ZERO_RTOL):
-    above = np.flatnonzero(lam > rtol * np.abs(lam).max())
-    return int(above[0]) if len(above) else len(lam)
 
 
 # --------------------------------------------------------------------------- descriptors
-def _mu(lam, area, k, norm, src="lam"):
-    """Non-zero eigenvalues after the k zero modes, normalised: list of 1-D arrays."""
-    out = []
-    for x, a, kk in zip(lam, area, k, strict=True):
-        mu = np.asarray(x[max(int(kk), 1):], float)
+def log_weyl(lam, area, n):
+    """r_i = log(lam_i area / (4 pi i)), i = 1..n, rows of connected meshes (lam_0 = 0)."""
+    mu = lam[:, 1: n + 1] * area[:, None]
+    return np.log(mu / (FOUR_PI * np.arange(1, n + 1)))
+
+
+def truncated_log(M, norm="area"):
+    def f(lam, area):
         if norm == "area":
-            mu = mu * a
-        elif norm == "fiedler":
-            mu = mu / mu[0]
-        elif norm == "none":  # already area-normalised (the intrinsic Delaunay spectra)
-            pass
-        else:  # pragma: no cover
-            raise ValueError(norm)
-        out.append(mu)
-    return out
+            return log_weyl(lam, area, 2 * M + 1)
+        r = log_weyl(lam, np.ones(len(lam)), 2 * M + 1)  # lam_1: r_i - r_1 + log(4 pi)
+        return r - r[:, :1]
+    return f
 
 
-def log_weyl(d, norm, n, src="lam"):
-    """r_i = log(mu_i^norm / (4 pi i)), i = 1..n (n values; Weyl-extended if short)."""
-    lam = d[src]
-    area = d["area"] if src == "lam" else d["own_area"]
-    k = d["zero_modes"]
-    if src == "lam_idl":
-        norm = "none" if norm == "area" else norm
-    rows = []
-    for mu in _mu(lam, area, k, norm):
-        r = np.log(mu / (FOUR_PI * np.arange(1, len(mu) + 1)))
-        r = np.concatenate([r, np.full(max(n - len(r), 0), r[-1])])[:n]
-        rows.append(r)
-    return np.array(rows)
-
-
-def truncated_log(M, norm, src="lam"):
-    return lambda d: log_weyl(d, norm, 2 * M + 1, src)
-
-
-def full_log(N, norm, src="lam"):
-    return lambda d: log_weyl(d, norm, N - 1, src)
-
-
-def spectral_crop(M, N, norm, dct, src="lam"):
-    """log-Weyl DFT (real form) or DCT of r_1..r_{N-1}, 2M+1 values (cshape's transforms)."""
-    def f(d):
-        r = log_weyl(d, norm, N - 1, src)
-        L = N - 1
+def log_weyl_crop(M, N=100, dct=True):
+    """log-Weyl DCT (orthonormal DCT-II) or DFT (real form) of r_1..r_{N-1}: 2M+1 values."""
+    def f(lam, area):
+        r = log_weyl(lam, area, N - 1)
         if dct:
             from scipy.fft import dct as _dct
             return _dct(r, type=2, norm="ortho", axis=1)[:, : 2 * M + 1]
         S = np.fft.fftshift(np.fft.fft(r, axis=1), axes=1)
-        c = L // 2
-        crop = S[:, c: c + M + 1]  # k = 0..M
-        parts = [crop[:, :1].real]
+        c = (N - 1) // 2
+        parts = [S[:, c: c + 1].real]
         for j in range(1, M + 1):
-            parts += [np.sqrt(2) * crop[:, j: j + 1].real, np.sqrt(2) * crop[:, j: j + 1].imag]
+            parts += [np.sqrt(2) * S[:, c + j: c + j + 1].real,
+                      np.sqrt(2) * S[:, c + j: c + j + 1].imag]
         return np.hstack(parts)
     return f
 
 
-def shape_dna(N, norm="area", src="lam"):
-    def f(d):
-        lam = d[src][:, :N]
-        area = d["area"] if src == "lam" else d["own_area"]
-        if src == "lam_idl":
-            return lam
-        if norm == "area":
-            return lam * area[:, None]
-        first = [x[max(int(k), 1)] for x, k in zip(d[src], d["zero_modes"], strict=True)]
-        return lam / np.array(first)[:, None]
+def full_log(N=100):
+    return lambda lam, area: log_weyl(lam, area, N - 1)
+
+
+def detrended_log(degree=3, N=100, power=0.0):
+    """The log-Weyl ratios r_1..r_{N-1} less their least-squares polynomial of ``degree`` in
+    ``i``: the spectrum's fluctuations about its smooth trend.  Linear finite elements raise
+    ``r_i`` by a smooth function of ``i`` (about ``h^2 lam_i``); the polynomial takes it.
+    ``power > 0``: the residual multiplied by ``(i / (N-1))^power`` (high indices weigh more,
+    as in the Shape-DNA's absolute differences)."""
+    def f(lam, area):
+        r = log_weyl(lam, area, N - 1)
+        t = np.arange(1, N) / (N - 1)
+        V = np.vander(t, degree + 1)
+        coef, *_ = np.linalg.lstsq(V, r.T, rcond=None)
+        return (r - (V @ coef).T) * t**power
     return f
+
+
+def shape_dna(N=100):
+    return lambda lam, area: lam[:, :N] * area[:, None]
 
 
 def paper_cshape(M=16, N=100):
-    """The paper's cShape-DNA (Eq. 8-10, area), through cshape itself."""
-    def f(d):
+    def f(lam, area):
         import cshape
         return np.array([cshape.real_form(cshape.compact_shape_dna(x, M=M, N=N, area=a))
-                         for x, a in zip(d["lam"], d["area"], strict=True)])
+                         for x, a in zip(lam, area, strict=True)])
     return f
 
 
-def log_gaps(n, norm="area"):
-    """log of the normalised gaps mu_{i+1} - mu_i, i = 1..n (eigenvalue spacings)."""
-    def f(d):
-        rows = []
-        for mu in _mu(d["lam"], d["area"], d["zero_modes"], norm):
-            g = np.diff(mu[: n + 1]) / FOUR_PI
-            rows.append(np.log(np.maximum(g, 1e-3)))
-        return np.array(rows)
-    return f
-
-
-def heat_trace(n_t=16, src="lam"):
-    """log of the unit-area heat trace sum_{i>=k} exp(-mu_i t), n_t times in [1e-3, 1]."""
-    t = np.geomspace(1e-3, 1.0, n_t)
-    def f(d):
-        rows = []
-        for mu in _mu(d[src], d["area"] if src == "lam" else d["own_area"], d["zero_modes"],
-                      "none" if src == "lam_idl" else "area"):
-            rows.append(np.log(np.exp(-np.outer(t, mu)).sum(axis=1)))
-        return np.array(rows)
-    return f
-
-
-def quantile_block(key, times=slice(None)):
-    """Area-weighted quantiles of log HKS / log WKS at fixed unit-area scales, flattened."""
-    return lambda d: d[key][:, times, :].reshape(len(d[key]), -1)
-
-
-def d2(d):
-    return np.sqrt(d["d2"])  # Hellinger: Euclidean distance of square-root histograms
-
-
-def concat(*parts):
-    """Blocks side by side, each multiplied by its weight: parts = ((f, w), ...)."""
-    return lambda d: np.hstack([w * f(d) for f, w in parts])
+def two_blocks(first, second, w):
+    """The first block beside ``w`` times the second: the Euclidean distance of the rows is
+    ``sqrt(d_1^2 + w^2 d_2^2)``."""
+    return lambda lam, area: np.hstack([first(lam, area), w * second(lam, area)])
 
 
 def candidates():
-    """(title, family, function, values, eigenvalues only, fitted on realdev) of every
-    candidate, in families."""
+    """Every candidate: {'title', 'family', 'f', 'size', 'blocks', 'weight'}."""
     C = []
 
-    def add(title, family, f, size, eig=True, fitted=False):
-        C.append({"title": title, "family": family, "f": f, "size": size, "eig": eig,
-                  "fitted": fitted})
+    def add(title, family, f, size, blocks=1, weight=None):
+        C.append({"title": title, "family": family, "f": f, "size": size, "blocks": blocks,
+                  "weight": weight})
 
-    add("the former default: truncated log, lam_1-norm., M=8", "default",
-        truncated_log(8, "fiedler"), 17)
+    add("truncated log M=8 (area): the former default", "truncated log", truncated_log(8), 17)
     add("paper's cShape-DNA M=16 N=100 (area)", "paper", paper_cshape(16, 100), 33)
-    for N in (30, 100):
-        add(f"Shape-DNA N={N} (area)", "Shape-DNA", shape_dna(N), N)
-    for norm in ("area", "fiedler"):
-        nm = "area" if norm == "area" else "lam_1"
-        for M in (4, 8, 12, 16, 24, 32, 49):
-            if 2 * M + 1 <= 99:
-                add(f"truncated log M={M} ({nm})", "truncated log", truncated_log(M, norm),
-                    2 * M + 1)
-        for N in (30, 50, 100):
-            add(f"full log N={N}, {N - 1} ratios ({nm})", "full log", full_log(N, norm), N - 1)
-            for M in (4, 8, 12, 16, 24):
-                if 2 * M + 1 > N - 1:
-                    continue
-                for dct in (False, True):
-                    name = "DCT" if dct else "DFT"
-                    add(f"log-Weyl {name} M={M} N={N} ({nm})", f"log-Weyl {name}",
-                        spectral_crop(M, N, norm, dct), 2 * M + 1)
-    for n in (16, 32, 64):
-        add(f"log gaps n={n} (area)", "log gaps", log_gaps(n), n)
-    add("log heat trace, 16 unit-area times", "heat trace", heat_trace(16), 16)
-    # beyond eigenvalues: cshape's eigenpairs of the meshes
-    add("HKS quantiles 8 times x 10", "HKS", quantile_block("hks_q"), 80, eig=False)
-    add("WKS quantiles 8 energies x 10", "WKS", quantile_block("wks_q"), 80, eig=False)
-    add("D2 shape distribution, 64 bins (Hellinger)", "D2", d2, 64, eig=False)
-    # the intrinsic Delaunay Laplacian (robust-laplacian, lumped mass)
-    for M in (8, 16, 24):
-        add(f"intrinsic Delaunay: truncated log M={M} (area)", "intrinsic Delaunay",
-            truncated_log(M, "area", "lam_idl"), 2 * M + 1, eig=False)
-    add("intrinsic Delaunay: full log N=100 (area)", "intrinsic Delaunay",
-        full_log(100, "area", "lam_idl"), 99, eig=False)
-    add("intrinsic Delaunay: log-Weyl DFT M=8 N=100 (area)", "intrinsic Delaunay",
-        spectral_crop(8, 100, "area", False, "lam_idl"), 17, eig=False)
-    add("intrinsic Delaunay: log-Weyl DCT M=12 N=100 (area)", "intrinsic Delaunay",
-        spectral_crop(12, 100, "area", True, "lam_idl"), 25, eig=False)
-    # combinations, weights w from a small grid; the best of a grid is fitted on realdev
-    for w in (0.05, 0.1, 0.2, 0.4, 0.8, 1.6):
-        add(f"truncated log M=16 (area) + {w} x HKS quantiles", "eig + HKS",
-            concat((truncated_log(16, "area"), 1.0), (quantile_block("hks_q"), w)), 113,
-            eig=False, fitted=True)
-        add(f"truncated log M=16 (area) + {w} x WKS quantiles", "eig + WKS",
-            concat((truncated_log(16, "area"), 1.0), (quantile_block("wks_q"), w)), 113,
-            eig=False, fitted=True)
-        add(f"truncated log M=16 (area) + {w} x log heat trace", "eig + heat trace",
-            concat((truncated_log(16, "area"), 1.0), (heat_trace(16), w)), 49, fitted=True)
-    for w in (0.5, 1.0, 2.0):
-        add(f"truncated log M=16 (area) + {w} x D2", "eig + D2",
-            concat((truncated_log(16, "area"), 1.0), (d2, w)), 97, eig=False, fitted=True)
+    add("Shape-DNA N=100 (area)", "Shape-DNA", shape_dna(100), 100)
+    add("Shape-DNA N=30 (area)", "Shape-DNA", shape_dna(30), 30)
+    for M in (4, 12, 16, 24):
+        add(f"truncated log M={M} (area)", "truncated log", truncated_log(M), 2 * M + 1)
+    add("truncated log M=8 (lam_1)", "truncated log", truncated_log(8, "fiedler"), 17)
+    add("full log N=100, 99 ratios (area)", "full log", full_log(100), 99)
+    for dct in (False, True):
+        name = "DCT" if dct else "DFT"
+        for M in (8, 16, 24):
+            add(f"log-Weyl {name} M={M} N=100 (area)", f"log-Weyl {name}",
+                log_weyl_crop(M, 100, dct), 2 * M + 1)
+    for deg in (2, 3, 4):
+        add(f"detrended log (degree {deg}) N=100", "detrended log", detrended_log(deg), 99)
+    for w in WEIGHTS:
+        for M2 in (8, 16):
+            for dct in (True, False):
+                name = "DCT" if dct else "DFT"
+                add(f"truncated log M=8 + {w:g} x log-Weyl {name} M={M2} N=100",
+                    f"two blocks: truncated log + log-Weyl {name}",
+                    two_blocks(truncated_log(8), log_weyl_crop(M2, 100, dct), w), 17 + 2 * M2 + 1,
+                    2, w)
+        add(f"truncated log M=8 + {w:g} x full log N=100", "two blocks: truncated log + full log",
+            two_blocks(truncated_log(8), full_log(100), w), 17 + 99, 2, w)
+        for M in (4, 8):
+            for deg in (2, 3, 4):
+                add(f"truncated log M={M} + {w:g} x detrended log (degree {deg}) N=100",
+                    "two blocks: truncated log + detrended log",
+                    two_blocks(truncated_log(M), detrended_log(deg), w), 2 * M + 1 + 99, 2, w)
+        for M in (4, 8):
+            add(f"truncated log M={M} + {w:g} x sqrt(i)-weighted detrended log (degree 3) "
+                "N=100", "two blocks: truncated log + weighted detrended log",
+                two_blocks(truncated_log(M), detrended_log(3, power=0.5), w),
+                2 * M + 1 + 99, 2, w)
+        add(f"truncated log M=16 + {w:g} x log-Weyl DCT M=16 N=100",
+            "two blocks: truncated log + log-Weyl DCT",
+            two_blocks(truncated_log(16), log_weyl_crop(16, 100, True), w), 66, 2, w)
     return C
 
 
-def crosscheck(real):
-    """Largest difference between this script's distances and cshape's, per descriptor."""
-    from cshape import Descriptor
+# --------------------------------------------------------------------------- scoring
+def per_query(X, labels):
+    from cshape.compare import distance_matrix, retrieval_per_query
+
+    return retrieval_per_query(distance_matrix(X), labels)
+
+
+def evaluate(cands, data):
+    """Scores of every candidate on every set, linear and extrapolated spectra."""
+    rows = []
+    for c in cands:
+        for spectra in ("linear", "extrapolated"):
+            key = "lam" if spectra == "linear" else "lam_x"
+            r = {k: v for k, v in c.items() if k != "f"}
+            r["spectra"] = spectra
+            r["scores"], r["per_ft"] = {}, {}
+            for s in (*SETS, "pairs"):
+                d = data[s]
+                per = per_query(c["f"](d[key], d["area"]), d["labels"])
+                if s == "pairs":  # queries with a partner only
+                    has = np.array([d["labels"].count(x) > 1 for x in d["labels"]])
+                    per = {k: v[has] for k, v in per.items()}
+                r["scores"][s] = {k: float(np.nanmean(per[k])) for k in MEASURES}
+                r["per_ft"][s] = per["ft"]
+            r["guard"] = (r["scores"]["resolutions-dev"]["nn"] >= GUARD_NN
+                          and r["scores"]["pairs"]["nn"] >= GUARD_PAIRS)
+            rows.append(r)
+    best = {s: max(r["scores"][s]["ft"] for r in rows if r["spectra"] == "linear")
+            for s in SETS}
+    for r in rows:
+        r["regret"] = {s: best[s] - r["scores"][s]["ft"] for s in SETS}
+        r["worst"] = max(r["regret"].values())
+        r["worst_set"] = max(SETS, key=lambda s: r["regret"][s])
+        r["mean_regret"] = float(np.mean(list(r["regret"].values())))
+    return rows, best
+
+
+def choose(rows, spectra="linear"):
+    ok = [r for r in rows if r["guard"] and r["spectra"] == spectra]
+    least = min(r["worst"] for r in ok)
+    tied = [r for r in ok if r["worst"] <= least + TIE]
+    tied.sort(key=lambda r: (r["blocks"], r["size"], r["mean_regret"]))
+    return tied[0], tied
+
+
+def _default():
+    import cshape
+
+    return cshape.DEFAULT
+
+
+def crosscheck(data):
+    """Largest relative difference between cshape.DEFAULT's distances and those of this
+    script's two-scale candidate, over the real collections."""
     from cshape.compare import distance_matrix
 
-    checks = (("truncated log M=8 (lam_1)", truncated_log(8, "fiedler"),
-               {"kind": "truncated-log", "M": 8, "normalization": "fiedler"}),
-              ("truncated log M=8 (area)", truncated_log(8, "area"),
-               {"kind": "truncated-log", "M": 8, "normalization": "area"}),
-              ("log-Weyl DFT M=8 N=100 (area)", spectral_crop(8, 100, "area", False),
-               {"kind": "cshape", "M": 8, "transform": "log-weyl"}),
-              ("log-Weyl DCT M=8 N=100 (area)", spectral_crop(8, 100, "area", True),
-               {"kind": "cshape", "M": 8, "transform": "log-weyl-dct"}))
-    out = []
-    for title, f, kw in checks:
-        diff = 0.0
-        for d in real:
-            A = distance_matrix(f(d))
-            B = distance_matrix(Descriptor(**kw, N=100).matrix(d["lam"], d["area"],
-                                                               zero_modes=d["zero_modes"]))
-            diff = max(diff, float(np.abs(A - B).max() / B.max()))
-        out.append((title, diff))
+    f = two_blocks(truncated_log(4), detrended_log(3), 2.0)
+    out = 0.0
+    for c in REAL:
+        d = data[c]
+        A = distance_matrix(f(d["lam"], d["area"]))
+        B = distance_matrix(_default().matrix(d["lam"], d["area"]))
+        out = max(out, float(np.abs(A - B).max() / B.max()))
     return out
 
 
-# --------------------------------------------------------------------------- scoring
-def score(X, labels):
-    from cshape.compare import distance_matrix, retrieval_per_query
-
-    per = retrieval_per_query(distance_matrix(X), labels)
-    return per
-
-
-def evaluate(cands, real, suite):
-    rows = []
-    for c in cands:
-        r = {k: v for k, v in c.items() if k != "f"}
-        r["real"], r["suite"], r["per_ft"] = {}, {}, {}
-        for d in real:
-            per = score(c["f"](d), d["labels"])
-            r["real"][d["name"]] = {k: float(np.nanmean(per[k]))
-                                    for k in ("nn", "ft", "st", "dcg", "map")}
-            r["per_ft"][d["name"]] = per["ft"]
-        for b, d in suite.items():
-            per = score(c["f"](d), d["labels"])
-            r["suite"][b] = {k: float(np.nanmean(per[k])) for k in ("nn", "ft")}
-        ft = [s["ft"] for s in r["real"].values()]
-        r["worst"], r["mean"] = float(min(ft)), float(np.mean(ft))
-        r["guard"] = r["suite"]["resolutions"]["nn"] >= GUARD_NN
-        rows.append(r)
-    return rows
-
-
-def choose(rows):
-    ok = [r for r in rows if r["guard"] and not r["fitted"]]
-    best = max(r["worst"] for r in ok)
-    tied = [r for r in ok if r["worst"] >= best - TIE]
-    tied.sort(key=lambda r: (not r["eig"], r["size"], -r["mean"]))
-    return tied[0], tied, best
-
-
-def paired(r1, r2, name):
-    d = r1["per_ft"][name] - r2["per_ft"][name]
+def paired(r1, r2, s):
+    d = r1["per_ft"][s] - r2["per_ft"][s]
     d = d[~np.isnan(d)]
     return float(d.mean()), float(d.std(ddof=1) / np.sqrt(len(d)))
 
 
-# --------------------------------------------------------------------------- zero modes
-def zero_mode_report(real):
-    """Round-off of the zero modes and the lam_1 / lam_max room, per solver; refusals."""
-    import cshape
-
-    lines = ["## Zero modes", "",
-             "Round-off of `lam_0` relative to `lam_max` (the 100th eigenvalue) per solver on "
-             "the real meshes (all connected), and the room above: `lam_1 / lam_max`.", "",
-             "| collection | solver | max abs(lam_0) / lam_max | min lam_0 | min lam_1 / lam_max |",
-             "|---|---|---|---|---|"]
-    worst_zero, min_room = 0.0, np.inf
-    for d in real:
-        for key, what in (("lam", "reference (linear FEM + ARPACK, independent)"),
-                          ("own_lam", "cshape.eigenpairs"),
-                          ("lam_arpack", "scipy eigsh on cshape's A, B (tol=0, sigma<0)"),
-                          ("lam_lapy", "LaPy Solver.eigs")):
-            if key not in d:
-                continue
-            lam = d[key]
-            z = np.abs(lam[:, 0]) / lam[:, -1]
-            room = lam[:, 1] / lam[:, -1]
-            worst_zero, min_room = max(worst_zero, z.max()), min(min_room, room.min())
-            lines.append(f"| {d['name']} | {what} | {z.max():.2g} | {lam[:, 0].min():.2g} | "
-                         f"{room.min():.2g} |")
-    lines.append("")
-    refused = []
-    for d in real:
-        for i, (x, a) in enumerate(zip(d["lam"], d["area"], strict=True)):
-            try:
-                cshape.compact_shape_dna(x, M=8, N=100, area=a, transform="log-weyl")
-            except ValueError as exc:
-                refused.append(f"{d['name']}/{d['files'][i]}: {exc}")
-            if cshape.count_zero_modes(x) != 1:
-                refused.append(f"{d['name']}/{d['files'][i]}: count_zero_modes = "
-                               f"{cshape.count_zero_modes(x)}")
-    lines += ["Refused today by `compact_shape_dna(lam, M=8, N=100, area=a, "
-              "transform='log-weyl')` or counted wrong by `count_zero_modes` (reference "
-              "spectra): " + ("; ".join(refused) if refused else "**none of the 248**") + ".",
-              ""]
-    return lines, worst_zero, min_room
-
-
-def pieces_report(k_values=(4, 44)):
-    """Zero modes of meshes of k disjoint pieces (icospheres of 3 sizes), per solver."""
-    import cshape
-    from cshape.fem import fem_matrices
-
-    lines = ["Meshes of `k` disjoint pieces (icospheres of radius 0.5 to 2, 162 vertices "
-             "each): largest abs(lam_j) / lam_max over the `k` zero modes, and "
-             "lam_k / lam_max (the first non-zero).", "",
-             "| k | solver | max zero mode / lam_max | lam_k / lam_max |", "|---|---|---|---|"]
-    out = 0.0
-    for k in k_values:
-        s = cshape.shapes.icosphere(2)
-        V0, F0 = np.asarray(s.vertices), np.asarray(s.faces)
-        Vs, Fs = [], []
-        for j in range(k):
-            Vs.append(V0 * (0.5 + 1.5 * j / max(k - 1, 1)) + np.array([5.0 * j, 0, 0]))
-            Fs.append(F0 + j * len(V0))
-        mesh = cshape.Mesh(np.vstack(Vs), np.vstack(Fs))
-        N = k + 40
-        sols = {"cshape.shape_dna": cshape.shape_dna(mesh, N=N)}
-        A, B = fem_matrices(mesh)[:2]
-        from scipy.sparse.linalg import eigsh
-        sols["scipy eigsh (tol=0, sigma<0)"] = np.sort(eigsh(
-            (-A).tocsc(), k=N, M=B.tocsc(), sigma=-0.01, which="LM",
-            return_eigenvectors=False))
-        try:
-            from lapy import Solver, TriaMesh
-            sols["LaPy Solver.eigs"] = np.sort(Solver(TriaMesh(mesh.vertices, mesh.faces))
-                                               .eigs(k=N)[0])
-        except ImportError:
-            pass
-        for what, lam in sols.items():
-            z = np.abs(lam[:k]).max() / lam[-1]
-            out = max(out, z)
-            lines.append(f"| {k} | {what} | {z:.2g} | {lam[k] / lam[-1]:.2g} |")
-    return lines + [""], out
-
-
 # --------------------------------------------------------------------------- report
+def _nn(r, s, bound):
+    nn = r["scores"][s]["nn"]
+    return f"{nn:.3f}" + ("" if nn >= bound else " (guard)")
+
+
+def table(rows, chosen, title):
+    out = [f"## {title}", "",
+           "First tier on each set, its regret (shortfall from the best linear candidate on "
+           "that set) in brackets; the worst regret; the guards' nearest neighbour.", "",
+           "| candidate | spectra | values | " + " | ".join(SETS)
+           + " | worst regret | resolutions NN | pairs NN |",
+           "|---|---|---|" + "---|" * (len(SETS) + 3)]
+    for r in rows:
+        name = f"**{r['title']}**" if r is chosen else r["title"]
+        cells = [f"{r['scores'][s]['ft']:.3f} ({r['regret'][s]:+.3f})" for s in SETS]
+        out.append(f"| {name} | {r['spectra']} | {r['size']} | " + " | ".join(cells)
+                   + f" | {r['worst']:.3f} ({r['worst_set']}) | "
+                   f"{_nn(r, 'resolutions-dev', GUARD_NN)} | {_nn(r, 'pairs', GUARD_PAIRS)} |")
+    return out + [""]
+
+
+def full_table(rows, chosen, sets, title):
+    out = [f"## {title}", "",
+           "| candidate | spectra | " + " | ".join(f"{s} {m.upper()}" if m == "nn" else m.upper()
+                                                  for s in sets for m in MEASURES) + " |",
+           "|---|---|" + "---|" * (len(sets) * len(MEASURES))]
+    for r in rows:
+        name = f"**{r['title']}**" if r is chosen else r["title"]
+        out.append(f"| {name} | {r['spectra']} | "
+                   + " | ".join(f"{r['scores'][s][m]:.3f}" for s in sets for m in MEASURES)
+                   + " |")
+    return out + [""]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--realdev", default="../shared/realdev",
-                    help="folder with shrec07-dev/ and tosca-dev/")
+    ap.add_argument("--realdev", default="../shared/realdev")
+    ap.add_argument("--meshes", default="../shared/meshes")
     ap.add_argument("--out", default=str(Path(__file__).resolve().parent / "results"
                                          / "real_collections.md"))
-    ap.add_argument("--cache", default="/tmp/realdev_cache")
+    ap.add_argument("--cache", default=str(Path(__file__).resolve().parents[1] / "out"
+                                           / "realdev_cache"),
+                    help="spectra cache (default: out/realdev_cache, not in git)")
     args = ap.parse_args(argv)
-    realdev = Path(args.realdev)
-    if not all((realdev / c / "reference-spectra.npz").exists() for c in COLLECTIONS):
-        print(f"no real development collections in {realdev} (needs "
-              f"{' and '.join(COLLECTIONS)} with reference-spectra.npz); nothing measured",
+    realdev, meshes = Path(args.realdev), Path(args.meshes)
+    if not all((realdev / c / "reference-spectra.npz").exists() for c in REAL):
+        print(f"no real development collections in {realdev} (needs {', '.join(REAL)} with "
+              "reference-spectra.npz); nothing measured", file=sys.stderr)
+        return 2
+    if not meshes.is_dir():
+        print(f"no folder {meshes} of real meshes (the same-object pairs); nothing measured",
               file=sys.stderr)
         return 2
     cache = Path(args.cache)
     cache.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    real = [load_real(realdev / c, cache) for c in COLLECTIONS]
-    suite = load_suite(cache)
-    cands = candidates()
-    rows = evaluate(cands, real, suite)
-    chosen, tied, best = choose(rows)
-    default = rows[0]
-    paper = rows[1]
-    others = sorted((r for r in rows if r is not chosen and r["guard"] and not r["fitted"]),
-                    key=lambda r: -r["worst"])
-    runner = others[0]
-    best_any = max(rows, key=lambda r: r["worst"])
-
-    # own spectra check: the chosen descriptor from cshape's eigenvalues of the meshes
-    own = []
-    for c in cands:
-        if c["title"] == chosen["title"] or c["title"] == default["title"]:
-            for d in real:
-                dd = dict(d, lam=d["own_lam"], area=d["own_area"])
-                own.append((c["title"], d["name"],
-                            float(np.nanmean(score(c["f"](dd), d["labels"])["ft"]))))
-
-    zlines, worst_zero, min_room = zero_mode_report(real)
-    plines, worst_pieces = pieces_report()
+    data = load_sets(realdev, meshes, cache)
+    rows, best = evaluate(candidates(), data)
+    chosen, tied = choose(rows)
+    chosen_x, _ = choose(rows, "extrapolated")
+    current = rows[0]
+    runner = min((r for r in rows if r["guard"] and r["spectra"] == "linear"
+                  and r is not chosen), key=lambda r: r["worst"])
+    unguarded = min((r for r in rows if r["spectra"] == "linear"), key=lambda r: r["worst"])
 
     cmd = "benchmarks/bench_real_collections.py " + " ".join(
         argv if argv is not None else sys.argv[1:])
-    S, T = COLLECTIONS
+    rule = __doc__.split("Rule (stated before the scores were seen):")[1].split("\nAim:")[0]
     lines = [
-        "# Candidate descriptors on real labelled collections and the generated suite", "",
-        f"`{cmd.strip()}`; {machine_summary(('scipy', 'robust_laplacian', 'lapy'))}; "
-        f"{time.perf_counter() - t0:.0f} s", "",
-        f"Real: `{S}` (category level: 10 classes of SHREC 2007 watertight, 200 meshes) and "
-        f"`{T}` (instance level: 6 TOSCA characters in poses, 48 meshes). Eigenvalue "
-        "descriptors use the collections' reference spectra (N = 100, an independent solver); "
-        "HKS, WKS, D2 and the intrinsic Delaunay spectra come from the meshes (cshape's "
-        "eigenpairs; `robust_laplacian.mesh_laplacian`, lumped mass). Generated: the suite's "
-        "development instances (`creatures-dev`, `identities-dev`, `resolutions-dev`). "
-        "Scores: `cshape.compare.retrieval_scores` (Princeton Shape Benchmark).", "",
-        "**Rule**: among the candidates with nothing fitted on the real collections and "
-        f"nearest neighbour >= {GUARD_NN} on `resolutions-dev`, the highest **worst first "
-        f"tier over the two real collections**; within {TIE} of it is a tie, broken by "
-        "simplicity: eigenvalues only, then fewer values, then the higher mean. Combinations "
-        "whose weight was picked from a grid on these collections are reported, never chosen "
-        "(their scores here are fitted ones).", "",
-        f"**Chosen: {chosen['title']}** ({chosen['size']} values, "
-        f"{'eigenvalues only' if chosen['eig'] else 'needs eigenvectors'}, "
-        f"{'weights fitted on realdev' if chosen['fitted'] else 'nothing fitted'}): first "
-        f"tier {chosen['real'][S]['ft']:.3f} on {S}, {chosen['real'][T]['ft']:.3f} on {T} "
-        f"(worst {chosen['worst']:.3f}); resolutions-dev NN "
-        f"{chosen['suite']['resolutions']['nn']:.3f}.", "",
-        f"Tied within {TIE} (best worst {best:.3f}): "
-        + "; ".join(f"{r['title']} ({r['worst']:.3f})" for r in tied) + ".", "",
-        f"Margin: over the best other candidate ({runner['title']}, worst "
-        f"{runner['worst']:.3f}) {chosen['worst'] - runner['worst']:+.3f}; over today's "
-        f"default {chosen['worst'] - default['worst']:+.3f}; over the paper's cShape-DNA "
-        f"{chosen['worst'] - paper['worst']:+.3f}. First tier paired over the queries, "
-        "chosen minus runner-up (mean +- standard error): "
-        + "; ".join(f"{n} {m:+.3f} +- {se:.3f}" for n, (m, se) in
-                    ((n, paired(chosen, runner, n)) for n in COLLECTIONS))
-        + "; chosen minus the former default: "
-        + "; ".join(f"{n} {m:+.3f} +- {se:.3f}" for n, (m, se) in
-                    ((n, paired(chosen, default, n)) for n in COLLECTIONS)) + ".", "",
-        f"Best worst first tier of any candidate, guard or not, fitted or not: "
-        f"{best_any['title']} ({best_any['worst']:.3f}; first tier "
-        f"{best_any['real'][S]['ft']:.3f} on {S}, weight picked on these collections; "
-        f"resolutions-dev NN {best_any['suite']['resolutions']['nn']:.3f}).", "",
-        "Check of this script's descriptors against `cshape.Descriptor.matrix` "
-        "(largest difference of the distance matrices, reference spectra): "
-        + "; ".join(f"{t}: {v:.1g}" for t, v in crosscheck(real)) + ".", "",
-        "From cshape's own eigenvalues of the meshes instead of the reference spectra "
-        "(first tier): " + "; ".join(f"{t} on {n}: {v:.3f}" for t, n, v in own) + ".", "",
+        "# Candidate exploration defaults on three real collections and the generated suite",
+        "", f"`{cmd.strip()}`; {machine_summary(('scipy',))}; "
+        f"{time.perf_counter() - t0:.0f} s (spectra cached)", "",
+        "Sets: `shrec07-dev` (category level: 10 SHREC 2007 watertight classes, 200 meshes), "
+        "`tosca-dev` (6 TOSCA characters in poses, 48), `faust-dev` (5 FAUST people in 10 "
+        "poses, 50; similar-looking individuals), and the suite's development instances "
+        "`creatures-dev` (category), `identities-dev` (instance), `resolutions-dev` (the same "
+        "shape meshed 3 ways). Linear spectra: the real collections' reference spectra "
+        "(N = 100, an independent linear-FEM solver; cshape's own differ by at most "
+        + ", ".join(f"{data[c]['own_diff']:.1g}" for c in REAL)
+        + " relative), cshape.shape_dna for the suite and the shared meshes. Extrapolated: "
+        "`(4 lam_fine - lam) / 3` with `lam_fine` of one midpoint subdivision. Scores: "
+        "`cshape.compare.retrieval_per_query` (Princeton Shape Benchmark).", "",
+        "**Rule** (stated in the script before the scores were seen):", "",
+        *[ln[4:] if ln.startswith("    ") else ln for ln in rule.strip("\n").splitlines()], "",
+        f"**Chosen: {chosen['title']}** ({chosen['size']} values, linear spectra): worst "
+        f"regret {chosen['worst']:.3f} (on {chosen['worst_set']}); resolutions-dev NN "
+        f"{chosen['scores']['resolutions-dev']['nn']:.3f}, shared-mesh pairs NN "
+        f"{chosen['scores']['pairs']['nn']:.3f}.", "",
+        "| set | best linear candidate's FT | chosen FT | shortfall | former default FT |",
+        "|---|---|---|---|---|",
+        *[f"| {s} | {best[s]:.3f} | {chosen['scores'][s]['ft']:.3f} | "
+          f"{chosen['regret'][s]:+.3f} | {current['scores'][s]['ft']:.3f} |" for s in SETS],
+        "",
+        f"Tied within {TIE}: " + "; ".join(f"{r['title']} ({r['worst']:.3f})" for r in tied)
+        + f". Runner-up: {runner['title']} (worst regret {runner['worst']:.3f}). "
+        "First tier paired over the queries, chosen minus runner-up (mean +- standard error): "
+        + "; ".join(f"{s} {m:+.3f} +- {se:.3f}" for s, (m, se) in
+                    ((s, paired(chosen, runner, s)) for s in SETS)) + ".", "",
+        f"Chosen minus the former default ({current['title']}): "
+        + "; ".join(f"{s} {m:+.3f} +- {se:.3f}" for s, (m, se) in
+                    ((s, paired(chosen, current, s)) for s in SETS)) + ".", "",
+        f"Without the guards the smallest worst regret is {unguarded['title']} "
+        f"({unguarded['worst']:.3f}; resolutions-dev NN "
+        f"{unguarded['scores']['resolutions-dev']['nn']:.3f}, pairs NN "
+        f"{unguarded['scores']['pairs']['nn']:.3f}).", "",
+        f"On extrapolated spectra the same rule would choose {chosen_x['title']} (worst "
+        f"regret {chosen_x['worst']:.3f} against the linear bests, on "
+        f"{chosen_x['worst_set']}; resolutions-dev NN "
+        f"{chosen_x['scores']['resolutions-dev']['nn']:.3f}, pairs NN "
+        f"{chosen_x['scores']['pairs']['nn']:.3f}).", "",
+        "Fitted on these six sets (choosing among the grid is a fit): the weight of the second "
+        f"block, from {', '.join(f'{w:g}' for w in WEIGHTS)}; the first block's M (4, 8); the "
+        "degree of the trend (2, 3, 4) and the weighting of the fluctuations (none or "
+        "sqrt(i)). The rule was committed with the one-block candidates, the two-block ones of "
+        "a DCT, DFT or full log block and the weights 0.25-2; the detrended blocks, the weight "
+        "4 and the sqrt(i) weighting were added after a first look at the scores.", "",
+        f"`cshape.DEFAULT` = `{_default()}`: its distances differ from the chosen "
+        f"candidate's by at most {crosscheck(data):.1g} (relative, reference spectra of the "
+        "real collections).", "",
     ]
-
-    def table(title, rs):
-        out = [f"## {title}", "",
-               f"| candidate | values | eig. only | fitted | {S} NN | FT | ST | DCG | mAP | "
-               f"{T} NN | FT | ST | DCG | mAP | worst FT | creatures FT | identities FT | "
-               "resolutions FT | resolutions NN |",
-               "|---|---|---|---|" + "---|" * 15]
-        for r in rs:
-            name = f"**{r['title']}**" if r is chosen else r["title"]
-            cells = [f"{r['real'][n][k]:.3f}" for n in COLLECTIONS
-                     for k in ("nn", "ft", "st", "dcg", "map")]
-            cells.append(f"{r['worst']:.3f}")
-            cells += [f"{r['suite'][b]['ft']:.3f}" for b in SUITE_BENCHES]
-            cells.append(f"{r['suite']['resolutions']['nn']:.3f}"
-                         + ("" if r["guard"] else " (guard)"))
-            out.append(f"| {name} | {r['size']} | {'yes' if r['eig'] else 'no'} | "
-                       f"{'yes' if r['fitted'] else 'no'} | " + " | ".join(cells) + " |")
-        return out + [""]
-
-    ranked = sorted(rows, key=lambda r: -r["worst"])
-    lines += table("The 20 best by worst real first tier, with the former default and the "
-                   "paper's", ranked[:20] + [r for r in (default, paper) if r not in ranked[:20]])
-    fam_best = {}
-    for r in ranked:
-        fam_best.setdefault(r["family"], r)
-    lines += table("The best of each family", list(fam_best.values()))
-    lines += table("Every candidate", rows)
-    tol = np.sqrt(max(worst_zero, worst_pieces) * min_room)
-    lines += zlines + plines + [
-        f"Largest zero-mode round-off measured: {max(worst_zero, worst_pieces):.2g} of "
-        f"lam_max; smallest lam_1 / lam_max of a connected real mesh: {min_room:.2g}. Their "
-        f"geometric mean is {tol:.2g}.", ""]
+    ranked = sorted(rows, key=lambda r: r["worst"])
+    top = ranked[:25]
+    lines += table(top + [r for r in (current,) if r not in top], chosen,
+                   "The 25 smallest worst regrets (linear and extrapolated spectra)")
+    lines += table(rows, chosen, "Every candidate: first tier and regret")
+    lines += full_table(rows, chosen, REAL, "Every candidate on the real collections: NN, FT, "
+                        "ST, DCG, mAP")
+    lines += full_table(rows, chosen, (*SUITE, "pairs"), "Every candidate on the suite and "
+                        "the shared-mesh pairs: NN, FT, ST, DCG, mAP")
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text("\n".join(lines) + "\n")
     with open(Path(args.out).with_suffix(".csv"), "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["candidate", "family", "values", "eigenvalues_only", "fitted_on_realdev",
-                    *(f"{n}_{k}" for n in COLLECTIONS for k in ("nn", "ft", "st", "dcg", "map")),
-                    *(f"{b}-dev_{k}" for b in SUITE_BENCHES for k in ("nn", "ft"))])
+        w.writerow(["candidate", "family", "spectra", "values", "weight",
+                    *(f"{s}_{m}" for s in (*SETS, "pairs") for m in MEASURES), "worst_regret"])
         for r in rows:
-            w.writerow([r["title"], r["family"], r["size"], r["eig"], r["fitted"],
-                        *(f"{r['real'][n][k]:.4f}" for n in COLLECTIONS
-                          for k in ("nn", "ft", "st", "dcg", "map")),
-                        *(f"{r['suite'][b][k]:.4f}" for b in SUITE_BENCHES
-                          for k in ("nn", "ft"))])
-    print("\n".join(lines[:30]))
+            w.writerow([r["title"], r["family"], r["spectra"], r["size"], r["weight"] or "",
+                        *(f"{r['scores'][s][m]:.4f}" for s in (*SETS, "pairs")
+                          for m in MEASURES), f"{r['worst']:.4f}"])
+    print("\n".join(lines[:40]))
     return 0
 
 

@@ -1,4 +1,4 @@
-"""Every descriptor on every benchmark of the suite, and the exploration default chosen on it.
+"""Every descriptor on every benchmark of the suite, and the best worst case on it.
 
 Usage::
 
@@ -14,12 +14,13 @@ instance and a held-out one (other seeds).  The script
    cShape-DNA, the log-Weyl DFT and DCT, the truncated Shape-DNA, the truncated log spectrum
    and F1 at 17, 33, 49, 65 and 99 values, and Shape-DNA with all N) on the three
    **development** instances with :func:`cshape.compare.retrieval_scores`;
-2. chooses the descriptor with the highest **worst** first tier over them
+2. names the descriptor with the highest **worst** first tier over them
    (:func:`cshape.reproduce.suite.choose_default`);
-3. scores the same descriptors on the **held-out** instances, where the chosen one is only
-   reported, never chosen again;
-4. checks that :data:`cshape.DEFAULT` is the descriptor chosen, and
-   writes ``benchmarks/results/suite.md`` and ``suite.csv``.
+3. scores the same descriptors on the **held-out** instances, where that one is only
+   reported;
+4. reports :data:`cshape.DEFAULT` beside it (the default is chosen by
+   ``bench_real_collections.py`` over three real collections and this suite's development
+   instances together), and writes ``benchmarks/results/suite.md`` and ``suite.csv``.
 
 Meshes and eigenvalues are cached: the first run builds 4 x 12 identity templates and
 2 x 24 resolution surfaces (a few minutes on 2 cores) and about 770 eigensolves.
@@ -124,10 +125,12 @@ def main(argv=None):
         f"`{cmd}`; {machine_summary()}", "",
         "| benchmark | development | held out | what |", "|---|---|---|---|",
         *(f"| {b} | `{d}` | `{h}` | {BENCHMARKS[b]} |" for b, (d, h) in SUITE.items()), "",
-        "Rule: the exploration default is the descriptor with the highest **worst** first "
-        "tier over the three development instances (ties: the higher mean, then fewer "
-        "values).  It is chosen there and only reported on the held-out instances.", "",
-        f"**Chosen: {chosen['title']}** = {chosen['label']}: worst first tier "
+        "The best worst case: the descriptor with the highest **worst** first tier over the "
+        "three development instances (ties: the higher mean, then fewer values), only "
+        "reported on the held-out instances.  The exploration default `cshape.DEFAULT` is "
+        "chosen on three real collections and these development instances together "
+        "(`benchmarks/bench_real_collections.py`, `results/real_collections.md`).", "",
+        f"**Best worst case: {chosen['title']}** = {chosen['label']}: worst first tier "
         f"{chosen['worst']:.3f} (mean {chosen['mean']:.3f}) on the development instances; "
         f"held out: worst {held_chosen['worst']:.3f}, mean {held_chosen['mean']:.3f}.  The "
         f"paper's cShape-DNA (M={paper['M']}): worst {paper['worst']:.3f} dev, "
@@ -139,8 +142,11 @@ def main(argv=None):
         + ".  A lead within two standard errors is a tie that the rule breaks, not a "
         "measured advantage.", "",
         f"`cshape.DEFAULT` = `{const}` ({const.for_N(args.N).label}): "
-        + ("the descriptor chosen here." if agrees else
-           f"**differs from the choice above ({chosen['title']})**; update it."), "",
+        + ("the best worst case here too." if agrees else
+           f"worst first tier {const_row['worst']:.3f} (mean {const_row['mean']:.3f}) on the "
+           f"development instances, held out worst "
+           f"{next(r for r in held if r['title'] == const_row['title'])['worst']:.3f}."
+           if const_row is not None else "not among the candidates."), "",
     ]
     for inst, rows in (("Development instances (the choice)", dev),
                        ("Held-out instances (reported, not chosen on)", held)):
@@ -158,10 +164,6 @@ def main(argv=None):
     md = "\n".join(lines) + "\n"
     (RESULTS / f"{args.out}.md").write_text(md)
     print(md)
-    if not agrees:
-        print(f"cshape.DEFAULT {const} is not the choice {chosen['title']}",
-              file=sys.stderr)
-        return 1
     return 0
 
 

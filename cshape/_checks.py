@@ -11,16 +11,14 @@ NumPy integers and floats are.
 
 Mode names (descriptor kinds, transforms, normalizations, boundary conditions, mass
 matrices) are written in one style: lower case, words joined by hyphens (``'shape-dna'``,
-``'log-weyl-dct'``), as the transforms always were.  The older spellings of
-:data:`OLD_SPELLINGS` keep working with a ``DeprecationWarning``.
+``'log-weyl-dct'``).
 """
 
 from __future__ import annotations
 
 import numbers
 import os
-import warnings
-from collections.abc import Collection, Mapping
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +26,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
-    "OLD_SPELLINGS",
     "check_bool",
     "check_choice",
     "check_crop",
@@ -44,16 +41,6 @@ __all__ = [
     "check_square",
     "require_extra",
 ]
-
-#: Old spellings of mode names -> the current (hyphenated) ones.  :func:`check_choice`
-#: accepts an old spelling wherever its new name is allowed, with a DeprecationWarning.
-OLD_SPELLINGS: dict[str, str] = {
-    "shape_dna": "shape-dna",
-    "cshape_complex": "cshape-complex",
-    "truncated_log": "truncated-log",
-    "log_weyl": "log-weyl",
-    "log_weyl_dct": "log-weyl-dct",
-}
 
 _PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 
@@ -80,8 +67,7 @@ def _describe(value: object) -> str:
     return f"{type(value).__name__} {text}"
 
 
-def check_choice(name: str, value: object, allowed: Collection[str], *,
-                 aliases: Mapping[str, str] = OLD_SPELLINGS) -> str:
+def check_choice(name: str, value: object, allowed: Collection[str]) -> str:
     """Return ``value`` lower-cased if it is one of ``allowed``, else raise a clear error.
 
     Parameters
@@ -92,13 +78,11 @@ def check_choice(name: str, value: object, allowed: Collection[str], *,
         What the caller passed.
     allowed : collection of str
         The accepted options (lower case).
-    aliases : mapping of str to str, default=OLD_SPELLINGS
-        Old spellings accepted for an allowed option, with a ``DeprecationWarning``.
 
     Returns
     -------
     str
-        The option, lower case, in its current spelling.
+        The option, lower case.
 
     Raises
     ------
@@ -113,12 +97,6 @@ def check_choice(name: str, value: object, allowed: Collection[str], *,
     v = value.lower()
     if v in allowed:
         return v
-    new = aliases.get(v)
-    if new is not None and new in allowed:
-        warnings.warn(f"{name}={value!r} is deprecated; write {name}={new!r} (mode names are "
-                      "lower case with hyphens)", DeprecationWarning,
-                      stacklevel=_caller_stacklevel())
-        return new
     raise ValueError(f"{name} must be one of {{{opts}}}, got {value!r}")
 
 

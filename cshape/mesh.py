@@ -7,7 +7,8 @@ A :class:`Mesh` is a thin, validated pair of plain arrays
 
 plus the topological facts the FEM stage needs (boundary and non-manifold edges,
 connected components).  Every public function of cshape also accepts the pair
-``(vertices, faces)`` in place of a :class:`Mesh` (see :func:`as_mesh`).
+``(vertices, faces)``, or a mesh object of trimesh, PyVista, meshio, Open3D or PyMeshLab, in
+place of a :class:`Mesh` (see :func:`as_mesh`).
 
 Reading files (:func:`cshape.load_mesh` and its format checks) lives in :mod:`cshape.readers`,
 the next module of the pipeline: it imports this one, never the reverse.
@@ -26,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.csgraph import connected_components
 
 from ._checks import check_bool, check_real
+from ._meshlike import ACCEPTED, foreign_arrays, looks_like_mesh
 
 __all__ = [
     "CShapeWarning",
@@ -296,8 +298,9 @@ def _row_norms(x: np.ndarray) -> np.ndarray:
     return out
 
 
-#: A mesh argument: a :class:`Mesh` or a ``(vertices, faces)`` pair of arrays.
-MeshLike: TypeAlias = Mesh | tuple[ArrayLike, ArrayLike]
+#: A mesh argument: a :class:`Mesh`, a ``(vertices, faces)`` pair of arrays, or a mesh object
+#: of trimesh, PyVista, meshio, Open3D or PyMeshLab (read by :func:`as_mesh`; typed ``Any``).
+MeshLike: TypeAlias = Mesh | tuple[ArrayLike, ArrayLike] | Any
 
 
 # ---------------------------------------------------------------------- validation
@@ -375,16 +378,37 @@ def _check_faces(faces: Any, n_vertices: int) -> NDArray[np.int64]:
 
 
 def as_mesh(mesh_or_vf: MeshLike) -> Mesh:
-    """Return a :class:`Mesh` from a ``Mesh`` or a ``(vertices, faces)`` pair.
+    """Return a :class:`Mesh` from any accepted mesh argument: the one entry point.
 
     Parameters
     ----------
-    mesh_or_vf : Mesh or tuple of (array_like (n, 3), array_like (m, 3))
+    mesh_or_vf : Mesh, tuple of (array_like (n, 3), array_like (m, 3)), or a mesh object
+        A mesh object of trimesh (``Trimesh``), PyVista (``PolyData`` of triangles), meshio
+        (``Mesh`` with ``'triangle'`` cells), Open3D (``TriangleMesh``) or PyMeshLab
+        (``Mesh``, or the current mesh of a ``MeshSet``) is read by its attributes, without
+        importing its library (see :mod:`cshape._meshlike`); its arrays are copied.
+
+    Returns
+    -------
+    Mesh
+        ``mesh_or_vf`` itself when it is a :class:`Mesh`.
 
     Raises
     ------
     TypeError
-        If the argument is neither.
+        If the argument is none of these (a path, an array, ...).
+    ValueError
+        If a library's mesh object holds polygons or no triangles, or its arrays are not a
+        valid mesh (see :class:`Mesh`).
+
+    Examples
+    --------
+    >>> import numpy as np, cshape
+    >>> class PolyData:  # PyVista's layout: points and a flat VTK cell array
+    ...     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
+    ...     faces = np.array([3, 0, 2, 1, 3, 0, 1, 3, 3, 0, 3, 2, 3, 1, 2, 3])
+    >>> cshape.as_mesh(PolyData()).n_faces
+    4
     """
     if isinstance(mesh_or_vf, Mesh):
         return mesh_or_vf
@@ -395,9 +419,23 @@ def as_mesh(mesh_or_vf: MeshLike) -> Mesh:
             f"got a path ({mesh_or_vf!r}) where a mesh was expected; load it first with "
             "cshape.load_mesh(path)"
         )
-    raise TypeError(
-        f"expected a cshape.Mesh or a (vertices, faces) pair, got {type(mesh_or_vf).__name__}"
-    )
+    arrays = foreign_arrays(mesh_or_vf)
+    if arrays is not None:
+        return Mesh(*arrays)
+    t = type(mesh_or_vf)
+    name = t.__name__ if t.__module__ == "builtins" else f"{t.__module__}.{t.__name__}"
+    raise TypeError(f"expected a mesh: {ACCEPTED}; got {name}")
+
+
+def is_mesh_like(obj: object) -> bool:
+    """Whether ``obj`` is a mesh argument that :func:`as_mesh` reads (not checked further).
+
+    True for a :class:`Mesh`, a pair whose first entry is 2-D (vertices), and a mesh object
+    of the libraries :func:`as_mesh` names.
+    """
+    return (isinstance(obj, Mesh)
+            or (isinstance(obj, (tuple, list)) and len(obj) == 2 and np.ndim(obj[0]) == 2)
+            or looks_like_mesh(obj))
 
 
 # ---------------------------------------------------------------------- repair

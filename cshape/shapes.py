@@ -35,6 +35,13 @@ def icosphere(subdivisions: int = 4, radius: float = 1.0) -> Mesh:
     """Icosphere: an icosahedron subdivided ``subdivisions`` times, projected to the sphere.
 
     Vertex counts ``10 * 4**s + 2``: 642 (s=3), 2562 (4), 10242 (5), 40962 (6), 163842 (7).
+
+    Examples
+    --------
+    >>> from cshape import shapes
+    >>> m = shapes.icosphere(2)
+    >>> m.n_vertices, m.n_faces, m.genus
+    (162, 320, 0)
     """
     s = check_int("subdivisions", subdivisions, min=0, max=8)
     radius = check_real("radius", radius, positive=True)
@@ -170,7 +177,17 @@ def _orient_up(mesh: Mesh) -> Mesh:
 
 
 def torus(n_major: int = 64, n_minor: int = 32, R: float = 1.0, r: float = 0.4) -> Mesh:
-    """Torus of revolution with major radius ``R`` and tube radius ``r`` (genus 1)."""
+    """Torus of revolution with major radius ``R`` and tube radius ``r`` (genus 1).
+
+    The axis is z; ``n_major * n_minor`` vertices.
+
+    Examples
+    --------
+    >>> from cshape import shapes
+    >>> t = shapes.torus(16, 8)
+    >>> t.n_vertices, t.genus
+    (128, 1)
+    """
     n_major = check_int("n_major", n_major, min=3, max=8192)
     n_minor = check_int("n_minor", n_minor, min=3, max=8192)
     R, r = check_real("R", R, positive=True), check_real("r", r, positive=True)
@@ -192,7 +209,19 @@ def torus(n_major: int = 64, n_minor: int = 32, R: float = 1.0, r: float = 0.4) 
 
 
 def cube(n: int = 16, size: float = 1.0) -> Mesh:
-    """Surface of the cube ``[0, size]^3``, each face an ``n x n`` grid (closed, welded)."""
+    """Surface of the cube ``[0, size]^3``, each face an ``n x n`` grid (closed, welded).
+
+    ``6 n^2 + 2`` vertices; the grid's diagonals alternate, as in :func:`square`.
+
+    Examples
+    --------
+    >>> from cshape import shapes
+    >>> c = shapes.cube(2, size=3.0)
+    >>> c.n_vertices, c.area
+    (26, 54.0)
+    >>> c.vertices.min(axis=0), c.vertices.max(axis=0)
+    (array([0., 0., 0.]), array([3., 3., 3.]))
+    """
     n = check_int("n", n, min=1, max=1024)
     size = check_real("size", size, positive=True)
     sq = square(n, size)
@@ -216,7 +245,14 @@ def cube(n: int = 16, size: float = 1.0) -> Mesh:
 
 
 def sphere_spectrum(N: int, radius: float = 1.0) -> NDArray[np.float64]:
-    """Return the first ``N`` exact sphere eigenvalues: ``l(l+1)/radius^2``, each ``2l+1`` times."""
+    """Return the first ``N`` exact sphere eigenvalues: ``l(l+1)/radius^2``, each ``2l+1`` times.
+
+    Examples
+    --------
+    >>> from cshape import shapes
+    >>> shapes.sphere_spectrum(5)
+    array([0., 2., 2., 2., 6.])
+    """
     N = check_int("N", N, min=0, max=10**8)
     radius = check_real("radius", radius, positive=True)
     out: list[float] = []

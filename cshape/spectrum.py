@@ -447,8 +447,12 @@ def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
     N : int, default=100
         Number of eigenpairs (lam_0 included).
     bc : {'neumann', 'dirichlet'}, default='neumann'
-        See :func:`cshape.fem_matrices`.
+        Boundary condition on boundary and non-manifold vertices: ``'neumann'`` keeps every
+        vertex as an unknown (Eq. (4)-(7)); ``'dirichlet'`` fixes the function to zero there
+        (see :func:`cshape.fem_matrices`).
     mass : {'consistent', 'lumped'}, default='consistent'
+        The consistent mass matrix ``B`` of Eq. (5) / (7), or its lumped diagonal
+        ``sum_t |t|/3``.
 
     Returns
     -------
@@ -494,7 +498,13 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
     N : int, default=100
         Number of eigenvalues, lam_0 included.  Must not exceed the number of unknowns.
     bc : {'neumann', 'dirichlet'}, default='neumann'
+        Boundary condition on boundary and non-manifold vertices: ``'neumann'`` keeps every
+        vertex as an unknown (Eq. (4)-(7)); ``'dirichlet'`` fixes the function to zero
+        there, so that ``lam[0] > 0`` on an open surface (see :func:`cshape.fem_matrices`).
+        A closed manifold mesh has no such vertices: both give the same spectrum.
     mass : {'consistent', 'lumped'}, default='consistent'
+        The consistent mass matrix ``B`` of Eq. (5) / (7), or its lumped diagonal
+        ``sum_t |t|/3`` (the paper's is the consistent one).
     refine : {'none', 'extrapolate'}, default='none'
         ``'none'``: the eigenvalues of the linear FEM problem of Eq. (3)-(7), whose error
         grows like ``h^2 lam^2`` (``h`` the edge length).  ``'extrapolate'``: Richardson

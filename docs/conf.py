@@ -65,8 +65,10 @@ nb_ipywidgets_js = {}  # widget JavaScript would come from a CDN; widgets need a
 nb_merge_streams = True
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
-# plotly figures: the embedded HTML (plotly.js in the page), not the JupyterLab mime type
-nb_mime_priority_overrides = [("html", "application/vnd.plotly.v1+json", None)]
+# plotly figures: the embedded HTML (plotly.js in the page), not the JupyterLab mime type;
+# widgets: their static copy (text/html), not a view that needs a kernel
+nb_mime_priority_overrides = [("html", "application/vnd.plotly.v1+json", None),
+                              ("html", "application/vnd.jupyter.widget-view+json", None)]
 suppress_warnings = ["mystnb.unknown_mime_type", "myst.header"]
 
 # ---------------------------------------------------------------- math, offline

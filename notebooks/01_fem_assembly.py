@@ -80,8 +80,10 @@ F = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
 tent = cshape.Mesh(V, F)
 print(tent)
 fig = plots.plot_mesh(tent, elev=35, azim=-70, edges=True, title="the tent: 4 triangles")
-for i, p in enumerate(V):
-    fig.axes[0].text(*p, f" v{i}", color="crimson", fontsize=12)
+middle = V.mean(axis=0)
+for i, p in enumerate(V):  # each name a little inside its corner (the apex's above it)
+    q = p + 0.15 * (middle - p) if i < 4 else p + [0, 0, 0.06]
+    fig.axes[0].text(*q, f"v{i}", color="crimson", fontsize=12, ha="center", va="center")
 fig
 
 
@@ -96,7 +98,8 @@ fig
 
 # %%
 ball = shapes.icosphere(1)
-j = int(np.argmax(ball.vertices @ [1.0, -1.0, 0.6]))  # the vertex facing the camera
+eye = plots.viewer.default_eye(ball.vertices)  # where the view below looks from
+j = int(np.argmax(ball.vertices @ [eye["x"], eye["y"], eye["z"]]))  # the vertex facing the camera
 hat = np.zeros(ball.n_vertices)
 hat[j] = 1.0  # phi_j: 1 at v_j, 0 at the other vertices, linear in between
 plots.view_mesh(ball, hat, cmap="Reds", edges=True, height=380,

@@ -91,8 +91,9 @@ plots.plot_matrices(
 )
 
 # %% [markdown]
-# The difference image is nearly black on the $[0, 255]$ scale: the two descriptors rank the shapes almost
-# identically, although the cShape-DNA has $2M+1$ values instead of $N$. (In the small-size run the meshes are
+# The difference image is nearly all dark blue, the bottom of the jet colour map, on the $[0, 255]$ scale of
+# (a) and (b): the two descriptors rank the shapes almost identically, although the cShape-DNA has $2M+1$
+# values instead of $N$. (In the small-size run the meshes are
 # coarse, e.g. spheres of 162 and 642 vertices, whose higher eigenvalues differ visibly: resolution matters
 # when a mesh has few vertices per eigenfunction oscillation.)
 #

@@ -139,8 +139,10 @@ else:
 #
 # Which descriptor is one value, a `cshape.Descriptor`. With none given, the index (like `table.descriptors()`,
 # `table.distance_matrix()` and `cshape query`) compares the **exploration default**, `cshape.DEFAULT`: the
-# descriptor whose *worst* first tier over two real labelled collections (a category benchmark and characters
-# in poses) was highest, with the same shape at several resolutions as a guard. The paper's cShape-DNA is one
+# two-scale log spectrum (the first nine log-Weyl ratios beside the whole spectrum's fluctuations about its
+# trend), whose *worst shortfall* from the best descriptor of each set was smallest over three real labelled
+# collections (a category benchmark, characters in poses, five people in poses) and the generated suite, with
+# the same shape at several resolutions as a guard. The paper's cShape-DNA is one
 # value away: `cshape.PAPER` (here with our `N` and `M`). Always print which descriptor compared your shapes
 # (`index.descriptor_.label`).
 
@@ -225,6 +227,6 @@ print("removed", work, "| exists:", work.exists())
 # 3. Measure the time of `describe` for `n_jobs=1` and `n_jobs=2` on 20 meshes of 5000 vertices. Where is the
 #    time spent: FEM assembly or the eigensolve? (`cshape.fem_matrices` vs `cshape.shape_dna`.)
 # 4. Build a `DescriptorIndex` of the F1 features and of the cShape-DNA with $M = 2$. Which one finds the torus?
-# 5. `cshape.DEFAULT` was chosen on two real collections. Score it against the paper's
+# 5. `cshape.DEFAULT` was chosen on three real collections and the suite. Score it against the paper's
 #    cShape-DNA on your own labelled folder with
 #    `compare.retrieval_scores(table.distance_matrix(descriptor), table.labels)`.

@@ -90,11 +90,9 @@ w = widgets.m_sweep_widget({"all shapes": table, "without spheres": no_spheres},
 w
 
 # %% [markdown]
-# A widget needs a live kernel; in a static copy of this notebook (an HTML export, a viewer on the web)
-# it shows as text. Its current picture, as a plain figure:
-
-# %%
-plots.plot_m_sweep(w.state, shape=int(w.controls["shape"].value))
+# A widget needs a live kernel. Where none runs (an HTML export of this notebook, the documentation site) the
+# cell above shows the widget's picture and statistics as it was drawn, without the controls: run the notebook
+# to move them. `plots.plot_m_sweep(w.state)` draws the current state as a plain figure at any time.
 
 # %% [markdown]
 # ## Exercises

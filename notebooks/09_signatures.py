@@ -42,6 +42,7 @@
 # %%
 # %matplotlib inline
 import numpy as np
+from matplotlib import ticker
 
 import cshape
 from cshape import plots, shapes
@@ -87,6 +88,10 @@ ax1.set(xlabel="t", ylabel="HKS(x, t)", title="(a) HKS of 40 vertices of the sph
 ax1.legend(fontsize="small")
 ax2.semilogx(t, 100 * spread, color="C0")
 ax2.set(xlabel="t", ylabel="spread over the vertices, %", title="(b) how constant it is")
+for ax in (ax1, ax2):  # t at 1, 2 and 5 times the powers of ten, in plain numbers
+    ax.xaxis.set_major_locator(ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_major_formatter(ticker.FuncFormatter(lambda x, _: f"{x:g}"))
+    ax.xaxis.set_minor_formatter(ticker.NullFormatter())
 fig
 
 # %% [markdown]

@@ -33,6 +33,28 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(pytest.mark.slow)
 
 
+def in_ci() -> bool:
+    """Whether the suite runs in CI: ``CI`` set to anything but '', '0', 'false' or 'no'."""
+    return os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no")
+
+
+def require_tool(name: str, why: str):
+    """Import the developer tool ``name`` (ruff, mypy) for a test that runs it.
+
+    Where it is missing the test fails in CI, which must run it, and is skipped elsewhere
+    with ``why`` as the reason.
+    """
+    import importlib
+
+    try:
+        return importlib.import_module(name)
+    except ImportError:
+        msg = f"{name} is not installed ({why})"
+        if in_ci():
+            pytest.fail(f"{msg}; CI must run this test", pytrace=False)
+        pytest.skip(msg)
+
+
 def shared_meshes_dir() -> Path:
     """The real-mesh folder: $CSHAPE_SHARED_MESHES, else ../shared/meshes beside the repo."""
     env = os.environ.get("CSHAPE_SHARED_MESHES")

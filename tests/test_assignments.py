@@ -161,7 +161,9 @@ def test_nbgrader_course_full_cycle(tmp_path):
     for student, folder in submissions.items():
         shutil.copytree(folder, course / "submitted" / student / asg.ASSIGNMENT)
     env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")}
-    asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course, env=env)
+    log = asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course, env=env)
+    # neither the solutions nor the untouched release changed a locked cell
+    assert "has changed!" not in log, [ln for ln in log.splitlines() if "changed!" in ln]
     asg.run_nbgrader("generate_feedback", asg.ASSIGNMENT, "--force", cwd=course)
 
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
@@ -181,6 +183,11 @@ def test_nbgrader_course_full_cycle(tmp_path):
         for path in GRADED:
             page = course / "feedback" / student / asg.ASSIGNMENT / f"{path.stem}.html"
             assert page.is_file() and page.stat().st_size > 1000, page
+            # equations typeset offline, by the course folder's MathJax copy
+            text = page.read_text()
+            assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
+            assert '<script src="../../../mathjax/MathJax.js?config=' in text
+    assert (course / "mathjax" / "MathJax.js").is_file()
     # the solutions ran without an error anywhere, graded or not
     for path in GRADED:
         done = nbformat.read(course / "autograded" / "instructor" / asg.ASSIGNMENT / path.name,
@@ -194,6 +201,33 @@ def test_nbgrader_course_full_cycle(tmp_path):
     assert "### BEGIN HIDDEN TESTS" not in (release / GRADED[0].name).read_text()
 
 
+@pytest.mark.slow
+def test_autograde_warns_of_an_edited_locked_cell_only(tmp_path):
+    """The hidden tests the release left out are no change; a student's edit of a locked
+    cell still is (nbgrader's warning, and the cell is graded as released)."""
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
+    lesson = GRADED[0]
+    course = asg.write_course(tmp_path / "course", [lesson])
+    asg.run_nbgrader("generate_assignment", asg.ASSIGNMENT, "--force", cwd=course)
+    release = course / "release" / asg.ASSIGNMENT / lesson.name
+    nb = nbformat.read(release, as_version=4)
+    k, cell = next((k, c) for k, c in enumerate(nb.cells)
+                   if c.metadata.get("nbgrader", {}).get("grade"))
+    cell.source = "assert True  # edited\n" + cell.source
+    for student, book in (("untouched", nbformat.read(release, as_version=4)), ("edited", nb)):
+        folder = course / "submitted" / student / asg.ASSIGNMENT
+        folder.mkdir(parents=True)
+        nbformat.write(book, folder / lesson.name)
+    log = asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course,
+                           env={"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")})
+    changed = [ln for ln in log.splitlines() if "has changed!" in ln]
+    grade_id = cell.metadata["nbgrader"]["grade_id"]
+    assert len(changed) == 1 and f"'checksum' for cell {grade_id} has changed" in changed[0]
+    graded = nbformat.read(course / "autograded" / "edited" / asg.ASSIGNMENT / lesson.name,
+                           as_version=4)
+    assert "# edited" not in graded.cells[k].source
+
+
 def test_copy_lessons_and_refuse_a_used_folder(tmp_path, capsys):
     dest = tmp_path / "course"
     assert main(["lessons", str(dest)]) == 0
@@ -203,7 +237,15 @@ def test_copy_lessons_and_refuse_a_used_folder(tmp_path, capsys):
     assert {p.name for p in (dest / "source" / asg.ASSIGNMENT).iterdir()} == {
         p.name for p in GRADED}
     assert "course_id" in (dest / "nbgrader_config.py").read_text()
-    assert (dest / "README.md").is_file()
+    # the README speaks to instructors, of this folder and the nbgrader cycle, not of the
+    # repository's tools
+    readme = (dest / "README.md").read_text()
+    for step in ("nbgrader generate_assignment lessons", "submitted/<student>/lessons/",
+                 "nbgrader autograde lessons", "nbgrader generate_feedback lessons",
+                 "nbgrader collect lessons", "nbgrader export"):
+        assert step in readme, step
+    for developers in ("make notebooks", "sync_notebooks", "commit the .py", "_topic.py"):
+        assert developers not in readme, developers
     for p in LESSONS:
         assert json.loads((dest / p.name).read_text()) == json.loads(p.read_text())
     assert "lessons" in capsys.readouterr().out
@@ -234,7 +276,8 @@ def test_lessons_from_an_installed_wheel_run_there(installed_wheel_env):
     assert sorted(p.name for p in dest.glob(asg.PATTERN)) == [p.name for p in LESSONS]
     assert sorted(p.name for p in (dest / "student").glob(asg.PATTERN)) == [
         p.name for p in GRADED]
-    assert (dest / "nbgrader_config.py").is_file() and (dest / "README.md").is_file()
+    assert (dest / "nbgrader_config.py").is_file()
+    assert "nbgrader autograde lessons" in (dest / "README.md").read_text()
     for extra in ([], ["--student"]):
         out = env.workdir / f"executed{'-'.join(extra)}"
         r = env.run("cshape", "notebooks", "01", "--small", "--no-html", "--src", dest,
@@ -244,3 +287,24 @@ def test_lessons_from_an_installed_wheel_run_there(installed_wheel_env):
         executed = nbformat.read(out / "01_fem_assembly.ipynb", as_version=4)
         printed = "".join(o.get("text", "") for o in executed.cells[1].outputs)
         assert printed.startswith("cshape ") and "(small sizes)" in printed, printed
+
+
+def test_feedback_pages_are_pointed_at_the_course_mathjax(tmp_path):
+    """The post-convert hook rewrites nbgrader's network MathJax to the course folder's copy,
+    once; other pages are left alone."""
+    pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
+    pytest.importorskip("jupyter_server_mathjax", reason="the notebooks extra")
+    from cshape.course.grading import CDN_MATHJAX, offline_feedback_math
+
+    page = tmp_path / "feedback" / "ada" / "lessons" / "01_x.html"
+    page.parent.mkdir(parents=True)
+    page.write_text(f'<script src="{CDN_MATHJAX}"> </script><p>$x$</p>')
+    other = page.with_name("02_y.html")
+    other.write_text("<p>no math</p>")
+    assert offline_feedback_math(root=tmp_path) == [page]
+    text = page.read_text()
+    assert CDN_MATHJAX not in text
+    src = text.split('src="')[1].split("?")[0]
+    assert src == "../../../mathjax/MathJax.js" and (page.parent / src).resolve().is_file()
+    assert other.read_text() == "<p>no math</p>"
+    assert offline_feedback_math(root=tmp_path) == []  # nothing left to rewrite

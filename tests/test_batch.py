@@ -61,7 +61,7 @@ def test_describe_matches_shape_dna(reference):
         assert reference.areas[i] == pytest.approx(mesh.area)
     assert not reference.cached.any()
     assert reference.failures == []
-    assert reference.descriptors().shape == (6, 17)  # DEFAULT at N = 20: M = 8
+    assert reference.descriptors().shape == (6, 28)  # DEFAULT at N = 20: 9 + 19 values
     assert reference.descriptors(Descriptor("cshape", N=N, M=2)).shape == (6, 5)
     assert reference.distance_matrix(Descriptor("shape-dna", N=N)).shape == (6, 6)
 
@@ -543,3 +543,27 @@ def test_describe_and_the_table_take_no_descriptor_fields(reference):
         DescriptorTable(["a"], np.ones((1, 3)), [1.0], M=3)
     d = Descriptor("cshape", N=N, M=3, transform="log-weyl-dct")
     assert reference.descriptors(d).shape == (6, 7)
+
+
+def test_a_task_is_a_frozen_record_with_named_fields(tmp_path):
+    """The work of one mesh travels as a frozen Task (pickled to a worker process) and its
+    result names the row it came from."""
+    import dataclasses
+    import pickle
+
+    from cshape.batch.work import Task, _work
+
+    mesh = shapes.icosphere(1)
+    t = Task(index=3, source=mesh, N=5, bc="neumann", mass="consistent", cache_dir=None,
+             key=None, refine="none")
+    assert [f.name for f in dataclasses.fields(Task)] == [
+        "index", "source", "N", "bc", "mass", "cache_dir", "key", "refine"]
+    back = pickle.loads(pickle.dumps(t))
+    assert back.index == 3 and back.N == 5 and back.source.n_vertices == mesh.n_vertices
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        t.N = 6  # type: ignore[misc]
+    res = _work(t)
+    assert res["ok"] and res["index"] == 3
+    np.testing.assert_array_equal(res["lam"], shape_dna(mesh, N=5))
+    bad = _work(dataclasses.replace(t, source=tmp_path / "missing.off"))
+    assert not bad["ok"] and bad["index"] == 3 and "FileNotFoundError" in bad["error"]

@@ -71,7 +71,8 @@ def test_throughput_collection_and_serial_mode(results):
     assert r["table"].lam.shape == (4, 20)
     with pytest.raises(ValueError, match="mode"):
         tp.run_mode(col, "threads")
-    assert 0 < tp.free_cores(2, n=10_000) < 10
+    cores = tp.free_cores(2, n=10_000)  # a ratio of two timings: no bound but its sign
+    assert isinstance(cores, float) and np.isfinite(cores) and cores > 0
 
 
 @pytest.mark.slow

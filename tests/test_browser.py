@@ -470,7 +470,7 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
         finally:
             browser.close()
     assert asked == []  # plotly.js is in the page; nothing was asked of the network
-    assert "MDS of 13 shapes by paper's cShape-DNA (M=4 of N=30, 9 values)" in title
+    assert "MDS of 13 shapes by paper's cShape-DNA (M=14 of N=30, 29 values)" in title
     assert n_matrix == 1
     assert len(hovers) >= 10  # (points drawn on top of each other share one label)
     assert set(hovers) <= set(names)
@@ -482,3 +482,124 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
     assert heads[0].startswith("query") and "small" in heads[0]
     assert all("d = " in h for h in heads[1:]) and len(heads) == 3
     assert _not_blank(_canvas_pixels(png))
+
+
+# ------------------------------------------------------------------------------ framing
+#: JavaScript: the pixel rectangle (left, top, width, height) of every 3-D scene of the page's
+#: plotly figures, from plotly's own layout (the plot area less the margins, times the domain).
+_SCENE_RECTS = """() => Array.from(document.querySelectorAll('.js-plotly-plot')).flatMap(gd => {
+    const L = gd._fullLayout, s = L._size, box = gd.getBoundingClientRect();
+    return (L._subplots.gl3d || []).map(id => {
+        const d = L[id].domain;
+        return [box.left + window.scrollX + s.l + d.x[0] * s.w,
+                box.top + window.scrollY + s.t + (1 - d.y[1]) * s.h,
+                (d.x[1] - d.x[0]) * s.w, (d.y[1] - d.y[0]) * s.h]; }); })"""
+
+
+def _border_hits(px, rect, band=2):
+    """Pixels of the band just inside a scene's rectangle that are not the page's white: a mesh
+    drawn there is cut by the frame."""
+    x0, y0, w, h = (int(round(v)) for v in rect)
+    x1, y1 = x0 + w, y0 + h
+    x0, y0 = x0 + 1, y0 + 1  # the rectangle's own edge may be anti-aliased
+    x1, y1 = x1 - 1, y1 - 1
+    edge = np.concatenate([px[y0:y0 + band, x0:x1].reshape(-1, 3),
+                           px[y1 - band:y1, x0:x1].reshape(-1, 3),
+                           px[y0:y1, x0:x0 + band].reshape(-1, 3),
+                           px[y0:y1, x1 - band:x1].reshape(-1, 3)])
+    inside = px[y0:y1, x0:x1].reshape(-1, 3)
+    not_white = lambda a: (np.abs(a - 255).sum(axis=1) > 40)  # noqa: E731
+    return int(not_white(edge).sum()), float(not_white(inside).mean())
+
+
+def _framing_views(tmp_path):
+    """Every kind of 3-D view the lessons and the command line make, with the lessons' sizes:
+    name -> a page of HTML (written into ``tmp_path``) and the viewport widths to try."""
+    from conftest import write_off
+
+    from cshape import eigenbasis, heat_kernel, match_points, plots, shapes, wks
+    from cshape import signatures as sg
+    from cshape.cli import main
+    from cshape.data import poses
+    from cshape.plots.explore import figure_html
+
+    rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
+    pose = poses.posed_figure("human", 1, voxelsize=0.03, target_vertices=800)
+    basis, basis_p = eigenbasis(rest, N=40), eigenbasis(pose, N=40)
+    tk = sg.hks_times(basis)
+    hand = int(np.argmax(rest.vertices[:, 0]))
+    heat = {f"t = {tk[k]:.3g}": heat_kernel(basis, float(tk[k]), hand) for k in (60, 80, 95)}
+    long_box = (shapes.cube(4).vertices * [4.0, 1.0, 0.6], shapes.cube(4).faces)  # y up
+    ball = shapes.icosphere(2)
+    a, b = wks(basis), wks(basis_p)
+    figs = {
+        "view_mesh": plots.view_mesh(rest),
+        "view_mesh_y_up_long": plots.view_mesh(long_box, vertical_axis="y"),
+        "lesson01_hat": plots.view_mesh(ball, ball.vertices[:, 0], cmap="Reds", edges=True,
+                                        height=380, title="the hat function"),
+        "lesson05_noise": plots.view_meshes({"clean": shapes.torus(32, 16),
+                                             "noisy": shapes.torus(32, 16)}, height=380),
+        "lesson09_heat": plots.view_meshes({k: rest for k in heat}, heat, cmap="Viridis",
+                                           symmetric=False, height=360),
+        "eigenfunction_explorer": plots.eigenfunction_explorer(rest, 12, basis=basis),
+        "signature_explorer": plots.signature_explorer(rest, "wks", basis=basis,
+                                                       n_scales=12),
+        "correspondence": plots.view_correspondence(rest, pose, match_points(b, a),
+                                                    titles=("rest", "pose"), height=380),
+        "view_map": plots.view_map(rest, pose, np.arange(pose.n_vertices), height=380,
+                                   landmarks=np.array([[hand, hand], [0, 0]])),
+    }
+    pages = {}
+    for name, fig in figs.items():
+        path = tmp_path / f"{name}.html"
+        path.write_text(figure_html(fig))
+        pages[name] = (path, [(760, 700), (1200, 800)])
+    # the command line: cshape query ... --plot view.html, on a folder of meshes
+    meshes = tmp_path / "meshes"
+    write_off(meshes / "rest.off", rest)
+    write_off(meshes / "pose.off", pose)
+    write_off(meshes / "long.off", long_box)
+    write_off(meshes / "ball.off", ball)
+    write_off(meshes / "ring.off", shapes.torus(24, 12))
+    assert main(["describe", str(meshes), "--out", str(tmp_path / "m.csv"), "-N", "20",
+                 "--no-cache", "-q"]) == 0
+    assert main(["query", str(tmp_path / "m.csv"), "rest", "-k", "4", "--plot",
+                 str(tmp_path / "query.html"), "--meshes", str(meshes)]) == 0
+    pages["query_plot"] = (tmp_path / "query.html", [(1200, 900), (1280, 720), (1000, 800)])
+    return pages
+
+
+@pytest.mark.slow
+def test_every_3d_view_is_framed_in_chromium(tmp_path):
+    """Every 3-D view, rendered by plotly.js in Chromium on a white page: no mesh pixel on the
+    border of its scene (nothing cut by the frame), and the mesh fills a good part of it."""
+    sync_api = _playwright()
+    pages = _framing_views(tmp_path)
+    out = ARTIFACTS / "framing"
+    out.mkdir(parents=True, exist_ok=True)
+    problems, seen = [], 0
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
+        try:
+            for name, (path, sizes) in pages.items():
+                for w, h in sizes:
+                    page = browser.new_page(viewport={"width": w, "height": h})
+                    page.goto(path.as_uri(), timeout=60_000)
+                    page.locator(".js-plotly-plot .gl-container canvas").first.wait_for(
+                        timeout=60_000)
+                    page.wait_for_timeout(2500)  # WebGL draws after the DOM is there
+                    png = out / f"{name}_{w}x{h}.png"
+                    page.screenshot(path=str(png), full_page=True)
+                    rects = page.evaluate(_SCENE_RECTS)
+                    page.close()
+                    px = _canvas_pixels(png.read_bytes())
+                    for k, rect in enumerate(rects):
+                        hits, filled = _border_hits(px, rect)
+                        seen += 1
+                        if hits or filled < 0.03:
+                            problems.append(f"{name} at {w}x{h}, scene {k + 1}: {hits} mesh "
+                                            f"pixels on the border, {filled:.1%} filled")
+        finally:
+            browser.close()
+    assert seen >= 30
+    assert not problems, problems

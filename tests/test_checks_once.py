@@ -70,3 +70,16 @@ def test_an_eigenbasis_is_checked_when_made_and_not_again(count_checks, sphere):
     cshape.heat_trace(basis, [0.1, 1.0])
     cshape.hks(basis.truncate(8))
     assert count_checks == []
+
+
+@pytest.mark.parametrize("descriptor", [
+    cshape.PAPER.for_N(40), cshape.DEFAULT.for_N(40),
+    cshape.Descriptor("cshape", N=40, M=8, transform="log-weyl-dct"),
+    cshape.Descriptor("f1", N=40), cshape.Descriptor("shape-dna", N=40),
+])
+def test_a_descriptor_row_checks_its_spectrum_once(count_checks, sphere, lam, descriptor):
+    descriptor.row(lam, sphere.area)
+    assert len(count_checks) == 1
+    count_checks.clear()
+    descriptor.rows([lam, lam, lam], [sphere.area] * 3)
+    assert len(count_checks) == 3  # one per row

@@ -94,7 +94,7 @@ def test_describe_folder_then_glob_reads_the_cache(folder, tmp_path):
 
 
 @pytest.mark.slow
-def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
+def test_describe_failure_list_and_exit_status(folder, tmp_path):
     bad = tmp_path / "in" / "bad.off"
     bad.parent.mkdir()
     bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")  # truncated: one vertex and the face missing
@@ -105,14 +105,15 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     assert "failed: bad:" in res.stderr and "leave out --strict" in res.stderr
     assert not out.exists()
     # by default one mesh never fails the table: it is listed by name and left out
-    for extra in ((), ("--keep-going",)):
-        out.unlink(missing_ok=True)
-        res = cli("describe", folder / "torus", bad, "--out", out, "-N", N, *extra,
-                  cache=tmp_path / "c", check=True)
-        assert "failed: bad:" in res.stderr
-        table = DescriptorTable.load(out)
-        assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
-        assert table.cached.all()  # the first, failed run cached the good mesh
+    res = cli("describe", folder / "torus", bad, "--out", out, "-N", N,
+              cache=tmp_path / "c", check=True)
+    assert "failed: bad:" in res.stderr
+    # the counts add up to the meshes tried
+    assert "1 meshes (" not in res.stderr
+    assert "1 of 2 meshes described (1 from the cache), 1 failed, in " in res.stderr
+    table = DescriptorTable.load(out)
+    assert table.names == ["ring"] and [n for n, _ in table.failures] == ["bad"]
+    assert table.cached.all()  # the first, failed run cached the good mesh
     # every mesh failing is still an error
     res = cli("describe", bad, "--out", out.with_name("u.csv"), "-N", N,
               cache=tmp_path / "c")
@@ -124,7 +125,6 @@ def test_describe_failure_list_exit_status_and_keep_going(folder, tmp_path):
     (["describe", "no/such/folder"], "no file or folder 'no/such/folder'"),
     (["describe", "MESHES", "--out", "table.txt"], "--out must end in .csv or .npz"),
     (["describe", "MESHES/*.stl"], "matches no mesh file"),
-    (["describe", "MESHES", "-N", "20", "-M", "10"], "unrecognized arguments: -M 10"),
     (["info", "no_such.obj"], "no mesh file at 'no_such.obj'"),
     (["query", "no_such.csv", "x"], "no descriptor table at 'no_such.csv'"),
     (["describe"], "the following arguments are required: PATH"),  # argparse's errors too
@@ -136,6 +136,17 @@ def test_expected_failures_end_in_one_line(folder, tmp_path, args, match):
     assert_one_line_error(res, match)
     assert len(res.stderr.strip().splitlines()) == 1, res.stderr
     assert list(tmp_path.iterdir()) == []  # nothing written, not even the cache folder
+
+
+@pytest.mark.slow
+def test_describe_takes_no_descriptor_options(folder, tmp_path):
+    """The table holds eigenvalues; the descriptor is chosen by query and overview."""
+    for option in (["-M", "10"], ["--transform", "log-weyl"]):
+        res = cli("describe", folder, "-N", "20", *option, cache=tmp_path / "c")
+        assert res.returncode == 2 and "Traceback" not in res.stderr
+        assert res.stderr.strip().splitlines() == [
+            f"cshape: error: unrecognized arguments: {' '.join(option)}; see `cshape --help`"]
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_info_topology_angles_and_repair(tmp_path):
@@ -163,6 +174,10 @@ def test_info_topology_angles_and_repair(tmp_path):
     rows = dict(line.split(None, 1) for line in res.stdout.splitlines()
                 if line.split(None, 1)[0] in ("vertices", "faces", "components", "genus"))
     assert rows == {"vertices": "288", "faces": "576", "components": "1", "genus": "1"}
+    # a folder stands for its mesh files (as describe finds them), in sorted order
+    res = cli("info", tmp_path, "--json", check=True)
+    assert [json.loads(line)["vertices"] for line in res.stdout.splitlines()] == [
+        sq.n_vertices + 1, sq.n_vertices, 288]  # dirty, square, torus
 
 
 @pytest.fixture(scope="module")
@@ -185,8 +200,8 @@ def test_query_by_name_and_by_mesh_file(table_file, folder, tmp_path):
     # a mesh file not in the table: a sphere at a third scale matches both spheres
     ico = shapes.icosphere(2)
     q = write_off(tmp_path / "q.off", (0.5 * ico.vertices, ico.faces))
-    res = cli("query", table_file, q, "-k", "3", "--kind", "cshape", cache=tmp_path / "c",
-              check=True)
+    res = cli("query", table_file, q, "-k", "3", "--kind", "cshape", "-M", "4",
+              cache=tmp_path / "c", check=True)
     lines = res.stdout.splitlines()
     assert lines[0].startswith("nearest to") and "paper's cShape-DNA (M=4 of N=20" in lines[0]
     ranked = [line.split() for line in lines[2:]]

@@ -232,12 +232,13 @@ def spectra():
     return lams, areas
 
 
-def test_descriptor_matrix_kinds(spectra):
+def test_descriptor_rows_matrix_kinds(spectra):
     lams, areas = spectra
     M, N = 4, 30
     for kind in DESCRIPTOR_KINDS:
         X = Descriptor(kind, N=N, M=M).matrix(lams, areas)
-        assert X.shape == (3, {"shape-dna": N, "f1": N - 2}.get(kind, 2 * M + 1)), kind
+        assert X.shape == (3, {"shape-dna": N, "f1": N - 2,
+                               "two-scale": 2 * M + 1 + N - 1}.get(kind, 2 * M + 1)), kind
     sd = Descriptor("shape-dna", N=N, M=M).matrix(lams, areas)
     np.testing.assert_allclose(sd[2], normalize(lams[2], areas[2]))
     np.testing.assert_allclose(Descriptor("truncated", N=N, M=M).matrix(lams, areas),
@@ -248,7 +249,7 @@ def test_descriptor_matrix_kinds(spectra):
                                compact_shape_dna(lams[2], M=M, N=N, area=areas[2]))
 
 
-def test_descriptor_matrix_real_and_complex_cshape_give_the_same_distances(spectra):
+def test_descriptor_rows_matrix_real_and_complex_cshape_give_the_same_distances(spectra):
     lams, areas = spectra
     Dr = distance_matrix(Descriptor("cshape", N=30, M=5).matrix(lams, areas))
     Dc = distance_matrix(Descriptor("cshape-complex", N=30, M=5).matrix(lams, areas))
@@ -257,14 +258,14 @@ def test_descriptor_matrix_real_and_complex_cshape_give_the_same_distances(spect
     assert Dr[0, 1] < 1e-6 * Dr.max()
 
 
-def test_descriptor_matrix_ragged_rows(spectra):
+def test_descriptor_rows_matrix_ragged_rows(spectra):
     lams, areas = spectra
     rows = [lams[0], lams[1][:20], lams[2]]
     X = Descriptor("shape-dna", N=20).matrix(rows, areas)
     assert X.shape == (3, 20)
 
 
-def test_descriptor_matrix_rejects(spectra):
+def test_descriptor_rows_matrix_rejects(spectra):
     lams, areas = spectra
     with pytest.raises(ValueError, match=r"kind must be one of"):
         Descriptor("heat").matrix(lams, areas)
@@ -351,7 +352,7 @@ def test_descriptor_index_rejects():
 
 # ------------------------------------------------------------------ transforms beyond the paper
 @pytest.mark.parametrize("transform", ["weyl", "log-weyl", "log-weyl-dct"])
-def test_descriptor_matrix_transforms(spectra, transform):
+def test_descriptor_rows_matrix_transforms(spectra, transform):
     lams, areas = spectra
     X = Descriptor("cshape", N=30, M=4, transform=transform).matrix(lams, areas)
     Xc = Descriptor("cshape-complex", N=30, M=4, transform=transform).matrix(lams, areas)
@@ -381,7 +382,7 @@ def test_truncated_log_is_the_truncated_log_spectrum(spectra):
         Descriptor("truncated-log", N=9, M=4).matrix(lams[:, :9], areas)
 
 
-def test_descriptor_matrix_transform_errors(spectra):
+def test_descriptor_rows_matrix_transform_errors(spectra):
     lams, areas = spectra
     with pytest.raises(ValueError, match=r"transform must be one of"):
         Descriptor("cshape", N=30, M=4, transform="dct").matrix(lams, areas)

@@ -60,7 +60,7 @@ TINY = {
     "license": "BSD-3-Clause",
     "citation": "none",
     "items": [
-        {"name": "s", "label": "sphere", "recipe": "sphere", "params": {"subdiv": 2}},
+        {"name": "s", "label": "sphere", "recipe": "sphere", "params": {"subdivisions": 2}},
         {"name": "n", "label": "sphere", "recipe": "noise", "base": "tiny/s", "seed": 3,
          "params": {"amplitude": 1.0}},
     ],
@@ -189,6 +189,11 @@ def test_paper_models_properties(built_paper):
                      "D1": 0, "D2": 0}.items():
         assert m[k].is_closed and m[k].genus == genus, k
     assert m["C"].n_vertices == 6146
+    # the unit cube of cshape.shapes, centred at the origin like the spheres and the torus
+    np.testing.assert_allclose(m["C"].vertices.min(axis=0), -0.5)
+    np.testing.assert_allclose(m["C"].vertices.max(axis=0), 0.5)
+    assert m["C"].area == pytest.approx(6.0)
+    np.testing.assert_array_equal(m["S1"].vertices, shapes.icosphere(4).vertices)
     assert 3.5 < m["D2"].n_vertices / m["D1"].n_vertices < 4.5
     qm, qs = v.mesh_quality(m["CM"]), v.mesh_quality(m["CS"])
     assert qm["min_angle"] < qs["min_angle"] and qm["mean_min_angle"] < qs["mean_min_angle"]
@@ -218,14 +223,14 @@ def test_articulated_item_builds(kind):
 def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
     man = _write_manifest(tmp_path, [TINY])
     calls = []
-    real = v.sphere
+    real = shapes.icosphere
 
     @functools.wraps(real)
     def counting_sphere(*args, **kwargs):
         calls.append(1)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(v, "sphere", counting_sphere)
+    monkeypatch.setattr(shapes, "icosphere", counting_sphere)
     c1 = data.load_collection("tiny", manifest=man, progress=False)
     assert calls == [1]  # built once, reused as the noise recipe's base
     files = sorted((tmp_path / "cache" / "generated" / "tiny").iterdir())

@@ -15,6 +15,8 @@ from cshape import DEFAULT, PAPER, Descriptor, shapes
 from cshape.batch import DescriptorTable
 
 N = 30
+#: The truncated log spectrum (the default before the two-scale log spectrum).
+TL = Descriptor("truncated-log", N=100, M=8)
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +30,7 @@ def spectra():
 # ---------------------------------------------------------------------- checked once
 @pytest.mark.parametrize("fields, exc, match", [
     (dict(kind="dna"), ValueError, r"^kind must be one of \{'shape-dna', 'truncated', 'cshape', "
-     r"'cshape-complex', 'f1', 'truncated-log'\}, got 'dna'$"),
+     r"'cshape-complex', 'f1', 'truncated-log', 'two-scale'\}, got 'dna'$"),
     (dict(kind=3), TypeError, r"^kind must be one of .*, got int 3$"),
     (dict(M=2.0), TypeError, r"^M must be an integer, got float 2\.0$"),
     (dict(M=-1), ValueError, r"^M must be an integer >= 0, got -1$"),
@@ -70,11 +72,10 @@ def test_frozen_and_compared_by_value():
         d.replace(M=15)  # a copy is checked again
 
 
-def test_old_spelling_is_stored_in_the_current_one():
-    with pytest.warns(DeprecationWarning, match="kind='shape_dna' is deprecated") as rec:
-        d = Descriptor("shape_dna", N=20)
-    assert d.kind == "shape-dna"
-    assert all(r.filename == __file__ for r in rec)  # the warning points at the caller
+def test_a_kind_has_one_spelling():
+    with pytest.raises(ValueError, match="kind must be one of .*, got 'shape_dna'"):
+        Descriptor("shape_dna", N=20)
+    assert Descriptor("Shape-DNA", N=20).kind == "shape-dna"  # lower-cased
 
 
 # ---------------------------------------------------------------------- size and label
@@ -110,16 +111,21 @@ def test_N_and_M_are_keywords_N_first():
 
 def test_shipped_descriptors():
     assert PAPER == Descriptor("cshape", N=100, M=16, transform="weyl", normalization="area")
-    assert DEFAULT == Descriptor("truncated-log", N=100, M=8, transform="weyl",
+    assert DEFAULT == Descriptor("two-scale", N=100, M=4, transform="weyl",
                                  normalization="area")
     assert PAPER.label == "paper's cShape-DNA (M=16 of N=100, 33 values)"
-    assert DEFAULT.label == "truncated log spectrum (17 values)"
+    assert DEFAULT.label == "two-scale log spectrum (9 first + 99 detrended values)"
+    assert DEFAULT.size == 108
     # the paper's descriptor is compact_shape_dna's default, and reproduce keeps its numbers
     assert cshape.reproduce.PAPER_RESULTS["3.1"]["M"] == PAPER.M
-    assert DEFAULT.for_N(12) == DEFAULT.replace(N=12, M=5)  # M lowered to what N allows
+    assert DEFAULT.for_N(8) == DEFAULT.replace(N=8, M=3)  # M lowered to what N allows
     assert DEFAULT.for_N(1000) == DEFAULT.replace(N=1000)
+    with pytest.raises(ValueError, match="needs at least 6 eigenvalues per shape, got N = 5"):
+        DEFAULT.for_N(5)
+    tl = Descriptor("truncated-log", N=100, M=8)
+    assert tl.for_N(12) == tl.replace(N=12, M=5)
     with pytest.raises(ValueError, match="needs at least 2 eigenvalues per shape, got N = 1"):
-        DEFAULT.for_N(1)
+        tl.for_N(1)
 
 
 # ---------------------------------------------------------------------- rows
@@ -155,13 +161,13 @@ def test_other_rows_are_the_stage_functions(spectra):
                                   cshape.normalize(lam[:9], area))
     np.testing.assert_array_equal(Descriptor("f1", N=N).row(lam), cshape.f1_feature(lam))
     np.testing.assert_array_equal(
-        DEFAULT.for_N(N).row(lam, area),
+        TL.for_N(N).row(lam, area),
         cshape.log_weyl_ratio(cshape.normalize(lam[:18], area)))
 
 
 def test_matrix_stacks_the_rows_and_names_what_it_cannot_describe(spectra):
     lams, areas = spectra
-    for d in (PAPER.replace(M=4, N=N), DEFAULT.for_N(N), Descriptor("f1", N=N)):
+    for d in (PAPER.replace(M=4, N=N), TL.for_N(N), Descriptor("f1", N=N)):
         X = d.matrix(lams, areas)
         assert X.shape == (3, d.size)
         np.testing.assert_array_equal(
@@ -171,11 +177,11 @@ def test_matrix_stacks_the_rows_and_names_what_it_cannot_describe(spectra):
         assert problems == {}
     bad = lams.copy()
     bad[1, :20] = 0.0  # 20 zero modes: 10 non-zero eigenvalues, fewer than 2M+1 = 17
-    X, problems = DEFAULT.for_N(N).rows(bad, areas)
+    X, problems = TL.for_N(N).rows(bad, areas)
     assert X.shape == (2, 17) and list(problems) == [1]
     with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 3 "
                                          r"shapes \(torus: 20 of its 30 eigenvalues"):
-        DEFAULT.for_N(N).matrix(bad, areas, names=["sphere", "torus", "cube"])
+        TL.for_N(N).matrix(bad, areas, names=["sphere", "torus", "cube"])
     with pytest.raises(ValueError, match=r"^kind='cshape' with normalization='area' needs "
                                          r"the surface area: pass area=$"):
         PAPER.replace(M=4, N=N).row(lams[0])
@@ -257,12 +263,22 @@ def test_the_papers_descriptor_is_eq_8_to_10_bit_for_bit():
                                   _paper_by_hand(lam, mesh.area))
 
 
-def test_the_default_is_the_truncated_log_spectrum_bit_for_bit():
+def test_the_truncated_log_spectrum_bit_for_bit():
     i = np.arange(1, 18)
     by_hand = np.log(_LAM[1:18] * _AREA / (4.0 * np.pi * i))
-    np.testing.assert_array_equal(DEFAULT.row(_LAM, _AREA), by_hand)
-    np.testing.assert_allclose(DEFAULT.row(_LAM, _AREA)[list(_DEFAULT_ROW)],
+    np.testing.assert_array_equal(TL.row(_LAM, _AREA), by_hand)
+    np.testing.assert_allclose(TL.row(_LAM, _AREA)[list(_DEFAULT_ROW)],
                                list(_DEFAULT_ROW.values()), rtol=1e-12)
+
+
+def test_the_default_is_the_two_scale_log_spectrum_by_hand():
+    i = np.arange(1, 100)
+    r = np.log(_LAM[1:] * _AREA / (4.0 * np.pi * i))
+    t = i / 99
+    V = np.vander(t, 4)
+    trend = V @ np.linalg.lstsq(V, r, rcond=None)[0]
+    np.testing.assert_allclose(DEFAULT.row(_LAM, _AREA), np.r_[r[:9], 2.0 * (r - trend)],
+                               rtol=0, atol=1e-13)
 
 
 # ---------------------------------------------------------------------- the surfaces take one
@@ -337,7 +353,7 @@ def test_the_command_line_describe_takes_no_M_and_query_honours_it(table, tmp_pa
     for M in ("2", "4"):
         assert main(["query", str(path), "sphere", "-k", "2", "-M", M, "--json"]) == 0
         got[M] = json.loads(capsys.readouterr().out)
-        assert (got[M]["kind"], got[M]["M"]) == ("truncated-log", int(M))
+        assert (got[M]["kind"], got[M]["M"]) == ("two-scale", int(M))
         assert got[M]["descriptor"] == DEFAULT.replace(N=N, M=int(M)).label
     d2 = {n["name"]: n["distance"] for n in got["2"]["neighbours"]}
     d4 = {n["name"]: n["distance"] for n in got["4"]["neighbours"]}
@@ -357,10 +373,70 @@ def test_reproduce_takes_the_papers_descriptor_and_refuses_another(tmp_path):
     assert _paper_descriptor(PAPER.replace(M=8), None, None) == PAPER.replace(M=8)
     out = tmp_path / "report"
     with pytest.raises(ValueError, match=r"^reproduce compares the paper's cShape-DNA, got "
-                                         r"truncated log spectrum \(17 values\)"):
+                                         r"two-scale log spectrum \(9 first \+ 99 "
+                                         r"detrended values\)"):
         reproduce([], out, descriptor=DEFAULT)
     with pytest.raises(ValueError, match=r"^pass either descriptor= or N and M, not both"):
         reproduce([], out, N=30, descriptor=PAPER)
     with pytest.raises(TypeError, match=r"^descriptor must be a cshape.Descriptor"):
         reproduce([], out, descriptor="paper")
     assert not out.exists()  # refused before any work
+
+
+# ---------------------------------------------------------------------- the two-scale kind
+def test_two_scale_size_label_and_errors():
+    d = Descriptor("two-scale", N=100, M=4)
+    assert d.size == 108 and d.label == "two-scale log spectrum (9 first + 99 detrended values)"
+    w = Descriptor("two-scale", N=20, M=2, normalization="weyl")
+    assert w.size == 24
+    assert w.label == "two-scale log spectrum, Weyl-normalised (5 first + 19 detrended values)"
+    with pytest.raises(ValueError, match=r"^kind='two-scale' detrends the N-1 log-Weyl ratios "
+                                         r"by a polynomial of degree 3, which needs N >= 6, "
+                                         r"got N = 5"):
+        Descriptor("two-scale", N=5, M=1)
+    with pytest.raises(ValueError, match=r"^M=15: 2M\+1 = 31 values cannot be kept from the "
+                                         r"N-1 = 29 log-Weyl ratios"):
+        Descriptor("two-scale", N=30, M=15)
+
+
+def test_two_scale_row_is_first_ratios_beside_detrended_ratios(spectra):
+    from cshape.descriptors import detrend
+    from cshape.descriptors.recipe import TWO_SCALE_WEIGHT
+
+    lams, areas = spectra
+    d = Descriptor("two-scale", N=N, M=4)
+    for lam, area in zip(lams, areas, strict=True):
+        r = cshape.log_weyl_ratio(cshape.normalize(lam, area))  # r_1 .. r_29
+        row = d.row(lam, area)
+        assert row.shape == (d.size,) == (9 + 29,)
+        np.testing.assert_array_equal(row[:9],
+                                      Descriptor("truncated-log", N=N, M=4).row(lam, area))
+        np.testing.assert_allclose(row[9:], TWO_SCALE_WEIGHT * detrend(r), atol=1e-14)
+    X = d.matrix(lams, areas)
+    assert X.shape == (3, d.size)
+    # the second block is scale free: another normalisation shifts r by a constant only
+    lam, area = lams[1], areas[1]
+    np.testing.assert_allclose(d.replace(normalization="weyl").row(lam)[9:],
+                               d.row(lam, area)[9:], atol=1e-12)
+    # a smooth drift of the ratios up to the trend's degree (a coarse mesh) leaves it alone
+    i = np.arange(1, N)
+    drift = np.r_[1.0, np.exp(0.02 + 1e-3 * i - 1e-6 * i**3)]
+    np.testing.assert_allclose(d.row(lam * drift, area)[9:], d.row(lam, area)[9:], atol=1e-12)
+    with pytest.raises(ValueError, match=r"kind='two-scale' needs 2M\+1 = 9 non-zero "
+                                         r"eigenvalues, but 25 of the N = 30 are zero modes"):
+        d.row(np.r_[np.zeros(25), lam[25:]], area, zero_modes=25)
+
+
+def test_detrend_refuses_what_it_cannot_fit():
+    from cshape.descriptors import detrend
+
+    t = np.arange(1, 8) / 7
+    np.testing.assert_allclose(detrend(2 - t + 3 * t**2, degree=2), 0, atol=1e-12)
+    assert abs(float(detrend(np.r_[0.0, 0, 0, 1, 0, 0, 0]) @ t**3)) < 1e-12
+    with pytest.raises(ValueError, match=r"^r has 4 values but a polynomial of degree 3 needs "
+                                         r"at least 5"):
+        detrend(np.ones(4))
+    with pytest.raises(TypeError, match=r"^degree must be an integer"):
+        detrend(np.ones(8), degree=2.0)
+    with pytest.raises(TypeError, match=r"^r must be real"):
+        detrend(np.ones(8) + 0j)

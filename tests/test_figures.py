@@ -10,6 +10,7 @@ import pytest
 from cshape import Descriptor, plots
 from cshape.batch import DescriptorTable
 from cshape.plots.collection import (
+    LABEL_WIDTH,
     LEGEND_COLUMNS,
     MAX_LEGEND_CLASSES,
     MDS_MAX_NAMES,
@@ -63,7 +64,7 @@ def test_short_labels_keep_different_names_apart():
         "long_\u2026_a/cow", "long_\u2026_b/cow"]
     # same parent and name once cut: the position tells them apart, within the width
     names = [f"{d}/animals/spot_low_resolution_version_one" for d in "xy"]
-    labels = short_labels(names)
+    labels = short_labels(names, 16)
     assert labels == ["animal\u2026ion_one#0", "animal\u2026ion_one#1"]
     assert all(len(lab) <= 16 for lab in labels)
     # equal names label equally; distinct short names are left as short_label makes them
@@ -74,7 +75,7 @@ def test_short_labels_keep_different_names_apart():
 def test_short_label():
     assert short_label("animals/spot_low_resolution", 12) == "spot_\u2026lution"
     assert short_label("spot") == "spot"
-    assert len(short_label("x" * 200)) == 16
+    assert len(short_label("x" * 200)) == LABEL_WIDTH
 
 
 @pytest.mark.parametrize("p, n_classes", [(3, 3), (12, 3), (40, 8), (1000, 40), (1000, 300)])
@@ -91,7 +92,7 @@ def test_mds_panel_square_bounded_labels(p, n_classes):
         assert texts and len(texts) <= n_classes
         assert {t.get_text() for t in texts} <= {short_label(x) for x in table.labels}
     else:
-        assert texts and len(texts) <= p and all(len(t.get_text()) <= 16 for t in texts)
+        assert texts and len(texts) <= p and all(len(t.get_text()) <= LABEL_WIDTH for t in texts)
         assert {t.get_text() for t in texts} <= set(short_labels(table.names))
     legend = ax.get_legend()
     if n_classes <= MAX_LEGEND_CLASSES * LEGEND_COLUMNS:

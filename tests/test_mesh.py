@@ -47,7 +47,7 @@ def test_as_mesh_accepts_pairs_and_rejects_paths():
     assert cshape.as_mesh((TET_V, TET_F)).n_faces == 4
     with pytest.raises(TypeError, match="load_mesh"):
         cshape.as_mesh("bunny.obj")
-    with pytest.raises(TypeError, match="expected a cshape.Mesh"):
+    with pytest.raises(TypeError, match=r"expected a mesh: a cshape.Mesh, .*; got int$"):
         cshape.as_mesh(42)
 
 

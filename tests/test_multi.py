@@ -124,7 +124,8 @@ def test_every_kind_describes_a_multi_piece_mesh(spectra):
     for kind in cshape.descriptors.DESCRIPTOR_KINDS:
         for transform in cshape.descriptors.TRANSFORMS:
             X = Descriptor(kind, N=N, M=M, transform=transform).matrix([lam], [area])
-            assert X.shape == (1, {"shape-dna": N, "f1": N - 2}.get(kind, 2 * M + 1))
+            assert X.shape == (1, {"shape-dna": N, "f1": N - 2, "two-scale": 2 * M + N}.get(
+                kind, 2 * M + 1))
             assert np.all(np.isfinite(X))
 
 
@@ -202,7 +203,7 @@ def test_rule_errors(spectra, call, match):
 
 
 # ------------------------------------------------------------------ one mesh never fails all
-def test_descriptor_matrix_names_every_row_it_cannot_describe(table):
+def test_matrix_names_every_row_it_cannot_describe(table):
     with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 4 "
                        r"shapes \(dozen: 12 of its 30 eigenvalues are zero modes"):
         Descriptor("truncated-log", N=N, M=9).matrix(table.lam, table.areas,

@@ -94,3 +94,20 @@ def test_check_command_exit_status(tmp_path, capsys):
     assert sync_notebooks.main(["--folder", str(tmp_path)]) == 0
     assert sync_notebooks.main(["--check", "--folder", str(tmp_path)]) == 0
     assert "agree" in capsys.readouterr().out
+
+
+def test_jupyterlab_of_the_venv_lists_each_lesson_once():
+    """`make setup` gives the venv's Jupyter server a config that hides the lesson sources
+    NN_topic.py (the .ipynb is the one a student opens), and nothing else of jupyter's."""
+    import fnmatch
+
+    config = ROOT / "tools" / "jupyter_server_config.json"
+    globs = json.loads(config.read_text())["ContentsManager"]["hide_globs"]
+    assert {"__pycache__", "*.pyc", "*.pyo", ".DS_Store", "*~"} <= set(globs)
+    names = [p.name for p in (ROOT / "notebooks").iterdir()]
+    hidden = {n for n in names if any(fnmatch.fnmatch(n, g) for g in globs)}
+    assert hidden == {n for n in names if n.endswith(".py") and n[:2].isdigit()}
+    assert not any(n.endswith(".ipynb") for n in hidden) and "README.md" not in hidden
+    make = (ROOT / "Makefile").read_text()
+    assert ("cp tools/jupyter_server_config.json "
+            "$(VENV)/etc/jupyter/jupyter_server_config.json") in make

@@ -16,6 +16,7 @@ from cshape.course.lessons import (
     find_notebooks,
     offline_mathjax,
     run_notebook,
+    run_notebooks,
 )
 
 NB_DIR = default_notebook_dir()
@@ -109,8 +110,9 @@ def test_kernel_is_this_interpreter_and_cli_writes_html(tmp_path, capsys):
         assert (out / "mathjax" / "config" / "local" / "cshape.js").is_file()
         local = out / "mathjax" / "config" / "local" / "cshape.js"
         stamp = local.stat().st_mtime_ns
-        assert offline_mathjax(out) == offline_mathjax(out)  # copied once, not per page
+        url = offline_mathjax(out)  # a second call copies nothing again ...
         assert local.stat().st_mtime_ns == stamp
+        assert f'<script src="{url}"' in page  # ... and gives the URL the page loads
     assert "01_tiny.html" in (out / "index.html").read_text()
     assert "01_tiny.ipynb: ok" in capsys.readouterr().out
 
@@ -181,3 +183,44 @@ def test_index_page_names_each_lesson_by_its_title():
     assert lesson_title(NB_DIR / "02_shape_dna_weyl.ipynb") == "2 · Shape-DNA and the Weyl line"
     titles = [lesson_title(p) for p in NOTEBOOKS]
     assert all(t[0].isdigit() and " · " in t for t in titles), titles
+
+
+def test_index_page_looks_like_the_site_and_typesets_titles(tmp_path):
+    """The first page after `make demo`: the site's top bar and fonts, each lesson's title
+    (its TeX for MathJax when the pages have their MathJax copy, else written plainly),
+    the paper's sections, time and state."""
+    from cshape.course.lessons import RunResult, _index
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell(
+        "# 7 · The parameter $M$, interactively\n\n**Paper:** Gao, Yu and Pang, *A compact "
+        "shape descriptor*, CAD 53 (2014); Section 3.2, Fig. 6.\n\nText.")]
+    path = tmp_path / "07_m.ipynb"
+    nbformat.write(nb, path)
+    page = tmp_path / "07_m.html"
+    page.write_text("<html></html>")
+    ok = RunResult("07_m.ipynb", True, 12.3, ipynb=path, html=page)
+    bad = RunResult("08_x.ipynb", False, 1.0, error="ValueError: boom <b>")
+    text = _index([ok, bad], tmp_path, small=False).read_text()
+    assert "<header><a class='brand' href='index.html'>cshape</a>" in text
+    assert "font-family: -apple-system" in text and "Times" not in text
+    assert '<a href="07_m.html">7 · The parameter $M$, interactively</a>' in text
+    if importlib.util.find_spec("jupyter_server_mathjax"):
+        assert '<script src="mathjax/MathJax.js?config=' in text
+        assert "inlineMath: [['$','$']]" in text and "processClass: 'title'" in text
+    assert "paper: Section 3.2 · <code>07_m.ipynb</code>" in text and "12 s" in text
+    assert "ValueError: boom &lt;b&gt;" in text and "badge bad" in text
+    # without HTML pages (no MathJax copy) the title is written without TeX
+    (tmp_path / "plain").mkdir()
+    ok.html = None
+    text = _index([ok], tmp_path / "plain", small=True).read_text()
+    assert "7 · The parameter <i>M</i>, interactively" in text and "$" not in text
+    assert "mathjax" not in text.lower() and "at small size" in text
+
+
+def test_run_notebooks_says_where_to_look(tmp_path, capsys):
+    src = tmp_path / "src"
+    _tiny(src, "print(1)")
+    run_notebooks(src, tmp_path / "out", html=False)
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last == f"open the lessons in a browser: {(tmp_path / 'out' / 'index.html').as_uri()}"

@@ -260,7 +260,11 @@ def test_interactive_mds_hover_has_name_class_and_neighbours():
     assert fig.layout.title.text == "by cShape-DNA M=16"
     ind, _ = nearest_neighbours(D, 2)
     hover = {}
+    names_on_picture = [tr for tr in fig.data if tr.mode == "text"]
+    assert len(names_on_picture) == 1 and set(names_on_picture[0].text) == set(names[:-1])
     for tr in fig.data:
+        if tr.mode == "text":
+            continue
         for name, text in zip(tr.customdata, tr.hovertext or tr.text, strict=True):
             hover[name] = text
     assert sorted(hover) == sorted(names)
@@ -283,9 +287,24 @@ def test_neighbour_strips_return_figures():
     assert [ax.get_title().split("\n")[0] for ax in fig.axes] == [
         "query", "1. d = 0.5", "2. d = 1.25"]
     pfig = neighbour_strip_plotly(meshes, ["q", "n1", "n2"], [0.5, 1.25], vertical_axis="y")
-    assert len(pfig.data) == 3 and pfig.layout.scene2.camera.up.y == 1
+    assert len(pfig.data) == 3 and pfig.layout.scene2.camera.up.z == 1
+    # y up: the trace's coordinates are the mesh's (z, x, y), drawn upright
+    V = shapes.torus(16, 8).vertices
+    tr = pfig.data[1]
+    np.testing.assert_allclose(np.c_[tr.x, tr.y, tr.z], V[:, [2, 0, 1]], rtol=1e-6)
+    assert pfig.layout.height is None  # the page gives it its size
     with pytest.raises(ValueError, match=r"distances has 1 entries but the strip has 2 neighbours"):
         plot_neighbour_strip(meshes, ["q", "n1", "n2"], [0.5])
+
+
+@pytest.mark.parametrize("n, grid", [(1, (1, 1)), (2, (1, 2)), (4, (2, 2)), (6, (2, 3)),
+                                     (11, (3, 4))])
+def test_strip_grid_keeps_panels_near_square(n, grid):
+    from cshape.plots.explore import strip_grid
+
+    assert strip_grid(n) == grid
+    rows, cols = grid
+    assert rows * cols >= n > (rows - 1) * cols
 
 
 def test_overview_png_and_html_name_the_descriptor_and_left_out():
@@ -294,7 +313,7 @@ def test_overview_png_and_html_name_the_descriptor_and_left_out():
     fig = plot_overview(c.D, c.names, c.labels, descriptor=c.descriptor, title="t.csv",
                         left_out=[("broken", "two pieces")])
     sup = fig._suptitle.get_text()
-    assert "10 shapes, 3 classes, compared by Shape-DNA (30 values)" in sup and "broken" in sup
+    assert "10 shapes in 3 classes, compared by Shape-DNA (30 values)" in sup and "broken" in sup
     page = overview_html(c.D, c.names, c.labels, descriptor=c.descriptor,
                          left_out=[("broken", "two pieces")])
     assert "Shape-DNA (30 values)" in page and "broken: two pieces" in page
@@ -348,7 +367,7 @@ def test_cli_overview_writes_html_and_png(described, tmp_path, capsys):
                "--kind", "truncated-log", "-M", "4"])
     err = capsys.readouterr().err
     assert rc == 0, err
-    assert "4 shapes, 2 classes, compared by truncated log spectrum (9 values)" in err
+    assert "4 shapes in 2 classes, compared by truncated log spectrum (9 values)" in err
     page = html.read_text()
     assert all(n in page for n in ("small", "big", "thin", "fat"))
     assert png.read_bytes()[:4] == b"\x89PNG"
@@ -435,3 +454,85 @@ def test_guess_vertical_axis_by_format():
 
     assert [guess_vertical_axis(f) for f in ("a/spot.obj", "b.OBJ.gz", "c.ply", "d.off",
                                              "e.stl", "f.glb")] == ["y", "y", "z", "z", "z", "y"]
+
+
+# ------------------------------------------------------------------------------ flat folders
+def _flat_table(p, seed=0, long_names=False):
+    """p shapes of one class (a flat folder), spectra spread in two directions."""
+    rng = np.random.default_rng(seed)
+    i = np.arange(30)
+    lam = np.array([4 * np.pi * np.maximum(i + 3 * rng.random() * np.sin(i / 4 + 6 * rng.random()),
+                                           0) for _ in range(p)])
+    lam[:, 0] = 0.0
+    lam[-1] *= 300.0  # a far one (a coarse control cage): an outlier
+    stem = "fish_control_mesh_" if long_names else "m"
+    return DescriptorTable([f"{stem}{k}" for k in range(p)], lam, np.ones(p), ["flat"] * p)
+
+
+def _text_boxes(fig):
+    """Display boxes of the figure's visible texts written on its axes (names)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    r = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(r)
+    return [(t.get_text(), t.get_window_extent(r)) for ax in fig.axes for t in ax.texts
+            if t.get_text() and t.get_visible()]
+
+
+@pytest.mark.parametrize("p, long_names", [(12, True), (64, False)])
+def test_overview_of_a_flat_folder_reads(p, long_names):
+    """One class: the title counts shapes only, no class table, no class legend; the MDS
+    names every shape when few, else the outlier and a sample; every name is whole, inside
+    the figure and its axes, over no other name and no point; the matrix names its rows."""
+    from cshape.plots.collection import LABEL_WIDTH, MDS_SAMPLE_NAMES
+
+    table = _flat_table(p, long_names=long_names)
+    c = collection_distances(table, Descriptor("shape-dna", N=30))
+    fig = plot_overview(c.D, c.names, c.labels, descriptor=c.descriptor, title="flat.csv")
+    sup = fig._suptitle.get_text()
+    assert sup == f"flat.csv: {p} shapes, compared by Shape-DNA (30 values)"
+    mds, matrix = fig.axes[0], fig.axes[1]
+    assert not any(ax.tables for ax in fig.axes)  # no class table
+    boxes = _text_boxes(fig)
+    names = [t for t, _ in boxes]
+    far = c.names[-1]
+    assert any(t.startswith(far + " \u00d7") for t in names)  # the outlier, whole
+    inner = [t for t in names if "\u00d7" not in t]
+    if p <= 40:
+        assert len(inner) >= 2 * (p - 1) // 3  # (a name with no free place is left out)
+    else:
+        assert 8 <= len(inner) <= MDS_SAMPLE_NAMES
+    assert all(t in c.names for t in inner)  # whole names (all shorter than LABEL_WIDTH)
+    assert max(len(n) for n in c.names) <= LABEL_WIDTH
+    page, panel = fig.bbox, mds.get_window_extent()
+    for _, b in boxes:
+        assert page.x0 <= b.x0 and b.x1 <= page.x1 and page.y0 <= b.y0 and b.y1 <= page.y1
+        assert panel.x0 <= b.x0 and b.x1 <= panel.x1 and panel.y0 <= b.y0 and b.y1 <= panel.y1
+    for k, (_, a) in enumerate(boxes):
+        for _, b in boxes[k + 1:]:
+            assert not a.overlaps(b)
+    # no name over a point (its own point is beside it)
+    pts = np.vstack([col.get_offsets() for col in mds.collections if len(col.get_offsets())])
+    xy = mds.transData.transform(pts)
+    for text, b in boxes:
+        inside = (xy[:, 0] > b.x0 + 1) & (xy[:, 0] < b.x1 - 1) & (xy[:, 1] > b.y0 + 1) \
+            & (xy[:, 1] < b.y1 - 1)
+        assert not inside.any(), text
+    ticks = [t.get_text() for t in matrix.get_yticklabels()]
+    assert ticks == sorted(ticks, key=c.names.index) and len(ticks) == p
+
+
+def test_overview_html_of_a_flat_folder_has_no_class_table():
+    table = _flat_table(12)
+    c = collection_distances(table, Descriptor("shape-dna", N=30))
+    page = overview_html(c.D, c.names, c.labels, descriptor=c.descriptor, title="flat.csv")
+    assert "<h1>flat.csv: 12 shapes</h1>" in page
+    assert "<h2>Classes</h2>" not in page and "<th>class</th>" not in page
+
+
+def test_collection_title_counts_in_english():
+    from cshape.plots.explore import collection_title
+
+    assert collection_title(64, 1) == "64 shapes"
+    assert collection_title(1, 1) == "1 shape"
+    assert collection_title(200, 10) == "200 shapes in 10 classes"

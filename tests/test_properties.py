@@ -386,7 +386,7 @@ def test_valid_off_obj_stl_load_to_the_same_surface(tmp_path_factory, mesh):
 def test_fast_and_exact_file_checks_agree(tmp_path_factory, mesh, junk):
     """load_mesh checks plain OFF / OBJ files vectorised and others line by line; both
     must report the same counts (vertices, triangles, collapsed faces) for the same mesh."""
-    from cshape.readers import _prescan
+    from cshape._prescan import prescan
 
     F = mesh.faces.tolist() + [[a % mesh.n_vertices, a % mesh.n_vertices,
                                  b % mesh.n_vertices] for a, b in junk]  # collapsed faces
@@ -405,9 +405,9 @@ def test_fast_and_exact_file_checks_agree(tmp_path_factory, mesh, junk):
     seen = {}
     for name, text in variants.items():
         (folder / name).write_text(text)
-        e = _prescan(folder / name, name[-3:])
+        e = prescan(folder / name, name[-3:])
         seen[name] = (e.n_vertices, e.min_faces, e.collapsed)
-    from cshape.readers import _fast_obj, _fast_off
+    from cshape._prescan import _fast_obj, _fast_off
 
     # both code paths really ran
     assert _fast_off(folder / "plain.off") and _fast_off(folder / "comment.off") is None

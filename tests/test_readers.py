@@ -90,6 +90,7 @@ def test_unreadable_file_permissions(tmp_path):
 
 def test_read_error_during_the_scan_names_the_file(tmp_path, monkeypatch):
     """The unreadable-file case simulated for any user (root included): open() fails."""
+    import cshape._prescan as prescan
     import cshape.readers as readers
 
     p = tmp_path / "locked.obj"
@@ -99,6 +100,7 @@ def test_read_error_during_the_scan_names_the_file(tmp_path, monkeypatch):
         raise PermissionError(13, "Permission denied", str(path))
 
     monkeypatch.setattr(readers, "open", denied, raising=False)
+    monkeypatch.setattr(prescan, "open", denied, raising=False)
     monkeypatch.setattr(Path, "read_bytes", denied)
     with pytest.raises(PermissionError, match="locked.obj"):
         cshape.load_mesh(p)

@@ -35,3 +35,59 @@ def test_cli_reports_bad_arguments_cleanly():
     )
     assert res.returncode == 2
     assert "use M <= 9" in res.stderr and "Traceback" not in res.stderr
+
+
+def _bash_block(text, heading):
+    section = text.split(f"## {heading}\n", 1)[1].split("\n## ", 1)[0]
+    block = re.search(r"```bash\n(.*?)```", section, flags=re.S).group(1)
+    return [line.split("#", 1)[0].strip() for line in block.splitlines()
+            if line.split("#", 1)[0].strip()]
+
+
+@pytest.mark.slow
+def test_readme_own_meshes_commands_run_on_a_folder(tmp_path):
+    """The README's command-line example, line by line, on a folder of two classes."""
+    from conftest import write_off
+
+    from cshape import shapes
+    from cshape.course.teaching import spot
+
+    cow = spot()
+    write_off(tmp_path / "meshes" / "cows" / "cow.off", cow)
+    write_off(tmp_path / "meshes" / "cows" / "calf.off", (0.5 * cow.vertices, cow.faces))
+    write_off(tmp_path / "meshes" / "balls" / "ball.off", shapes.icosphere(3))
+    write_off(tmp_path / "meshes" / "balls" / "pebble.off", shapes.icosphere(2))
+    lines = _bash_block((REPO / "README.md").read_text(), "Your own meshes")
+    assert [ln.split()[1] for ln in lines] == ["info", "describe", "query", "query",
+                                               "overview"]
+    env = {**__import__("os").environ, "CSHAPE_CACHE": str(tmp_path / "cache")}
+    outs = []
+    for line in lines:
+        args = line.split()[1:]
+        res = subprocess.run([sys.executable, "-m", "cshape", *args], cwd=tmp_path, env=env,
+                             capture_output=True, text=True, timeout=600)
+        assert res.returncode == 0, (line, res.stderr)
+        outs.append(res.stdout)
+    assert outs[0].count("\nfile ") + outs[0].startswith("file ") == 4  # info: four files
+    assert (tmp_path / "table.csv").is_file()
+    first = outs[2].split("calf")[0]  # query: cow's nearest shape is its own class's calf
+    assert "ball" not in first and "pebble" not in first, outs[2]
+    assert (tmp_path / "cow.html").is_file() and (tmp_path / "overview.html").is_file()
+    assert outs[4] == "" or "overview.html" in outs[4]
+
+
+def test_readme_teaching_commands_are_the_course_folders():
+    """The README's teaching example uses the commands the course README and the teaching
+    guide explain, in the same order."""
+    from cshape.course.assignments import INSTRUCTORS_README
+
+    lines = _bash_block((REPO / "README.md").read_text(), "Teaching")
+    nbgrader = [ln for ln in lines if ln.startswith("nbgrader ")]
+    assert nbgrader == ["nbgrader generate_assignment lessons", "nbgrader autograde lessons",
+                        "nbgrader generate_feedback lessons"]
+    for doc in (INSTRUCTORS_README, REPO / "docs" / "guides" / "teaching.md"):
+        text = doc.read_text()
+        where = [text.index(cmd) for cmd in nbgrader]
+        assert where == sorted(where), doc
+        assert "submitted/<student>/lessons/" in text
+    assert lines[0] == "cshape lessons mycourse && cd mycourse"

@@ -17,6 +17,7 @@ import cshape
 from cshape import _refine, shapes
 from cshape.batch import DescriptorTable, describe
 from cshape.batch.cache import mesh_key
+from cshape.batch.work import Task
 from cshape.cli import main as cli_main
 from cshape.mesh import Mesh
 from cshape.spectrum import solve_eigenproblem
@@ -236,5 +237,5 @@ def test_describe_counts_the_subdivisions_in_its_estimate(monkeypatch):
     mesh = shapes.icosphere(2)  # 162 vertices: 81 s, 405 s with the 648 of a subdivision
     with pytest.warns(cshape.CShapeWarning, match=r"long run ahead: 1 eigensolve of N=6 \(and "
                       r"of their midpoint subdivisions\), about 7 min in all"):
-        run._warn_long_run([(0, mesh, 6, "neumann", "consistent", None, None, EX)],
+        run._warn_long_run([Task(0, mesh, 6, "neumann", "consistent", None, None, EX)],
                            [("ball", "", mesh)], 6)

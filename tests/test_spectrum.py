@@ -150,3 +150,14 @@ def test_scale_invariance_after_area_normalisation():
     np.testing.assert_allclose(
         cshape.normalize(lam2, big.area), cshape.normalize(lam1, m.area), rtol=1e-9, atol=1e-9
     )
+
+
+@pytest.mark.parametrize("fn", [cshape.shape_dna, cshape.eigenpairs])
+def test_every_parameter_of_the_spectrum_functions_is_described(fn):
+    """The API page lists each parameter with a sentence, bc and mass included."""
+    docscrape = pytest.importorskip("numpydoc.docscrape")
+    params = {p.name: " ".join(p.desc) for p in docscrape.FunctionDoc(fn)["Parameters"]}
+    assert {"mesh", "N", "bc", "mass"} <= set(params)
+    for name in ("N", "bc", "mass"):
+        assert len(params[name]) > 20, (name, params[name])
+    assert "Eq. (5)" in params["mass"] and "fem_matrices" in params["bc"]

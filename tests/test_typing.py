@@ -1,6 +1,7 @@
 """Static type check of the package: mypy over every module of ``cshape`` (pyproject's
 [tool.mypy]: ``files = ["cshape"]``, untyped functions refused outside the overrides that
-name a module), and the public names that carry a hint (tools/typed_fraction.py)."""
+name a module), and the public names that carry a hint (tools/typed_fraction.py).  Without
+mypy the check fails in CI (``CI`` set) and is skipped elsewhere."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import subprocess
 import sys
 
 import pytest
-from conftest import REPO
+from conftest import REPO, require_tool
 
 
 def _typed_fraction():
@@ -27,7 +28,7 @@ def _mypy_config() -> dict:
 
 @pytest.mark.slow
 def test_the_package_type_checks():
-    pytest.importorskip("mypy", reason="mypy comes with the test dependency group")
+    require_tool("mypy", "mypy comes with the test dependency group")
     res = subprocess.run([sys.executable, "-m", "mypy", "--no-incremental",
                           "--cache-dir", "/dev/null"], cwd=REPO, capture_output=True, text=True,
                          timeout=600)

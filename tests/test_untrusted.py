@@ -44,7 +44,7 @@ TINY = {
     "description": "test",
     "license": "BSD-3-Clause",
     "citation": "none",
-    "items": [{"name": "s", "label": "sphere", "recipe": "sphere", "params": {"subdiv": 2}}],
+    "items": [{"name": "s", "label": "sphere", "recipe": "sphere", "params": {"subdivisions": 2}}],
 }
 
 
@@ -579,7 +579,7 @@ def test_archive_larger_than_the_free_space_is_refused_before_writing(tmp_path, 
 
 def test_cache_file_of_another_recipe_is_not_taken_for_this_item(tmp_path):
     """A cache file copied over (or written) from another item is detected and rebuilt."""
-    other = {**TINY["items"][0], "name": "t", "params": {"subdiv": 1}}
+    other = {**TINY["items"][0], "name": "t", "params": {"subdivisions": 1}}
     man = data.load_manifest(_manifest(tmp_path, [{**TINY, "items": [TINY["items"][0], other]}]))
     data.load_collection("tiny", manifest=man, progress=False)
     root = tmp_path / "cache"

@@ -7,7 +7,7 @@ message for the same bad argument in every function that takes it.  Each table r
 argument with the same bad value.  Checks run before any eigensolve (``no_eigensolve``).
 
 What the boundary accepts (NumPy integers, lists, other dtypes, case-insensitive options) is
-at the end; old spellings of mode names (accepted with a DeprecationWarning) after it.
+at the end; the one spelling of mode names after it.
 Behaviour on imperfect meshes is in test_imperfect_meshes.py, on files in test_readers.py.
 """
 
@@ -251,7 +251,7 @@ _MASS = r"mass must be one of \{'consistent', 'lumped'\}, got "
 _NORM = r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}, got "
 _TR = r"transform must be one of \{'weyl', 'log-weyl', 'log-weyl-dct'\}, got "
 _KIND = (r"kind must be one of \{'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', "
-         r"'truncated-log'\}, got ")
+         r"'truncated-log', 'two-scale'\}, got ")
 _JOBS = r"n_jobs must be a positive integer or -1 \(all cores\), got "
 SAME_ERROR = [
     # (argument, bad value, exception, message)
@@ -378,7 +378,8 @@ MESH = [
     *[pytest.param(Mesh, dict(vertices=vf[0], faces=vf[1]), exc, match, id=f"Mesh-{name}")
       for name, vf, exc, match in BAD_PAIRS],
     *[pytest.param(cshape.as_mesh, dict(mesh_or_vf=obj), TypeError,
-                   r"expected a cshape.Mesh or a \(vertices, faces\) pair", id=f"as_mesh-{i}")
+                   r"expected a mesh: a cshape.Mesh, a \(vertices, faces\) pair of arrays, or a "
+                   r"mesh object of trimesh .*; got ", id=f"as_mesh-{i}")
       for i, obj in enumerate([(TET_V, TET_F, None), {"v": TET_V}, TET_V, 3, None])],
     pytest.param(cshape.as_mesh, dict(mesh_or_vf="bunny.off"), TypeError,
                  r"got a path \('bunny.off'\) where a mesh was expected; load it first",
@@ -833,16 +834,6 @@ def test_N_up_to_the_number_of_unknowns(bc, n_unknowns):
 
 
 # ------------------------------------------------------------------ mode names
-OLD_KINDS = {"shape_dna": "shape-dna", "cshape_complex": "cshape-complex",
-             "truncated_log": "truncated-log"}
-
-
-def _old_kinds_table():
-    rng = np.random.default_rng(0)
-    lam = np.c_[np.zeros(4), np.cumsum(rng.uniform(0.5, 2.0, (4, 29)), axis=1)]
-    return DescriptorTable(["a", "b", "c", "d"], lam, rng.uniform(1, 2, 4), ["x", "x", "y", "y"])
-
-
 def test_mode_names_are_hyphenated_lower_case():
     for names in (DESCRIPTOR_KINDS, cshape.descriptors.TRANSFORMS,
                   cshape.descriptors.NORMALIZATIONS, cshape.fem.BOUNDARY_CONDITIONS,
@@ -850,50 +841,24 @@ def test_mode_names_are_hyphenated_lower_case():
         assert all(n == n.lower() and "_" not in n and " " not in n for n in names), names
 
 
-@pytest.mark.parametrize("old, new", sorted(OLD_KINDS.items()))
-def test_old_kind_spellings_warn_and_give_the_same_descriptors(old, new):
-    t = _old_kinds_table()
-    with pytest.warns(DeprecationWarning, match=f"kind='{old}' is deprecated; write kind='{new}'"):
-        X_old = Descriptor(old, N=20, M=3).matrix(t.lam, t.areas)
-    np.testing.assert_array_equal(X_old, Descriptor(new, N=20, M=3).matrix(t.lam, t.areas))
-    with pytest.warns(DeprecationWarning, match="is deprecated") as rec:
-        d = Descriptor(old, N=20, M=3)
-    assert d.kind == new and d == Descriptor(new, N=20, M=3)  # stored in the current spelling
-    np.testing.assert_array_equal(t.descriptors(d), t.descriptors(Descriptor(new, N=20, M=3)))
-    assert all(r.filename == __file__ for r in rec)  # the warning points at the caller
+@pytest.mark.parametrize("call, match", [
+    (lambda: cshape.Descriptor("shape_dna"),
+     r"kind must be one of \{.*'shape-dna'.*\}, got 'shape_dna'"),
+    (lambda: cshape.Descriptor(transform="log_weyl"),
+     r"transform must be one of \{'weyl', 'log-weyl', 'log-weyl-dct'\}, got 'log_weyl'"),
+    (lambda: cshape.compact_shape_dna(LAM, M=1, N=5, transform="shape_dna"),
+     r"transform must be one of \{'weyl', 'log-weyl', 'log-weyl-dct'\}, got 'shape_dna'"),
+])
+def test_a_mode_name_has_one_spelling(call, match):
+    """Mode names are written with hyphens only: an underscore spelling is an unknown option."""
+    with pytest.raises(ValueError, match=match):
+        call()
 
 
-def test_old_spelling_is_accepted_only_where_its_new_name_is():
-    with pytest.raises(ValueError, match=r"transform must be one of \{'weyl', 'log-weyl', "
-                                         r"'log-weyl-dct'\}, got 'shape_dna'"):
-        cshape.compact_shape_dna(LAM, M=1, N=5, transform="shape_dna")
-
-
-def test_cli_query_accepts_the_old_kind_with_a_warning(tmp_path, capsys):
+def test_cli_kind_has_one_spelling(capsys):
     from cshape.cli import main
 
-    path = tmp_path / "t.npz"
-    _old_kinds_table().save(path)
-    assert main(["query", str(path), "a", "-k", "2", "--kind", "shape_dna", "-N", "20"]) == 0
-    out, err = capsys.readouterr()
-    assert "--kind shape_dna is deprecated; write --kind shape-dna" in err
-    assert "Shape-DNA" in out and "(20 values)" in out  # the kind asked for, N = 20
-
-
-def test_a_saved_table_of_version_2_with_an_old_transform_spelling_still_loads(tmp_path):
-    import json
-    import warnings
-
-    from cshape.batch.table import sidecar_path
-
-    path = _old_kinds_table().save(tmp_path / "t.csv")
-    side = sidecar_path(path)
-    meta = json.loads(side.read_text())
-    # version 2 stored M and a transform (in any spelling); they are read and not used
-    meta.update(format_version=2, M=4, transform="log_weyl_dct")
-    side.write_text(json.dumps(meta))
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        back = DescriptorTable.load(path)
-    np.testing.assert_array_equal(back.lam, _old_kinds_table().lam)
-    np.testing.assert_array_equal(back.descriptors(), _old_kinds_table().descriptors())
+    with pytest.raises(SystemExit) as exc:
+        main(["query", "t.npz", "a", "--kind", "shape_dna"])
+    assert exc.value.code == 2
+    assert "invalid choice: 'shape_dna'" in capsys.readouterr().err

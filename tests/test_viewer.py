@@ -174,7 +174,8 @@ def test_view_rejects_bad_arguments(sphere, call, match):
 def test_views_open_upright_with_the_whole_mesh_in_view():
     """The view is turned so that the vertical axis is plotly's z (turntable rotation keeps z
     up), by a rotation (cyclic column permutation, nothing mirrored), and the eye looks from
-    20 degrees above, 2.2 scene units away, 60 degrees off the longest horizontal axis."""
+    20 degrees above, 60 degrees off the longest horizontal axis, from just far enough that
+    the mesh fills the picture but for the margin."""
     from cshape.plots.viewer import default_eye
 
     box = shapes.cube(2)
@@ -186,8 +187,7 @@ def test_views_open_upright_with_the_whole_mesh_in_view():
     cam = fig.layout.scene.camera
     assert (cam.up.x, cam.up.y, cam.up.z) == (0, 0, 1)
     eye = np.array([cam.eye.x, cam.eye.y, cam.eye.z])
-    assert np.isclose(np.linalg.norm(eye), 2.2)
-    assert np.isclose(np.degrees(np.arcsin(eye[2] / 2.2)), 20.0)
+    assert np.isclose(np.degrees(np.arcsin(eye[2] / np.linalg.norm(eye))), 20.0)
     # upright coordinates (z, x, y): the longest horizontal axis is the second one (old x)
     # against the first (old z, half as long): the eye sits mostly across it, 60 degrees off
     horizontal = np.hypot(eye[0], eye[1])
@@ -197,3 +197,74 @@ def test_views_open_upright_with_the_whole_mesh_in_view():
     # z-up meshes keep their coordinates
     fig = plots.view_mesh(mesh)
     np.testing.assert_allclose(np.c_[fig.data[0].x, fig.data[0].y, fig.data[0].z], V, rtol=1e-6)
+
+
+def _projected(points, eye, aspect):
+    """Picture coordinates in [-1, 1] (x right, y up) of points seen by plotly's perspective
+    camera (45 degrees vertical field of view) from ``eye`` towards the origin, z up."""
+    f = -eye / np.linalg.norm(eye)
+    right = np.cross(f, [0, 0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, f)
+    depth = (points - eye) @ f
+    t = np.tan(np.radians(22.5))
+    return (points @ right) / (depth * t * aspect), (points @ up) / (depth * t)
+
+
+@pytest.mark.parametrize("aspect", [0.5, 1.0, 2.5])
+@pytest.mark.parametrize("scale", [(1.0, 1.0, 1.0), (4.0, 1.0, 0.5), (0.3, 0.4, 5.0)])
+def test_scene_layout_fits_the_whole_mesh_with_the_margin(aspect, scale):
+    """Every vertex projects inside the picture less the margin, and one touches that line
+    (the eye is no further than needed), whatever the mesh's proportions and the scene's."""
+    from cshape.plots.viewer import MARGIN, scene_layout
+
+    V = shapes.icosphere(2).vertices * np.array(scale) + [3.0, -2.0, 7.0]
+    sc = scene_layout(V, aspect=aspect)
+    ranges = np.array([sc[f"{c}axis"]["range"] for c in "xyz"])
+    ratio = np.array([sc["aspectratio"][c] for c in "xyz"])
+    # plotly's scene units: the axis ranges mapped onto [-ratio/2, ratio/2]
+    P = (V - ranges.mean(axis=1)) / np.ptp(ranges, axis=1) * ratio
+    eye = np.array([sc["camera"]["eye"][c] for c in "xyz"])
+    x, y = _projected(P, eye, aspect)
+    reach = np.maximum(np.abs(x), np.abs(y)).max()
+    assert np.isclose(reach, 1.0 - MARGIN)
+    assert sc["aspectmode"] == "manual" and max(ratio) == 1.0
+
+
+def test_fit_distance_known_answer():
+    """Two points at +-s across the line of sight, eye on that line: d = s / ((1-m) tan 22.5)."""
+    from cshape.plots.viewer import fit_distance
+
+    P = np.array([[0.0, 0.3, 0.0], [0.0, -0.3, 0.0]])
+    d = fit_distance(P, [1.0, 0.0, 0.0], aspect=1.0, margin=0.1)
+    assert np.isclose(d, 0.3 / (0.9 * np.tan(np.radians(22.5))))
+    # twice as wide a picture: the width no longer limits, the height (0) does not either
+    assert np.isclose(fit_distance(P, [1.0, 0.0, 0.0], aspect=2.0, margin=0.1), d / 2)
+
+
+def test_every_3d_view_is_lit_alike():
+    """One lighting for every mesh trace of every 3-D view."""
+    from cshape.plots.viewer import LIGHTING
+
+    m = shapes.icosphere(2)
+    basis = cshape.eigenbasis(m, N=6)
+    figs = [plots.view_mesh(m), plots.view_meshes({"a": m, "b": m}, {"a": basis.phi[:, 1]}),
+            plots.eigenfunction_explorer(m, 6, basis=basis),
+            plots.view_correspondence(m, m, np.arange(m.n_vertices))]
+    for fig in figs:
+        for tr in fig.data:
+            if tr.type == "mesh3d":
+                assert tr.lighting.to_plotly_json() == LIGHTING
+                assert tr.flatshading is False
+
+
+def test_scene_layout_rejects_bad_arguments():
+    from cshape.plots.viewer import scene_layout
+
+    V = shapes.icosphere(1).vertices
+    with pytest.raises(ValueError, match="vertical_axis"):
+        scene_layout(V, "w")
+    with pytest.raises(ValueError, match="aspect"):
+        scene_layout(V, aspect=0.0)
+    with pytest.raises(ValueError, match="margin"):
+        scene_layout(V, margin=0.95)

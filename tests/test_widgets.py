@@ -250,3 +250,20 @@ def test_widget_transform_toggle_clamps_M(collection):
     assert w.state.transform == "log-weyl" and w.state.M == 10
     w.controls["transform"].value = "weyl"
     assert w.controls["M"].max == 11 and w.state.transform == "weyl"
+
+
+def test_widget_shows_its_picture_where_no_kernel_runs(collection):
+    """The widget's display data carry, besides the live view, its current picture and
+    statistics as HTML: what an exported page shows when no widget state was saved."""
+    import base64
+
+    pytest.importorskip("ipywidgets")
+    w = widgets.m_sweep_widget(collection, M=3, dpi=40, figsize=(8, 5))
+    data = w._repr_mimebundle_()
+    assert "application/vnd.jupyter.widget-view+json" in data
+    page = data["text/html"]
+    assert w.state.summary() in page.replace("&#x27;", "'").replace("&quot;", '"')
+    png = base64.b64decode(page.split("base64,")[1].split('"')[0])
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and png == bytes(w.image.value)
+    w.controls["M"].value = 1
+    assert "M = 1" in w._repr_mimebundle_()["text/html"]

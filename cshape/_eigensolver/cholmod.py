@@ -1,4 +1,4 @@
-"""Sparse Cholesky factorisations for the eigensolver (plumbing of :mod:`cshape._shift`).
+"""Sparse Cholesky factorisations for the eigensolver (plumbing of its ``shift`` module).
 
 The shift-invert eigensolver factorises ``S = K - sigma B`` once and then solves with ``S``
 for blocks of right-hand sides.  Both steps are CHOLMOD (SuiteSparse's supernodal sparse

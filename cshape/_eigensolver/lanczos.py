@@ -1,7 +1,7 @@
 """Block shift-invert Lanczos: the N smallest eigenpairs of ``K f = lam B f`` from one solve.
 
 :func:`block_lanczos` takes a solve ``X -> (K - sigma B)^{-1} X`` (a factorisation made
-by :mod:`cshape._shift`) and runs :class:`BlockLanczos`, the iteration's state with one
+by :mod:`cshape._eigensolver.shift`) and runs :class:`BlockLanczos`, the iteration's state with one
 method per stage: a Lanczos step (:meth:`~BlockLanczos.step`), the Rayleigh-Ritz test of
 convergence (:meth:`~BlockLanczos.rayleigh_ritz`), the refined smallest eigenvalues below
 an inside shift (:meth:`~BlockLanczos.refine_smallest`) and the B-orthonormal Ritz
@@ -335,9 +335,9 @@ def block_lanczos(
     return_vectors : bool, default=True
     threads : int or ThreadChooser, default=1
         The most threads for the products over the basis
-        (:func:`cshape._threads.solver_threads`), or a
-        :class:`~cshape._threads.ThreadChooser` that picks them at each step by timing the
-        step's first orthogonalisation pass (``solve`` chooses its own threads); the
+        (:func:`cshape._eigensolver.threads.solver_threads`), or a
+        :class:`~cshape._eigensolver.threads.ThreadChooser` that picks them at each step by
+        timing the step's first orthogonalisation pass (``solve`` chooses its own threads); the
         result is the same with any number.
     rhs_order : {'C', 'F'}, default='C'
         Memory order of the blocks passed to ``solve`` (the one it takes without a copy).

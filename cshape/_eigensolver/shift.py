@@ -10,8 +10,8 @@ Two shifts, tried in this order by :mod:`cshape.spectrum` for one connected comp
   definite (Cholesky ``L L^T``), with a block size set by the size, and ARPACK with
   ``tol=0`` on the same factorisation if the block Lanczos method does not converge.
 
-Both hand their solve to :func:`cshape._lanczos.block_lanczos`; the factorisations are
-:mod:`cshape._cholmod`'s.
+Both hand their solve to :func:`cshape._eigensolver.lanczos.block_lanczos`; the factorisations are
+:mod:`cshape._eigensolver.cholmod`'s.
 """
 
 from __future__ import annotations
@@ -51,8 +51,8 @@ class CholeskyOperator(spla.LinearOperator):
     """``x -> (K - sigma B)^{-1} x`` with a sparse Cholesky factor (vectors or blocks).
 
     The factorisation is CHOLMOD's, through the fastest backend that works here
-    (:mod:`cshape._cholmod`; ``CSHAPE_CHOLESKY`` chooses one).  ``rhs_order`` is the memory
-    order of a block of right-hand sides that the backend takes without a copy.
+    (:mod:`cshape._eigensolver.cholmod`; ``CSHAPE_CHOLESKY`` chooses one).  ``rhs_order`` is
+    the memory order of a block of right-hand sides that the backend takes without a copy.
     """
 
     def __init__(self, M):
@@ -213,12 +213,12 @@ def solve_below(K, B, N, sigma, same, return_vectors):
 
     ``K - sigma B`` is positive definite: one Cholesky factorisation
     (:class:`CholeskyOperator`).  The block size follows the size
-    (:func:`~cshape._lanczos.block_size`); blocks of
-    :data:`~cshape._lanczos.BLOCK_SIZE_THREADED` vectors are solved as two halves.  From
+    (:func:`~cshape._eigensolver.lanczos.block_size`); blocks of
+    :data:`~cshape._eigensolver.lanczos.BLOCK_SIZE_THREADED` vectors are solved as two halves.  From
     ``THREADS_MIN_UNKNOWNS`` unknowns the halves run at once on two threads (else the whole
     block in one solve) and the products over the basis on several, each where timing
-    shows that it helps (two :class:`~cshape._threads.ThreadChooser`, at most
-    :func:`~cshape._threads.solver_threads` threads); the eigenvalues are the same bits
+    shows that it helps (two :class:`~cshape._eigensolver.threads.ThreadChooser`, at most
+    :func:`~cshape._eigensolver.threads.solver_threads` threads); the eigenvalues are the same bits
     either way.  If the block method does not converge, ARPACK (:func:`arpack`) on the
     same factorisation.  Returns ascending ``(lam, phi)``, ``phi`` None unless
     ``return_vectors``.

@@ -138,7 +138,7 @@ def _run_dask(tasks: Iterable[Task], client: Any, finish: Callable[[int, Result]
         def submit() -> None:
             t = todo.popleft()
             fut = client.submit(_dask_work, t, pure=False)
-            index[fut.key] = t[0]
+            index[fut.key] = t.index
             ac.add(fut)
 
         while todo and in_flight < window:

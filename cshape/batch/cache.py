@@ -78,8 +78,7 @@ def _read_entry(cache_dir: str | os.PathLike[str], key: str, N: int) -> dict[str
             area = float(z["area"])
             seconds = float(z["seconds"])
             stored_key = str(z["key"])
-            # the component count (stored since cshape 0.1; -1: an older entry)
-            components = int(z["components"]) if "components" in z.files else -1
+            components = int(z["components"])
         if stored_key != key or lam.ndim != 1 or not np.all(np.isfinite(lam)):
             raise ValueError("inconsistent content")
         if not (np.isfinite(area) and area > 0):
@@ -127,7 +126,7 @@ def _write_entry(cache_dir: str | os.PathLike[str], result: dict[str, Any]) -> N
                  seconds=np.float64(result["seconds"]), key=np.array(result["key"]),
                  n_vertices=np.int64(result["n_vertices"]),
                  n_faces=np.int64(result["n_faces"]),
-                 components=np.int64(result.get("components", -1)),
+                 components=np.int64(result["components"]),
                  params=np.array(json.dumps(result["params"])))
 
     atomic_write(path, write, binary=True)

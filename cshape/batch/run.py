@@ -21,19 +21,18 @@ from .._checks import (
     check_path,
 )
 from .._files import atomic_write
-from ..descriptors import count_zero_modes
 from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
-from ..mesh import CShapeWarning, Mesh
+from ..mesh import CShapeWarning, Mesh, as_mesh, is_mesh_like
 from ..spectrum import REFINEMENTS, components_message, estimate_seconds, long_solve_message
 from ._dask import _run_dask
 from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
 from .table import DescriptorTable
-from .work import _blas_limit, _init_worker, _work
+from .work import Task, _blas_limit, _init_worker, _work
 
 if TYPE_CHECKING:
     from collections.abc import Callable, Sequence
 
-    from .work import Result, Task
+    from .work import Result
 
 
 # =========================================================================== records
@@ -77,6 +76,8 @@ def collection_records(collection: Any) -> list[tuple[str, str, Any]]:
             out.append([name, label, src])
         elif isinstance(item, (tuple, list)) and len(item) == 2 and np.ndim(item[0]) == 2:
             out.append([f"mesh{i}", "", item])
+        elif not isinstance(item, (tuple, list)) and is_mesh_like(item):
+            out.append([f"mesh{i}", "", as_mesh(item)])
         elif _has_attr(type(item), item, "mesh") or _has_attr(type(item), item, "path"):
             try:  # one access: a record may load its mesh lazily (and fail doing so)
                 src = getattr(item, "mesh", None)
@@ -123,7 +124,8 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
         * a path (``str`` or ``os.PathLike``) of a mesh file, read by
           :func:`cshape.load_mesh` in the worker; named by its file stem (by the whole path
           when stems collide);
-        * a :class:`cshape.Mesh` or a ``(vertices, faces)`` pair, named ``mesh<i>``;
+        * a :class:`cshape.Mesh`, a ``(vertices, faces)`` pair or a mesh object of another
+          library (read by :func:`cshape.as_mesh`), named ``mesh<i>``;
         * a ``(name, mesh)`` or ``(name, label, mesh)`` tuple, ``mesh`` as above;
         * a record with attributes ``name``, ``label`` (optional) and ``mesh`` (or
           ``path``), e.g. the records of a cshape data collection;
@@ -235,7 +237,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
         elif n_jobs == 1 or len(tasks) <= 1:
             with _blas_limit(blas_threads):
                 for t in tasks:
-                    run.finish(t[0], _work(t))
+                    run.finish(t.index, _work(t))
         else:
             _run_processes(tasks, n_jobs, run.finish, run.failures, blas_threads)
     finally:
@@ -280,9 +282,9 @@ class _Run:
         for i, (_name, _label, src) in enumerate(self.records):
             key = self._lookup(i, src)
             if key is not False:
-                tasks.append((i, src, self.N, self.bc, self.mass,
-                              None if self.cache is None else str(self.cache), key,
-                              self.refine))
+                tasks.append(Task(i, src, self.N, self.bc, self.mass,
+                                  None if self.cache is None else str(self.cache), key,
+                                  self.refine))
         return tasks
 
     def _lookup(self, i: int, src: Any) -> str | None | Literal[False]:
@@ -334,9 +336,7 @@ class _Run:
 
     def _warn_pieces_again(self, name: str, res: Result) -> None:
         """The warning the eigensolve gave for a mesh of several pieces, again."""
-        pieces = res.get("components", -1)
-        if pieces < 0 and self.bc == "neumann":  # an entry older than the count
-            pieces = count_zero_modes(res["lam"])
+        pieces = res["components"]
         if pieces > 1:
             warnings.warn(f"{name}: {components_message(pieces)}", CShapeWarning,
                           stacklevel=4)
@@ -381,7 +381,7 @@ class _Run:
             seconds=[results[i]["seconds"] for i in ok],
             cached=[results[i]["cached"] for i in ok], failures=fail_list,
             refine=self.refine,
-            components=[results[i].get("components", -1) for i in ok])
+            components=[results[i]["components"] for i in ok])
 
 
 #: Below this N no eigensolve of a mesh that fits in memory is estimated to take long
@@ -399,19 +399,19 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     """
     if N < _ESTIMATE_MIN_N or not tasks:
         return
-    refined = tasks[0][7] != "none"
+    refined = tasks[0].refine != "none"
     from ..readers import load_mesh
 
     sizes: list[tuple[int, str]] = []
     for t in tasks:
-        src = t[1]
+        src = t.source
         try:
             mesh = load_mesh(src, repair=False) if isinstance(src, (str, os.PathLike)) \
                 else src
             n = mesh.n_vertices if isinstance(mesh, Mesh) else len(mesh[0])
         except Exception:  # noqa: BLE001 - the run itself reports the failure
             continue
-        sizes.append((n, records[t[0]][0]))
+        sizes.append((n, records[t.index][0]))
     if not sizes:
         return
     # refine='extrapolate' solves the midpoint subdivision too: about 4n unknowns
@@ -473,11 +473,11 @@ def _run_processes(tasks: Sequence[Task], n_jobs: int, finish: Callable[[int, Re
                     except Exception as exc:  # noqa: BLE001 - e.g. a task that cannot pickle
                         res = {"ok": False, "error": f"{type(exc).__name__}: {exc}"}
                     del pending[fut]
-                    finish(t[0], res)
+                    finish(t.index, res)
         except BrokenProcessPool:
             lost = list(pending.values()) + list(todo)
             for t in lost:
-                failures[t[0]] = ("worker process died (killed or crashed) before finishing "
+                failures[t.index] = ("worker process died (killed or crashed) before finishing "
                                   "this mesh; run describe again to resume")
         finally:
             for fut in pending:

@@ -7,6 +7,7 @@ import os
 import threading
 import time
 import warnings
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from ..mesh import Mesh, as_mesh, repair_mesh
@@ -17,9 +18,42 @@ from .cache import CACHE_VERSION, _read_entry, mesh_key
 if TYPE_CHECKING:
     from ..mesh import MeshLike
 
-#: One eigensolve of a batch run: (row, mesh or path, N, bc, mass, cache folder or None,
-#: content key, None when the worker computes it from the file; refine).
-Task = tuple[int, Any, int, str, str, str | None, str | None, str]
+
+@dataclass(frozen=True)
+class Task:
+    """One eigensolve of a batch run, as sent to a worker (the caller's process, a worker
+    process or a Dask worker).
+
+    Attributes
+    ----------
+    index : int
+        Row of the mesh in the collection.
+    source : Mesh, (vertices, faces) or path
+        The mesh, or the file to read it from.
+    N : int
+        Number of eigenvalues.
+    bc : str
+        Boundary condition, as :func:`cshape.shape_dna` takes it.
+    mass : str
+        Mass matrix, as :func:`cshape.shape_dna` takes it.
+    cache_dir : str or None
+        The cache folder, or None when caching is off.
+    key : str or None
+        The mesh's content key; None when the worker computes it from the file.
+    refine : str
+        Mesh refinement of the eigenvalues, as :func:`cshape.shape_dna` takes it.
+    """
+
+    index: int
+    source: Any
+    N: int
+    bc: str
+    mass: str
+    cache_dir: str | None
+    key: str | None
+    refine: str
+
+
 #: What a worker sends back: ``{'index', 'ok', 'lam', 'area', ...}`` or ``{'ok': False,
 #: 'error'}``.
 Result = dict[str, Any]
@@ -51,14 +85,15 @@ def _work(task: Task) -> Result:
 
 
 def _work_inner(task: Task) -> Result:
-    index, source, N, bc, mass, cache_dir, key, refine = task
+    index, N, bc, mass, key, refine = task.index, task.N, task.bc, task.mass, task.key, \
+        task.refine
     t0 = time.perf_counter()
     try:
-        mesh = load_source(source)
+        mesh = load_source(task.source)
         if key is None:
             key = mesh_key(mesh, bc, mass, refine)
-            if cache_dir is not None:
-                hit = _read_entry(cache_dir, key, N)
+            if task.cache_dir is not None:
+                hit = _read_entry(task.cache_dir, key, N)
                 if hit is not None:
                     hit.update(index=index, ok=True)
                     return hit

@@ -86,6 +86,8 @@ def _cmd_lessons(args: argparse.Namespace) -> int:
           f"versions and an nbgrader course (source/{ASSIGNMENT}/) in {args.dir}")
     lab = "" if _installed("jupyterlab") else ' (needs pip install "cshape[notebooks]")'
     print(f"open them: jupyter lab {args.dir}{lab}")
+    print(f"{Path(args.dir) / 'README.md'} walks the grading cycle: release, collect, "
+          "autograde, feedback")
     if _installed("nbgrader"):
         print(f"release: cd {args.dir} && nbgrader generate_assignment {ASSIGNMENT}")
     else:

@@ -239,8 +239,11 @@ def _cmd_describe(args: argparse.Namespace) -> int:
             more = f" and {len(pieces) - 5} more" if len(pieces) > 5 else ""
             several = (f"; {len(pieces)} with several components: {listed}{more} (their "
                        "zero modes are dropped by the log descriptors)")
-        print(f"cshape describe: {len(table)} meshes ({n_cached} from the cache"
-              f"{f', {n_fail} failed' if n_fail else ''}) in {seconds:.1f} s, "
+        # every mesh tried is counted once: described (some from the cache) or failed
+        counts = (f"{len(table)} of {p} meshes described ({n_cached} from the cache), "
+                  f"{n_fail} failed," if n_fail else
+                  f"{len(table)} meshes ({n_cached} from the cache)")
+        print(f"cshape describe: {counts} in {seconds:.1f} s, "
               f"N={table.N}{several}{where}; `cshape query` compares the "
               f"{_default_label(table.N)} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
@@ -335,8 +338,6 @@ def add_describe(sub: _SubParsers) -> None:
     p.add_argument("--strict", action="store_true",
                    help="write nothing and exit 2 when any mesh fails (default: the meshes "
                    "that fail are listed and left out, the others are written)")
-    p.add_argument("--keep-going", action="store_true",
-                   help="the default since 0.1: keep the meshes that worked when some fail")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="no progress bar and no summary line")
     p.add_argument("-v", "--verbose", action="store_true", help="list every warning")
@@ -425,7 +426,12 @@ def mesh_report(path: str | os.PathLike[str]) -> dict[str, Any]:
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
-    for k, path in enumerate(args.meshes):
+    # a folder or a pattern stands for its mesh files, as in describe
+    paths = [f for arg in args.meshes
+             for f in ([rec[2] for rec in collect_mesh_files([arg])]
+                       if Path(arg).expanduser().is_dir() or glob.has_magic(arg)
+                       else [Path(arg)])]
+    for k, path in enumerate(paths):
         r = mesh_report(path)
         if args.json:
             print(json.dumps(r))
@@ -477,24 +483,15 @@ def add_info(sub: _SubParsers) -> None:
         "repaired mesh's area, components, boundary and non-manifold edges, Euler "
         "characteristic, genus and minimum triangle angle.",
     )
-    p.add_argument("meshes", nargs="+", metavar="MESH", help="mesh file(s)")
+    p.add_argument("meshes", nargs="+", metavar="MESH",
+                   help="mesh files, folders (their mesh files, as describe finds them) or "
+                   "glob patterns")
     p.add_argument("--json", action="store_true", help="one JSON object per mesh")
     p.set_defaults(func=_cmd_info)
 
 
 # ============================================================================ query
-_KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "f1")
-
-
-def _kind_arg(value: str) -> str:
-    """``--kind`` value in the current spelling; an old one ('shape_dna') with a warning."""
-    from .._checks import OLD_SPELLINGS
-
-    new = OLD_SPELLINGS.get(value.lower())
-    if new is None:
-        return value.lower()
-    print(f"cshape: warning: --kind {value} is deprecated; write --kind {new}", file=sys.stderr)
-    return new
+_KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "two-scale", "f1")
 
 
 def _default_label(N: int = 100) -> str:
@@ -617,7 +614,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
 def add_descriptor_options(p: argparse.ArgumentParser) -> None:
     """``--kind``, ``-M``, ``-N`` and ``--transform``: which descriptor a command compares
     (``cshape query`` and ``cshape overview``)."""
-    p.add_argument("--kind", default=None, choices=_KINDS, type=_kind_arg,
+    p.add_argument("--kind", default=None, choices=_KINDS, type=str.lower,
                    help=f"descriptor compared (default: {_default_label()}; 'cshape' is the "
                    "paper's cShape-DNA)")
     p.add_argument("-M", type=int, default=None,

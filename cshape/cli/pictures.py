@@ -34,7 +34,7 @@ def _cmd_overview(args: argparse.Namespace) -> int:
     from ..batch import DescriptorTable, collection_distances
     from ..compare import mds_embedding
     from ..plots.collection import mds_layout
-    from ..plots.explore import overview_html, plot_overview, save_figure
+    from ..plots.explore import collection_title, overview_html, plot_overview, save_figure
 
     outs = [check_figure_path(o, "--out") for o in args.out]
     if len({o.resolve() for o in outs}) < len(outs):
@@ -67,9 +67,8 @@ def _cmd_overview(args: argparse.Namespace) -> int:
     if not args.quiet:
         lay = mds_layout(Y)
         far = [c.names[i] for i in lay["outliers"].nonzero()[0]]
-        n_classes = len(set(c.labels))
-        msg = (f"cshape overview: {len(c.names)} shapes, {n_classes} classes, compared by "
-               f"{c.descriptor.label}")
+        msg = (f"cshape overview: {collection_title(len(c.names), len(set(c.labels)))}, "
+               f"compared by {c.descriptor.label}")
         if c.left_out:
             msg += f"; {len(c.left_out)} left out"
         if far:
@@ -86,9 +85,9 @@ def add_overview(sub: _SubParsers) -> None:
         description="Draw the overview of a table written by `cshape describe --out`: an MDS "
         "picture (outliers marked on the border, the rest at its own scale; in HTML each "
         "shape's name, class and nearest neighbours on hover), the distance matrix ordered "
-        "by class and a table of the classes (size, spread, nearest other class, how often "
-        "a shape's nearest neighbour is of its class).  The HTML page works offline.  Shapes "
-        "that the descriptor cannot describe are left out and named.",
+        "by class and, for two or more classes, a table of them (size, spread, nearest other "
+        "class, how often a shape's nearest neighbour is of its class).  The HTML page works "
+        "offline.  Shapes that the descriptor cannot describe are left out and named.",
         epilog="example: cshape overview table.csv --out overview.html --out overview.png",
     )
     p.add_argument("table", metavar="TABLE", help="descriptor table (.csv or .npz)")

@@ -44,6 +44,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ASSIGNMENT",
+    "INSTRUCTORS_README",
     "NBGRADER_CONFIG",
     "copy_lessons",
     "generate",
@@ -57,6 +58,8 @@ __all__ = [
 
 #: Notebooks are named ``NN_topic.ipynb``.
 PATTERN = "[0-9][0-9]_*.ipynb"
+#: The README of a course folder: what is in it and the nbgrader cycle, for instructors.
+INSTRUCTORS_README = Path(__file__).with_name("instructors.md")
 #: The nbgrader assignment that holds the graded lessons.
 ASSIGNMENT = "lessons"
 #: ``nbgrader_config.py`` of the course folders written here.
@@ -66,6 +69,12 @@ c = get_config()  # noqa: F821
 c.CourseDirectory.course_id = "cshape"
 # the lessons compute spectra: allow a cell up to 20 minutes (nbgrader's default is 30 s)
 c.Execute.timeout = 1200
+# cshape's grading options (cshape.course.grading): no "checksum has changed" warning for
+# the hidden tests that the release left out, and feedback pages whose equations are
+# typeset by the MathJax copy in this folder (mathjax/), with no network
+from cshape.course.grading import configure  # noqa: E402
+
+configure(c)
 """
 
 
@@ -265,11 +274,12 @@ def copy_lessons(dest: str | os.PathLike[str], *, src: str | os.PathLike[str] | 
                  ) -> list[Path]:
     """Copy the lessons, their student versions and an nbgrader course into ``dest``.
 
-    ``dest`` gets ``README.md``, the lessons ``NN_*.ipynb`` (they run there: they need only
-    an installed cshape), ``student/NN_*.ipynb`` and, for ``nbgrader``, ``nbgrader_config.py``
-    with the graded lessons in ``source/lessons/``.  Everything is written to a temporary
-    folder beside ``dest`` first and moved into place at the end, so a failure leaves no
-    half-written folder.
+    ``dest`` gets ``README.md`` (for instructors: the folder, the lessons and the nbgrader
+    cycle, from :data:`INSTRUCTORS_README`), the lessons ``NN_*.ipynb`` (they run there:
+    they need only an installed cshape), ``student/NN_*.ipynb`` and, for ``nbgrader``,
+    ``nbgrader_config.py`` with the graded lessons in ``source/lessons/``.  Everything is
+    written to a temporary folder beside ``dest`` first and moved into place at the end, so
+    a failure leaves no half-written folder.
 
     Parameters
     ----------
@@ -299,8 +309,7 @@ def copy_lessons(dest: str | os.PathLike[str], *, src: str | os.PathLike[str] | 
     try:
         for path in lessons:
             shutil.copyfile(path, tmp / path.name)
-        if (src / "README.md").is_file():
-            shutil.copyfile(src / "README.md", tmp / "README.md")
+        shutil.copyfile(INSTRUCTORS_README, tmp / "README.md")
         student = sorted((src / "student").glob(PATTERN))
         if student:
             (tmp / "student").mkdir()

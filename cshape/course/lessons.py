@@ -292,8 +292,10 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
     kernel_env.setdefault("PLOTLY_RENDERER", "plotly_mimetype+notebook")
     kernel_env.update(env or {})
     km = kernel_manager()
+    # no widget state saved: a page without a kernel shows a widget's own static copy (the
+    # text/html of its display data) instead of an empty box waiting for widget JavaScript
     client = NotebookClient(
-        nb, km=km, timeout=int(timeout), allow_errors=False,
+        nb, km=km, timeout=int(timeout), allow_errors=False, store_widget_state=False,
         resources={"metadata": {"path": str(path.parent.resolve())}},
     )
     t0 = time.perf_counter()
@@ -329,36 +331,115 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
 def lesson_title(path: str | os.PathLike[str]) -> str:
     """The title of a lesson: its first Markdown heading (``# 2 · Shape-DNA ...``), else its
     file name."""
+    return _lesson_head(path)[0]
+
+
+def _lesson_head(path: str | os.PathLike[str]) -> tuple[str, str]:
+    """``(title, sections)``: the first Markdown heading and the paper's sections that the
+    ``**Paper:**`` paragraph below it names (``"Section 3.1, Section 3.2"``), or ``""``."""
     import nbformat
 
     nb = nbformat.read(path, as_version=4)
     for cell in nb.cells:
-        if cell.cell_type == "markdown":
-            for line in cell.source.splitlines():
-                if line.startswith("# "):
-                    return line[2:].strip()
-    return Path(path).stem
+        if cell.cell_type != "markdown":
+            continue
+        heads = [ln[2:].strip() for ln in cell.source.splitlines() if ln.startswith("# ")]
+        if heads:
+            paper = cell.source.partition("**Paper:**")[2].partition("\n\n")[0]
+            found = re.findall(r"Section \d(?:\.\d)?(?:-\d\.\d)?(?: and \d\.\d)?", paper)
+            return heads[0], ", ".join(dict.fromkeys(found))
+    return Path(path).stem, ""
+
+
+#: The index page's look: the documentation site's (the PyData Sphinx theme's fonts,
+#: colours and top bar), in one self-contained page.
+_INDEX_CSS = """
+:root { --fg: #222832; --muted: #48566b; --primary: #0a7d91; --line: #d1d5da;
+        --bg-soft: #f3f4f5; --ok: #00854f; --bad: #c0392b; }
+* { box-sizing: border-box; }
+body { margin: 0; color: var(--fg); background: #fff; line-height: 1.65; font-size: 1rem;
+       font-family: -apple-system, BlinkMacSystemFont, "Segoe UI", "Helvetica Neue", Arial,
+       "Noto Sans", "Liberation Sans", sans-serif; }
+header { height: 4rem; display: flex; align-items: center; padding: 0 2rem;
+         box-shadow: 0 .125rem .25rem 0 rgba(0,0,0,.11); background: #fff; }
+header .brand { font-weight: 700; font-size: 1.25rem; color: var(--fg); text-decoration: none; }
+header .where { margin-left: 2rem; color: var(--muted); }
+main { max-width: 64rem; margin: 0 auto; padding: 2rem 2rem 4rem; }
+h1 { font-size: 2.2rem; font-weight: 400; margin: 0 0 1rem; }
+a { color: var(--primary); text-decoration: underline;
+    text-decoration-thickness: max(1px, .0625rem); }
+a:hover { color: #085c6a; text-decoration-thickness: max(3px, .1875rem, .12em); }
+p.lead { color: var(--muted); margin-top: 0; }
+code { font-family: SFMono-Regular, Menlo, Consolas, "Liberation Mono", monospace;
+       font-size: .875em; color: #912583; }
+ol.lessons { list-style: none; padding: 0; margin: 1.5rem 0; border-top: 1px solid var(--line); }
+ol.lessons li { display: grid; grid-template-columns: 1fr auto; gap: .25rem 1.5rem;
+                padding: .9rem .25rem; border-bottom: 1px solid var(--line); }
+ol.lessons .title { font-size: 1.15rem; }
+ol.lessons .paper { color: var(--muted); font-size: .9rem; grid-column: 1; }
+ol.lessons .state { grid-column: 2; grid-row: 1 / span 2; align-self: center; text-align: right;
+                    font-size: .9rem; color: var(--muted); white-space: nowrap; }
+.badge { display: inline-block; padding: .1rem .55rem; border-radius: .8rem; color: #fff;
+         font-size: .8rem; font-weight: 600; margin-left: .5rem; }
+.badge.ok { background: var(--ok); } .badge.bad { background: var(--bad); }
+.error { color: var(--bad); font-size: .9rem; grid-column: 1 / span 2; white-space: pre-wrap; }
+footer { color: var(--muted); font-size: .875rem; border-top: 1px solid var(--line);
+         padding-top: 1rem; margin-top: 2rem; }
+"""
+
+#: MathJax 2.7 for the titles, as the lesson pages have it: ``$...$`` is inline math.
+_INDEX_MATHJAX = """<script type="text/x-mathjax-config">
+MathJax.Hub.Config({tex2jax: {inlineMath: [['$','$']], processEscapes: true,
+                             ignoreClass: 'lead|paper|state|error', processClass: 'title'}});
+</script>
+<script src="{url}"></script>"""
+
+
+def _title_html(title: str, math: bool) -> str:
+    """A lesson title as HTML: its TeX typeset by MathJax (``math``), else written plainly
+    (``$M$`` -> *M*)."""
+    text = html.escape(title)
+    if math:
+        return text
+    return re.sub(r"\$([^$]+)\$", lambda m: f"<i>{m.group(1)}</i>", text)
 
 
 def _index(results: Iterable[RunResult], out: Path, small: bool) -> Path:
+    mathjax = offline_mathjax(out) if any(r.html for r in results) else None
     rows = []
     for r in results:
-        title = lesson_title(r.ipynb) if r.ipynb is not None else r.name
-        label = f"{html.escape(title)} <small>({html.escape(r.name)})</small>"
+        title, paper = (_lesson_head(r.ipynb) if r.ipynb is not None else (r.name, ""))
+        label = _title_html(title, mathjax is not None)
         link = f'<a href="{html.escape(r.html.name)}">{label}</a>' if r.html else label
-        if not r.ok:
-            status = f"FAILED: {html.escape(r.error)}"
-        else:
-            status = "ok (stopped at the first exercise stub)" if r.stopped_at_stub else "ok"
-
-        rows.append(f"<tr><td>{link}</td><td>{r.seconds:.1f} s</td><td>{status}</td></tr>")
+        badge = ('<span class="badge ok">ran</span>' if r.ok
+                 else '<span class="badge bad">failed</span>')
+        note = " up to the first exercise" if r.stopped_at_stub else ""
+        error = (f'<div class="error">{html.escape(r.error)}</div>' if not r.ok else "")
+        paper_line = f"paper: {html.escape(paper)} · " if paper else "beyond the paper · "
+        rows.append(
+            f'<li><span class="title">{link}</span>'
+            f'<span class="state">{r.seconds:.0f} s{note}{badge}</span>'
+            f'<span class="paper">{paper_line}<code>{html.escape(r.name)}</code></span>'
+            f"{error}</li>")
+    size = ("at small size (<code>CSHAPE_SMALL=1</code>: small meshes, few eigenvalues)"
+            if small else "at full size")
+    head_math = _INDEX_MATHJAX.replace("{url}", html.escape(mathjax)) if mathjax else ""
     page = (
-        "<!doctype html><meta charset='utf-8'><title>cshape notebooks</title>"
-        "<h1>cshape walkthrough notebooks, executed</h1>"
-        f"<p>{'Small sizes (CSHAPE_SMALL=1).' if small else 'Full sizes.'} "
-        "Open a notebook's HTML, or the executed <code>.ipynb</code> next to it in Jupyter.</p>"
-        "<table border=1 cellpadding=4><tr><th>lesson</th><th>time</th><th>status</th></tr>"
-        + "".join(rows) + "</table>"
+        "<!doctype html>\n<html lang='en'><head><meta charset='utf-8'>"
+        "<meta name='viewport' content='width=device-width, initial-scale=1'>"
+        f"<title>cshape lessons</title><style>{_INDEX_CSS}</style>{head_math}</head><body>"
+        "<header><a class='brand' href='index.html'>cshape</a>"
+        "<span class='where'>Lessons</span></header><main>"
+        "<h1>Lessons</h1>"
+        "<p class='lead'>The walkthrough notebooks follow Gao, Yu and Pang, <i>A compact "
+        "shape descriptor for triangular surface meshes</i> (2014), section by section. "
+        f"They ran here top to bottom, {size}. Open a lesson's page below: its 3-D views "
+        "turn with the mouse and their sliders work without Python. To run a lesson "
+        "yourself, open the executed <code>.ipynb</code> beside it in JupyterLab.</p>"
+        f"<ol class='lessons'>{''.join(rows)}</ol>"
+        "<footer>Made by <code>python -m cshape notebooks</code>. Lessons to change and run "
+        "anywhere: <code>cshape lessons DIR</code>.</footer>"
+        "</main></body></html>\n"
     )
     path = out / "index.html"
     atomic_write(path, lambda f: f.write(page), binary=False)
@@ -408,6 +489,7 @@ def run_notebooks(src: str | os.PathLike[str] | None = None,
             progress(f"  {p.name}: {state} in {r.seconds:.1f} s")
     index = _index(results, out, small)
     if progress:
-        what = "executed notebooks and HTML" if html else "executed notebooks"
-        progress(f"{what} in {out}/ ; open {index}")
+        what = "executed notebooks and HTML pages" if html else "executed notebooks"
+        progress(f"{what} in {out}/")
+        progress(f"open the lessons in a browser: {index.resolve().as_uri()}")
     return results

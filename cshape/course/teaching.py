@@ -8,7 +8,7 @@
 * :func:`retrieval_collection`   - a collection whose descriptors differ (lessons 04 and 08).
 
 A lesson starts with one line, ``from cshape.course.teaching import SMALL, size``, and writes
-``N = size(50, 100)`` where it used to write ``50 if SMALL else 100``.
+its sizes as ``N = size(50, 100)`` (small, full).
 """
 
 from __future__ import annotations
@@ -92,13 +92,19 @@ def real_mesh(small: bool | None = None) -> tuple[Mesh, str]:
     return (mesh if small else variants.subdivide(mesh, 1)), SPOT_CREDIT
 
 
+def _build_jobs() -> int:
+    """Processes that build a full-size collection the first time: every core."""
+    return max(1, os.cpu_count() or 1)
+
+
 def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
     """``(name, label, mesh)`` triples: a few classes of shapes, all made in code.
 
     Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a
     snake figure.  Full: cshape's "paper-models" (spheres S1-S3, cube, torus, eight, the
     marching-cubes quadruped CM and its remesh CS, the human D1 and its refinement D2) and
-    "articulated" (four classes x five poses), built with PyMeshLab once and then cached.
+    "articulated" (four classes x five poses), built with PyMeshLab once, on every core and
+    with a progress bar, and then cached.
     Every class is a shape and its remeshings or poses, so Shape-DNA tells them apart
     perfectly: the collection of the paper's Section 3.1.  Default size :data:`SMALL`.
     """
@@ -106,7 +112,7 @@ def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
     if not small:
         return [(it.name, it.label, it.mesh)
                 for coll in ("paper-models", "articulated")
-                for it in data.load_collection(coll)]
+                for it in data.load_collection(coll, progress=None, n_jobs=_build_jobs())]
     items = [(f"sphere-{s}", "sphere", shapes.icosphere(s)) for s in (2, 3)]
     items += [(f"cube-{n}", "cube", shapes.cube(n)) for n in (5, 7)]
     items += [(f"torus-{k}", "torus", shapes.torus(8 * k + 24, 4 * k + 12)) for k in (0, 1)]
@@ -131,9 +137,9 @@ def retrieval_collection(small: bool | None = None) -> data.Collection:
     Parameters
     ----------
     small : bool, optional
-        Six classes of three coarse members (500-1000 vertices, about 30 s to build, then
-        cached); else the development instance ``creatures-dev`` (12 classes x 10 members,
-        about ten minutes on two cores the first time, then cached).  Default :data:`SMALL`.
+        Six classes of three coarse members (500-1000 vertices); else the development
+        instance ``creatures-dev`` (12 classes x 10 members, built the first time on every
+        core, with a progress bar).  Built the first time, then cached.  Default :data:`SMALL`.
 
     Returns
     -------
@@ -142,6 +148,6 @@ def retrieval_collection(small: bool | None = None) -> data.Collection:
     """
     small = SMALL if small is None else bool(small)
     if not small:
-        return data.load_collection("creatures-dev", progress=False)
+        return data.load_collection("creatures-dev", progress=None, n_jobs=_build_jobs())
     return data.load_creatures(0, members=3, kinds=list(SMALL_CREATURES), vertices=[500, 1000],
                                voxelsize=0.03, progress=False)

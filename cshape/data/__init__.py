@@ -5,7 +5,7 @@ Every collection is an entry of ``data_manifest.yaml`` (shipped inside the packa
 named by ``CSHAPE_MANIFEST``), of one of four kinds:
 
 ==========  ===================================================================================
-generated   built by a recipe of :mod:`cshape.variants` (PyMeshLab), seeded, cached on disk
+generated   built by a recipe (:mod:`cshape.shapes`, :mod:`cshape.data.variants`), seeded, cached
 package     meshes shipped inside an installed Python package (PyMeshLab's samples)
 download    public files fetched *only on request* (:func:`fetch`, ``cshape data build NAME``)
             into the cache and checked against their sha256; benchmarks whose terms forbid

@@ -27,10 +27,8 @@ Recipe: TypeAlias = tuple[Callable[..., Mesh], bool, bool]
 KINDS = ("generated", "package", "download", "local")
 LAYOUTS = ("mcgill", "tosca", "shrec07")
 
-#: Bumped whenever a recipe's output changes, so stale cache files are not reused.  2: the
-#: remeshing passes every PyMeshLab parameter (a mesh generated before could depend on what
-#: the process had run before it, see :func:`cshape.data.variants.remesh`).
-RECIPES_VERSION = 2
+#: Bumped whenever a recipe's output changes, so stale cache files are not reused.
+RECIPES_VERSION = 3
 
 #: The manifest shipped inside the package.  In a source checkout ``cshape/data/data_manifest.yaml``
 #: is a symbolic link to the top-level ``data_manifest.yaml`` (the one file to edit); the
@@ -132,6 +130,7 @@ class Collection:
 
 # ====================================================================== recipes
 def _recipes() -> dict[str, Recipe]:
+    from .. import shapes
     from . import variants as v
     from .creatures import creature
     from .poses import pose, pose_template
@@ -139,9 +138,9 @@ def _recipes() -> dict[str, Recipe]:
 
     return {
         # name: (function, takes a base mesh, takes a seed)
-        "sphere": (v.sphere, False, False),
-        "torus": (v.torus, False, False),
-        "cube": (v.cube, False, False),
+        "sphere": (shapes.icosphere, False, False),
+        "torus": (shapes.torus, False, False),
+        "cube": (_centred_cube, False, False),
         "eight": (v.eight, False, False),
         "figure": (v.articulated_figure, False, True),
         "remesh": (v.remesh, True, False),
@@ -155,17 +154,26 @@ def _recipes() -> dict[str, Recipe]:
     }
 
 
-#: Recipe names a ``generated`` item may use, with the :mod:`cshape.variants` function each
-#: calls (``base`` items pass the base mesh first; ``seed`` is passed as ``random_state``).
+def _centred_cube(n: int = 16, size: float = 1.0) -> Mesh:
+    """Return :func:`cshape.shapes.cube` moved to be centred at the origin, as the paper models."""
+    from .. import shapes
+
+    mesh = shapes.cube(n, size)
+    V = mesh.vertices
+    return Mesh(V - 0.5 * (V.min(axis=0) + V.max(axis=0)), mesh.faces)
+
+
+#: Recipe names a ``generated`` item may use, with the function each calls (``base`` items
+#: pass the base mesh first; ``seed`` is passed as ``random_state``).
 RECIPES = {
-    "sphere": "cshape.variants.sphere",
-    "torus": "cshape.variants.torus",
-    "cube": "cshape.variants.cube",
-    "eight": "cshape.variants.eight",
-    "figure": "cshape.variants.articulated_figure (seed -> random_state)",
-    "remesh": "cshape.variants.remesh (base mesh)",
-    "subdivide": "cshape.variants.subdivide (base mesh)",
-    "noise": "cshape.variants.add_normal_noise (base mesh, seed -> random_state)",
+    "sphere": "cshape.shapes.icosphere",
+    "torus": "cshape.shapes.torus",
+    "cube": "cshape.shapes.cube, centred at the origin",
+    "eight": "cshape.data.variants.eight",
+    "figure": "cshape.data.variants.articulated_figure (seed -> random_state)",
+    "remesh": "cshape.data.variants.remesh (base mesh)",
+    "subdivide": "cshape.data.variants.subdivide (base mesh)",
+    "noise": "cshape.data.variants.add_normal_noise (base mesh, seed -> random_state)",
     "creature": "cshape.data.creatures.creature (seed -> random_state)",
     "pose-template": "cshape.data.poses.pose_template",
     "pose": "cshape.data.poses.pose (base: the template, seed -> random_state)",
@@ -257,7 +265,7 @@ def validate_manifest(doc: dict[str, Any], *, source: str = "data_manifest.yaml"
     """Check a parsed manifest against :data:`MANIFEST_SCHEMA`; return it keyed by name.
 
     Besides the fields and their types, checks that names are unique, kinds and layouts
-    known, recipes and their parameter names exist in :mod:`cshape.variants`, ``base``
+    known, recipes and their parameter names exist (:data:`RECIPES`), ``base``
     references name an *earlier* generated item, and sha256 / url / size look right.
 
     Parameters

@@ -1,9 +1,9 @@
-"""Shape variants made with PyMeshLab: primitives, marching cubes, remeshing, subdivision, noise.
+"""Shape variants made with PyMeshLab: marching cubes, remeshing, subdivision, noise.
 
 The paper's experiments (Section 3) compare a shape with versions of itself:
 
-* the same surface at several resolutions (spheres S1-S3, :func:`sphere`; D1 / D2,
-  :func:`subdivide`);
+* the same surface at several resolutions (spheres S1-S3, :func:`cshape.shapes.icosphere`;
+  D1 / D2, :func:`subdivide`);
 * a marching-cubes mesh with needle and zero-area triangles ("CM", :func:`marching_cubes`)
   and its quality-improved remesh ("CS", :func:`remesh`); :func:`mesh_quality` measures the
   difference (minimum angle, aspect ratio);
@@ -14,8 +14,8 @@ The paper's experiments (Section 3) compare a shape with versions of itself:
 
 Every function returns a :class:`cshape.Mesh` and accepts a ``Mesh`` or a ``(vertices,
 faces)`` pair.  Everything is deterministic: PyMeshLab's filters used here are, and the
-random choices take a ``random_state``.  Cached, named collections of these shapes are in
-:mod:`cshape.data`.
+random choices take a ``random_state``.  The primitive shapes (sphere, torus, cube, ...) are
+:mod:`cshape.shapes`'.  Cached, named collections of these shapes are in :mod:`cshape.data`.
 """
 
 from __future__ import annotations
@@ -38,15 +38,12 @@ __all__ = [
     "add_normal_noise",
     "articulated_figure",
     "capsules_expression",
-    "cube",
     "eight",
     "figure_capsules",
     "marching_cubes",
     "mesh_quality",
     "remesh",
-    "sphere",
     "subdivide",
-    "torus",
     "triangle_angles",
     "vertex_normals",
 ]
@@ -90,78 +87,7 @@ def _check_pos(name: str, value: object) -> float:
     return check_real(name, value, positive=True)
 
 
-# ---------------------------------------------------------------------- primitives
-def sphere(subdiv: int = 4, radius: float = 1.0) -> Mesh:
-    """Icosphere from PyMeshLab's ``create_sphere``: ``10 * 4**subdiv + 2`` vertices.
-
-    Parameters
-    ----------
-    subdiv : int, default=4
-        Subdivision level, 0 to 7: 2562 (4), 10242 (5), 40962 (6) vertices -- the paper's
-        S1, S2, S3 ("roughly 2K, 10K and 40K" vertices).
-    radius : float, default=1.0
-
-    Returns
-    -------
-    Mesh
-        Closed, genus 0, every vertex at distance ``radius`` from the origin.
-    """
-    subdiv = _check_int("subdiv", subdiv, 0, 7)
-    radius = _check_pos("radius", radius)
-    ms = _meshset()
-    ms.create_sphere(radius=radius, subdiv=subdiv)
-    return _from_meshset(ms, what="create_sphere")
-
-
-def torus(n_major: int = 64, n_minor: int = 32, R: float = 1.0, r: float = 0.4) -> Mesh:
-    """Torus of revolution from PyMeshLab's ``create_torus`` (genus 1).
-
-    The arguments come in the order of :func:`cshape.shapes.torus` (resolution first, then
-    lengths, as every shape builder).
-
-    Parameters
-    ----------
-    n_major, n_minor : int, default=64, 32
-        Subdivisions around the axis and around the tube; ``n_major * n_minor`` vertices.
-    R, r : float, default=1.0, 0.4
-        Major radius and tube radius, ``0 < r < R``.
-    """
-    n_major = _check_int("n_major", n_major, 3, 4096)
-    n_minor = _check_int("n_minor", n_minor, 3, 4096)
-    R, r = _check_pos("R", R), _check_pos("r", r)
-    if not r < R:
-        raise ValueError(f"torus needs 0 < r < R, got R={R}, r={r}; pass a smaller tube radius")
-    ms = _meshset()
-    ms.create_torus(hradius=R, vradius=r, hsubdiv=n_major, vsubdiv=n_minor)
-    return _from_meshset(ms, what="create_torus")
-
-
-def cube(subdiv: int = 4, size: float = 1.0) -> Mesh:
-    """Cube from PyMeshLab's ``create_cube``, refined by ``subdiv`` midpoint subdivisions.
-
-    Midpoint subdivision keeps the faces flat and the edges sharp; the mesh has
-    ``12 * 4**subdiv`` triangles and ``6 * 4**subdiv + 2`` vertices (1538 at 4, 6146 at 5).
-
-    The arguments come in the order of :func:`cshape.shapes.cube` (resolution first, then
-    the edge length).
-
-    Parameters
-    ----------
-    subdiv : int, default=4
-        Number of midpoint subdivisions, 0 to 7.
-    size : float, default=1.0
-        Edge length; the cube is centred at the origin.
-    """
-    subdiv = _check_int("subdiv", subdiv, 0, 7)
-    size = _check_pos("size", size)
-    ms = _meshset()
-    ms.create_cube(size=size)
-    if subdiv:
-        mesh = _from_meshset(ms, what="create_cube")
-        return subdivide(mesh, iterations=subdiv, method="midpoint")
-    return _from_meshset(ms, what="create_cube")
-
-
+# ---------------------------------------------------------------------- the genus-2 eight
 def _smooth_min(a: str, b: str, k: float) -> str:
     # polynomial smooth minimum: min(a, b) - h^2 k / 4, h = max(k - |a - b|, 0) / k
     h = f"(max({k}-abs(({a})-({b})),0)/{k})"
@@ -368,7 +294,7 @@ def subdivide(mesh: MeshLike, iterations: int = 1, method: str = "loop") -> Mesh
     iterations : int, default=1
     method : {'loop', 'midpoint'}, default='loop'
         ``'loop'`` (smooths; the paper's D1 -> D2 refinement) or ``'midpoint'`` (keeps every
-        face flat; for the cube).
+        face flat).
 
     Returns
     -------
@@ -443,7 +369,7 @@ def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = N
         ``cutoff`` (muparser's ``?:`` skips the other branch) and is ``cutoff`` outside it,
         where the true distance is at least ``cutoff``.  The zero level set is the same
         wherever the function is sampled no coarser than ``cutoff``, and marching cubes on a
-        figure of many capsules runs about three times faster.  Use a few voxels.
+        figure of many capsules evaluates far fewer distances.  Use a few voxels.
     """
     capsules = list(capsules)
     if not capsules:
@@ -715,8 +641,9 @@ def mesh_quality(mesh: MeshLike) -> dict[str, float]:
 
     Examples
     --------
-    >>> from cshape import variants
-    >>> q = variants.mesh_quality(variants.sphere(2))
+    >>> from cshape import shapes
+    >>> from cshape.data import variants
+    >>> q = variants.mesh_quality(shapes.icosphere(2))
     >>> round(q["aspect_max"], 2) < 1.3
     True
     """

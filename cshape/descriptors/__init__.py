@@ -2,7 +2,7 @@
 
 * :mod:`cshape.descriptors.formulas` - the formulas, on plain arrays: :func:`normalize`
   (Section 2.1), :func:`weyl_subtract` (Eq. 8), :func:`compact_shape_dna` (Eq. 9-10),
-  :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
+  :func:`log_weyl_ratio`, :func:`detrend`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
   :func:`f1_feature`, and the rule for meshes of several pieces (:func:`count_zero_modes`,
   :func:`nonzero_eigenvalues`);
 * :mod:`cshape.descriptors.recipe`   - :class:`Descriptor`, which descriptor to compute, as one
@@ -18,6 +18,7 @@ from .formulas import (
     ZERO_RTOL,
     compact_shape_dna,
     count_zero_modes,
+    detrend,
     f1_feature,
     inverse_compact_shape_dna,
     log_weyl_ratio,
@@ -38,6 +39,7 @@ __all__ = [
     "Descriptor",
     "compact_shape_dna",
     "count_zero_modes",
+    "detrend",
     "f1_feature",
     "inverse_compact_shape_dna",
     "log_weyl_ratio",

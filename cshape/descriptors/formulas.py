@@ -8,6 +8,9 @@
                                   extensions beyond the paper (the log-Weyl ratio below);
 * :func:`log_weyl_ratio`        - ``r_i = log(lam_i^norm / (4 pi i))``, ``i = 1..N-1``: every
                                   index on the same relative footing (not in the paper);
+* :func:`detrend`               - a sequence less its least-squares polynomial in the index:
+                                  the log-Weyl ratios' fluctuations about their trend (the
+                                  second block of the kind ``'two-scale'``; not in the paper);
 * :func:`real_form`             - the same descriptor as ``2M+1`` real numbers with the
                                   same Euclidean distances;
 * :func:`inverse_compact_shape_dna` - rebuild the smoothed normalised Shape-DNA from the
@@ -77,13 +80,14 @@ from .._checks import (
     check_real,
     check_spectrum,
 )
-from ..mesh import Mesh, MeshLike
+from ..mesh import MeshLike, is_mesh_like
 
 __all__ = [
     "normalize",
     "weyl_subtract",
     "compact_shape_dna",
     "log_weyl_ratio",
+    "detrend",
     "real_form",
     "inverse_compact_shape_dna",
     "f1_feature",
@@ -92,6 +96,7 @@ __all__ = [
     "NORMALIZATIONS",
     "ZERO_RTOL",
     "TRANSFORMS",
+    "TREND_DEGREE",
 ]
 
 #: The ``normalization=`` options (:func:`normalize`); ``'none'``: already normalised.
@@ -397,9 +402,7 @@ def _check_N(N: object) -> int:
 
 
 def _is_mesh(x: object) -> bool:
-    return isinstance(x, Mesh) or (
-        isinstance(x, (tuple, list)) and len(x) == 2 and np.ndim(x[0]) == 2
-    )
+    return is_mesh_like(x)
 
 
 def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
@@ -584,30 +587,93 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
     if zero_modes is not None:
         zero_modes = check_int("zero_modes", zero_modes, min=0)
     lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
+    return _compact(lam_norm, M, pieces if zero_modes is None else zero_modes, transform)
+
+
+def _compact(lam_norm: NDArray[np.float64], M: int, zero_modes: int | None, transform: str
+             ) -> NDArray[Any]:
+    """:func:`compact_shape_dna` of a checked, normalised spectrum (M and transform checked)."""
     if transform == "weyl":
         return _dft_crop(_weyl_subtract(lam_norm), M)  # Eq. (8)-(10)
-    r = _log_weyl_sequence(lam_norm, M, pieces if zero_modes is None else zero_modes,
-                           transform)
+    r = _log_weyl_sequence(lam_norm, M, zero_modes, f"transform={transform!r}")
     if transform == "log-weyl":
         return _dft_crop(r, M)
     return _dct(r)[: 2 * M + 1].copy()
 
 
-def _log_weyl_sequence(x: NDArray[np.float64], M: int, zero_modes: int | None, transform: str
+def _log_weyl_sequence(x: NDArray[np.float64], M: int, zero_modes: int | None, what: str
                        ) -> NDArray[np.float64]:
-    """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms (rule for several pieces).
+    """Return the ``N-1`` log-Weyl ratios of the log-Weyl transforms and 'two-scale'.
 
-    ``x``: the checked, normalised spectrum, ``N >= 2M + 2`` values (:func:`_check_M`).
+    The rule for several pieces.  ``x``: the checked, normalised spectrum, ``N >= 2M + 2``
+    values; ``what`` names the caller in the message.
     """
     N = len(x)
     k0 = _zero_modes(x, zero_modes, ZERO_RTOL * float(np.abs(x).max()))
     k = max(k0, 1)  # lam_0 is dropped also when positive (Dirichlet)
     if N - k < 2 * M + 1:
         raise ValueError(
-            f"transform={transform!r} needs 2M+1 = {2 * M + 1} non-zero eigenvalues, but "
+            f"{what} needs 2M+1 = {2 * M + 1} non-zero eigenvalues, but "
             f"{k} of the N = {N} are zero modes (a mesh of {k} components) and {N - k} are "
             f"left: use N >= {2 * M + 1 + k} or M <= {max(N - k - 1, 0) // 2}")
     return _log_weyl_ratio(x, k0, N - 1)
+
+
+#: Degree of the polynomial in the index that :func:`detrend` removes by default.  Linear
+#: finite elements overestimate ``lam_i`` by a relative error that grows smoothly with ``i``
+#: (about ``h^2 lam_i``), so a coarse mesh raises the log-Weyl ratios by a smooth function of
+#: ``i``; a cubic takes it, and leaves the spectrum's fluctuations.
+TREND_DEGREE = 3
+
+
+def detrend(r: ArrayLike, degree: int = TREND_DEGREE) -> NDArray[np.float64]:
+    """Return a sequence less its least-squares polynomial of ``degree`` in the index.
+
+    For the log-Weyl ratios ``r_1 .. r_L`` (:func:`log_weyl_ratio`) this is
+    ``r_i - p(t_i)`` with ``t_i = i / L`` and ``p`` the polynomial of the given degree that
+    fits ``r`` best in the least-squares sense: the spectrum's fluctuations about its smooth
+    trend.  A constant added to ``r`` (another normalisation) and a smooth drift in ``i`` up
+    to that degree (the discretisation error of a coarse mesh) leave it unchanged.
+
+    Parameters
+    ----------
+    r : array_like, shape (L,)
+        A real sequence, ``L >= degree + 2``.
+    degree : int, default=TREND_DEGREE (3)
+
+    Returns
+    -------
+    ndarray, shape (L,)
+        The residual; orthogonal to ``1, t, ..., t^degree``.
+
+    Raises
+    ------
+    TypeError
+        ``degree`` not an integer, ``r`` complex or not numeric.
+    ValueError
+        ``r`` not 1-D, not finite, or shorter than ``degree + 2``; ``degree < 0``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from cshape.descriptors import detrend
+    >>> t = np.arange(1, 11) / 10
+    >>> bool(np.allclose(detrend(1 + 2 * t - t**3), 0))
+    True
+    """
+    return _detrend(check_spectrum(r, "r"), check_int("degree", degree, min=0))
+
+
+def _detrend(x: NDArray[np.float64], degree: int = TREND_DEGREE) -> NDArray[np.float64]:
+    """:func:`detrend` of a checked sequence ``x`` (``degree`` checked)."""
+    if len(x) < degree + 2:
+        raise ValueError(f"r has {len(x)} values but a polynomial of degree {degree} needs "
+                         f"at least {degree + 2} to leave a residual; use a longer sequence "
+                         "(more eigenvalues) or a lower degree")
+    t = np.arange(1, len(x) + 1, dtype=np.float64) / len(x)
+    V = np.vander(t, degree + 1)
+    coef, *_ = np.linalg.lstsq(V, x, rcond=None)
+    return x - V @ coef
 
 
 def real_form(S_c: ArrayLike) -> NDArray[np.float64]:
@@ -739,7 +805,12 @@ def f1_feature(lam: ArrayLike, zero_modes: int | None = None, *,
         ``N - 2`` values for a connected closed mesh (``k = 1``); ``k = 0`` for a
         Dirichlet spectrum.  Scale invariant; values in (0, 1].
     """
-    x = check_spectrum(lam, min_len=2)
+    return _f1_feature(check_spectrum(lam, min_len=2), zero_modes, length)
+
+
+def _f1_feature(x: NDArray[np.float64], zero_modes: object, length: object
+                ) -> NDArray[np.float64]:
+    """:func:`f1_feature` of a checked spectrum of at least 2 values."""
     tol = ZERO_RTOL * float(np.abs(x).max())
     mu = _after(x, _zero_modes(x, zero_modes, tol), tol, "F1")
     if len(mu) < 2:

@@ -2,9 +2,10 @@
 
 A descriptor is a recipe of five fields, checked once when it is made:
 
-* ``kind``          - what is computed (Section 3.1 of the paper, and one beyond it):
+* ``kind``          - what is computed (Section 3.1 of the paper, and two beyond it):
                       ``'shape-dna'``, ``'truncated'``, ``'cshape'``, ``'cshape-complex'``,
-                      ``'f1'``, ``'truncated-log'`` (the table of :class:`Descriptor`);
+                      ``'f1'``, ``'truncated-log'``, ``'two-scale'`` (the table of
+                      :class:`Descriptor`);
 * ``N``, ``M``      - the Shape-DNA length and the crop half-width (``2M+1`` values); the
                       one M-versus-N rule is :func:`cshape._checks.check_crop`;
 * ``transform``     - the cShape-DNA transform (:func:`cshape.compact_shape_dna`);
@@ -21,7 +22,7 @@ is given.
 >>> PAPER.label
 "paper's cShape-DNA (M=16 of N=100, 33 values)"
 >>> DEFAULT.label, DEFAULT.size
-('truncated log spectrum (17 values)', 17)
+('two-scale log spectrum (9 first + 99 detrended values)', 108)
 """
 
 from __future__ import annotations
@@ -34,22 +35,31 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._checks import check_choice, check_crop, check_int
+from .._checks import check_choice, check_crop, check_int, check_spectrum
 from .formulas import (
     NORMALIZATIONS,
     TRANSFORMS,
-    compact_shape_dna,
-    count_zero_modes,
-    f1_feature,
-    log_weyl_ratio,
-    normalize,
+    TREND_DEGREE,
+    ZERO_RTOL,
+    _compact,
+    _detrend,
+    _f1_feature,
+    _log_weyl_ratio,
+    _log_weyl_sequence,
+    _normalize,
     real_form,
 )
+from .formulas import _zero_modes as _leading_zero_modes
 
 __all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor"]
 
 #: The descriptor kinds (the table of :class:`Descriptor`).
-DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log")
+DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log",
+                    "two-scale")
+#: Weight of the detrended block of the kind 'two-scale' (its row is
+#: ``(r_1 .. r_{2M+1}, TWO_SCALE_WEIGHT * detrend(r_1 .. r_{N-1}))``), chosen with
+#: :data:`DEFAULT` from a grid of round numbers.
+TWO_SCALE_WEIGHT = 2.0
 
 _NORMALISED = {"weyl": "Weyl-normalised", "fiedler": "lam_1-normalised",
                "none": "eigenvalues as given"}
@@ -80,6 +90,9 @@ class Descriptor:
                                   eigenvalues).  Its distances equal those of the truncated
                                   *log spectrum* ``log lam_1^norm .. log lam_{2M+1}^norm``:
                                   ``log 4 pi i`` is the same for every shape
+    'two-scale'      2M+1 + N-1   ``r_1 .. r_{2M+1}`` beside ``2 * detrend(r_1 .. r_{N-1})``
+                                  (:func:`cshape.descriptors.detrend`: the ratios less
+                                  their least-squares cubic in ``i``); :data:`DEFAULT`
     ================ ============ =========================================================
 
     ``2M+1`` values must fit in ``N`` eigenvalues (the ``N-1`` log-Weyl ratios for
@@ -99,8 +112,8 @@ class Descriptor:
 
     Parameters
     ----------
-    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log'}, \
-default='cshape'
+    kind : {'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', 'truncated-log', \
+'two-scale'}, default='cshape'
         What is computed, as in the table above.
     N : int, default=100
         Shape-DNA length: the eigenvalues ``lam_0 .. lam_{N-1}`` used (keyword only).
@@ -141,8 +154,6 @@ default='cshape'
 
     def __init__(self, kind: str = "cshape", *, N: int = 100, M: int = 16,
                  transform: str = "weyl", normalization: str = "area") -> None:
-        # written out (not the dataclass's generated __init__) so that a deprecation
-        # warning of an old spelling points at the caller's line
         kind = check_choice("kind", kind, DESCRIPTOR_KINDS)
         transform = check_choice("transform", transform, TRANSFORMS)
         normalization = check_choice("normalization", normalization, NORMALIZATIONS)
@@ -152,6 +163,13 @@ default='cshape'
             check_crop(M, N)
         elif kind == "truncated-log":
             check_crop(M, N, log=True)
+        elif kind == "two-scale":
+            check_crop(M, N, log=True)
+            if N - 1 < TREND_DEGREE + 2:
+                raise ValueError(
+                    f"kind='two-scale' detrends the N-1 log-Weyl ratios by a polynomial of "
+                    f"degree {TREND_DEGREE}, which needs N >= {TREND_DEGREE + 3}, got N = {N}; "
+                    "compute more eigenvalues or use kind='truncated-log'")
         elif kind in ("cshape", "cshape-complex"):
             check_crop(M, N, log=transform != "weyl")
         for name, value in (("kind", kind), ("N", N), ("M", M), ("transform", transform),
@@ -163,10 +181,11 @@ default='cshape'
     def size(self) -> int:
         """Number of values of a row.
 
-        ``N`` for 'shape-dna', ``N - 2`` for 'f1', else ``2M+1`` (complex numbers counted
-        once, as the paper does).
+        ``N`` for 'shape-dna', ``N - 2`` for 'f1', ``2M+1 + N-1`` for 'two-scale', else
+        ``2M+1`` (complex numbers counted once, as the paper does).
         """
-        return {"shape-dna": self.N, "f1": self.N - 2}.get(self.kind, 2 * self.M + 1)
+        return {"shape-dna": self.N, "f1": self.N - 2,
+                "two-scale": 2 * self.M + 1 + self.N - 1}.get(self.kind, 2 * self.M + 1)
 
     @property
     def label(self) -> str:
@@ -186,6 +205,9 @@ default='cshape'
             return f"F1 (N={self.N}, {size} values)"  # scale invariant: no normalisation
         elif self.kind == "truncated":
             base = f"truncated Shape-DNA ({size} values)"
+        elif self.kind == "two-scale":
+            base = (f"two-scale log spectrum ({2 * self.M + 1} first + {self.N - 1} detrended "
+                    "values)")
         else:
             base = f"truncated log spectrum ({size} values)"
         if self.normalization == "area":
@@ -223,13 +245,15 @@ default='cshape'
             If ``N`` is too small for any ``M`` of the kind.
         """
         N = check_int("N", N, min=1)
-        top = {"truncated-log": (N - 2) // 2, "truncated": (N - 1) // 2,
+        top = {"truncated-log": (N - 2) // 2, "two-scale": (N - 2) // 2,
+               "truncated": (N - 1) // 2,
                "cshape": (N - 1) // 2 if self.transform == "weyl" else (N - 2) // 2,
                "cshape-complex": (N - 1) // 2 if self.transform == "weyl" else (N - 2) // 2,
                }.get(self.kind, self.M)
-        if top < 0:
-            raise ValueError(f"the descriptor {self.label!r} needs at least 2 eigenvalues "
-                             f"per shape, got N = {N}")
+        least = TREND_DEGREE + 3 if self.kind == "two-scale" else 2
+        if top < 0 or N < least:
+            raise ValueError(f"the descriptor {self.label!r} needs at least {least} "
+                             f"eigenvalues per shape, got N = {N}")
         return self.replace(N=N, M=min(self.M, top))
 
     # ------------------------------------------------------------------ rows
@@ -271,16 +295,20 @@ default='cshape'
 
     def _row(self, r: NDArray[np.float64], area: float | None, k: int | None
              ) -> NDArray[Any]:
-        """One descriptor of a checked spectrum; ValueError if it cannot be described."""
+        """One descriptor of a spectrum, checked here once; ValueError if it cannot be described."""
         kind, M, N, norm = self.kind, self.M, self.N, self.normalization
+        r = check_spectrum(r, "lam", min_len=2 if kind == "f1" else 1)
+        if k is not None:
+            k = check_int("zero_modes", k, min=0)
         if kind == "shape-dna":
-            return normalize(r[:N], area, normalization=norm)
+            return _normalize(r[:N], area, norm)
         if kind == "truncated":
-            return normalize(r[: 2 * M + 1], area, normalization=norm)
+            return _normalize(r[: 2 * M + 1], area, norm)
         if kind == "f1":
-            return f1_feature(r[:N], k, length=N - 2)
+            return _f1_feature(r[:N], k, N - 2)
         if kind == "truncated-log":  # r_1 .. r_{2M+1} of the eigenvalues after the zero modes
-            k0 = count_zero_modes(r) if k is None else k
+            k0 = (_leading_zero_modes(r, None, ZERO_RTOL * float(np.abs(r).max()))
+                  if k is None else k)
             kk = max(k0, 1)
             if len(r) - kk < 2 * M + 1:
                 raise ValueError(
@@ -288,11 +316,12 @@ default='cshape'
                     f"components): {len(r) - kk} non-zero ones are left and 2M+1 = "
                     f"{2 * M + 1} are needed (compute N >= {2 * M + 1 + kk} eigenvalues, or "
                     f"use M <= {max(len(r) - kk - 1, 0) // 2})")
-            lam_norm = normalize(r[: 2 * M + 1 + kk], area, normalization=norm)
-            return log_weyl_ratio(lam_norm, k0)
-        lam_norm = normalize(r[:N], area, normalization=norm)
-        S = compact_shape_dna(lam_norm, N=N, M=M, normalization="none",
-                              transform=self.transform, zero_modes=k)
+            lam_norm = _normalize(r[: 2 * M + 1 + kk], area, norm)
+            return _log_weyl_ratio(lam_norm, k0, None)
+        if kind == "two-scale":  # r_1 .. r_{2M+1} beside the detrended r_1 .. r_{N-1}
+            seq = _log_weyl_sequence(_normalize(r[:N], area, norm), M, k, "kind='two-scale'")
+            return np.concatenate([seq[: 2 * M + 1], TWO_SCALE_WEIGHT * _detrend(seq)])
+        S = _compact(_normalize(r[:N], area, norm), M, k, self.transform)
         return S if kind == "cshape-complex" else real_form(S)
 
     def rows(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
@@ -428,11 +457,13 @@ PAPER = Descriptor("cshape", N=100, M=16, transform="weyl", normalization="area"
 #: The exploration default: what a :class:`cshape.DescriptorTable`, a
 #: :class:`cshape.DescriptorIndex`, the figures of a collection and the command line compare
 #: when no descriptor is given (at the table's ``N``: :meth:`Descriptor.for_N`).  The
-#: truncated log spectrum normalised by area: the row is the first ``2M+1`` log-Weyl ratios
-#: ``log(lam_i * area / (4 pi i))``, ``i = 1 .. 2M+1``, of the eigenvalues after the zero
-#: modes.  How it was chosen: the guide "Choosing a descriptor"
+#: two-scale log spectrum of the area-normalised eigenvalues: the first nine log-Weyl ratios
+#: ``r_i = log(lam_i * area / (4 pi i))`` of the eigenvalues after the zero modes, beside twice
+#: the ratios ``r_1 .. r_99`` less their least-squares cubic in ``i``.  How it was chosen (the
+#: smallest worst regret over three real collections and the generated suite,
+#: ``benchmarks/bench_real_collections.py``): the guide "Choosing a descriptor"
 #: (``docs/guides/choosing-a-descriptor.md``).
-DEFAULT = Descriptor("truncated-log", N=100, M=8, transform="weyl", normalization="area")
+DEFAULT = Descriptor("two-scale", N=100, M=4, transform="weyl", normalization="area")
 
 
 def _given_or_default(descriptor: object, N: int) -> Descriptor:

@@ -38,8 +38,12 @@ if TYPE_CHECKING:
 # --------------------------------------------------------------------------- plots
 #: An MDS plot names its points up to this many shapes; beyond, only the class legend.
 MDS_MAX_NAMES = 40
-#: A distance matrix gets one tick per shape up to this many shapes; beyond, one per class.
-MATRIX_MAX_NAMES = 40
+#: A distance matrix gets one tick per shape up to this many shapes (in a smaller font when
+#: needed, down to :data:`MIN_TICK_POINTS`); beyond, one per class, or every k-th name for
+#: one class.
+MATRIX_MAX_NAMES = 100
+#: The smallest font of a matrix's names, in points.
+MIN_TICK_POINTS = 4.5
 #: A legend lists up to this many classes in one column; beyond, a figure of its own gets a
 #: legend in columns below the panel (up to :data:`LEGEND_COLUMNS` columns).
 MAX_LEGEND_CLASSES = 20
@@ -49,7 +53,10 @@ LEGEND_COLUMNS = 4
 #: Marker shapes of the classes: classes 0-19 are circles in 20 colours, 20-39 squares, ...
 CLASS_MARKERS = "os^Dv<>pP*Xh"
 #: Longest point or tick label, in characters; longer names are cut in the middle.
-LABEL_WIDTH = 16
+LABEL_WIDTH = 20
+#: Beyond :data:`MDS_MAX_NAMES` shapes, an MDS picture of one class names this many, spread
+#: over the picture (:func:`named_points`), besides the outliers.
+MDS_SAMPLE_NAMES = 16
 
 
 def short_label(name: object, width: int = LABEL_WIDTH) -> str:
@@ -284,6 +291,49 @@ def spread_on_border(P: ArrayLike, centre: ArrayLike, half: float, gap: float
 
 
 # --------------------------------------------------------------------------- labels
+def named_points(P: ArrayLike, outliers: ArrayLike, max_names: int = MDS_MAX_NAMES,
+                 sample: int = MDS_SAMPLE_NAMES) -> NDArray[np.int64]:
+    """The points of an MDS picture that get their name written: every point up to
+    ``max_names``; beyond, the outliers and ``sample`` others spread over the picture.
+
+    The sample is drawn by farthest-point order from the point nearest the centre (each
+    next point the farthest from those taken), so the names cover the picture's extremes
+    and its middle.
+
+    Parameters
+    ----------
+    P : array_like, shape (p, 2)
+        The drawn positions (:func:`mds_layout`'s ``P``).
+    outliers : array_like of bool, shape (p,)
+    max_names : int, default=MDS_MAX_NAMES
+    sample : int, default=MDS_SAMPLE_NAMES
+
+    Returns
+    -------
+    ndarray of int
+        Outliers first, then the others, in the order their names should be placed.
+
+    >>> named_points([[0, 0], [1, 0], [5, 0]], [False, False, True]).tolist()
+    [2, 0, 1]
+    >>> named_points([[0, 0], [1, 0], [9, 0], [4, 0], [5, 0]], [False] * 5, max_names=2,
+    ...              sample=2).tolist()
+    [3, 2]
+    """
+    P = np.asarray(P, dtype=np.float64)
+    out = np.asarray(outliers, dtype=bool)
+    inner = np.flatnonzero(~out)
+    if len(P) <= max_names or len(inner) <= sample:
+        return np.concatenate([np.flatnonzero(out), inner]).astype(np.int64)
+    Q = P[inner]
+    taken = [int(np.argmin(np.linalg.norm(Q - np.median(Q, axis=0), axis=1)))]
+    gap = np.linalg.norm(Q - Q[taken[0]], axis=1)
+    while len(taken) < sample:
+        j = int(np.argmax(gap))
+        taken.append(j)
+        gap = np.minimum(gap, np.linalg.norm(Q - Q[j], axis=1))
+    return np.concatenate([np.flatnonzero(out), inner[taken]]).astype(np.int64)
+
+
 def _side_points(ax: Axes) -> float:
     """The shorter side of ``ax`` in points (after a layout pass, if the figure has a
     layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
@@ -298,13 +348,25 @@ def _side_points(ax: Axes) -> float:
 
 def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
                     fontsize: str | float = "x-small", offset: float = 3.0,
-                    safety: float = 1.15) -> list[int]:
-    """Write ``texts[i]`` beside point ``Y[i]`` where it covers no text already written.
+                    safety: float = 1.15, points: ArrayLike | None = None,
+                    required: int = 0) -> list[int]:
+    """Write ``texts[i]`` beside point ``Y[i]``, inside the axes, where it covers no text
+    already written and no point.
 
     Greedy, in order: a text's box is estimated from its length, the font size and the
-    axes' size after a layout pass (``safety`` times larger), and skipped when it would
-    overlap a box kept before.  The texts take no part in the layout, so call this last,
-    after the axis limits, legends and colour bars are set.
+    axes' size after a layout pass (``safety`` times larger) and tried above right, above
+    left, below right and below left of its point; the text is left out when each would
+    leave the axes or overlap a box kept before or a point's marker.  The texts take no
+    part in the layout, so call this last, after the axis limits, legends and colour bars
+    are set.
+
+    Parameters
+    ----------
+    points : array_like, shape (q, 2), optional
+        Every point drawn, which no text may cover (default: ``Y``).
+    required : int, default=0
+        The first ``required`` texts (an outlier's name) are written in any case: over a
+        point, or even over a text, where no free place is found inside the axes.
 
     Returns
     -------
@@ -317,29 +379,49 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     per_pt = max(x1 - x0, y1 - y0) / max(_side_points(ax), 1.0) * safety
     size = FontProperties(size=fontsize).get_size_in_points()
+    d = offset * per_pt / safety  # the true offset: a larger one would hide overlaps
+    r = 2.5 * per_pt  # half the side of a point's marker, with room
+    lo_x, hi_x, lo_y, hi_y = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
+    obstacles = [(x - r, y - r, x + r, y + r) for x, y in (points if points is not None else Y)]
     boxes: list[tuple[float, float, float, float]] = []
     kept: list[int] = []
+
+    def free(box: tuple[float, float, float, float], own: tuple[float, float],
+             level: int) -> bool:
+        """Level 0: inside the axes, over no text and no point; 1: over no text; 2: inside."""
+        inside = lo_x <= box[0] and box[2] <= hi_x and lo_y <= box[1] and box[3] <= hi_y
+        # a point's own marker is no obstacle to its name
+        near = [b for b in obstacles if not (b[0] < own[0] < b[2] and b[1] < own[1] < b[3])]
+        others = (boxes + near) if level == 0 else boxes if level == 1 else []
+        return inside and not any(
+            box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
+            for b in others)
+
+    # (horizontal, vertical) side of the point: +1 right / above, -1 left / below, 0 centred
+    sides = ((1, 1), (-1, 1), (1, -1), (-1, -1), (0, 1), (0, -1))
     for i, text in enumerate(texts):
-        w, h = 0.62 * size * len(text) * per_pt, 1.25 * size * per_pt
-        d = offset * per_pt / safety  # the true offset: a larger one would hide overlaps
-        # right of and above the point, or left / below where the axes end
-        right = Y[i, 0] + d + w <= max(x0, x1)
-        up = Y[i, 1] + d + h <= max(y0, y1)
-        bx = Y[i, 0] + d if right else Y[i, 0] - d - w
-        by = Y[i, 1] + d if up else Y[i, 1] - d - h
-        box = (bx, by, bx + w, by + h)
-        if any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
-               for b in boxes):
+        w, h = 0.7 * size * len(text) * per_pt, 1.35 * size * per_pt
+        placed = None
+        for level in range(3 if i < required else 1):
+            for sx, sy in sides:
+                bx = Y[i, 0] + d if sx > 0 else Y[i, 0] - d - w if sx < 0 else Y[i, 0] - w / 2
+                by = Y[i, 1] + d if sy > 0 else Y[i, 1] - d - h
+                box = (bx, by, bx + w, by + h)
+                if free(box, (Y[i, 0], Y[i, 1]), level):
+                    placed = (sx, sy)
+                    break
+            if placed:
+                break
+        if placed is None:
             continue
+        sx, sy = placed
         boxes.append(box)
         kept.append(i)
-        t = ax.annotate(text, tuple(Y[i]), xytext=(offset if right else -offset,
-                                                   offset if up else -offset),
+        t = ax.annotate(text, tuple(Y[i]), xytext=(offset * sx, offset * sy),
                         textcoords="offset points", fontsize=fontsize,
-                        ha="left" if right else "right", va="bottom" if up else "top",
-                        annotation_clip=True)
+                        ha={1: "left", -1: "right", 0: "center"}[sx],
+                        va="bottom" if sy > 0 else "top", annotation_clip=True)
         t.set_in_layout(False)
-        t.set_clip_on(True)
     return kept
 
 
@@ -499,7 +581,11 @@ def plot_mds(Y: ArrayLike, names: Sequence[Any] | None = None,
     # texts last (they take the final layout): outliers first, then names or classes
     texts, where = _mds_texts(Y, lay, names, labels, plan.n_classes, max_names)
     if texts:
-        annotate_points(ax, np.array(where), texts)
+        # names keep off every point; class names, written over their classes, cannot
+        by_class = labels is not None and plan.n_classes > 1 and p > max_names
+        annotate_points(ax, np.array(where), texts,
+                        points=np.empty((0, 2)) if by_class else lay["P"],
+                        required=int(lay["outliers"].sum()))
     return fig
 
 
@@ -596,16 +682,18 @@ def _mds_texts(Y: NDArray[np.float64], lay: dict[str, Any], names: Sequence[str]
     p = len(Y)
     texts: list[str] = []
     where: list[Any] = []
-    if out.any():
-        tags = short_labels(names) if names is not None else [f"#{i}" for i in range(p)]
-        for i in np.flatnonzero(out):
-            texts.append(f"{tags[i]} \u00d7{lay['ratio'][i]:.0f}")
-            where.append(P[i])
-    if names is not None and p <= max_names:
-        tags = short_labels(names)
-        texts += [tags[i] for i in np.flatnonzero(~out)]
-        where += [P[i] for i in np.flatnonzero(~out)]
-    elif labels is not None and n_classes > 1 and p > max_names:
+    one_class = labels is None or n_classes <= 1
+    if names is None:
+        order = np.flatnonzero(out)
+    elif p <= max_names or one_class:
+        order = named_points(P, out, max_names)
+    else:  # many shapes of several classes: outliers by name, the classes at their medians
+        order = np.flatnonzero(out)
+    tags = short_labels(names) if names is not None else [f"#{i}" for i in range(p)]
+    for i in order:
+        texts.append(f"{tags[i]} \u00d7{lay['ratio'][i]:.0f}" if out[i] else tags[i])
+        where.append(P[i])
+    if labels is not None and n_classes > 1 and p > max_names:
         for lab, xy in class_medians(Y[~out], [labels[int(i)] for i in np.flatnonzero(~out)]):
             texts.append(short_label(lab))
             where.append(xy)
@@ -630,10 +718,11 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
     """Ticks of a (p, p) matrix image that never write over each other.
 
     One tick per shape (short names) when there are at most ``max_names`` shapes and their
-    labels fit the axes' height; else one per class, at the middle of each run of a class,
+    labels fit the axes' height (in a font down to :data:`MIN_TICK_POINTS`); else one per
+    class, at the middle of each run of a class,
     as many as fit (the axes' size after a layout pass without ticks, ``safety`` times
     smaller for the room the tick labels take), with thin white lines at the class
-    boundaries.
+    boundaries; with one class, every k-th name.
 
     Parameters
     ----------
@@ -655,12 +744,18 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
     size = FontProperties(size=fontsize).get_size_in_points()
     n_fit = max(1, int(side_pt / safety / (1.2 * size)))
     runs = _runs([str(x) for x in labels]) if labels is not None and len(labels) == p else []
-    if names is not None and len(names) == p and p <= min(max_names, n_fit):
-        where, text = list(range(p)), short_labels(names)
+    # a name per row, in a smaller font if that fits (names take less room than classes)
+    small = min(size, side_pt / 1.3 / (1.2 * p))
+    if names is not None and len(names) == p and p <= max_names and small >= MIN_TICK_POINTS:
+        where, text, fontsize = list(range(p)), short_labels(names), small
     elif len(runs) > 1:
         mids = np.array([[(a + b - 1) / 2, 0.0] for a, b, _ in runs])
         keep = _spread_out(mids, p / n_fit)
         where, text = [mids[k, 0] for k in keep], [short_label(runs[k][2]) for k in keep]
+    elif names is not None and len(names) == p:  # one class: every k-th name
+        step = -(-p // max(1, int(side_pt / 1.3 / (1.2 * MIN_TICK_POINTS))))
+        where = list(range(0, p, step))
+        text, fontsize = [short_labels(names)[i] for i in where], MIN_TICK_POINTS
     else:
         return side_pt
     ax.set_xticks(where, text, rotation=90, fontsize=fontsize)

@@ -27,13 +27,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._checks import check_entries, check_labels, check_points, check_square
+from .._checks import check_entries, check_int, check_labels, check_points, check_square
 from .._files import atomic_write
 from ..compare import nearest_neighbours
 from ..mesh import as_mesh
 from .collection import (
+    MATRIX_MAX_NAMES,
     class_styles,
     mds_layout,
+    named_points,
     plot_distance_matrix,
     plot_mds,
     short_label,
@@ -211,7 +213,8 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
     for c, (lab, col, marker) in enumerate(styles):
         sel = np.flatnonzero((codes == c) & ~out)
         fig.add_trace(Scatter(
-            x=P[sel, 0], y=P[sel, 1], mode="markers", name=short_label(lab, 24),
+            x=P[sel, 0], y=P[sel, 1], mode="markers",
+            name=short_label(lab, 24) if len(styles) > 1 else "shapes",
             legendgroup=str(c), text=[hover[i] for i in sel], hoverinfo="text",
             customdata=[str(names[i]) for i in sel],
             marker={"color": _rgb(col), "symbol": _PLOTLY_SYMBOLS.get(marker, "circle"),
@@ -233,11 +236,20 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
             marker={"symbol": "arrow", "angle": [90.0 - lay["angle"][i] for i in sel],
                     "size": 16, "color": [_rgb(styles[codes[i]][1]) for i in sel],
                     "line": {"width": 1, "color": "black"}}))
+    named = [i for i in named_points(P, out) if not out[i]]
+    if named:  # names on the picture (every one when few, else a spread sample)
+        tags = short_labels([str(x) for x in names])
+        fig.add_trace(go.Scatter(
+            x=P[named, 0], y=P[named, 1], mode="text", text=[tags[i] for i in named],
+            textposition="top center", textfont={"size": 10, "color": "#444"},
+            hoverinfo="skip", showlegend=False))
     c, h = lay["centre"], lay["half"]
     fig.update_layout(
         title={"text": html.escape(title) if title else None, "x": 0.5},
         height=height, template="plotly_white", hovermode="closest",
-        hoverlabel={"align": "left"}, legend={"title": {"text": "class"}, "itemsizing": "constant"},
+        hoverlabel={"align": "left"}, showlegend=len(styles) > 1 or bool(out.any()),
+        legend={"title": {"text": "class" if len(styles) > 1 else ""},
+                "itemsizing": "constant"},
         xaxis={"range": [c[0] - h, c[0] + h], "title": "MDS 1", "zeroline": False},
         yaxis={"range": [c[1] - h, c[1] + h], "title": "MDS 2", "zeroline": False,
                "scaleanchor": "x", "scaleratio": 1},
@@ -249,8 +261,11 @@ def figure_html(fig: go.Figure, *, full_html: bool = True, include_plotlyjs: boo
                 ) -> str:
     """A plotly figure as HTML that works offline: plotly.js embedded in the page (no CDN),
     no MathJax."""
-    return fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
-                       include_mathjax=False, config={"displaylogo": False, "responsive": True})
+    text = fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
+                       include_mathjax=False, config={"displaylogo": False, "responsive": True},
+                       default_width="100%", default_height="100vh")
+    # a figure without a height fills the window: no page margin, no scroll bar
+    return text.replace("<body>", '<body style="margin:0">', 1) if full_html else text
 
 
 # =========================================================================== thumbnails
@@ -387,46 +402,70 @@ def plot_neighbour_strip(meshes: Sequence[MeshLike], names: Sequence[object],
     return fig
 
 
-def _camera(axis: str) -> dict[str, dict[str, float]]:
-    up = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}[axis]
-    eye = {"x": (0.4, 1.3, 1.3), "y": (1.3, 0.5, 1.3), "z": (1.3, -1.3, 0.5)}[axis]
-    return {"up": dict(zip("xyz", up, strict=True)), "eye": dict(zip("xyz", eye, strict=True))}
+#: The window a full-page strip is fitted for (pixels): a landscape window, 4:3 at its
+#: narrowest; wider windows only add room.
+_WINDOW = (1200, 900)
+#: Pixels of the strip's title and of each row's panel titles (three lines).
+_STRIP_TITLE, _PANEL_TITLE = 50, 62
+#: The lowest window whose rows leave their titles room (pixels).
+_LOWEST_WINDOW = 640
+
+
+def strip_grid(n: int, window: tuple[float, float] = _WINDOW) -> tuple[int, int]:
+    """Rows and columns of ``n`` views on a page: the panels as near square as the window
+    allows, with fewer than a row of empty cells.
+
+    >>> strip_grid(6), strip_grid(2), strip_grid(11)
+    ((2, 3), (1, 2), (3, 4))
+    """
+    n = check_int("n", n, min=1)
+    w, h = window
+
+    def badness(rows: int) -> float:
+        cols = -(-n // rows)
+        return abs(np.log((w / cols) / (h / rows)))
+
+    rows = min(range(1, n + 1), key=badness)
+    return rows, -(-n // rows)
 
 
 def neighbour_strip_plotly(meshes: Sequence[MeshLike], names: Sequence[object],
                            distances: ArrayLike, *, labels: Sequence[object] | None = None,
                            title: str | None = None, vertical_axis: str | Sequence[str] = "z",
-                           max_faces: int = HTML_THUMBNAIL_FACES, height: int = 360
-                           ) -> go.Figure:
-    """:func:`plot_neighbour_strip` as an interactive plotly figure (each mesh turns and
-    zooms on its own; hover shows its name).  Parameters as there; returns a
-    ``plotly.graph_objects.Figure``."""
-    import plotly.graph_objects as go
+                           max_faces: int = HTML_THUMBNAIL_FACES) -> go.Figure:
+    """:func:`plot_neighbour_strip` as an interactive plotly figure that fills its page: the
+    views on a grid (:func:`strip_grid`), each lit and framed by
+    :func:`cshape.plots.viewer.add_mesh_view`, each turning and zooming on its own; hover
+    shows a mesh's name.  Parameters as there; returns a ``plotly.graph_objects.Figure``
+    without a size (:func:`figure_html` gives it the window)."""
     from plotly.subplots import make_subplots
+
+    from .viewer import add_mesh_view
 
     n = len(meshes)
     heads, _ = _strip_texts(names, distances, labels, n)
     axes = _axes_list(vertical_axis, n)
-    titles = [f"{h}<br>{html.escape(short_label(nm, 24))}"
-              + (f"<br>[{html.escape(short_label(labels[j], 24))}]" if labels is not None else "")
+    titles = [f"{h}<br>{html.escape(str(nm))}"
+              + (f"<br>[{html.escape(str(labels[j]))}]" if labels is not None else "")
               for j, (h, nm) in enumerate(zip(heads, names, strict=True))]
-    fig = make_subplots(rows=1, cols=n, specs=[[{"type": "scene"}] * n], subplot_titles=titles,
-                        horizontal_spacing=0.01)
+    rows, cols = strip_grid(n)
+    w, h = _WINDOW
+    vspace = (_PANEL_TITLE / (_LOWEST_WINDOW - _STRIP_TITLE - _PANEL_TITLE) if rows > 1
+              else 0.0)
+    fig = make_subplots(rows=rows, cols=cols, specs=[[{"type": "scene"}] * cols] * rows,
+                        subplot_titles=titles, horizontal_spacing=0.01, vertical_spacing=vspace)
+    panel_h = (h - _STRIP_TITLE - _PANEL_TITLE) * (1 - vspace * (rows - 1)) / rows
+    aspect = (w * (1 - 0.01 * (cols - 1)) / cols) / panel_h
     for j in range(n):
-        V, F = thumbnail_mesh(meshes[j], max_faces)
-        fig.add_trace(go.Mesh3d(
-            x=V[:, 0], y=V[:, 1], z=V[:, 2], i=F[:, 0], j=F[:, 1], k=F[:, 2],
-            color="rgb(200,60,50)" if j == 0 else "rgb(185,192,205)", flatshading=True,
-            lighting={"ambient": 0.45, "diffuse": 0.8, "specular": 0.1},
-            hoverinfo="text", hovertext=html.escape(str(names[j])), name=str(names[j]),
-            showscale=False), row=1, col=j + 1)
         scene = "scene" if j == 0 else f"scene{j + 1}"
-        fig.layout[scene].update(
-            aspectmode="data", camera=_camera(axes[j]),
-            xaxis={"visible": False}, yaxis={"visible": False}, zaxis={"visible": False})
+        add_mesh_view(fig, thumbnail_mesh(meshes[j], max_faces), scene=scene,
+                      vertical_axis=axes[j], aspect=aspect,
+                      color="rgb(214, 96, 77)" if j == 0 else "rgb(185, 192, 205)",
+                      hoverinfo="text", hovertext=html.escape(str(names[j])),
+                      name=str(names[j]))
     fig.update_layout(title={"text": html.escape(title) if title else None, "x": 0.5},
-                      height=height, width=max(600, 230 * n), showlegend=False,
-                      margin={"l": 5, "r": 5, "t": 110 if labels is not None else 90, "b": 5})
+                      showlegend=False,
+                      margin={"l": 5, "r": 5, "t": _STRIP_TITLE + _PANEL_TITLE, "b": 5})
     for a in fig.layout.annotations:
         a.font.size = 12
     return fig
@@ -455,6 +494,17 @@ def _class_order(labels: Sequence[object]) -> np.ndarray:
 
 def _fmt(x: float | None, spec: str = ".4g") -> str:
     return "-" if x is None or (isinstance(x, float) and np.isnan(x)) else format(x, spec)
+
+
+def collection_title(p: int, n_classes: int) -> str:
+    """How many shapes and classes, in words: ``'64 shapes'`` for a flat folder (one
+    class), ``'200 shapes in 10 classes'``.
+
+    >>> collection_title(64, 1), collection_title(2, 2), collection_title(1, 1)
+    ('64 shapes', '2 shapes in 2 classes', '1 shape')
+    """
+    shapes = f"{p} shape{'s' if p != 1 else ''}"
+    return shapes if n_classes <= 1 else f"{shapes} in {n_classes} classes"
 
 
 def _overview_inputs(D: ArrayLike, names: Sequence[object], labels: Sequence[object],
@@ -520,43 +570,50 @@ def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     what = _compared(descriptor)
     p = len(A)
     rows = sorted(class_summary(A, labels), key=lambda r: (-r["n"], r["label"]))
-    shown = rows[:table_rows]
-    fig = Figure(figsize=(12.0, 5.2 + 0.22 * (len(shown) + 2)), layout="constrained")
-    top, bottom = fig.subfigures(2, 1,  # type: ignore[misc]  # two: an array of them
-                                 height_ratios=[5.2, 0.22 * (len(shown) + 2) + 0.3])
+    n_classes = len(rows)
+    shown = rows[:table_rows] if n_classes > 1 else []  # one class: nothing to tabulate
+    # many shapes (the matrix names them up to MATRIX_MAX_NAMES): a larger figure
+    wide, high = (12.0, 5.2) if p <= 40 else (15.0, 8.0)
+    table_h = 0.22 * (len(shown) + 2) + 0.3 if shown else 0.0
+    fig = Figure(figsize=(wide, high + table_h), layout="constrained")
+    if shown:
+        top, bottom = fig.subfigures(2, 1,  # type: ignore[misc]  # two: an array of them
+                                     height_ratios=[high, table_h])
+    else:
+        top, bottom = fig, None
     ax1, ax2 = top.subplots(1, 2)
     order = _class_order(labels)
     out = mds_layout(Y)["outliers"]
     vmax = colour_limit(A, out)
     plot_distance_matrix(A[np.ix_(order, order)], ax=ax2, names=[names[i] for i in order],
                          labels=[labels[i] for i in order], scale=False, vmax=vmax,
-                         title="distances, by class" + (
+                         title=("distances, by class" if n_classes > 1 else "distances") + (
                              " (colours saturate at the outliers)" if out.any() else ""))
     head = f"{title}: " if title else ""
-    n_classes = len(rows)
-    sup = f"{head}{p} shapes, {n_classes} classes, compared by {what}"
+    sup = f"{head}{collection_title(p, n_classes)}, compared by {what}"
     if left_out:
         sup += (f"\nleft out ({len(left_out)}, cannot be described): "
                 + ", ".join(n for n, _ in left_out[:8]) + (" ..." if len(left_out) > 8 else ""))
     fig.suptitle(sup, fontsize="medium")
-    ax3 = bottom.subplots()
-    ax3.set_axis_off()
-    cells = [[short_label(r["label"], 24), str(r["n"]), _fmt(r["within"]),
-              short_label(r["nearest"], 24) or "-", _fmt(r["gap"]),
-              _fmt(100 * r["nn_same"], ".0f")] for r in shown]
-    if len(rows) > len(shown):
-        rest = rows[len(shown):]
-        cells.append([f"... {len(rest)} more classes", str(sum(r["n"] for r in rest)),
-                      "", "", "", ""])
-    tab = ax3.table(cellText=cells, loc="upper center", cellLoc="left",
-                    colLabels=["class", "shapes", "median distance within",
-                               "nearest other class", "its distance",
-                               "nearest neighbour in class (%)"])
-    tab.auto_set_font_size(False)
-    tab.set_fontsize(8)
-    tab.auto_set_column_width(list(range(6)))
+    if bottom is not None:
+        ax3 = bottom.subplots()
+        ax3.set_axis_off()
+        cells = [[short_label(r["label"], 24), str(r["n"]), _fmt(r["within"]),
+                  short_label(r["nearest"], 24) or "-", _fmt(r["gap"]),
+                  _fmt(100 * r["nn_same"], ".0f")] for r in shown]
+        if len(rows) > len(shown):
+            rest = rows[len(shown):]
+            cells.append([f"... {len(rest)} more classes", str(sum(r["n"] for r in rest)),
+                          "", "", "", ""])
+        tab = ax3.table(cellText=cells, loc="upper center", cellLoc="left",
+                        colLabels=["class", "shapes", "median distance within",
+                                   "nearest other class", "its distance",
+                                   "nearest neighbour in class (%)"])
+        tab.auto_set_font_size(False)
+        tab.set_fontsize(8)
+        tab.auto_set_column_width(list(range(6)))
     # the MDS last: its names are placed in the final layout
-    plot_mds(Y, names, labels, ax=ax1, legend="outside",
+    plot_mds(Y, names, labels if n_classes > 1 else None, ax=ax1, legend="outside",
              title="MDS (Euclidean distances of the descriptors)")
     return fig
 
@@ -584,14 +641,18 @@ def _matrix_figure(A: np.ndarray, names: Sequence[object], labels: Sequence[str]
         hover = "%{y}<br>%{x}<br>median distance %{z:.4g}<extra></extra>"
         what = (f"median distance between every two classes ({p} shapes are more than "
                 f"{HTML_MATRIX_MAX}, the shape-by-shape matrix would be too large)")
+    font = 11 if len(ticks) <= 40 else 8
     fig = go.Figure(go.Heatmap(z=z, x=ticks, y=ticks, colorscale="Jet", hovertemplate=hover,
                                zmin=0.0, zmax=vmax,
                                colorbar={"title": {"text": "distance"}}))
     fig.update_layout(title={"text": html.escape(f"{what}; {descriptor}"), "x": 0.5},
                       height=700, template="plotly_white",
-                      xaxis={"showticklabels": len(ticks) <= 60, "constrain": "domain"},
-                      yaxis={"autorange": "reversed", "showticklabels": len(ticks) <= 60,
-                             "scaleanchor": "x"},
+                      xaxis={"showticklabels": len(ticks) <= MATRIX_MAX_NAMES,
+                             "constrain": "domain", "tickfont": {"size": font},
+                             "dtick": 1, "automargin": True},
+                      yaxis={"autorange": "reversed", "scaleanchor": "x", "dtick": 1,
+                             "showticklabels": len(ticks) <= MATRIX_MAX_NAMES,
+                             "tickfont": {"size": font}, "automargin": True},
                       margin={"l": 60, "r": 20, "t": 60, "b": 40})
     return fig
 
@@ -629,7 +690,7 @@ def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     parts = [
         "<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
         f"<title>{html.escape(head + 'overview')}</title><style>{_STYLE}</style></head><body>",
-        f"<h1>{html.escape(head)}{p} shapes, {len(rows)} classes</h1>",
+        f"<h1>{html.escape(head)}{collection_title(p, len(rows))}</h1>",
         f"<p>Compared by <b>{html.escape(what)}</b>, Euclidean distance. "
         "Hover a point for its name, class and nearest shapes.</p>",
     ]
@@ -648,17 +709,19 @@ def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object
                                          colour_limit(A, mds_layout(Y)["outliers"])),
                           full_html=False,
                           include_plotlyjs=False),
-              "<h2>Classes</h2>",
-              "<table><tr><th>class</th><th>shapes</th><th>median distance within</th>"
-              "<th>nearest other class</th><th>its distance</th>"
-              "<th>nearest neighbour in class (%)</th></tr>"]
-    for r in sorted(rows, key=lambda r: (-r["n"], r["label"])):
+              ]
+    if len(rows) > 1:  # one class: nothing to tabulate
+        parts += ["<h2>Classes</h2>",
+                  "<table><tr><th>class</th><th>shapes</th><th>median distance within</th>"
+                  "<th>nearest other class</th><th>its distance</th>"
+                  "<th>nearest neighbour in class (%)</th></tr>"]
+    for r in sorted(rows, key=lambda r: (-r["n"], r["label"])) if len(rows) > 1 else []:
         parts.append(
             f"<tr><td>{html.escape(r['label'])}</td><td class='n'>{r['n']}</td>"
             f"<td class='n'>{_fmt(r['within'])}</td><td>{html.escape(r['nearest']) or '-'}</td>"
             f"<td class='n'>{_fmt(r['gap'])}</td>"
             f"<td class='n'>{_fmt(100 * r['nn_same'], '.0f')}</td></tr>")
-    parts += ["</table>", "</body></html>"]
+    parts += ["</table>" if len(rows) > 1 else "", "</body></html>"]
     return "\n".join(parts)
 
 

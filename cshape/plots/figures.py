@@ -438,6 +438,14 @@ def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] |
     ref = E[:, 0].max() * (h / h[0]) ** order
     ax.loglog(h, ref, "k--", lw=1, label=f"slope {order}")
     ax.set(xlabel="mean edge length h", ylabel="error")
+    # one plain label per mesh size (a log axis of less than a decade labels its minor
+    # ticks, and they run into each other)
+    from matplotlib.ticker import NullFormatter, NullLocator
+
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    hs = np.unique(h)
+    ax.set_xticks(hs, [f"{x:.2g}" for x in hs])
     ax.legend(fontsize="small")
     return fig
 

@@ -9,7 +9,13 @@
 * :func:`view_correspondence`    - two shapes side by side, the second coloured through a point
                                    map from the first (matched points share a colour).
 
-Both return a :class:`plotly.graph_objects.Figure` and never display it: in a notebook the
+Every view is framed and lit one way, by :func:`add_mesh_view`: the mesh upright, lit by
+:data:`LIGHTING`, seen from above its longest side by a camera that :func:`scene_layout` places
+just far enough for the whole mesh to show with a margin, whatever its proportions and the
+panel's (:func:`fit_distance`).  The neighbour strip of ``cshape query --plot`` and the maps'
+views (:mod:`cshape.plots.maps`) draw their meshes with it too.
+
+All return a :class:`plotly.graph_objects.Figure` and never display it: in a notebook the
 figure shows as a cell's last expression.  Drag to rotate, scroll to zoom.
 
 Why plotly: a ``Mesh3d`` figure is rendered by plotly.js in the browser, from JSON alone.  The
@@ -36,7 +42,6 @@ from ..mesh import as_mesh, repair_mesh
 
 if TYPE_CHECKING:
     from collections.abc import Iterable
-    from types import ModuleType
 
     import plotly.graph_objects as go
     from numpy.typing import ArrayLike
@@ -45,10 +50,14 @@ if TYPE_CHECKING:
     from ..spectrum import Eigenbasis
 
 __all__ = [
+    "LIGHTING",
+    "add_mesh_view",
     "default_eye",
     "eigenfunction_explorer",
+    "fit_distance",
     "mesh3d_arrays",
     "mode_data",
+    "scene_layout",
     "symmetric_limits",
     "view_mesh",
     "view_meshes",
@@ -60,10 +69,26 @@ DIVERGING = "RdBu_r"
 SEQUENTIAL = "Viridis"
 _UP = {"z": (0, 0, 1), "y": (0, 1, 0), "x": (1, 0, 0)}
 _GREY = "rgb(190, 199, 209)"
-#: Mesh3d shading: soft light from the front right, so that the shape shows under the colours.
-_SHADING = dict(flatshading=False, hoverinfo="skip",
-                lighting=dict(ambient=0.55, diffuse=0.7, specular=0.1, roughness=0.8),
-                lightposition=dict(x=1e5, y=-1e5, z=1e5))
+
+
+#: The cyclic permutation of the coordinate columns that brings the vertical axis to z (a
+#: rotation, so nothing is mirrored): plotly's turntable rotation keeps z up whatever
+#: ``camera.up`` says, so a y-up model is turned rather than the camera.
+_TO_Z_UP = {"z": (0, 1, 2), "y": (2, 0, 1), "x": (1, 2, 0)}
+#: Direction of the eye: 20 degrees above the horizon, 60 degrees off the longest horizontal
+#: axis (a three-quarter view of an animal's flank rather than its rump or a cube's edge).
+_EYE_ELEVATION, _EYE_AZIMUTH = 20.0, 60.0
+#: plotly.js draws a 3-D scene in perspective with a vertical field of view of 45 degrees.
+_TAN_HALF_FOV = float(np.tan(np.radians(22.5)))
+#: Part of the half-width and half-height of a view left free around the mesh.
+MARGIN = 0.1
+#: Width in pixels of a figure that does not set one: the narrowest page a view is fitted for
+#: (a notebook cell, an exported lesson, the documentation); wider pages only add room.
+PAGE_WIDTH = 760
+#: How every mesh of a 3-D view is lit: soft light from the front right, smooth normals, so
+#: that the shape shows under the colours.
+LIGHTING = dict(ambient=0.5, diffuse=0.75, specular=0.12, roughness=0.7, fresnel=0.1)
+_LIGHT_POSITION = dict(x=1e5, y=-1e5, z=1e5)
 
 
 # ------------------------------------------------------------------------------ pure parts
@@ -189,13 +214,12 @@ def _upright_arrays(mesh: MeshLike, vertical_axis: str) -> dict[str, np.ndarray]
     return dict(kw, x=cols[a], y=cols[b], z=cols[c])
 
 
-def _trace(go: ModuleType, mesh: MeshLike, f: np.ndarray | None, *, cmap: str | None,
-           symmetric: bool | None, showscale: bool, scene: str, colorbar_x: float | None = None,
-           vertical_axis: str = "z") -> Any:
-    kw = _upright_arrays(mesh, vertical_axis)
-    common = dict(_SHADING, scene=scene)
+def _colours(f: np.ndarray | None, *, cmap: str | None, symmetric: bool | None,
+             colorbar: dict[str, Any] | None = None) -> dict[str, Any]:
+    """``Mesh3d`` colour properties: grey, or ``f`` on the vertices (a colour bar when
+    ``colorbar`` is given)."""
     if f is None:
-        return go.Mesh3d(**kw, color=_GREY, **common)
+        return dict(color=_GREY)
     if symmetric is None:
         symmetric = f.min() < 0 < f.max()
     if symmetric:
@@ -204,22 +228,23 @@ def _trace(go: ModuleType, mesh: MeshLike, f: np.ndarray | None, *, cmap: str | 
     else:
         lo, hi = float(f.min()), float(f.max())
         hi = hi if hi > lo else lo + 1.0
-    cb = dict(thickness=14, len=0.75)
-    if colorbar_x is not None:
-        cb["x"] = colorbar_x
-    return go.Mesh3d(**kw, intensity=f.astype(np.float32), intensitymode="vertex",
-                     colorscale=cmap or (DIVERGING if symmetric else SEQUENTIAL),
-                     cmin=lo, cmax=hi, showscale=showscale, colorbar=cb, **common)
+    return dict(intensity=f.astype(np.float32), intensitymode="vertex",
+                colorscale=cmap or (DIVERGING if symmetric else SEQUENTIAL), cmin=lo, cmax=hi,
+                showscale=colorbar is not None, colorbar=colorbar or {})
 
 
-#: The cyclic permutation of the coordinate columns that brings the vertical axis to z (a
-#: rotation, so nothing is mirrored): plotly's turntable rotation keeps z up whatever
-#: ``camera.up`` says, so a y-up model is turned rather than the camera.
-_TO_Z_UP = {"z": (0, 1, 2), "y": (2, 0, 1), "x": (1, 2, 0)}
-#: Default eye: 20 degrees above the horizon, 2.2 scene units away (plotly's own default is
-#: 2.17 and clips an elongated model), from 60 degrees off the longest horizontal axis (a
-#: three-quarter view of an animal's flank rather than its rump or a cube's edge).
-_EYE_DISTANCE, _EYE_ELEVATION, _EYE_AZIMUTH = 2.2, 20.0, 60.0
+#: Pixels of a colour bar beside a view (bar and tick labels) and under a view (horizontal
+#: bar), of a slider under a view, and of a title above it.
+_COLORBAR_SIDE, _COLORBAR_UNDER, _SLIDER, _TITLE = 90, 56, 100, 40
+
+
+def _aspect(height: float, *, top: float, bottom: float = 0.0, right: float = 0.0,
+            columns: int = 1, spacing: float = 0.0, width: float = PAGE_WIDTH) -> float:
+    """Width over height of each of ``columns`` scenes side by side in a figure of ``width``
+    x ``height`` pixels, after ``top``, ``bottom`` and ``right`` pixels for titles, colour
+    bars and sliders."""
+    w = (width - right) * (1.0 - spacing * (columns - 1)) / columns
+    return max(w, 50.0) / max(height - top - bottom, 50.0)
 
 
 def _upright(V: ArrayLike, vertical_axis: str) -> np.ndarray:
@@ -227,36 +252,162 @@ def _upright(V: ArrayLike, vertical_axis: str) -> np.ndarray:
     return np.asarray(V)[:, list(_TO_Z_UP[vertical_axis])]
 
 
-def default_eye(vertices: ArrayLike, vertical_axis: str = "z") -> dict[str, float]:
-    """The camera's eye of the 3-D views: the whole mesh in view, upright, in three-quarter view.
+def _eye_direction(extent: np.ndarray) -> np.ndarray:
+    """Unit vector from the centre towards the eye, for a box of these (upright) extents."""
+    el, az = np.radians(_EYE_ELEVATION), np.radians(_EYE_AZIMUTH)
+    along, across = -np.cos(el) * np.cos(az), -np.cos(el) * np.sin(az)
+    x, y = (along, across) if extent[0] >= extent[1] else (across, along)
+    return np.array([x, y, np.sin(el)])
+
+
+def _box(V: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Centre, extents (never 0: a flat mesh gets a thin box) and longest extent of the
+    upright vertices."""
+    lo, hi = V.min(axis=0), V.max(axis=0)
+    extent = hi - lo
+    longest = float(extent.max()) or 1.0
+    return (lo + hi) / 2, np.maximum(extent, 1e-3 * longest), longest
+
+
+def fit_distance(points: ArrayLike, direction: ArrayLike, aspect: float = 1.0,
+                 margin: float = MARGIN) -> float:
+    """Distance of the eye from the centre at which every point is in the picture.
+
+    The picture is plotly's perspective view (vertical field of view 45 degrees) from
+    ``distance * direction`` towards the origin, with z up.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, 3)
+        In scene units, centred on the origin.
+    direction : array_like, shape (3,)
+        Unit vector from the origin towards the eye, not vertical.
+    aspect : float, default=1.0
+        Width over height of the picture.
+    margin : float, default=MARGIN
+        Part of the half-width and half-height left free around the points.
+
+    Returns
+    -------
+    float
+        The smallest distance at which each point's projection lies within ``1 - margin``
+        of the picture's half-width and half-height.
+    """
+    P = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    e = np.asarray(direction, dtype=np.float64)
+    right = np.cross(-e, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, -e)
+    t = (1.0 - margin) * _TAN_HALF_FOV
+    depth = P @ e  # towards the eye
+    need = np.maximum(np.abs(P @ right) / (aspect * t), np.abs(P @ up) / t) + depth
+    return float(need.max()) if len(P) else 1.0
+
+
+def scene_layout(vertices: ArrayLike, vertical_axis: str = "z", *, aspect: float = 1.0,
+                 margin: float = MARGIN) -> dict[str, Any]:
+    """How a 3-D view of a mesh is framed: the layout of its plotly scene.
+
+    Every 3-D view of cshape is framed here (and lit by :data:`LIGHTING`, see
+    :func:`add_mesh_view`): the mesh upright, its proportions kept, seen from 20 degrees
+    above the horizon and 60 degrees off its longest horizontal axis, from just far enough
+    that the whole mesh is in the picture with ``margin`` to spare (:func:`fit_distance`).
+
+    Parameters
+    ----------
+    vertices : array_like, shape (n, 3)
+        The mesh's vertices, in the figure's (upright) coordinates.
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+        The axis of ``vertices`` that points up.
+    aspect : float, default=1.0
+        Width over height of the scene in pixels.
+    margin : float, default=MARGIN
+
+    Returns
+    -------
+    dict
+        ``scene`` layout: axis ranges of the mesh's box (axes hidden), ``aspectmode``
+        ``'manual'`` with the box's proportions, ``camera`` (``eye`` as
+        :func:`default_eye`, ``up`` z, ``center`` the box's centre), turntable rotation.
+    """
+    vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
+    aspect = check_real("aspect", aspect, min=0.05)
+    margin = check_real("margin", margin, min=0.0)
+    if margin >= 0.9:
+        raise ValueError(f"margin must be below 0.9 (a part of the half-width), got {margin}")
+    V = _upright(np.asarray(vertices, dtype=np.float64).reshape(-1, 3), vertical_axis)
+    centre, extent, longest = _box(V)
+    e = _eye_direction(extent)
+    d = fit_distance((V - centre) / longest, e, aspect, margin)
+    eye = d * e
+    axes = {f"{c}axis": dict(visible=False, showbackground=False, showspikes=False,
+                             range=[float(centre[k] - extent[k] / 2),
+                                    float(centre[k] + extent[k] / 2)])
+            for k, c in enumerate("xyz")}
+    return dict(aspectmode="manual",
+                aspectratio=dict(zip("xyz", (float(x) for x in extent / longest), strict=True)),
+                camera=dict(up=dict(x=0, y=0, z=1), center=dict(x=0, y=0, z=0),
+                            eye=dict(zip("xyz", (float(x) for x in eye), strict=True)),
+                            projection=dict(type="perspective")),
+                dragmode="turntable", **axes)
+
+
+def default_eye(vertices: ArrayLike, vertical_axis: str = "z", *, aspect: float = 1.0
+                ) -> dict[str, float]:
+    """The camera's eye of the 3-D views (:func:`scene_layout`).
 
     Parameters
     ----------
     vertices : array_like, shape (n, 3)
     vertical_axis : {'z', 'y', 'x'}, default='z'
+    aspect : float, default=1.0
+        Width over height of the scene in pixels.
 
     Returns
     -------
     dict
         ``x, y, z`` of plotly's ``scene.camera.eye`` in the figure's (upright) coordinates:
-        2.2 scene units from the centre, 20 degrees above the horizon, 60 degrees off the
-        mesh's longest horizontal axis, from its negative side.
+        20 degrees above the horizon, 60 degrees off the mesh's longest horizontal axis,
+        from its negative side, at the distance of :func:`fit_distance`.
     """
-    V = _upright(np.asarray(vertices, dtype=np.float64), vertical_axis)
-    ext = np.ptp(V, axis=0) if len(V) else np.ones(3)
-    el, az = np.radians(_EYE_ELEVATION), np.radians(_EYE_AZIMUTH)
-    h = _EYE_DISTANCE * np.cos(el)
-    along, across = -h * np.cos(az), -h * np.sin(az)
-    x, y = (along, across) if ext[0] >= ext[1] else (across, along)
-    return {"x": float(x), "y": float(y), "z": float(_EYE_DISTANCE * np.sin(el))}
+    return dict(scene_layout(vertices, vertical_axis, aspect=aspect)["camera"]["eye"])
 
 
-def _scene(vertices: ArrayLike, vertical_axis: str) -> dict[str, Any]:
-    axis = dict(visible=False, showbackground=False)
-    return dict(aspectmode="data", xaxis=axis, yaxis=axis, zaxis=axis,
-                camera=dict(up=dict(x=0, y=0, z=1), eye=default_eye(vertices, vertical_axis),
-                            center=dict(x=0, y=0, z=0)),
-                dragmode="turntable")
+def add_mesh_view(fig: go.Figure, mesh: MeshLike, *, scene: str = "scene",
+                  vertical_axis: str = "z", aspect: float = 1.0, **style: Any) -> None:
+    """Draw a mesh, lit and framed, into a scene of a plotly figure: the one way cshape makes
+    a 3-D view.
+
+    Parameters
+    ----------
+    fig : plotly.graph_objects.Figure
+        With a 3-D scene named ``scene`` (``make_subplots`` with ``{"type": "scene"}`` specs
+        names them ``'scene'``, ``'scene2'``, ...).
+    mesh : Mesh or (vertices, faces)
+    scene : str, default='scene'
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+        The mesh's axis that points up; the trace's coordinates are the mesh's with this
+        axis as z (its columns permuted cyclically).
+    aspect : float, default=1.0
+        Width over height of the scene in pixels (:func:`scene_layout`).
+    **style
+        Further ``Mesh3d`` properties: ``color``, or ``intensity`` with its ``colorscale``,
+        ``cmin``, ``cmax``, ``colorbar``; ``hovertext``, ``name``.
+
+    Returns
+    -------
+    None
+        The trace is appended to ``fig.data``, the scene's layout is set.
+    """
+    import plotly.graph_objects as go
+
+    kw = _upright_arrays(mesh, vertical_axis)
+    trace = dict(flatshading=False, hoverinfo="skip", lighting=LIGHTING,
+                 lightposition=_LIGHT_POSITION, showscale=False)
+    trace.update(style)
+    fig.add_trace(go.Mesh3d(**kw, scene=scene, **trace))
+    fig.update_layout({scene: scene_layout(np.c_[kw["x"], kw["y"], kw["z"]], "z",
+                                           aspect=aspect)})
 
 
 def view_meshes(meshes: dict[str, MeshLike], scalars: dict[str, ArrayLike] | None = None, *,
@@ -307,23 +458,38 @@ def view_meshes(meshes: dict[str, MeshLike], scalars: dict[str, ArrayLike] | Non
         raise ValueError(f"scalars has keys {unknown} that are not in meshes {list(meshes)}")
     names = [str(k) for k in meshes]
     n = len(names)
+    spacing = 0.02
+    top = _TITLE if (title or n > 1) else 10
+    coloured = bool(scalars)
+    # colour bars: beside a single view, under each of several (their height is known, the
+    # page's width is not)
+    under = _COLORBAR_UNDER if coloured and n > 1 else 0
+    aspect = _aspect(height, top=top, bottom=under, columns=n, spacing=spacing,
+                     right=_COLORBAR_SIDE if coloured and n == 1 else 0)
     fig = make_subplots(rows=1, cols=n, specs=[[{"type": "scene"}] * n],
-                        subplot_titles=names if n > 1 else None, horizontal_spacing=0.02)
+                        subplot_titles=names if n > 1 else None, horizontal_spacing=spacing)
     for c, (key, m) in enumerate(meshes.items()):
         mesh = as_mesh(m)
         f = _scalars(mesh, scalars.get(key), name=f"scalars[{key!r}]")
         scene = "scene" if c == 0 else f"scene{c + 1}"
-        fig.add_trace(_trace(go, mesh, f, cmap=cmap, symmetric=symmetric,
-                             showscale=f is not None, scene=scene,
-                             colorbar_x=(c + 1) / n - 0.01 if n > 1 else None,
-                             vertical_axis=vertical_axis))
+        domain = fig.layout[scene].domain.x
+        colorbar = None
+        if f is not None:
+            colorbar = dict(thickness=14, len=0.75)
+            if n > 1:
+                colorbar = dict(thickness=12, orientation="h", x=(domain[0] + domain[1]) / 2,
+                                xanchor="center", len=0.8 * (domain[1] - domain[0]),
+                                y=0.0, yanchor="bottom", ypad=0)
+        add_mesh_view(fig, mesh, scene=scene, vertical_axis=vertical_axis, aspect=aspect,
+                      **_colours(f, cmap=cmap, symmetric=symmetric, colorbar=colorbar))
+        if under:
+            fig.layout[scene].domain.y = (under / (height - top), 1.0)
         if edges if edges is not None else mesh.n_faces <= 2000:
             P = _upright(_edge_lines(mesh), vertical_axis)
             fig.add_trace(go.Scatter3d(x=P[:, 0], y=P[:, 1], z=P[:, 2], mode="lines",
                                        line=dict(color="rgba(0,0,0,0.6)", width=2),
                                        hoverinfo="skip", showlegend=False, scene=scene))
-        fig.update_layout({scene: _scene(mesh.vertices, vertical_axis)})
-    fig.update_layout(height=height, margin=dict(l=0, r=0, t=40 if (title or n > 1) else 10, b=0),
+    fig.update_layout(height=height, margin=dict(l=0, r=0, t=top, b=0),
                       title=dict(text=title) if title else None, showlegend=False)
     return fig
 
@@ -415,11 +581,12 @@ def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
     basis = _basis_of(mesh, basis, n_modes, n_modes)
     modes = mode_data(basis.lam[:n_modes], basis.phi[:, :n_modes])
     first = modes[int(start)]
-    trace = go.Mesh3d(**_upright_arrays(mesh, vertical_axis), intensity=first["values"],
-                      intensitymode="vertex",
-                      colorscale=cmap, cmin=first["cmin"], cmax=first["cmax"],
-                      colorbar=dict(thickness=14, len=0.75, title=dict(text="φ")),
-                      **_SHADING)
+    fig = go.Figure()
+    add_mesh_view(fig, mesh, vertical_axis=vertical_axis,
+                  aspect=_aspect(height, top=_TITLE, bottom=_SLIDER, right=_COLORBAR_SIDE),
+                  intensity=first["values"], intensitymode="vertex", colorscale=cmap,
+                  cmin=first["cmin"], cmax=first["cmax"], showscale=True,
+                  colorbar=dict(thickness=14, len=0.75, title=dict(text="φ")))
     frames = [go.Frame(name=str(md["i"]), traces=[0],
                        data=[go.Mesh3d(intensity=md["values"], cmin=md["cmin"],
                                        cmax=md["cmax"])],
@@ -431,9 +598,9 @@ def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
              for md in modes]
     slider = dict(active=int(start), steps=steps, currentvalue=dict(prefix="i = "),
                   pad=dict(t=10, b=10), len=0.9, x=0.05)
-    fig = go.Figure(data=[trace], frames=frames)
+    fig.frames = frames
     fig.update_layout(title=dict(text=first["title"]), sliders=[slider], height=height,
-                      scene=_scene(mesh.vertices, vertical_axis), margin=dict(l=0, r=0, t=40, b=0))
+                      margin=dict(l=0, r=0, t=_TITLE, b=0))
     return fig
 
 
@@ -553,11 +720,13 @@ def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
         "start", start, min=0, max=len(steps_data) - 1)
     first = steps_data[start]
     name, scale_name, sym = _SIGNATURES[signature]
-    trace = go.Mesh3d(**mesh3d_arrays(mesh), intensity=first["values"], intensitymode="vertex",
-                      colorscale=cmap, cmin=first["cmin"], cmax=first["cmax"],
-                      colorbar=dict(thickness=14, len=0.75,
-                                    title=dict(text=f"log10 {name}" if log else name)),
-                      **_SHADING)
+    fig = go.Figure()
+    add_mesh_view(fig, mesh, vertical_axis=vertical_axis,
+                  aspect=_aspect(height, top=_TITLE, bottom=_SLIDER, right=_COLORBAR_SIDE),
+                  intensity=first["values"], intensitymode="vertex", colorscale=cmap,
+                  cmin=first["cmin"], cmax=first["cmax"], showscale=True,
+                  colorbar=dict(thickness=14, len=0.75,
+                                title=dict(text=f"log10 {name}" if log else name)))
     frames = [go.Frame(name=str(d["j"]), traces=[0],
                        data=[go.Mesh3d(intensity=d["values"], cmin=d["cmin"], cmax=d["cmax"])],
                        layout=dict(title=dict(text=d["title"])))
@@ -568,9 +737,9 @@ def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
              for d in steps_data]
     slider = dict(active=start, steps=steps, currentvalue=dict(prefix=f"{sym} = "),
                   pad=dict(t=10, b=10), len=0.9, x=0.05)
-    fig = go.Figure(data=[trace], frames=frames)
+    fig.frames = frames
     fig.update_layout(title=dict(text=first["title"]), sliders=[slider], height=height,
-                      scene=_scene(mesh.vertices, vertical_axis), margin=dict(l=0, r=0, t=40, b=0))
+                      margin=dict(l=0, r=0, t=_TITLE, b=0))
     return fig
 
 

@@ -518,6 +518,25 @@ class MSweepWidget(_VBox):
                 self._busy = False
         self.refresh()
 
+    def static_html(self) -> str:
+        """The widget's current picture and statistics as plain HTML (an embedded PNG): what
+        a page without a kernel shows in its place."""
+        import base64
+        import html
+
+        png = base64.b64encode(bytes(self.image.value)).decode("ascii")
+        return (f'<div class="cshape-msweep-static"><p><b>{html.escape(self.state.summary())}'
+                f'</b></p><img alt="the M sweep at M = {self.state.M}" style="max-width:100%" '
+                f'src="data:image/png;base64,{png}"></div>')
+
+    def _repr_mimebundle_(self, **kwargs: Any) -> dict[str, Any]:
+        """The live widget, and :meth:`static_html` for pages where no kernel runs (an
+        exported lesson, the docs site: nbconvert falls back to it when the notebook saved
+        no widget state)."""
+        data = dict(super()._repr_mimebundle_(**kwargs) or {})
+        data["text/html"] = self.static_html()
+        return data
+
     def refresh(self) -> None:
         """Recompute the state for the current controls (cheap stages only) and redraw."""
         from .figures import plot_m_sweep

@@ -483,8 +483,8 @@ def _suite_report(res: dict[str, Any]) -> list[str]:
     d = st["default"]
     s = ["## The benchmark suite", "",
          f"Every descriptor on every benchmark: {bench}. Bold: the exploration default "
-         "(`cshape.DEFAULT`, chosen by its worst first tier on the "
-         "development instances; see benchmarks/results/suite.md)"
+         "(`cshape.DEFAULT`, chosen by its worst regret over three real collections and the "
+         "suite; see benchmarks/results/real_collections.md)"
          + (f", here worst {d['worst']:.3f}, mean {d['mean']:.3f}." if d else "."), ""]
     for m in ("ft", "nn"):
         s += [suite_markdown(st["rows"], title="Suite", measure=m,

@@ -60,7 +60,9 @@ def candidates(N: int = 100, Ms: Sequence[int] = SUITE_MS) -> list[dict[str, Any
         ``{'title', 'family', 'kind', 'M', 'N', 'transform', 'size'}``; Shape-DNA with all
         ``N`` values first, then every family of the paper's comparison and its
         extensions at every size ``2M+1`` it allows (F1 of ``N`` eigenvalues has ``N-2``
-        values, the log-Weyl transforms ``N-1``, the truncated log spectrum needs ``2M+2``).
+        values, the log-Weyl transforms ``N-1``, the truncated log spectrum needs ``2M+2``),
+        and the two-scale log spectrum (kind ``'two-scale'``, ``M = 4`` and ``8``: ``2M+1``
+        first and ``N-1`` detrended values).
     """
     out = [{"title": f"Shape-DNA {N}", "family": "Shape-DNA", "kind": "shape-dna", "M": None,
             "N": N, "transform": "weyl", "normalization": "area", "size": N}]
@@ -74,6 +76,12 @@ def candidates(N: int = 100, Ms: Sequence[int] = SUITE_MS) -> list[dict[str, Any
             n = 2 * M + 3 if kind == "f1" else N  # F1 of 2M+3 eigenvalues: 2M+1 values
             out.append({"title": f"{title} {size}", "family": title, "kind": kind, "M": M,
                         "N": n, "transform": tr, "normalization": norm, "size": size})
+    for M in (4, 8):  # the first 2M+1 log-Weyl ratios beside the N-1 detrended ones
+        if 2 * M + 1 <= N - 1 and N >= 6:
+            size = 2 * M + 1 + N - 1
+            out.append({"title": f"two-scale log spectrum {size}",
+                        "family": "two-scale log spectrum", "kind": "two-scale", "M": M,
+                        "N": N, "transform": "weyl", "normalization": "area", "size": size})
     return out
 
 
