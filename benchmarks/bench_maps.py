@@ -6,6 +6,9 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_maps.py             # every TOSCA pose pair (maps_tosca.md)
     .venv/bin/python benchmarks/bench_maps.py --timing    # 16K, 46K, 63K vertices (maps_timing.md)
     .venv/bin/python benchmarks/bench_maps.py --calibrate # orientation weight, generated poses
+    .venv/bin/python benchmarks/bench_maps.py --people after   # point_map between different
+                                                     # people (FAUST) and poses (maps_people.md)
+    .venv/bin/python benchmarks/bench_maps.py --people-pictures  # a failed and a repaired map
 
 Pairs whose true map is the identity (the same vertices, moved):
 
@@ -375,13 +378,15 @@ def _nn_methods(big, k):
     from scipy.spatial import cKDTree
     from sklearn.neighbors import NearestNeighbors
 
+    from cshape import _nearest
+
     def sk(algorithm):
         return lambda q, p: NearestNeighbors(n_neighbors=1, algorithm=algorithm).fit(
             p).kneighbors(q, return_distance=False)[:, 0]
 
     out = {"numpy blocked products (1024 rows, BLAS threads)": (_blocked_nearest, 3),
            "cshape.map_to_pointwise (fused products, 2 threads x 1 BLAS thread)": (
-               maps._nearest_rows, 3),
+               _nearest.nearest_rows, 3),
            "scikit-learn brute": (sk("brute"), 3),
            "scipy cKDTree (2 workers)": (lambda q, p: cKDTree(p).query(q, workers=-1)[1],
                                          1 if big else 3),
@@ -512,6 +517,158 @@ def write_timing(stage_rows, nn_rows, command):
     (RESULTS / "maps_timing.md").write_text("\n".join(lines) + "\n")
     return "\n".join(lines)
 
+# ---------------------------------------------------------------------- people
+FAUST = TOSCA.parent / "faust-dev"
+#: Target vertices evaluated per pair by the geodesic error (spread over the vertex numbers).
+N_EVAL_PEOPLE = 500
+#: TOSCA pose pairs measured with ``point_map`` beside the people: one per character, and the
+#: cat pairs where it fell below 0.80 within 5 % of the diagonal (``maps_tosca.md``).
+TOSCA_POINT_MAP = ("wolf0 -> wolf1", "centaur0 -> centaur1", "dog0 -> dog1",
+                   "horse0 -> horse5", "cat0 -> cat1", "cat0 -> cat4", "cat0 -> cat6",
+                   "victoria0 -> victoria10")
+
+
+def faust_pairs():
+    """FAUST registrations ``tr_reg_XYZ`` (person ``XYZ // 10``, pose ``XYZ % 10``).
+
+    Different people: for the ``n``-th pair of people ``(a, b)``, ``a < b`` in order, pose
+    ``n % 10`` of ``a`` to pose ``(n + 3) % 10`` of ``b`` and pose ``(n + 5) % 10`` of ``b``
+    to pose ``(n + 7) % 10`` of ``a`` (20 pairs, every person a source and a target 8 times);
+    the same person: pose 1 to pose 6 of each person (5 pairs).  The registrations share one
+    connectivity, so the true map is the identity.
+    """
+    from itertools import combinations
+
+    def load(i):
+        return cshape.load_mesh(FAUST / f"tr_reg_{i:03d}.off.gz")
+
+    out = []
+    for n, (a, b) in enumerate(combinations(range(5), 2)):
+        out.append(("different people", 10 * a + n % 10, 10 * b + (n + 3) % 10))
+        out.append(("different people", 10 * b + (n + 5) % 10, 10 * a + (n + 7) % 10))
+    out += [("same person", 10 * a + 1, 10 * a + 6) for a in range(5)]
+    for group, i, j in out:
+        yield group, f"{i:03d} -> {j:03d}", load(i), load(j)
+
+
+def measure_point_map(S, T, truth=None):
+    """``cshape.point_map(S, T)`` with its defaults, timed, and its errors.
+
+    Returns ``(geodesic error / sqrt(area), share within 5 % of the diagonal, share within 5 %
+    of the geodesic diameter, seconds)``: the diagonal share over every target vertex whose
+    true image is known, the geodesic measures over ``N_EVAL_PEOPLE`` of them."""
+    la = load_average()[0]
+    t = time.perf_counter()
+    p = cshape.point_map(S, T)
+    seconds = time.perf_counter() - t
+    truth = np.arange(T.n_vertices) if truth is None else np.asarray(truth)
+    known = np.flatnonzero(truth >= 0)
+    rows = known[np.unique(np.linspace(0, len(known) - 1, N_EVAL_PEOPLE).astype(int))]
+    D = cshape.HeatGeodesics(S).distances(truth[rows])
+    err = D[p[rows], np.arange(len(rows))]
+    diag = np.linalg.norm(S.vertices.max(0) - S.vertices.min(0))
+    within = np.linalg.norm(S.vertices[p[known]] - S.vertices[truth[known]], axis=1)
+    return (float(err.mean() / np.sqrt(S.area)), float((within <= THRESHOLD * diag).mean()),
+            float((err <= THRESHOLD * D.max()).mean()), seconds, la)
+
+
+def people(label, tosca=True):
+    """Every FAUST pair (and the TOSCA pairs), written to ``maps_people_<label>.csv``."""
+    RESULTS.mkdir(exist_ok=True)
+    path = RESULTS / f"maps_people_{label}.csv"
+    lines = ["group,pair,vertices,geo_err,diag5,geo5,seconds,load"]
+    pairs = list(faust_pairs())
+    if tosca and TOSCA.exists():
+        chars = tuple(sorted({re.split(r"[0-9]", p)[0] for p in TOSCA_POINT_MAP}))
+        pairs += [("TOSCA poses", lab, S, T) for lab, S, T, _t in tosca_pairs(chars)
+                  if lab in TOSCA_POINT_MAP]
+    for group, pair, S, T in pairs:
+        r = measure_point_map(S, T)
+        lines.append(f"{group},{pair},{S.n_vertices}," + ",".join(f"{x:.4f}" for x in r))
+        print(lines[-1], flush=True)
+        path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _read_people(label):
+    path = RESULTS / f"maps_people_{label}.csv"
+    if not path.exists():
+        return {}
+    rows = [line.split(",") for line in path.read_text().splitlines()[1:]]
+    return {(r[0], r[1]): (int(r[2]), *map(float, r[3:])) for r in rows}
+
+
+def write_people(command, labels=("before", "after")):
+    """``maps_people.md``: the per-pair tables of ``maps_people_<label>.csv`` side by side."""
+    got = {lab: _read_people(lab) for lab in labels}
+    got = {lab: rows for lab, rows in got.items() if rows}
+    keys = list(dict.fromkeys(k for rows in got.values() for k in rows))
+    lines = _header("Vertex maps between different people and between poses "
+                    "(`cshape.point_map`)", command)
+    lines += [
+        "`cshape.point_map(source, target)` with its defaults, on FAUST registrations "
+        "(`../shared/realdev/faust-dev`: five people, ten poses each, 6,890 vertices, one "
+        "connectivity, so the true map is the identity) and on TOSCA pose pairs "
+        "(`tosca-dev`, pose 0 to another pose, the identity checked as in `maps_tosca.md`). "
+        "Pairs: `faust_pairs()` (20 of different people, 5 of one person).  "
+        f"*geo err*: mean geodesic error over sqrt(area) of {N_EVAL_PEOPLE} target vertices "
+        "(heat method on the source); *diag 5 %*: share of every target vertex matched "
+        "within 5 % of the source's bounding-box diagonal of its true vertex; *geo 5 %*: share "
+        f"of the {N_EVAL_PEOPLE} within 5 % of the geodesic diameter (the largest distance "
+        "found); *s*: seconds of the whole `point_map` call (eigenpairs included) on the "
+        "shared machine, *load*: its 1-minute load average at the start.  faust-dev is the "
+        "development set: the figures are of the collection the method was chosen on.",
+        "", "Labels: " + "; ".join(f"*{lab}*" for lab in got) + ".", ""]
+    for group in dict.fromkeys(k[0] for k in keys):
+        sub = [k for k in keys if k[0] == group]
+        lines += [f"## {group}", "", "| pair | vertices | " + " | ".join(
+            f"{lab} geo err | {lab} diag 5 % | {lab} geo 5 % | {lab} s | {lab} load"
+            for lab in got) + " |", "|---|---|" + "---|---|---|---|---|" * len(got)]
+        for k in sub:
+            nv = next(rows[k][0] for rows in got.values() if k in rows)
+            cells = []
+            for rows in got.values():
+                r = rows.get(k)
+                cells.append(" | ".join(["-"] * 5) if r is None else
+                             f"{r[1]:.4f} | {r[2]:.3f} | {r[3]:.3f} | {r[4]:.1f} | {r[5]:.1f}")
+            lines.append(f"| {k[1]} | {nv} | " + " | ".join(cells) + " |")
+        means = []
+        for rows in got.values():
+            r = np.array([rows[k][1:] for k in sub if k in rows])
+            means.append(" | ".join(["-"] * 5) if len(r) == 0 else
+                         f"**{r[:, 0].mean():.4f}** | **{r[:, 1].mean():.3f}** | "
+                         f"**{r[:, 2].mean():.3f}** | {np.median(r[:, 3]):.1f} median, "
+                         f"{r[:, 3].max():.1f} max | ")
+        lines.append("| **mean** | | " + " | ".join(means) + " |")
+        lines.append("")
+    (RESULTS / "maps_people.md").write_text("\n".join(lines) + "\n")
+    return "\n".join(lines)
+
+
+def people_pictures():
+    """A failed and a repaired map between two generated bodies (no data needed):
+    ``maps_people_failed.png`` (``initial='descriptors'``) and ``maps_people_repaired.png``
+    (``initial='search'``), the generated human at rest to its pose 0 made stockier."""
+    from cshape import plots
+
+    small = {"voxelsize": 0.03, "target_vertices": 800}
+    body = poses.posed_figure("human", rest=True, **small)
+    stocky = poses.posed_figure("human", 0, **small)
+    stocky = cshape.Mesh(stocky.vertices * [1.3, 1.3, 0.9], stocky.faces)
+    geo = cshape.HeatGeodesics(body)
+    out = []
+    for initial, name, what in (("descriptors", "failed", "initial='descriptors'"),
+                                ("search", "repaired", "initial='search' (default)")):
+        p = cshape.point_map(body, stocky, N=50, N0=20, initial=initial)
+        err = cshape.geodesic_errors(body, p, geodesics=geo).mean() / np.sqrt(body.area)
+        fig = plots.plot_map(body, stocky, p, values=body.vertices[:, 0], cmap="coolwarm",
+                             titles=("body at rest, coloured by x",
+                                     f"a stockier body, {what}: error {err:.3f}"))
+        path = RESULTS / f"maps_people_{name}.png"
+        fig.savefig(path, dpi=90, bbox_inches="tight")
+        out.append(f"{path.name}: {what}, mean geodesic error / sqrt(area) {err:.3f}")
+    return "\n".join(out)
+
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -530,12 +687,27 @@ def main(argv=None):
     ap.add_argument("--poses", default="",
                     help="only these pose numbers against pose 0, comma-separated")
     ap.add_argument("--name", default="maps_tosca", help="results file name (no .md)")
+    ap.add_argument("--people", metavar="LABEL", default="",
+                    help="point_map on FAUST pairs of different people and of one person, and "
+                         "on TOSCA pose pairs, saved as maps_people_LABEL.csv; maps_people.md "
+                         "shows the labels 'before' and 'after' side by side")
+    ap.add_argument("--no-tosca", action="store_true", help="with --people: FAUST only")
+    ap.add_argument("--people-pictures", action="store_true",
+                    help="a failed and a repaired map between generated bodies "
+                         "(maps_people_failed.png, maps_people_repaired.png)")
     ap.add_argument("--max-vertices", type=int, default=0,
                     help="skip TOSCA characters with more vertices (default: none)")
     args = ap.parse_args(argv)
     command = " ".join(sys.argv[1:] if argv is None else argv)
     if args.calibrate:
         print(write_calibration(calibrate(), command))
+        return
+    if args.people_pictures:
+        print(people_pictures())
+        return
+    if args.people:
+        people(args.people, tosca=not args.no_tosca)
+        print(write_people(command))
         return
     if args.timing_63k:
         print(append_point_map_times(point_map_times(), command))

@@ -23,9 +23,9 @@ The core is the method, one module per stage, in pipeline order (data flows one 
    :func:`match_points` (correspondence)
 7. :mod:`cshape.maps`        - maps between shapes: :func:`point_map` (the one call),
    :func:`functional_map`, :func:`zoomout`, :func:`map_to_pointwise`,
-   :func:`pointwise_to_map`, :func:`transfer_function`; geodesics by the heat method:
-   :func:`geodesic_distance`, :class:`HeatGeodesics`, :func:`geodesic_errors`,
-   :func:`face_gradients`
+   :func:`pointwise_to_map`, :func:`transfer_function`;
+   :mod:`cshape.geodesics`   - geodesics by the heat method: :func:`geodesic_distance`,
+   :class:`HeatGeodesics`, :func:`geodesic_errors` (the error of a map), :func:`face_gradients`
 
 :mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, torus, ...).
 
@@ -73,13 +73,10 @@ from .descriptors import (
     weyl_subtract,
 )
 from .fem import fem_matrices
+from .geodesics import HeatGeodesics, face_gradients, geodesic_distance, geodesic_errors
 from .index import DescriptorIndex
 from .maps import (
-    HeatGeodesics,
-    face_gradients,
     functional_map,
-    geodesic_distance,
-    geodesic_errors,
     map_to_pointwise,
     point_map,
     pointwise_to_map,

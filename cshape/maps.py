@@ -1,4 +1,4 @@
-"""Stage 7 of the pipeline: maps between shapes (functional maps, ZoomOut) and geodesics.
+"""Stage 7 of the pipeline: maps between shapes (functional maps, ZoomOut).
 
 A *functional map* (Ovsjanikov et al. 2012) carries functions from a source shape ``S`` to a
 target shape ``T``.  In the truncated, B-orthonormal eigenbases ``Phi_S`` (``n_S x N_S``)
@@ -22,10 +22,9 @@ function                    what it does
 :func:`map_to_pointwise`    ``p`` from ``C`` (exact nearest neighbours)
 :func:`pointwise_to_map`    ``C`` from ``p``
 :func:`transfer_function`   a function on ``S`` carried to ``T`` through ``C``
-:func:`geodesic_distance`   heat-method geodesic distance to a set of vertices (Crane et al.
-                            2013); :class:`HeatGeodesics` factorises once for many sources
-:func:`geodesic_errors`     geodesic distance between a map's images and the true ones
 ==========================  =================================================================
+
+The errors of a map are measured with :mod:`cshape.geodesics` (:func:`cshape.geodesic_errors`).
 
 The energy of :func:`functional_map`, for descriptors ``D_S = Phi_S^T B_S F_S`` (``N_S x d``)
 and ``D_T`` projected on the bases, eigenvalues ``lam_S``, ``lam_T``:
@@ -43,44 +42,34 @@ left from right; this term can, because it uses the surface's orientation (face 
 
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
-
 import numpy as np
-import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import check_bool, check_int, check_landmarks, check_real, check_vertex_indices
+from . import _candidates
+from ._checks import (
+    check_bool,
+    check_choice,
+    check_int,
+    check_landmarks,
+    check_real,
+    check_vertex_indices,
+)
 from ._eigensolver.threads import one_blas_thread
-from .fem import fem_matrices
-from .mesh import Mesh, MeshLike, as_mesh, repair_mesh
+from ._nearest import nearest_rows
+from .geodesics import _check_mesh, face_gradients
+from .mesh import MeshLike, as_mesh
 from .signatures import heat_kernel, wks, wks_energies
 from .spectrum import Eigenbasis, eigenbasis
 
 __all__ = [
-    "HeatGeodesics",
-    "face_gradients",
     "functional_map",
-    "geodesic_distance",
-    "geodesic_errors",
     "map_to_pointwise",
     "point_map",
     "pointwise_to_map",
     "transfer_function",
     "zoomout",
 ]
-
-#: Query rows per matrix product of the vertex map (:func:`map_to_pointwise`): a block holds
-#: ``NN_BLOCK x n_S`` distances (512 x 60,000 x 8 bytes = 0.25 GB).
-NN_BLOCK = 512
-
-#: Threads sharing the blocks of the vertex map (at most the CPUs).
-NN_THREADS = 2
-
-#: From this many (query, point) pairs on, the vertex map uses scikit-learn's brute-force
-#: search (the full-size map of 10K-vertex meshes and up); below, the blocks above.
-NN_SKLEARN_PAIRS = 10**8
 
 #: Default weights of :func:`functional_map` (descriptors, Laplacian, orientation), for
 #: descriptors and eigenvalues scaled as described there.
@@ -93,22 +82,6 @@ DESCRIPTOR_STRIDE = 5
 
 
 # ---------------------------------------------------------------------- checks
-def _check_mesh(name, mesh) -> Mesh:
-    """Return a mesh that the eigensolver will not renumber (no repair needed), or raise."""
-    try:
-        m = as_mesh(mesh)
-    except TypeError as exc:
-        raise TypeError(f"{name}: {exc}") from None
-    fixed = repair_mesh(m, warn=False)
-    if fixed.n_vertices != m.n_vertices:
-        raise ValueError(
-            f"{name} has {m.n_vertices - fixed.n_vertices} duplicate or unreferenced vertices, "
-            "so its eigenfunctions would not have one row per vertex; call "
-            f"cshape.repair_mesh({name}) first and map the repaired meshes"
-        )
-    return m
-
-
 def _check_eigenbasis(name: str, basis: object) -> Eigenbasis:
     if not isinstance(basis, Eigenbasis):
         raise TypeError(
@@ -127,7 +100,8 @@ def _check_array(name, x, n=None) -> np.ndarray:
     if a.ndim != 2:
         raise ValueError(f"{name} must be a 2-D array, got shape {a.shape}")
     if n is not None and a.shape[0] != n:
-        raise ValueError(f"{name} has {a.shape[0]} rows, expected {n} (one per vertex)")
+        raise ValueError(f"{name} has shape {np.shape(x)}: {a.shape[0]} rows where the basis "
+                         f"has {n} vertices; pass one row per vertex of the basis's mesh")
     if not np.isfinite(a).all():
         raise ValueError(f"{name} contains NaN or infinite values")
     return a
@@ -147,261 +121,6 @@ def _check_C(C, N_target=None, N_source=None) -> np.ndarray:
                          f"N_source={N_source}); pass C of shape (N_T, N_S) with N_T, N_S at "
                          "most the basis sizes")
     return C
-
-
-# ---------------------------------------------------------------------- gradients
-def face_gradients(mesh: MeshLike) -> tuple[sp.csr_matrix, NDArray[np.float64],
-                                             NDArray[np.float64]]:
-    """Assemble the per-triangle gradient operator of piecewise-linear functions.
-
-    On triangle ``t = (i, j, l)`` with unit normal ``n`` and area ``|t|``, the hat function
-    of vertex ``i`` has the constant gradient ``grad phi_i = n x e_i / (2 |t|)``, ``e_i`` the
-    edge opposite ``i`` (from ``j`` to ``l``).  With it, the stiffness of
-    :func:`cshape.fem_matrices` is ``A = -G^T diag(|t|) G`` (each of x, y, z).
-
-    Parameters
-    ----------
-    mesh : Mesh or (vertices, faces)
-
-    Returns
-    -------
-    G : scipy.sparse.csr_matrix, shape (3 F, n)
-        ``(G f)[3 t + c]`` is component ``c`` of the gradient of ``f`` on triangle ``t``.
-    areas : ndarray, shape (F,)
-    normals : ndarray, shape (F, 3)
-        Unit normals (right-hand rule in the face order).
-    """
-    m = as_mesh(mesh)
-    V, F = m.vertices, m.faces
-    cross = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    dbl = np.linalg.norm(cross, axis=1)
-    safe = np.where(dbl > 0, dbl, 1.0)
-    normals = cross / safe[:, None]
-    rows, cols, vals = [], [], []
-    nF = len(F)
-    for a in range(3):
-        j, l = F[:, (a + 1) % 3], F[:, (a + 2) % 3]
-        g = np.cross(normals, V[l] - V[j]) / safe[:, None]  # n x e / (2 |t|)
-        g[dbl == 0] = 0.0
-        for c in range(3):
-            rows.append(3 * np.arange(nF) + c)
-            cols.append(F[:, a])
-            vals.append(g[:, c])
-    G = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(3 * nF, m.n_vertices))
-    return G, 0.5 * dbl, normals
-
-
-# ---------------------------------------------------------------------- geodesics
-class HeatGeodesics:
-    """Geodesic distances by the heat method (Crane, Weischedel and Wardetzky 2013).
-
-    Three steps, each a sparse solve with a matrix factorised once here:
-
-    1. heat flow for a short time ``t``: ``(B - t A) u = B delta_sources`` (one implicit
-       Euler step of ``du/dt = Delta u``; ``A`` negative semidefinite, ``B`` the consistent
-       mass of :func:`cshape.fem_matrices`);
-    2. the unit field ``X = -grad u / |grad u|`` on every triangle (:func:`face_gradients`);
-    3. the Poisson problem ``Delta phi = div X``: ``-A phi = G^T diag(|t|) X``, then
-       ``phi -= phi[source]`` (one source), or with ``phi = 0`` imposed at every source
-       (a set of sources, :meth:`distance`).
-
-    ``t = m h^2`` with ``h`` the mean edge length (Crane et al.'s choice ``m = 1``).  The
-    result converges to the geodesic distance as the mesh is refined (error about ``h``).
-
-    Parameters
-    ----------
-    mesh : Mesh or (vertices, faces)
-    m : float, default=1.0
-        Time factor ``t = m h^2``.
-    """
-
-    def __init__(self, mesh: MeshLike, m: float = 1.0) -> None:
-        self.mesh = _check_mesh("mesh", mesh)
-        self.m = check_real("m", m, positive=True)
-        A, B = fem_matrices(self.mesh)
-        self.G, self.areas, _ = face_gradients(self.mesh)
-        h = self.mesh.mean_edge_length
-        t = self.m * h * h
-        self._B = B
-        self._heat = spla.splu((B - t * A).tocsc())
-        self._K = (-A).tocsr()
-        # -A is singular (constants): a tiny mass shift fixes the constant without moving
-        # the gradient; the distances are shifted to 0 at the sources afterwards
-        shift = 1e-10 * self._K.diagonal().mean() / B.diagonal().mean()
-        self._poisson = spla.splu((self._K + shift * B).tocsc())
-
-    def distances(self, sources: ArrayLike) -> NDArray[np.float64]:
-        """One distance field per source vertex.
-
-        Parameters
-        ----------
-        sources : array_like of int, shape (s,)
-
-        Returns
-        -------
-        ndarray, shape (n, s)
-            Column ``j``: the geodesic distance from ``sources[j]`` to every vertex.
-        """
-        n = self.mesh.n_vertices
-        src = check_vertex_indices("sources", sources, n)
-        rhs = np.zeros((n, len(src)))
-        rhs[src, np.arange(len(src))] = 1.0
-        return self._solve(self._B @ rhs, [[j] for j in range(len(src))], src)
-
-    def distance(self, sources: ArrayLike) -> NDArray[np.float64]:
-        """Compute the geodesic distance to the nearest of a set of vertices, shape (n,)."""
-        n = self.mesh.n_vertices
-        src = check_vertex_indices("sources", sources, n)
-        if src.size == 0:
-            raise ValueError("sources is empty; pass at least one vertex index")
-        src = np.unique(src)
-        rhs = np.zeros((n, 1))
-        rhs[src, 0] = 1.0
-        if len(src) == 1:
-            return self._solve(self._B @ rhs, [[0]], src)[:, 0]
-        # several sources: the Poisson problem with phi = 0 at every source (Dirichlet),
-        # so that no source is left at the error of another one
-        b = self._divergence(self._heat.solve(self._B @ rhs))[:, 0]
-        free = np.setdiff1d(np.arange(n), src)
-        phi = np.zeros(n)
-        phi[free] = spla.spsolve(self._K[free][:, free].tocsc(), b[free])
-        return np.maximum(phi, 0.0)
-
-    def _divergence(self, u):
-        """``G^T diag(|t|) X`` of the normalised field ``X = -grad u / |grad u|``."""
-        nF = len(self.areas)
-        g = (self.G @ u).reshape(nF, 3, -1)
-        norm = np.linalg.norm(g, axis=1, keepdims=True)
-        X = -g / np.where(norm > 0, norm, 1.0)
-        return self.G.T @ (X * self.areas[:, None, None]).reshape(3 * nF, -1)
-
-    def _solve(self, rhs, groups, src):
-        b = self._divergence(self._heat.solve(rhs))
-        phi = self._poisson.solve(b)
-        for j, members in enumerate(groups):
-            phi[:, j] -= phi[src[members], j].min()
-        return np.maximum(phi, 0.0)
-
-
-def geodesic_distance(mesh: MeshLike, sources: ArrayLike, *, m: float = 1.0
-                      ) -> NDArray[np.float64]:
-    """Geodesic distance from a set of vertices to every vertex, by the heat method.
-
-    The one-call form of :class:`HeatGeodesics` (Crane et al. 2013): use the class to reuse
-    its factorisations for many sources.
-
-    Parameters
-    ----------
-    mesh : Mesh or (vertices, faces)
-    sources : int or array_like of int, shape (s,)
-        Vertex indices; the distance is to the nearest of them.
-    m : float, default=1.0
-        Heat time ``t = m h^2`` (``h`` the mean edge length).
-
-    Returns
-    -------
-    ndarray, shape (n,)
-        In the mesh's length units; 0 at the sources.
-
-    Examples
-    --------
-    >>> import numpy as np, cshape
-    >>> sphere = cshape.shapes.icosphere(4)
-    >>> d = cshape.geodesic_distance(sphere, 0)
-    >>> bool(abs(d.max() - np.pi) < 0.05)   # the antipode of the unit sphere
-    True
-    """
-    return HeatGeodesics(mesh, m=m).distance(sources)
-
-
-def geodesic_errors(mesh: MeshLike, p2p: ArrayLike, truth: ArrayLike | None = None, *,
-                    vertices: ArrayLike | None = None,
-                    geodesics: HeatGeodesics | None = None) -> NDArray[np.float64]:
-    """Geodesic distance on ``mesh`` between the images of a map and the true images.
-
-    ``err[j] = d(p2p[v_j], truth[v_j])`` for the evaluated target vertices ``v_j``, the
-    standard error of a point map (divide by ``sqrt(mesh.area)`` for Kim et al.'s measure,
-    or by the geodesic diameter).
-
-    Parameters
-    ----------
-    mesh : Mesh or (vertices, faces)
-        The source shape (where the images lie).
-    p2p : array_like of int, shape (n_T,)
-        For each target vertex, a source vertex (:func:`point_map`).
-    truth : array_like of int, shape (n_T,), optional
-        The true map; default the identity (shapes that share their vertices).
-    vertices : array_like of int, shape (s,), optional
-        The target vertices to evaluate (one heat solve each); default all.
-    geodesics : HeatGeodesics, optional
-        Of ``mesh``, to reuse its factorisations.
-
-    Returns
-    -------
-    ndarray, shape (s,)
-    """
-    geo = geodesics if geodesics is not None else HeatGeodesics(mesh)
-    n = geo.mesh.n_vertices
-    p2p = np.asarray(p2p)
-    truth = np.arange(len(p2p)) if truth is None else np.asarray(truth)
-    p2p = check_vertex_indices("p2p", p2p, n)
-    truth = check_vertex_indices("truth", truth, n)
-    if len(truth) != len(p2p):
-        raise ValueError(f"truth has {len(truth)} entries and p2p {len(p2p)}; both have one "
-                         "per target vertex")
-    v = np.arange(len(p2p)) if vertices is None else check_vertex_indices("vertices", vertices,
-                                                                     len(p2p))
-    out = np.empty(len(v))
-    for s in range(0, len(v), 64):
-        block = v[s:s + 64]
-        D = geo.distances(truth[block])
-        out[s:s + 64] = D[p2p[block], np.arange(len(block))]
-    return out
-
-
-# ---------------------------------------------------------------------- nearest neighbours
-def _nearest_rows(queries, points, block=NN_BLOCK):
-    """Index of the nearest row of ``points`` for every row of ``queries``, exactly.
-
-    Up to 3 dimensions a k-d tree.  Above (k-d and ball trees degrade to a scan in 30-100
-    dimensions), scikit-learn's brute-force search for big problems (at least
-    ``NN_SKLEARN_PAIRS`` query-point pairs: its OpenMP threads cost more than they gain on
-    small ones), else blocks of ``|p|^2 - 2 q.p`` (``|q|^2`` does not change the argmin), each
-    block one matrix product ``[q, 1] [-2 p, |p|^2]^T`` and its row-wise argmin; the blocks
-    are shared among threads with one BLAS thread each, so that no BLAS worker spins.
-    """
-    if points.shape[1] <= 3:
-        from scipy.spatial import cKDTree
-
-        return cKDTree(points).query(queries)[1].astype(np.int64)
-    if len(queries) * len(points) >= NN_SKLEARN_PAIRS:
-        # the same products, tiled and reduced in compiled code on every core
-        from sklearn.neighbors import NearestNeighbors
-
-        nn = NearestNeighbors(n_neighbors=1, algorithm="brute").fit(points)
-        return nn.kneighbors(queries, return_distance=False)[:, 0].astype(np.int64)
-    P = np.empty((points.shape[1] + 1, len(points)))
-    P[:-1] = -2.0 * points.T
-    P[-1] = np.einsum("ij,ij->i", points, points)
-    Q = np.empty((len(queries), queries.shape[1] + 1))
-    Q[:, :-1] = queries
-    Q[:, -1] = 1.0
-    out = np.empty(len(queries), dtype=np.int64)
-
-    def run(s):
-        out[s:s + block] = np.argmin(Q[s:s + block] @ P, axis=1)
-
-    starts = range(0, len(queries), block)
-    threads = min(len(starts), NN_THREADS, os.cpu_count() or 1)
-    with one_blas_thread():
-        if threads > 1:
-            with ThreadPoolExecutor(threads) as pool:
-                list(pool.map(run, starts))
-        else:
-            for s in starts:
-                run(s)
-    return out
 
 
 def map_to_pointwise(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, *,
@@ -432,7 +151,7 @@ def map_to_pointwise(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, *,
     if vertices is not None:
         pT = pT[check_vertex_indices("vertices", vertices, target.n_vertices)]
     kT, kS = C.shape
-    return _nearest_rows(np.ascontiguousarray(pT[:, :kT]), source.phi[:, :kS] @ C.T)
+    return nearest_rows(np.ascontiguousarray(pT[:, :kT]), source.phi[:, :kS] @ C.T)
 
 
 def pointwise_to_map(p2p: ArrayLike, source: Eigenbasis, target: Eigenbasis
@@ -484,8 +203,9 @@ def transfer_function(f: ArrayLike, C: ArrayLike, source: Eigenbasis, target: Ei
     C = _check_C(C, pT.shape[1], pS.shape[1])
     kT, kS = C.shape
     f = np.asarray(f, dtype=np.float64)
-    if f.shape[0] != len(pS):
-        raise ValueError(f"f has {f.shape[0]} rows but the source has {len(pS)} vertices")
+    if f.ndim not in (1, 2) or f.shape[0] != len(pS):
+        raise ValueError(f"f has shape {f.shape} but the source has {len(pS)} vertices; pass "
+                         f"f of shape ({len(pS)},) or ({len(pS)}, m), one row per vertex")
     a = pS[:, :kS].T @ (source.B @ f)
     return pT[:, :kT] @ (C @ a)
 
@@ -692,13 +412,13 @@ def zoomout(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, N: int | None 
         kc = C.shape[0]
         while True:
             kT, kS = C.shape
-            p = _nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T)
+            p = nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T)
             if kc >= k and kT >= k:
                 break
             kc = min(kc + step, k)
             C = _fit(subT[:, :kc], subS[p, :kc], wT[iT], B_target if full else None)
             if bijective:
-                q = _nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
+                q = nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
                 C2 = _fit(subS[:, :kc], subT[q, :kc], wS[iS], B_source if full else None)
                 C = 0.5 * (C + C2.T)
             if kc >= k:
@@ -737,7 +457,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
               n_descriptors: int = 100, orientation: bool = True,
               zoomout_steps: bool | int = True, landmarks: ArrayLike | None = None,
               bijective: bool = False, sample: int | None = 3000,
-              return_map: bool = False, random_state: int = 0
+              initial: str = "search", return_map: bool = False, random_state: int = 0
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Map the vertices of two meshes in one call, by functional maps and ZoomOut.
 
@@ -746,8 +466,17 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     2. WKS descriptors (:func:`cshape.wks`, the shapes scaled to unit area, ``n_descriptors``
        energies of the source), plus heat kernels from the landmarks when given;
     3. ``C`` of size ``N0`` by :func:`functional_map` (with the orientation term);
-    4. :func:`zoomout` to size ``N``;
-    5. the vertex map :func:`map_to_pointwise`.
+    4. with ``initial='search'``, ZoomOut and no landmarks, more starting maps: every sign
+       pattern of the first few eigenfunctions (between different bodies these still
+       correspond one to one, while the descriptors no longer agree), upsampled on samples,
+       the two of the smallest spectral residual that differ;
+    5. each start upsampled by :func:`zoomout` to a common size and its vertex map
+       (:func:`map_to_pointwise`); of the maps whose residual
+       ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, the one whose
+       image triangles keep the orientation of the source on the largest share of the
+       target's area (a mirror image reverses them all) is kept; without ``orientation``,
+       the one of the smallest residual;
+    6. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
 
     Parameters
     ----------
@@ -772,6 +501,10 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         Bijective ZoomOut (see :func:`zoomout`).
     sample : int or None, default=3000
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
+    initial : {'search', 'descriptors'}, default='search'
+        'search': the descriptors' map and the sign patterns compete (steps 4-5);
+        'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
+        'descriptors'.
     return_map : bool, default=False
         Also return ``C`` (``N x N``).
     random_state : int, default=0
@@ -802,6 +535,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     else:
         step = check_int("zoomout_steps", zoomout_steps, min=1)
     bijective = check_bool("bijective", bijective)
+    initial = check_choice("initial", initial, ("search", "descriptors"))
     return_map = check_bool("return_map", return_map)
     lm = check_landmarks(landmarks, S.n_vertices, T.n_vertices)
     if N > min(S.n_vertices, T.n_vertices):
@@ -811,9 +545,30 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     dS, dT = _descriptors(bS, bT, n_descriptors, lm)
     C = functional_map(bS.truncate(N0), bT.truncate(N0), dS, dT,
                        orientation_weight=ORIENTATION_WEIGHT if orientation else 0.0)
+    if initial == "search" and lm is None and step:
+        C = _search(C, bS, bT, N, orientation, dict(step=step, sample=sample,
+                                                    bijective=bijective,
+                                                    random_state=random_state))
     if step:
         C = zoomout(C, bS, bT, N, step=step, sample=sample, bijective=bijective,
                     random_state=random_state)
     p2p = map_to_pointwise(C, bS, bT)
     return (p2p, C) if return_map else p2p
 
+
+def _search(C, bS, bT, N, orientation, zoom):
+    """Return the start that steps 4-5 of :func:`point_map` keep, at the common size."""
+    wT = np.asarray(bT.B.sum(axis=1)).ravel()
+    with one_blas_thread():  # small products: spinning BLAS threads only slow them
+        starts = [C] + _candidates.sign_candidates(bS.phi, bT.phi, wT,
+                                                   np.random.default_rng(zoom["random_state"]))
+    m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
+    found, scores = [], []
+    for C in starts:
+        C = zoomout(C, bS, bT, m, **zoom)
+        p = map_to_pointwise(C, bS, bT)
+        found.append(C)
+        scores.append((_candidates.residual(C, bS.phi, bT.phi, p),
+                       _candidates.orientation_share(bS.mesh, bT.mesh, p) if orientation
+                       else 0.0))
+    return found[_candidates.pick(scores)]

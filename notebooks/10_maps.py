@@ -265,14 +265,64 @@ plots.view_map(rest, pose, table["+ ZoomOut"][0], values=side, landmarks=landmar
                titles=("rest pose", "pose, + ZoomOut"), height=380)
 
 # %% [markdown]
+# ## 6 · Between different bodies
+#
+# Poses of one body are near-isometric, and everything above relies on it. Two *people* are not: a wider, shorter body
+# stretches the surface, the WKS of the two no longer agree, and the descriptors' map of section 2 starts from a wrong
+# $C$ that ZoomOut cannot repair (on real scans of different people, FAUST, it lands on the mirror image or swaps limbs).
+# What survives the change of shape is the start of the spectrum: the first few eigenfunctions still correspond one to
+# one, up to their signs ($C^\star$ is close to $\mathrm{diag}(\pm 1)$ in its first rows). So `cshape.point_map`
+# (`initial='search'`, the default) also tries every sign pattern of the first 6 eigenfunctions, upsamples each by
+# ZoomOut on 1000 sampled vertices, keeps the two that fit best (the smallest residual
+# $\frac1n\sum_y \|\Phi_T[y] - C\, \Phi_S[p[y]]\|$) beside the descriptors' map, and refines them. An intrinsic residual
+# cannot tell a map from its mirror image; the orientation can: of the maps whose residual is within 20 % of the best,
+# it keeps the one whose image triangles keep the surface's orientation on the largest share of the area (a mirror
+# reverses them all). No ground truth is used.
+#
+# The pair: the generated human at rest, and its pose 0 made stockier ($x, y$ times 1.3, $z$ times 0.9; the same
+# vertices, so the truth is still the identity), at the small size of the lesson's quick run whatever the size switch.
+
+# %%
+small = {"voxelsize": 0.03, "target_vertices": 800}
+body = poses.posed_figure("human", rest=True, **small)
+stocky = poses.posed_figure("human", 0, **small)
+stocky = cshape.Mesh(stocky.vertices * [1.3, 1.3, 0.9], stocky.faces)  # another body: wider and shorter
+geo_body = cshape.HeatGeodesics(body)
+across = {}
+for initial in ("descriptors", "search"):
+    t0 = time.perf_counter()
+    across[initial] = cshape.point_map(body, stocky, N=50, N0=20, initial=initial)
+    err = cshape.geodesic_errors(body, across[initial], geodesics=geo_body)
+    print(f"initial={initial!r:<14} error/sqrt(area) {err.mean() / np.sqrt(body.area):.3f}  "
+          f"({time.perf_counter() - t0:.1f} s)")
+left_right = body.vertices[:, 0]  # the human's mirror axis: one side blue, the other red
+plots.plot_map(body, stocky, across["descriptors"], values=left_right, cmap="coolwarm",
+               titles=("body at rest, coloured by x", "a stockier body: the descriptors' map fails"))
+
+# %%
+plots.plot_map(body, stocky, across["search"], values=left_right, cmap="coolwarm",
+               titles=("body at rest, coloured by x", "the same pair with the search"))
+
+# %% [markdown]
+# The search is not a proof. A body symmetric in more ways than left and right has more maps that fit and keep the
+# orientation: the generated figure is built from capsules, the same in front and behind, so a half turn about the
+# vertical axis is such a map, and at the full template size the search settles on it for this pair. Real bodies
+# are not symmetric front to back (faces, feet), but on FAUST pairs of different people a map can still keep a limb
+# reflected about its own axis: `benchmarks/results/maps_people.md` gives the per-pair table. Where a map must be
+# right, give a few landmarks (section 5): they override the search.
+
+# %% [markdown]
 # **Where it loses.** The functional map needs near-isometric shapes with the same topology: a pose that stretches the
-# surface, a hole, or a shape glued at the hands breaks the commutativity with the Laplacian. The descriptors must agree
+# surface much beyond a change of body shape, a hole, or a shape glued at the hands breaks the commutativity with the
+# Laplacian. The descriptors must agree
 # (the WKS at the same energies, both shapes scaled to unit area). And a perfectly symmetric shape is only told from its
 # mirror by its orientation: meshes whose faces are not consistently oriented lose that, and even on good meshes the
-# term can settle on the mirror (the generated human, rest pose to pose 1, at full size: 0.22 of the points within 5 %
-# with the term, 0.91 without; no weight of the term avoids it; on TOSCA, three cat poses lose likewise). On the real
-# poses of TOSCA and the generated poses, `benchmarks/results/maps_tosca.md` and `benchmarks/results/maps_quick.md` give the measured table (method x accuracy x geodesic error x time) at full
-# size; the guide `docs/guides/maps.md` sums them up.
+# term can settle on the mirror (the descriptors' map of the generated human, rest pose to pose 1, at full size: 0.22
+# of the points within 5 % with the term, 0.91 without; no weight of the term avoids it; on TOSCA, three cat poses lose
+# likewise). On the real poses of TOSCA and the generated poses, `benchmarks/results/maps_tosca.md` and
+# `benchmarks/results/maps_quick.md` give the measured table (method x accuracy x geodesic error x time) at full size,
+# `benchmarks/results/maps_people.md` the one-call `point_map` between different people (FAUST) and poses; the guide
+# `docs/guides/maps.md` sums them up.
 
 # %% [markdown]
 # ## Exercises

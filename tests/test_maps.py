@@ -9,7 +9,7 @@ import scipy.sparse as sp
 from scipy.spatial.distance import cdist
 
 import cshape
-from cshape import shapes
+from cshape import _candidates, _nearest, shapes
 from cshape.signatures import wks_energies
 
 N, N0 = 60, 20
@@ -58,57 +58,6 @@ def basis(blob):
 @pytest.fixture(scope="module")
 def target_basis(shuffled):
     return cshape.eigenbasis(shuffled[0], N)
-
-
-# ---------------------------------------------------------------------- geodesics
-def _sphere_error(subdivisions):
-    m = shapes.icosphere(subdivisions)
-    X = m.vertices / np.linalg.norm(m.vertices, axis=1, keepdims=True)
-    exact = np.arccos(np.clip(X @ X[0], -1.0, 1.0))
-    d = cshape.geodesic_distance(m, 0)
-    assert d[0] == 0.0 and (d >= 0).all()
-    return np.abs(d - exact).mean() / np.pi
-
-
-def test_geodesic_distance_on_the_unit_sphere_is_the_great_circle_distance():
-    e3, e4 = _sphere_error(3), _sphere_error(4)
-    assert e4 < 0.03
-    assert e4 < e3  # converges as the mesh is refined
-
-
-def test_geodesic_distance_on_a_plane_is_the_euclidean_distance():
-    m = shapes.square(40)
-    V = m.vertices
-    c = int(np.argmin(np.linalg.norm(V[:, :2] - 0.5, axis=1)))
-    exact = np.linalg.norm(V - V[c], axis=1)
-    d = cshape.geodesic_distance(m, c)
-    inside = exact < 0.35  # away from the boundary
-    assert np.abs(d - exact)[inside].max() < 0.02
-    assert np.abs(d - exact)[inside].mean() < 0.01
-
-
-def test_heat_geodesics_distances_are_symmetric_and_the_set_distance_is_their_minimum(blob):
-    geo = cshape.HeatGeodesics(blob)
-    src = np.array([0, 100, 400])
-    D = geo.distances(src)
-    assert D.shape == (blob.n_vertices, 3)
-    # d(a, b) ~ d(b, a): the method is not symmetric exactly, to within its error
-    scale = np.sqrt(blob.area)
-    assert abs(D[100, 0] - D[0, 1]) < 0.05 * scale
-    d = geo.distance(src)
-    assert np.all(d[src] == 0)
-    assert np.abs(d - D.min(axis=1)).mean() < 0.02 * scale
-    assert np.abs(d - D.min(axis=1)).max() < 0.1 * scale
-
-
-def test_geodesic_errors_are_zero_for_the_truth_and_the_distance_otherwise(blob):
-    n = blob.n_vertices
-    v = np.arange(0, n, 50)
-    assert np.all(cshape.geodesic_errors(blob, np.arange(n), vertices=v) == 0)
-    wrong = np.full(n, 7)
-    geo = cshape.HeatGeodesics(blob)
-    err = cshape.geodesic_errors(blob, wrong, vertices=v, geodesics=geo)
-    np.testing.assert_allclose(err, geo.distances(v)[7, :], rtol=1e-12)
 
 
 # ---------------------------------------------------------------------- maps
@@ -244,23 +193,29 @@ def test_the_orientation_term_needs_the_meshes(basis):
     assert C.shape == (N0, N0)
 
 
-def test_geodesics_reject_bad_sources(blob):
-    with pytest.raises(ValueError, match=r"sources holds vertex index -1"):
-        cshape.geodesic_distance(blob, -1)
-    with pytest.raises(TypeError, match="sources must be an integer array"):
-        cshape.geodesic_distance(blob, 0.5)
-    with pytest.raises(ValueError, match="sources is empty"):
-        cshape.geodesic_distance(blob, np.array([], dtype=int))
-    with pytest.raises(ValueError, match="m must be"):
-        cshape.HeatGeodesics(blob, m=0.0)
-
-
 def test_functional_map_rejects_mismatched_descriptors(basis):
     phi = basis.phi
     with pytest.raises(ValueError, match="desc_source has 3 descriptors and desc_target 4"):
         cshape.functional_map(basis, basis, phi[:, :3], phi[:, :4])
-    with pytest.raises(ValueError, match=r"desc_target has 5 rows, expected 642"):
+    with pytest.raises(ValueError, match=r"desc_target has shape \(5, 3\): 5 rows where the "
+                       r"basis has 642 vertices; pass one row per vertex"):
         cshape.functional_map(basis, basis, phi[:, :3], phi[:5, :3])
+    with pytest.raises(ValueError, match=r"desc_source has shape \(15, 1\): 15 rows where"):
+        cshape.functional_map(basis, basis, np.ones(15), phi[:, :3])
+
+
+def test_maps_name_the_argument_whose_shape_does_not_fit(basis):
+    """Arrays of mismatched shapes: the argument, its shape and the fix, never numpy's
+    reshape or matmul error."""
+    n = basis.n_vertices
+    C = np.eye(N0)
+    with pytest.raises(ValueError, match=rf"f has shape \(7,\) but the source has {n} "
+                       r"vertices; pass f of shape"):
+        cshape.transfer_function(np.ones(7), C, basis, basis)
+    with pytest.raises(ValueError, match=r"f has shape \(\)"):
+        cshape.transfer_function(1.0, C, basis, basis)
+    with pytest.raises(ValueError, match=r"p2p has 5 entries but the target"):
+        cshape.pointwise_to_map(np.arange(5), basis, basis)
 
 
 def _mirror_symmetric():
@@ -289,7 +244,7 @@ def test_the_orientation_term_tells_a_shape_from_its_mirror_image(symmetric):
     p = cshape.point_map(S, S, N=N, N0=N0)
     assert (p == np.arange(n)).mean() > 0.95
     assert (p == mirror).mean() < 0.1
-    q = cshape.point_map(S, S, N=N, N0=N0, orientation=False)
+    q = cshape.point_map(S, S, N=N, N0=N0, orientation=False, initial="descriptors")
     assert (q == mirror).mean() > 0.3  # without it the reflection is as good a match
 
 
@@ -332,7 +287,7 @@ def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
     """Blocks, threads, scikit-learn's search (big problems) and the 3-d k-d tree path give
     the argmin of the full distances."""
     if big:
-        monkeypatch.setattr(cshape.maps, "NN_SKLEARN_PAIRS", 1)
+        monkeypatch.setattr(_nearest, "NN_SKLEARN_PAIRS", 1)
     rng = np.random.default_rng(3)
     for n_t, n_s, k in ((1500, 1200, 40), (300, 250, 3)):
         phiT, phiS = rng.standard_normal((n_t, k)), rng.standard_normal((n_s, k))
@@ -354,3 +309,44 @@ def test_pointwise_to_map_of_the_identity_is_the_identity_matrix(basis):
 def test_bijective_zoomout_keeps_a_good_map(basis):
     C = cshape.zoomout(np.eye(N0), basis, basis, N, bijective=True)
     np.testing.assert_allclose(C, np.eye(N), atol=1e-8)
+
+
+def test_the_orientation_share_is_one_for_the_identity_and_zero_for_a_mirror(symmetric):
+    S, mirror = symmetric
+    assert _candidates.orientation_share(S, S, np.arange(S.n_vertices)) == pytest.approx(1.0)
+    assert _candidates.orientation_share(S, S, mirror) < 0.05
+
+
+def test_the_search_keeps_the_oriented_map_among_those_that_fit():
+    # residuals within 20 % of the smallest compete on orientation; a worse fit does not
+    assert _candidates.pick([(1.0, 0.2), (1.1, 0.9), (1.5, 1.0)]) == 1
+    assert _candidates.pick([(1.0, 0.9), (1.1, 0.2)]) == 0
+    assert _candidates.pick([(1.0, 0.0), (1.0, 0.0)]) == 0  # without orientation: the best fit
+
+
+def test_point_map_search_finds_the_map_between_bodies_of_another_shape():
+    """A generated figure and a pose of it made stockier (x, y by 1.3, z by 0.9): the
+    descriptors no longer agree and their map fails; the sign patterns find it."""
+    from cshape.data import poses
+
+    rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
+    pose = poses.posed_figure("human", 0, voxelsize=0.03, target_vertices=800)
+    stocky = cshape.Mesh(pose.vertices * [1.3, 1.3, 0.9], pose.faces)
+    geo = cshape.HeatGeodesics(rest)
+    v = np.arange(0, rest.n_vertices, 5)
+    err = {init: cshape.geodesic_errors(rest, cshape.point_map(rest, stocky, N=50, N0=20,
+                                                               initial=init),
+                                        vertices=v, geodesics=geo).mean() / np.sqrt(rest.area)
+           for init in ("descriptors", "search")}
+    assert err["descriptors"] > 0.2
+    assert err["search"] < 0.05
+
+
+def test_landmarks_override_the_search(symmetric):
+    S, _mirror = symmetric
+    lm = [[0, 0], [100, 100], [400, 400]]
+    a = cshape.point_map(S, S, N=N, N0=N0, landmarks=lm)
+    b = cshape.point_map(S, S, N=N, N0=N0, landmarks=lm, initial="descriptors")
+    np.testing.assert_array_equal(a, b)
+    with pytest.raises(ValueError, match="initial"):
+        cshape.point_map(S, S, initial="best")

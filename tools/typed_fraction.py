@@ -19,7 +19,7 @@ import sys
 from pathlib import Path
 
 CORE = ["mesh", "readers", "fem", "spectrum", "descriptors", "compare", "index", "signatures",
-        "shapes", "maps"]
+        "shapes", "maps", "geodesics"]
 # the layer subpackages: figures and viewer, data, course, command line, batch runs, reproduce
 LAYERS = ["plots", "data", "course", "cli", "batch", "reproduce"]
 ROOT = Path(__file__).resolve().parents[1]

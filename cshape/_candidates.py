@@ -1,0 +1,118 @@
+"""Initial functional maps that survive a change of body shape, and the check that picks one.
+
+The internals of :func:`cshape.point_map` when no landmarks are given (the rationale and the
+measurements: ``docs/guides/maps.md``, ``benchmarks/results/maps_people.md``).
+
+Between two people, the first few eigenfunctions still correspond one to one, up to their
+signs: the true ``C`` is close to ``diag(+-1)`` in its first ``SIGN_SIZE`` rows and columns,
+while the descriptors (WKS) of the two bodies no longer agree.  So every sign pattern is a
+candidate (``2^(SIGN_SIZE - 1)``; the constant eigenfunction's sign is known), each one
+upsampled by a sampled ZoomOut to ``SIGN_ZOOM`` eigenfunctions.  The candidates whose sampled
+vertex maps fit their ``C`` best (the smallest spectral residual ``|Phi_T[y] - C Phi_S[p[y]]|``)
+are kept, two that differ.  A left-right symmetric body has two such fits, the map and its
+mirror; no intrinsic energy tells them apart, the orientation of the surface does
+(:func:`orientation_share`).
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ._nearest import nearest_rows
+from .mesh import Mesh
+
+#: Eigenfunctions whose signs are enumerated (the constant one included).
+SIGN_SIZE = 6
+#: Size to which each sign pattern is upsampled before the candidates are compared.
+SIGN_ZOOM = 20
+#: Vertices per shape in that upsampling.
+SIGN_SAMPLE = 1000
+#: Candidates of the sign patterns refined in full (those of the smallest residual that differ).
+SIGN_KEEP = 2
+#: Size to which every candidate is upsampled (ZoomOut) before they are compared; the one
+#: kept goes on to the final size.
+COMPARE_SIZE = 50
+#: A candidate is compared by its orientation only if its residual is at most this factor
+#: times the smallest residual of the candidates (a map that fits its ``C`` worse is wrong).
+RESIDUAL_SLACK = 1.2
+
+
+def _zoom(C, subS, subT, w, k):
+    """Upsample ``C`` to size ``k`` by ZoomOut on samples (mass-weighted least squares)."""
+    kc = C.shape[0]
+    while True:
+        p = nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T)
+        if kc >= k:
+            return C, p
+        kc += 1
+        phT = subT[:, :kc]
+        Wp = phT * w[:, None]
+        C = np.linalg.solve(phT.T @ Wp, Wp.T @ subS[p, :kc])
+
+
+def residual(C, phiS, phiT, p):
+    """Mean spectral residual ``|Phi_T[y] - C Phi_S[p[y]]|`` of a map and its ``C``."""
+    k = C.shape[0]
+    return float(np.linalg.norm(phiT[:, :k] - phiS[p, :k] @ C.T, axis=1).mean())
+
+
+def sign_candidates(phiS, phiT, wT, rng):
+    """Return the ``SIGN_KEEP`` sign patterns of the smallest residual, upsampled, that differ.
+
+    A list of ``C`` of size ``SIGN_ZOOM`` (at most the bases' sizes).
+    """
+    k = min(SIGN_ZOOM, phiS.shape[1], phiT.shape[1])
+    iS = np.sort(rng.choice(len(phiS), min(SIGN_SAMPLE, len(phiS)), replace=False))
+    iT = np.sort(rng.choice(len(phiT), min(SIGN_SAMPLE, len(phiT)), replace=False))
+    subS, subT, w = phiS[iS], phiT[iT], wT[iT]
+    s0 = np.sign(phiS[:, 0].sum() * phiT[:, 0].sum()) or 1.0
+    m = min(SIGN_SIZE, k)
+    found = []
+    for signs in itertools.product((1.0, -1.0), repeat=m - 1):
+        C, p = _zoom(np.diag([s0, *signs]), subS, subT, w, k)
+        found.append((residual(C, subS, subT, p), C, p))
+    found.sort(key=lambda f: f[0])
+    kept = [found[0]]
+    for f in found[1:]:
+        if len(kept) == SIGN_KEEP:
+            break
+        if all(np.mean(f[2] == g[2]) < 0.5 for g in kept):
+            kept.append(f)
+    return [C for _r, C, _p in kept]
+
+
+def orientation_share(source: Mesh, target: Mesh, p2p: np.ndarray) -> float:
+    """Share of the target's area whose image keeps the orientation of the surface.
+
+    Each target triangle ``(a, b, c)`` goes to the source triangle ``(p[a], p[b], p[c])``; it
+    keeps the orientation if that triangle's normal points to the same side as the source's
+    vertex normals there.  About 1 for a correct map, 0 for a mirror image; degenerate images
+    (two corners on one vertex) do not count.
+    """
+    V, G = source.vertices, source.faces
+    fn = np.cross(V[G[:, 1]] - V[G[:, 0]], V[G[:, 2]] - V[G[:, 0]])
+    vn = np.zeros_like(V)
+    for j in range(3):
+        np.add.at(vn, G[:, j], fn)
+    F = target.faces
+    a, b, c = p2p[F[:, 0]], p2p[F[:, 1]], p2p[F[:, 2]]
+    d = np.einsum("ij,ij->i", np.cross(V[b] - V[a], V[c] - V[a]), vn[a] + vn[b] + vn[c])
+    W = target.vertices
+    area = np.linalg.norm(np.cross(W[F[:, 1]] - W[F[:, 0]], W[F[:, 2]] - W[F[:, 0]]), axis=1)
+    counted = area * (d != 0)
+    total = counted.sum()
+    return float((counted * (d > 0)).sum() / total) if total > 0 else 0.5
+
+
+def pick(scores):
+    """Return the index of the candidate to keep.
+
+    Of the candidates whose residual is within ``RESIDUAL_SLACK`` of the smallest, the one
+    that keeps the orientation best (of the smaller residual on a tie).  ``scores``: a list
+    of ``(residual, orientation share)``.
+    """
+    best = min(r for r, _o in scores)
+    ok = [i for i, (r, _o) in enumerate(scores) if r <= RESIDUAL_SLACK * best]
+    return max(ok, key=lambda i: (scores[i][1], -scores[i][0]))
