@@ -173,7 +173,7 @@ def stages(mesh, N=100, repeats=1, block_sizes=(8,)):
     threads = spectrum.solver_threads(int(mesh.n_vertices))  # the policy, as shape_dna uses it
     out = {"n": int(mesh.n_vertices), "N": N, "block_size": b0, "threads": threads}
     out["total"], lam_ref = _best(lambda: cshape.shape_dna(mesh, N=N), repeats)
-    out["prepare"], problem = _best(
+    out["prepare"], (_, problem) = _best(
         lambda: spectrum._prepare(mesh, N, "neumann", "consistent"), repeats)
     K = (-sp.csr_matrix(problem.A)).tocsr()
     B = sp.csr_matrix(problem.B)
@@ -253,13 +253,13 @@ _LANCZOS_LOOP = ("block_lanczos", "__init__", "run", "step", "_orthogonalize",
 GROUPS = [
     ("FEM assembly, repair and checks",
      lambda f, fn: "cshape/fem.py" in f or "cshape/mesh.py" in f),
-    ("factorisation (CHOLMOD)", lambda f, fn: fn == "factorize" and "_cholmod.py" in f),
+    ("factorisation (CHOLMOD)", lambda f, fn: fn == "factorize" and "_eigensolver/cholmod.py" in f),
     ("triangular solves (CHOLMOD)",
-     lambda f, fn: fn in ("solve", "solve_split") and "_cholmod.py" in f),
+     lambda f, fn: fn in ("solve", "solve_split") and "_eigensolver/cholmod.py" in f),
     ("Cholesky-QR (b_orthonormalize)", lambda f, fn: fn == "b_orthonormalize"),
     ("dense orthogonalisation (Lanczos loop)",
-     lambda f, fn: "_lanczos.py" in f and fn in _LANCZOS_LOOP),
-    ("Rayleigh-Ritz (LAPACK eigh, eig_banded before issue 22)",
+     lambda f, fn: "_eigensolver/lanczos.py" in f and fn in _LANCZOS_LOOP),
+    ("Rayleigh-Ritz (LAPACK eigh or eig_banded)",
      lambda f, fn: fn in ("eig_banded", "eigh")),
     ("sparse products (B @ X, K - sigma B)",
      lambda f, fn: "scipy/sparse" in f and "csgraph" not in f),
