@@ -95,7 +95,11 @@ def offline_feedback_math(assignment: str = "", student: str = "", notebooks: An
         return []
     for page in pages:
         text = page.read_text(encoding="utf-8").replace(CDN_MATHJAX, f"../../../{url}")
-        atomic_write(page, lambda f, text=text: f.write(text), binary=False)
+
+        def write(f: Any, text: str = text) -> None:
+            f.write(text)
+
+        atomic_write(page, write, binary=False)
     return pages
 
 

@@ -376,13 +376,15 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
     from matplotlib.font_manager import FontProperties
 
     Y = np.asarray(Y, dtype=np.float64)
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    x0, x1 = (float(v) for v in ax.get_xlim())
+    y0, y1 = (float(v) for v in ax.get_ylim())
     per_pt = max(x1 - x0, y1 - y0) / max(_side_points(ax), 1.0) * safety
     size = FontProperties(size=fontsize).get_size_in_points()
     d = offset * per_pt / safety  # the true offset: a larger one would hide overlaps
     r = 2.5 * per_pt  # half the side of a point's marker, with room
     lo_x, hi_x, lo_y, hi_y = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
-    obstacles = [(x - r, y - r, x + r, y + r) for x, y in (points if points is not None else Y)]
+    P = Y if points is None else np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    obstacles = [(float(x) - r, float(y) - r, float(x) + r, float(y) + r) for x, y in P]
     boxes: list[tuple[float, float, float, float]] = []
     kept: list[int] = []
 
