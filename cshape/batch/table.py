@@ -112,7 +112,7 @@ class DescriptorTable:
     >>> lam = np.arange(100.0)[None, :] * [[1.0], [1.1]]
     >>> table = DescriptorTable(["a", "b"], lam, [1.0, 1.0])
     >>> table.descriptors().shape, table.descriptors(PAPER).shape
-    ((2, 17), (2, 33))
+    ((2, 108), (2, 33))
     """
 
     def __init__(self, names: Iterable[object], lam: ArrayLike, areas: ArrayLike,
