@@ -39,6 +39,19 @@ COMPARE_SIZE = 50
 RESIDUAL_SLACK = 1.2
 
 
+def _fit(phiT, phiS_mapped, w, B):
+    """Fit ``C`` to a vertex map (on all vertices, or by least squares on samples).
+
+    ``C = Phi_T^T B Phi_S[p]`` (all vertices), or the mass-weighted least squares fit
+    ``min_C sum_y w_y |Phi_T[y] C - ...|`` on samples: ``(Phi_T^T W Phi_T)^-1 Phi_T^T W
+    Phi_S[p]`` (the transpose of the map written row-wise).
+    """
+    if B is not None:
+        return phiT.T @ (B @ phiS_mapped)
+    Wp = phiT * w[:, None]
+    return np.linalg.solve(phiT.T @ Wp, Wp.T @ phiS_mapped)
+
+
 def _zoom(C, subS, subT, w, k):
     """Upsample ``C`` to size ``k`` by ZoomOut on samples (mass-weighted least squares)."""
     kc = C.shape[0]
@@ -47,9 +60,7 @@ def _zoom(C, subS, subT, w, k):
         if kc >= k:
             return C, p
         kc += 1
-        phT = subT[:, :kc]
-        Wp = phT * w[:, None]
-        C = np.linalg.solve(phT.T @ Wp, Wp.T @ subS[p, :kc])
+        C = _fit(subT[:, :kc], subS[p, :kc], w, None)
 
 
 def residual(C, phiS, phiT, p):

@@ -47,6 +47,7 @@ import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
 from . import _candidates
+from ._candidates import _fit
 from ._checks import (
     check_bool,
     check_choice,
@@ -424,19 +425,6 @@ def zoomout(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, N: int | None 
             if kc >= k:
                 break
     return C
-
-
-def _fit(phiT, phiS_mapped, w, B):
-    """Fit ``C`` to a vertex map (on all vertices, or by least squares on samples).
-
-    ``C = Phi_T^T B Phi_S[p]`` (all vertices), or the mass-weighted least squares fit
-    ``min_C sum_y w_y |Phi_T[y] C - ...|`` on samples: ``(Phi_T^T W Phi_T)^-1 Phi_T^T W
-    Phi_S[p]`` (the transpose of the map written row-wise).
-    """
-    if B is not None:
-        return phiT.T @ (B @ phiS_mapped)
-    Wp = phiT * w[:, None]
-    return np.linalg.solve(phiT.T @ Wp, Wp.T @ phiS_mapped)
 
 
 # ---------------------------------------------------------------------- one call
