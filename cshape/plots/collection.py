@@ -57,6 +57,9 @@ LABEL_WIDTH = 20
 #: Beyond :data:`MDS_MAX_NAMES` shapes, an MDS picture of one class names this many, spread
 #: over the picture (:func:`named_points`), besides the outliers.
 MDS_SAMPLE_NAMES = 16
+#: Room kept between two point labels, in points, so that a layout that moves the axes by
+#: a fraction of a pixel cannot make them touch.
+GAP_POINTS = 1.5
 
 
 def short_label(name: object, width: int = LABEL_WIDTH) -> str:
@@ -334,16 +337,19 @@ def named_points(P: ArrayLike, outliers: ArrayLike, max_names: int = MDS_MAX_NAM
     return np.concatenate([np.flatnonzero(out), inner[taken]]).astype(np.int64)
 
 
-def _side_points(ax: Axes) -> float:
-    """The shorter side of ``ax`` in points (after a layout pass, if the figure has a
-    layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
+def _points_per_unit(ax: Axes) -> tuple[float, float]:
+    """The data units per point of ``ax`` along x and y (after a layout pass, if the figure
+    has a layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
     fig: Any = ax.figure
     while getattr(fig, "figure", fig) is not fig:  # the root figure of a subfigure
         fig = fig.figure
     if fig.get_layout_engine() is not None:
         fig.draw_without_rendering()  # the axes get their final size
     box = ax.get_window_extent()
-    return 72.0 * min(box.width, box.height) / fig.dpi
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    width, height = (max(72.0 * v / fig.dpi, 1.0) for v in (box.width, box.height))
+    return abs(x1 - x0) / width, abs(y1 - y0) / height
 
 
 def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
@@ -378,13 +384,14 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
     Y = np.asarray(Y, dtype=np.float64)
     x0, x1 = (float(v) for v in ax.get_xlim())
     y0, y1 = (float(v) for v in ax.get_ylim())
-    per_pt = max(x1 - x0, y1 - y0) / max(_side_points(ax), 1.0) * safety
+    ux, uy = _points_per_unit(ax)
     size = FontProperties(size=fontsize).get_size_in_points()
-    d = offset * per_pt / safety  # the true offset: a larger one would hide overlaps
-    r = 2.5 * per_pt  # half the side of a point's marker, with room
+    dx, dy = offset * ux, offset * uy  # the true offsets: larger ones would hide overlaps
+    gx, gy = GAP_POINTS * ux, GAP_POINTS * uy  # room kept between two boxes
+    rx, ry = 2.5 * safety * ux, 2.5 * safety * uy  # half the side of a marker, with room
     lo_x, hi_x, lo_y, hi_y = min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1)
     P = Y if points is None else np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    obstacles = [(float(x) - r, float(y) - r, float(x) + r, float(y) + r) for x, y in P]
+    obstacles = [(float(x) - rx, float(y) - ry, float(x) + rx, float(y) + ry) for x, y in P]
     boxes: list[tuple[float, float, float, float]] = []
     kept: list[int] = []
 
@@ -394,20 +401,21 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
         inside = lo_x <= box[0] and box[2] <= hi_x and lo_y <= box[1] and box[3] <= hi_y
         # a point's own marker is no obstacle to its name
         near = [b for b in obstacles if not (b[0] < own[0] < b[2] and b[1] < own[1] < b[3])]
-        others = (boxes + near) if level == 0 else boxes if level == 1 else []
-        return inside and not any(
-            box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
-            for b in others)
+        hit_text = any(box[0] - gx < b[2] and b[0] < box[2] + gx and box[1] - gy < b[3]
+                       and b[1] < box[3] + gy for b in boxes)
+        hit_point = any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
+                        for b in near)
+        return inside and (level == 2 or not hit_text) and (level >= 1 or not hit_point)
 
     # (horizontal, vertical) side of the point: +1 right / above, -1 left / below, 0 centred
     sides = ((1, 1), (-1, 1), (1, -1), (-1, -1), (0, 1), (0, -1))
     for i, text in enumerate(texts):
-        w, h = 0.7 * size * len(text) * per_pt, 1.35 * size * per_pt
+        w, h = 0.7 * safety * size * len(text) * ux, 1.35 * safety * size * uy
         placed = None
         for level in range(3 if i < required else 1):
             for sx, sy in sides:
-                bx = Y[i, 0] + d if sx > 0 else Y[i, 0] - d - w if sx < 0 else Y[i, 0] - w / 2
-                by = Y[i, 1] + d if sy > 0 else Y[i, 1] - d - h
+                bx = Y[i, 0] + dx if sx > 0 else Y[i, 0] - dx - w if sx < 0 else Y[i, 0] - w / 2
+                by = Y[i, 1] + dy if sy > 0 else Y[i, 1] - dy - h
                 box = (bx, by, bx + w, by + h)
                 if free(box, (Y[i, 0], Y[i, 1]), level):
                     placed = (sx, sy)
@@ -742,7 +750,8 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
     ax.set_xticks([])
     ax.set_yticks([])
     if side_pt is None:
-        side_pt = _side_points(ax)
+        ux, uy = _points_per_unit(ax)
+        side_pt = min(abs(np.diff(ax.get_xlim())[0]) / ux, abs(np.diff(ax.get_ylim())[0]) / uy)
     size = FontProperties(size=fontsize).get_size_in_points()
     n_fit = max(1, int(side_pt / safety / (1.2 * size)))
     runs = _runs([str(x) for x in labels]) if labels is not None and len(labels) == p else []
