@@ -12,6 +12,14 @@ vertex maps fit their ``C`` best (the smallest spectral residual ``|Phi_T[y] - C
 are kept, two that differ.  A left-right symmetric body has two such fits, the map and its
 mirror; no intrinsic energy tells them apart, the orientation of the surface does
 (:func:`orientation_share`).
+
+ZoomOut may end with a limb reflected about its own axis while the extremities (hands, feet,
+head) still land on the right limb.  So each candidate also gives landmarks: the target's
+``EXTREMITIES`` farthest points (:func:`extremities`) and their images, from which the
+landmark route of :func:`cshape.point_map` computes one more candidate.  Those maps are all
+oriented; a map that turns the body about its vertical axis (front to back and left to right)
+is oriented too, and fits the first eigenfunctions as well.  What tells it apart is the
+descriptors: the back does not look like the front (:func:`descriptor_error`).
 """
 
 from __future__ import annotations
@@ -37,6 +45,13 @@ COMPARE_SIZE = 50
 #: A candidate is compared by its orientation only if its residual is at most this factor
 #: times the smallest residual of the candidates (a map that fits its ``C`` worse is wrong).
 RESIDUAL_SLACK = 1.2
+#: Of those, the maps whose orientation share is within this of the best compete on their
+#: descriptors (:func:`descriptor_error`).
+ORIENTATION_SLACK = 0.1
+#: Landmarks taken from each candidate (the target's extremities and their images).
+EXTREMITIES = 5
+#: Eigenfunctions of the embedding in which the extremities are farthest points.
+EXTREMITY_BASIS = 20
 
 
 def _fit(phiT, phiS_mapped, w, B):
@@ -117,13 +132,46 @@ def orientation_share(source: Mesh, target: Mesh, p2p: np.ndarray) -> float:
     return float((counted * (d > 0)).sum() / total) if total > 0 else 0.5
 
 
+def extremities(phi, lam, k=EXTREMITIES):
+    """Return ``k`` extremities of a shape: farthest points in its commute-time embedding.
+
+    The embedding ``Phi[:, i] / sqrt(lam_i)`` (``i = 1 .. EXTREMITY_BASIS - 1``) stretches the
+    ends of long parts (hands, feet, head) far from the rest; the first point is the one
+    farthest from the embedding's mean, each next one the farthest from those chosen.
+    Vertex indices, shape ``(k,)`` (fewer if the shape has fewer vertices).
+    """
+    m = min(EXTREMITY_BASIS, phi.shape[1])
+    lam = np.asarray(lam[1:m], dtype=np.float64)
+    X = phi[:, 1:m] / np.sqrt(np.maximum(lam, np.finfo(float).tiny))
+    out = [int(np.argmax(np.linalg.norm(X - X.mean(axis=0), axis=1)))]
+    d = np.linalg.norm(X - X[out[0]], axis=1)
+    while len(out) < min(k, len(phi)):
+        out.append(int(np.argmax(d)))
+        d = np.minimum(d, np.linalg.norm(X - X[out[-1]], axis=1))
+    return np.array(out, dtype=np.int64)
+
+
+def descriptor_error(dS, dT, wT, p2p):
+    """Mean disagreement ``|D_T[y] - D_S[p[y]]|`` of a vertex map's descriptors (mass-weighted).
+
+    Each descriptor is divided by its root mean square on the source first.
+    """
+    scale = np.sqrt(np.mean(dS * dS, axis=0))
+    scale[scale == 0] = 1.0
+    e = np.linalg.norm((dT - dS[p2p]) / scale, axis=1)
+    return float(e @ wT / wT.sum())
+
+
 def pick(scores):
     """Return the index of the candidate to keep.
 
-    Of the candidates whose residual is within ``RESIDUAL_SLACK`` of the smallest, the one
-    that keeps the orientation best (of the smaller residual on a tie).  ``scores``: a list
-    of ``(residual, orientation share)``.
+    Of the candidates whose residual is within ``RESIDUAL_SLACK`` of the smallest, those whose
+    orientation share is within ``ORIENTATION_SLACK`` of the best of them; of those, the one
+    whose descriptors agree best (the smaller residual on a tie).  ``scores``: a list of
+    ``(residual, orientation share, descriptor error)``.
     """
-    best = min(r for r, _o in scores)
-    ok = [i for i, (r, _o) in enumerate(scores) if r <= RESIDUAL_SLACK * best]
-    return max(ok, key=lambda i: (scores[i][1], -scores[i][0]))
+    best = min(s[0] for s in scores)
+    ok = [i for i, s in enumerate(scores) if s[0] <= RESIDUAL_SLACK * best]
+    top = max(scores[i][1] for i in ok)
+    ok = [i for i in ok if scores[i][1] >= top - ORIENTATION_SLACK]
+    return min(ok, key=lambda i: (scores[i][2], scores[i][0]))

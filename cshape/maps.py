@@ -530,13 +530,11 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         raise ValueError(f"N={N} is more than the vertices of the smaller mesh "
                          f"({min(S.n_vertices, T.n_vertices)}); use a smaller N")
     bS, bT = eigenbasis(S, N), eigenbasis(T, N)
-    dS, dT = _descriptors(bS, bT, n_descriptors, lm)
-    C = functional_map(bS.truncate(N0), bT.truncate(N0), dS, dT,
-                       orientation_weight=ORIENTATION_WEIGHT if orientation else 0.0)
+    start = _Start(bS, bT, N0, n_descriptors, orientation)
+    C = start(lm)
     if initial == "search" and lm is None and step:
-        C = _search(C, bS, bT, N, orientation, dict(step=step, sample=sample,
-                                                    bijective=bijective,
-                                                    random_state=random_state))
+        C = _search(C, start, N, dict(step=step, sample=sample, bijective=bijective,
+                                      random_state=random_state))
     if step:
         C = zoomout(C, bS, bT, N, step=step, sample=sample, bijective=bijective,
                     random_state=random_state)
@@ -544,19 +542,47 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     return (p2p, C) if return_map else p2p
 
 
-def _search(C, bS, bT, N, orientation, zoom):
-    """Return the start that steps 4-5 of :func:`point_map` keep, at the common size."""
+class _Start:
+    """The first functional map of :func:`point_map` (steps 2-3), from landmarks or none."""
+
+    def __init__(self, bS, bT, N0, n_descriptors, orientation):
+        self.bS, self.bT, self.N0 = bS, bT, N0
+        self.n_descriptors, self.orientation = n_descriptors, orientation
+        self.dS, self.dT = _descriptors(bS, bT, n_descriptors, None)
+
+    def __call__(self, lm):
+        dS, dT = ((self.dS, self.dT) if lm is None else
+                  _descriptors(self.bS, self.bT, self.n_descriptors, lm))
+        return functional_map(self.bS.truncate(self.N0), self.bT.truncate(self.N0), dS, dT,
+                              orientation_weight=ORIENTATION_WEIGHT if self.orientation
+                              else 0.0)
+
+
+def _search(C, start, N, zoom):
+    """Return the start that steps 4-6 of :func:`point_map` keep, at the common size."""
+    bS, bT = start.bS, start.bT
     wT = np.asarray(bT.B.sum(axis=1)).ravel()
     with one_blas_thread():  # small products: spinning BLAS threads only slow them
         starts = [C] + _candidates.sign_candidates(bS.phi, bT.phi, wT,
                                                    np.random.default_rng(zoom["random_state"]))
     m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
-    found, scores = [], []
-    for C in starts:
+    ends = _candidates.extremities(bT.phi, bT.lam)
+    found, maps, scores = [], [], []
+
+    def add(C):
         C = zoomout(C, bS, bT, m, **zoom)
         p = map_to_pointwise(C, bS, bT)
         found.append(C)
+        maps.append(p)
         scores.append((_candidates.residual(C, bS.phi, bT.phi, p),
-                       _candidates.orientation_share(bS.mesh, bT.mesh, p) if orientation
-                       else 0.0))
+                       _candidates.orientation_share(bS.mesh, bT.mesh, p)
+                       if start.orientation else 0.0,
+                       _candidates.descriptor_error(start.dS, start.dT, wT, p)))
+
+    for C in starts:
+        add(C)
+    best = min(r for r, _o, _d in scores)
+    for i, p in enumerate(list(maps)):
+        if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
+            add(start(np.column_stack([p[ends], ends])))
     return found[_candidates.pick(scores)]

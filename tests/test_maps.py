@@ -319,9 +319,41 @@ def test_the_orientation_share_is_one_for_the_identity_and_zero_for_a_mirror(sym
 
 def test_the_search_keeps_the_oriented_map_among_those_that_fit():
     # residuals within 20 % of the smallest compete on orientation; a worse fit does not
-    assert _candidates.pick([(1.0, 0.2), (1.1, 0.9), (1.5, 1.0)]) == 1
-    assert _candidates.pick([(1.0, 0.9), (1.1, 0.2)]) == 0
-    assert _candidates.pick([(1.0, 0.0), (1.0, 0.0)]) == 0  # without orientation: the best fit
+    assert _candidates.pick([(1.0, 0.2, 1.0), (1.1, 0.9, 1.0), (1.5, 1.0, 0.1)]) == 1
+    assert _candidates.pick([(1.0, 0.9, 1.0), (1.1, 0.2, 0.1)]) == 0
+    # equal fits, equal descriptors: the better fit
+    assert _candidates.pick([(1.1, 0.0, 1.0), (1.0, 0.0, 1.0)]) == 1
+
+
+def test_the_search_decides_between_oriented_maps_by_their_descriptors():
+    # orientation shares within ORIENTATION_SLACK of the best are alike: the descriptors decide
+    assert _candidates.pick([(1.0, 0.95, 1.2), (1.1, 0.90, 1.0), (1.0, 0.5, 0.1)]) == 1
+    # a share further below the best does not compete, however good its descriptors
+    assert _candidates.pick([(1.0, 0.95, 1.2), (1.0, 0.80, 1.0)]) == 0
+
+
+def test_the_descriptor_error_is_zero_for_the_true_map_and_grows_with_a_wrong_one():
+    rng = np.random.default_rng(0)
+    d = rng.random((50, 4))
+    perm = rng.permutation(50)
+    w = np.ones(50)
+    assert _candidates.descriptor_error(d, d[perm], w, perm) == 0.0
+    assert _candidates.descriptor_error(d, d[perm], w, np.arange(50)) > 0.5
+
+
+def test_the_extremities_are_the_ends_of_a_long_shape():
+    """An elongated ellipsoid (axes 3, 1, 1): the first two extremities are its two tips,
+    then farthest points spread over the shape."""
+    m = shapes.icosphere(3)
+    S = cshape.Mesh(m.vertices * [3.0, 1.0, 1.0], m.faces)
+    b = cshape.eigenbasis(S, 20)
+    ends = _candidates.extremities(b.phi, b.lam, 4)
+    assert len(set(ends.tolist())) == 4
+    x = S.vertices[ends[:2], 0]
+    assert sorted(np.sign(x)) == [-1, 1] and (np.abs(x) > 2.8).all()
+    V = S.vertices
+    d = np.linalg.norm(V[ends][:, None] - V[ends][None], axis=-1)
+    assert d[np.triu_indices(4, 1)].min() > 1.0  # spread, not clustered
 
 
 def test_point_map_search_finds_the_map_between_bodies_of_another_shape():
