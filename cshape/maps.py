@@ -459,11 +459,15 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        correspond one to one, while the descriptors no longer agree), upsampled on samples,
        the two of the smallest spectral residual that differ;
     5. each start upsampled by :func:`zoomout` to a common size and its vertex map
-       (:func:`map_to_pointwise`); of the maps whose residual
-       ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, the one whose
-       image triangles keep the orientation of the source on the largest share of the
-       target's area (a mirror image reverses them all) is kept; without ``orientation``,
-       the one of the smallest residual;
+       (:func:`map_to_pointwise`); for each whose residual
+       ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, one more map:
+       steps 2-3 with landmarks, the target's extremities (farthest points of its
+       commute-time embedding) and their images, upsampled alike.  Of all the maps whose
+       residual is within 20 % of the smallest, those whose image triangles keep the
+       orientation of the source on nearly the largest share of the target's area (within
+       0.1; a mirror image reverses them all) compete, and the one whose WKS agree best
+       (``mean_y |D_T[y] - D_S[p[y]]|``) is kept; without ``orientation``, all of them
+       compete on the WKS;
     6. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
 
     Parameters
@@ -490,7 +494,8 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     sample : int or None, default=3000
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
     initial : {'search', 'descriptors'}, default='search'
-        'search': the descriptors' map and the sign patterns compete (steps 4-5);
+        'search': the descriptors' map, the sign patterns and the maps from their
+        extremities compete (steps 4-5);
         'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
         'descriptors'.
     return_map : bool, default=False
