@@ -433,11 +433,14 @@ def _descriptors(source, target, n_descr, landmarks):
     e, sigma = wks_energies(source, n_descr, normalization="area")
     dS = wks(source, e, sigma, normalization="area")[:, ::DESCRIPTOR_STRIDE]
     dT = wks(target, e, sigma, normalization="area")[:, ::DESCRIPTOR_STRIDE]
-    if landmarks is not None:
-        # heat kernels from the landmarks, at a few times (units of the area)
-        for t in (0.002, 0.005, 0.01):
-            dS = np.hstack([dS, heat_kernel(source, t, landmarks[:, 0], normalization="area")])
-            dT = np.hstack([dT, heat_kernel(target, t, landmarks[:, 1], normalization="area")])
+    return (dS, dT) if landmarks is None else _with_landmarks(source, target, dS, dT, landmarks)
+
+
+def _with_landmarks(source, target, dS, dT, landmarks):
+    """Descriptors and heat kernels from the landmarks, at a few times (units of the area)."""
+    for t in (0.002, 0.005, 0.01):
+        dS = np.hstack([dS, heat_kernel(source, t, landmarks[:, 0], normalization="area")])
+        dT = np.hstack([dT, heat_kernel(target, t, landmarks[:, 1], normalization="area")])
     return dS, dT
 
 
@@ -551,13 +554,12 @@ class _Start:
     """The first functional map of :func:`point_map` (steps 2-3), from landmarks or none."""
 
     def __init__(self, bS, bT, N0, n_descriptors, orientation):
-        self.bS, self.bT, self.N0 = bS, bT, N0
-        self.n_descriptors, self.orientation = n_descriptors, orientation
+        self.bS, self.bT, self.N0, self.orientation = bS, bT, N0, orientation
         self.dS, self.dT = _descriptors(bS, bT, n_descriptors, None)
 
     def __call__(self, lm):
         dS, dT = ((self.dS, self.dT) if lm is None else
-                  _descriptors(self.bS, self.bT, self.n_descriptors, lm))
+                  _with_landmarks(self.bS, self.bT, self.dS, self.dT, lm))
         return functional_map(self.bS.truncate(self.N0), self.bT.truncate(self.N0), dS, dT,
                               orientation_weight=ORIENTATION_WEIGHT if self.orientation
                               else 0.0)
