@@ -462,7 +462,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        correspond one to one, while the descriptors no longer agree), upsampled on samples,
        the two of the smallest spectral residual that differ;
     5. each start upsampled by :func:`zoomout` to a common size and its vertex map
-       (:func:`map_to_pointwise`); for each whose residual
+       (:func:`map_to_pointwise`); for each sign pattern's map whose residual
        ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, one more map:
        steps 2-3 with landmarks, the target's extremities (farthest points of its
        commute-time embedding) and their images, upsampled alike.  Of all the maps whose
@@ -589,7 +589,9 @@ def _search(C, start, N, zoom):
     for C in starts:
         add(C)
     best = min(r for r, _o, _d in scores)
-    for i, p in enumerate(list(maps)):
+    # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
+    # already: a map from its extremities would fit them once more, and so win on the WKS)
+    for i in range(1, len(maps)):
         if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
-            add(start(np.column_stack([p[ends], ends])))
+            add(start(np.column_stack([maps[i][ends], ends])))
     return found[_candidates.pick(scores)]
