@@ -275,9 +275,9 @@ plots.view_map(rest, pose, table["+ ZoomOut"][0], values=side, landmarks=landmar
 # (`initial='search'`, the default) also tries every sign pattern of the first 6 eigenfunctions, upsamples each by
 # ZoomOut on 1000 sampled vertices, keeps the two that fit best (the smallest residual
 # $\frac1n\sum_y \|\Phi_T[y] - C\, \Phi_S[p[y]]\|$) beside the descriptors' map, and refines them. ZoomOut may still
-# leave a limb reflected about its own axis, while the hands, feet and head land on the right limb: so each map that
-# fits also gives *self-landmarks*, the target's extremities and their images, from which the landmark route of
-# section 5 computes one more map. An intrinsic residual cannot tell a map from its mirror image; the orientation can:
+# leave a limb reflected about its own axis, while the hands, feet and head land on the right limb: so each sign
+# pattern's map that fits also gives *self-landmarks*, the target's extremities and their images, from which the
+# landmark route of section 5 computes one more map. An intrinsic residual cannot tell a map from its mirror image; the orientation can:
 # of the maps whose residual is within 20 % of the best, those whose image triangles keep the surface's orientation on
 # nearly the largest share of the area compete (a mirror reverses them all), and the one whose WKS agree best point
 # by point wins (a half turn, front to back, keeps the orientation too, but a back does not look like a front). No
