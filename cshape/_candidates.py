@@ -19,7 +19,9 @@ head) still land on the right limb.  So each candidate also gives landmarks: the
 landmark route of :func:`cshape.point_map` computes one more candidate.  Those maps are all
 oriented; a map that turns the body about its vertical axis (front to back and left to right)
 is oriented too, and fits the first eigenfunctions as well.  What tells it apart is the
-descriptors: the back does not look like the front (:func:`descriptor_error`).
+descriptors: the back does not look like the front (:func:`descriptor_error`).  The
+descriptors' map is fitted to the descriptors: they judge only the maps from extremities
+against the start kept (:func:`pick`).
 """
 
 from __future__ import annotations
@@ -45,8 +47,8 @@ COMPARE_SIZE = 50
 #: A candidate is compared by its orientation only if its residual is at most this factor
 #: times the smallest residual of the candidates (a map that fits its ``C`` worse is wrong).
 RESIDUAL_SLACK = 1.2
-#: Of those, the maps whose orientation share is within this of the best compete on their
-#: descriptors (:func:`descriptor_error`).
+#: A map from extremities whose orientation share is at most this below the kept start's
+#: competes with it on the descriptors (:func:`descriptor_error`).
 ORIENTATION_SLACK = 0.1
 #: Landmarks taken from each candidate (the target's extremities and their images).
 EXTREMITIES = 5
@@ -162,16 +164,22 @@ def descriptor_error(dS, dT, wT, p2p):
     return float(e @ wT / wT.sum())
 
 
-def pick(scores):
+def pick(scores, n_starts):
     """Return the index of the candidate to keep.
 
-    Of the candidates whose residual is within ``RESIDUAL_SLACK`` of the smallest, those whose
-    orientation share is within ``ORIENTATION_SLACK`` of the best of them; of those, the one
-    whose descriptors agree best (the smaller residual on a tie).  ``scores``: a list of
-    ``(residual, orientation share, descriptor error)``.
+    ``scores``: a list of ``(residual, orientation share, descriptor error)``, the first
+    ``n_starts`` of the starting maps, the others of the maps from their extremities.  Of the
+    starting maps whose residual is within ``RESIDUAL_SLACK`` of their smallest, the one that
+    keeps the orientation best (of the smaller residual on a tie).  A map from extremities
+    whose residual is within ``RESIDUAL_SLACK`` of the smallest of all, and whose orientation
+    share is at most ``ORIENTATION_SLACK`` below that one's, replaces it if its descriptors
+    agree better.
     """
+    best = min(s[0] for s in scores[:n_starts])
+    ok = [i for i in range(n_starts) if scores[i][0] <= RESIDUAL_SLACK * best]
+    keep = max(ok, key=lambda i: (scores[i][1], -scores[i][0]))
     best = min(s[0] for s in scores)
-    ok = [i for i, s in enumerate(scores) if s[0] <= RESIDUAL_SLACK * best]
-    top = max(scores[i][1] for i in ok)
-    ok = [i for i in ok if scores[i][1] >= top - ORIENTATION_SLACK]
-    return min(ok, key=lambda i: (scores[i][2], scores[i][0]))
+    rivals = [i for i in range(n_starts, len(scores))
+              if scores[i][0] <= RESIDUAL_SLACK * best
+              and scores[i][1] >= scores[keep][1] - ORIENTATION_SLACK]
+    return min([keep, *rivals], key=lambda i: (scores[i][2], scores[i][0], i))

@@ -462,16 +462,17 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        correspond one to one, while the descriptors no longer agree), upsampled on samples,
        the two of the smallest spectral residual that differ;
     5. each start upsampled by :func:`zoomout` to a common size and its vertex map
-       (:func:`map_to_pointwise`); for each sign pattern's map whose residual
-       ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, one more map:
-       steps 2-3 with landmarks, the target's extremities (farthest points of its
-       commute-time embedding) and their images, upsampled alike.  Of all the maps whose
-       residual is within 20 % of the smallest, those whose image triangles keep the
-       orientation of the source on nearly the largest share of the target's area (within
-       0.1; a mirror image reverses them all) compete, and the one whose WKS agree best
-       (``mean_y |D_T[y] - D_S[p[y]]|``) is kept; without ``orientation``, all of them
-       compete on the WKS;
-    6. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
+       (:func:`map_to_pointwise`); of those whose residual
+       ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, the one whose
+       image triangles keep the orientation of the source on the largest share of the
+       target's area (a mirror image reverses them all) is kept; without ``orientation``,
+       the one of the smallest residual;
+    6. for each sign pattern's map that fits (step 5), one more map: steps 2-3 with
+       landmarks, the target's extremities (farthest points of its commute-time embedding)
+       and their images, upsampled alike; one whose residual is within 20 % of the smallest
+       and whose orientation share is at most 0.1 below the kept map's replaces it if its
+       WKS agree better (``mean_y |D_T[y] - D_S[p[y]]|``);
+    7. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
 
     Parameters
     ----------
@@ -498,7 +499,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
     initial : {'search', 'descriptors'}, default='search'
         'search': the descriptors' map, the sign patterns and the maps from their
-        extremities compete (steps 4-5);
+        extremities compete (steps 4-6);
         'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
         'descriptors'.
     return_map : bool, default=False
@@ -566,7 +567,7 @@ class _Start:
 
 
 def _search(C, start, N, zoom):
-    """Return the start that steps 4-6 of :func:`point_map` keep, at the common size."""
+    """Return the map that steps 4-6 of :func:`point_map` keep, at the common size."""
     bS, bT = start.bS, start.bT
     wT = np.asarray(bT.B.sum(axis=1)).ravel()
     with one_blas_thread():  # small products: spinning BLAS threads only slow them
@@ -594,4 +595,4 @@ def _search(C, start, N, zoom):
     for i in range(1, len(maps)):
         if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
             add(start(np.column_stack([maps[i][ends], ends])))
-    return found[_candidates.pick(scores)]
+    return found[_candidates.pick(scores, len(starts))]

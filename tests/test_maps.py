@@ -319,17 +319,23 @@ def test_the_orientation_share_is_one_for_the_identity_and_zero_for_a_mirror(sym
 
 def test_the_search_keeps_the_oriented_map_among_those_that_fit():
     # residuals within 20 % of the smallest compete on orientation; a worse fit does not
-    assert _candidates.pick([(1.0, 0.2, 1.0), (1.1, 0.9, 1.0), (1.5, 1.0, 0.1)]) == 1
-    assert _candidates.pick([(1.0, 0.9, 1.0), (1.1, 0.2, 0.1)]) == 0
-    # equal fits, equal descriptors: the better fit
-    assert _candidates.pick([(1.1, 0.0, 1.0), (1.0, 0.0, 1.0)]) == 1
+    assert _candidates.pick([(1.0, 0.2, 1.0), (1.1, 0.9, 1.0), (1.5, 1.0, 0.1)], 3) == 1
+    assert _candidates.pick([(1.0, 0.9, 1.0), (1.1, 0.2, 0.1)], 2) == 0
+    # without orientation (every share 0): the better fit, whatever the descriptors
+    assert _candidates.pick([(1.1, 0.0, 0.5), (1.0, 0.0, 1.0)], 2) == 1
 
 
-def test_the_search_decides_between_oriented_maps_by_their_descriptors():
-    # orientation shares within ORIENTATION_SLACK of the best are alike: the descriptors decide
-    assert _candidates.pick([(1.0, 0.95, 1.2), (1.1, 0.90, 1.0), (1.0, 0.5, 0.1)]) == 1
-    # a share further below the best does not compete, however good its descriptors
-    assert _candidates.pick([(1.0, 0.95, 1.2), (1.0, 0.80, 1.0)]) == 0
+def test_a_map_from_extremities_replaces_the_kept_start_if_its_descriptors_agree_better():
+    starts = [(1.0, 0.2, 1.0), (1.1, 0.9, 1.3)]  # start 1 kept (oriented)
+    # an oriented rival (0.85 >= 0.9 - 0.1) whose descriptors agree better replaces it
+    assert _candidates.pick(starts + [(1.0, 0.85, 1.1)], 2) == 2
+    # a rival oriented less well does not, however good its descriptors
+    assert _candidates.pick(starts + [(1.0, 0.7, 0.1)], 2) == 1
+    # nor one that fits worse, nor one whose descriptors agree less
+    assert _candidates.pick(starts + [(1.5, 0.95, 0.1)], 2) == 1
+    assert _candidates.pick(starts + [(1.0, 0.95, 1.4)], 2) == 1
+    # the descriptors do not judge between the starts: the oriented start stays
+    assert _candidates.pick([(1.0, 0.85, 0.1), (1.0, 0.9, 1.3)], 2) == 1
 
 
 def test_the_descriptor_error_is_zero_for_the_true_map_and_grows_with_a_wrong_one():
@@ -390,9 +396,9 @@ def test_the_search_compares_the_maps_from_the_sign_patterns_extremities(monkeyp
     S, _mirror = symmetric
     seen, original = [], _candidates.pick
 
-    def pick(scores):
+    def pick(scores, n_starts):
         seen.append(list(scores))
-        return original(scores)
+        return original(scores, n_starts)
 
     monkeypatch.setattr(_candidates, "pick", pick)
     p = cshape.point_map(S, S, N=N, N0=N0)
