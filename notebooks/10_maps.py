@@ -274,14 +274,14 @@ plots.view_map(rest, pose, table["+ ZoomOut"][0], values=side, landmarks=landmar
 # one, up to their signs ($C^\star$ is close to $\mathrm{diag}(\pm 1)$ in its first rows). So `cshape.point_map`
 # (`initial='search'`, the default) also tries every sign pattern of the first 6 eigenfunctions, upsamples each by
 # ZoomOut on 1000 sampled vertices, keeps the two that fit best (the smallest residual
-# $\frac1n\sum_y \|\Phi_T[y] - C\, \Phi_S[p[y]]\|$) beside the descriptors' map, and refines them. ZoomOut may still
-# leave a limb reflected about its own axis, while the hands, feet and head land on the right limb: so each sign
-# pattern's map that fits also gives *self-landmarks*, the target's extremities and their images, from which the
-# landmark route of section 5 computes one more map. An intrinsic residual cannot tell a map from its mirror image; the orientation can:
-# of the maps whose residual is within 20 % of the best, those whose image triangles keep the surface's orientation on
-# nearly the largest share of the area compete (a mirror reverses them all), and the one whose WKS agree best point
-# by point wins (a half turn, front to back, keeps the orientation too, but a back does not look like a front). No
-# ground truth is used.
+# $\frac1n\sum_y \|\Phi_T[y] - C\, \Phi_S[p[y]]\|$) beside the descriptors' map, and refines them. An intrinsic residual
+# cannot tell a map from its mirror image; the orientation can: of the maps whose residual is within 20 % of the best,
+# it keeps the one whose image triangles keep the surface's orientation on the largest share of the area (a mirror
+# reverses them all). ZoomOut may still leave a limb reflected about its own axis, while the hands, feet and head land
+# on the right limb: so each sign pattern's map that fits also gives *self-landmarks*, the target's extremities and
+# their images, from which the landmark route of section 5 computes one more map. It replaces the map kept if it fits,
+# keeps the orientation nearly as well and its WKS agree better point by point (a half turn, front to back, keeps the
+# orientation too, but a back does not look like a front). No ground truth is used.
 #
 # The pair: the generated human at rest, and its pose 0 made stockier ($x, y$ times 1.3, $z$ times 0.9; the same
 # vertices, so the truth is still the identity), at the small size of the lesson's quick run whatever the size switch.
