@@ -224,3 +224,25 @@ def test_run_notebooks_says_where_to_look(tmp_path, capsys):
     run_notebooks(src, tmp_path / "out", html=False)
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert last == f"open the lessons in a browser: {(tmp_path / 'out' / 'index.html').as_uri()}"
+
+
+def test_run_notebooks_at_once_keep_their_order(tmp_path, capsys):
+    """Two kernels at once: each notebook runs once, the results come in the notebooks'
+    order, and every start and end is said."""
+    src = tmp_path / "src"
+    src.mkdir()
+    for k, code in ((1, "import time; time.sleep(1.5); print('one')"), (2, "print('two')"),
+                    (3, "raise ValueError('three')")):
+        _tiny(src, code).rename(src / f"0{k}_n.ipynb")
+    results = run_notebooks(src, tmp_path / "out", html=False, n_jobs=2)
+    assert [r.name for r in results] == ["01_n.ipynb", "02_n.ipynb", "03_n.ipynb"]
+    assert [r.ok for r in results] == [True, True, False]
+    lines = capsys.readouterr().out.splitlines()
+    for name in ("01_n.ipynb", "02_n.ipynb", "03_n.ipynb"):
+        assert lines.count(f"running {name} ...") == 1
+        assert sum(line.startswith(f"  {name}: ") for line in lines) == 1
+    # the short one ends while the long one still runs
+    assert [i for i, s in enumerate(lines) if s.startswith("  02_n")][0] < [
+        i for i, s in enumerate(lines) if s.startswith("  01_n")][0]
+    with pytest.raises(ValueError, match="n_jobs"):
+        run_notebooks(src, tmp_path / "out", html=False, n_jobs=0)
