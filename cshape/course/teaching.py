@@ -118,7 +118,7 @@ def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
     if not small:
         return [(it.name, it.label, it.mesh)
                 for coll in ("paper-models", "articulated")
-                for it in data.load_collection(coll, progress=None, n_jobs=_build_jobs())]
+                for it in data.load_collection(coll, progress=True, n_jobs=_build_jobs())]
     items = [(f"sphere-{s}", "sphere", shapes.icosphere(s)) for s in (2, 3)]
     items += [(f"cube-{n}", "cube", shapes.cube(n)) for n in (5, 7)]
     items += [(f"torus-{k}", "torus", shapes.torus(8 * k + 24, 4 * k + 12)) for k in (0, 1)]
