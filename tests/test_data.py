@@ -220,8 +220,9 @@ def test_articulated_item_builds(kind):
     assert m.is_closed and m.genus == 0 and 2000 < m.n_vertices < 4000
 
 
-def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
-    man = _write_manifest(tmp_path, [TINY])
+@pytest.fixture
+def sphere_builds(monkeypatch):
+    """The calls of ``shapes.icosphere`` (the TINY manifest's recipe), one entry per build."""
     calls = []
     real = shapes.icosphere
 
@@ -231,6 +232,12 @@ def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
         return real(*args, **kwargs)
 
     monkeypatch.setattr(shapes, "icosphere", counting_sphere)
+    return calls
+
+
+def test_generated_cache_hit_does_not_rebuild(tmp_path, sphere_builds):
+    man = _write_manifest(tmp_path, [TINY])
+    calls = sphere_builds
     c1 = data.load_collection("tiny", manifest=man, progress=False)
     assert calls == [1]  # built once, reused as the noise recipe's base
     files = sorted((tmp_path / "cache" / "generated" / "tiny").iterdir())
@@ -246,17 +253,9 @@ def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
         assert set(z.files) == {"vertices", "faces", "recipe"}
 
 
-def test_lazy_generated_collection_builds_only_what_is_used(tmp_path, monkeypatch):
+def test_lazy_generated_collection_builds_only_what_is_used(tmp_path, sphere_builds):
     man = _write_manifest(tmp_path, [TINY])
-    calls = []
-    real = shapes.icosphere
-
-    @functools.wraps(real)
-    def counting_sphere(*args, **kwargs):
-        calls.append(1)
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(shapes, "icosphere", counting_sphere)
+    calls = sphere_builds
     lazy = data.load_collection("tiny", manifest=man, lazy=True)
     assert calls == [] and lazy.names == ["s", "n"] and lazy.labels == ["sphere", "sphere"]
     assert not (tmp_path / "cache" / "generated" / "tiny").exists()  # nothing built yet
