@@ -47,7 +47,7 @@
 import numpy as np
 
 import cshape
-from cshape import batch, compare, plots
+from cshape import compare, plots
 from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N
 
 np.set_printoptions(precision=4, suppress=True, linewidth=100)
@@ -56,32 +56,32 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 
 # %%
 import cshape.data
-from cshape.course.teaching import retrieval_collection
+from cshape.course.teaching import retrieval_collection, retrieval_table
 
 N = 100  # the paper's Shape-DNA length, also in the small run (small meshes keep it cheap)
 
 
-def describe_collection(coll):
-    """Eigenvalues of a collection (cshape.data.Collection), N of them per shape.
+def connected_only(table):
+    """The rows of a DescriptorTable whose mesh is in one piece.
 
-    Generated meshes are built with PyMeshLab once, then cached, and so are the eigenvalues.
     Shapes whose mesh has several components (lam_1 = 0: no logarithm) are left out, and said so.
     The zero modes are counted by the package's rule (table.zero_modes: the mesh's component
     count, else cshape.count_zero_modes, eigenvalues at most ZERO_RTOL of the largest).
     """
-    table = batch.describe(coll, N=N, progress=not SMALL)
     ok = table.zero_modes <= 1
     if not ok.all():
-        print(f"{coll.name}: left out (several components, lam_1 = 0):",
+        print("left out (several components, lam_1 = 0):",
               ", ".join(n for n, k in zip(table.names, ok, strict=True) if not k))
     return table.select(ok)
 
 
 # The creature benchmark (cshape.data.creatures, 12 classes): its development instance, the one to
 # look at and choose on ('creatures-dev'; the small run: 6 classes x 3 coarse members, same seed).
+# At full size its eigenvalues come prepared with the package (retrieval_table, see lesson 04), and
+# its meshes are built when first drawn.
 DEV = size("creatures-small, 6 classes", "creatures-dev")
 dev = retrieval_collection()
-table = describe_collection(dev)
+table = connected_only(retrieval_table(N))
 labels = np.array(table.labels)
 classes = sorted(set(table.labels))
 print(DEV, table)
@@ -438,7 +438,7 @@ for d in (cshape.Descriptor("truncated-log", N=N, M=8), cshape.Descriptor("trunc
 #    (a z-score per index) and score the first 17 columns. Is it better or worse than the truncated log spectrum?
 #    Why is it less honest to report (hint: the weights are learned from the very collection you score)?
 # 3. **Choose on one, report on another.** On the development instance (`creatures-dev`,
-#    `cshape.data.load_collection("creatures-dev")`, about ten minutes to build the first time) pick the size $2M+1$, $M = 1, \dots, 16$, at which the log-Weyl DCT has its best first tier
+#    `cshape.data.load_collection("creatures-dev")`, a few minutes to build the first time) pick the size $2M+1$, $M = 1, \dots, 16$, at which the log-Weyl DCT has its best first tier
 #    (`table.distance_matrix(cshape.Descriptor("cshape", N=N, M=m, transform="log-weyl-dct"))`). Report that descriptor's first tier on the
 #    held-out `creatures`. Is it lower than on the instance you chose on? Do the same for the truncated log
 #    spectrum. (`cshape reproduce` makes the table for every size.)

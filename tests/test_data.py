@@ -220,8 +220,9 @@ def test_articulated_item_builds(kind):
     assert m.is_closed and m.genus == 0 and 2000 < m.n_vertices < 4000
 
 
-def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
-    man = _write_manifest(tmp_path, [TINY])
+@pytest.fixture
+def sphere_builds(monkeypatch):
+    """The calls of ``shapes.icosphere`` (the TINY manifest's recipe), one entry per build."""
     calls = []
     real = shapes.icosphere
 
@@ -231,6 +232,12 @@ def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
         return real(*args, **kwargs)
 
     monkeypatch.setattr(shapes, "icosphere", counting_sphere)
+    return calls
+
+
+def test_generated_cache_hit_does_not_rebuild(tmp_path, sphere_builds):
+    man = _write_manifest(tmp_path, [TINY])
+    calls = sphere_builds
     c1 = data.load_collection("tiny", manifest=man, progress=False)
     assert calls == [1]  # built once, reused as the noise recipe's base
     files = sorted((tmp_path / "cache" / "generated" / "tiny").iterdir())
@@ -244,6 +251,51 @@ def test_generated_cache_hit_does_not_rebuild(tmp_path, monkeypatch):
     assert c1["s"].path in files and c1["s"].path.suffix == ".npz"
     with np.load(files[0], allow_pickle=False) as z:
         assert set(z.files) == {"vertices", "faces", "recipe"}
+
+
+def test_lazy_generated_collection_builds_only_what_is_used(tmp_path, sphere_builds):
+    man = _write_manifest(tmp_path, [TINY])
+    calls = sphere_builds
+    lazy = data.load_collection("tiny", manifest=man, lazy=True)
+    assert calls == [] and lazy.names == ["s", "n"] and lazy.labels == ["sphere", "sphere"]
+    assert not (tmp_path / "cache" / "generated" / "tiny").exists()  # nothing built yet
+    mesh = lazy["s"].mesh
+    assert calls == [1] and mesh.n_vertices > 0
+    assert len(list((tmp_path / "cache" / "generated" / "tiny").iterdir())) == 1
+    built = data.load_collection("tiny", manifest=man, progress=False)  # the rest, then cached
+    np.testing.assert_array_equal(built["s"].mesh.vertices, mesh.vertices)
+    np.testing.assert_array_equal(lazy["n"].mesh.vertices, built["n"].mesh.vertices)
+    assert calls == [1]
+
+
+def _build_flag(args):
+    """In a worker process: (built, vertices) of one generated item of the manifest."""
+    from cshape.data import manifest as manifest_module
+    from cshape.data import store
+
+    man, root, coll, name = args
+    entries = manifest_module.load_manifest(man)
+    item = next(it for it in entries[coll]["items"] if it["name"] == name)
+    mesh, built = store._generated_mesh(entries, coll, item, Path(root))
+    return built, mesh.vertices
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="the build lock needs fcntl")
+def test_processes_asking_for_one_missing_item_build_it_once(tmp_path):
+    slow = {"name": "slow", "kind": "generated", "description": "test",
+            "license": "BSD-3-Clause", "citation": "none",
+            "items": [{"name": "c", "label": "snake", "recipe": "creature", "seed": 5,
+                       "params": {"kind": "snake", "vertices": 600, "voxelsize": 0.03}}]}
+    man = _write_manifest(tmp_path, [slow])
+    from concurrent.futures import ProcessPoolExecutor
+
+    args = (str(man), str(tmp_path / "cache"), "slow", "c")
+    with ProcessPoolExecutor(max_workers=3) as ex:
+        out = list(ex.map(_build_flag, [args] * 3))
+    assert sorted(b for b, _ in out) == [False, False, True]  # one built, two read its file
+    for _, verts in out[1:]:
+        np.testing.assert_array_equal(verts, out[0][1])
+    assert [f.suffix for f in (tmp_path / "cache" / "generated" / "slow").iterdir()] == [".npz"]
 
 
 def test_cache_key_follows_parameters_and_seed(tmp_path):

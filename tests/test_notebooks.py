@@ -224,3 +224,26 @@ def test_run_notebooks_says_where_to_look(tmp_path, capsys):
     run_notebooks(src, tmp_path / "out", html=False)
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert last == f"open the lessons in a browser: {(tmp_path / 'out' / 'index.html').as_uri()}"
+
+
+def test_run_notebooks_at_once_keep_their_order(tmp_path, capsys):
+    """Two kernels at once: the first notebook ends only when the second has run (so they
+    ran at the same time), each runs once, the results come in the notebooks' order, and
+    every start and end is said."""
+    src = tmp_path / "src"
+    marker = tmp_path / "second-ran"
+    wait = (f"import os, time\nt = time.monotonic()\nwhile not os.path.exists({str(marker)!r}):\n"
+            "    assert time.monotonic() - t < 120, 'the second notebook never ran'\n"
+            "    time.sleep(0.05)\nprint('one')")
+    for k, code in ((1, wait), (2, f"open({str(marker)!r}, 'w').close()"),
+                    (3, "raise ValueError('three')")):
+        _tiny(src, code).rename(src / f"0{k}_n.ipynb")
+    results = run_notebooks(src, tmp_path / "out", html=False, n_jobs=2)
+    assert [r.name for r in results] == ["01_n.ipynb", "02_n.ipynb", "03_n.ipynb"]
+    assert [r.ok for r in results] == [True, True, False]
+    lines = capsys.readouterr().out.splitlines()
+    for name in ("01_n.ipynb", "02_n.ipynb", "03_n.ipynb"):
+        assert lines.count(f"running {name} ...") == 1
+        assert sum(line.startswith(f"  {name}: ") for line in lines) == 1
+    with pytest.raises(ValueError, match="n_jobs"):
+        run_notebooks(src, tmp_path / "out", html=False, n_jobs=0)

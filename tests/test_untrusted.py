@@ -417,9 +417,12 @@ def test_build_killed_mid_write_leaves_no_cache_entry(tmp_path):
     assert child.returncode == -signal.SIGKILL
     folder = _cache_folder(tmp_path)
     assert not list(folder.glob("*.npz"))  # no final entry, only a hidden temporary
-    assert all(p.name.startswith(".") and p.name.endswith(".tmp") for p in folder.iterdir())
+    # a hidden temporary, and the build's lock file (the system released the lock)
+    assert all(p.name.startswith(".") and p.name.endswith((".tmp", ".npz.lock"))
+               for p in folder.iterdir())
     m = data.load("tiny", "s", manifest=man)  # the next run builds it cleanly
     assert m.n_vertices == 162 and len(list(folder.glob("*.npz"))) == 1
+    assert not list(folder.glob(".*.lock"))  # and takes the lock file away
 
 
 def test_interrupt_mid_write_removes_the_temporary(tmp_path, monkeypatch):

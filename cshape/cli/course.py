@@ -6,6 +6,7 @@ works without the ``notebooks`` and ``course`` extras until one of these is call
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -26,7 +27,7 @@ def _cmd_notebooks(args: argparse.Namespace) -> int:
     out = args.out or ("out/notebooks/student" if args.student else "out/notebooks")
     results = run_notebooks(src, out, names=args.names or None, small=args.small,
                             timeout=args.timeout, html=not args.no_html,
-                            stop_at_stub=args.student)
+                            stop_at_stub=args.student, n_jobs=args.jobs)
     return 0 if all(r.ok for r in results) else 1
 
 
@@ -45,6 +46,9 @@ def add_notebooks(sub: _SubParsers) -> None:
                    help="run notebooks/student/ instead, each up to its first exercise stub")
     p.add_argument("--no-html", action="store_true", help="write the executed .ipynb only")
     p.add_argument("--timeout", type=int, default=1200, help="seconds per cell (default 1200)")
+    p.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1),
+                   help="lessons run at once, each on its own kernel (default: 2, or 1 on a "
+                        "machine of one core)")
     p.set_defaults(func=_cmd_notebooks)
 
 

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from .._checks import check_int
 from .._files import atomic_write
 
 if TYPE_CHECKING:
@@ -450,7 +451,8 @@ def run_notebooks(src: str | os.PathLike[str] | None = None,
                   out: str | os.PathLike[str] = "out/notebooks", *,
                   names: Iterable[str] | None = None, small: bool = False,
                   timeout: float = 1200, html: bool = True, stop_at_stub: bool = False,
-                  progress: Callable[[str], object] | None = print) -> list[RunResult]:
+                  progress: Callable[[str], object] | None = print,
+                  n_jobs: int = 1) -> list[RunResult]:
     """Execute every notebook of ``src`` into ``out`` (executed ``.ipynb``, HTML, index.html).
 
     Parameters
@@ -463,23 +465,28 @@ def run_notebooks(src: str | os.PathLike[str] | None = None,
     small, timeout, html, stop_at_stub
         See :func:`run_notebook`.
     progress : callable or None, default=print
-        Called with one line per notebook.
+        Called with one line per notebook when it starts and when it ends.
+    n_jobs : int, default=1
+        Notebooks run at once, each on its own kernel.  Lessons that need the same
+        generated collection wait for each other's builds (the data cache builds each mesh
+        once).
 
     Returns
     -------
     list of RunResult
+        In the order of the notebooks, whatever order they ended in.
     """
+    n_jobs = check_int("n_jobs", n_jobs, min=1)
     paths = find_notebooks(src, names)
     if not paths:
         raise FileNotFoundError(f"no notebooks named NN_*.ipynb in {str(src)!r}")
     out = Path(out)
-    results = []
-    for p in paths:
+
+    def one(p: Path) -> RunResult:
         if progress:
             progress(f"running {p.name} ...")
         r = run_notebook(p, out, small=small, timeout=timeout, html=html,
                          stop_at_stub=stop_at_stub)
-        results.append(r)
         if progress:
             state = "ok" if r.ok else f"FAILED ({r.error.splitlines()[0] if r.error else ''})"
             if r.stopped_at_stub:
@@ -487,6 +494,15 @@ def run_notebooks(src: str | os.PathLike[str] | None = None,
             if r.stderr:
                 state += f", {len(r.stderr)} stderr output(s): {r.stderr[0].splitlines()[0]}"
             progress(f"  {p.name}: {state} in {r.seconds:.1f} s")
+        return r
+
+    if n_jobs == 1 or len(paths) == 1:
+        results = [one(p) for p in paths]
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(max_workers=min(n_jobs, len(paths))) as pool:
+            results = list(pool.map(one, paths))  # each thread waits on its kernel
     index = _index(results, out, small)
     if progress:
         what = "executed notebooks and HTML pages" if html else "executed notebooks"

@@ -5,7 +5,8 @@
 * :data:`CITATION`               - the reference of the paper the lessons follow;
 * :func:`spot`, :func:`real_mesh` - the real mesh of lessons 02 and 03, shipped in the package;
 * :func:`demo_collection`        - the labelled collection of lessons 04, 05 and 07;
-* :func:`retrieval_collection`   - a collection whose descriptors differ (lessons 04 and 08).
+* :func:`retrieval_collection`   - a collection whose descriptors differ (lessons 04 and 08);
+* :func:`retrieval_table`        - its eigenvalues (at full size, prepared with the package).
 
 A lesson starts with one line, ``from cshape.course.teaching import SMALL, size``, and writes
 its sizes as ``N = size(50, 100)`` (small, full).
@@ -15,12 +16,16 @@ from __future__ import annotations
 
 import os
 from importlib import resources
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from .. import data, shapes
+from .._checks import check_int
 from ..data import variants
 from ..mesh import Mesh
 from ..readers import load_mesh
+
+if TYPE_CHECKING:
+    from ..batch import DescriptorTable
 
 _T = TypeVar("_T")
 
@@ -30,6 +35,7 @@ __all__ = [
     "demo_collection",
     "real_mesh",
     "retrieval_collection",
+    "retrieval_table",
     "size",
     "spot",
 ]
@@ -112,7 +118,7 @@ def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
     if not small:
         return [(it.name, it.label, it.mesh)
                 for coll in ("paper-models", "articulated")
-                for it in data.load_collection(coll, progress=None, n_jobs=_build_jobs())]
+                for it in data.load_collection(coll, progress=True, n_jobs=_build_jobs())]
     items = [(f"sphere-{s}", "sphere", shapes.icosphere(s)) for s in (2, 3)]
     items += [(f"cube-{n}", "cube", shapes.cube(n)) for n in (5, 7)]
     items += [(f"torus-{k}", "torus", shapes.torus(8 * k + 24, 4 * k + 12)) for k in (0, 1)]
@@ -132,14 +138,16 @@ def retrieval_collection(small: bool | None = None) -> data.Collection:
 
     Its classes (human, centaur, teddy, quadruped, bird, spider, ...) have members that
     differ in proportions, pose, resolution and noise, so descriptors score differently
-    (on :func:`demo_collection` every descriptor retrieves perfectly).
+    (on :func:`demo_collection` every descriptor retrieves perfectly).  Its eigenvalues are
+    :func:`retrieval_table`.
 
     Parameters
     ----------
     small : bool, optional
-        Six classes of three coarse members (500-1000 vertices); else the development
-        instance ``creatures-dev`` (12 classes x 10 members, built the first time on every
-        core, with a progress bar).  Built the first time, then cached.  Default :data:`SMALL`.
+        Six classes of three coarse members (500-1000 vertices), built now; else the
+        development instance ``creatures-dev`` (12 classes x 10 members), whose meshes are
+        built one by one when first used (about a second each), then cached.  Default
+        :data:`SMALL`.
 
     Returns
     -------
@@ -148,6 +156,47 @@ def retrieval_collection(small: bool | None = None) -> data.Collection:
     """
     small = SMALL if small is None else bool(small)
     if not small:
-        return data.load_collection("creatures-dev", progress=None, n_jobs=_build_jobs())
+        return data.load_collection("creatures-dev", lazy=True)
     return data.load_creatures(0, members=3, kinds=list(SMALL_CREATURES), vertices=[500, 1000],
                                voxelsize=0.03, progress=False)
+
+
+#: The eigenvalues of ``creatures-dev`` shipped with the package (``N = 100``, linear FEM,
+#: Neumann, consistent mass), written by ``tools/prepare_lesson_data.py``.
+PREPARED_RETRIEVAL = "creatures-dev-spectra.npz"
+
+
+def retrieval_table(N: int = 100, small: bool | None = None) -> DescriptorTable:
+    """The eigenvalues of :func:`retrieval_collection`, the first ``N`` of each shape.
+
+    At full size they come prepared with the package: computed by
+    ``batch.describe(cshape.data.load_collection("creatures-dev"), N=100)``, which builds
+    120 meshes with PyMeshLab and solves 120 eigenproblems, minutes on a laptop.  The test
+    suite rebuilds members of every class and checks their eigenvalues against these.  At
+    small size the six small classes are described now.
+
+    Parameters
+    ----------
+    N : int, default=100
+        Eigenvalues per shape, 1 to 100 at full size.
+    small : bool, optional
+        Default :data:`SMALL`.
+
+    Returns
+    -------
+    cshape.batch.DescriptorTable
+        Rows in the order of :func:`retrieval_collection`, named and labelled as its items.
+    """
+    from ..batch import DescriptorTable, describe
+
+    small = SMALL if small is None else bool(small)
+    if small:
+        N = check_int("N", N, min=1)
+        return describe(retrieval_collection(True), N=N, progress=False)
+    N = check_int("N", N, min=1, max=100)
+    ref = resources.files("cshape.course") / PREPARED_RETRIEVAL
+    with resources.as_file(ref) as path:
+        table = DescriptorTable.load(path)
+    return DescriptorTable(table.names, table.lam[:, :N], table.areas, table.labels,
+                           bc=table.bc, mass=table.mass, refine=table.refine,
+                           components=table.components)

@@ -4,8 +4,11 @@ collection or one shape by name (:func:`load_collection`, :func:`load`).
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import hashlib
 import json
+import os
 import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -22,8 +25,7 @@ from .manifest import RECIPES_VERSION, Collection, Item, _entry, _find_item, _re
 from .paths import _cache_root, _removing_new_folders, collection_path
 
 if TYPE_CHECKING:
-    import os
-    from collections.abc import Iterable
+    from collections.abc import Iterable, Iterator
 
     #: a path; a manifest: its path, or the parsed manifest; the entries of a manifest
     _StrPath = str | os.PathLike[str]
@@ -62,15 +64,11 @@ def _key(record: dict[str, Any]) -> str:
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 
-
-
 def _atomic_save_npz(path: Path, **arrays: Any) -> None:
     """Write ``arrays`` to ``path`` as .npz atomically (see :func:`cshape._files.atomic_write`)."""
     hint = "pass cache_dir= or set CSHAPE_CACHE to a writable folder"
     make_folder(path.parent, what="cache folder", hint=hint)
     atomic_write(path, lambda fh: np.savez(fh, **arrays), what="cache file", hint=hint)
-
-
 
 
 def _cache_file(entries: _Entries, coll: str, item: dict[str, Any], root: Path) -> Path:
@@ -80,7 +78,10 @@ def _cache_file(entries: _Entries, coll: str, item: dict[str, Any], root: Path) 
 
 def _generated_mesh(entries: _Entries, coll: str, item: dict[str, Any], root: Path
                     ) -> tuple[Mesh, bool]:
-    """Return (mesh, built) for a generated item, from the cache or by building it."""
+    """Return (mesh, built) for a generated item, from the cache or by building it.
+
+    Processes that ask for the same missing item at once build it once: the others wait
+    for the first one's file (a lock beside it, where the system has ``fcntl``)."""
     path = _cache_file(entries, coll, item, root)
     record = _recipe_record(entries, coll, item)
     if path.is_file():
@@ -88,6 +89,48 @@ def _generated_mesh(entries: _Entries, coll: str, item: dict[str, Any], root: Pa
             return _read_npz(path, record), False
         except (OSError, ValueError, KeyError) as exc:
             warnings.warn(f"rebuilding unreadable cache file {path} ({exc})", stacklevel=3)
+            return _build_item(entries, coll, item, root, path, record), True
+    with _build_lock(path):
+        if path.is_file():  # built by another process meanwhile
+            try:
+                return _read_npz(path, record), False
+            except (OSError, ValueError, KeyError):
+                pass
+        return _build_item(entries, coll, item, root, path, record), True
+
+
+@contextlib.contextmanager
+def _build_lock(path: Path) -> Iterator[None]:
+    """Hold ``.<name>.lock`` beside ``path`` exclusively (none without ``fcntl``).
+
+    A process killed while it holds the lock leaves the empty file; the system has
+    released the lock, and the next build takes it and removes the file."""
+    try:
+        import fcntl
+    except ImportError:  # Windows: two processes may build the same item; both write atomically
+        yield
+        return
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fh = open(path.with_name(f".{path.name}.lock"), "a")  # noqa: SIM115
+    except OSError:  # a read-only cache: the build's own write says what is wrong
+        yield
+        return
+    with fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            # gone once the item is built: a process still waiting holds it open and then
+            # finds the cache file; a later one finds the file first
+            with contextlib.suppress(OSError):
+                os.unlink(fh.name)
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def _build_item(entries: _Entries, coll: str, item: dict[str, Any], root: Path, path: Path,
+                record: dict[str, Any]) -> Mesh:
+    """Build a generated item by its recipe and write it to its cache file."""
     fn, takes_base, takes_seed = _recipes()[item["recipe"]]
     args, kwargs = [], dict(item.get("params") or {})
     if takes_base:
@@ -99,20 +142,22 @@ def _generated_mesh(entries: _Entries, coll: str, item: dict[str, Any], root: Pa
     _atomic_save_npz(
         path, vertices=mesh.vertices, faces=mesh.faces, recipe=np.array(json.dumps(record))
     )
-    return mesh, True
+    return mesh
+
+
+def _generated_item(entries: _Entries, coll: str, item: dict[str, Any], root: Path) -> Mesh:
+    """The mesh of a generated item, read from the cache or built (a lazy item's loader)."""
+    return _generated_mesh(entries, coll, item, root)[0]
 
 
 # ====================================================================== paths
 
 
-
-
-
-
 # ====================================================================== loading
 def load_collection(
     name: str, *, cache_dir: _StrPath | None = None, download: bool = False,
-    progress: bool | None = None, manifest: _Manifest | None = None, n_jobs: int = 1
+    progress: bool | None = None, manifest: _Manifest | None = None, n_jobs: int = 1,
+    lazy: bool = False
 ) -> Collection:
     """Load a collection: its meshes with names and class labels.
 
@@ -137,17 +182,28 @@ def load_collection(
         differ slightly between processes (isotropic remeshing turns a last-bit difference
         of its input into another edge flip: a few triangles, the same shape), and the
         cache keeps whichever was built first.
+    lazy : bool, default=False
+        For a generated collection, build (or read from the cache) an item's mesh only when
+        its ``mesh`` is first used, one by one, so that a few meshes of a large collection
+        cost a few builds.  Ignored by the other kinds, which always load on first access.
 
     Returns
     -------
     Collection
         ``.names``, ``.labels``, ``.meshes``; items by position or name.  Generated meshes are
-        built (or read from the cache) now; files of the other kinds load on first access.
+        built (or read from the cache) now, unless ``lazy``; files of the other kinds load on
+        first access.
     """
     entries = load_manifest(manifest)
     entry = _entry(name, entries)
     kind = entry["kind"]
     meta = {k: v for k, v in entry.items() if not k.startswith("_")}
+    if kind == "generated" and lazy:
+        root = _cache_root(cache_dir)
+        return Collection(name, [
+            Item(it["name"], it["label"], name, dict(it),
+                 _load=functools.partial(_generated_item, entries, name, it, root))
+            for it in entry["items"]], meta)
     if kind == "generated":
         root = _cache_root(cache_dir)
         _build_in_processes(entries, name, root, n_jobs, progress)
@@ -304,16 +360,6 @@ def load_creatures(seed: int = 1, members: int = 10, kinds: Iterable[str] | None
                            n_jobs=n_jobs)
 
 
-
-
-
-
-
-
-
-
-
-
 class _NoBar:
     def __enter__(self) -> _NoBar:
         return self
@@ -334,8 +380,6 @@ def _progress(total: int, desc: str, progress: bool | None) -> Any:
         return _NoBar()
     return tqdm(total=total, desc=desc, unit="mesh", delay=0.5, disable=None if progress is None
                 else not progress, leave=False)
-
-
 
 
 def build(name: str, *, cache_dir: _StrPath | None = None, progress: bool | None = None,
