@@ -190,7 +190,8 @@ _MATHJAX_CONFIG = "TeX-AMS-MML_HTMLorMML-full,Safe,local/cshape"
 _MATHJAX_LOCAL = """\
 MathJax.Hub.Config({
   "HTML-CSS": {availableFonts: [], preferredFont: null, webFont: "STIX-Web", imageFont: null},
-  MathMenu: {showRenderer: false}
+  MathMenu: {showRenderer: false},
+  messageStyle: "none"
 });
 MathJax.Ajax.loadComplete("[MathJax]/config/local/cshape.js");
 """
@@ -391,7 +392,8 @@ footer { color: var(--muted); font-size: .875rem; border-top: 1px solid var(--li
 #: MathJax 2.7 for the titles, as the lesson pages have it: ``$...$`` is inline math.
 _INDEX_MATHJAX = """<script type="text/x-mathjax-config">
 MathJax.Hub.Config({tex2jax: {inlineMath: [['$','$']], processEscapes: true,
-                             ignoreClass: 'lead|paper|state|error', processClass: 'title'}});
+                             ignoreClass: 'lead|paper|state|error', processClass: 'title'},
+                   messageStyle: 'none'});
 </script>
 <script src="{url}"></script>"""
 
