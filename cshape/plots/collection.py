@@ -337,19 +337,22 @@ def named_points(P: ArrayLike, outliers: ArrayLike, max_names: int = MDS_MAX_NAM
     return np.concatenate([np.flatnonzero(out), inner[taken]]).astype(np.int64)
 
 
-def _points_per_unit(ax: Axes) -> tuple[float, float]:
-    """The data units per point of ``ax`` along x and y (after a layout pass, if the figure
-    has a layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
+def _axes_points(ax: Axes) -> tuple[float, float]:
+    """The width and height of ``ax`` in points, at least 1 (after a layout pass, if the
+    figure has a layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
     fig: Any = ax.figure
     while getattr(fig, "figure", fig) is not fig:  # the root figure of a subfigure
         fig = fig.figure
     if fig.get_layout_engine() is not None:
         fig.draw_without_rendering()  # the axes get their final size
     box = ax.get_window_extent()
-    x0, x1 = ax.get_xlim()
-    y0, y1 = ax.get_ylim()
-    width, height = (max(72.0 * v / fig.dpi, 1.0) for v in (box.width, box.height))
-    return abs(x1 - x0) / width, abs(y1 - y0) / height
+    return max(72.0 * box.width / fig.dpi, 1.0), max(72.0 * box.height / fig.dpi, 1.0)
+
+
+def _overlap(a: tuple[float, float, float, float], b: tuple[float, float, float, float],
+             gx: float = 0.0, gy: float = 0.0) -> bool:
+    """Whether boxes ``(x0, y0, x1, y1)`` come closer than ``gx`` across and ``gy`` up."""
+    return a[0] - gx < b[2] and b[0] < a[2] + gx and a[1] - gy < b[3] and b[1] < a[3] + gy
 
 
 def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
@@ -384,7 +387,8 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
     Y = np.asarray(Y, dtype=np.float64)
     x0, x1 = (float(v) for v in ax.get_xlim())
     y0, y1 = (float(v) for v in ax.get_ylim())
-    ux, uy = _points_per_unit(ax)
+    width, height = _axes_points(ax)
+    ux, uy = abs(x1 - x0) / width, abs(y1 - y0) / height  # data units per point
     size = FontProperties(size=fontsize).get_size_in_points()
     dx, dy = offset * ux, offset * uy  # the true offsets: larger ones would hide overlaps
     gx, gy = GAP_POINTS * ux, GAP_POINTS * uy  # room kept between two boxes
@@ -401,10 +405,8 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
         inside = lo_x <= box[0] and box[2] <= hi_x and lo_y <= box[1] and box[3] <= hi_y
         # a point's own marker is no obstacle to its name
         near = [b for b in obstacles if not (b[0] < own[0] < b[2] and b[1] < own[1] < b[3])]
-        hit_text = any(box[0] - gx < b[2] and b[0] < box[2] + gx and box[1] - gy < b[3]
-                       and b[1] < box[3] + gy for b in boxes)
-        hit_point = any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
-                        for b in near)
+        hit_text = any(_overlap(box, b, gx, gy) for b in boxes)
+        hit_point = any(_overlap(box, b) for b in near)
         return inside and (level == 2 or not hit_text) and (level >= 1 or not hit_point)
 
     # (horizontal, vertical) side of the point: +1 right / above, -1 left / below, 0 centred
@@ -750,8 +752,7 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
     ax.set_xticks([])
     ax.set_yticks([])
     if side_pt is None:
-        ux, uy = _points_per_unit(ax)
-        side_pt = min(abs(np.diff(ax.get_xlim())[0]) / ux, abs(np.diff(ax.get_ylim())[0]) / uy)
+        side_pt = min(_axes_points(ax))
     size = FontProperties(size=fontsize).get_size_in_points()
     n_fit = max(1, int(side_pt / safety / (1.2 * size)))
     runs = _runs([str(x) for x in labels]) if labels is not None and len(labels) == p else []
