@@ -84,19 +84,27 @@ def _generated_mesh(entries: _Entries, coll: str, item: dict[str, Any], root: Pa
     for the first one's file (a lock beside it, where the system has ``fcntl``)."""
     path = _cache_file(entries, coll, item, root)
     record = _recipe_record(entries, coll, item)
-    if path.is_file():
-        try:
-            return _read_npz(path, record), False
-        except (OSError, ValueError, KeyError) as exc:
-            warnings.warn(f"rebuilding unreadable cache file {path} ({exc})", stacklevel=3)
-            return _build_item(entries, coll, item, root, path, record), True
-    with _build_lock(path):
-        if path.is_file():  # built by another process meanwhile
-            try:
-                return _read_npz(path, record), False
-            except (OSError, ValueError, KeyError):
-                pass
-        return _build_item(entries, coll, item, root, path, record), True
+    existed = path.is_file()
+    mesh = _read_cached(path, record)
+    if mesh is None:
+        with _build_lock(path):
+            # built by another process meanwhile (an unreadable file is rebuilt at once)
+            mesh = None if existed else _read_cached(path, record)
+            if mesh is None:
+                return _build_item(entries, coll, item, root, path, record), True
+    return mesh, False
+
+
+def _read_cached(path: Path, record: dict[str, Any]) -> Mesh | None:
+    """The cached mesh at ``path``; None if there is none, or (with a warning) an
+    unreadable one, which is then rebuilt."""
+    if not path.is_file():
+        return None
+    try:
+        return _read_npz(path, record)
+    except (OSError, ValueError, KeyError) as exc:
+        warnings.warn(f"rebuilding unreadable cache file {path} ({exc})", stacklevel=4)
+        return None
 
 
 @contextlib.contextmanager
@@ -148,9 +156,6 @@ def _build_item(entries: _Entries, coll: str, item: dict[str, Any], root: Path, 
 def _generated_item(entries: _Entries, coll: str, item: dict[str, Any], root: Path) -> Mesh:
     """The mesh of a generated item, read from the cache or built (a lazy item's loader)."""
     return _generated_mesh(entries, coll, item, root)[0]
-
-
-# ====================================================================== paths
 
 
 # ====================================================================== loading
