@@ -498,13 +498,10 @@ def run_notebooks(src: str | os.PathLike[str] | None = None,
             progress(f"  {p.name}: {state} in {r.seconds:.1f} s")
         return r
 
-    if n_jobs == 1 or len(paths) == 1:
-        results = [one(p) for p in paths]
-    else:
-        from concurrent.futures import ThreadPoolExecutor
+    from concurrent.futures import ThreadPoolExecutor
 
-        with ThreadPoolExecutor(max_workers=min(n_jobs, len(paths))) as pool:
-            results = list(pool.map(one, paths))  # each thread waits on its kernel
+    with ThreadPoolExecutor(max_workers=min(n_jobs, len(paths))) as pool:
+        results = list(pool.map(one, paths))  # each thread waits on its kernel
     index = _index(results, out, small)
     if progress:
         what = "executed notebooks and HTML pages" if html else "executed notebooks"
