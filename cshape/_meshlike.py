@@ -46,10 +46,12 @@ def _kind(obj: object) -> str | None:
         return "pymeshlab"
     if has("current_mesh") and callable(obj.current_mesh):  # type: ignore[attr-defined]
         return "meshset"
-    if has("vertices") and has("triangles"):
-        return "open3d"
+    # trimesh's Trimesh has .faces and also .triangles (the corners' coordinates), so the
+    # .faces layout is recognised first; Open3D's TriangleMesh has .triangles and no .faces
     if has("vertices") and has("faces"):
         return "trimesh"
+    if has("vertices") and has("triangles"):
+        return "open3d"
     if has("points") and has("cells_dict"):
         return "meshio"
     if has("points") and has("faces"):
