@@ -11,7 +11,7 @@ every pose is the identity.  They are the items of the manifest's ``poses`` coll
 (``cshape.data.load_collection("poses")``: rest pose and poses 0-4 of each class).
 
 For every pose, each vertex ``i`` of the rest pose is matched to the vertex of the pose
-whose descriptor is nearest (:func:`cshape.match_points`), and the
+whose descriptor is nearest (:func:`cshape.signatures.match_points`), and the
 error is the geodesic distance on the pose between the match and vertex ``i`` (shortest
 paths along the edges, which overestimate the geodesic by a few per cent), over the pose's
 geodesic diameter.  A match counts as correct when the error is at most 5 % of it.
@@ -105,7 +105,7 @@ def descriptors(rest, pose, N=100, n_scales=100):
     return {
         "HKS": (cshape.hks(ba, t, scale="trace"), cshape.hks(bb, t, scale="trace")),
         "WKS": (cshape.wks(ba, e, sigma), cshape.wks(bb, e, sigma)),
-        "SI-HKS": (cshape.si_hks(ba), cshape.si_hks(bb)),
+        "SI-HKS": (cshape.signatures.si_hks(ba), cshape.signatures.si_hks(bb)),
         "xyz, rigid oracle": (rest.vertices @ R.T + tr, pose.vertices),
         "xyz, ICP": (icp(rest.vertices, pose.vertices), pose.vertices),
     }
@@ -130,11 +130,11 @@ def evaluate(kind, seeds, N=100, n_scales=100, template=None):
         diam = float(D.max())
         for name in DESCRIPTORS:
             a, b = desc[name]
-            match = cshape.match_points(a, b)
+            match = cshape.signatures.match_points(a, b)
             err, err_m = D[ident, match], D[mirror, match]
             best = np.minimum(err, err_m)
             # mutual nearest neighbours only: fewer matches, how many of them right
-            kept = cshape.match_points(a, b, mutual=True) >= 0
+            kept = cshape.signatures.match_points(a, b, mutual=True) >= 0
             rows.append({
                 "kind": kind, "seed": seed, "descriptor": name, "n": rest.n_vertices,
                 "acc": float(np.mean(err <= THRESHOLD * diam)),

@@ -68,7 +68,7 @@ def connected_only(table):
     """The table without shapes whose ``lam_1`` is zero (several components), and their names.
 
     Such a spectrum has one zero eigenvalue per component; the log-Weyl ratio has no
-    logarithm for it (``cshape.log_weyl_ratio`` refuses it), and the paper's descriptors
+    logarithm for it (``cshape.descriptors.log_weyl_ratio`` refuses it), and the paper's descriptors
     would compare it with a shifted index.  It is left out of *every* row, so all rows
     score the same shapes.
     """

@@ -6,7 +6,8 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_pieces.py /tmp/shared.npz
 
 A mesh of ``k`` components has ``k`` zero eigenvalues; cshape drops them and indexes the rest
-from 1, with the total area (:func:`cshape.nonzero_eigenvalues`).  The spectrum of a disjoint
+from 1, with the total area (``cshape.descriptors.formulas.nonzero_eigenvalues``).
+The spectrum of a disjoint
 union is the merge of its pieces' spectra and its area their sum, so multi-piece spectra are
 made here from the connected ones of the table, with no eigensolve:
 
@@ -36,7 +37,7 @@ from scipy.fft import dct
 
 from cshape import compare
 from cshape.batch import DescriptorTable
-from cshape.descriptors import ZERO_RTOL
+from cshape.descriptors.formulas import ZERO_RTOL
 
 FOUR_PI = 4 * np.pi
 

@@ -18,7 +18,7 @@ against the area-normalised Shape-DNA with N = 100:
    ``1 + 0.03 g0 + 0.03 g1 i/N + 0.005 e_i`` (``g0, g1, e_i`` standard normal): the
    few-percent, low-frequency changes that deformation, noise and remeshing cause.  The
    cShape-DNA rows are computed from these spectra with a vectorised Eq. (8)-(10) and
-   :func:`cshape.real_form`, checked against :meth:`cshape.Descriptor.matrix`.
+   :func:`cshape.descriptors.real_form`, checked against :meth:`cshape.Descriptor.matrix`.
 3. *Queries*: new perturbations of the base spectra, ``k = 10`` neighbours, exact search by
 
    * ``DescriptorIndex``: :class:`cshape.DescriptorIndex` (scikit-learn; its 'auto' choice:
@@ -141,7 +141,7 @@ def cshape_rows(lam_norm, M):
     ndarray, shape (p, 2M+1)
         Same values as ``Descriptor('cshape', N=N, M=M).matrix(lam_norm, np.ones(p))``.
     """
-    from cshape import real_form
+    from cshape.descriptors import real_form
 
     p, N = lam_norm.shape
     out = np.empty((p, 2 * M + 1))

@@ -44,7 +44,7 @@ from threadpoolctl import threadpool_limits
 import cshape
 from cshape import shapes
 spec = json.loads(sys.argv[1])
-fn = cshape.eigenpairs if spec["eigenpairs"] else cshape.shape_dna
+fn = cshape.spectrum.eigenpairs if spec["eigenpairs"] else cshape.shape_dna
 out = {"file": cshape.__file__}
 with threadpool_limits(limits=1, user_api="blas"):
     for name, source in spec["meshes"]:

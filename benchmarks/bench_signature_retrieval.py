@@ -70,7 +70,7 @@ def weighted_quantiles(X, w, qs=QUANTILES):
 
 def shape_descriptors(mesh, N=100):
     """The three global descriptors of one mesh, by name."""
-    mesh = cshape.repair_mesh(cshape.as_mesh(mesh), warn=False)
+    mesh = cshape.repair_mesh(cshape.mesh.as_mesh(mesh), warn=False)
     basis = cshape.eigenbasis(mesh, N)
     w = np.asarray(basis.B.sum(axis=1)).ravel()  # vertex areas (lumped mass)
     t, e, sigma = fixed_scales(N)

@@ -8,13 +8,14 @@ Run from the repository root::
 Two parts, in the same run:
 
 1. **Signatures of a large mesh** (a torus of ``--vertices`` vertices, 100,000 by default):
-   ``cshape.eigenpairs(mesh, N=100)`` once, then the seconds of :func:`cshape.hks` and
-   :func:`cshape.wks` at ``--scales`` (100) times or energies, :func:`cshape.si_hks` (its
-   321 log-times), :func:`cshape.heat_kernel` from one vertex and :func:`cshape.match_points`
+   ``cshape.spectrum.eigenpairs(mesh, N=100)`` once, then the seconds of :func:`cshape.hks` and
+   :func:`cshape.wks` at ``--scales`` (100) times or energies, :func:`cshape.signatures.si_hks` (its
+   321 log-times), :func:`cshape.signatures.heat_kernel` from one vertex and
+:func:`cshape.signatures.match_points`
    of 1000 vertices against all (it is brute force: ``n_a n_b k`` operations).  Each is
    reported beside the eigensolve, as a fraction of it.
 2. **Eigenpairs against LaPy** on the icosphere of 40,962 vertices:
-   ``cshape.eigenpairs((v, f), N=100)`` (eigenfunctions included, plain arrays so that
+   ``cshape.spectrum.eigenpairs((v, f), N=100)`` (eigenfunctions included, plain arrays so that
    every run validates and builds its topology anew) against LaPy as its users run it,
    ``lapy.Solver(TriaMesh(v, f)).eigs(k=100)`` at its defaults (LaPy 1.7.0:
    ``use_cholmod=False``, SuperLU; all BLAS threads), and against its fastest setting
@@ -79,12 +80,12 @@ def time_signatures(mesh, N=100, n_scales=100, n_match=1000, seed=0):
     r = {"n": mesh.n_vertices, "N": N, "n_scales": n_scales, "eigenpairs": t_eig}
     h, r["hks"] = _timed(cshape.hks, basis, n_times=n_scales)
     w, r["wks"] = _timed(cshape.wks, basis, n_energies=n_scales)
-    s, r["si_hks"] = _timed(cshape.si_hks, basis)
-    _, r["heat_kernel"] = _timed(cshape.heat_kernel, basis, float(sg.hks_times(basis)[50]), 0)
+    s, r["si_hks"] = _timed(cshape.signatures.si_hks, basis)
+    _, r["heat_kernel"] = _timed(sg.heat_kernel, basis, float(sg.hks_times(basis)[50]), 0)
     rng = np.random.default_rng(seed)
     sub = rng.choice(mesh.n_vertices, size=min(n_match, mesh.n_vertices), replace=False)
     logh = np.log(h)
-    match, r["match_points"] = _timed(cshape.match_points, logh[sub], logh)
+    match, r["match_points"] = _timed(cshape.signatures.match_points, logh[sub], logh)
     r["hks_shape"], r["wks_shape"], r["si_hks_shape"] = h.shape, w.shape, s.shape
     r["si_hks_times"] = len(sg.si_hks_tau())
     r["n_match"] = len(sub)
@@ -128,7 +129,7 @@ def eigenpairs_vs_lapy(mesh, N=100, repeats=3):
     lapy_runs = []
     cs = None
     for _ in range(repeats):
-        (lam, phi), t = _timed(cshape.eigenpairs, VF, N)
+        (lam, phi), t = _timed(cshape.spectrum.eigenpairs, VF, N)
         cs = (lam, phi)
         t_cs.append(t)
         for setting in LAPY:

@@ -41,6 +41,7 @@ import numpy as np
 
 import cshape
 from cshape import shapes, spectrum
+from cshape._eigensolver.threads import solver_threads
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import load_average, processor, relative_difference  # noqa: E402
@@ -158,7 +159,7 @@ def bench_size(label, N, repeats, lapy=("default", "cholespy")):
     return {
         "label": label,
         "n": mesh.n_vertices,
-        "threads": spectrum.solver_threads(mesh.n_vertices),
+        "threads": solver_threads(mesh.n_vertices),
         **{k: min(o[k] for o in over) for k in over[0]},
         "cshape": min(t_cs),
         "lapy": best_lapy[lapy[0]],

@@ -25,23 +25,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = [
-    "check_bool",
-    "check_choice",
-    "check_crop",
-    "check_descriptors",
-    "check_entries",
-    "check_flag_or_choice",
-    "check_int",
-    "check_labels",
-    "check_n_jobs",
-    "check_path",
-    "check_points",
-    "check_real",
-    "check_square",
-    "require_extra",
-]
-
 _PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 
 

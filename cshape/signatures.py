@@ -46,7 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._checks import check_bool, check_choice, check_int, check_real
-from .descriptors import ZERO_RTOL
+from .descriptors.formulas import ZERO_RTOL
 from .spectrum import Eigenbasis
 
 __all__ = [
@@ -56,7 +56,6 @@ __all__ = [
     "hks_times",
     "match_points",
     "si_hks",
-    "si_hks_tau",
     "wks",
     "wks_energies",
 ]

@@ -411,7 +411,8 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
     from conftest import write_off
 
     from cshape import PAPER, shapes
-    from cshape.batch import DescriptorTable, collection_distances
+    from cshape.batch import DescriptorTable
+    from cshape.batch.table import collection_distances
     from cshape.cli import main
     from cshape.compare import nearest_neighbours
 
@@ -517,11 +518,12 @@ def _framing_views(tmp_path):
     name -> a page of HTML (written into ``tmp_path``) and the viewport widths to try."""
     from conftest import write_off
 
-    from cshape import eigenbasis, heat_kernel, match_points, plots, shapes, wks
+    from cshape import eigenbasis, plots, shapes, wks
     from cshape import signatures as sg
     from cshape.cli import main
     from cshape.data import poses
     from cshape.plots.explore import figure_html
+    from cshape.signatures import heat_kernel, match_points
 
     rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
     pose = poses.posed_figure("human", 1, voxelsize=0.03, target_vertices=800)

@@ -16,7 +16,8 @@ from conftest import write_off
 
 import cshape
 from cshape import Descriptor, shapes
-from cshape.batch import DescriptorTable, collection_distances
+from cshape.batch import DescriptorTable
+from cshape.batch.table import collection_distances
 from cshape.cli import main
 from cshape.compare import distance_matrix, mds_outliers, median_distances, nearest_neighbours
 from cshape.descriptors import recipe
@@ -179,7 +180,11 @@ def test_colour_limit_leaves_the_outliers_out():
 def test_collection_distances_of_a_table():
     table = spectra_table()
     c = collection_distances(table, LOG9)
-    assert np.allclose(c.D, table.distance_matrix(LOG9))
+    # the truncated log-Weyl ratios r_1 .. r_9 are at the distances of the truncated log
+    # spectrum log(lam_i * area), i = 1 .. 9 (the Weyl term 4 pi i cancels in a difference)
+    logs = np.log(table.lam[:, 1:10] * np.asarray(table.areas)[:, None])
+    expected = np.linalg.norm(logs[:, None, :] - logs[None, :, :], axis=-1)
+    np.testing.assert_allclose(c.D, expected, rtol=1e-10, atol=1e-12)
     assert c.rows.tolist() == list(range(8)) and c.left_out == [] and c.names == table.names
     assert c.descriptor == LOG9 and c.descriptor.label == "truncated log spectrum (9 values)"
 

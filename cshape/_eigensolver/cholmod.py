@@ -38,8 +38,6 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["BACKENDS", "backend", "factorize"]
-
 #: The backends, fastest first.
 BACKENDS = ("cholmod", "cholespy", "splu")
 

@@ -27,11 +27,10 @@ if TYPE_CHECKING:
 
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
-__all__ = ["add_overview"]
-
 # ============================================================================ overview
 def _cmd_overview(args: argparse.Namespace) -> int:
-    from ..batch import DescriptorTable, collection_distances
+    from ..batch import DescriptorTable
+    from ..batch.table import collection_distances
     from ..compare import mds_embedding
     from ..plots.collection import mds_layout
     from ..plots.explore import collection_title, overview_html, plot_overview, save_figure

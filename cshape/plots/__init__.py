@@ -23,22 +23,8 @@ from .._checks import require_extra
 
 require_extra("cshape.plots", "plots", ("matplotlib", "plotly"))
 
-from .collection import (  # noqa: E402
-    annotate_points,
-    matrix_ticks,
-    plot_distance_matrix,
-    plot_mds,
-    short_label,
-    short_labels,
-)
-from .explore import (  # noqa: E402
-    interactive_mds,
-    neighbour_strip_plotly,
-    overview_html,
-    plot_neighbour_strip,
-    plot_overview,
-    save_figure,
-)
+from .collection import plot_distance_matrix, plot_mds  # noqa: E402
+from .explore import interactive_mds, overview_html, plot_neighbour_strip, save_figure  # noqa: E402
 from .figures import (  # noqa: E402
     new_figure,
     plot_convergence,
@@ -52,13 +38,7 @@ from .figures import (  # noqa: E402
     plot_shape_dna_stages,
     plot_weyl,
 )
-from .maps import (  # noqa: E402
-    diagonal_share,
-    map_colours,
-    plot_functional_map,
-    plot_map,
-    view_map,
-)
+from .maps import diagonal_share, plot_functional_map, plot_map, view_map  # noqa: E402
 from .viewer import (  # noqa: E402
     eigenfunction_explorer,
     signature_explorer,
@@ -68,13 +48,9 @@ from .viewer import (  # noqa: E402
 )
 
 __all__ = [
-    "annotate_points",
     "diagonal_share",
     "eigenfunction_explorer",
     "interactive_mds",
-    "map_colours",
-    "matrix_ticks",
-    "neighbour_strip_plotly",
     "new_figure",
     "overview_html",
     "plot_convergence",
@@ -89,13 +65,10 @@ __all__ = [
     "plot_mds",
     "plot_mesh",
     "plot_neighbour_strip",
-    "plot_overview",
     "plot_reconstruction_error",
     "plot_shape_dna_stages",
     "plot_weyl",
     "save_figure",
-    "short_label",
-    "short_labels",
     "signature_explorer",
     "view_correspondence",
     "view_map",

@@ -105,7 +105,7 @@ def reproduce(records: Iterable[Any], out_dir: str | os.PathLike[str], *, N: int
         The smaller ``M`` of Section 3.2.
     noise_levels : sequence of float, default=(0.5, 1, 2, 4, 10)
         Section 3.3's noise levels; every shape gets a noisy copy per level
-        (:func:`cshape.variants.add_normal_noise`, seeded with ``noise_seed``).  ``()``
+        (:func:`cshape.data.variants.add_normal_noise`, seeded with ``noise_seed``).  ``()``
         skips the noise experiment.
     quality : (str, str), optional
         Names of a low-quality mesh and its improved remesh (the paper's CM and CS), for
