@@ -566,3 +566,19 @@ def check_landmarks(landmarks: ArrayLike | None, n_source: int,
     check_vertex_indices("landmarks[:, 0]", a[:, 0], n_source)
     check_vertex_indices("landmarks[:, 1]", a[:, 1], n_target)
     return a.astype(np.int64)
+
+
+def check_eigenbasis(name: str, basis: object) -> Any:
+    """``basis`` if it is a :class:`cshape.Eigenbasis`, else a ``TypeError`` naming ``name``.
+
+    The one check of an eigenbasis argument (signatures, maps, the viewer's explorers).
+    """
+    from .spectrum import Eigenbasis  # the spectrum stage imports this module
+
+    if not isinstance(basis, Eigenbasis):
+        raise TypeError(
+            f"{name} must be a cshape.Eigenbasis, got {type(basis).__name__}; compute it with "
+            "cshape.eigenbasis(mesh, N) (or build one from arrays: cshape.Eigenbasis(lam, "
+            "phi, B))"
+        )
+    return basis

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._checks import check_choice, check_int, check_real
+from .._checks import check_choice, check_eigenbasis, check_int, check_real
 from ..mesh import as_mesh, repair_mesh
 
 if TYPE_CHECKING:
@@ -507,13 +507,11 @@ def view_mesh(mesh: MeshLike, scalars: ArrayLike | None = None, *, cmap: str | N
 
 def _basis_of(mesh: Mesh, basis: object, N: int, at_least: int) -> Eigenbasis:
     """``basis`` checked against the (repaired) mesh, or the mesh's basis of ``N`` pairs."""
-    from ..spectrum import Eigenbasis, eigenbasis
+    from ..spectrum import eigenbasis
 
     if basis is None:
         return eigenbasis(mesh, N)
-    if not isinstance(basis, Eigenbasis):
-        raise TypeError(f"basis must be a cshape.Eigenbasis, got {type(basis).__name__}; "
-                        "compute it with cshape.eigenbasis(mesh, N)")
+    basis = check_eigenbasis("basis", basis)
     if basis.n_vertices != mesh.n_vertices or basis.N < at_least:
         raise ValueError(
             f"basis has {basis.N} eigenpairs on {basis.n_vertices} vertices, but the (repaired) "
