@@ -568,14 +568,13 @@ def check_landmarks(landmarks: ArrayLike | None, n_source: int,
     return a.astype(np.int64)
 
 
-def check_eigenbasis(name: str, basis: object) -> Any:
-    """``basis`` if it is a :class:`cshape.Eigenbasis`, else a ``TypeError`` naming ``name``.
+def check_eigenbasis(name: str, basis: object, cls: type) -> Any:
+    """Return ``basis`` if it is a ``cls`` (:class:`cshape.Eigenbasis`), else raise TypeError.
 
-    The one check of an eigenbasis argument (signatures, maps, the viewer's explorers).
+    The error names ``name`` and how to compute one.  The one check of an eigenbasis argument (signatures, maps, the viewer's explorers); the
+    caller passes the class, which the spectrum stage defines on top of this module.
     """
-    from .spectrum import Eigenbasis  # the spectrum stage imports this module
-
-    if not isinstance(basis, Eigenbasis):
+    if not isinstance(basis, cls):
         raise TypeError(
             f"{name} must be a cshape.Eigenbasis, got {type(basis).__name__}; compute it with "
             "cshape.eigenbasis(mesh, N) (or build one from arrays: cshape.Eigenbasis(lam, "

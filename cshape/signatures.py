@@ -73,7 +73,7 @@ NORMALIZATIONS = ("none", "area")
 
 
 def _check_basis(basis: object) -> Eigenbasis:
-    return check_eigenbasis("basis", basis)
+    return check_eigenbasis("basis", basis, Eigenbasis)
 
 
 def _eigenvalues(basis: object, normalization: object) -> np.ndarray:

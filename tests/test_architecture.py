@@ -152,4 +152,4 @@ def test_public_names_that_issues_fixed_still_work():
     for name in ("plot_mds", "plot_weyl", "view_mesh", "plot_m_sweep", "plot_distance_matrix"):
         assert callable(getattr(plots, name))
     assert callable(cshape.data.load_collection) and callable(cshape.data.load_folder)
-    assert callable(cshape.data.variants.marching_cubes)
+    assert callable(importlib.import_module("cshape.data.variants").marching_cubes)

@@ -522,7 +522,7 @@ def _framing_views(tmp_path):
     from cshape import signatures as sg
     from cshape.cli import main
     from cshape.data import poses
-    from cshape.plots.explore import figure_html
+    from cshape.plots.overview import figure_html
     from cshape.signatures import heat_kernel, match_points
 
     rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)

@@ -29,7 +29,7 @@ from cshape.plots.collection import (
     plot_mds,
     spread_on_border,
 )
-from cshape.plots.explore import (
+from cshape.plots.overview import (
     class_summary,
     colour_limit,
     interactive_mds,
@@ -305,7 +305,7 @@ def test_neighbour_strips_return_figures():
 @pytest.mark.parametrize("n, grid", [(1, (1, 1)), (2, (1, 2)), (4, (2, 2)), (6, (2, 3)),
                                      (11, (3, 4))])
 def test_strip_grid_keeps_panels_near_square(n, grid):
-    from cshape.plots.explore import strip_grid
+    from cshape.plots.overview import strip_grid
 
     assert strip_grid(n) == grid
     rows, cols = grid
@@ -458,7 +458,7 @@ def test_the_default_descriptor_follows_the_constant(monkeypatch, described, tmp
 
 
 def test_guess_vertical_axis_by_format():
-    from cshape.plots.explore import guess_vertical_axis
+    from cshape.plots.overview import guess_vertical_axis
 
     assert [guess_vertical_axis(f) for f in ("a/spot.obj", "b.OBJ.gz", "c.ply", "d.off",
                                              "e.stl", "f.glb")] == ["y", "y", "z", "z", "z", "y"]
@@ -539,7 +539,7 @@ def test_overview_html_of_a_flat_folder_has_no_class_table():
 
 
 def test_collection_title_counts_in_english():
-    from cshape.plots.explore import collection_title
+    from cshape.plots.overview import collection_title
 
     assert collection_title(64, 1) == "64 shapes"
     assert collection_title(1, 1) == "1 shape"

@@ -10,8 +10,8 @@
   :func:`cshape.data.variants.mesh_quality`;
 * ``cshape query TABLE MESH_OR_NAME -k 5`` - the nearest shapes of a table, with their
   distances (:class:`cshape.DescriptorIndex`); with ``--plot FILE --meshes PATH`` also the
-  query and its neighbours as thumbnails (:func:`cshape.plots.explore.plot_neighbour_strip`,
-  .png/.svg/.pdf, or :func:`~cshape.plots.explore.neighbour_strip_plotly`, .html);
+  query and its neighbours as thumbnails (:func:`cshape.plots.overview.plot_neighbour_strip`,
+  .png/.svg/.pdf, or :func:`~cshape.plots.overview.neighbour_strip_plotly`, .html);
 * ``cshape data {list, build NAME, path NAME}`` - the shape collections of
   :mod:`cshape.data`.
 
@@ -715,7 +715,7 @@ def write_neighbour_strip(args: argparse.Namespace, table: DescriptorTable,
     ``query_path`` is the mesh file of a query given as a file, else None (the query is the
     table's shape ``args.target``).
     """
-    from ..plots.explore import (
+    from ..plots.overview import (
         guess_vertical_axis,
         neighbour_strip_plotly,
         plot_neighbour_strip,

@@ -4,7 +4,7 @@
   the paper's Fig. 1-2 and 9, the DFT, convergence, the M-sweep panels);
 * :mod:`cshape.plots.collection` - pictures of a collection: MDS scatter plots (Fig. 4-5, with
   outliers marked on the border) and distance-matrix images (Fig. 3, 6) with readable labels;
-* :mod:`cshape.plots.explore`    - exploring one's own collection: the interactive MDS (names
+* :mod:`cshape.plots.overview`    - exploring one's own collection: the interactive MDS (names
   and nearest neighbours on hover), the nearest-neighbour strip of thumbnails, the overview
   page (offline HTML or PNG);
 * :mod:`cshape.plots.maps`       - maps between shapes: a field carried across a point map with
@@ -24,7 +24,6 @@ from .._checks import require_extra
 require_extra("cshape.plots", "plots", ("matplotlib", "plotly"))
 
 from .collection import plot_distance_matrix, plot_mds  # noqa: E402
-from .explore import interactive_mds, overview_html, plot_neighbour_strip, save_figure  # noqa: E402
 from .figures import (  # noqa: E402
     new_figure,
     plot_convergence,
@@ -39,6 +38,7 @@ from .figures import (  # noqa: E402
     plot_weyl,
 )
 from .maps import diagonal_share, plot_functional_map, plot_map, view_map  # noqa: E402
+from .overview import interactive_mds, overview_html, plot_neighbour_strip, save_figure  # noqa: E402
 from .viewer import (  # noqa: E402
     eigenfunction_explorer,
     signature_explorer,

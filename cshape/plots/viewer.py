@@ -507,11 +507,11 @@ def view_mesh(mesh: MeshLike, scalars: ArrayLike | None = None, *, cmap: str | N
 
 def _basis_of(mesh: Mesh, basis: object, N: int, at_least: int) -> Eigenbasis:
     """``basis`` checked against the (repaired) mesh, or the mesh's basis of ``N`` pairs."""
-    from ..spectrum import eigenbasis
+    from ..spectrum import Eigenbasis, eigenbasis
 
     if basis is None:
         return eigenbasis(mesh, N)
-    basis = check_eigenbasis("basis", basis)
+    basis = check_eigenbasis("basis", basis, Eigenbasis)
     if basis.n_vertices != mesh.n_vertices or basis.N < at_least:
         raise ValueError(
             f"basis has {basis.N} eigenpairs on {basis.n_vertices} vertices, but the (repaired) "
