@@ -571,8 +571,9 @@ def check_landmarks(landmarks: ArrayLike | None, n_source: int,
 def check_eigenbasis(name: str, basis: object, cls: type) -> Any:
     """Return ``basis`` if it is a ``cls`` (:class:`cshape.Eigenbasis`), else raise TypeError.
 
-    The error names ``name`` and how to compute one.  The one check of an eigenbasis argument (signatures, maps, the viewer's explorers); the
-    caller passes the class, which the spectrum stage defines on top of this module.
+    The error names ``name`` and how to compute one.  The one check of an eigenbasis
+    argument (signatures, maps, the viewer's explorers); the caller passes the class, which
+    the spectrum stage defines on top of this module.
     """
     if not isinstance(basis, cls):
         raise TypeError(
