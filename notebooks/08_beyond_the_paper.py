@@ -538,7 +538,8 @@ fig
 # creatures whose members differ in limb lengths and thickness, pose, mesh resolution and a little noise. It comes
 # in two instances drawn from different seeds: `creatures-dev` (seed 0), the one to look at and choose on, and
 # `creatures` (seed 1), held out for reporting. The small run uses six classes of `creatures-small` (three
-# coarse members per class of the development instance); the full run scores both instances.
+# coarse members per class of the development instance); the full run scores `creatures-dev`. This lesson
+# scores only the development instance: `cshape reproduce` scores the held-out one (Section 6).
 
 # %%
 from cshape import reproduce
