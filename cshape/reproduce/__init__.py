@@ -18,10 +18,12 @@ numbers, so tests and notebooks call them directly:
 
 from __future__ import annotations
 
-from .experiments import PAPER_RESULTS
+from .experiments import FAMILIES, PAPER_RESULTS, experiment_retrieval
 from .report import reproduce
 
 __all__ = [
+    "FAMILIES",
     "PAPER_RESULTS",
+    "experiment_retrieval",
     "reproduce",
 ]
