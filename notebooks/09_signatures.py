@@ -211,11 +211,11 @@ plots.view_correspondence(rest, pose, cshape.match_points(b, a), titles=("rest p
 # **What this shows.** The signatures find the *kind* of point (the tip of a limb, the middle of the torso), not
 # the side: the figure's left-right mirror is an isometry, and an intrinsic signature cannot tell an isometry from
 # the identity. Counted up to the mirror, most points are matched. The benchmark
-# (`benchmarks/bench_correspondence.py`, ten poses of a human and a quadruped at full size) gives HKS 38.5 %, WKS
+# (`benchmarks/bench_signatures.py correspondence`, ten poses of a human and a quadruped at full size) gives HKS 38.5 %, WKS
 # 45.1 %, SI-HKS 36.8 % exact (65.4, 74.6, 62.4 % up to the mirror), against 81.7 % for the coordinates after a
 # rigid alignment that knows the answer and 66.0 % after ICP: these poses move the limbs only, which leaves the
 # coordinates a lot. Pooled into one vector per shape, signatures also *lose* to the log spectrum for retrieval
-# (`benchmarks/results/signature_retrieval_creatures.md`). Their use is the point-to-point level, as the first step
+# (`benchmarks/results/signatures.md`). Their use is the point-to-point level, as the first step
 # of methods that add the symmetry and the smoothness of the map (functional maps).
 
 # %% [markdown]
