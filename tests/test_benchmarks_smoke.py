@@ -166,7 +166,7 @@ def test_signatures_bench_on_small_meshes(tmp_path, monkeypatch):
     assert sum(line.startswith("| ") for line in lines) == 7  # the header and six steps
     out = tmp_path / "s.md"
     for _ in range(2):  # a part run again replaces its section
-        assert bs.main(["--out", str(out), "speed", "--vertices", "1500", "--scales", "10",
+        assert bs.main(["--out", str(out), "speed", "--vertices", "1500", "--scales", "30",
                         "-N", "12"]) == 0
     text = out.read_text()
     assert text.startswith("# Point signatures") and text.count("<!-- section: speed -->") == 1
