@@ -452,10 +452,10 @@ plots.view_correspondence(rest, pose, sg.match_points(b, a), titles=("rest pose"
 # %% [markdown]
 # **What this shows.** The signatures find the *kind* of point (the tip of a limb, the middle of the torso), not
 # the side: the figure's left-right mirror is an isometry, and an intrinsic signature cannot tell an isometry from
-# the identity. Compare the two columns of the printed table. The benchmark `benchmarks/bench_correspondence.py`
+# the identity. Compare the two columns of the printed table. The benchmark `benchmarks/bench_signatures.py correspondence`
 # runs the same measurement on ten poses each of a human and a quadruped at full size, with a rigid alignment of the
 # coordinates and ICP beside them. Pooled into one vector per shape, signatures also *lose* to the log spectrum for
-# retrieval (`benchmarks/results/signature_retrieval_creatures.md`). Their use is the point-to-point level, as the
+# retrieval (`benchmarks/results/signatures.md`). Their use is the point-to-point level, as the
 # first step of methods that add the symmetry and the smoothness of the map (functional maps, lesson 10).
 
 # %% [markdown]

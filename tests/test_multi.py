@@ -317,27 +317,6 @@ def test_cli_describe_and_query_report_pieces(sphere, tmp_path, capsys):
     assert "components             2" in capsys.readouterr().out
 
 
-def test_bench_pieces_runs_on_a_small_table(table, tmp_path, capsys):
-    """benchmarks/bench_pieces.py (the measurements behind the rule) cannot rot."""
-    import importlib.util
-
-    from conftest import REPO
-
-    spec = importlib.util.spec_from_file_location("bench_pieces",
-                                                  REPO / "benchmarks" / "bench_pieces.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    table.select([0, 1]).save(tmp_path / "t.npz")
-    bench.main([str(tmp_path / "t.npz"), "-M", "3"])
-    out = capsys.readouterr().out
-    assert "2 connected shapes" in out and "| lid 1 % | A: drop k, index from 1 |" in out
-    # rule A on a shape with a small lid: only the total area's log(1.01) away from itself
-    lam, area = table.lam[1], table.areas[1]
-    u, au = bench.lid_union(lam, area, 0.01, table.N)
-    np.testing.assert_allclose(bench.rule_a(u, au, 2, 7), bench.rule_a(lam, area, 1, 7)
-                               + np.log(1.01), rtol=1e-12)
-
-
 # ------------------------------------------------------------------ the lessons
 def test_lessons_use_the_packages_zero_mode_rule():
     """Lesson 08 leaves out meshes of several pieces by the package's rule (the component

@@ -2,7 +2,7 @@
 
 Known answers (dense LAPACK, ARPACK with ``tol=0``, exact sphere multiplicities) and
 properties (B-orthonormal vectors, determinism, several components).  No timings here:
-speed is measured by benchmarks/bench_spectrum.py.
+speed is measured by benchmarks/bench_sweep.py.
 """
 
 from __future__ import annotations
