@@ -235,7 +235,7 @@ if not np.isclose(np.sum(B_mine), tent.area):
           f"yours add up to {np.sum(B_mine):.4f}")
 if np.any(np.diag(B_mine) <= 0):
     print("hint: the diagonal of B is +sum |t|/6 (the minus sign printed in Eq. 5 is a typo)")
-if np.allclose(B_mine, np.diag(B_ref.sum(axis=1).A1)):
+if np.allclose(B_mine, np.diag(np.asarray(B_ref.sum(axis=1)).ravel())):
     print("hint: this is the lumped mass matrix (each row summed onto the diagonal); "
           "Eq. (5) is the consistent one, with |t|/12 on the edges")
 check_close("B", B_mine, B_ref, hint="Each triangle adds |t|/12 per edge entry, |t|/6 per corner.")
