@@ -167,7 +167,7 @@ for _n in (9, 10):
 #
 # (e) The magnitudes of the shifted DFT: the low frequencies in the middle carry most of the energy. (f) The
 # $2M+1$ kept values, the cShape-DNA. Right: the Weyl-subtracted Shape-DNA and what the $2M+1$ values rebuild
-# (inverse DFT with the other frequencies set to zero, `cshape.inverse_compact_shape_dna`).
+# (inverse DFT with the other frequencies set to zero, `cshape.descriptors.inverse_compact_shape_dna`).
 
 # %%
 plots.plot_dft(lam, real.area, M, N=N)
@@ -289,7 +289,7 @@ i = np.arange(N)
 ax.plot(i, cshape.weyl_subtract(lam_norm), "k.", ms=4, label="lam'")
 for m in [1, 2, 4, M]:
     S_m = cshape.compact_shape_dna(lam_norm, M=m, N=N, normalization="none")
-    rec = cshape.inverse_compact_shape_dna(S_m, N)
+    rec = cshape.descriptors.inverse_compact_shape_dna(S_m, N)
     ax.plot(i, cshape.weyl_subtract(rec), lw=1.2, label=f"M={m} ({2 * m + 1} values)")
 ax.set(xlabel="i", ylabel="lam'_i", title=f"reconstructions, {real_name.split(' ')[0]}")
 ax.legend(fontsize="small")
@@ -318,7 +318,7 @@ fig
 ends = np.array([lam_prime[0], lam_prime[-1]])
 print(f"lam'_0 = {ends[0]:.2f}, lam'_N-1 = {ends[1]:.2f}, the middle of the jump: {ends.mean():.2f}")
 for m in [2, M, (N - 1) // 2]:
-    rec = cshape.weyl_subtract(cshape.inverse_compact_shape_dna(
+    rec = cshape.weyl_subtract(cshape.descriptors.inverse_compact_shape_dna(
         cshape.compact_shape_dna(lam_norm, M=m, N=N, normalization="none"), N))
     print(f"M = {m:2d}: the reconstruction at i = 0 is {rec[0]:7.2f}, at i = N-1 {rec[-1]:7.2f}")
 
@@ -339,7 +339,7 @@ Ms = np.arange(0, (N - 1) // 2 + 1)
 errors = []
 for ln in models.values():
     lp = cshape.weyl_subtract(ln)
-    errors.append([np.linalg.norm(cshape.inverse_compact_shape_dna(
+    errors.append([np.linalg.norm(cshape.descriptors.inverse_compact_shape_dna(
         cshape.compact_shape_dna(ln, M=int(m), N=N, normalization="none"), N, add_weyl=False) - lp)
         / np.linalg.norm(lp) for m in Ms])
 plots.plot_reconstruction_error(Ms, errors, labels=list(models), N=N)
@@ -374,7 +374,7 @@ print(f"torus: {paired.sum()} of its {N} eigenvalues have a twin (equal to 6 dig
 # ## Storing the descriptor: $2M+1$ real numbers
 #
 # The input is real, so $\Lambda_{-k} = \overline{\Lambda_k}$: half of the complex values are redundant.
-# `cshape.real_form` keeps $\mathrm{Re}\,\Lambda_0$ and $\sqrt2\,(\mathrm{Re}, \mathrm{Im})$ of
+# `cshape.descriptors.real_form` keeps $\mathrm{Re}\,\Lambda_0$ and $\sqrt2\,(\mathrm{Re}, \mathrm{Im})$ of
 # $\Lambda_1..\Lambda_M$: $2M+1$ reals, with exactly the Euclidean distances of the complex descriptors.
 
 # %%
@@ -382,8 +382,8 @@ S_a = cshape.compact_shape_dna(models["sphere"], M=M, N=N, normalization="none")
 S_b = cshape.compact_shape_dna(models["cube"], M=M, N=N, normalization="none")
 print("conjugate symmetric:", np.allclose(S_a[::-1], np.conj(S_a)))
 print("complex distance:", np.linalg.norm(S_a - S_b))
-print("real-form distance:", np.linalg.norm(cshape.real_form(S_a) - cshape.real_form(S_b)))
-print("sizes: Shape-DNA", N, "values, cShape-DNA", len(cshape.real_form(S_a)), "values")
+print("real-form distance:", np.linalg.norm(cshape.descriptors.real_form(S_a) - cshape.descriptors.real_form(S_b)))
+print("sizes: Shape-DNA", N, "values, cShape-DNA", len(cshape.descriptors.real_form(S_a)), "values")
 
 # %% [markdown]
 # ## Exercises
