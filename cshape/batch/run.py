@@ -136,7 +136,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
         ``N`` eigenvalues (any ``M``, any transform) is derived from the table later,
         without another eigensolve.
     bc : {'neumann', 'dirichlet'}, default='neumann'
-    mass : {'consistent', 'lumped'}, default='consistent'
+    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
     cache_dir : str, os.PathLike, None or False, default=None
         Folder of the eigenvalue cache (see the module notes); ``None`` uses
         :func:`default_cache_dir`, ``False`` disables caching.

@@ -173,6 +173,12 @@ def _transforms() -> tuple[str, ...]:
     return TRANSFORMS
 
 
+def _mass_types() -> tuple[str, ...]:
+    from ..fem import MASS_TYPES
+
+    return MASS_TYPES
+
+
 def _refinements() -> tuple[str, ...]:
     from ..spectrum import REFINEMENTS
 
@@ -205,7 +211,7 @@ def _cmd_describe(args: argparse.Namespace) -> int:
         table = describe(
             records, N=args.N, bc=args.bc, n_jobs=args.jobs, client=args.dask,
             cache_dir=False if args.no_cache else args.cache_dir, progress=_progress(args),
-            on_error="warn", refine=args.refine,
+            on_error="warn", refine=args.refine, mass=args.mass,
         )
     seconds = time.perf_counter() - t0
     # describe's own summary of the failures is replaced by the list below; each mesh's
@@ -244,7 +250,7 @@ def _cmd_describe(args: argparse.Namespace) -> int:
                   f"{n_fail} failed," if n_fail else
                   f"{len(table)} meshes ({n_cached} from the cache)")
         print(f"cshape describe: {counts} in {seconds:.1f} s, "
-              f"N={table.N}{several}{where}; `cshape query` compares the "
+              f"N={table.N}, {_spectra(table)}{several}{where}; `cshape query` compares the "
               f"{_table_label(table)} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
 
@@ -295,7 +301,8 @@ def _print_table(table: DescriptorTable, width: int = 4) -> None:
     rows = dict(zip(kept.tolist(), S, strict=True))
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
-    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_table_label(table)}: "
+    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_table_label(table)} "
+          f"({_spectra(table)}): "
           f"first {min(width, S.shape[1])} values")
     pieces = _pieces(table)
     for i, name in enumerate(table.names):
@@ -321,6 +328,10 @@ def add_describe(sub: _SubParsers) -> None:
     p.add_argument("-N", type=int, default=100, help="Shape-DNA length N (default 100)")
     p.add_argument("--bc", default="neumann", choices=("neumann", "dirichlet"),
                    help="boundary condition on open surfaces (default neumann)")
+    p.add_argument("--mass", default="consistent", choices=_mass_types(),
+                   help="mass matrix B: 'consistent' (Eq. 5, the paper, default), 'lumped', or "
+                   "'mixed', their average: eigenvalues that depend far less on the mesh "
+                   "resolution, at the cost of a plain solve (see cshape.fem_matrices)")
     p.add_argument("--refine", default="none", choices=_refinements(),
                    help="'none': linear FEM (the paper, default); 'extrapolate': Richardson "
                    "extrapolation over one midpoint subdivision, eigenvalues that depend far "
@@ -507,6 +518,12 @@ def _descriptor_default(N: int) -> Descriptor:
     return _given_or_default(None, N)
 
 
+def _spectra(table: DescriptorTable) -> str:
+    """Which spectra the table holds, in words: its mass matrix, and its refinement if any."""
+    ref = "" if table.refine == "none" else f", refine={table.refine!r}"
+    return f"mass={table.mass!r}{ref}"
+
+
 def _table_label(table: DescriptorTable) -> str:
     """What the table compares when no descriptor is asked for, in words."""
     if table.descriptor is not None:
@@ -610,13 +627,15 @@ def _cmd_query(args: argparse.Namespace) -> int:
         print(f"cshape query: wrote {wrote}", file=sys.stderr)
     if args.json:
         print(json.dumps({"query": target, **dataclasses.asdict(desc), "descriptor": desc.label,
+                          "mass": table.mass, "refine": table.refine,
                           "neighbours": [{"rank": j + 1, "name": table.names[i],
                                           "label": table.labels[i], "distance": d}
                                          for j, (d, i) in enumerate(hits)]}))
         return 0
     among = (f"the {len(table)} shapes" if len(rows) == len(table)
              else f"the {len(rows)} of {len(table)} shapes it describes")
-    print(f"nearest to {what} by the {desc.label}, Euclidean distance, among {among} of "
+    print(f"nearest to {what} by the {desc.label} ({_spectra(table)}), Euclidean distance, "
+          f"among {among} of "
           f"{args.table}:")
     w = max([len(table.names[i]) for _, i in hits] + [4])
     print(f"{'rank':>4}  {'distance':>11}  {'name':<{w}}  label")
