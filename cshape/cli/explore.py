@@ -89,9 +89,9 @@ def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
         In the order of ``paths`` (a folder's files sorted), each file once.  ``name`` is the
         file stem; where stems repeat, the path relative to the folder it was found in, else
         to the folder all the files of that stem are in (without the suffix, unless only the
-        suffix differs); ``label`` is the first sub-folder below the folder given (the
-        folder's own name for files directly in it) and, for a file or glob match, the name
-        of the folder holding the file.
+        suffix differs); ``label`` is the first sub-folder below the folder given (``''``,
+        no class, for files directly in it: a flat folder has no classes) and, for a file or
+        glob match, the name of the folder holding the file.
 
     Raises
     ------
@@ -105,9 +105,13 @@ def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
     found: list[tuple[Path, str, Path]] = []  # (file, label, base for relative names)
 
     def add_folder(folder: Path) -> None:
+        top = folder.resolve()
         for item in load_folder(folder):
             assert item.path is not None  # the items of a folder are its files
-            found.append((Path(item.path), item.label, folder))
+            path = Path(item.path)
+            # a file directly in the folder given is in no class (a flat folder has none)
+            label = "" if path.resolve().parent == top else item.label
+            found.append((path, label, folder))
 
     def add_file(path: Path) -> None:
         found.append((path, path.resolve().parent.name, path.parent))
