@@ -42,20 +42,32 @@ def _weyl_padded(lam):
     return np.concatenate([lam, lam[-1] * np.arange(n + 1, N) / n])
 
 
+#: Whether :func:`spectra` solves the midpoint subdivision too (``--no-fine``: not, for the
+#: linear and mixed spectra alone).
+FINE = True
+
+
 def spectra(meshes):
-    """(lam, lam_fine, area, n_vertices) of a sequence of cshape meshes; a mesh of fewer
-    than ``N`` vertices gets all its eigenvalues, extended by Weyl's law."""
+    """(lam, lam_mixed, lam_fine, area, n_vertices) of a sequence of cshape meshes: the
+    consistent mass (``lam``), the mixed mass (``lam_mixed``) and, where :data:`FINE`, the
+    consistent spectrum of the midpoint subdivision; a mesh of fewer than ``N`` vertices gets
+    all its eigenvalues, extended by Weyl's law."""
     import cshape
 
-    out = {"lam": [], "lam_fine": [], "area": [], "n_vertices": []}
+    out = {"lam": [], "lam_mixed": [], "lam_fine": [], "area": [], "n_vertices": []}
     for m in meshes:
         V, F = np.asarray(m.vertices, float), np.asarray(m.faces, np.int64)
-        Vf, Ff = midpoint_subdivide(V, F)
-        out["lam"].append(_weyl_padded(cshape.shape_dna((V, F), N=min(N, len(V) - 1))))
-        out["lam_fine"].append(_weyl_padded(cshape.shape_dna((Vf, Ff),
-                                                             N=min(N, len(Vf) - 1))))
+        n = min(N, len(V) - 1)
+        out["lam"].append(_weyl_padded(cshape.shape_dna((V, F), N=n)))
+        out["lam_mixed"].append(_weyl_padded(cshape.shape_dna((V, F), N=n, mass="mixed")))
+        if FINE:
+            Vf, Ff = midpoint_subdivide(V, F)
+            out["lam_fine"].append(_weyl_padded(cshape.shape_dna((Vf, Ff),
+                                                                 N=min(N, len(Vf) - 1))))
         out["area"].append(float(cshape.Mesh(V, F).area))
         out["n_vertices"].append(len(V))
+    if not FINE:
+        del out["lam_fine"]
     return {k: np.array(v) for k, v in out.items()}
 
 
@@ -117,8 +129,11 @@ if __name__ == "__main__":
     ap.add_argument("--realdev", default="../shared/realdev")
     ap.add_argument("--meshes", default="../shared/meshes")
     ap.add_argument("--cache", default="out/realdev_cache")
+    ap.add_argument("--no-fine", action="store_true",
+                    help="linear and mixed spectra only, no midpoint subdivision")
     ap.add_argument("what", nargs="*", default=["suite", "real", "meshes"])
     a = ap.parse_args()
+    FINE = not a.no_fine
     cache = Path(a.cache)
     cache.mkdir(parents=True, exist_ok=True)
     if "suite" in a.what:
