@@ -200,7 +200,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
     ...           ("t1", "torus", shapes.torus(24, 12))]
     >>> table = describe(meshes, N=30, cache_dir=False, progress=False)
     >>> table
-    DescriptorTable(3 shapes, N=30, 2 classes)
+    DescriptorTable(3 shapes, N=30, mass='consistent', 2 classes)
     >>> from cshape import Descriptor
     >>> table.descriptors(Descriptor("cshape", N=30, M=4)).shape
     (3, 9)
