@@ -47,18 +47,20 @@ def _weyl_padded(lam):
 FINE = True
 
 
-def spectra(meshes):
+def spectra(meshes, consistent=True):
     """(lam, lam_mixed, lam_fine, area, n_vertices) of a sequence of cshape meshes: the
     consistent mass (``lam``), the mixed mass (``lam_mixed``) and, where :data:`FINE`, the
     consistent spectrum of the midpoint subdivision; a mesh of fewer than ``N`` vertices gets
-    all its eigenvalues, extended by Weyl's law."""
+    all its eigenvalues, extended by Weyl's law.  ``consistent=False``: no ``lam`` (the
+    caller has it)."""
     import cshape
 
     out = {"lam": [], "lam_mixed": [], "lam_fine": [], "area": [], "n_vertices": []}
     for m in meshes:
         V, F = np.asarray(m.vertices, float), np.asarray(m.faces, np.int64)
         n = min(N, len(V) - 1)
-        out["lam"].append(_weyl_padded(cshape.shape_dna((V, F), N=n)))
+        if consistent:
+            out["lam"].append(_weyl_padded(cshape.shape_dna((V, F), N=n)))
         out["lam_mixed"].append(_weyl_padded(cshape.shape_dna((V, F), N=n, mass="mixed")))
         if FINE:
             Vf, Ff = midpoint_subdivide(V, F)
@@ -66,8 +68,8 @@ def spectra(meshes):
                                                                  N=min(N, len(Vf) - 1))))
         out["area"].append(float(cshape.Mesh(V, F).area))
         out["n_vertices"].append(len(V))
-    if not FINE:
-        del out["lam_fine"]
+    for k in ("lam_fine",) * (not FINE) + ("lam",) * (not consistent):
+        del out[k]
     return {k: np.array(v) for k, v in out.items()}
 
 
@@ -81,7 +83,10 @@ def real_collection(folder: Path, cache: Path) -> Path:
     files = [str(f) for f in ref["files"]]
     t0 = time.perf_counter()
     meshes = (cshape.load_mesh(folder / f) for f in files)
-    out = spectra(meshes)
+    # without the subdivision, the consistent spectra are the collection's reference ones
+    out = spectra(meshes, consistent=FINE)
+    if not FINE:
+        out["lam"] = np.asarray(ref["lam"], float)
     np.savez(dst, names=np.array(files), labels=ref["labels"], **out)
     print(f"{folder.name}: {len(files)} meshes, {time.perf_counter() - t0:.0f} s",
           file=sys.stderr, flush=True)

@@ -509,8 +509,10 @@ def main(argv=None):
         "`creatures-dev` (category), `identities-dev` (instance), `resolutions-dev` (the same "
         "shape meshed 3 ways). Linear spectra: the real collections' reference spectra "
         "(N = 100, an independent linear-FEM solver; cshape's own differ by at most "
-        + ", ".join(f"{data[c]['own_diff']:.1g}" for c in REAL)
-        + " relative), cshape.shape_dna for the suite and the shared meshes. Extrapolated: "
+        + ", ".join(f"{data[c]['own_diff']:.1g}" if data[c]["own_diff"] > 0
+                    else "- (not recomputed)" for c in REAL)
+        + " relative), cshape.shape_dna for the suite and the shared meshes. Mixed: "
+        "`cshape.shape_dna(mesh, mass='mixed')` of every mesh. Extrapolated: "
         "`(4 lam_fine - lam) / 3` with `lam_fine` of one midpoint subdivision. Scores: "
         "`cshape.compare.retrieval_per_query` (Princeton Shape Benchmark).", "",
         "**Rule** (stated in the script before the scores were seen):", "",
