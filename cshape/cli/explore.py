@@ -49,7 +49,7 @@ if TYPE_CHECKING:
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
 __all__ = ["add_describe", "add_info", "add_query", "check_figure_path", "collect_mesh_files",
-           "mesh_report", "write_neighbour_strip"]
+           "mesh_report", "spectra_words", "write_neighbour_strip"]
 
 # ============================================================================ inputs
 def _mesh_suffixes() -> tuple[str, ...]:
@@ -254,7 +254,7 @@ def _cmd_describe(args: argparse.Namespace) -> int:
                   f"{n_fail} failed," if n_fail else
                   f"{len(table)} meshes ({n_cached} from the cache)")
         print(f"cshape describe: {counts} in {seconds:.1f} s, "
-              f"N={table.N}, {_spectra(table)}{several}{where}; `cshape query` compares the "
+              f"N={table.N}, {spectra_words(table)}{several}{where}; `cshape query` compares the "
               f"{_table_label(table)} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
 
@@ -306,7 +306,7 @@ def _print_table(table: DescriptorTable, width: int = 4) -> None:
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
     print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_table_label(table)} "
-          f"({_spectra(table)}): "
+          f"({spectra_words(table)}): "
           f"first {min(width, S.shape[1])} values")
     pieces = _pieces(table)
     for i, name in enumerate(table.names):
@@ -522,7 +522,7 @@ def _descriptor_default(N: int) -> Descriptor:
     return _given_or_default(None, N)
 
 
-def _spectra(table: DescriptorTable) -> str:
+def spectra_words(table: DescriptorTable) -> str:
     """Which spectra the table holds, in words: its mass matrix, and its refinement if any."""
     ref = "" if table.refine == "none" else f", refine={table.refine!r}"
     return f"mass={table.mass!r}{ref}"
@@ -638,7 +638,7 @@ def _cmd_query(args: argparse.Namespace) -> int:
         return 0
     among = (f"the {len(table)} shapes" if len(rows) == len(table)
              else f"the {len(rows)} of {len(table)} shapes it describes")
-    print(f"nearest to {what} by the {desc.label} ({_spectra(table)}), Euclidean distance, "
+    print(f"nearest to {what} by the {desc.label} ({spectra_words(table)}), Euclidean distance, "
           f"among {among} of "
           f"{args.table}:")
     w = max([len(table.names[i]) for _, i in hits] + [4])
@@ -774,7 +774,8 @@ def write_neighbour_strip(args: argparse.Namespace, table: DescriptorTable,
     up = ([guess_vertical_axis(p) for p in paths] if args.up == "auto"
           else args.up)
     dist = [d for d, _ in hits]
-    title = (f"nearest to {names[0]} by {descriptor}, among the {len(table)} shapes of "
+    title = (f"nearest to {names[0]} by {descriptor} ({spectra_words(table)}), among the "
+             f"{len(table)} shapes of "
              f"{Path(args.table).name}")
     if out.suffix.lower() in HTML_SUFFIXES:
         fig = neighbour_strip_plotly(meshes, names, dist, labels=labels, title=title,
