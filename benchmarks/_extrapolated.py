@@ -42,20 +42,34 @@ def _weyl_padded(lam):
     return np.concatenate([lam, lam[-1] * np.arange(n + 1, N) / n])
 
 
-def spectra(meshes):
-    """(lam, lam_fine, area, n_vertices) of a sequence of cshape meshes; a mesh of fewer
-    than ``N`` vertices gets all its eigenvalues, extended by Weyl's law."""
+#: Whether :func:`spectra` solves the midpoint subdivision too (``--no-fine``: not, for the
+#: linear and mixed spectra alone).
+FINE = True
+
+
+def spectra(meshes, consistent=True):
+    """(lam, lam_mixed, lam_fine, area, n_vertices) of a sequence of cshape meshes: the
+    consistent mass (``lam``), the mixed mass (``lam_mixed``) and, where :data:`FINE`, the
+    consistent spectrum of the midpoint subdivision; a mesh of fewer than ``N`` vertices gets
+    all its eigenvalues, extended by Weyl's law.  ``consistent=False``: no ``lam`` (the
+    caller has it)."""
     import cshape
 
-    out = {"lam": [], "lam_fine": [], "area": [], "n_vertices": []}
+    out = {"lam": [], "lam_mixed": [], "lam_fine": [], "area": [], "n_vertices": []}
     for m in meshes:
         V, F = np.asarray(m.vertices, float), np.asarray(m.faces, np.int64)
-        Vf, Ff = midpoint_subdivide(V, F)
-        out["lam"].append(_weyl_padded(cshape.shape_dna((V, F), N=min(N, len(V) - 1))))
-        out["lam_fine"].append(_weyl_padded(cshape.shape_dna((Vf, Ff),
-                                                             N=min(N, len(Vf) - 1))))
+        n = min(N, len(V) - 1)
+        if consistent:
+            out["lam"].append(_weyl_padded(cshape.shape_dna((V, F), N=n)))
+        out["lam_mixed"].append(_weyl_padded(cshape.shape_dna((V, F), N=n, mass="mixed")))
+        if FINE:
+            Vf, Ff = midpoint_subdivide(V, F)
+            out["lam_fine"].append(_weyl_padded(cshape.shape_dna((Vf, Ff),
+                                                                 N=min(N, len(Vf) - 1))))
         out["area"].append(float(cshape.Mesh(V, F).area))
         out["n_vertices"].append(len(V))
+    for k in ("lam_fine",) * (not FINE) + ("lam",) * (not consistent):
+        del out[k]
     return {k: np.array(v) for k, v in out.items()}
 
 
@@ -69,7 +83,10 @@ def real_collection(folder: Path, cache: Path) -> Path:
     files = [str(f) for f in ref["files"]]
     t0 = time.perf_counter()
     meshes = (cshape.load_mesh(folder / f) for f in files)
-    out = spectra(meshes)
+    # without the subdivision, the consistent spectra are the collection's reference ones
+    out = spectra(meshes, consistent=FINE)
+    if not FINE:
+        out["lam"] = np.asarray(ref["lam"], float)
     np.savez(dst, names=np.array(files), labels=ref["labels"], **out)
     print(f"{folder.name}: {len(files)} meshes, {time.perf_counter() - t0:.0f} s",
           file=sys.stderr, flush=True)
@@ -117,8 +134,11 @@ if __name__ == "__main__":
     ap.add_argument("--realdev", default="../shared/realdev")
     ap.add_argument("--meshes", default="../shared/meshes")
     ap.add_argument("--cache", default="out/realdev_cache")
+    ap.add_argument("--no-fine", action="store_true",
+                    help="linear and mixed spectra only, no midpoint subdivision")
     ap.add_argument("what", nargs="*", default=["suite", "real", "meshes"])
     a = ap.parse_args()
+    FINE = not a.no_fine
     cache = Path(a.cache)
     cache.mkdir(parents=True, exist_ok=True)
     if "suite" in a.what:

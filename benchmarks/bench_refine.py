@@ -1,4 +1,4 @@
-"""Benchmark: resolution-free spectra (issue 42): Richardson extrapolation against P2 elements.
+"""Benchmark: resolution-free spectra: mixed mass, Richardson extrapolation and P2 elements.
 
 Run from the repository root::
 
@@ -6,16 +6,19 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_refine.py --no-costs       # accuracy only
     .venv/bin/python benchmarks/bench_refine.py --sizes 1k,10k   # costs without 100K
 
-Three spectra of a mesh, ``N = 100``:
+Five spectra of a mesh, ``N = 100``:
 
-* **linear**: ``shape_dna(mesh, N)``, linear FEM (Eq. 4-7), cshape's default;
+* **linear**: ``shape_dna(mesh, N)``, linear FEM (Eq. 4-7) with the consistent mass matrix,
+  cshape's default;
+* **lumped**: ``shape_dna(mesh, N, mass='lumped')``, the lumped (diagonal) mass matrix;
+* **mixed**: ``shape_dna(mesh, N, mass='mixed')``, the average of the two mass matrices;
 * **extrapolated**: ``shape_dna(mesh, N, refine='extrapolate')``: Richardson
   ``(4 lam_fine - lam) / 3`` over one midpoint subdivision (flat triangles kept);
 * **P2**: quadratic Lagrange elements on the same flat triangles (a prototype defined here,
   not part of cshape): Eq. (4)-(5) with the six P2 basis functions per triangle, integrated
   exactly (6-point degree-4 rule); nodes at vertices and flat edge midpoints.
 
-Both improved spectra converge to the spectrum of the *polyhedral* surface (the flat
+The extrapolated and P2 spectra converge to the spectrum of the *polyhedral* surface (the flat
 triangles); on a curved surface that differs from the smooth one by ``O(h^2)`` in the metric.
 
 Accuracy: the largest relative error of ``lam_1 .. lam_99`` on unit icospheres against
@@ -26,6 +29,10 @@ three refinements of the square and of the equilateral triangle; same-object pai
 resolutions of ``../shared/meshes`` (``$CSHAPE_SHARED_MESHES``; skipped when missing): mean
 ``|difference|`` of the log-Weyl ratios ``log(lam_i area / (4 pi i))`` for ``i = 1-17`` and
 ``i = 80-99``.
+
+Weight study (known answers only): ``B = (1 - w) B_consistent + w B_lumped`` for ``w`` from
+0.3 to 0.7 (``w = 1/2`` is ``mass='mixed'``), the largest relative error on the sphere, the
+square, the disk and the equilateral triangle, and the best ``w`` of each on a fine grid.
 
 ``--candidates``: the first tier of the exploration default's candidates
 (:data:`cshape.reproduce.suite.CANDIDATES`) on the suite's development instances, with linear
@@ -125,17 +132,27 @@ def p2_matrices(mesh, bc="neumann"):
 
 
 def spectrum(mesh, method, bc="neumann", n=N):
-    """The ``n`` smallest eigenvalues by ``method`` in {'linear', 'extrapolated', 'p2'}."""
+    """The ``n`` smallest eigenvalues by ``method`` (one of :data:`METHODS`)."""
     if method == "p2":
         A, B = p2_matrices(mesh, bc)
         return solve_eigenproblem(A, B, n, return_vectors=False)
     refine = "extrapolate" if method == "extrapolated" else "none"
+    mass = method if method in ("lumped", "mixed") else "consistent"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return cshape.shape_dna(mesh, n, bc=bc, refine=refine)
+        return cshape.shape_dna(mesh, n, bc=bc, mass=mass, refine=refine)
 
 
-METHODS = ("linear", "extrapolated", "p2")
+METHODS = ("linear", "lumped", "mixed", "extrapolated", "p2")
+
+
+def weighted_spectrum(mesh, w, bc="neumann", n=N):
+    """Eigenvalues with ``B = (1 - w) B_consistent + w B_lumped`` (``w = 1/2``: mixed)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        A, Bc = cshape.fem_matrices(mesh, bc=bc)
+        _, Bl = cshape.fem_matrices(mesh, bc=bc, mass="lumped")
+    return solve_eigenproblem(A, (1 - w) * Bc + w * Bl, n, return_vectors=False)
 
 
 # --------------------------------------------------------------------------- known answers
@@ -217,6 +234,47 @@ def convergence_orders(quick=False):
             errs = [np.max(np.abs(spectrum(m, k, "dirichlet", 10) / ref - 1)) for m in meshes]
             out[(name, k)] = (grids, errs, -np.polyfit(np.log(grids), np.log(errs), 1)[0])
     return out
+
+
+# --------------------------------------------------------------------------- weight study
+WEIGHTS = (0.3, 0.4, 0.45, 0.5, 0.55, 0.6, 0.7)
+
+
+def weight_cases(quick=False):
+    """(name, mesh, bc, n, exact eigenvalues) of the weight study: known answers only."""
+    cases = [("unit icosphere, lam_1..lam_99", shapes.icosphere(3), "neumann", N,
+              shapes.sphere_spectrum(N))]
+    if not quick:
+        cases.append(("unit icosphere, lam_1..lam_99", shapes.icosphere(4), "neumann", N,
+                      shapes.sphere_spectrum(N)))
+    cases += [("unit square, dirichlet, lam_1..lam_30", shapes.square(32), "dirichlet", 30,
+               square_spectrum(30, "dirichlet")),
+              ("unit square, neumann, lam_1..lam_30", shapes.square(32), "neumann", 30,
+               square_spectrum(30, "neumann")),
+              ("unit disk, dirichlet, first 20", shapes.disk(24), "dirichlet", 20,
+               disk_spectrum(20, "dirichlet")),
+              ("unit disk, neumann, first 20", shapes.disk(24), "neumann", 20,
+               disk_spectrum(20, "neumann")),
+              ("equilateral triangle, dirichlet, first 10", equilateral(4), "dirichlet", 10,
+               equilateral_spectrum(10))]
+    return cases
+
+
+def weight_study(quick=False):
+    """Rows (case, vertices, errors at :data:`WEIGHTS`, best w, its error, mixed's error).
+
+    The best ``w`` is the minimiser of the largest relative error over a grid of step 0.01
+    (a bounded scalar search would do as well; the grid keeps every solve visible).
+    """
+    rows = []
+    for name, mesh, bc, n, ref in weight_cases(quick):
+        errs = [max_rel_error(weighted_spectrum(mesh, w, bc, n), ref) for w in WEIGHTS]
+        grid = np.round(np.arange(0.30, 0.701, 0.01), 2)
+        fine = [max_rel_error(weighted_spectrum(mesh, w, bc, n), ref) for w in grid]
+        k = int(np.argmin(fine))
+        mixed = max_rel_error(spectrum(mesh, "mixed", bc, n), ref)
+        rows.append((name, mesh.n_vertices, errs, float(grid[k]), fine[k], mixed))
+    return rows
 
 
 # --------------------------------------------------------------------------- real pairs
@@ -313,13 +371,16 @@ def costs(sizes, methods):
 
 
 # --------------------------------------------------------------------------- report
-def report(known, orders, pairs, cost_rows):
+def report(known, orders, pairs, cost_rows, weights=()):
     pct = lambda x: f"{100 * x:.3g} %"  # noqa: E731
-    lines = ["# Resolution-free spectra: linear FEM, Richardson extrapolation, P2", "",
+    lines = ["# Resolution-free spectra: mass matrices, Richardson extrapolation, P2", "",
              f"`benchmarks/bench_refine.py`; {machine_summary()}", "",
              f"Processor: {processor()}", "",
              "## Known answers (largest relative error)", "",
-             "| mesh | vertices | linear | extrapolated | P2 |", "|---|---|---|---|---|"]
+             "linear: consistent mass (Eq. 5); lumped; mixed: their average; extrapolated: "
+             "`refine='extrapolate'` (consistent mass); P2: quadratic elements.", "",
+             "| mesh | vertices | linear | lumped | mixed | extrapolated | P2 |",
+             "|---|---|---|---|---|---|---|"]
     for case, nv, errs in known:
         lines.append(f"| {case} | {nv} | " + " | ".join(pct(e) for e in errs) + " |")
     lines += ["", "## Convergence order, Dirichlet, lam_1 .. lam_10", "",
@@ -328,11 +389,21 @@ def report(known, orders, pairs, cost_rows):
     for (name, k), (grids, errs, p) in orders.items():
         lines.append(f"| {name} | {k} | {', '.join(map(str, grids))} | "
                      f"{', '.join(f'{e:.2e}' for e in errs)} | {p:.2f} |")
+    if weights:
+        lines += ["", "## The weight of the mixed mass matrix (known answers only)", "",
+                  "Largest relative error with `B = (1 - w) B_consistent + w B_lumped`; "
+                  "`w = 0.5` is `mass='mixed'`; best w on a grid of step 0.01.", "",
+                  "| mesh | vertices | " + " | ".join(f"w={w:g}" for w in WEIGHTS)
+                  + " | best w | its error | mixed |",
+                  "|---|---|" + "---|" * len(WEIGHTS) + "---|---|---|"]
+        for case, nv, errs, best, best_err, mixed in weights:
+            lines.append(f"| {case} | {nv} | " + " | ".join(pct(e) for e in errs)
+                         + f" | {best:.2f} | {pct(best_err)} | {pct(mixed)} |")
     if pairs:
         lines += ["", "## Same object at two resolutions (`../shared/meshes`)", "",
                   "Mean |difference| of `log(lam_i area / (4 pi i))` between the two meshes.", "",
-                  "| pair (vertices) | i=1-17 linear | extrapolated | P2 | i=80-99 linear | "
-                  "extrapolated | P2 |", "|---|---|---|---|---|---|---|"]
+                  "| pair (vertices) | i=1-17 " + " | ".join(METHODS) + " | i=80-99 "
+                  + " | ".join(METHODS) + " |", "|---|" + "---|" * (2 * len(METHODS))]
         for name, na, nb, cells in pairs:
             lo = " | ".join(f"{c[0]:.4f}" for c in cells)
             hi = " | ".join(f"{c[1]:.4f}" for c in cells)
@@ -377,9 +448,10 @@ def main(argv=None):
         return 0
     known = known_answers(args.quick)
     orders = convergence_orders(args.quick)
+    weights = weight_study(args.quick)
     pairs = [] if args.quick else pairs_table()
     cost_rows = [] if args.no_costs else costs(args.sizes.split(","), args.methods.split(","))
-    text = report(known, orders, pairs, cost_rows)
+    text = report(known, orders, pairs, cost_rows, weights)
     Path(args.out).write_text(text)
     print(text)
     return 0

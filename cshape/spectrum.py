@@ -265,7 +265,7 @@ class Eigenbasis:
         The mesh of ``n`` vertices the pairs belong to (the orientation term of
         :func:`cshape.maps.functional_map` needs it).
     bc : {'neumann', 'dirichlet'}, default='neumann'
-    mass : {'consistent', 'lumped'}, default='consistent'
+    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
         How the pairs were computed (see :func:`cshape.fem_matrices`).
 
     Attributes
@@ -421,7 +421,7 @@ def eigenbasis(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
         Number of eigenpairs (lam_0 included).
     bc : {'neumann', 'dirichlet'}, default='neumann'
         See :func:`cshape.fem_matrices`.
-    mass : {'consistent', 'lumped'}, default='consistent'
+    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
 
     Returns
     -------
@@ -453,9 +453,9 @@ def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
         Boundary condition on boundary and non-manifold vertices: ``'neumann'`` keeps every
         vertex as an unknown (Eq. (4)-(7)); ``'dirichlet'`` fixes the function to zero there
         (see :func:`cshape.fem_matrices`).
-    mass : {'consistent', 'lumped'}, default='consistent'
-        The consistent mass matrix ``B`` of Eq. (5) / (7), or its lumped diagonal
-        ``sum_t |t|/3``.
+    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
+        The consistent mass matrix ``B`` of Eq. (5) / (7), its lumped diagonal
+        ``sum_t |t|/3``, or their average (see :func:`cshape.fem_matrices`).
 
     Returns
     -------
@@ -505,9 +505,11 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
         vertex as an unknown (Eq. (4)-(7)); ``'dirichlet'`` fixes the function to zero
         there, so that ``lam[0] > 0`` on an open surface (see :func:`cshape.fem_matrices`).
         A closed manifold mesh has no such vertices: both give the same spectrum.
-    mass : {'consistent', 'lumped'}, default='consistent'
-        The consistent mass matrix ``B`` of Eq. (5) / (7), or its lumped diagonal
-        ``sum_t |t|/3`` (the paper's is the consistent one).
+    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
+        The consistent mass matrix ``B`` of Eq. (5) / (7) (the paper's), its lumped
+        diagonal ``sum_t |t|/3``, or ``'mixed'``, their average, whose eigenvalues depend
+        far less on the mesh resolution at the cost of a plain solve (see
+        :func:`cshape.fem_matrices`).
     refine : {'none', 'extrapolate'}, default='none'
         ``'none'``: the eigenvalues of the linear FEM problem of Eq. (3)-(7), whose error
         grows like ``h^2 lam^2`` (``h`` the edge length).  ``'extrapolate'``: Richardson

@@ -353,8 +353,14 @@ def test_refine_bench_p2_prototype_and_report(tmp_path):
               "peak_mib": 80, "extra_mib": 10},
              {"size": "1k", "method": "extrapolated", "n": 1000, "seconds": 0.3, "cpu": 0.3,
               "peak_mib": 90, "extra_mib": 20}]
-    text = br.report(known, orders, pairs, costs)
+    weights = [("disk", 20, [0.02] * len(br.WEIGHTS), 0.52, 0.004, 0.005)]
+    text = br.report(known, orders, pairs, costs, weights)
     assert "| case | 10 | 10 % | 1 % | 2 % |" in text
+    assert "| disk | 20 | " + "2 % | " * len(br.WEIGHTS) + "0.52 | 0.4 % | 0.5 % |" in text
+    # the weight 1/2 is mass='mixed'
+    mesh = shapes.icosphere(2)
+    np.testing.assert_allclose(br.weighted_spectrum(mesh, 0.5, n=10),
+                               br.spectrum(mesh, "mixed", n=10), rtol=1e-10, atol=1e-12)
     assert "| 1000 | extrapolated | 0.30 | 3.00 |" in text
     assert "| spot 100 / 50 |" in text
 def test_choices_bench_compares_like_with_like(tmp_path, capsys):

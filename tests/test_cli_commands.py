@@ -20,6 +20,7 @@ from conftest import write_off
 import cshape
 from cshape import Descriptor, shapes
 from cshape.batch import DescriptorTable
+from cshape.cli.explore import collect_mesh_files
 
 N, M = 20, 4
 
@@ -316,8 +317,6 @@ def test_interrupt_ends_in_one_line_and_leaves_complete_cache_entries(tmp_path):
 
 
 def test_collect_mesh_files_names_labels_and_globs(tmp_path):
-    from cshape.cli.explore import collect_mesh_files
-
     ico = shapes.icosphere(1)
     for rel in ("a/cls/x.off", "b/cls/x.off", "b/y.off", "c/z.off", "c/z.ply.gz"):
         write_off(tmp_path / rel, ico)  # contents do not matter here
@@ -327,12 +326,37 @@ def test_collect_mesh_files_names_labels_and_globs(tmp_path):
     assert [(n, lab, p.relative_to(tmp_path).as_posix()) for n, lab, p in got] == [
         ("a/cls/x", "cls", "a/cls/x.off"),   # same stem, same sub-folder: the path below
         ("b/cls/x", "cls", "b/cls/x.off"),   # the folder both are in
-        ("y", "b", "b/y.off"),                # once, although named three ways
+        ("y", "", "b/y.off"),                 # once, although named three ways; directly
+                                              # in a folder given: no class
         ("z.off", "c", "c/z.off"),            # only the suffix differs: kept
         ("z.ply.gz", "c", "c/z.ply.gz"),
     ]
     with pytest.raises(ValueError, match="matches no mesh file"):
         collect_mesh_files([f"{tmp_path}/b/*.txt"])
+
+
+def test_flat_folder_has_no_classes_in_describe_and_query(tmp_path, capsys):
+    from cshape.cli import main
+
+    flat = tmp_path / "my-meshes"
+    write_off(flat / "ball.off", shapes.icosphere(1))
+    write_off(flat / "big.off", (2.0 * shapes.icosphere(1).vertices, shapes.icosphere(1).faces))
+    write_off(flat / "ring.off", shapes.torus(12, 6))
+    out = tmp_path / "t.csv"
+    assert main(["describe", str(flat), "-N", "12", "--no-cache", "-q", "--out", str(out)]) == 0
+    table = DescriptorTable.load(out)
+    assert table.labels == ["", "", ""]  # not the folder's own name
+    capsys.readouterr()
+    assert main(["query", str(out), "ball", "-k", "2"]) == 0
+    text = capsys.readouterr().out
+    assert "my-meshes" not in text
+    rows = text.splitlines()[2:]
+    assert len(rows) == 2 and all(len(r.split()) == 3 for r in rows)  # rank, distance, name
+    # a folder with classes keeps them, and a loose file beside them has none
+    write_off(tmp_path / "mixed" / "round" / "a.off", shapes.icosphere(1))
+    write_off(tmp_path / "mixed" / "b.off", shapes.icosphere(1))
+    got = {n: lab for n, lab, _ in collect_mesh_files([tmp_path / "mixed"])}
+    assert got == {"a": "round", "b": ""}
 
 
 @pytest.mark.slow

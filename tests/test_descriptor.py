@@ -329,7 +329,7 @@ def test_a_descriptor_needing_more_eigenvalues_than_the_table_holds(table):
 
 
 def test_the_table_says_what_it_holds(table):
-    assert repr(table) == "DescriptorTable(3 shapes, N=30, 3 classes)"
+    assert repr(table) == "DescriptorTable(3 shapes, N=30, mass='consistent', 3 classes)"
     np.testing.assert_array_equal(table.lam_norm, table.lam * table.areas[:, None])
     np.testing.assert_array_equal(table.lam_norm,
                                   table.descriptors(Descriptor("shape-dna", N=N)))

@@ -300,6 +300,12 @@ def test_neighbour_strips_return_figures():
     assert pfig.layout.height is None  # the page gives it its size
     with pytest.raises(ValueError, match=r"distances has 1 entries but the strip has 2 neighbours"):
         plot_neighbour_strip(meshes, ["q", "n1", "n2"], [0.5])
+    # a shape of no class ('', e.g. from a flat folder) shows no [class] line
+    fig = plot_neighbour_strip(meshes, ["q", "n1", "n2"], [0.5, 1.25], labels=["", "", "x"])
+    assert [ax.get_title().split("\n")[1:] for ax in fig.axes] == [["q"], ["n1"], ["n2", "[x]"]]
+    pfig = neighbour_strip_plotly(meshes, ["q", "n1", "n2"], [0.5, 1.25], labels=["", "", "x"])
+    titles = [a.text for a in pfig.layout.annotations]
+    assert "[" not in titles[0] + titles[1] and titles[2].endswith("<br>[x]")
 
 
 @pytest.mark.parametrize("n, grid", [(1, (1, 1)), (2, (1, 2)), (4, (2, 2)), (6, (2, 3)),

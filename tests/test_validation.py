@@ -250,7 +250,7 @@ NONE_OK: set[tuple[str, str]] = set()
 RANGE_DIFFERS = {("N", "sphere_spectrum"), ("N", "point_map")}  # point_map: N >= 2
 
 _BC = r"bc must be one of \{'neumann', 'dirichlet'\}, got "
-_MASS = r"mass must be one of \{'consistent', 'lumped'\}, got "
+_MASS = r"mass must be one of \{'consistent', 'lumped', 'mixed'\}, got "
 _NORM = r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}, got "
 _TR = r"transform must be one of \{'weyl', 'log-weyl', 'log-weyl-dct'\}, got "
 _KIND = (r"kind must be one of \{'shape-dna', 'truncated', 'cshape', 'cshape-complex', 'f1', "

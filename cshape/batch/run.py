@@ -136,7 +136,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
         ``N`` eigenvalues (any ``M``, any transform) is derived from the table later,
         without another eigensolve.
     bc : {'neumann', 'dirichlet'}, default='neumann'
-    mass : {'consistent', 'lumped'}, default='consistent'
+    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
     cache_dir : str, os.PathLike, None or False, default=None
         Folder of the eigenvalue cache (see the module notes); ``None`` uses
         :func:`default_cache_dir`, ``False`` disables caching.
@@ -200,7 +200,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
     ...           ("t1", "torus", shapes.torus(24, 12))]
     >>> table = describe(meshes, N=30, cache_dir=False, progress=False)
     >>> table
-    DescriptorTable(3 shapes, N=30, 2 classes)
+    DescriptorTable(3 shapes, N=30, mass='consistent', 2 classes)
     >>> from cshape import Descriptor
     >>> table.descriptors(Descriptor("cshape", N=30, M=4)).shape
     (3, 9)

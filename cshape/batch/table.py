@@ -185,7 +185,8 @@ class DescriptorTable:
         nlab = len({x for x in self.labels if x})
         fails = f", {len(self.failures)} failed" if self.failures else ""
         ref = "" if self.refine == "none" else f", refine={self.refine!r}"
-        return (f"DescriptorTable({len(self)} shapes, N={self.N}{ref}, {nlab} classes"
+        return (f"DescriptorTable({len(self)} shapes, N={self.N}, mass={self.mass!r}{ref}, "
+                f"{nlab} classes"
                 f"{fails})")
 
     def index(self, name: object) -> int:

@@ -86,9 +86,9 @@ def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
         In the order of ``paths`` (a folder's files sorted), each file once.  ``name`` is the
         file stem; where stems repeat, the path relative to the folder it was found in, else
         to the folder all the files of that stem are in (without the suffix, unless only the
-        suffix differs); ``label`` is the first sub-folder below the folder given (the
-        folder's own name for files directly in it) and, for a file or glob match, the name
-        of the folder holding the file.
+        suffix differs); ``label`` is the first sub-folder below the folder given (``''``,
+        no class, for files directly in it: a flat folder has no classes) and, for a file or
+        glob match, the name of the folder holding the file.
 
     Raises
     ------
@@ -102,9 +102,13 @@ def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
     found: list[tuple[Path, str, Path]] = []  # (file, label, base for relative names)
 
     def add_folder(folder: Path) -> None:
+        top = folder.resolve()
         for item in load_folder(folder):
             assert item.path is not None  # the items of a folder are its files
-            found.append((Path(item.path), item.label, folder))
+            path = Path(item.path)
+            # a file directly in the folder given is in no class (a flat folder has none)
+            label = "" if path.resolve().parent == top else item.label
+            found.append((path, label, folder))
 
     def add_file(path: Path) -> None:
         found.append((path, path.resolve().parent.name, path.parent))
@@ -170,6 +174,12 @@ def _transforms() -> tuple[str, ...]:
     return TRANSFORMS
 
 
+def _mass_types() -> tuple[str, ...]:
+    from ..fem import MASS_TYPES
+
+    return MASS_TYPES
+
+
 def _refinements() -> tuple[str, ...]:
     from ..spectrum import REFINEMENTS
 
@@ -202,7 +212,7 @@ def _cmd_describe(args: argparse.Namespace) -> int:
         table = describe(
             records, N=args.N, bc=args.bc, n_jobs=args.jobs, client=args.dask,
             cache_dir=False if args.no_cache else args.cache_dir, progress=_progress(args),
-            on_error="warn", refine=args.refine,
+            on_error="warn", refine=args.refine, mass=args.mass,
         )
     seconds = time.perf_counter() - t0
     # describe's own summary of the failures is replaced by the list below; each mesh's
@@ -241,7 +251,7 @@ def _cmd_describe(args: argparse.Namespace) -> int:
                   f"{n_fail} failed," if n_fail else
                   f"{len(table)} meshes ({n_cached} from the cache)")
         print(f"cshape describe: {counts} in {seconds:.1f} s, "
-              f"N={table.N}{several}{where}; `cshape query` compares the "
+              f"N={table.N}, {spectra_words(table)}{several}{where}; `cshape query` compares the "
               f"{_table_label(table)} (--kind cshape: the paper's)", file=sys.stderr)
     return 0
 
@@ -292,7 +302,8 @@ def _print_table(table: DescriptorTable, width: int = 4) -> None:
     rows = dict(zip(kept.tolist(), S, strict=True))
     w = max([len(n) for n in table.names] + [4])
     wl = max([len(x) for x in table.labels] + [5])
-    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_table_label(table)}: "
+    print(f"{'name':<{w}}  {'label':<{wl}}  {'area':>10}  pieces  {_table_label(table)} "
+          f"({spectra_words(table)}): "
           f"first {min(width, S.shape[1])} values")
     pieces = _pieces(table)
     for i, name in enumerate(table.names):
@@ -318,6 +329,10 @@ def add_describe(sub: _SubParsers) -> None:
     p.add_argument("-N", type=int, default=100, help="Shape-DNA length N (default 100)")
     p.add_argument("--bc", default="neumann", choices=("neumann", "dirichlet"),
                    help="boundary condition on open surfaces (default neumann)")
+    p.add_argument("--mass", default="consistent", choices=_mass_types(),
+                   help="mass matrix B: 'consistent' (Eq. 5, the paper, default), 'lumped', or "
+                   "'mixed', their average: eigenvalues that depend far less on the mesh "
+                   "resolution, at the cost of a plain solve (see cshape.fem_matrices)")
     p.add_argument("--refine", default="none", choices=_refinements(),
                    help="'none': linear FEM (the paper, default); 'extrapolate': Richardson "
                    "extrapolation over one midpoint subdivision, eigenvalues that depend far "
@@ -503,6 +518,12 @@ def _descriptor_default(N: int) -> Descriptor:
     return recipe.DEFAULT.for_N(N)
 
 
+def spectra_words(table: DescriptorTable) -> str:
+    """Which spectra the table holds, in words: its mass matrix, and its refinement if any."""
+    ref = "" if table.refine == "none" else f", refine={table.refine!r}"
+    return f"mass={table.mass!r}{ref}"
+
+
 def _table_label(table: DescriptorTable) -> str:
     """What the table compares when no descriptor is asked for, in words."""
     if table.descriptor is not None:
@@ -606,13 +627,15 @@ def _cmd_query(args: argparse.Namespace) -> int:
         print(f"cshape query: wrote {wrote}", file=sys.stderr)
     if args.json:
         print(json.dumps({"query": target, **dataclasses.asdict(desc), "descriptor": desc.label,
+                          "mass": table.mass, "refine": table.refine,
                           "neighbours": [{"rank": j + 1, "name": table.names[i],
                                           "label": table.labels[i], "distance": d}
                                          for j, (d, i) in enumerate(hits)]}))
         return 0
     among = (f"the {len(table)} shapes" if len(rows) == len(table)
              else f"the {len(rows)} of {len(table)} shapes it describes")
-    print(f"nearest to {what} by the {desc.label}, Euclidean distance, among {among} of "
+    print(f"nearest to {what} by the {desc.label} ({spectra_words(table)}), Euclidean distance, "
+          f"among {among} of "
           f"{args.table}:")
     w = max([len(table.names[i]) for _, i in hits] + [4])
     print(f"{'rank':>4}  {'distance':>11}  {'name':<{w}}  label")
@@ -747,7 +770,8 @@ def write_neighbour_strip(args: argparse.Namespace, table: DescriptorTable,
     up = ([guess_vertical_axis(p) for p in paths] if args.up == "auto"
           else args.up)
     dist = [d for d, _ in hits]
-    title = (f"nearest to {names[0]} by {descriptor}, among the {len(table)} shapes of "
+    title = (f"nearest to {names[0]} by {descriptor} ({spectra_words(table)}), among the "
+             f"{len(table)} shapes of "
              f"{Path(args.table).name}")
     if out.suffix.lower() in HTML_SUFFIXES:
         fig = neighbour_strip_plotly(meshes, names, dist, labels=labels, title=title,

@@ -17,7 +17,13 @@ import warnings
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .explore import HTML_SUFFIXES, add_descriptor_options, check_figure_path, chosen_descriptor
+from .explore import (
+    HTML_SUFFIXES,
+    add_descriptor_options,
+    check_figure_path,
+    chosen_descriptor,
+    spectra_words,
+)
 from .output import CommandError, print_warnings
 
 if TYPE_CHECKING:
@@ -52,7 +58,7 @@ def _cmd_overview(args: argparse.Namespace) -> int:
         c = collection_distances(table, descriptor=chosen_descriptor(args, table))
         Y = mds_embedding(c.D, random_state=args.seed)
     print_warnings(caught, "overview", args.verbose)
-    name = Path(args.table).name
+    name = f"{Path(args.table).name} ({spectra_words(table)})"
     made: list[str | Figure] = []  # every figure first, then the files: nothing half-written
     for o in outs:
         if o.suffix.lower() in HTML_SUFFIXES:
@@ -67,7 +73,7 @@ def _cmd_overview(args: argparse.Namespace) -> int:
         lay = mds_layout(Y)
         far = [c.names[i] for i in lay["outliers"].nonzero()[0]]
         msg = (f"cshape overview: {collection_title(len(c.names), len(set(c.labels)))}, "
-               f"compared by {c.descriptor.label}")
+               f"compared by {c.descriptor.label} ({spectra_words(table)})")
         if c.left_out:
             msg += f"; {len(c.left_out)} left out"
         if far:

@@ -134,7 +134,7 @@ def _hover_texts(names: Sequence[object], labels: Sequence[object] | None,
         ind, dist = nearest_neighbours(D, k)
     for i in range(p):
         t = f"<b>{html.escape(str(names[i]))}</b>"
-        if labels is not None:
+        if labels is not None and str(labels[i]):
             t += f"<br>class: {html.escape(str(labels[i]))}"
         if ind is not None:
             near = ", ".join(f"{html.escape(str(names[j]))} ({d:.4g})"
@@ -379,7 +379,7 @@ def plot_neighbour_strip(meshes: Sequence[MeshLike], names: Sequence[object],
                   vertical_axis=axes[j], elev=18.0, azim=-60.0)
         ax.set_box_aspect((1, 1, 1), zoom=1.3)
         text = f"{heads[j]}\n{short_label(names[j], 22)}"
-        if labels is not None:
+        if labels is not None and str(labels[j]):  # '' is no class: nothing to show
             text += f"\n[{short_label(labels[j], 22)}]"
         ax.set_title(text, fontsize="small", color="C3" if j == 0 else "black",
                      fontweight="bold" if j == 0 else "normal", y=0.93)
@@ -432,7 +432,8 @@ def neighbour_strip_plotly(meshes: Sequence[MeshLike], names: Sequence[object],
     heads, _ = _strip_texts(names, distances, labels, n)
     axes = _axes_list(vertical_axis, n)
     titles = [f"{h}<br>{html.escape(str(nm))}"
-              + (f"<br>[{html.escape(str(labels[j]))}]" if labels is not None else "")
+              + (f"<br>[{html.escape(str(labels[j]))}]"
+                 if labels is not None and str(labels[j]) else "")
               for j, (h, nm) in enumerate(zip(heads, names, strict=True))]
     rows, cols = strip_grid(n)
     w, h = _WINDOW
