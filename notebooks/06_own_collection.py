@@ -287,11 +287,9 @@ assert nearest_mine(_Xt, np.array([0.0, 0.9]), 2)[1].tolist() == [0, 2], "ties: 
 # %%
 import matplotlib.pyplot as plt
 
-from cshape import compare
-
 fig, axs = plt.subplots(1, 2, figsize=(10, 4.5))
 for ax, descriptor in zip(axs, (cshape.DEFAULT.for_N(N), paper), strict=True):
-    Y = compare.mds_embedding(table.distance_matrix(descriptor))
+    Y = cshape.mds_embedding(table.distance_matrix(descriptor))
     plots.plot_mds(Y, table.names, table.labels, ax=ax, title=f"MDS by the {descriptor.label}")
 fig.tight_layout()
 
