@@ -150,14 +150,14 @@ def _env(name, value):
 
 
 def run_cshape(mesh, N, vectors=False, threads=None):
-    """Seconds and eigenvalues of ``shape_dna`` (or ``eigenpairs``) on plain arrays."""
-    fn = cshape.spectrum.eigenpairs if vectors else cshape.shape_dna
+    """Seconds and eigenvalues of ``shape_dna`` (or ``eigenbasis``) on plain arrays."""
+    fn = cshape.eigenbasis if vectors else cshape.shape_dna
     with _env("CSHAPE_THREADS", threads), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         t = time.perf_counter()
         out = fn((mesh.vertices, mesh.faces), N=N)
         seconds = time.perf_counter() - t
-    return seconds, (out[0] if vectors else out)
+    return seconds, (out.lam if vectors else out)
 
 
 #: LaPy settings that can be timed: label -> (``use_cholmod`` passed, or None for LaPy's own
@@ -596,7 +596,7 @@ def main(argv=None):
                         help="also time LaPy use_cholmod=True with BLAS held to one thread "
                              "(the setting 'cholespy-1t')")
     parser.add_argument("--eigenpairs", action="store_true",
-                        help="time cshape.spectrum.eigenpairs (eigenvalues and eigenfunctions)")
+                        help="time cshape.eigenbasis (eigenvalues and eigenfunctions)")
     parser.add_argument("-N", type=int, default=100)
     parser.add_argument("--rtol", type=float, default=1e-8)
     parser.add_argument("--out", default=None,

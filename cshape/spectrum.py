@@ -6,12 +6,12 @@ What is solved.  ``A`` (stiffness, negative semidefinite: the paper's sign) and 
 boundary conditions, once per connected component.
 
 What is returned.  :func:`shape_dna` gives the ``N`` smallest eigenvalues, ascending,
-``lam[0]`` included (Shape-DNA, Section 2.1); :func:`eigenpairs` also gives the
+``lam[0]`` included (Shape-DNA, Section 2.1); :func:`eigenbasis` also gives the
 eigenfunctions ``phi`` (n, N), B-orthonormal (``phi.T @ B @ phi = I``), with the same
-eigenvalues bit for bit.  :func:`eigenbasis` gives the same pairs as one frozen
-:class:`Eigenbasis` with the mass matrix ``B``, the area and the (repaired) mesh: what the
-signatures (:mod:`cshape.signatures`) and the maps (:mod:`cshape.maps`) take.  Round-off of
-zero eigenvalues (below :data:`ZERO_ROUNDOFF` times the largest) is set to 0.
+eigenvalues bit for bit, as one frozen :class:`Eigenbasis` with the mass matrix ``B``, the
+area and the (repaired) mesh: what the signatures (:mod:`cshape.signatures`) and the maps
+(:mod:`cshape.maps`) take.  Round-off of zero eigenvalues (below :data:`ZERO_ROUNDOFF`
+times the largest) is set to 0.
 :func:`solve_eigenproblem` does the same for given ``A`` and ``B``.
 
 Accuracy.  Small problems (at most :data:`DENSE_LIMIT` unknowns, or ``3 N`` or more of
@@ -395,7 +395,7 @@ def _check_eigenvalues(lam: object) -> NDArray[np.float64]:
     if lam.min() < -ZERO_ROUNDOFF * max(scale, np.finfo(float).tiny):
         raise ValueError(
             f"lam must be eigenvalues >= 0 (A f = -lam B f), got a minimum of {lam.min():.6g}; "
-            "pass the eigenvalues from cshape.spectrum.eigenpairs"
+            "pass the eigenvalues from cshape.shape_dna or cshape.eigenbasis(...).lam"
         )
     return lam if lam.min() >= 0 else np.maximum(lam, 0.0)
 
@@ -409,44 +409,19 @@ def _read_only(a: np.ndarray) -> np.ndarray:
 
 def eigenbasis(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
                ) -> Eigenbasis:
-    """Compute the :class:`Eigenbasis` of a mesh: its ``N`` smallest eigenpairs, ``B``, the area.
+    """Compute the ``N`` smallest Laplace-Beltrami eigenpairs of a mesh, with ``B`` and the area.
 
-    The mesh is repaired once (:func:`cshape.repair_mesh`), assembled once and solved once;
-    ``lam`` and ``phi`` are those of :func:`eigenpairs` for the same arguments, bit for bit.
-
-    Parameters
-    ----------
-    mesh : Mesh or (vertices, faces)
-    N : int, default=100
-        Number of eigenpairs (lam_0 included).
-    bc : {'neumann', 'dirichlet'}, default='neumann'
-        See :func:`cshape.fem_matrices`.
-    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
-
-    Returns
-    -------
-    Eigenbasis
-        ``lam`` (N,), ``phi`` (n, N) on the vertices of the repaired mesh (zero on fixed
-        vertices for ``bc='dirichlet'``), ``B`` (n, n) the mass matrix over all its
-        vertices, ``area`` the mesh's area, ``mesh`` the repaired mesh.
-
-    Raises
-    ------
-    TypeError, ValueError
-        As :func:`eigenpairs`.
-    """
-    mesh, problem, lam, phi = _solve_pairs(mesh, N, bc, mass)
-    return Eigenbasis(lam, phi, problem.B_vertices, problem.area, mesh=mesh, bc=problem.bc,
-                      mass=check_choice("mass", mass, MASS_TYPES))
-
-
-def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "consistent"
-               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Return the ``N`` smallest Laplace-Beltrami eigenvalues and B-orthonormal eigenfunctions.
+    The one way to the eigenfunctions: the mesh is repaired once
+    (:func:`cshape.repair_mesh`), assembled once and solved once, and the result is one
+    frozen :class:`Eigenbasis`, what the signatures and the maps take.  ``basis.lam`` are
+    the eigenvalues of :func:`shape_dna` for the same arguments (the same bits from the block
+    Lanczos solver; on the dense path of small problems, LAPACK with and without vectors, to
+    rounding).
 
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        A triangle mesh (or another library's mesh object).
     N : int, default=100
         Number of eigenpairs (lam_0 included).
     bc : {'neumann', 'dirichlet'}, default='neumann'
@@ -459,15 +434,11 @@ def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
 
     Returns
     -------
-    lam : ndarray, shape (N,)
-        Ascending eigenvalues of ``A f = -lam B f`` (Eq. 3): those of :func:`shape_dna`
-        for the same arguments (the same bits from the block Lanczos solver; on the
-        dense path of small problems, LAPACK with and without vectors, to rounding).
-    phi : ndarray, shape (n, N)
-        Eigenfunctions on the mesh vertices, ``phi[:, i]`` for ``lam[i]``; B-orthonormal
-        over the unknowns; zero on fixed vertices for ``bc='dirichlet'``.  If the mesh
-        was repaired (duplicate or unreferenced vertices), ``n`` is the vertex count of
-        the repaired mesh.
+    Eigenbasis
+        ``lam`` (N,) ascending eigenvalues of ``A f = -lam B f`` (Eq. 3); ``phi`` (n, N) the
+        eigenfunctions on the vertices of the repaired mesh, ``phi[:, i]`` for ``lam[i]``,
+        B-orthonormal, zero on fixed vertices for ``bc='dirichlet'``; ``B`` (n, n) the mass
+        matrix over all vertices; ``area`` the mesh's area; ``mesh`` the repaired mesh.
 
     Raises
     ------
@@ -478,8 +449,9 @@ def eigenpairs(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
         ``N < 1`` or more than the unknowns, an unknown ``bc`` or ``mass``, an invalid or
         zero-area mesh.
     """
-    _, problem, lam, phi = _solve_pairs(mesh, N, bc, mass)
-    return lam, phi
+    mesh, problem, lam, phi = _solve_pairs(mesh, N, bc, mass)
+    return Eigenbasis(lam, phi, problem.B_vertices, problem.area, mesh=mesh, bc=problem.bc,
+                      mass=check_choice("mass", mass, MASS_TYPES))
 
 
 def _solve_pairs(mesh, N, bc, mass):
@@ -520,7 +492,7 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
         the size (the error is then ``O(h^4)``); elsewhere the term shrinks by a large
         factor but need not vanish.  It solves a second problem of about four times the
         unknowns.  (A curved surface differs from its polyhedron by ``O(h^2)`` in its
-        metric, a small error that does not grow with the index.)  :func:`eigenpairs`
+        metric, a small error that does not grow with the index.)  :func:`eigenbasis`
         has no such option: eigenfunctions are not extrapolated.
 
     Returns
@@ -532,7 +504,7 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
     Raises
     ------
     TypeError, ValueError
-        As :func:`eigenpairs`; also an unknown ``refine``.
+        As :func:`eigenbasis`; also an unknown ``refine``.
 
     Notes
     -----

@@ -210,3 +210,11 @@ def private_tmpdir(tmp_path, monkeypatch):
     d.mkdir()
     monkeypatch.setattr(tempfile, "tempdir", str(d))
     return d
+
+
+def pairs(mesh, N=100, **kw):
+    """``(lam, phi)`` of :func:`cshape.eigenbasis`: the eigenpairs as two arrays."""
+    import cshape
+
+    b = cshape.eigenbasis(mesh, N, **kw)
+    return b.lam.copy(), b.phi.copy()

@@ -156,7 +156,6 @@ S1 = np.array([1.0 + 0j])  # a cShape-DNA with M = 0
 TAKES = {
     "N": {
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=v),
-        "eigenpairs": lambda v: cshape.spectrum.eigenpairs(sphere(), N=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=v),
         "point_map": lambda v: cshape.point_map(sphere(), sphere(), N=v, N0=2),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=0, N=v),
@@ -181,7 +180,6 @@ TAKES = {
     "bc": {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), bc=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, bc=v),
-        "eigenpairs": lambda v: cshape.spectrum.eigenpairs(sphere(), N=3, bc=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, bc=v),
         "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), bc=v),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=1, N=5, bc=v),
@@ -192,7 +190,6 @@ TAKES = {
     "mass": {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), mass=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, mass=v),
-        "eigenpairs": lambda v: cshape.spectrum.eigenpairs(sphere(), N=3, mass=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, mass=v),
         "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), mass=v),
         "DescriptorTable": lambda v: _bad_table(mass=v),
@@ -368,7 +365,7 @@ TAKES_A_MESH = {
     "largest_component": lambda vf: cshape.largest_component(vf),
     "fem_matrices": lambda vf: cshape.fem_matrices(vf),
     "shape_dna": lambda vf: cshape.shape_dna(vf, N=3),
-    "eigenpairs": lambda vf: cshape.spectrum.eigenpairs(vf, N=3),
+    "eigenbasis": lambda vf: cshape.eigenbasis(vf, N=3),
     "compact_shape_dna": lambda vf: cshape.compact_shape_dna(vf, M=1, N=3),
 }
 MESH = [

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import pairs
 
 import cshape
 from cshape import compare, shapes
@@ -164,7 +165,7 @@ def test_plots_return_figures_without_pyplot():
     from cshape import plots
 
     mesh = shapes.icosphere(1)
-    lam, phi = cshape.spectrum.eigenpairs(mesh, 12)
+    lam, phi = pairs(mesh, 12)
     before = plt.get_fignums()
     figs = [
         plots.plot_mesh(mesh, phi[:, 1], colorbar=True),

@@ -117,7 +117,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
         if len(f) != mesh.n_vertices:
             raise ValueError(
                 f"f has {len(f)} values but the mesh has {mesh.n_vertices} vertices; pass one "
-                "value per vertex (e.g. phi[:, i] from cshape.spectrum.eigenpairs on the same mesh)"
+                "value per vertex (e.g. cshape.eigenbasis(mesh, N).phi[:, i] of the same mesh)"
             )
     fig, ax = _axes(ax, figsize, projection="3d")
     tris = V[F]
@@ -180,7 +180,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     ----------
     mesh : Mesh or (vertices, faces)
     phi : array_like, shape (n, k)
-        Eigenfunctions on the vertices (``cshape.spectrum.eigenpairs``).
+        Eigenfunctions on the vertices (``cshape.eigenbasis(mesh, N).phi``).
     indices : sequence of int, optional
         Which columns to show (default: the first ``min(k, 8)``).
     lam : array_like, shape (k,), optional
@@ -201,7 +201,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     if phi.ndim != 2 or phi.shape[0] != mesh.n_vertices:
         raise ValueError(
             f"phi must have shape (n_vertices, k) = ({mesh.n_vertices}, k), got {phi.shape}; "
-            "use the phi returned by cshape.spectrum.eigenpairs for this mesh"
+            "use the phi of cshape.eigenbasis(mesh, N) for this mesh"
         )
     if indices is None:
         indices = range(min(phi.shape[1], 8))

@@ -109,7 +109,7 @@ def mode_data(lam: ArrayLike, phi: ArrayLike, indices: Iterable[int] | None = No
     Parameters
     ----------
     lam : array_like, shape (k,)
-        Eigenvalues (``cshape.spectrum.eigenpairs``).
+        Eigenvalues (``cshape.eigenbasis(mesh, N).lam``).
     phi : array_like, shape (n, k)
         Eigenfunctions on the vertices, ``phi[:, i]`` for ``lam[i]``.
     indices : sequence of int, optional
@@ -127,7 +127,7 @@ def mode_data(lam: ArrayLike, phi: ArrayLike, indices: Iterable[int] | None = No
     if phi.ndim != 2 or phi.shape[1] != len(lam):
         raise ValueError(
             f"phi must have shape (n_vertices, k) with k = len(lam) = {len(lam)}, got "
-            f"{phi.shape}; pass the lam, phi returned together by cshape.spectrum.eigenpairs"
+            f"{phi.shape}; pass the lam, phi of one cshape.eigenbasis(mesh, N)"
         )
     k = len(lam)
     if indices is None:
@@ -181,7 +181,7 @@ def _scalars(mesh: Mesh, scalars: ArrayLike | None, name: str = "scalars") -> np
     if len(f) != mesh.n_vertices:
         raise ValueError(
             f"{name} has {len(f)} values but the mesh has {mesh.n_vertices} vertices; pass one "
-            "value per vertex (e.g. phi[:, i] from cshape.spectrum.eigenpairs on the same mesh)"
+            "value per vertex (e.g. cshape.eigenbasis(mesh, N).phi[:, i] of the same mesh)"
         )
     if not np.all(np.isfinite(f)):
         raise ValueError(f"{name} has NaN or infinite values; pass finite values on the vertices")
