@@ -377,6 +377,14 @@ def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"
     mass : {'consistent', 'lumped'}, default='consistent'
         Consistent mass matrix of Eq. (5) / (7), or the lumped diagonal ``sum_t |t|/3``.
 
+    Returns
+    -------
+    A : scipy.sparse.csr_matrix, shape (k, k)
+        Symmetric negative semidefinite stiffness; ``k = n`` for Neumann, ``|V_I|``
+        for Dirichlet (in increasing vertex order).
+    B : scipy.sparse.csr_matrix, shape (k, k)
+        Symmetric positive definite mass; its entries sum to the surface area (Neumann).
+
     Raises
     ------
     TypeError
@@ -385,14 +393,6 @@ def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"
         If ``bc`` or ``mass`` is unknown, the mesh has zero total area (every triangle
         degenerate: vertices coincident or collinear), or ``bc='dirichlet'`` leaves no
         unknowns.
-
-    Returns
-    -------
-    A : scipy.sparse.csr_matrix, shape (k, k)
-        Symmetric negative semidefinite stiffness; ``k = n`` for Neumann, ``|V_I|``
-        for Dirichlet (in increasing vertex order).
-    B : scipy.sparse.csr_matrix, shape (k, k)
-        Symmetric positive definite mass; its entries sum to the surface area (Neumann).
 
     Notes
     -----
