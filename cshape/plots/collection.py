@@ -546,6 +546,7 @@ def plot_mds(Y: ArrayLike, names: Sequence[Any] | None = None,
     ax : matplotlib Axes, optional
         Draw here; by default a new Figure is made (not registered with pyplot).
     title : str, optional
+        Title of the axes.
     figsize : (float, float), default=(5.0, 4.5)
         Made taller for a legend in columns.
     max_names : int, default=MDS_MAX_NAMES
@@ -796,6 +797,7 @@ def plot_distance_matrix(D: ArrayLike, *, scale: bool = True, ax: Axes | None = 
     ax : matplotlib Axes, optional
         Draw here; by default a new Figure is made (not registered with pyplot).
     title : str, optional
+        Title of the axes.
     names : sequence of str, optional
         Tick labels, one per shape (shortened), drawn for at most
         :data:`MATRIX_MAX_NAMES` shapes.
@@ -808,7 +810,9 @@ def plot_distance_matrix(D: ArrayLike, *, scale: bool = True, ax: Axes | None = 
     vmax : float, optional
         Top of the colour range; default 255 when scaled, else ``D.max()``.
     colorbar : bool, default=True
+        Draw a colour bar.
     figsize : (float, float), default=(5.0, 4.5)
+        Size of a new figure, in inches.
 
     Returns
     -------

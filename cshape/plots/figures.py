@@ -95,6 +95,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to draw.
     f : array_like, shape (n,), optional
         Values on the vertices (an eigenfunction ``phi[:, i]``, a displacement, ...); each
         triangle is coloured by the mean of its three values.  Without ``f`` the mesh is
@@ -102,6 +103,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
     ax : mpl_toolkits.mplot3d.Axes3D, optional
         Draw here; by default a new Figure is made.
     cmap : str, default='RdBu_r'
+        Matplotlib colour map.
     elev, azim : float
         View angles in degrees.
     edges : bool, optional
@@ -113,8 +115,11 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
         Centre the colour range on 0 (right for eigenfunctions, whose sign is arbitrary);
         default: True when ``f`` takes both signs.
     colorbar : bool, default=False
+        Draw a colour bar.
     title : str, optional
+        Title of the axes.
     figsize : (float, float), default=(4.0, 4.0)
+        Size of a new figure, in inches.
     vertical_axis : {'z', 'y', 'x'}, default='z'
         The axis drawn upwards (``'y'`` for the many models stored y-up, e.g. Spot).
     limits : (float, float), optional
@@ -197,6 +202,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to draw.
     phi : array_like, shape (n, k)
         Eigenfunctions on the vertices (``cshape.eigenpairs``).
     indices : sequence of int, optional
@@ -205,6 +211,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
         Eigenvalues, written in the titles.
     ncols : int, default=4
     cmap : str, default='RdBu_r'
+        Matplotlib colour map.
     elev, azim : float
     size : float, default=2.6
         Size of one panel in inches.
@@ -260,6 +267,7 @@ def plot_weyl(spectra: dict[str, ArrayLike], areas: dict[str, float], *,
     areas : dict of str to float
         Surface area of each model (same keys).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -302,6 +310,7 @@ def plot_shape_dna_stages(lam: ArrayLike, area: float, *, name: str = "",
     name : str, optional
         Model name for the titles.
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -340,6 +349,7 @@ def plot_dft(lam: ArrayLike, area: float, M: int, *, N: int | None = None,
     N : int, optional
         Shape-DNA length (default ``len(lam)``).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -391,7 +401,9 @@ def plot_reconstruction_error(Ms: ArrayLike, errors: ArrayLike, *,
     N : int, optional
         Shape-DNA length, written in the title.
     ax : Axes, optional
+        Draw here; by default a new Figure is made (not registered with pyplot).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -424,7 +436,9 @@ def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] |
     order : float, default=2
         Slope of the dashed reference line ``C h^order``.
     ax : Axes, optional
+        Draw here; by default a new Figure is made (not registered with pyplot).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -459,8 +473,11 @@ def plot_cshape_dna(descriptors: dict[str, ArrayLike], *, ax: Axes | None = None
     descriptors : dict of str to array_like of complex, shape (2M+1,)
         ``cshape.compact_shape_dna`` of each model.
     ax : Axes, optional
+        Draw here; by default a new Figure is made (not registered with pyplot).
     title : str
+        Title of the axes.
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -491,9 +508,11 @@ def plot_matrices(matrices: Sequence[ArrayLike], titles: Sequence[str] | None = 
     vmax : float, optional
         Common top of the colour range (default: 255 when scaled, else the largest value).
     cmap : str, default='jet'
+        Matplotlib colour map.
     size : float, default=3.0
         Panel size in inches.
     colorbar : bool, default=True
+        Draw a colour bar.
     names, labels : sequence of length p, optional
         Shape names and classes of the rows, for the ticks: one per shape (shortened) up to
         :data:`cshape.compare.MATRIX_MAX_NAMES` shapes, else one per class with lines
@@ -544,6 +563,7 @@ def plot_m_sweep(state: Any, *, shape: int = 0, figsize: _Size = (12.0, 7.0)) ->
     shape : int, default=0
         Row of the shape whose coefficients and reconstruction are drawn.
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------

@@ -218,6 +218,7 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     marker_size : float, default=40.0
         Area of the landmark markers in points^2.
     figsize : (float, float), default=(8.0, 4.0)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -271,8 +272,11 @@ def plot_functional_map(C: ArrayLike, *, ax: Axes | None = None, cmap: str = MAP
     cmap : str, default='RdBu_r'
         A matplotlib colour map (a diverging one: the sign matters).
     title : str or None, default='functional map C'
+        Title of the axes.
     colorbar : bool, default=True
+        Draw a colour bar.
     figsize : (float, float), default=(4.4, 4.0)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -321,6 +325,7 @@ def view_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     marker_size : int, default=6
         Landmark marker diameter in pixels.
     height : int, default=420
+        Height of the figure, in pixels.
 
     Returns
     -------

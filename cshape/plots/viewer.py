@@ -164,6 +164,7 @@ def mesh3d_arrays(mesh: MeshLike) -> dict[str, np.ndarray]:
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to show.
 
     Returns
     -------
@@ -384,6 +385,7 @@ def add_mesh_view(fig: go.Figure, mesh: MeshLike, *, scene: str = "scene",
         With a 3-D scene named ``scene`` (``make_subplots`` with ``{"type": "scene"}`` specs
         names them ``'scene'``, ``'scene2'``, ...).
     mesh : Mesh or (vertices, faces)
+        The mesh to show.
     scene : str, default='scene'
     vertical_axis : {'z', 'y', 'x'}, default='z'
         The mesh's axis that points up; the trace's coordinates are the mesh's with this
@@ -434,6 +436,7 @@ def view_meshes(meshes: dict[str, MeshLike], scalars: dict[str, ArrayLike] | Non
         view opens upright, the whole mesh in view, from :func:`default_eye`; the figure's
         coordinates are the mesh's with this axis as z (its columns permuted cyclically).
     title : str, optional
+        Title of the figure.
     height : int, default=420
         Pixels.
 
@@ -503,6 +506,7 @@ def view_mesh(mesh: MeshLike, scalars: ArrayLike | None = None, *, cmap: str | N
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to show.
     scalars : array_like, shape (n,), optional
         One value per vertex (an eigenfunction ``phi[:, i]``, a displacement, ...),
         interpolated linearly over each triangle (the FEM's hat functions, Eq. 3).
@@ -690,8 +694,10 @@ def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
     start : int, optional
         The step shown first (default: the middle one).
     cmap : str, default='Viridis'
+        Plotly colour scale.
     vertical_axis : {'z', 'y', 'x'}, default='z'
     height : int, default=520
+        Height of the figure, in pixels.
 
     Returns
     -------
@@ -795,8 +801,10 @@ def view_correspondence(mesh_a: MeshLike, mesh_b: MeshLike, match_ba: ArrayLike,
         as a colour out of place on b.
     titles : (str, str), default=('a', 'b')
     cmap : str, default='Turbo'
+        Plotly colour scale.
     vertical_axis : {'z', 'y', 'x'}, default='z'
     height : int, default=420
+        Height of the figure, in pixels.
 
     Returns
     -------

@@ -368,6 +368,7 @@ def sweep_state(lams: Iterable[ArrayLike], areas: ArrayLike, labels: Iterable[ob
     names : sequence of str, optional
     mds : bool, default=True
     random_state : int, default=0
+        Seed; the same seed gives the same result.
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
         See :func:`cshape.compact_shape_dna`.
 
@@ -575,6 +576,7 @@ def m_sweep_widget(data: Any, *, M: int = 16, N: int | None = None, normalizatio
         Initial Shape-DNA length (default: all eigenvalues of the first collection).
     normalization : {'area', 'fiedler', 'weyl'}, default='area'
     figsize : (float, float), default=(12.0, 7.0)
+        Size of a new figure, in inches.
     dpi : int, default=72
         Resolution of the PNG image.
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
