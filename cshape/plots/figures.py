@@ -66,7 +66,20 @@ __all__ = [
 
 
 def new_figure(figsize: _Size = (6.0, 4.0), **kwargs: Any) -> Figure:
-    """A matplotlib Figure not registered with pyplot (so it is garbage collected)."""
+    """Make a matplotlib Figure not registered with pyplot (so it is garbage collected).
+
+    Parameters
+    ----------
+    figsize : (float, float), default=(6.0, 4.0)
+        Size of the figure, in inches.
+    **kwargs
+        Passed to :class:`matplotlib.figure.Figure`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure.
+    """
     from matplotlib.figure import Figure
 
     return Figure(figsize=figsize, layout="constrained", **kwargs)
@@ -129,6 +142,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     import matplotlib as mpl
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
@@ -204,15 +218,17 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     mesh : Mesh or (vertices, faces)
         The mesh to draw.
     phi : array_like, shape (n, k)
-        Eigenfunctions on the vertices (``cshape.eigenpairs``).
+        Eigenfunctions on the vertices (``cshape.eigenbasis(mesh, N).phi``).
     indices : sequence of int, optional
         Which columns to show (default: the first ``min(k, 8)``).
     lam : array_like, shape (k,), optional
         Eigenvalues, written in the titles.
     ncols : int, default=4
+        Copies per row.
     cmap : str, default='RdBu_r'
         Matplotlib colour map.
     elev, azim : float
+        View angles in degrees.
     size : float, default=2.6
         Size of one panel in inches.
     vertical_axis : {'z', 'y', 'x'}, default='z'
@@ -220,6 +236,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     mesh = as_mesh(mesh)
     phi = np.asarray(phi, dtype=np.float64)
@@ -306,7 +323,9 @@ def plot_shape_dna_stages(lam: ArrayLike, area: float, *, name: str = "",
     Parameters
     ----------
     lam : array_like, shape (N,)
+        Shape-DNA (raw eigenvalues, ascending).
     area : float
+        Surface area (the area normalisation).
     name : str, optional
         Model name for the titles.
     figsize : (float, float)
@@ -315,6 +334,7 @@ def plot_shape_dna_stages(lam: ArrayLike, area: float, *, name: str = "",
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     lam = np.asarray(lam, dtype=np.float64)
     lam_norm = normalize(lam, area)
@@ -394,6 +414,7 @@ def plot_reconstruction_error(Ms: ArrayLike, errors: ArrayLike, *,
     Parameters
     ----------
     Ms : array_like, shape (k,)
+        Crop half-widths ``M``.
     errors : array_like, shape (k,) or (p, k)
         One error curve, or one per model (rows).
     labels : sequence of str, optional
@@ -408,6 +429,7 @@ def plot_reconstruction_error(Ms: ArrayLike, errors: ArrayLike, *,
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     Ms = np.asarray(Ms)
     E = np.atleast_2d(np.asarray(errors, dtype=np.float64))
@@ -433,6 +455,7 @@ def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] |
     errors : array_like, shape (k,) or (p, k)
         Errors (rows: several quantities, e.g. several eigenvalues).
     labels : sequence of str, optional
+        A legend entry per row of ``errors``.
     order : float, default=2
         Slope of the dashed reference line ``C h^order``.
     ax : Axes, optional
@@ -443,6 +466,7 @@ def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] |
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     h = np.asarray(h, dtype=np.float64)
     E = np.atleast_2d(np.asarray(errors, dtype=np.float64))
@@ -466,7 +490,7 @@ def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] |
 
 def plot_cshape_dna(descriptors: dict[str, ArrayLike], *, ax: Axes | None = None,
                     title: str = "cShape-DNA", figsize: _Size = (6.0, 3.6)) -> Figure:
-    """Magnitudes of the cShape-DNAs of several models on one plot (the paper's Fig. 9).
+    """Plot the magnitudes of the cShape-DNAs of several models on one plot (the paper's Fig. 9).
 
     Parameters
     ----------
@@ -482,6 +506,7 @@ def plot_cshape_dna(descriptors: dict[str, ArrayLike], *, ax: Axes | None = None
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     items = _spectra({k: np.abs(np.asarray(v)) for k, v in descriptors.items()})
     fig, ax = _axes(ax, figsize)
@@ -502,7 +527,9 @@ def plot_matrices(matrices: Sequence[ArrayLike], titles: Sequence[str] | None = 
     Parameters
     ----------
     matrices : sequence of array_like, shape (p, p)
+        The matrices, one panel each.
     titles : sequence of str, optional
+        A title per panel.
     scale : bool, default=False
         Show ``scale_255`` of each matrix (distance matrices); differences are shown as is.
     vmax : float, optional
@@ -521,6 +548,7 @@ def plot_matrices(matrices: Sequence[ArrayLike], titles: Sequence[str] | None = 
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     from ..compare import scale_255
     from .collection import matrix_ticks, plot_distance_matrix
@@ -568,6 +596,7 @@ def plot_m_sweep(state: Any, *, shape: int = 0, figsize: _Size = (12.0, 7.0)) ->
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     import matplotlib as mpl
     from matplotlib.figure import Figure
