@@ -52,7 +52,7 @@ docs: $(STAMP)
 	@echo "the site is in out/docs/ ; open out/docs/index.html"
 
 bench: $(STAMP)
-	$(PY) benchmarks/bench_spectrum.py
+	$(PY) benchmarks/bench_sweep.py --sizes 10k,40k,160k --no-real
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check .

@@ -18,6 +18,7 @@ __all__ = [
     "relative_difference",
     "reset_peak",
     "run_child",
+    "write_section",
 ]
 
 
@@ -191,3 +192,27 @@ def run_child(script, args, *, threads=None, timeout=None):
         tail = (out.stderr.strip().splitlines() or ["?"])[-1]
         return {"error": f"exit {out.returncode}: {tail}"}
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def write_section(path, key, lines, title):
+    """Write ``lines`` as the section ``key`` of the Markdown result file ``path``.
+
+    A script's one result file holds one section per kind of run (for example the size sweep
+    and the real meshes); a run replaces its own section and keeps the others.  A section
+    runs from ``<!-- section: key -->`` to ``<!-- end of section: key -->``; a new one is
+    appended, and a new file starts with ``# title``.
+    """
+    from pathlib import Path
+
+    path = Path(path)
+    start, end = f"<!-- section: {key} -->", f"<!-- end of section: {key} -->"
+    block = "\n".join([start, *lines, end])
+    text = path.read_text() if path.exists() else f"# {title}\n"
+    i, j = text.find(start), text.find(end)
+    if i >= 0 and j > i:
+        text = text[:i] + block + text[j + len(end):]
+    else:
+        text = text.rstrip("\n") + "\n\n" + block + "\n"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    return path

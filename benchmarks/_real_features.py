@@ -4,7 +4,7 @@
 For one mesh file this computes, once, and stores in ``<cache>/<collection>/<stem>.npz``:
 
 * ``lam``, ``area``: cshape's 100 smallest eigenvalues (linear FEM, consistent mass,
-  Neumann; :func:`cshape.eigenpairs`) and the surface area;
+  Neumann; :func:`cshape.spectrum.eigenpairs`) and the surface area;
 * ``hks_q``: area-weighted quantiles (5 %, 15 %, ..., 95 %) of ``log HKS`` of the shape
   scaled to unit area, at ``HKS_T`` (unit-area times), shape ``(len(HKS_T), 10)``;
 * ``wks_q``: the same quantiles of the WKS (trace-normalised) at the unit-area energies
@@ -85,7 +85,7 @@ def features(path, lapy=True):
     F = np.asarray(mesh.faces, dtype=np.int64)
     fa, va = _vertex_areas(V, F)
     area = float(fa.sum())
-    lam, phi = cshape.eigenpairs(mesh, N=N)
+    lam, phi = cshape.spectrum.eigenpairs(mesh, N=N)
     if phi.shape[0] != len(V):  # pragma: no cover - load_mesh repaired already
         raise RuntimeError(f"{path}: {phi.shape[0]} eigenfunction rows, {len(V)} vertices")
     out = {"lam": lam, "area": area, "n_vertices": len(V), "n_faces": len(F)}
@@ -125,7 +125,7 @@ def mesh_signatures(mesh):
     F = np.asarray(mesh.faces, dtype=np.int64)
     fa, va = _vertex_areas(V, F)
     area = float(fa.sum())
-    lam, phi = cshape.eigenpairs(mesh, N=N)
+    lam, phi = cshape.spectrum.eigenpairs(mesh, N=N)
     if phi.shape[0] != len(V):
         raise RuntimeError(f"{phi.shape[0]} eigenfunction rows but {len(V)} vertices "
                            "(the mesh was repaired): load it with cshape.load_mesh first")

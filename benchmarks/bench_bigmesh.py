@@ -30,15 +30,15 @@ predicted time (from its previous size and a growth exponent of 1.5) fits in
 
 The growth exponent ``p`` of ``time ~ n^p`` (and of the solve memory) is the slope of a
 least-squares line through ``(log n, log t)``; the table also gives the local exponent
-between neighbouring sizes.  Results go to ``benchmarks/results/bigmesh.{csv,md,png}``
-(``bigmesh_quick.*`` with ``--quick``) and are rewritten after every size, so an interrupted
-run keeps what it measured.  Nothing here asserts a time.
+between neighbouring sizes.  The one result file is ``benchmarks/results/bigmesh.md``: a run
+replaces its section (one per set of sizes and threads) and, for two sizes or more, the
+figure ``bigmesh.png``; ``--quick`` writes ``bigmesh_quick.*``.  A section is rewritten after
+every size, so an interrupted run keeps what it measured.  Nothing here asserts a time.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import sys
 import time
@@ -47,7 +47,13 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import load_average, max_relative_difference, proc_status_kib, reset_peak  # noqa: E402
+from _common import (  # noqa: E402
+    load_average,
+    max_relative_difference,
+    proc_status_kib,
+    reset_peak,
+    write_section,
+)
 from _common import machine_summary as _machine_summary
 from _common import run_child as _run_child  # noqa: E402
 
@@ -184,16 +190,17 @@ HEADER = ["vertices", "cshape [s]", "local p", "cshape peak [MiB]", "cshape solv
           "LaPy [s]", "LaPy peak [MiB]", "LaPy solve [MiB]", "LaPy/cshape", "max rel diff"]
 
 
-def write_results(rows, stem, summary, N, threads):
-    """CSV, markdown and (if matplotlib is there) PNG under ``benchmarks/results``."""
-    RESULTS.mkdir(parents=True, exist_ok=True)
-    keys = ["label", "n", "cshape_s", "cshape_peak", "cshape_solve", "lapy_s", "lapy_peak",
-            "lapy_solve", "lapy_note", "maxrel", "load1"]
-    with open(RESULTS / f"{stem}.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(keys)
-        for r in rows:
-            w.writerow([r[k] for k in keys])
+TITLE = "Shape-DNA (N=100) of big meshes: time, peak memory, growth"
+
+
+def section_key(labels, threads):
+    """The section of the result file a run writes: its sizes and BLAS threads."""
+    return f"sizes {','.join(labels)}, threads {threads}"
+
+
+def write_results(rows, path, key, summary, N, threads):
+    """The run's section of the Markdown result file ``path`` and, for two sizes or more, the
+    figure beside it (``path`` with ``.png``, if matplotlib is there)."""
     n = [r["n"] for r in rows]
     exps = {
         "cshape time": growth_exponent(n, [r["cshape_s"] for r in rows]),
@@ -201,7 +208,8 @@ def write_results(rows, stem, summary, N, threads):
         "LaPy time": growth_exponent(n, [r["lapy_s"] for r in rows]),
         "LaPy solve memory": growth_exponent(n, [r["lapy_solve"] for r in rows]),
     }
-    lines = [f"# Shape-DNA (N={N}) of big meshes", "", summary, "",
+    lines = [f"## {', '.join(r['label'] for r in rows)} vertices, N = {N}, BLAS/OpenMP threads: "
+             f"{threads}", "", summary, "",
              f"Tori of revolution, one fresh process per run, BLAS/OpenMP threads: {threads}.",
              "Peak = peak resident size of the process; solve = peak minus the resident size "
              "before the solve.", "",
@@ -209,7 +217,9 @@ def write_results(rows, stem, summary, N, threads):
     lines += ["| " + " | ".join(c) + " |" for c in table_rows(rows)]
     lines += ["", "Growth exponents p (log-log least squares over the sizes measured):", ""]
     lines += [f"- {k}: {_fmt(v, '.2f')}" for k, v in exps.items()]
-    (RESULTS / f"{stem}.md").write_text("\n".join(lines) + "\n")
+    write_section(path, key, lines + [""], TITLE)
+    if len(rows) < 2:
+        return exps
     try:
         import matplotlib
 
@@ -236,7 +246,7 @@ def write_results(rows, stem, summary, N, threads):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend()
     fig.tight_layout()
-    fig.savefig(RESULTS / f"{stem}.png", dpi=110)
+    fig.savefig(Path(path).with_suffix(".png"), dpi=110)
     plt.close(fig)
     return exps
 
@@ -286,9 +296,8 @@ def main(argv=None):
         except ImportError:
             print("LaPy is not installed (pip install --group bench): running cshape only")
             use_lapy = False
-    stem = "bigmesh_quick" if args.quick else "bigmesh"
-    if args.sizes and not args.quick:
-        stem = "bigmesh_" + "_".join(labels)
+    path = RESULTS / ("bigmesh_quick.md" if args.quick else "bigmesh.md")
+    key = section_key(labels, threads or "default")
     summary = machine_summary()
     print(summary)
     print(f"N={args.N}, tori, one fresh process per run, BLAS/OpenMP threads: "
@@ -335,17 +344,17 @@ def main(argv=None):
         rows.append(row)
         cells = table_rows(rows)[-1]
         print("  ".join(c.rjust(w) for c, w in zip(cells, widths, strict=True)), flush=True)
-        write_results(rows, stem, summary, args.N, threads or "default")
+        write_results(rows, path, key, summary, args.N, threads or "default")
     if not rows:
         return 1
     summary_end = machine_summary()
-    exps = write_results(rows, stem, summary + f"\n\nAt the end: {summary_end}", args.N,
+    exps = write_results(rows, path, key, summary + f"\n\nAt the end: {summary_end}", args.N,
                          threads or "default")
     print("\ngrowth exponents (time ~ n^p): " + ", ".join(
         f"{k} {_fmt(v, '.2f')}" for k, v in exps.items()))
     print(f"load average at the start of each size: {', '.join(f'{x:.2f}' for x in loads)}")
     print(f"at the end: {summary_end}")
-    print(f"results: {RESULTS / stem}.{{csv,md,png}}")
+    print(f"results: {path}, section {key!r}" + (", and its figure" if len(rows) > 1 else ""))
     if failed:
         print(f"\nFAIL: a run failed or eigenvalues differ from LaPy's by more than "
               f"rtol={args.rtol:g}")

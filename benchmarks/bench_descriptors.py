@@ -19,9 +19,11 @@ tier, mean average precision), these descriptors of ``2M+1`` numbers computed fr
 * ``truncated log spectrum``: ``r_1 .. r_{2M+1}`` (kind ``'truncated-log'``);
 * ``F1``: ``lam_1 / lam_i`` for ``i = 2 .. 2M+2`` (F1 of ``2M+3`` eigenvalues);
 
-and, as a reference, Shape-DNA with all ``N`` values.  It writes
-``benchmarks/results/descriptors_<collection>.md`` (the table at 17 and 33 numbers, and the
-best descriptor at every size) and ``.csv`` (every size and measure).
+and, as a reference, Shape-DNA with all ``N`` values.  The one result file is
+``benchmarks/results/descriptors.md``, a section per collection (a run replaces its
+collection's section): the table at 17 and 33 numbers, the best descriptor at every size, the
+DCT against the DFT paired over the queries, the length ``N`` at equal size, and every
+descriptor at every size with every measure.
 
 Research hygiene: choose on the development collection (``creatures-dev``), report on the
 held-out one (``creatures``, other random members of the same classes); the script prints
@@ -31,16 +33,16 @@ which one it ran on.  Eigenvalues are cached (``cshape.describe``), so a second 
 from __future__ import annotations
 
 import argparse
-import csv
 import sys
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import machine_summary  # noqa: E402
+from _common import machine_summary, write_section  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
+TITLE = "Compact descriptors at equal size"
 
 #: (row title, kind of cshape.Descriptor, transform); every row has 2M+1 numbers.
 ROWS = (
@@ -68,7 +70,7 @@ def connected_only(table):
     """The table without shapes whose ``lam_1`` is zero (several components), and their names.
 
     Such a spectrum has one zero eigenvalue per component; the log-Weyl ratio has no
-    logarithm for it (``cshape.log_weyl_ratio`` refuses it), and the paper's descriptors
+    logarithm for it (``cshape.descriptors.log_weyl_ratio`` refuses it), and the paper's descriptors
     would compare it with a shifted index.  It is left out of *every* row, so all rows
     score the same shapes.
     """
@@ -158,8 +160,9 @@ def n_sweep(table, Ms=(8, 16), Ns=(40, 50, 67, 100)):
 
 
 def markdown(rows, name, n_shapes, n_classes, N, header, pairs=None, sweep=None):
-    """The results page: the table at 17 and 33 numbers and the winner at every size."""
-    lines = [f"# Compact descriptors on `{name}` ({n_shapes} shapes, {n_classes} classes, "
+    """The section of a collection: the table at 17 and 33 numbers, the winner at every size,
+    the paired DCT - DFT differences, the N sweep and every row at every size."""
+    lines = [f"## Compact descriptors on `{name}` ({n_shapes} shapes, {n_classes} classes, "
              f"N = {N})", "", header, "",
              "| descriptor | size | nearest neighbour | first tier | second tier | mAP |",
              "|---|---|---|---|---|---|"]
@@ -193,7 +196,18 @@ def markdown(rows, name, n_shapes, n_classes, N, header, pairs=None, sweep=None)
             vals = [cell[(M, n, tr)] for tr in ("weyl", "log-weyl", "log-weyl-dct")]
             lines.append(f"| {2 * M + 1} | {n} | "
                          + " | ".join(f"{v['ft']:.3f} / {v['map']:.3f}" for v in vals) + " |")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + every_size_lines(rows)) + "\n"
+
+
+def every_size_lines(rows):
+    """Every descriptor at every size, every measure (the table's raw rows)."""
+    lines = ["", "Every descriptor at every size:", "",
+             "| descriptor | M | size | " + " | ".join(MEASURES) + " |",
+             "|---|---|---|" + "---|" * len(MEASURES)]
+    for r in rows:
+        lines.append(f"| {r['descriptor']} | {r['M']} | {r['size']} | "
+                     + " | ".join(f"{float(r[k]):.4f}" for k in MEASURES) + " |")
+    return lines
 
 
 def main(argv=None):
@@ -203,7 +217,8 @@ def main(argv=None):
     ap.add_argument("-N", type=int, default=100, help="eigenvalues per shape (default 100)")
     ap.add_argument("--max-M", type=int, default=16, help="sizes 2M+1 for M = 1..max-M")
     ap.add_argument("--jobs", type=int, default=1, help="worker processes of describe")
-    ap.add_argument("--out", default=None, help="file stem in benchmarks/results")
+    ap.add_argument("--out", default=None,
+                    help="the result file (default benchmarks/results/descriptors.md)")
     args = ap.parse_args(argv)
 
     import cshape.data
@@ -219,12 +234,7 @@ def main(argv=None):
               f"components): {', '.join(dropped)}", file=sys.stderr)
     Ms = range(1, args.max_M + 1)
     rows = score_table(table, Ms, args.N)
-    stem = args.out or f"descriptors_{args.collection}"
-    RESULTS.mkdir(exist_ok=True)
-    with open(RESULTS / f"{stem}.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["descriptor", "M", "size", *MEASURES])
-        w.writeheader()
-        w.writerows(rows)
+    out = Path(args.out) if args.out else RESULTS / "descriptors.md"
     cmd = " ".join(["benchmarks/bench_descriptors.py", *(argv or sys.argv[1:])])
     header = f"`{cmd}`; {machine_summary()}"
     if dropped:
@@ -234,8 +244,9 @@ def main(argv=None):
     sweep = n_sweep(table, Ms=[m for m in (8, 16) if m <= args.max_M])
     md = markdown(rows, args.collection, len(table), len(set(table.labels)), args.N, header,
                   pairs, sweep)
-    (RESULTS / f"{stem}.md").write_text(md)
+    write_section(out, args.collection, md.rstrip("\n").split("\n") + [""], TITLE)
     print(md)
+    print(f"results: {out}, section {args.collection!r}")
 
 
 if __name__ == "__main__":

@@ -24,17 +24,18 @@ Pairs whose true map is the identity (the same vertices, moved):
 For each pair, with ``N = 100`` eigenpairs of each shape and the WKS of :func:`cshape.point_map`
 (100 energies of the source, every 5th kept, shapes scaled to unit area):
 
-* ``nearest WKS``: :func:`cshape.match_points` on the 100 WKS values;
-* ``FM N0=30``: :func:`cshape.functional_map` (size 30) and :func:`cshape.map_to_pointwise`,
+* ``nearest WKS``: :func:`cshape.signatures.match_points` on the 100 WKS values;
+* ``FM N0=30``: :func:`cshape.maps.functional_map` (size 30) and
+  :func:`cshape.maps.map_to_pointwise`,
   with and without the orientation term (weight ``cshape.maps.ORIENTATION_WEIGHT``);
-* ``FM + ZoomOut``: the same, then :func:`cshape.zoomout` to size 100 (3000 samples per shape,
+* ``FM + ZoomOut``: the same, then :func:`cshape.maps.zoomout` to size 100 (3000 samples per shape,
   as :func:`cshape.point_map` does).
 
 Measures, on ``N_ROWS = 2000`` target vertices spread over the vertex numbers (the vertex map
 of the others is not computed; ZoomOut runs as in :func:`cshape.point_map`): the share whose
 match lies within 5 % of the source's bounding-box diagonal of the true vertex (Euclidean, on
 the source); on 200 of them, the share within 5 % of the geodesic diameter and the mean
-geodesic error divided by ``sqrt(area)`` (heat method, :class:`cshape.HeatGeodesics`; the
+geodesic error divided by ``sqrt(area)`` (heat method, :class:`cshape.geodesics.HeatGeodesics`; the
 diameter is the largest distance found from the 200 vertices and a second sweep, a lower
 bound); seconds of the
 mapping step (for the 2000 vertices) and of the whole pair (eigenpairs and descriptors
@@ -181,7 +182,7 @@ def measure(S, T, truth=None, *, n=N, k0=K0, orientation_weight=None):
     rows = known[np.unique(np.linspace(0, len(known) - 1, min(N_ROWS, len(known))).astype(int))]
     at = np.unique(np.linspace(0, len(rows) - 1, N_EVAL).astype(int))
     diag = np.linalg.norm(S.vertices.max(0) - S.vertices.min(0))
-    geo = cshape.HeatGeodesics(S)
+    geo = cshape.geodesics.HeatGeodesics(S)
     D = geo.distances(truth[rows[at]])  # (n_S, N_EVAL): distance to the true images
     far = int(np.argmax(D.max(axis=1)))
     diameter = max(float(D.max()), float(geo.distances([far]).max()))
@@ -197,20 +198,20 @@ def measure(S, T, truth=None, *, n=N, k0=K0, orientation_weight=None):
                      float(err.mean() / sqrt_area), seconds)
 
     t = time.perf_counter()
-    p = cshape.match_points(dT[rows], dS)
+    p = cshape.signatures.match_points(dT[rows], dS)
     score("nearest WKS", p, time.perf_counter() - t)
     for orient in (False, True):
         label = "orientation" if orient else "no orientation"
         t = time.perf_counter()
-        C = cshape.functional_map(bS.truncate(k0), bT.truncate(k0),
+        C = cshape.maps.functional_map(bS.truncate(k0), bT.truncate(k0),
                                   dS[:, ::STRIDE], dT[:, ::STRIDE],
                                   orientation_weight=wo if orient else 0.0)
         fm_s = time.perf_counter() - t
-        score(f"FM N0={k0}, {label}", cshape.map_to_pointwise(C, bS, bT, vertices=rows),
+        score(f"FM N0={k0}, {label}", cshape.maps.map_to_pointwise(C, bS, bT, vertices=rows),
               time.perf_counter() - t)
         t = time.perf_counter()
-        Z = cshape.zoomout(C, bS, bT, n, sample=SAMPLE)
-        score(f"FM + ZoomOut, {label}", cshape.map_to_pointwise(Z, bS, bT, vertices=rows),
+        Z = cshape.maps.zoomout(C, bS, bT, n, sample=SAMPLE)
+        score(f"FM + ZoomOut, {label}", cshape.maps.map_to_pointwise(Z, bS, bT, vertices=rows),
               fm_s + time.perf_counter() - t)
     return out, common_s
 
@@ -320,12 +321,12 @@ def calibrate(seeds=(0, 1, 2)):
                               <= THRESHOLD * diag).mean())
 
             for w in WEIGHTS:
-                C = cshape.functional_map(bS.truncate(K0), bT.truncate(K0), dS, dT,
+                C = cshape.maps.functional_map(bS.truncate(K0), bT.truncate(K0), dS, dT,
                                           orientation_weight=w)
-                Z = cshape.zoomout(C, bS, bT, N, sample=SAMPLE)
+                Z = cshape.maps.zoomout(C, bS, bT, N, sample=SAMPLE)
                 out[f"{kind} rest -> pose {seed}", w] = (
-                    within(cshape.map_to_pointwise(C, bS, bT)),
-                    within(cshape.map_to_pointwise(Z, bS, bT)))
+                    within(cshape.maps.map_to_pointwise(C, bS, bT)),
+                    within(cshape.maps.map_to_pointwise(Z, bS, bT)))
                 print(kind, seed, w, out[f"{kind} rest -> pose {seed}", w], flush=True)
     return out
 
@@ -336,7 +337,7 @@ def write_calibration(out, command):
                     "poses", command)
     lines += ["Share of target vertices within 5 % of the bounding-box diagonal of the true "
               f"vertex, FM + ZoomOut (FM of size {K0} in brackets), per orientation weight "
-              "`w_o` (operators of the shapes scaled to unit area, `cshape.functional_map`). "
+              "`w_o` (operators of the shapes scaled to unit area, `cshape.maps.functional_map`). "
               "The weight of `cshape.maps.ORIENTATION_WEIGHT` is the best mean of this set; "
               "the real TOSCA poses (`maps_tosca.md`) are held out.", "",
               "| pair | " + " | ".join(f"{w:g}" for w in WEIGHTS) + " |",
@@ -385,7 +386,7 @@ def _nn_methods(big, k):
             p).kneighbors(q, return_distance=False)[:, 0]
 
     out = {"numpy blocked products (1024 rows, BLAS threads)": (_blocked_nearest, 3),
-           "cshape.map_to_pointwise (fused products, 2 threads x 1 BLAS thread)": (
+           "cshape.maps.map_to_pointwise (fused products, 2 threads x 1 BLAS thread)": (
                _nearest.nearest_rows, 3),
            "scikit-learn brute": (sk("brute"), 3),
            "scipy cKDTree (2 workers)": (lambda q, p: cKDTree(p).query(q, workers=-1)[1],
@@ -458,11 +459,11 @@ def timing(repeats=3):
             bS, bT = cshape.eigenbasis(S, N), cshape.eigenbasis(T, N)
             t1 = time.perf_counter()
             dS, dT = maps._descriptors(bS, bT, N_ENERGIES, None)
-            C = cshape.functional_map(bS.truncate(K0), bT.truncate(K0), dS, dT)
+            C = cshape.maps.functional_map(bS.truncate(K0), bT.truncate(K0), dS, dT)
             t2 = time.perf_counter()
-            Z = cshape.zoomout(C, bS, bT, N, sample=SAMPLE)
+            Z = cshape.maps.zoomout(C, bS, bT, N, sample=SAMPLE)
             t3 = time.perf_counter()
-            cshape.map_to_pointwise(Z, bS, bT)
+            cshape.maps.map_to_pointwise(Z, bS, bT)
             t4 = time.perf_counter()
             for key, s in zip(stages, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
                 stages[key].append(s)
@@ -564,7 +565,7 @@ def measure_point_map(S, T, truth=None):
     truth = np.arange(T.n_vertices) if truth is None else np.asarray(truth)
     known = np.flatnonzero(truth >= 0)
     rows = known[np.unique(np.linspace(0, len(known) - 1, N_EVAL_PEOPLE).astype(int))]
-    D = cshape.HeatGeodesics(S).distances(truth[rows])
+    D = cshape.geodesics.HeatGeodesics(S).distances(truth[rows])
     err = D[p[rows], np.arange(len(rows))]
     diag = np.linalg.norm(S.vertices.max(0) - S.vertices.min(0))
     within = np.linalg.norm(S.vertices[p[known]] - S.vertices[truth[known]], axis=1)
@@ -655,12 +656,12 @@ def people_pictures():
     body = poses.posed_figure("human", rest=True, **small)
     stocky = poses.posed_figure("human", 0, **small)
     stocky = cshape.Mesh(stocky.vertices * [1.3, 1.3, 0.9], stocky.faces)
-    geo = cshape.HeatGeodesics(body)
+    geo = cshape.geodesics.HeatGeodesics(body)
     out = []
     for initial, name, what in (("descriptors", "failed", "initial='descriptors'"),
                                 ("search", "repaired", "initial='search' (default)")):
         p = cshape.point_map(body, stocky, N=50, N0=20, initial=initial)
-        err = cshape.geodesic_errors(body, p, geodesics=geo).mean() / np.sqrt(body.area)
+        err = cshape.geodesics.geodesic_errors(body, p, geodesics=geo).mean() / np.sqrt(body.area)
         fig = plots.plot_map(body, stocky, p, values=body.vertices[:, 0], cmap="coolwarm",
                              titles=("body at rest, coloured by x",
                                      f"a stockier body, {what}: error {err:.3f}"))

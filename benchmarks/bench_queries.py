@@ -18,7 +18,7 @@ against the area-normalised Shape-DNA with N = 100:
    ``1 + 0.03 g0 + 0.03 g1 i/N + 0.005 e_i`` (``g0, g1, e_i`` standard normal): the
    few-percent, low-frequency changes that deformation, noise and remeshing cause.  The
    cShape-DNA rows are computed from these spectra with a vectorised Eq. (8)-(10) and
-   :func:`cshape.real_form`, checked against :meth:`cshape.Descriptor.matrix`.
+   :func:`cshape.descriptors.real_form`, checked against :meth:`cshape.Descriptor.matrix`.
 3. *Queries*: new perturbations of the base spectra, ``k = 10`` neighbours, exact search by
 
    * ``DescriptorIndex``: :class:`cshape.DescriptorIndex` (scikit-learn; its 'auto' choice:
@@ -33,14 +33,13 @@ time) and of a batch (``--batch`` queries in one call, time per query), the memo
 index adds to the stored array, and the peak extra memory while querying (``VmHWM`` after a
 reset).  The pairs run in ``--repeats`` interleaved rounds and each figure is the best.
 BLAS runs with ``--threads`` threads (default 1).  Both methods must return the same
-neighbour distances.  Results: ``benchmarks/results/queries.{csv,md}``
+neighbour distances.  Results: ``benchmarks/results/queries.md``
 (``queries_quick.*`` with ``--quick``).  Nothing here asserts a time.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
 import importlib.util
 import json
 import sys
@@ -141,7 +140,7 @@ def cshape_rows(lam_norm, M):
     ndarray, shape (p, 2M+1)
         Same values as ``Descriptor('cshape', N=N, M=M).matrix(lam_norm, np.ones(p))``.
     """
-    from cshape import real_form
+    from cshape.descriptors import real_form
 
     p, N = lam_norm.shape
     out = np.empty((p, 2 * M + 1))
@@ -420,13 +419,6 @@ def main(argv=None):
 
     RESULTS.mkdir(parents=True, exist_ok=True)
     stem = "queries_quick" if args.quick else "queries"
-    keys = ["descriptor", "values", "method", "db_mib", "index_mib", "query_mib", "build_s",
-            "single_ms", "batch_ms", "load1", "error"]
-    with open(RESULTS / f"{stem}.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(keys)
-        for r in rows:
-            w.writerow([r.get(k, "") for k in keys])
     md = [f"# Exact {args.k}-NN queries against {size:,} descriptors", "", summary, "",
           f"At the end: {summary_end}", "",
           f"{n_base} base spectra (N = 100), perturbed; {n_batch} queries; BLAS threads: "
@@ -438,7 +430,7 @@ def main(argv=None):
            f"{r['single_ms']:.2f} | {r['batch_ms']:.3f} |" for r in rows if "error" not in r]
     md += ["", "Savings against Shape-DNA (N = 100):", ""] + [f"- {x}" for x in lines]
     (RESULTS / f"{stem}.md").write_text("\n".join(md) + "\n")
-    print(f"results: {RESULTS / stem}.{{csv,md}}")
+    print(f"results: {RESULTS / stem}.md")
     return 0 if ok else 1
 
 

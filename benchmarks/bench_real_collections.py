@@ -172,7 +172,7 @@ def shape_dna(N=100):
 def paper_cshape(M=16, N=100):
     def f(lam, area):
         import cshape
-        return np.array([cshape.real_form(cshape.compact_shape_dna(x, M=M, N=N, area=a))
+        return np.array([cshape.descriptors.real_form(cshape.compact_shape_dna(x, M=M, N=N, area=a))
                          for x, a in zip(lam, area, strict=True)])
     return f
 

@@ -1,29 +1,52 @@
-"""Benchmark: point signatures on a large mesh, and eigenpairs against LaPy (issue 21).
+"""Benchmark: what point signatures (HKS, WKS, SI-HKS) are good for, and what they cost.
 
 Run from the repository root::
 
-    .venv/bin/python benchmarks/bench_signatures.py            # 100K torus, 41K sphere
-    .venv/bin/python benchmarks/bench_signatures.py --quick    # 20K torus, 10K sphere
+    .venv/bin/python benchmarks/bench_signatures.py correspondence          # 2 classes x 5 poses
+    .venv/bin/python benchmarks/bench_signatures.py retrieval --collection identities
+    .venv/bin/python benchmarks/bench_signatures.py speed                   # 100K-vertex torus
+    .venv/bin/python benchmarks/bench_signatures.py correspondence --quick  # 2 x 2 poses
 
-Two parts, in the same run:
+The claims of the signatures guide (``docs/guides/signatures.md``), one part each; every part
+writes its own section of the one result file ``benchmarks/results/signatures.md`` (a part run
+again replaces its section; ``--quick`` writes ``signatures_quick.md``):
 
-1. **Signatures of a large mesh** (a torus of ``--vertices`` vertices, 100,000 by default):
-   ``cshape.eigenpairs(mesh, N=100)`` once, then the seconds of :func:`cshape.hks` and
-   :func:`cshape.wks` at ``--scales`` (100) times or energies, :func:`cshape.si_hks` (its
-   321 log-times), :func:`cshape.heat_kernel` from one vertex and :func:`cshape.match_points`
-   of 1000 vertices against all (it is brute force: ``n_a n_b k`` operations).  Each is
-   reported beside the eigensolve, as a fraction of it.
-2. **Eigenpairs against LaPy** on the icosphere of 40,962 vertices:
-   ``cshape.eigenpairs((v, f), N=100)`` (eigenfunctions included, plain arrays so that
-   every run validates and builds its topology anew) against LaPy as its users run it,
-   ``lapy.Solver(TriaMesh(v, f)).eigs(k=100)`` at its defaults (LaPy 1.7.0:
-   ``use_cholmod=False``, SuperLU; all BLAS threads), and against its fastest setting
-   ``use_cholmod=True`` (cholespy), all BLAS threads (``bench_sweep.LAPY_SETTINGS``);
-   runs interleaved, best of ``--repeats``.  Both must agree: the eigenvalues to ``1e-8``
-   relative and the HKS computed from either's eigenfunctions (a check that does not
-   depend on the basis chosen inside a repeated eigenvalue) to ``1e-6``.
+1. **correspondence**: point correspondence across poses.  The shapes are
+   :func:`cshape.data.poses.posed_figure`: a template (rest pose, ~2800 vertices) whose
+   vertices are moved by a skeleton, so that the ground-truth map from the rest pose to every
+   pose is the identity (the manifest's ``poses`` collection).  For every pose, each vertex
+   ``i`` of the rest pose is matched to the vertex of the pose whose descriptor is nearest
+   (:func:`cshape.signatures.match_points`), and the error is the geodesic distance on the pose
+   between the match and vertex ``i`` (shortest paths along the edges, which overestimate the
+   geodesic by a few per cent), over the pose's geodesic diameter; a match is correct within
+   5 % of it.  Descriptors from ``N = 100`` eigenpairs of each shape: ``HKS`` (Sun et al.'s
+   scaled HKS, ``scale='trace'``, at the 100 default times of the rest pose, the same times on
+   both shapes), ``WKS`` (Aubry et al.'s, the 100 default energies of the rest pose),
+   ``SI-HKS`` (the 6 lowest frequencies), and two baselines: ``xyz, rigid oracle``
+   (coordinates after the best rigid alignment given the true map, Procrustes: the most any
+   rigid alignment could do) and ``xyz, ICP`` (iterative closest point from the centred
+   shapes).  The left-right mirror of a figure is an intrinsic symmetry, so the table gives
+   the accuracy exact and "up to the mirror", and for mutual nearest neighbours only.
+2. **retrieval**: shape retrieval with one vector per shape pooled from the signatures,
+   against the log spectrum.  From ``N = 100`` eigenpairs of each shape, area-normalised:
+   ``log spectrum`` (the log-Weyl ratio ``log(lam_i area / (4 pi i))``, ``i = 1..99``);
+   ``HKS quantiles`` (``log HKS`` at 16 fixed unit-area times log-spaced over
+   ``[4 ln 10 / (4 pi 99), 4 ln 10 / (4 pi)]``, Sun et al.'s range for Weyl's
+   ``lam_i area ~ 4 pi i``, and at each time the area-weighted quantiles 0.1, 0.25, 0.5,
+   0.75, 0.9 over the vertices: 80 values); ``WKS quantiles`` (the same with ``log WKS`` at 16
+   fixed log-energies over Aubry et al.'s range, ``sigma = 7`` steps of a 100-energy grid).
+   Euclidean distances, scored with :func:`cshape.retrieval_scores` (nearest neighbour,
+   first and second tier, mean average precision).  The choices were made before the run and
+   not tuned.
+3. **speed**: the signatures of a large mesh (a torus of ``--vertices`` vertices, 100,000 by
+   default): :func:`cshape.eigenbasis` with ``N = 100`` once, then the seconds of
+   :func:`cshape.hks` and :func:`cshape.wks` at ``--scales`` (100) times or energies,
+   :func:`cshape.signatures.si_hks` (its 321 log-times), :func:`cshape.signatures.heat_kernel`
+   from one vertex and :func:`cshape.signatures.match_points` of 1000 vertices against all (brute
+   force: ``n_a n_b k`` operations), each beside the eigensolve, as a fraction of it.  The
+   eigenpairs against LaPy's are ``bench_sweep.py --eigenpairs``.
 
-The tables go to ``benchmarks/results/signatures[_quick].md``.  Nothing asserts a time.
+Every section names the machine and the processor.  Nothing here asserts a number.
 """
 
 from __future__ import annotations
@@ -34,23 +57,219 @@ import time
 from pathlib import Path
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
 
 import cshape
 from cshape import shapes
 from cshape import signatures as sg
+from cshape.compare import retrieval_scores
+from cshape.data import poses
+from cshape.descriptors import log_weyl_ratio
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import (  # noqa: E402
-    load_average,
-    machine_summary,
-    max_relative_difference,
-    processor,
-)
-from bench_sweep import lapy_label, lapy_setup  # noqa: E402
+from _common import load_average, machine_summary, write_section  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
+TITLE = "Point signatures: correspondence, retrieval, speed"
 
 
+# ============================================================================ correspondence
+#: A match is correct within this fraction of the geodesic diameter.
+THRESHOLD = 0.05
+
+DESCRIPTORS = ("HKS", "WKS", "SI-HKS", "xyz, rigid oracle", "xyz, ICP")
+
+
+def edge_graph(mesh):
+    """The mesh's edges as a symmetric sparse matrix of their lengths."""
+    E = mesh.edges
+    w = np.linalg.norm(mesh.vertices[E[:, 0]] - mesh.vertices[E[:, 1]], axis=1)
+    n = mesh.n_vertices
+    G = sp.coo_matrix((w, (E[:, 0], E[:, 1])), shape=(n, n))
+    return (G + G.T).tocsr()
+
+
+def geodesic_distances(mesh):
+    """All-pairs shortest edge-path distances on ``mesh``, shape (n, n)."""
+    return csgraph.dijkstra(edge_graph(mesh), directed=False)
+
+
+def procrustes(X, Y):
+    """The rotation ``R`` and shift ``t`` minimising ``|X R^T + t - Y|`` (Kabsch)."""
+    mx, my = X.mean(0), Y.mean(0)
+    U, _, Vt = np.linalg.svd((X - mx).T @ (Y - my))
+    d = np.sign(np.linalg.det(U @ Vt))
+    R = (U @ np.diag([1, 1, d]) @ Vt).T
+    return R, my - mx @ R.T
+
+
+def icp(X, Y, iterations=50):
+    """``X`` rigidly aligned to ``Y`` by iterative closest point from the centred shapes."""
+    Z = X - X.mean(0) + Y.mean(0)
+    tree = cKDTree(Y)
+    for _ in range(iterations):
+        nn = tree.query(Z)[1]
+        R, t = procrustes(Z, Y[nn])
+        Z = Z @ R.T + t
+    return Z
+
+
+def descriptors(rest, pose, N=100, n_scales=100):
+    """Per-vertex descriptors of the rest pose and the pose, by name: (a, b) pairs."""
+    ba, bb = cshape.eigenbasis(rest, N), cshape.eigenbasis(pose, N)
+    t = sg.hks_times(ba, n_scales)
+    e, sigma = sg.wks_energies(ba, n_scales)
+    R, tr = procrustes(rest.vertices, pose.vertices)
+    return {
+        "HKS": (cshape.hks(ba, t, scale="trace"), cshape.hks(bb, t, scale="trace")),
+        "WKS": (cshape.wks(ba, e, sigma), cshape.wks(bb, e, sigma)),
+        "SI-HKS": (sg.si_hks(ba), sg.si_hks(bb)),
+        "xyz, rigid oracle": (rest.vertices @ R.T + tr, pose.vertices),
+        "xyz, ICP": (icp(rest.vertices, pose.vertices), pose.vertices),
+    }
+
+
+def evaluate(kind, seeds, N=100, n_scales=100, template=None):
+    """One row per (pose, descriptor): accuracy exact and up to the mirror, mean error.
+
+    ``seeds`` are pose seeds (``None``: the rest pose itself, a check of the plumbing);
+    ``template`` holds keyword arguments of :func:`cshape.data.poses.pose_template`.
+    """
+    template = template or {}
+    rest = poses.posed_figure(kind, rest=True, **template)
+    mirror = poses.mirror_map(kind, rest)
+    ident = np.arange(rest.n_vertices)
+    rows = []
+    for seed in seeds:
+        pose = poses.posed_figure(kind, seed, rest=seed is None, **template)
+        t0 = time.perf_counter()
+        desc = descriptors(rest, pose, N, n_scales)
+        D = geodesic_distances(pose)
+        diam = float(D.max())
+        for name in DESCRIPTORS:
+            a, b = desc[name]
+            match = sg.match_points(a, b)
+            err, err_m = D[ident, match], D[mirror, match]
+            best = np.minimum(err, err_m)
+            # mutual nearest neighbours only: fewer matches, how many of them right
+            kept = sg.match_points(a, b, mutual=True) >= 0
+            rows.append({
+                "kind": kind, "seed": seed, "descriptor": name, "n": rest.n_vertices,
+                "acc": float(np.mean(err <= THRESHOLD * diam)),
+                "acc_mirror": float(np.mean(best <= THRESHOLD * diam)),
+                "mean_err": float(np.mean(err) / diam),
+                "mean_err_mirror": float(np.mean(best) / diam),
+                "mutual_kept": float(np.mean(kept)),
+                "mutual_acc": float(np.mean(err[kept] <= THRESHOLD * diam)),
+            })
+        print(f"{kind} pose {seed}: {time.perf_counter() - t0:.1f} s", flush=True)
+    return rows
+
+
+def summary(rows):
+    """Mean over poses per (class, descriptor) and over everything per descriptor."""
+    out = []
+    for kind in sorted({r["kind"] for r in rows}) + ["all"]:
+        for name in DESCRIPTORS:
+            sel = [r for r in rows if r["descriptor"] == name and kind in ("all", r["kind"])]
+            out.append({"kind": kind, "descriptor": name, "poses": len(sel),
+                        **{k: float(np.mean([r[k] for r in sel]))
+                           for k in ("acc", "acc_mirror", "mean_err", "mean_err_mirror",
+                                     "mutual_kept", "mutual_acc")}})
+    return out
+
+
+def correspondence_lines(rows, header, footer):
+    """The correspondence section's Markdown lines."""
+    lines = [
+        "## Correspondence: point correspondence across poses", "", header, "",
+        "Rest pose to each pose of `cshape.data.poses.posed_figure` (ground truth: the identity); "
+        f"a match is correct within {100 * THRESHOLD:.0f} % of the geodesic diameter (edge "
+        "paths).  Signatures from N = 100 eigenpairs; the xyz rows are baselines (the oracle "
+        "knows the true map for its rigid alignment).", "",
+        "| class | descriptor | poses | accuracy | accuracy up to mirror | mean error / diam. "
+        "| mean error up to mirror | mutual matches kept | accuracy of mutual |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in summary(rows):
+        lines.append(
+            f"| {r['kind']} | {r['descriptor']} | {r['poses']} | {100 * r['acc']:.1f} % | "
+            f"{100 * r['acc_mirror']:.1f} % | {r['mean_err']:.3f} | {r['mean_err_mirror']:.3f} | "
+            f"{100 * r['mutual_kept']:.1f} % | {100 * r['mutual_acc']:.1f} % |"
+        )
+    return lines + ["", footer, ""]
+
+
+
+# ============================================================================ retrieval
+QUANTILES = (0.1, 0.25, 0.5, 0.75, 0.9)
+N_SCALES = 16
+WEYL = 4.0 * np.pi
+
+
+def fixed_scales(N=100, n_scales=N_SCALES):
+    """The unit-area times and (energies, sigma) every shape is sampled at."""
+    t = np.geomspace(sg.T_FACTOR / (WEYL * (N - 1)), sg.T_FACTOR / WEYL, n_scales)
+    e1, eN = np.log(WEYL), np.log(WEYL * (N - 1))
+    sigma = sg.WKS_WIDTH * (eN - e1) / 100
+    return t, np.linspace(e1 + 2 * sigma, eN - 2 * sigma, n_scales), sigma
+
+
+def weighted_quantiles(X, w, qs=QUANTILES):
+    """Column-wise quantiles of ``X`` (n, k) with vertex weights ``w`` (n,): (len(qs), k).
+
+    Each sorted value sits at the middle of its weight's share of the cumulative weight;
+    quantiles interpolate linearly between them (and clip at the ends).
+    """
+    out = np.empty((len(qs), X.shape[1]))
+    for j in range(X.shape[1]):
+        order = np.argsort(X[:, j])
+        cw = np.cumsum(w[order])
+        cw = (cw - 0.5 * w[order]) / cw[-1]
+        out[:, j] = np.interp(qs, cw, X[order, j])
+    return out
+
+
+def shape_descriptors(mesh, N=100):
+    """The three global descriptors of one mesh, by name."""
+    mesh = cshape.repair_mesh(mesh, warn=False)
+    basis = cshape.eigenbasis(mesh, N)
+    w = np.asarray(basis.B.sum(axis=1)).ravel()  # vertex areas (lumped mass)
+    t, e, sigma = fixed_scales(N)
+    h = np.log(cshape.hks(basis, t, normalization="area"))
+    k = np.log(np.maximum(cshape.wks(basis, e, sigma, normalization="area"), 1e-300))
+    return {
+        "log spectrum": log_weyl_ratio(cshape.normalize(basis.lam, area=basis.area)),
+        "HKS quantiles": weighted_quantiles(h, w).ravel(),
+        "WKS quantiles": weighted_quantiles(k, w).ravel(),
+    }
+
+
+def score(descs, labels):
+    """Retrieval scores of each pooled descriptor (Euclidean distances)."""
+    rows = []
+    for name in descs[0]:
+        X = np.array([d[name] for d in descs])
+        D = np.linalg.norm(X[:, None, :] - X[None, :, :], axis=2)
+        rows.append({"descriptor": name, "values": X.shape[1], **retrieval_scores(D, labels)})
+    return rows
+
+
+def retrieval_lines(rows, name, n, classes, header, footer):
+    """The Markdown lines of the retrieval section of collection ``name``."""
+    lines = [f"## Retrieval: pooled signatures on `{name}` ({n} shapes, {classes} classes)", "",
+             header, "",
+             "| descriptor | values | NN | FT | ST | mAP |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['descriptor']} | {r['values']} | {r['nn']:.3f} | {r['ft']:.3f} | "
+                     f"{r['st']:.3f} | {r['map']:.3f} |")
+    return lines + ["", footer, ""]
+
+
+
+# ============================================================================ speed
 def torus_mesh(n_vertices):
     """A torus (R = 1, r = 0.4) of about ``n_vertices`` vertices, cells near square."""
     n_minor = max(3, int(round(np.sqrt(n_vertices * 0.4))))
@@ -79,12 +298,12 @@ def time_signatures(mesh, N=100, n_scales=100, n_match=1000, seed=0):
     r = {"n": mesh.n_vertices, "N": N, "n_scales": n_scales, "eigenpairs": t_eig}
     h, r["hks"] = _timed(cshape.hks, basis, n_times=n_scales)
     w, r["wks"] = _timed(cshape.wks, basis, n_energies=n_scales)
-    s, r["si_hks"] = _timed(cshape.si_hks, basis)
-    _, r["heat_kernel"] = _timed(cshape.heat_kernel, basis, float(sg.hks_times(basis)[50]), 0)
+    s, r["si_hks"] = _timed(sg.si_hks, basis)
+    _, r["heat_kernel"] = _timed(sg.heat_kernel, basis, float(sg.hks_times(basis)[50]), 0)
     rng = np.random.default_rng(seed)
     sub = rng.choice(mesh.n_vertices, size=min(n_match, mesh.n_vertices), replace=False)
     logh = np.log(h)
-    match, r["match_points"] = _timed(cshape.match_points, logh[sub], logh)
+    match, r["match_points"] = _timed(sg.match_points, logh[sub], logh)
     r["hks_shape"], r["wks_shape"], r["si_hks_shape"] = h.shape, w.shape, s.shape
     r["si_hks_times"] = len(sg.si_hks_tau())
     r["n_match"] = len(sub)
@@ -94,73 +313,13 @@ def time_signatures(mesh, N=100, n_scales=100, n_match=1000, seed=0):
     return r
 
 
-def run_lapy(mesh, N, setting="default"):
-    """(lam, phi) and seconds of one LaPy setting (assembly included; see
-    ``bench_sweep.LAPY_SETTINGS``)."""
-    from lapy import Solver, TriaMesh
-
-    kwargs, limit = lapy_setup(setting)
-    with limit:
-        t = time.perf_counter()
-        lam, phi = Solver(TriaMesh(mesh.vertices, mesh.faces), **kwargs).eigs(k=N)
-        dt = time.perf_counter() - t
-    order = np.argsort(lam)
-    return lam[order], phi[:, order], dt
 
 
-LAPY = ("default", "cholespy")
-
-
-def eigenpairs_vs_lapy(mesh, N=100, repeats=3):
-    """Interleaved best-of-``repeats`` timings of cshape's and LaPy's eigenpairs.
-
-    Returns
-    -------
-    dict
-        ``n``, ``N``, ``cshape`` and ``lapy`` seconds (LaPy at its defaults),
-        ``lapy_cholespy`` (``use_cholmod=True``), ``ratio`` (LaPy / cshape),
-        ``ratio_cholespy``, ``lam_maxrel`` (the
-        eigenvalues against the LaPy run that agrees best) and ``hks_maxrel`` (HKS at the
-        default times from either's eigenfunctions, same LaPy run).
-    """
-    VF = (mesh.vertices, mesh.faces)
-    t_cs, t_lapy = [], {s: [] for s in LAPY}
-    lapy_runs = []
-    cs = None
-    for _ in range(repeats):
-        (lam, phi), t = _timed(cshape.eigenpairs, VF, N)
-        cs = (lam, phi)
-        t_cs.append(t)
-        for setting in LAPY:
-            lam_l, phi_l, t = run_lapy(mesh, N, setting)
-            lapy_runs.append((lam_l, phi_l))
-            t_lapy[setting].append(t)
-    lam, phi = cs
-    # ARPACK's random start can take a copy from a neighbouring cluster of an icosphere
-    # multiplet (see bench_spectrum.py): compare with the LaPy run that agrees best
-    diffs = [max_relative_difference(lam, ref[0]) for ref in lapy_runs]
-    best = int(np.argmin(diffs))
-    B = cshape.fem_matrices(VF)[1]  # the same linear FEM mass as LaPy's
-    basis = cshape.Eigenbasis(lam, phi, B)
-    t = sg.hks_times(basis)
-    h_cs = cshape.hks(basis, t)
-    h_lapy = cshape.hks(cshape.Eigenbasis(np.maximum(lapy_runs[best][0], 0.0),
-                                          lapy_runs[best][1], B), t)
-    lapy = {k: min(v) for k, v in t_lapy.items()}
-    return {
-        "n": mesh.n_vertices, "N": N, "repeats": repeats,
-        "cshape": min(t_cs), "lapy": lapy["default"], "lapy_cholespy": lapy["cholespy"],
-        "ratio": lapy["default"] / min(t_cs), "ratio_cholespy": lapy["cholespy"] / min(t_cs),
-        "lam_maxrel": diffs[best],
-        "hks_maxrel": float(np.abs(h_cs / h_lapy - 1).max()),
-    }
-
-
-def markdown(sig, eig, header, footer):
-    """The report: the signature timings and the LaPy comparison, as Markdown."""
+def speed_lines(sig, header, footer):
+    """The speed section's Markdown lines: each signature's seconds beside the eigensolve."""
     lines = [
-        "# Point signatures (issue 21)", "", header, "",
-        f"## Signatures of a {sig['n']:,}-vertex torus from N = {sig['N']} eigenpairs", "",
+        f"## Speed: signatures of a {sig['n']:,}-vertex torus from N = {sig['N']} eigenpairs",
+        "", header, "",
         "| step | result shape | seconds | x eigenpairs |", "|---|---|---|---|",
         f"| eigenpairs(N={sig['N']}) | ({sig['n']}, {sig['N']}) | {sig['eigenpairs']:.2f} | 1 |",
     ]
@@ -173,59 +332,66 @@ def markdown(sig, eig, header, footer):
     for k, label in labels.items():
         ratio = sig[k] / sig["eigenpairs"]
         lines.append(f"| {label} | {shapes_[k]} | {sig[k]:.2f} | {ratio:.2f} |")
-    lines += [
+    return lines + [
         "", f"Largest distance from a matched vertex's log HKS to its match's (its own "
-        f"signature is in the set): {sig['match_dist']:.1e}.", "",
-        f"## eigenpairs(N={eig['N']}) against LaPy, {eig['n']:,}-vertex icosphere", "",
-        f"Best of {eig['repeats']} interleaved runs; eigenfunctions included in both; cshape "
-        f"at its defaults; LaPy: {lapy_label('default')}, and {lapy_label('cholespy')}.  "
-        f"Processor: {processor()}.", "",
-        "| cshape [s] | LaPy defaults [s] | LaPy / cshape | LaPy use_cholmod=True [s] "
-        "| LaPy use_cholmod=True / cshape | max rel. diff. lam | max rel. diff. HKS |",
-        "|---|---|---|---|---|---|---|",
-        f"| {eig['cshape']:.2f} | {eig['lapy']:.2f} | {eig['ratio']:.2f} | "
-        f"{eig['lapy_cholespy']:.2f} | {eig['ratio_cholespy']:.2f} | {eig['lam_maxrel']:.1e} | "
-        f"{eig['hks_maxrel']:.1e} |",
-        "", footer, "",
-    ]
-    return "\n".join(lines)
+        f"signature is in the set): {sig['match_dist']:.1e}.", "", footer, ""]
 
 
+# ============================================================================ the command
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--vertices", type=int, default=100_000,
-                        help="vertices of the torus for the signatures (default 100000)")
-    parser.add_argument("--sphere-level", type=int, default=6,
-                        help="icosphere level for the LaPy comparison (6: 40962 vertices)")
-    parser.add_argument("--scales", type=int, default=100, help="times / energies (100)")
-    parser.add_argument("-N", type=int, default=100, help="eigenpairs (default 100)")
-    parser.add_argument("--repeats", type=int, default=3, help="runs per LaPy timing")
-    parser.add_argument("--quick", action="store_true", help="20K torus, 10K sphere, 2 runs")
+    parts = parser.add_subparsers(dest="part", required=True)
+    p = parts.add_parser("correspondence", help="point correspondence across poses")
+    p.add_argument("--poses", type=int, default=5, help="poses per class (default 5)")
+    p.add_argument("--quick", action="store_true", help="2 poses per class")
+    p = parts.add_parser("retrieval", help="retrieval with pooled signatures")
+    p.add_argument("--collection", default="creatures")
+    p.add_argument("-N", type=int, default=100)
+    p.add_argument("--quick", action="store_true", help="write signatures_quick.md")
+    p = parts.add_parser("speed", help="signatures of a large mesh beside its eigensolve")
+    p.add_argument("--vertices", type=int, default=100_000,
+                   help="vertices of the torus (default 100000)")
+    p.add_argument("--scales", type=int, default=100, help="times / energies (100)")
+    p.add_argument("-N", type=int, default=100, help="eigenpairs (default 100)")
+    p.add_argument("--quick", action="store_true", help="a 20K-vertex torus")
+    parser.add_argument("--out", default=None,
+                        help="the result file (default benchmarks/results/signatures.md; "
+                             "--quick: signatures_quick.md)")
     args = parser.parse_args(argv)
-    try:
-        import lapy  # noqa: F401
-    except ImportError:
-        print("LaPy is not installed: .venv/bin/pip install --group bench  (or pip install lapy)")
-        return 2
-    name = "signatures"
-    if args.quick:
-        args.vertices, args.sphere_level, args.repeats = 20_000, 5, 2
-        name = "signatures_quick"
-    header = machine_summary(libs=("scipy", "lapy", "cholespy"))
+    out = Path(args.out) if args.out else RESULTS / (
+        "signatures_quick.md" if args.quick else "signatures.md")
+    header = machine_summary()
     print(header, flush=True)
-    sig = time_signatures(torus_mesh(args.vertices), args.N, args.scales)
-    print({k: v for k, v in sig.items()}, flush=True)
-    eig = eigenpairs_vs_lapy(shapes.icosphere(args.sphere_level), args.N, args.repeats)
-    print(eig, flush=True)
-    footer = f"At the end: load average {' '.join(f'{x:.2f}' for x in load_average())}."
-    md = markdown(sig, eig, header, footer)
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / f"{name}.md").write_text(md)
-    print(md)
-    ok = eig["lam_maxrel"] <= 1e-8 and eig["hks_maxrel"] <= 1e-6
-    if not ok:
-        print("FAIL: cshape's and LaPy's eigenpairs disagree")
-    return 0 if ok else 1
+
+    def footer():
+        return f"At the end: load average {' '.join(f'{x:.2f}' for x in load_average())}."
+
+    if args.part == "correspondence":
+        rows = []
+        for kind in poses.POSED_KINDS:
+            rows += evaluate(kind, range(2 if args.quick else args.poses))
+        lines, key = correspondence_lines(rows, header, footer()), "correspondence"
+    elif args.part == "retrieval":
+        from cshape import data
+
+        t0 = time.perf_counter()
+        coll = data.load_collection(args.collection)
+        print(f"loaded {len(coll)} meshes in {time.perf_counter() - t0:.0f} s", flush=True)
+        t0 = time.perf_counter()
+        descs = [shape_descriptors(m, args.N) for m in coll.meshes]
+        print(f"descriptors in {time.perf_counter() - t0:.0f} s", flush=True)
+        rows = score(descs, list(coll.labels))
+        lines = retrieval_lines(rows, args.collection, len(coll), len(set(coll.labels)),
+                                header, footer())
+        key = f"retrieval {args.collection}"
+    else:
+        n = 20_000 if args.quick else args.vertices
+        sig = time_signatures(torus_mesh(n), args.N, args.scales)
+        lines, key = speed_lines(sig, header, footer()), "speed"
+    write_section(out, key, lines, TITLE)
+    print("\n".join(lines))
+    print(f"results: {out}, section {key!r}")
+    return 0
 
 
 if __name__ == "__main__":

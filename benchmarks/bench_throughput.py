@@ -30,7 +30,7 @@ beforehand; writing the cache is part of the work):
 It prints meshes per minute and the speed-up over ``serial`` (2 would be perfectly linear
 on 2 cores; other processes running on the machine take their share, hence the load
 average next to the figures and the *free cores* probe of :func:`free_cores` before and
-after), and writes ``benchmarks/results/throughput.{csv,md}``
+after), and writes ``benchmarks/results/throughput.md``
 (``throughput_quick.*`` with ``--quick``; the number of meshes is in the table).  Nothing
 here asserts a time.
 """
@@ -38,7 +38,6 @@ here asserts a time.
 from __future__ import annotations
 
 import argparse
-import csv
 import os
 import sys
 import tempfile
@@ -302,13 +301,6 @@ def main(argv=None):
 
     RESULTS.mkdir(parents=True, exist_ok=True)
     stem = "throughput_quick" if args.quick else "throughput"
-    keys = ["mode", "label", "meshes", "failed", "seconds", "per_minute", "speedup", "startup",
-            "solve_seconds", "load1"]
-    with open(RESULTS / f"{stem}.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(keys)
-        for r in rows:
-            w.writerow([r[k] for k in keys])
     md = [f"# Throughput of cshape.describe (N={args.N})", "", summary, "",
           f"At the end: {summary_end}", "",
           f"{count} meshes, {nv.min():,}-{nv.max():,} vertices (mean {nv.mean():,.0f}), "
@@ -324,7 +316,7 @@ def main(argv=None):
            f"{r['speedup']:.2f} | {r['startup']:.1f} | {r['load1']:.2f} | "
            f"{r['solve_seconds']:.1f} |" for r in rows]
     (RESULTS / f"{stem}.md").write_text("\n".join(md) + "\n")
-    print(f"results: {RESULTS / stem}.{{csv,md}}")
+    print(f"results: {RESULTS / stem}.md")
     return 0 if all(r["failed"] == 0 for r in rows) else 1
 
 

@@ -1,31 +1,31 @@
 """cshape: Shape-DNA and compact Shape-DNA (cShape-DNA) of triangle meshes.
 
-The core is the method, one module per stage, in pipeline order (data flows one way):
+The top level holds the entry points a user needs; every other public name lives in its
+stage's module.  The core is the method, one module per stage, in pipeline order (data flows
+one way):
 
 1. :mod:`cshape.mesh`        - :class:`Mesh`, :func:`repair_mesh`, :func:`largest_component`;
    :mod:`cshape.readers`     - :func:`load_mesh` (OBJ, OFF, PLY, STL, ...)
 2. :mod:`cshape.fem`         - :func:`fem_matrices`: ``A`` (Eq. 4/6) and ``B`` (Eq. 5/7)
-3. :mod:`cshape.spectrum`    - :func:`shape_dna`, :func:`eigenpairs`: ``A f = -lam B f`` (Eq. 3);
-   :func:`eigenbasis` - the pairs with ``B``, the area and the mesh as one
+3. :mod:`cshape.spectrum`    - :func:`shape_dna`: ``A f = -lam B f`` (Eq. 3);
+   :func:`eigenbasis` - the eigenpairs with ``B``, the area and the mesh as one
    :class:`Eigenbasis`, what signatures and maps take
-4. :mod:`cshape.descriptors` - the formulas (:mod:`~cshape.descriptors.formulas`):
-   :func:`normalize`, :func:`weyl_subtract` (Eq. 8), :func:`compact_shape_dna` (Eq. 9-10),
-   :func:`log_weyl_ratio`, :func:`real_form`, :func:`inverse_compact_shape_dna`,
-   :func:`f1_feature`; :func:`count_zero_modes` and :func:`nonzero_eigenvalues` (the rule for
-   meshes of several pieces); and the recipe (:mod:`~cshape.descriptors.recipe`):
-   :class:`Descriptor`, which descriptor, as one frozen value that builds the rows:
+4. :mod:`cshape.descriptors` - the formulas: :func:`normalize`, :func:`weyl_subtract`
+   (Eq. 8), :func:`compact_shape_dna` (Eq. 9-10), and in the module ``log_weyl_ratio``,
+   ``real_form``, ``inverse_compact_shape_dna``, ``detrend``, ``count_zero_modes``; the
+   recipe :class:`Descriptor`, which descriptor, as one frozen value that builds the rows:
    :data:`PAPER` (the paper's cShape-DNA) and :data:`DEFAULT` (the exploration default)
-5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`scale_255`,
-   :func:`retrieval_scores`, :func:`nearest_neighbours`, :func:`mds_embedding`;
+5. :mod:`cshape.compare`     - :func:`distance_matrix`, :func:`retrieval_scores`,
+   :func:`mds_embedding`, and in the module ``scale_255``, ``nearest_neighbours``;
    :mod:`cshape.index`       - :class:`DescriptorIndex` (nearest neighbours in a database)
 6. :mod:`cshape.signatures`  - per-point signatures of an :class:`Eigenbasis`: :func:`hks`,
-   :func:`wks`, :func:`si_hks`, :func:`heat_kernel`, :func:`heat_trace`, and
-   :func:`match_points` (correspondence)
-7. :mod:`cshape.maps`        - maps between shapes: :func:`point_map` (the one call),
-   :func:`functional_map`, :func:`zoomout`, :func:`map_to_pointwise`,
-   :func:`pointwise_to_map`, :func:`transfer_function`;
-   :mod:`cshape.geodesics`   - geodesics by the heat method: :func:`geodesic_distance`,
-   :class:`HeatGeodesics`, :func:`geodesic_errors` (the error of a map), :func:`face_gradients`
+   :func:`wks`, and in the module ``si_hks``, ``heat_kernel``, ``heat_trace``,
+   ``match_points`` (correspondence)
+7. :mod:`cshape.maps`        - maps between shapes: :func:`point_map` (the one call), and in
+   the module ``functional_map``, ``zoomout``, ``map_to_pointwise``, ``pointwise_to_map``,
+   ``transfer_function``; :mod:`cshape.geodesics` - geodesics by the heat method:
+   :func:`geodesic_distance`, and in the module ``HeatGeodesics``, ``geodesic_errors``
+   (the error of a map)
 
 :mod:`cshape.shapes` builds analytic test shapes (sphere, square, disk, torus, ...).
 
@@ -50,43 +50,16 @@ import importlib
 from typing import Any
 
 from . import shapes
-from .compare import (
-    difference_matrix,
-    distance_matrix,
-    mds_embedding,
-    retrieval_scores,
-    scale_255,
-    scaled_difference,
-)
-from .descriptors import (
-    DEFAULT,
-    PAPER,
-    Descriptor,
-    compact_shape_dna,
-    count_zero_modes,
-    f1_feature,
-    inverse_compact_shape_dna,
-    log_weyl_ratio,
-    nonzero_eigenvalues,
-    normalize,
-    real_form,
-    weyl_subtract,
-)
+from .compare import distance_matrix, mds_embedding, retrieval_scores
+from .descriptors import DEFAULT, PAPER, Descriptor, compact_shape_dna, normalize, weyl_subtract
 from .fem import fem_matrices
-from .geodesics import HeatGeodesics, face_gradients, geodesic_distance, geodesic_errors
+from .geodesics import geodesic_distance
 from .index import DescriptorIndex
-from .maps import (
-    functional_map,
-    map_to_pointwise,
-    point_map,
-    pointwise_to_map,
-    transfer_function,
-    zoomout,
-)
-from .mesh import CShapeWarning, Mesh, as_mesh, largest_component, repair_mesh
+from .maps import point_map
+from .mesh import CShapeWarning, Mesh, largest_component, repair_mesh
 from .readers import load_mesh
-from .signatures import heat_kernel, heat_trace, hks, match_points, si_hks, wks
-from .spectrum import Eigenbasis, eigenbasis, eigenpairs, estimate_seconds, shape_dna
+from .signatures import hks, wks
+from .spectrum import Eigenbasis, eigenbasis, shape_dna
 
 __version__ = "0.1.0"
 
@@ -100,7 +73,6 @@ _LAZY = {
     "plots": ("cshape.plots", None),
     "course": ("cshape.course", None),
     "reproduce": ("cshape.reproduce", None),
-    "variants": ("cshape.data.variants", None),
 }
 
 
@@ -120,56 +92,30 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
-    "HeatGeodesics",
-    "face_gradients",
-    "functional_map",
-    "geodesic_distance",
-    "geodesic_errors",
-    "map_to_pointwise",
-    "point_map",
-    "pointwise_to_map",
-    "transfer_function",
-    "zoomout",
-    "wks",
-    "si_hks",
-    "match_points",
-    "hks",
-    "heat_trace",
-    "heat_kernel",
     "CShapeWarning",
     "DEFAULT",
     "Descriptor",
     "DescriptorIndex",
     "DescriptorTable",
-    "Mesh",
-    "as_mesh",
-    "compact_shape_dna",
-    "count_zero_modes",
-    "data",
-    "describe",
-    "difference_matrix",
-    "distance_matrix",
     "Eigenbasis",
+    "Mesh",
+    "PAPER",
+    "compact_shape_dna",
+    "describe",
+    "distance_matrix",
     "eigenbasis",
-    "eigenpairs",
-    "estimate_seconds",
-    "f1_feature",
     "fem_matrices",
-    "inverse_compact_shape_dna",
+    "geodesic_distance",
+    "hks",
     "largest_component",
     "load_mesh",
-    "log_weyl_ratio",
     "mds_embedding",
-    "nonzero_eigenvalues",
     "normalize",
-    "PAPER",
-    "real_form",
+    "point_map",
     "repair_mesh",
     "retrieval_scores",
-    "scale_255",
-    "scaled_difference",
     "shape_dna",
     "shapes",
-    "variants",
     "weyl_subtract",
+    "wks",
 ]

@@ -25,23 +25,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = [
-    "check_bool",
-    "check_choice",
-    "check_crop",
-    "check_descriptors",
-    "check_entries",
-    "check_flag_or_choice",
-    "check_int",
-    "check_labels",
-    "check_n_jobs",
-    "check_path",
-    "check_points",
-    "check_real",
-    "check_square",
-    "require_extra",
-]
-
 _PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -583,3 +566,19 @@ def check_landmarks(landmarks: ArrayLike | None, n_source: int,
     check_vertex_indices("landmarks[:, 0]", a[:, 0], n_source)
     check_vertex_indices("landmarks[:, 1]", a[:, 1], n_target)
     return a.astype(np.int64)
+
+
+def check_eigenbasis(name: str, basis: object, cls: type) -> Any:
+    """Return ``basis`` if it is a ``cls`` (:class:`cshape.Eigenbasis`), else raise TypeError.
+
+    The error names ``name`` and how to compute one.  The one check of an eigenbasis
+    argument (signatures, maps, the viewer's explorers); the caller passes the class, which
+    the spectrum stage defines on top of this module.
+    """
+    if not isinstance(basis, cls):
+        raise TypeError(
+            f"{name} must be a cshape.Eigenbasis, got {type(basis).__name__}; compute it with "
+            "cshape.eigenbasis(mesh, N) (or build one from arrays: cshape.Eigenbasis(lam, "
+            "phi, B))"
+        )
+    return basis

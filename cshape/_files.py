@@ -16,8 +16,6 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ["atomic_write", "cache_root", "make_folder", "umask"]
-
 
 def cache_root(path: str | os.PathLike | None = None) -> Path:
     """Return the cache folder: ``path``, else ``$CSHAPE_CACHE``, else the user cache folder.

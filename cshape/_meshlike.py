@@ -26,8 +26,6 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["ACCEPTED", "foreign_arrays", "looks_like_mesh"]
-
 #: What a mesh argument may be, for error messages.
 ACCEPTED = (
     "a cshape.Mesh, a (vertices, faces) pair of arrays, or a mesh object of trimesh "

@@ -38,15 +38,11 @@ from ._checks import (
 )
 
 __all__ = [
-    "difference_matrix",
     "distance_matrix",
     "mds_embedding",
-    "mds_outliers",
     "nearest_neighbours",
-    "retrieval_per_query",
     "retrieval_scores",
     "scale_255",
-    "scaled_difference",
 ]
 
 #: The E-measure of the Princeton Shape Benchmark looks at the first 32 results.

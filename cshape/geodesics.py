@@ -28,7 +28,6 @@ from .mesh import Mesh, MeshLike, as_mesh, repair_mesh
 
 __all__ = [
     "HeatGeodesics",
-    "face_gradients",
     "geodesic_distance",
     "geodesic_errors",
 ]
@@ -269,7 +268,7 @@ def geodesic_errors(mesh: MeshLike, p2p: ArrayLike, truth: ArrayLike | None = No
         path joins them), so that a mean over such a map is ``inf``, not a finite number.
     """
     if geodesics is not None and not isinstance(geodesics, HeatGeodesics):
-        raise TypeError("geodesics must be a cshape.HeatGeodesics of mesh, got "
+        raise TypeError("geodesics must be a cshape.geodesics.HeatGeodesics of mesh, got "
                         f"{type(geodesics).__name__}")
     geo = geodesics if geodesics is not None else HeatGeodesics(mesh)
     n = geo.mesh.n_vertices
@@ -277,7 +276,7 @@ def geodesic_errors(mesh: MeshLike, p2p: ArrayLike, truth: ArrayLike | None = No
         other = as_mesh(mesh)
         if other.n_vertices != n:
             raise ValueError(f"geodesics is of a mesh of {n} vertices but mesh has "
-                             f"{other.n_vertices}; pass cshape.HeatGeodesics(mesh)")
+                             f"{other.n_vertices}; pass cshape.geodesics.HeatGeodesics(mesh)")
     p2p = check_vertex_indices("p2p", p2p, n)
     truth = np.arange(len(p2p)) if truth is None else check_vertex_indices("truth", truth, n)
     if len(truth) != len(p2p):

@@ -24,7 +24,8 @@ function                    what it does
 :func:`transfer_function`   a function on ``S`` carried to ``T`` through ``C``
 ==========================  =================================================================
 
-The errors of a map are measured with :mod:`cshape.geodesics` (:func:`cshape.geodesic_errors`).
+The errors of a map are measured with :mod:`cshape.geodesics`
+(:func:`cshape.geodesics.geodesic_errors`).
 
 The energy of :func:`functional_map`, for descriptors ``D_S = Phi_S^T B_S F_S`` (``N_S x d``)
 and ``D_T`` projected on the bases, eigenvalues ``lam_S``, ``lam_T``:

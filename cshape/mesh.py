@@ -407,7 +407,7 @@ def as_mesh(mesh_or_vf: MeshLike) -> Mesh:
     >>> class PolyData:  # PyVista's layout: points and a flat VTK cell array
     ...     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
     ...     faces = np.array([3, 0, 2, 1, 3, 0, 1, 3, 3, 0, 3, 2, 3, 1, 2, 3])
-    >>> cshape.as_mesh(PolyData()).n_faces
+    >>> cshape.mesh.as_mesh(PolyData()).n_faces
     4
     """
     if isinstance(mesh_or_vf, Mesh):

@@ -21,10 +21,12 @@ from pathlib import Path
 import numpy as np
 
 from ._checks import check_bool, check_path
-from ._prescan import PLY_MAX_LIST_BYTES, Expected, bad_file, check_against_expected, prescan
+from ._prescan import Expected, bad_file, check_against_expected, prescan
 from .mesh import CShapeWarning, Mesh, repair_mesh
 
-__all__ = ["load_mesh", "split_mesh_name", "MESH_SUFFIXES", "GZIP_MAX_BYTES", "PLY_MAX_LIST_BYTES"]
+__all__ = [
+    "load_mesh",
+]
 
 
 #: Mesh file suffixes that folder collections pick up (:func:`cshape.data.load_folder`);

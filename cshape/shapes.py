@@ -28,7 +28,15 @@ from numpy.typing import NDArray
 from ._checks import check_int, check_real
 from .mesh import Mesh, repair_mesh
 
-__all__ = ["icosphere", "square", "disk", "hemisphere", "torus", "cube", "sphere_spectrum"]
+__all__ = [
+    "icosphere",
+    "square",
+    "disk",
+    "hemisphere",
+    "torus",
+    "cube",
+    "sphere_spectrum",
+]
 
 
 def icosphere(subdivisions: int = 4, radius: float = 1.0) -> Mesh:

@@ -45,8 +45,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._checks import check_bool, check_choice, check_int, check_real
-from .descriptors import ZERO_RTOL
+from ._checks import check_bool, check_choice, check_eigenbasis, check_int, check_real
+from .descriptors.formulas import ZERO_RTOL
 from .spectrum import Eigenbasis
 
 __all__ = [
@@ -56,7 +56,6 @@ __all__ = [
     "hks_times",
     "match_points",
     "si_hks",
-    "si_hks_tau",
     "wks",
     "wks_energies",
 ]
@@ -74,13 +73,7 @@ NORMALIZATIONS = ("none", "area")
 
 
 def _check_basis(basis: object) -> Eigenbasis:
-    if not isinstance(basis, Eigenbasis):
-        raise TypeError(
-            f"basis must be a cshape.Eigenbasis, got {type(basis).__name__}; compute it with "
-            "cshape.eigenbasis(mesh, N) (or build one from arrays: cshape.Eigenbasis(lam, "
-            "phi, B))"
-        )
-    return basis
+    return check_eigenbasis("basis", basis, Eigenbasis)
 
 
 def _eigenvalues(basis: object, normalization: object) -> np.ndarray:

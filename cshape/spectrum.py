@@ -61,13 +61,16 @@ from ._eigensolver.lanczos import (  # noqa: F401  (block sizes, for benchmarks)
     BLOCK_SIZE,
     MIN_BLOCK_SIZE,
 )
-from ._eigensolver.threads import one_blas_thread, solver_threads
+from ._eigensolver.threads import one_blas_thread, solver_threads  # noqa: F401  (the policy)
 from .fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from .fem import _problem as fem
 from .mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
-__all__ = ["Eigenbasis", "eigenbasis", "eigenpairs", "estimate_seconds", "shape_dna",
-           "solve_eigenproblem", "solver_threads"]
+__all__ = [
+    "Eigenbasis",
+    "eigenbasis",
+    "shape_dna",
+]
 
 #: Problems with at most this many unknowns (or ``3 N`` or more of them) are solved
 #: densely by LAPACK: there the sparse path is no faster.
@@ -89,8 +92,8 @@ def _check_N(N: object, n_unknowns: int, bc: str) -> int:
         raise ValueError(
             f"N={N} eigenvalues requested but the {bc} problem has only {n_unknowns} unknowns "
             f"(mesh vertices{' not on the boundary' if bc == 'dirichlet' else ''}); use "
-            f"N <= {n_unknowns} or a finer mesh (e.g. cshape.variants.subdivide(mesh) or "
-            "cshape.variants.remesh(mesh))"
+            f"N <= {n_unknowns} or a finer mesh (e.g. cshape.data.variants.subdivide(mesh) or "
+            "cshape.data.variants.remesh(mesh))"
         )
     return N
 
@@ -242,7 +245,7 @@ class Eigenbasis:
     """The ``N`` smallest eigenpairs of a mesh with its mass matrix: one value, computed once.
 
     What the signatures (:func:`cshape.hks`, :func:`cshape.wks`, ...) and the maps
-    (:func:`cshape.functional_map`, :func:`cshape.zoomout`, ...) take.  Usually made by
+    (:func:`cshape.maps.functional_map`, :func:`cshape.maps.zoomout`, ...) take.  Usually made by
     :func:`eigenbasis`; the constructor builds one from plain arrays (another solver's
     eigenpairs, say) and validates them.  The arrays are kept as read-only views.
 
@@ -260,7 +263,7 @@ class Eigenbasis:
         Surface area.  Default: ``B.sum()``.
     mesh : Mesh, optional
         The mesh of ``n`` vertices the pairs belong to (the orientation term of
-        :func:`cshape.functional_map` needs it).
+        :func:`cshape.maps.functional_map` needs it).
     bc : {'neumann', 'dirichlet'}, default='neumann'
     mass : {'consistent', 'lumped'}, default='consistent'
         How the pairs were computed (see :func:`cshape.fem_matrices`).
@@ -392,7 +395,7 @@ def _check_eigenvalues(lam: object) -> NDArray[np.float64]:
     if lam.min() < -ZERO_ROUNDOFF * max(scale, np.finfo(float).tiny):
         raise ValueError(
             f"lam must be eigenvalues >= 0 (A f = -lam B f), got a minimum of {lam.min():.6g}; "
-            "pass the eigenvalues from cshape.eigenpairs"
+            "pass the eigenvalues from cshape.spectrum.eigenpairs"
         )
     return lam if lam.min() >= 0 else np.maximum(lam, 0.0)
 
@@ -603,7 +606,7 @@ def components_message(ncomp: int) -> str:
     """
     return (f"mesh has {ncomp} connected components: its spectrum is the union of theirs, "
             f"with {ncomp} zero eigenvalues under Neumann conditions; the log-Weyl, "
-            "truncated log and F1 descriptors drop them (cshape.nonzero_eigenvalues); use "
+            "truncated log and F1 descriptors drop them; use "
             "cshape.largest_component(mesh) to describe one piece")
 
 

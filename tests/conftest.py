@@ -94,7 +94,7 @@ def write_off(path, mesh):
     """Write a Mesh or (vertices, faces) as an ASCII OFF file (17 digits: exact round trip)."""
     import cshape
 
-    mesh = cshape.as_mesh(mesh)
+    mesh = cshape.mesh.as_mesh(mesh)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     lines = ["OFF", f"{mesh.n_vertices} {mesh.n_faces} 0"]

@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 
 from cshape import CShapeWarning, Descriptor, Mesh, shape_dna, shapes
-from cshape.batch import DescriptorTable, describe, mesh_key
+from cshape.batch import DescriptorTable, describe
 from cshape.batch._dask import _SAMPLERS, _pause_samplers, _resume_samplers
+from cshape.batch.cache import mesh_key
 
 N = 20
 

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import importlib.util
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +28,7 @@ def _load(name):
 @pytest.fixture
 def results(tmp_path, monkeypatch):
     """Point every benchmark's results folder at a temporary one."""
-    for name in ("bench_bigmesh", "bench_throughput", "bench_queries", "bench_floor"):
+    for name in ("bench_bigmesh", "bench_throughput", "bench_queries"):
         monkeypatch.setattr(_load(name), "RESULTS", tmp_path)
     return tmp_path
 
@@ -46,9 +45,15 @@ def test_bigmesh_measure_and_report(results):
              "lapy_peak": float("nan"), "lapy_solve": float("nan"), "lapy_note": "skipped",
              "maxrel": float("nan"), "load1": 1.0}]
     rows.append({**rows[0], "label": "b", "n": 6000, "cshape_s": 4 * r["seconds"]})
-    exps = bm.write_results(rows, "bigmesh_test", "summary", 10, 1)
+    path = results / "bigmesh.md"
+    exps = bm.write_results(rows, path, bm.section_key(["a", "b"], 1), "summary", 10, 1)
     assert exps["cshape time"] == pytest.approx(1.0)
-    assert (results / "bigmesh_test.md").read_text().count("\n| ") == 3
+    assert path.read_text().count("\n| ") == 3
+    # another set of sizes adds its section; the same set again replaces its own
+    bm.write_results(rows[:1], path, bm.section_key(["a"], 1), "one size", 10, 1)
+    bm.write_results(rows, path, bm.section_key(["a", "b"], 1), "again", 10, 1)
+    text = path.read_text()
+    assert text.count("\n| ") == 3 + 2 and "again" in text and "summary" not in text
     assert bm.growth_exponent([1, 10, 100], [2, 20, 200]) == pytest.approx(1.0)
     assert bm.max_relative_difference([0, 2.0], [1e-15, 2.0 + 2e-12]) < 1e-11
 
@@ -100,23 +105,6 @@ def test_queries_descriptors_and_exact_search(results):
     assert dist.shape == (7, 3) and res["single_ms"] > 0 and res["db_mib"] > 0
 
 
-@pytest.mark.slow
-def test_floor_stages_and_profile(results):
-    fl = _load("bench_floor")
-    mesh = fl.make_mesh("tiny")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        r = fl.stages(mesh, N=20, block_sizes=(16,))
-    assert r["solve_columns"] >= 20 and r["floor_method"] >= r["floor_ideal"] > 0
-    assert [v["block_size"] for v in r["variants"]] == [8, 16]
-    assert all(v["maxrel"] <= 1e-8 for v in r["variants"])
-    groups, top = fl.profile(mesh, N=20)
-    assert groups[-1][0] == "total" and groups[-1][1] > 0
-    assert sum(s for _, s in groups[:-1]) == pytest.approx(groups[-1][1])
-    lines = fl.report("tiny", r, groups, top)
-    assert any("floor of the method" in line for line in lines)
-
-
 def test_descriptors_benchmark_scores_every_row_at_equal_size():
     from cshape import DescriptorTable, shape_dna, shapes
 
@@ -141,16 +129,27 @@ def test_descriptors_benchmark_scores_every_row_at_equal_size():
     assert at6["log-weyl"]["map"] == pytest.approx(at6["log-weyl-dct"]["map"])
     md = bd.markdown(rows, "tiny", 4, 2, 12, "header", pairs, sweep)
     assert md.count("\n| ") >= 3 and "paired" in md
+    every = md[md.index("Every descriptor at every size"):]
+    assert every.count("\n| ") == 1 + len(rows)  # its header and every row
 
 
-def test_spectrum_bench_core_on_a_small_sphere(monkeypatch):
+def test_sweep_checks_every_run_on_a_sphere_against_its_exact_spectrum():
     pytest.importorskip("lapy")
-    bs = _load("bench_spectrum")
-    monkeypatch.setitem(bs.SIZES, "tiny", 3)  # 642 vertices
-    r = bs.bench_size("tiny", 20, 2)  # 4 LaPy runs: one of them finds every copy
-    assert r["n"] == 642 and r["threads"] == 1
-    assert r["maxrel"] < 1e-8 and r["cshape_missed"] == 0 and r["cshape_spread"] == 0
-    assert r["prepare"] > 0 and r["fem_matrices"] > 0 and r["lapy_assembly"] > 0
+    from cshape import shapes
+
+    sw = _load("bench_sweep")
+    exact = shapes.sphere_spectrum(16)  # l = 0..3, every copy
+    # a spectrum that skipped one copy of l(l+1) = 6 moves every later value a cluster up
+    skipped = np.concatenate([exact[:5], exact[6:], [30.0]])
+    assert not sw.missed_copies(exact * 1.001, exact) and sw.missed_copies(skipped, exact)
+    r = sw.compare(shapes.icosphere(3), 16, repeats=2, lapy=("default", "cholespy"),
+                   exact=exact)  # 642 vertices: 2 cshape runs, 4 LaPy runs
+    m = r["missed"]
+    assert m["cshape"] == 0 and m["runs_cshape"] == 2 and m["runs_lapy"] == 4
+    assert 0 <= m["lapy"] <= 4 and r["maxrel"] < 1e-8 and r["same_bits"]
+    line = sw.missed_lines([("tiny", r)])[0]
+    assert f"tiny: cshape 0 of 2 runs, LaPy {m['lapy']} of 4" in line
+    assert sw.compare(shapes.torus(30, 12), 10, repeats=1)["missed"] is None
 
 
 @pytest.mark.slow
@@ -163,19 +162,20 @@ def test_signatures_bench_on_small_meshes(tmp_path, monkeypatch):
     sig = bs.time_signatures(mesh, N=20, n_scales=30, n_match=50)
     assert sig["hks_shape"] == (mesh.n_vertices, 30) and sig["si_hks_shape"] == (mesh.n_vertices, 6)
     assert sig["match_dist"] < 1e-6 and all(sig[k] > 0 for k in ("eigenpairs", "hks", "wks"))
-    from cshape import shapes
-
-    eig = bs.eigenpairs_vs_lapy(shapes.icosphere(3), N=16, repeats=2)
-    assert eig["n"] == 642 and eig["ratio"] > 0
-    assert eig["lam_maxrel"] < 1e-8 and eig["hks_maxrel"] < 1e-6
-    md = bs.markdown(sig, eig, "header", "footer")
-    assert md.count("\n| ") == 9 and "LaPy / cshape" in md
+    lines = bs.speed_lines(sig, "header", "footer")
+    assert sum(line.startswith("| ") for line in lines) == 7  # the header and six steps
+    out = tmp_path / "s.md"
+    for _ in range(2):  # a part run again replaces its section
+        assert bs.main(["--out", str(out), "speed", "--vertices", "1500", "--scales", "30",
+                        "-N", "12"]) == 0
+    text = out.read_text()
+    assert text.startswith("# Point signatures") and text.count("<!-- section: speed -->") == 1
 
 
 @pytest.mark.slow
 def test_correspondence_bench_on_a_small_template(tmp_path):
     pytest.importorskip("pymeshlab")
-    bc = _load("bench_correspondence")
+    bc = _load("bench_signatures")
     small = {"voxelsize": 0.03, "target_vertices": 800}
     rows = bc.evaluate("quadruped", [None, 1], N=30, n_scales=30, template=small)
     assert len(rows) == 2 * len(bc.DESCRIPTORS)
@@ -188,8 +188,9 @@ def test_correspondence_bench_on_a_small_template(tmp_path):
     # a real pose: the oracle alignment moves only the limbs off, signatures lose some
     posed = {r["descriptor"]: r for r in rows if r["seed"] == 1}
     assert 0.3 < posed["xyz, rigid oracle"]["acc"] < 1.0
-    md = bc.markdown(rows, "header", "footer")
-    assert md.count("\n| ") == 1 + 2 * len(bc.DESCRIPTORS)  # header, quadruped, all
+    lines = bc.correspondence_lines(rows, "header", "footer")
+    # header, quadruped, all
+    assert sum(line.startswith("| ") for line in lines) == 1 + 2 * len(bc.DESCRIPTORS)
 
 
 @pytest.mark.slow
@@ -226,35 +227,53 @@ def test_sweep_bench_stages_ratios_and_throughput(tmp_path, monkeypatch):
     assert [(x["who"], x["workers"]) for x in rows] == [
         ("cshape", 1), ("default", 1), ("cholespy-1t", 1)]
     assert all(x["per_minute"] > 0 for x in rows)
-    assert sw.main(["--sizes", "1k", "--repeats", "1", "--no-real", "-N", "10",
-                    "--out", "t"]) == 0
-    text = (tmp_path / "t.md").read_text()
-    assert text.count("| 1k | 1,000 |") == 1 and text.startswith("# cshape.shape_dna")
-    assert "bench_sweep.py --sizes 1k --repeats 1 --no-real -N 10 --out t`" in text
+    out = tmp_path / "t.md"
+    for _ in range(2):  # the same kind of run again replaces its section
+        assert sw.main(["--sizes", "1k", "--repeats", "1", "--no-real", "-N", "10",
+                        "--out", str(out)]) == 0
+    text = out.read_text()
+    assert text.count("| 1k | 1,000 |") == 1 and text.startswith(f"# {sw.TITLE}")
+    assert "## Sizes: cshape.shape_dna against LaPy (N=10)" in text
+    assert f"bench_sweep.py --sizes 1k --repeats 1 --no-real -N 10 --out {out}`" in text
     with pytest.raises(SystemExit):
         sw.main(["--lapy", "fastest"])
 
 
-def test_sweep_results_are_named_by_what_they_measure():
+def test_sweep_sections_are_named_by_what_they_measure():
+    import re
+
     sw = _load("bench_sweep")
-    stem = sw.results_stem
-    assert stem(False, False, True, ["1k", "160k"], False, 0) == "sweep_sizes"
-    assert stem(False, False, True, ["650k", "1m"], False, 0) == "sweep_big_meshes"
-    assert stem(False, False, True, ["1k"], True, 0) == "sweep"
-    assert stem(False, False, False, ["1k"], True, 0) == "sweep_real_meshes"
-    assert stem(False, False, False, ["1k"], False, 30) == "sweep_collection"
-    assert stem(False, True, True, ["160k"], False, 0) == "sweep_eigenpairs"
-    assert stem(True, True, True, ["1k"], True, 0) == "sweep_quick"
-    tracked = {p.stem for p in (BENCH / "results").glob("sweep*.md")}
-    assert {"sweep_sizes", "sweep_big_meshes", "sweep_real_meshes", "sweep_collection",
-            "sweep_eigenpairs"} <= tracked
+    section = sw.results_section
+    assert section(False, True, ["1k", "160k"], False, 0) == "sizes"
+    assert section(False, True, ["650k", "1m"], False, 0) == "big meshes"
+    assert section(False, True, ["1k"], True, 0) == "sizes and real meshes"
+    assert section(False, False, ["1k"], True, 0) == "real meshes"
+    assert section(False, False, ["1k"], False, 30) == "collection"
+    assert section(True, True, ["160k"], False, 0) == "eigenpairs"
+    # the one result file holds a section per kind of run, each ending where it says
+    text = sw.RESULT.read_text()
+    keys = re.findall(r"<!-- section: (.+?) -->", text)
+    assert set(keys) >= {"sizes", "real meshes", "big meshes", "eigenpairs", "collection"}
+    assert keys == re.findall(r"<!-- end of section: (.+?) -->", text)
+
+
+def test_write_section_replaces_its_own_section_and_keeps_the_others(tmp_path):
+    common = _load("_common")
+    path = tmp_path / "r.md"
+    common.write_section(path, "a", ["## A", "first"], "Title")
+    common.write_section(path, "b", ["## B", "second"], "Title")
+    common.write_section(path, "a", ["## A", "third"], "Title")
+    text = path.read_text()
+    assert text.startswith("# Title\n") and text.count("# Title") == 1
+    assert "first" not in text and text.index("third") < text.index("second")
+    assert text.count("<!-- section: a -->") == 1 == text.count("<!-- end of section: a -->")
 
 
 @pytest.mark.slow
 def test_signature_retrieval_bench_descriptors_are_scale_invariant():
     from cshape import shapes
 
-    br = _load("bench_signature_retrieval")
+    br = _load("bench_signatures")
     X = np.array([[1.0], [2.0], [3.0], [4.0]])
     q = br.weighted_quantiles(X, np.array([1.0, 1.0, 1.0, 5.0]), qs=(0.5, 0.9))
     # value 4 holds 5/8 of the weight, centred at 3/8 + 5/16 = 0.6875; value 3 at 0.3125
@@ -269,21 +288,8 @@ def test_signature_retrieval_bench_descriptors_are_scale_invariant():
         assert np.abs(descs[2][k] - descs[0][k]).max() > 1e-2
     rows = br.score(descs, ["sphere", "sphere", "torus", "torus"])
     assert all(r["nn"] == 1.0 and r["map"] == 1.0 for r in rows)
-    assert br.markdown(rows, "tiny", 4, 2, "h", "f").count("\n| ") == 4
-
-
-def test_revisions_bench_compares_two_trees_in_alternating_children(tmp_path, monkeypatch):
-    br = _load("bench_revisions")
-    monkeypatch.setattr(br, "RESULTS", tmp_path)
-    root = str(BENCH.parent)
-    assert br.main(["--old", root, "--new", root, "--sizes", "1k", "--no-real", "-N", "10",
-                    "--rounds", "2", "--repeats", "1", "--out", "t"]) == 0
-    text = (tmp_path / "t.md").read_text()
-    row = [line for line in text.splitlines() if line.startswith("| 1k | 1,000 |")]
-    assert len(row) == 1 and row[0].endswith("| 0.0e+00 |")  # the same tree: the same bits
-    with pytest.raises(SystemExit) as err:  # not a source tree: argparse's exit status 2
-        br.main(["--old", str(tmp_path), "--sizes", "1k", "--no-real"])
-    assert err.value.code == 2
+    lines = br.retrieval_lines(rows, "tiny", 4, 2, "h", "f")
+    assert sum(line.startswith("| ") for line in lines) == 4
 
 
 def test_machine_summary_names_the_processor(monkeypatch, tmp_path):

@@ -57,11 +57,14 @@ def _wait_for_server(url, proc, timeout=90.0):
     raise TimeoutError(f"JupyterLab did not answer at {url} within {timeout:.0f} s")
 
 
-@pytest.fixture
-def jupyterlab(tmp_path):
+@pytest.fixture(scope="module")
+def jupyterlab_server(tmp_path_factory):
     """A JupyterLab server on 127.0.0.1 with a random port and token, serving a copy of the
-    M-sweep and the Shape-DNA notebooks; the kernels see CSHAPE_SMALL=1."""
+    M-sweep and the Shape-DNA notebooks; the kernels see CSHAPE_SMALL=1.  Started once for
+    the module (its start-up is most of a test's time); each test gets its own workspace
+    and browser profile through :func:`jupyterlab`."""
     pytest.importorskip("jupyterlab", reason="jupyterlab is not installed")
+    tmp_path = tmp_path_factory.mktemp("jupyterlab")
     root = tmp_path / "root"
     root.mkdir()
     for name in (NOTEBOOK, EXPLORER_NOTEBOOK):
@@ -94,7 +97,7 @@ def jupyterlab(tmp_path):
             log.flush()
             tail = (tmp_path / "jupyterlab.log").read_text()[-3000:]
             raise RuntimeError(f"{exc}; JupyterLab's log ends with:\n{tail}") from None
-        yield f"http://127.0.0.1:{port}", token, tmp_path
+        yield f"http://127.0.0.1:{port}", token
     finally:
         proc.terminate()
         try:
@@ -103,6 +106,29 @@ def jupyterlab(tmp_path):
             proc.kill()
             proc.wait(timeout=10)
         log.close()
+
+
+def _api(base, token, path, method="GET"):
+    """A call of the Jupyter server's REST API on loopback; the decoded JSON, or None."""
+    import json
+
+    req = urllib.request.Request(f"{base}/api/{path}?token={token}", method=method)
+    with urllib.request.urlopen(req, timeout=30) as r:  # loopback only
+        body = r.read()
+    return json.loads(body) if body else None
+
+
+@pytest.fixture
+def jupyterlab(jupyterlab_server, tmp_path, request):
+    """The module's JupyterLab server for one test: ``(base, token, tmp, workspace)``, with a
+    workspace of the test's own (no layout restored from another test) and ``tmp`` for its
+    browser profile; the kernels the test started are shut down after it."""
+    base, token = jupyterlab_server
+    before = {s["id"] for s in _api(base, token, "sessions")}
+    yield base, token, tmp_path, request.node.name.replace("[", "-").rstrip("]")
+    for session in _api(base, token, "sessions"):
+        if session["id"] not in before:
+            _api(base, token, f"sessions/{session['id']}", method="DELETE")
 
 
 def _start_kernel(page, timeout=90.0):
@@ -151,13 +177,14 @@ def _lab_context(p, tmp):
 
 def test_m_sweep_in_chromium(jupyterlab):
     sync_api = _playwright()
-    base, token, tmp = jupyterlab
+    base, token, tmp, workspace = jupyterlab
     ARTIFACTS.mkdir(exist_ok=True)
     with sync_api.sync_playwright() as p:
         ctx = _lab_context(p, tmp)
         try:
             page = ctx.new_page()
-            page.goto(f"{base}/lab/tree/{NOTEBOOK}?token={token}", timeout=90_000)
+            page.goto(f"{base}/lab/workspaces/{workspace}/tree/{NOTEBOOK}?token={token}",
+                      timeout=90_000)
             page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
             # wait for the kernel, then Run > Run All Cells (the menu's command)
             page.wait_for_function("() => window.jupyterapp !== undefined", timeout=90_000)
@@ -203,9 +230,10 @@ def test_m_sweep_in_chromium(jupyterlab):
             ctx.close()
 
 
-def _open_and_run_all(sync_api, ctx, base, token, notebook):
+def _open_and_run_all(sync_api, ctx, base, token, notebook, workspace):
     page = ctx.new_page()
-    page.goto(f"{base}/lab/tree/{notebook}?token={token}", timeout=90_000)
+    page.goto(f"{base}/lab/workspaces/{workspace}/tree/{notebook}?token={token}",
+              timeout=90_000)
     page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
     page.wait_for_function("() => window.jupyterapp !== undefined", timeout=90_000)
     _start_kernel(page)
@@ -218,12 +246,12 @@ def test_eigenfunction_explorer_in_jupyterlab(jupyterlab):
     """Lesson 02 in JupyterLab: the eigenfunction explorer (plotly, rendered by the lab
     extension) appears; moving its slider to phi_10 re-renders the 3-D canvas."""
     sync_api = _playwright()
-    base, token, tmp = jupyterlab
+    base, token, tmp, workspace = jupyterlab
     ARTIFACTS.mkdir(exist_ok=True)
     with sync_api.sync_playwright() as p:
         ctx = _lab_context(p, tmp)
         try:
-            page = _open_and_run_all(sync_api, ctx, base, token, EXPLORER_NOTEBOOK)
+            page = _open_and_run_all(sync_api, ctx, base, token, EXPLORER_NOTEBOOK, workspace)
             # the first plotly figure with a slider: the explorer of the real mesh
             plot = page.locator(".js-plotly-plot").filter(
                 has=page.locator(".slider-rail-rect")).first
@@ -411,7 +439,8 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
     from conftest import write_off
 
     from cshape import PAPER, shapes
-    from cshape.batch import DescriptorTable, collection_distances
+    from cshape.batch import DescriptorTable
+    from cshape.batch.table import collection_distances
     from cshape.cli import main
     from cshape.compare import nearest_neighbours
 
@@ -517,11 +546,12 @@ def _framing_views(tmp_path):
     name -> a page of HTML (written into ``tmp_path``) and the viewport widths to try."""
     from conftest import write_off
 
-    from cshape import eigenbasis, heat_kernel, match_points, plots, shapes, wks
+    from cshape import eigenbasis, plots, shapes, wks
     from cshape import signatures as sg
     from cshape.cli import main
     from cshape.data import poses
-    from cshape.plots.explore import figure_html
+    from cshape.plots.overview import figure_html
+    from cshape.signatures import heat_kernel, match_points
 
     rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
     pose = poses.posed_figure("human", 1, voxelsize=0.03, target_vertices=800)

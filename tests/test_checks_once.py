@@ -50,9 +50,9 @@ def test_compact_shape_dna_checks_its_eigenvalues_once(count_checks, sphere, lam
 @pytest.mark.parametrize("call", [
     lambda lam, a: cshape.normalize(lam, a),
     lambda lam, a: cshape.weyl_subtract(lam * a),
-    lambda lam, a: cshape.log_weyl_ratio(lam * a),
-    lambda lam, a: cshape.nonzero_eigenvalues(lam),
-    lambda lam, a: cshape.count_zero_modes(lam),
+    lambda lam, a: cshape.descriptors.log_weyl_ratio(lam * a),
+    lambda lam, a: cshape.descriptors.formulas.nonzero_eigenvalues(lam),
+    lambda lam, a: cshape.descriptors.count_zero_modes(lam),
 ])
 def test_each_formula_checks_once(count_checks, sphere, lam, call):
     call(lam, sphere.area)
@@ -65,9 +65,9 @@ def test_an_eigenbasis_is_checked_when_made_and_not_again(count_checks, sphere):
     count_checks.clear()
     cshape.hks(basis)
     cshape.wks(basis, normalization="area")
-    cshape.si_hks(basis)
-    cshape.heat_kernel(basis, 0.1, [0, 1])
-    cshape.heat_trace(basis, [0.1, 1.0])
+    cshape.signatures.si_hks(basis)
+    cshape.signatures.heat_kernel(basis, 0.1, [0, 1])
+    cshape.signatures.heat_trace(basis, [0.1, 1.0])
     cshape.hks(basis.truncate(8))
     assert count_checks == []
 

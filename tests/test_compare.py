@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cshape import Descriptor, compact_shape_dna, normalize, real_form, shape_dna, shapes
+from cshape import Descriptor, compact_shape_dna, normalize, shape_dna, shapes
 from cshape.compare import (
     difference_matrix,
     distance_matrix,
@@ -17,7 +17,8 @@ from cshape.compare import (
     scale_255,
     scaled_difference,
 )
-from cshape.descriptors import DESCRIPTOR_KINDS
+from cshape.descriptors import real_form
+from cshape.descriptors.recipe import DESCRIPTOR_KINDS
 from cshape.index import DescriptorIndex
 from cshape.plots.collection import plot_distance_matrix, plot_mds
 

@@ -155,28 +155,29 @@ def test_generate_field_is_validated(mutate, match):
          "citation": "c", "generate": {"seed": 0, "members": 1}}
     mutate(e)
     with pytest.raises(ValueError, match=match):
-        data.validate_manifest(copy.deepcopy({"version": 1, "collections": [e]}))
+        data.manifest.validate_manifest(copy.deepcopy({"version": 1, "collections": [e]}))
 
 
 @pytest.mark.slow
 def test_load_creatures_is_cached_and_reproducible(tmp_path):
     kw = {"members": 2, "kinds": ["snake", "teddy"], **FAST}
-    a = data.load_creatures(3, cache_dir=tmp_path / "a", progress=False, **kw)
+    a = data.store.load_creatures(3, cache_dir=tmp_path / "a", progress=False, **kw)
     assert a.names == ["snake-00", "snake-01", "teddy-00", "teddy-01"]
     assert a.labels == ["snake", "snake", "teddy", "teddy"]
     files = sorted((tmp_path / "a").rglob("*.npz"))
     assert len(files) == 4
     mtimes = [f.stat().st_mtime_ns for f in files]
-    again = data.load_creatures(3, cache_dir=tmp_path / "a", progress=False, **kw)
+    again = data.store.load_creatures(3, cache_dir=tmp_path / "a", progress=False, **kw)
     assert [f.stat().st_mtime_ns for f in files] == mtimes  # read, not rebuilt
-    fresh = data.load_creatures(3, cache_dir=tmp_path / "b", progress=False, **kw)
-    other = data.load_creatures(4, cache_dir=tmp_path / "a", progress=False, **kw)
+    fresh = data.store.load_creatures(3, cache_dir=tmp_path / "b", progress=False, **kw)
+    other = data.store.load_creatures(4, cache_dir=tmp_path / "a", progress=False, **kw)
     for x, y, z in zip(again, fresh, other, strict=True):
         np.testing.assert_array_equal(x.mesh.vertices, y.mesh.vertices)  # same seed
         assert x.mesh.n_vertices != z.mesh.n_vertices or not np.allclose(
             x.mesh.vertices, z.mesh.vertices)  # another seed
     assert len(sorted((tmp_path / "a").rglob("*.npz"))) == 8
-    parallel = data.load_creatures(3, cache_dir=tmp_path / "c", progress=False, n_jobs=2, **kw)
+    parallel = data.store.load_creatures(3, cache_dir=tmp_path / "c", progress=False, n_jobs=2,
+                                         **kw)
     assert parallel.names == fresh.names and parallel.labels == fresh.labels
     for x, y in zip(fresh, parallel, strict=True):  # worker processes build the same shapes
         # Usually bit-equal, but not always: isotropic remeshing is chaotic, and a last-bit
@@ -194,7 +195,7 @@ def test_load_creatures_is_cached_and_reproducible(tmp_path):
         np.testing.assert_allclose(y.mesh.vertices.min(0), x.mesh.vertices.min(0), atol=0.1)
         np.testing.assert_allclose(y.mesh.vertices.max(0), x.mesh.vertices.max(0), atol=0.1)
     with pytest.raises(ValueError, match="n_jobs must be an integer >= 1"):
-        data.load_creatures(3, cache_dir=tmp_path / "c", n_jobs=0, **kw)
+        data.store.load_creatures(3, cache_dir=tmp_path / "c", n_jobs=0, **kw)
 
 
 # ---------------------------------------------------------------------- the point of it
@@ -210,7 +211,7 @@ def test_small_instance_sizes(small):
 
 @pytest.mark.slow
 def test_shape_dna_retrieval_does_not_saturate(small):
-    from cshape.reproduce import FAMILIES, experiment_sizes
+    from cshape.reproduce.experiments import FAMILIES, experiment_sizes
 
     _, _, table = small
     s = retrieval_scores(table.distance_matrix(cshape.Descriptor("shape-dna", N=100)), table.labels)

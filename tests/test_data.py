@@ -94,8 +94,8 @@ def _write_ply(path, mesh):
 
 # ====================================================================== manifest
 def test_shipped_manifest_validates(shipped):
-    entries = data.validate_manifest(copy.deepcopy(shipped))
-    assert set(e["kind"] for e in entries.values()) == set(data.KINDS)
+    entries = data.manifest.validate_manifest(copy.deepcopy(shipped))
+    assert set(e["kind"] for e in entries.values()) == set(data.manifest.KINDS)
     names = data.list_collections()
     for name in ["paper-models", "articulated", "noisy", "pymeshlab-samples",
                  "odedstein-meshes", "shared-meshes", "mcgill-3dsb", "tosca",
@@ -160,16 +160,16 @@ def _bad(shipped, mutate):
 )
 def test_bad_manifest_errors(shipped, mutate, match):
     with pytest.raises(ValueError, match=match):
-        data.validate_manifest(_bad(shipped, mutate))
+        data.manifest.validate_manifest(_bad(shipped, mutate))
 
 
 def test_bad_manifest_file_errors(tmp_path):
     p = tmp_path / "bad.yaml"
     p.write_text("collections: [unclosed\n")
     with pytest.raises(ValueError, match="not valid YAML"):
-        data.load_manifest(p)
+        data.manifest.load_manifest(p)
     with pytest.raises(FileNotFoundError, match="no data manifest"):
-        data.load_manifest(tmp_path / "missing.yaml")
+        data.manifest.load_manifest(tmp_path / "missing.yaml")
 
 
 def test_unknown_collection_and_item():
@@ -301,8 +301,8 @@ def test_processes_asking_for_one_missing_item_build_it_once(tmp_path):
 def test_cache_key_follows_parameters_and_seed(tmp_path):
     t2 = copy.deepcopy(TINY)
     t2["items"][1]["seed"] = 4
-    m1 = data.load_manifest(_write_manifest(tmp_path, [TINY], "a.yaml"))
-    m2 = data.load_manifest(_write_manifest(tmp_path, [t2], "b.yaml"))
+    m1 = data.manifest.load_manifest(_write_manifest(tmp_path, [TINY], "a.yaml"))
+    m2 = data.manifest.load_manifest(_write_manifest(tmp_path, [t2], "b.yaml"))
     root = tmp_path / "cache"
     f1 = data.store._cache_file(m1, "tiny", m1["tiny"]["items"][1], root)
     f2 = data.store._cache_file(m2, "tiny", m2["tiny"]["items"][1], root)
@@ -332,7 +332,7 @@ def test_atomic_write_leaves_no_partial_file(tmp_path, monkeypatch):
 
 
 def test_unreadable_cache_file_is_rebuilt(tmp_path):
-    man = data.load_manifest(_write_manifest(tmp_path, [TINY]))
+    man = data.manifest.load_manifest(_write_manifest(tmp_path, [TINY]))
     path = data.store._cache_file(man, "tiny", man["tiny"]["items"][0], tmp_path / "cache")
     path.parent.mkdir(parents=True)
     path.write_bytes(b"garbage")
@@ -410,7 +410,7 @@ def test_local_collection_from_manifest(mesh_folder, tmp_path, monkeypatch):
     _write_obj(other / "cubes" / "k.obj", shapes.cube(2))
     monkeypatch.setenv("MY_MESHES", str(other))
     assert data.load_collection("mine", manifest=man).labels == ["cubes"]
-    assert data.collection_path("mine", manifest=man) == other
+    assert data.paths.collection_path("mine", manifest=man) == other
 
 
 @pytest.mark.realdata
@@ -437,7 +437,7 @@ def test_package_collection_reads_pymeshlab_samples():
     assert coll["cube"].mesh.n_vertices == 8
     with pytest.warns(CShapeWarning, match="bone.ply: repaired mesh"):
         assert coll["bone"].mesh.is_closed
-    assert data.collection_path("pymeshlab-samples").is_dir()
+    assert data.paths.collection_path("pymeshlab-samples").is_dir()
 
 
 def test_download_collection_never_downloads_unasked(monkeypatch):
@@ -487,7 +487,7 @@ def test_read_mcgill_layout(tmp_path):
     _write_off(root / "articulated" / "crabs" / "Ply" / "c2.off", shapes.icosphere(1))
     _write_off(root / "nonarticulated" / "cups" / "3.off", shapes.icosphere(1))
     (root / "articulated" / "ants" / "Ply" / "b1.im").write_text("medial surface")
-    coll = data.read_mcgill(root)
+    coll = data.folders.read_mcgill(root)
     assert coll.labels == ["ants", "crabs", "cups"]
     assert coll.names == ["ants/b1", "crabs/c2", "cups/3"]
     assert coll[0].mesh.n_vertices == 42 and coll[1].mesh.is_closed
@@ -501,14 +501,14 @@ def test_read_tosca_layout(tmp_path):
         np.savetxt(root / f"{name}.vert", m.vertices)
         np.savetxt(root / f"{name}.tri", m.faces + 1, fmt="%d")
     _write_off(root / "david0.off", shapes.icosphere(1))
-    coll = data.read_tosca(root)
+    coll = data.folders.read_tosca(root)
     assert coll.names == ["cat0", "cat10", "centaur2", "david0"]
     assert coll.labels == ["cat", "cat", "centaur", "david"]
     assert coll["centaur2"].mesh.genus == 1
     np.savetxt(root / "bad0.vert", np.zeros((3, 3)))
     np.savetxt(root / "bad0.tri", [[0, 1, 2]], fmt="%d")
     with pytest.raises(ValueError, match="1-based"):
-        data.read_vert_tri(root / "bad0.vert")
+        data.files.read_vert_tri(root / "bad0.vert")
 
 
 def test_read_shrec07_layout(tmp_path, monkeypatch):
@@ -516,13 +516,13 @@ def test_read_shrec07_layout(tmp_path, monkeypatch):
     for n in (1, 20, 21, 400):
         _write_off(root / "off" / f"{n}.off", shapes.icosphere(1))
     _write_off(root / "off" / "401.off", shapes.icosphere(1))
-    coll = data.read_shrec07(root)
+    coll = data.folders.read_shrec07(root)
     assert coll.names == ["1", "20", "21", "400"]
     assert coll.labels == ["human", "human", "cup", "fourleg"]
     monkeypatch.setenv("CSHAPE_SHREC07", str(root))
     assert data.load_collection("shrec07-watertight").labels == coll.labels
     with pytest.raises(ValueError, match="no SHREC'07 meshes"):
-        data.read_shrec07(tmp_path / "nothing-here")
+        data.folders.read_shrec07(tmp_path / "nothing-here")
 
 
 # ====================================================================== archives
@@ -531,14 +531,14 @@ def test_extract_archive_zip_and_tar(tmp_path):
     with zipfile.ZipFile(z, "w") as zf:
         zf.writestr("cat0.vert", "0 0 0\n")
         zf.writestr("sub/x.txt", "hi")
-    out = data.extract_archive(z, tmp_path / "out")
+    out = data.download.extract_archive(z, tmp_path / "out")
     assert (out / "cat0.vert").is_file() and (out / "sub" / "x.txt").read_text() == "hi"
     t = tmp_path / "b.tar.gz"
     with tarfile.open(t, "w:gz") as tf:
         info = tarfile.TarInfo("y.txt")
         info.size = 2
         tf.addfile(info, io.BytesIO(b"yo"))
-    data.extract_archive(t, tmp_path / "out")
+    data.download.extract_archive(t, tmp_path / "out")
     assert (tmp_path / "out" / "y.txt").read_text() == "yo"
 
 
@@ -549,7 +549,7 @@ def test_extract_archive_refuses_escaping_zip(tmp_path, member):
         zf.writestr("ok.txt", "fine")
         zf.writestr(member, "bad")
     with pytest.raises(ValueError, match="outside the target folder"):
-        data.extract_archive(z, tmp_path / "target" / "inner")
+        data.download.extract_archive(z, tmp_path / "target" / "inner")
     assert not (tmp_path / "evil.txt").exists()
     assert not (tmp_path / "target" / "evil.txt").exists()
     assert not (tmp_path / "target" / "inner").exists()  # nothing written
@@ -563,7 +563,7 @@ def test_extract_archive_refuses_tar_links(tmp_path):
         info.linkname = "/etc/passwd"
         tf.addfile(info)
     with pytest.raises(ValueError, match="link or special file"):
-        data.extract_archive(t, tmp_path / "target")
+        data.download.extract_archive(t, tmp_path / "target")
     assert not (tmp_path / "target").exists()
 
 

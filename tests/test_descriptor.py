@@ -13,6 +13,8 @@ import pytest
 import cshape
 from cshape import DEFAULT, PAPER, Descriptor, shapes
 from cshape.batch import DescriptorTable
+from cshape.descriptors import log_weyl_ratio, real_form
+from cshape.descriptors.formulas import f1_feature
 
 N = 30
 #: The truncated log spectrum (the default before the two-scale log spectrum).
@@ -134,7 +136,7 @@ def test_paper_row_is_compact_shape_dna_bit_for_bit(spectra):
     d = PAPER.replace(M=6, N=N)
     for lam, area in zip(lams, areas, strict=True):
         np.testing.assert_array_equal(
-            d.row(lam, area), cshape.real_form(cshape.compact_shape_dna(lam, M=6, N=N,
+            d.row(lam, area), real_form(cshape.compact_shape_dna(lam, M=6, N=N,
                                                                         area=area)))
         np.testing.assert_array_equal(
             d.replace(kind="cshape-complex").row(lam, area),
@@ -148,7 +150,7 @@ def test_log_weyl_rows_are_compact_shape_dna(spectra, transform):
     for lam, area in zip(lams, areas, strict=True):
         np.testing.assert_array_equal(
             d.row(lam, area),
-            cshape.real_form(cshape.compact_shape_dna(lam, M=5, N=N, area=area,
+            real_form(cshape.compact_shape_dna(lam, M=5, N=N, area=area,
                                                       transform=transform)))
 
 
@@ -159,10 +161,10 @@ def test_other_rows_are_the_stage_functions(spectra):
                                   cshape.normalize(lam, area))
     np.testing.assert_array_equal(Descriptor("truncated", M=4, N=N).row(lam, area),
                                   cshape.normalize(lam[:9], area))
-    np.testing.assert_array_equal(Descriptor("f1", N=N).row(lam), cshape.f1_feature(lam))
+    np.testing.assert_array_equal(Descriptor("f1", N=N).row(lam), f1_feature(lam))
     np.testing.assert_array_equal(
         TL.for_N(N).row(lam, area),
-        cshape.log_weyl_ratio(cshape.normalize(lam[:18], area)))
+        log_weyl_ratio(cshape.normalize(lam[:18], area)))
 
 
 def test_matrix_stacks_the_rows_and_names_what_it_cannot_describe(spectra):
@@ -300,7 +302,7 @@ def test_surfaces_take_a_descriptor(table, spectra):
     assert cshape.DescriptorIndex.from_table(table).descriptor_ == DEFAULT.for_N(N)
     dist, ind = index.query_spectra(table.lam[1], table.areas[1], k=1)
     assert ind[0, 0] == 1 and dist[0, 0] == 0.0
-    c = cshape.batch.collection_distances(table, d)
+    c = cshape.batch.table.collection_distances(table, d)
     np.testing.assert_array_equal(c.D, table.distance_matrix(d))
     assert c.descriptor == d and c.left_out == [] and c.rows.tolist() == [0, 1, 2]
 
@@ -310,7 +312,7 @@ def test_surfaces_take_a_descriptor(table, spectra):
     lambda t: t.distance_matrix("shape-dna"),
     lambda t: t.usable("f1"),
     lambda t: cshape.DescriptorIndex.from_table(t, "cshape"),
-    lambda t: cshape.batch.collection_distances(t, "cshape"),
+    lambda t: cshape.batch.table.collection_distances(t, "cshape"),
 ])
 def test_a_kind_by_name_is_refused_with_the_fix(table, call):
     with pytest.raises(TypeError, match=r"^descriptor must be a cshape.Descriptor \(e.g. "
@@ -406,7 +408,7 @@ def test_two_scale_row_is_first_ratios_beside_detrended_ratios(spectra):
     lams, areas = spectra
     d = Descriptor("two-scale", N=N, M=4)
     for lam, area in zip(lams, areas, strict=True):
-        r = cshape.log_weyl_ratio(cshape.normalize(lam, area))  # r_1 .. r_29
+        r = log_weyl_ratio(cshape.normalize(lam, area))  # r_1 .. r_29
         row = d.row(lam, area)
         assert row.shape == (d.size,) == (9 + 29,)
         np.testing.assert_array_equal(row[:9],

@@ -7,6 +7,8 @@ import pytest
 
 import cshape
 from cshape import shapes
+from cshape.descriptors import inverse_compact_shape_dna, log_weyl_ratio, real_form
+from cshape.descriptors.formulas import f1_feature
 
 FOUR_PI = 4 * np.pi
 # lam' of a hand-checkable case (N = 8): lam_norm = lam' + 4 pi i
@@ -48,7 +50,7 @@ def test_real_form_preserves_distances():
     rng = np.random.default_rng(0)
     lams = np.sort(rng.uniform(0, 1000, (5, 40)), axis=1)
     S = np.array([cshape.compact_shape_dna(x, M=6, N=40, normalization="none") for x in lams])
-    R = cshape.real_form(S)
+    R = real_form(S)
     assert R.shape == (5, 13) and R.dtype == np.float64
     for i in range(5):
         for j in range(5):
@@ -56,18 +58,18 @@ def test_real_form_preserves_distances():
                 np.linalg.norm(S[i] - S[j]), rel=1e-12, abs=1e-9
             )
     np.testing.assert_allclose(
-        cshape.real_form(cshape.compact_shape_dna(lams[0], M=6, N=40, normalization="none")), R[0])
+        real_form(cshape.compact_shape_dna(lams[0], M=6, N=40, normalization="none")), R[0])
     with pytest.raises(ValueError, match="odd last dimension"):
-        cshape.real_form(np.zeros(4, complex))
+        real_form(np.zeros(4, complex))
 
 
 def test_inverse_reproduces_input_when_all_frequencies_kept():
     rng = np.random.default_rng(2)
     lam = np.sort(rng.uniform(0, 500, 41))
     S = cshape.compact_shape_dna(lam, M=20, N=41, normalization="none")  # 2M+1 = N
-    np.testing.assert_allclose(cshape.inverse_compact_shape_dna(S, 41), lam, atol=1e-9)
+    np.testing.assert_allclose(inverse_compact_shape_dna(S, 41), lam, atol=1e-9)
     np.testing.assert_allclose(
-        cshape.inverse_compact_shape_dna(S, 41, add_weyl=False), cshape.weyl_subtract(lam),
+        inverse_compact_shape_dna(S, 41, add_weyl=False), cshape.weyl_subtract(lam),
         atol=1e-9,
     )
 
@@ -80,7 +82,7 @@ def test_inverse_error_is_the_dropped_energy_and_shrinks_with_M():
     errs = []
     for M in range(0, 30):
         S = cshape.compact_shape_dna(lam, M=M, N=60, area=area)
-        rec = cshape.inverse_compact_shape_dna(S, 60)
+        rec = inverse_compact_shape_dna(S, 60)
         err2 = np.sum((rec - lam_norm) ** 2)
         keep = np.zeros(60, bool)
         keep[30 - M : 30 + M + 1] = True
@@ -137,7 +139,7 @@ def test_normalisations():
         (lambda: cshape.compact_shape_dna([0.0, 20.0, -3.0, 40.0], M=1, N=4, normalization="none",
                                           transform="log-weyl-dct"), ValueError,
          r"needs lam_i > 0 after the 1 zero mode, but lam_2 = -3.*ascending"),
-        (lambda: cshape.log_weyl_ratio([0.0]), ValueError, "at least 2 eigenvalues"),
+        (lambda: log_weyl_ratio([0.0]), ValueError, "at least 2 eigenvalues"),
         (lambda: cshape.compact_shape_dna([0.0], M=0, N=1, normalization="none",
                                           transform="log-weyl"),
          ValueError, r"the log-Weyl ratios need N >= 2 \(the log-Weyl ratio starts at lam_1"),
@@ -147,16 +149,16 @@ def test_normalisations():
          r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}, got bool True"),
         (lambda: cshape.compact_shape_dna(shapes.icosphere(1), M=1, N=8, normalization="none"),
          ValueError, "a mesh is normalised by its own area"),
-        (lambda: cshape.inverse_compact_shape_dna(np.ones(3, complex), 8,
+        (lambda: inverse_compact_shape_dna(np.ones(3, complex), 8,
                                                   transform="log-weyl-dct"),
          ValueError, "descriptors are real"),
-        (lambda: cshape.inverse_compact_shape_dna(np.ones(9), 9, transform="log-weyl"),
+        (lambda: inverse_compact_shape_dna(np.ones(9), 9, transform="log-weyl"),
          ValueError, r"N-1 = 8 log-Weyl ratios"),
-        (lambda: cshape.inverse_compact_shape_dna(np.ones(3), 8, transform="dct"),
+        (lambda: inverse_compact_shape_dna(np.ones(3), 8, transform="dct"),
          ValueError, "transform must be one of"),
-        (lambda: cshape.inverse_compact_shape_dna(np.ones(4), 8), ValueError, "odd length"),
-        (lambda: cshape.inverse_compact_shape_dna(np.ones(9), 8), ValueError, "2M\\+1 = 9"),
-        (lambda: cshape.f1_feature([0, 1]), ValueError, "at least one eigenvalue after"),
+        (lambda: inverse_compact_shape_dna(np.ones(4), 8), ValueError, "odd length"),
+        (lambda: inverse_compact_shape_dna(np.ones(9), 8), ValueError, "2M\\+1 = 9"),
+        (lambda: f1_feature([0, 1]), ValueError, "at least one eigenvalue after"),
     ],
 )
 def test_descriptor_errors(call, exc, match):
@@ -165,11 +167,11 @@ def test_descriptor_errors(call, exc, match):
 
 
 def test_f1_feature():
-    np.testing.assert_allclose(cshape.f1_feature([0.0, 2.0, 4.0, 8.0]), [0.5, 0.25])
+    np.testing.assert_allclose(f1_feature([0.0, 2.0, 4.0, 8.0]), [0.5, 0.25])
     # Dirichlet spectra have no zero eigenvalue: the first one is the reference
-    np.testing.assert_allclose(cshape.f1_feature([2.0, 4.0, 8.0]), [0.5, 0.25])
+    np.testing.assert_allclose(f1_feature([2.0, 4.0, 8.0]), [0.5, 0.25])
     lam = cshape.shape_dna(shapes.torus(24, 12), N=20)
-    f = cshape.f1_feature(lam)
+    f = f1_feature(lam)
     assert f.shape == (18,) and np.all((f > 0) & (f <= 1 + 1e-12))
 
 
@@ -224,9 +226,9 @@ R_HAND = [0.2, 0.0, -0.1, 0.1]
 def test_log_weyl_ratio_by_hand():
     lam = [0.0, FOUR_PI * np.exp(0.2), 2 * FOUR_PI, 3 * FOUR_PI * np.exp(-0.1),
            4 * FOUR_PI * np.exp(0.1)]
-    np.testing.assert_allclose(cshape.log_weyl_ratio(lam), R_HAND, atol=1e-15)
+    np.testing.assert_allclose(log_weyl_ratio(lam), R_HAND, atol=1e-15)
     # a Dirichlet spectrum (lam_0 > 0): lam_0 is dropped, the rest is unchanged
-    np.testing.assert_allclose(cshape.log_weyl_ratio([3.0] + lam[1:]), R_HAND, atol=1e-15)
+    np.testing.assert_allclose(log_weyl_ratio([3.0] + lam[1:]), R_HAND, atol=1e-15)
 
 
 def test_log_weyl_dft_crop_by_hand_N5_M1():
@@ -251,7 +253,7 @@ def test_log_weyl_dct_by_hand_N5_M1():
                                  transform="log-weyl-dct")
     assert S.dtype == np.float64 and S.shape == (3,)
     np.testing.assert_allclose(S, [0.1, np.sqrt(0.5) * 0.1 * (c1 + c3), 0.2], atol=1e-14)
-    np.testing.assert_array_equal(cshape.real_form(S), S)  # already real
+    np.testing.assert_array_equal(real_form(S), S)  # already real
 
 
 def test_paper_dft_crop_by_hand_N5_M1():
@@ -287,14 +289,14 @@ def test_real_form_distance_identity_for_every_transform(transform):
     lams[:, 0] = 0.0
     S = np.array([cshape.compact_shape_dna(x, M=6, N=40, normalization="none", transform=transform)
                   for x in lams])
-    R = cshape.real_form(S)
+    R = real_form(S)
     assert R.shape == (6, 13) and R.dtype == np.float64
     for i in range(6):
         for j in range(6):
             assert np.linalg.norm(R[i] - R[j]) == pytest.approx(
                 np.linalg.norm(S[i] - S[j]), rel=1e-12, abs=1e-12)
     np.testing.assert_array_equal(
-        cshape.real_form(cshape.compact_shape_dna(lams[0], M=6, N=40, normalization="none",
+        real_form(cshape.compact_shape_dna(lams[0], M=6, N=40, normalization="none",
                                       transform=transform)),
         R[0])
 
@@ -304,18 +306,18 @@ def test_log_weyl_inverse_is_exact_when_nothing_is_cropped(transform):
     rng = np.random.default_rng(4)
     lam = np.concatenate([[0.0], np.sort(rng.uniform(10, 500, 41))])  # N = 42, L = 41
     S = cshape.compact_shape_dna(lam, M=20, N=42, normalization="none", transform=transform)
-    rec = cshape.inverse_compact_shape_dna(S, 42, transform=transform)
+    rec = inverse_compact_shape_dna(S, 42, transform=transform)
     assert rec.shape == (42,) and rec[0] == 0.0
     np.testing.assert_allclose(rec, lam, rtol=1e-12)
-    r = cshape.inverse_compact_shape_dna(S, 42, add_weyl=False, transform=transform)
-    np.testing.assert_allclose(r, cshape.log_weyl_ratio(lam), atol=1e-12)
+    r = inverse_compact_shape_dna(S, 42, add_weyl=False, transform=transform)
+    np.testing.assert_allclose(r, log_weyl_ratio(lam), atol=1e-12)
 
 
 @pytest.mark.parametrize("transform", ["log-weyl", "log-weyl-dct"])
 def test_log_weyl_inverse_error_is_the_dropped_energy(transform):
     mesh = shapes.torus(24, 12)
     lam = cshape.normalize(cshape.shape_dna(mesh, N=40), mesh.area)
-    r = cshape.log_weyl_ratio(lam)  # L = 39
+    r = log_weyl_ratio(lam)  # L = 39
     if transform == "log-weyl":
         full, c = np.fft.fftshift(np.fft.fft(r)), 39 // 2
     else:
@@ -325,7 +327,7 @@ def test_log_weyl_inverse_error_is_the_dropped_energy(transform):
     errs = []
     for M in range(0, 19):
         S = cshape.compact_shape_dna(lam, M=M, N=40, normalization="none", transform=transform)
-        rec = cshape.inverse_compact_shape_dna(S, 40, add_weyl=False, transform=transform)
+        rec = inverse_compact_shape_dna(S, 40, add_weyl=False, transform=transform)
         keep = np.zeros(39, bool)
         if transform == "log-weyl":
             keep[c - M : c + M + 1] = True
@@ -339,8 +341,8 @@ def test_log_weyl_inverse_error_is_the_dropped_energy(transform):
     assert np.all(np.diff(errs) <= 1e-15)
     # with add_weyl the result is 4 pi i exp(r_smooth), lam_0 = 0
     S = cshape.compact_shape_dna(lam, M=5, N=40, normalization="none", transform=transform)
-    rs = cshape.inverse_compact_shape_dna(S, 40, add_weyl=False, transform=transform)
-    np.testing.assert_allclose(cshape.inverse_compact_shape_dna(S, 40, transform=transform),
+    rs = inverse_compact_shape_dna(S, 40, add_weyl=False, transform=transform)
+    np.testing.assert_allclose(inverse_compact_shape_dna(S, 40, transform=transform),
                                np.concatenate([[0], FOUR_PI * np.arange(1, 40) * np.exp(rs)]))
 
 

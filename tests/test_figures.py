@@ -19,8 +19,7 @@ from cshape.plots.collection import (
     short_label,
     short_labels,
 )
-from cshape.reproduce import fig1_selection
-from cshape.reproduce.figures import _mds_figure
+from cshape.reproduce.figures import _mds_figure, fig1_selection
 
 
 def synthetic_table(p, n_classes, N=30, seed=0):

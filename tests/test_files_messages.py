@@ -200,7 +200,7 @@ def test_license_file_and_pyproject():
 
 # ------------------------------------------------------------------ long runs
 def test_estimate_of_the_eigensolve_time():
-    est = cshape.estimate_seconds
+    est = cshape.spectrum.estimate_seconds
     # the run: N = 2000 on 11.5K vertices took 396 s
     assert 200 < est(11520, 2000) < 800
     assert est(11520, 100) < 5  # the default N: seconds

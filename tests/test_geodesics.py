@@ -52,7 +52,7 @@ def test_geodesic_distance_on_a_plane_is_the_euclidean_distance():
 
 
 def test_heat_geodesics_distances_are_symmetric_and_the_set_distance_is_their_minimum(ellipsoid):
-    geo = cshape.HeatGeodesics(ellipsoid)
+    geo = cshape.geodesics.HeatGeodesics(ellipsoid)
     src = np.array([0, 100, 400])
     D = geo.distances(src)
     assert D.shape == (ellipsoid.n_vertices, 3)
@@ -68,10 +68,10 @@ def test_heat_geodesics_distances_are_symmetric_and_the_set_distance_is_their_mi
 def test_geodesic_errors_are_zero_for_the_truth_and_the_distance_otherwise(ellipsoid):
     n = ellipsoid.n_vertices
     v = np.arange(0, n, 50)
-    assert np.all(cshape.geodesic_errors(ellipsoid, np.arange(n), vertices=v) == 0)
+    assert np.all(cshape.geodesics.geodesic_errors(ellipsoid, np.arange(n), vertices=v) == 0)
     wrong = np.full(n, 7)
-    geo = cshape.HeatGeodesics(ellipsoid)
-    err = cshape.geodesic_errors(ellipsoid, wrong, vertices=v, geodesics=geo)
+    geo = cshape.geodesics.HeatGeodesics(ellipsoid)
+    err = cshape.geodesics.geodesic_errors(ellipsoid, wrong, vertices=v, geodesics=geo)
     np.testing.assert_allclose(err, geo.distances(v)[7, :], rtol=1e-12)
 
 
@@ -83,7 +83,7 @@ def test_geodesics_reject_bad_sources(ellipsoid):
     with pytest.raises(ValueError, match="sources is empty"):
         cshape.geodesic_distance(ellipsoid, np.array([], dtype=int))
     with pytest.raises(ValueError, match="m must be"):
-        cshape.HeatGeodesics(ellipsoid, m=0.0)
+        cshape.geodesics.HeatGeodesics(ellipsoid, m=0.0)
 
 
 def test_vertices_that_no_path_reaches_are_at_infinite_distance(two_spheres):
@@ -106,7 +106,7 @@ def test_vertices_that_no_path_reaches_are_at_infinite_distance(two_spheres):
 def test_heat_geodesics_gives_each_source_its_own_piece(two_spheres):
     both, one = two_spheres
     n = one.n_vertices
-    D = cshape.HeatGeodesics(both).distances([3, n + 3])
+    D = cshape.geodesics.HeatGeodesics(both).distances([3, n + 3])
     assert np.isinf(D[n:, 0]).all() and np.isinf(D[:n, 1]).all()
     assert np.isfinite(D[:n, 0]).all() and np.isfinite(D[n:, 1]).all()
     np.testing.assert_allclose(D[:n, 0], D[n:, 1], atol=1e-8)
@@ -117,20 +117,20 @@ def test_geodesic_errors_are_infinite_for_an_image_on_another_piece(two_spheres)
     n = one.n_vertices
     swap = np.concatenate([np.arange(n, 2 * n), np.arange(n)])  # each piece onto the other
     v = np.array([0, 1, n, n + 1])
-    err = cshape.geodesic_errors(both, swap, vertices=v)
+    err = cshape.geodesics.geodesic_errors(both, swap, vertices=v)
     assert np.isinf(err).all()
-    assert np.all(cshape.geodesic_errors(both, np.arange(2 * n), vertices=v) == 0)
+    assert np.all(cshape.geodesics.geodesic_errors(both, np.arange(2 * n), vertices=v) == 0)
     one_off = np.arange(2 * n)
     one_off[0] = 7  # on the same piece: a finite error
-    assert np.isfinite(cshape.geodesic_errors(both, one_off, vertices=v)).all()
+    assert np.isfinite(cshape.geodesics.geodesic_errors(both, one_off, vertices=v)).all()
 
 
 def test_geodesic_errors_reject_geodesics_of_another_mesh(ellipsoid):
-    geo = cshape.HeatGeodesics(shapes.icosphere(2))
+    geo = cshape.geodesics.HeatGeodesics(shapes.icosphere(2))
     n = ellipsoid.n_vertices
     with pytest.raises(ValueError, match=r"geodesics is of a mesh of 162 vertices but mesh has"):
-        cshape.geodesic_errors(ellipsoid, np.arange(n), geodesics=geo)
-    with pytest.raises(TypeError, match="geodesics must be a cshape.HeatGeodesics"):
-        cshape.geodesic_errors(ellipsoid, np.arange(n), geodesics="heat")
+        cshape.geodesics.geodesic_errors(ellipsoid, np.arange(n), geodesics=geo)
+    with pytest.raises(TypeError, match="geodesics must be a cshape.geodesics.HeatGeodesics"):
+        cshape.geodesics.geodesic_errors(ellipsoid, np.arange(n), geodesics="heat")
     with pytest.raises(ValueError, match="truth has 3 entries and p2p"):
-        cshape.geodesic_errors(ellipsoid, np.arange(n), [0, 1, 2])
+        cshape.geodesics.geodesic_errors(ellipsoid, np.arange(n), [0, 1, 2])

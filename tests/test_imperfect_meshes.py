@@ -137,7 +137,7 @@ def test_unreferenced_vertices_are_dropped(sphere, sphere_lam):
     V = np.vstack([[[9.0, 9.0, 9.0]], sphere.vertices, [[7.0, 7.0, 7.0]]])
     F = sphere.faces + 1
     with pytest.warns(CShapeWarning, match="removed 2 unreferenced vertices"):
-        lam, phi = cshape.eigenpairs((V, F), N=12)
+        lam, phi = cshape.spectrum.eigenpairs((V, F), N=12)
     np.testing.assert_allclose(lam, sphere_lam, rtol=1e-10, atol=1e-12)
     assert phi.shape == (sphere.n_vertices, 12)  # documented: rows of the repaired mesh
 

@@ -99,9 +99,9 @@ def _compare():
 
 
 def _explore():
-    from cshape.plots import explore
+    from cshape.plots import overview
 
-    return explore
+    return overview
 
 
 PLOTS = [

@@ -65,14 +65,14 @@ def test_functional_map_of_identical_bases_is_the_identity(blob, basis):
     wks = cshape.wks(basis, n_energies=100, normalization="area")[:, ::5]
     b0 = basis.truncate(N0)
     for kw in ({"orientation_weight": 0.0}, {}):
-        C = cshape.functional_map(b0, b0, wks, wks, **kw)
+        C = cshape.maps.functional_map(b0, b0, wks, wks, **kw)
         assert C.shape == (N0, N0)
         np.testing.assert_allclose(np.abs(np.diag(C)), 1.0, atol=1e-3)
         assert np.abs(C - np.diag(np.diag(C))).max() < 1e-3
-        p = cshape.map_to_pointwise(C, b0, b0)
+        p = cshape.maps.map_to_pointwise(C, b0, b0)
         assert (p == np.arange(blob.n_vertices)).mean() > 0.99
         v = np.arange(0, blob.n_vertices, 7)
-        np.testing.assert_array_equal(cshape.map_to_pointwise(C, b0, b0, vertices=v), p[v])
+        np.testing.assert_array_equal(cshape.maps.map_to_pointwise(C, b0, b0, vertices=v), p[v])
 
 
 def test_point_map_of_a_mesh_to_itself_is_the_identity(blob):
@@ -93,19 +93,19 @@ def test_point_map_recovers_a_permutation_and_a_rigid_motion(blob, shuffled, opt
 
 def test_pointwise_to_map_and_back(blob, shuffled, basis, target_basis):
     target, perm = shuffled
-    C = cshape.pointwise_to_map(perm, basis, target_basis)
+    C = cshape.maps.pointwise_to_map(perm, basis, target_basis)
     # the exact map is an isometry: C is orthogonal (up to the truncation), |C_ii| ~ 1
     assert np.abs(C[:N0, :N0].T @ C[:N0, :N0] - np.eye(N0)).max() < 0.05
-    p = cshape.map_to_pointwise(C, basis, target_basis)
+    p = cshape.maps.map_to_pointwise(C, basis, target_basis)
     assert (p == perm).mean() > 0.95
     # of truncated bases: the leading block
     np.testing.assert_allclose(
-        cshape.pointwise_to_map(perm, basis.truncate(N0), target_basis.truncate(10)),
+        cshape.maps.pointwise_to_map(perm, basis.truncate(N0), target_basis.truncate(10)),
         C[:10, :N0], rtol=1e-12, atol=1e-14)
 
 
 def test_zoomout_keeps_a_good_map_and_grows_it(blob, basis):
-    C = cshape.zoomout(np.eye(N0), basis, basis, N)
+    C = cshape.maps.zoomout(np.eye(N0), basis, basis, N)
     assert C.shape == (N, N)
     np.testing.assert_allclose(C, np.eye(N), atol=1e-8)
 
@@ -114,18 +114,18 @@ def test_transfer_function_carries_smooth_functions(blob, shuffled, basis, targe
     target, perm = shuffled
     bS, bT = basis, target_basis
     f = blob.vertices[:, 0] + 0.5 * blob.vertices[:, 1] ** 2  # smooth on the source
-    C = cshape.pointwise_to_map(perm, bS, bT)
-    g = cshape.transfer_function(f, C, bS, bT)
+    C = cshape.maps.pointwise_to_map(perm, bS, bT)
+    g = cshape.maps.transfer_function(f, C, bS, bT)
     assert g.shape == (target.n_vertices,)
     rel = np.linalg.norm(g - f[perm]) / np.linalg.norm(f)
     assert rel < 0.05
     # and back: the inverse map's C carries g to f
-    Cinv = cshape.pointwise_to_map(np.argsort(perm), bT, bS)
-    back = cshape.transfer_function(g, Cinv, bT, bS)
+    Cinv = cshape.maps.pointwise_to_map(np.argsort(perm), bT, bS)
+    back = cshape.maps.transfer_function(g, Cinv, bT, bS)
     assert np.linalg.norm(back - f) / np.linalg.norm(f) < 0.05
     # several functions at once
     F = np.column_stack([f, 2 * f])
-    np.testing.assert_allclose(cshape.transfer_function(F, C, bS, bT)[:, 1], 2 * g)
+    np.testing.assert_allclose(cshape.maps.transfer_function(F, C, bS, bT)[:, 1], 2 * g)
 
 
 # ---------------------------------------------------------------------- checks
@@ -164,19 +164,19 @@ def test_point_map_rejects_bad_landmarks(blob):
 
 def test_maps_reject_a_C_larger_than_the_bases(basis):
     with pytest.raises(ValueError, match=r"C has shape \(70, 70\), larger than the bases"):
-        cshape.map_to_pointwise(np.eye(70), basis, basis)
+        cshape.maps.map_to_pointwise(np.eye(70), basis, basis)
     with pytest.raises(ValueError, match="C must be a 2-D array"):
-        cshape.transfer_function(basis.phi[:, 0], np.ones(5), basis, basis)
+        cshape.maps.transfer_function(basis.phi[:, 0], np.ones(5), basis, basis)
     with pytest.raises(ValueError, match=r"N must be an integer in \[20, 60\], got 10"):
-        cshape.zoomout(np.eye(N0), basis, basis, 10)
+        cshape.maps.zoomout(np.eye(N0), basis, basis, 10)
 
 
 @pytest.mark.parametrize("call", [
-    lambda b: cshape.map_to_pointwise(np.eye(3), b.phi, b),
-    lambda b: cshape.pointwise_to_map(np.arange(b.n_vertices), b, (b.lam, b.phi)),
-    lambda b: cshape.zoomout(np.eye(3), b.phi, b),
-    lambda b: cshape.transfer_function(b.phi[:, 0], np.eye(3), b, b.phi),
-    lambda b: cshape.functional_map(b.phi, b, b.phi, b.phi),
+    lambda b: cshape.maps.map_to_pointwise(np.eye(3), b.phi, b),
+    lambda b: cshape.maps.pointwise_to_map(np.arange(b.n_vertices), b, (b.lam, b.phi)),
+    lambda b: cshape.maps.zoomout(np.eye(3), b.phi, b),
+    lambda b: cshape.maps.transfer_function(b.phi[:, 0], np.eye(3), b, b.phi),
+    lambda b: cshape.maps.functional_map(b.phi, b, b.phi, b.phi),
 ])
 def test_maps_take_eigenbases(basis, call):
     with pytest.raises(TypeError, match=r"(source|target) must be a cshape.Eigenbasis, got"):
@@ -188,20 +188,20 @@ def test_the_orientation_term_needs_the_meshes(basis):
     d = basis.phi[:, :5]
     with pytest.raises(ValueError, match=r"source has no mesh, and the orientation term "
                        r"\(orientation_weight=0.0003\) needs its faces"):
-        cshape.functional_map(bare, basis.truncate(N0), d, d)
-    C = cshape.functional_map(bare, basis.truncate(N0), d, d, orientation_weight=0)
+        cshape.maps.functional_map(bare, basis.truncate(N0), d, d)
+    C = cshape.maps.functional_map(bare, basis.truncate(N0), d, d, orientation_weight=0)
     assert C.shape == (N0, N0)
 
 
 def test_functional_map_rejects_mismatched_descriptors(basis):
     phi = basis.phi
     with pytest.raises(ValueError, match="desc_source has 3 descriptors and desc_target 4"):
-        cshape.functional_map(basis, basis, phi[:, :3], phi[:, :4])
+        cshape.maps.functional_map(basis, basis, phi[:, :3], phi[:, :4])
     with pytest.raises(ValueError, match=r"desc_target has shape \(5, 3\): 5 rows where the "
                        r"basis has 642 vertices; pass one row per vertex"):
-        cshape.functional_map(basis, basis, phi[:, :3], phi[:5, :3])
+        cshape.maps.functional_map(basis, basis, phi[:, :3], phi[:5, :3])
     with pytest.raises(ValueError, match=r"desc_source has shape \(15, 1\): 15 rows where"):
-        cshape.functional_map(basis, basis, np.ones(15), phi[:, :3])
+        cshape.maps.functional_map(basis, basis, np.ones(15), phi[:, :3])
 
 
 def test_maps_name_the_argument_whose_shape_does_not_fit(basis):
@@ -211,11 +211,11 @@ def test_maps_name_the_argument_whose_shape_does_not_fit(basis):
     C = np.eye(N0)
     with pytest.raises(ValueError, match=rf"f has shape \(7,\) but the source has {n} "
                        r"vertices; pass f of shape"):
-        cshape.transfer_function(np.ones(7), C, basis, basis)
+        cshape.maps.transfer_function(np.ones(7), C, basis, basis)
     with pytest.raises(ValueError, match=r"f has shape \(\)"):
-        cshape.transfer_function(1.0, C, basis, basis)
+        cshape.maps.transfer_function(1.0, C, basis, basis)
     with pytest.raises(ValueError, match=r"p2p has 5 entries but the target"):
-        cshape.pointwise_to_map(np.arange(5), basis, basis)
+        cshape.maps.pointwise_to_map(np.arange(5), basis, basis)
 
 
 def _mirror_symmetric():
@@ -251,7 +251,7 @@ def test_intrinsic_terms_tie_the_identity_and_the_reflection(symmetric):
     L = np.diag(b.lam)
     energies = []
     for p in (np.arange(n), mirror):
-        C = cshape.pointwise_to_map(p, b, b)
+        C = cshape.maps.pointwise_to_map(p, b, b)
         energies.append((np.linalg.norm(C @ coef - coef) / np.linalg.norm(coef),
                          np.linalg.norm(C @ L - L @ C) / np.linalg.norm(L)))
     np.testing.assert_allclose(energies[0], energies[1], atol=1e-8)  # a random map: 0.35, 0.11
@@ -298,7 +298,7 @@ def test_functional_map_does_not_depend_on_the_unit_of_length(blob, shuffled):
         e, sigma = wks_energies(bS, 100, normalization="area")
         dS = cshape.wks(bS, e, sigma, normalization="area")[:, ::5]
         dT = cshape.wks(bT, e, sigma, normalization="area")[:, ::5]
-        out.append(cshape.functional_map(bS, bT, dS, dT))
+        out.append(cshape.maps.functional_map(bS, bT, dS, dT))
     # eigenvectors scale by 1/s (B-orthonormal), signs alike: C is the same
     np.testing.assert_allclose(out[1], out[0], atol=1e-6)
 
@@ -316,19 +316,19 @@ def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
         lam = np.arange(k, dtype=float)
         bS = cshape.Eigenbasis(lam, phiS, sp.identity(n_s, format="csr"))
         bT = cshape.Eigenbasis(lam, phiT, sp.identity(n_t, format="csr"))
-        p = cshape.map_to_pointwise(C, bS, bT)
+        p = cshape.maps.map_to_pointwise(C, bS, bT)
         full = cdist(phiT, phiS @ C.T, "sqeuclidean")  # differences, not products
         np.testing.assert_array_equal(p, np.argmin(full, axis=1))
 
 
 def test_pointwise_to_map_of_the_identity_is_the_identity_matrix(basis):
     n = basis.n_vertices
-    np.testing.assert_allclose(cshape.pointwise_to_map(np.arange(n), basis, basis), np.eye(N),
+    np.testing.assert_allclose(cshape.maps.pointwise_to_map(np.arange(n), basis, basis), np.eye(N),
                                atol=1e-10)
 
 
 def test_bijective_zoomout_keeps_a_good_map(basis):
-    C = cshape.zoomout(np.eye(N0), basis, basis, N, bijective=True)
+    C = cshape.maps.zoomout(np.eye(N0), basis, basis, N, bijective=True)
     np.testing.assert_allclose(C, np.eye(N), atol=1e-8)
 
 
@@ -391,9 +391,9 @@ def test_point_map_search_finds_the_map_between_bodies_of_another_shape():
     rest = poses.posed_figure("human", rest=True, voxelsize=0.03, target_vertices=800)
     pose = poses.posed_figure("human", 0, voxelsize=0.03, target_vertices=800)
     stocky = cshape.Mesh(pose.vertices * [1.3, 1.3, 0.9], pose.faces)
-    geo = cshape.HeatGeodesics(rest)
+    geo = cshape.geodesics.HeatGeodesics(rest)
     v = np.arange(0, rest.n_vertices, 5)
-    err = {init: cshape.geodesic_errors(rest, cshape.point_map(rest, stocky, N=50, N0=20,
+    err = {init: cshape.geodesics.geodesic_errors(rest, cshape.point_map(rest, stocky, N=50, N0=20,
                                                                initial=init),
                                         vertices=v, geodesics=geo).mean() / np.sqrt(rest.area)
            for init in ("descriptors", "search")}

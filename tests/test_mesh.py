@@ -44,11 +44,11 @@ def test_mesh_validation_errors(vertices, faces, exc, match):
 
 
 def test_as_mesh_accepts_pairs_and_rejects_paths():
-    assert cshape.as_mesh((TET_V, TET_F)).n_faces == 4
+    assert cshape.mesh.as_mesh((TET_V, TET_F)).n_faces == 4
     with pytest.raises(TypeError, match="load_mesh"):
-        cshape.as_mesh("bunny.obj")
+        cshape.mesh.as_mesh("bunny.obj")
     with pytest.raises(TypeError, match=r"expected a mesh: a cshape.Mesh, .*; got int$"):
-        cshape.as_mesh(42)
+        cshape.mesh.as_mesh(42)
 
 
 def test_boundary_and_nonmanifold_topology():

@@ -165,7 +165,7 @@ class MeshSet:  # pymeshlab.MeshSet's layout: current_mesh()
 ])
 def test_a_librarys_mesh_that_is_no_triangle_mesh_is_refused_by_name(obj, match):
     with pytest.raises(ValueError, match=match):
-        cshape.as_mesh(obj)
+        cshape.mesh.as_mesh(obj)
 
 
 @pytest.mark.parametrize("obj, name", [
@@ -178,6 +178,6 @@ def test_anything_else_names_what_was_given_and_what_is_accepted(obj, name):
             r"object of trimesh \(.vertices, .faces\), PyVista \(PolyData\), meshio "
             r"\(.points, .cells_dict\['triangle'\]\), Open3D \(TriangleMesh\) or PyMeshLab "
             rf"\(Mesh, MeshSet\); got {name}$")):
-        cshape.as_mesh(obj)
+        cshape.mesh.as_mesh(obj)
     with pytest.raises(TypeError, match="expected a mesh"):
-        cshape.shape_dna(obj, N=3) if name != "numpy.ndarray" else cshape.eigenpairs(obj, N=3)
+        cshape.shape_dna(obj, N=3) if name != "numpy.ndarray" else cshape.eigenbasis(obj, N=3)

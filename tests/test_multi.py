@@ -19,7 +19,8 @@ from conftest import write_off
 import cshape
 from cshape import Descriptor, shapes
 from cshape.batch import DescriptorTable, describe
-from cshape.descriptors import ZERO_RTOL
+from cshape.descriptors import log_weyl_ratio
+from cshape.descriptors.formulas import ZERO_RTOL, f1_feature, nonzero_eigenvalues
 
 N, M = 30, 4
 FOUR_PI = 4 * np.pi
@@ -70,18 +71,18 @@ def test_two_unit_spheres_known_spectrum_and_area(sphere, spectra):
     np.testing.assert_allclose(lam[2:8], 2.0, rtol=3e-2)  # l = 1, twice: 2 x 3
     np.testing.assert_allclose(lam[8:18], 6.0, rtol=5e-2)  # l = 2, twice: 2 x 5
     assert lam[18] > 11.0
-    assert cshape.count_zero_modes(lam) == 2
-    mu = cshape.nonzero_eigenvalues(lam)
+    assert cshape.descriptors.count_zero_modes(lam) == 2
+    mu = nonzero_eigenvalues(lam)
     np.testing.assert_array_equal(mu, lam[2:])  # zero modes dropped, the rest from index 1
-    np.testing.assert_array_equal(cshape.nonzero_eigenvalues(lam, 2), mu)
+    np.testing.assert_array_equal(nonzero_eigenvalues(lam, 2), mu)
 
 
 def test_log_weyl_ratio_of_a_disjoint_union_uses_the_total_area(spectra):
     """Two copies: mu_{2j-1} = mu_{2j} = lam_j, area 2A, so r_{2j} = r_j of one copy."""
     (lam1, a1), (lam2, a2) = spectra[1], spectra[2]
     assert a2 == pytest.approx(2 * a1, rel=1e-12)
-    r1 = cshape.log_weyl_ratio(cshape.normalize(lam1, a1))
-    r2 = cshape.log_weyl_ratio(cshape.normalize(lam2, a2))
+    r1 = log_weyl_ratio(cshape.normalize(lam1, a1))
+    r2 = log_weyl_ratio(cshape.normalize(lam2, a2))
     assert len(r1) == N - 1 and len(r2) == N - 2
     np.testing.assert_allclose(r2[1::2], r1[: len(r2[1::2])], rtol=0, atol=1e-6)
     # the odd indices: r_{2j-1} = r_j + log(2j / (2j - 1))
@@ -93,9 +94,9 @@ def test_log_weyl_ratio_of_a_disjoint_union_uses_the_total_area(spectra):
 def test_connected_spectra_give_the_same_bits_as_before(spectra):
     lam, area = spectra[1]
     x = cshape.normalize(lam, area)
-    np.testing.assert_array_equal(cshape.log_weyl_ratio(x),
+    np.testing.assert_array_equal(log_weyl_ratio(x),
                                   np.log(x[1:] / (FOUR_PI * np.arange(1, N))))
-    np.testing.assert_array_equal(cshape.f1_feature(lam), lam[1] / lam[2:])
+    np.testing.assert_array_equal(f1_feature(lam), lam[1] / lam[2:])
     # compact_shape_dna's default, the paper, takes any spectrum as it is: Eq. (8)-(10)
     for k in (1, 2, 12):
         lam_k, a_k = spectra[k]
@@ -107,10 +108,10 @@ def test_connected_spectra_give_the_same_bits_as_before(spectra):
 def test_fixed_length_descriptors_extend_by_weyls_law(spectra):
     lam, area = spectra[2]
     x = cshape.normalize(lam, area)
-    r = cshape.log_weyl_ratio(x, length=N - 1)
+    r = log_weyl_ratio(x, length=N - 1)
     assert len(r) == N - 1 and r[-1] == r[-2]  # the one missing ratio repeats the last
-    np.testing.assert_array_equal(r[:-1], cshape.log_weyl_ratio(x))
-    f = cshape.f1_feature(lam, length=N - 2)
+    np.testing.assert_array_equal(r[:-1], log_weyl_ratio(x))
+    f = f1_feature(lam, length=N - 2)
     mu = lam[2:]
     np.testing.assert_allclose(f[:-1], mu[0] / mu[1:])
     assert f[-1] == pytest.approx(mu[0] / (mu[-1] * (N - 1) / (N - 2)))
@@ -121,8 +122,8 @@ def test_fixed_length_descriptors_extend_by_weyls_law(spectra):
 
 def test_every_kind_describes_a_multi_piece_mesh(spectra):
     lam, area = spectra[2]
-    for kind in cshape.descriptors.DESCRIPTOR_KINDS:
-        for transform in cshape.descriptors.TRANSFORMS:
+    for kind in cshape.descriptors.recipe.DESCRIPTOR_KINDS:
+        for transform in cshape.descriptors.formulas.TRANSFORMS:
             X = Descriptor(kind, N=N, M=M, transform=transform).matrix([lam], [area])
             assert X.shape == (1, {"shape-dna": N, "f1": N - 2, "two-scale": 2 * M + N}.get(
                 kind, 2 * M + 1))
@@ -143,11 +144,11 @@ def test_compact_shape_dna_of_a_mesh_counts_its_components(sphere):
 def test_the_zero_threshold_is_relative(spectra):
     lam, _ = spectra[2]
     for scale in (1e-9, 1.0, 1e9):  # meshes in any unit
-        assert cshape.count_zero_modes(lam * scale) == 2
+        assert cshape.descriptors.count_zero_modes(lam * scale) == 2
     noisy = lam.copy()
     noisy[:2] = np.array([-3e-10, 4e-10]) * lam.max()  # round-off on the zero modes
-    assert cshape.count_zero_modes(noisy) == 2
-    assert cshape.count_zero_modes(noisy, rtol=1e-12) == 1
+    assert cshape.descriptors.count_zero_modes(noisy) == 2
+    assert cshape.descriptors.count_zero_modes(noisy, rtol=1e-12) == 1
     assert ZERO_RTOL == 1e-5
 
 
@@ -160,11 +161,11 @@ def test_other_solvers_round_off_on_lam0_is_a_zero_mode():
     for lam0 in (-2.6e-8, 3e-7, -1e-6):
         other = lam.copy()
         other[0] = lam0 * lam.max()
-        assert cshape.count_zero_modes(other) == 1
+        assert cshape.descriptors.count_zero_modes(other) == 1
         S = cshape.compact_shape_dna(other, M=8, N=50, area=mesh.area, transform="log-weyl")
         np.testing.assert_array_equal(S, ref)  # lam_0 is dropped: the same bits
     single = lam.astype(np.float32)
-    assert cshape.count_zero_modes(single) == 1
+    assert cshape.descriptors.count_zero_modes(single) == 1
     S32 = cshape.compact_shape_dna(single, M=8, N=50, area=mesh.area, transform="log-weyl")
     np.testing.assert_allclose(S32, ref, rtol=1e-5, atol=1e-6)
     # a real non-zero lam_1 is never taken for a zero mode: the smallest measured on a
@@ -176,26 +177,26 @@ def test_a_known_piece_count_beats_the_threshold(spectra):
     lam, _ = spectra[2]  # two pieces
     noisy = lam.copy()
     noisy[1] = 3 * ZERO_RTOL * lam.max()  # round-off above the threshold on one zero mode
-    assert cshape.count_zero_modes(noisy) == 1
-    assert cshape.nonzero_eigenvalues(noisy, zero_modes=2).tolist() == lam[2:].tolist()
+    assert cshape.descriptors.count_zero_modes(noisy) == 1
+    assert nonzero_eigenvalues(noisy, zero_modes=2).tolist() == lam[2:].tolist()
     # but eigenvalues that cannot be the mesh's are refused, with the reason
     wrong = lam.copy()
     wrong[1] = 0.5 * lam[2]
     with pytest.raises(ValueError, match="zero_modes=2 .*is not zero"):
-        cshape.nonzero_eigenvalues(wrong, zero_modes=2)
+        nonzero_eigenvalues(wrong, zero_modes=2)
 
 
 @pytest.mark.parametrize("call, match", [
-    (lambda lam: cshape.nonzero_eigenvalues(lam, 3), r"zero_modes=3 \(components\) but "
+    (lambda lam: nonzero_eigenvalues(lam, 3), r"zero_modes=3 \(components\) but "
      r"lam_2 = 2.* is not zero"),
-    (lambda lam: cshape.nonzero_eigenvalues(lam, -1), r"zero_modes must be an integer >= 0"),
-    (lambda lam: cshape.nonzero_eigenvalues(np.zeros(5)), r"all 5 are zero modes.*N > 5"),
-    (lambda lam: cshape.log_weyl_ratio(np.r_[0.0, 0.0, 3.0, 0.0]),
+    (lambda lam: nonzero_eigenvalues(lam, -1), r"zero_modes must be an integer >= 0"),
+    (lambda lam: nonzero_eigenvalues(np.zeros(5)), r"all 5 are zero modes.*N > 5"),
+    (lambda lam: log_weyl_ratio(np.r_[0.0, 0.0, 3.0, 0.0]),
      r"lam_i > 0 after the 2 zero modes, but lam_3 = 0.*ascending"),
     (lambda lam: cshape.compact_shape_dna(lam[:10], M=4, N=10, normalization="none",
                                           transform="log-weyl"),
      r"2M\+1 = 9 non-zero eigenvalues, but 2 of the N = 10 are zero modes .* use N >= 11"),
-    (lambda lam: cshape.f1_feature(np.r_[0.0, 0.0, 3.0]), r"at least one eigenvalue after"),
+    (lambda lam: f1_feature(np.r_[0.0, 0.0, 3.0]), r"at least one eigenvalue after"),
 ])
 def test_rule_errors(spectra, call, match):
     with pytest.raises(ValueError, match=match):
@@ -215,7 +216,7 @@ def test_matrix_names_every_row_it_cannot_describe(table):
 
 def test_table_leaves_out_with_a_warning_and_answers_the_rest(table):
     np.testing.assert_array_equal(table.zero_modes, [1, 1, 2, 12])
-    for kind in cshape.descriptors.DESCRIPTOR_KINDS:  # M = 4: every shape can be described
+    for kind in cshape.descriptors.recipe.DESCRIPTOR_KINDS:  # M = 4: every shape can be described
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             assert len(table.descriptors(Descriptor(kind, N=N, M=M))) == 4
@@ -316,27 +317,6 @@ def test_cli_describe_and_query_report_pieces(sphere, tmp_path, capsys):
     assert "components             2" in capsys.readouterr().out
 
 
-def test_bench_pieces_runs_on_a_small_table(table, tmp_path, capsys):
-    """benchmarks/bench_pieces.py (the measurements behind the rule) cannot rot."""
-    import importlib.util
-
-    from conftest import REPO
-
-    spec = importlib.util.spec_from_file_location("bench_pieces",
-                                                  REPO / "benchmarks" / "bench_pieces.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    table.select([0, 1]).save(tmp_path / "t.npz")
-    bench.main([str(tmp_path / "t.npz"), "-M", "3"])
-    out = capsys.readouterr().out
-    assert "2 connected shapes" in out and "| lid 1 % | A: drop k, index from 1 |" in out
-    # rule A on a shape with a small lid: only the total area's log(1.01) away from itself
-    lam, area = table.lam[1], table.areas[1]
-    u, au = bench.lid_union(lam, area, 0.01, table.N)
-    np.testing.assert_allclose(bench.rule_a(u, au, 2, 7), bench.rule_a(lam, area, 1, 7)
-                               + np.log(1.01), rtol=1e-12)
-
-
 # ------------------------------------------------------------------ the lessons
 def test_lessons_use_the_packages_zero_mode_rule():
     """Lesson 08 leaves out meshes of several pieces by the package's rule (the component
@@ -355,4 +335,4 @@ def test_lessons_use_the_packages_zero_mode_rule():
     t = DescriptorTable(["one", "two"], np.array([lam, two]), [1.0, 1.0])
     np.testing.assert_array_equal(t.zero_modes, [1, 2])
     assert two[1] > 1e-8 * two[-1]  # the lesson's former threshold took it for one piece
-    assert cshape.count_zero_modes(two) == 2 and 1e-7 <= ZERO_RTOL
+    assert cshape.descriptors.count_zero_modes(two) == 2 and 1e-7 <= ZERO_RTOL

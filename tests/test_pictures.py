@@ -16,7 +16,8 @@ from conftest import write_off
 
 import cshape
 from cshape import Descriptor, shapes
-from cshape.batch import DescriptorTable, collection_distances
+from cshape.batch import DescriptorTable
+from cshape.batch.table import collection_distances
 from cshape.cli import main
 from cshape.compare import distance_matrix, mds_outliers, median_distances, nearest_neighbours
 from cshape.descriptors import recipe
@@ -28,7 +29,7 @@ from cshape.plots.collection import (
     plot_mds,
     spread_on_border,
 )
-from cshape.plots.explore import (
+from cshape.plots.overview import (
     class_summary,
     colour_limit,
     interactive_mds,
@@ -179,7 +180,11 @@ def test_colour_limit_leaves_the_outliers_out():
 def test_collection_distances_of_a_table():
     table = spectra_table()
     c = collection_distances(table, LOG9)
-    assert np.allclose(c.D, table.distance_matrix(LOG9))
+    # the truncated log-Weyl ratios r_1 .. r_9 are at the distances of the truncated log
+    # spectrum log(lam_i * area), i = 1 .. 9 (the Weyl term 4 pi i cancels in a difference)
+    logs = np.log(table.lam[:, 1:10] * np.asarray(table.areas)[:, None])
+    expected = np.linalg.norm(logs[:, None, :] - logs[None, :, :], axis=-1)
+    np.testing.assert_allclose(c.D, expected, rtol=1e-10, atol=1e-12)
     assert c.rows.tolist() == list(range(8)) and c.left_out == [] and c.names == table.names
     assert c.descriptor == LOG9 and c.descriptor.label == "truncated log spectrum (9 values)"
 
@@ -300,7 +305,7 @@ def test_neighbour_strips_return_figures():
 @pytest.mark.parametrize("n, grid", [(1, (1, 1)), (2, (1, 2)), (4, (2, 2)), (6, (2, 3)),
                                      (11, (3, 4))])
 def test_strip_grid_keeps_panels_near_square(n, grid):
-    from cshape.plots.explore import strip_grid
+    from cshape.plots.overview import strip_grid
 
     assert strip_grid(n) == grid
     rows, cols = grid
@@ -453,7 +458,7 @@ def test_the_default_descriptor_follows_the_constant(monkeypatch, described, tmp
 
 
 def test_guess_vertical_axis_by_format():
-    from cshape.plots.explore import guess_vertical_axis
+    from cshape.plots.overview import guess_vertical_axis
 
     assert [guess_vertical_axis(f) for f in ("a/spot.obj", "b.OBJ.gz", "c.ply", "d.off",
                                              "e.stl", "f.glb")] == ["y", "y", "z", "z", "z", "y"]
@@ -534,7 +539,7 @@ def test_overview_html_of_a_flat_folder_has_no_class_table():
 
 
 def test_collection_title_counts_in_english():
-    from cshape.plots.explore import collection_title
+    from cshape.plots.overview import collection_title
 
     assert collection_title(64, 1) == "64 shapes"
     assert collection_title(1, 1) == "1 shape"

@@ -42,7 +42,7 @@ def test_map_colours_pull_back_and_one_range(sphere):
     n = sphere.n_vertices
     f = np.linspace(-1.0, 2.0, n)
     p = np.random.default_rng(0).integers(0, n, n)
-    fS, fT, limits = plots.map_colours(sphere, sphere, p, f)
+    fS, fT, limits = plots.maps.map_colours(sphere, sphere, p, f)
     np.testing.assert_array_equal(fS, f)
     np.testing.assert_array_equal(fT, f[p])
     assert limits == (-1.0, 2.0)
@@ -52,7 +52,7 @@ def test_map_colours_default_is_a_ramp_along_the_longest_axis():
     # an ellipsoid 4 x 1 x 1: the ramp runs along x, so it is a linear function of x
     ball = shapes.icosphere(2)
     mesh = cshape.Mesh(ball.vertices * [4.0, 1.0, 1.0], ball.faces)
-    fS, fT, (lo, hi) = plots.map_colours(mesh, mesh, np.arange(mesh.n_vertices))
+    fS, fT, (lo, hi) = plots.maps.map_colours(mesh, mesh, np.arange(mesh.n_vertices))
     x = mesh.vertices[:, 0] - mesh.vertices[:, 0].mean()
     assert abs(np.corrcoef(fS, x)[0, 1]) == pytest.approx(1.0, abs=1e-12)
     np.testing.assert_array_equal(fS, fT)
@@ -139,8 +139,8 @@ def test_diagonal_share_known_values():
 def test_functional_map_of_near_isometric_poses_is_near_diagonal(pair):
     rest, pose = pair
     b_s, b_t = cshape.eigenbasis(rest, 20), cshape.eigenbasis(pose, 20)
-    true = cshape.pointwise_to_map(np.arange(pose.n_vertices), b_s, b_t)
-    shuffled = cshape.pointwise_to_map(np.random.default_rng(0).permutation(rest.n_vertices),
+    true = cshape.maps.pointwise_to_map(np.arange(pose.n_vertices), b_s, b_t)
+    shuffled = cshape.maps.pointwise_to_map(np.random.default_rng(0).permutation(rest.n_vertices),
                                        b_s, b_t)
     assert plots.diagonal_share(true, band=1) > 0.95  # measured 0.99
     assert plots.diagonal_share(shuffled, band=1) < 0.7  # measured 0.58 (C[0, 0] = 1 stays)

@@ -227,7 +227,7 @@ def test_distance_matrices_are_symmetric_metrics(meshes):
     for k in range(p):  # triangle inequality through every k
         assert np.all(D <= D[:, [k]] + D[[k], :] + tol)
     # real form: the same distances
-    np.testing.assert_allclose(distance_matrix(cshape.real_form(X)), D, rtol=1e-10,
+    np.testing.assert_allclose(distance_matrix(cshape.descriptors.real_form(X)), D, rtol=1e-10,
                                atol=tol)
 
 
@@ -480,7 +480,7 @@ def test_arbitrary_arrays_give_a_mesh_or_a_clear_error(VF):
 # permutation, face orientation flips and (after area normalisation) uniform scaling, for
 # every transform of compact_shape_dna (the paper's and the log-Weyl extensions).
 INV_N, INV_M = 24, 5
-TRANSFORMS = cshape.descriptors.TRANSFORMS
+TRANSFORMS = cshape.descriptors.formulas.TRANSFORMS
 
 
 @lru_cache(maxsize=1)

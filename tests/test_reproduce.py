@@ -14,12 +14,12 @@ from cshape import CShapeWarning, Descriptor, data, shapes
 from cshape.batch import DescriptorTable
 from cshape.cli import main
 from cshape.compare import distance_matrix, retrieval_scores
-from cshape.reproduce import (
+from cshape.reproduce import reproduce
+from cshape.reproduce.experiments import (
     FAMILIES,
     experiment_3_1,
     experiment_sizes,
     family_descriptors,
-    reproduce,
     size_verdict,
 )
 

@@ -14,6 +14,7 @@ import scipy.sparse as sp
 import cshape
 from cshape import shapes
 from cshape import signatures as sg
+from cshape.signatures import heat_kernel, heat_trace, match_points, si_hks
 
 N = 100  # l = 0..9 on the sphere: whole multiplets (2l + 1 copies each)
 
@@ -51,12 +52,12 @@ def test_sphere_hks_is_constant_and_equals_trace_over_area(sphere):
     assert h.shape == (m.n_vertices, 100)
     # addition theorem: sum_m Y_lm(x)^2 = (2l + 1) / (4 pi) at every point of the unit sphere
     assert (np.ptp(h, axis=0) / h.mean(axis=0)).max() < 1e-2
-    Z = cshape.heat_trace(b, t)
+    Z = heat_trace(b, t)
     np.testing.assert_allclose(h, np.broadcast_to(Z / m.area, h.shape), rtol=1e-2)
     # and the discrete error shrinks with the mesh (O(h^2): about 4x per level)
     m3 = shapes.icosphere(3)
     b3 = cshape.eigenbasis(m3, N)
-    Z3 = cshape.heat_trace(b3, t)
+    Z3 = heat_trace(b3, t)
     err3 = np.abs(cshape.hks(b3, t) / (Z3 / m3.area) - 1).max()
     err4 = np.abs(h / (Z / m.area) - 1).max()
     assert err4 < err3 / 3
@@ -67,9 +68,9 @@ def test_sphere_heat_trace_known_values():
     b = _basis(shapes.sphere_spectrum(N), np.eye(N), area=2.0)
     t = np.array([0.05, 0.5, 2.0])
     expected = [sum((2 * l + 1) * np.exp(-l * (l + 1) * ti) for l in range(10)) for ti in t]
-    np.testing.assert_allclose(cshape.heat_trace(b, t), expected, rtol=1e-13)
+    np.testing.assert_allclose(heat_trace(b, t), expected, rtol=1e-13)
     # unit-area scaling: the trace at time t of lam * area
-    np.testing.assert_allclose(cshape.heat_trace(b, t / 2.0, normalization="area"), expected,
+    np.testing.assert_allclose(heat_trace(b, t / 2.0, normalization="area"), expected,
                                rtol=1e-13)
 
 
@@ -81,7 +82,7 @@ def test_hks_integrates_to_heat_trace_with_lumped_mass():
     B = b.B
     t = sg.hks_times(b, 10)
     np.testing.assert_allclose((B @ cshape.hks(b, t)).sum(axis=0),
-                               cshape.heat_trace(b, t), rtol=1e-10)
+                               heat_trace(b, t), rtol=1e-10)
     ht = cshape.hks(b, t, scale="trace")
     np.testing.assert_allclose((B @ ht).sum(axis=0), 1.0, rtol=1e-10)
     w = cshape.wks(b, n_energies=30)
@@ -148,14 +149,14 @@ def test_heat_kernel_symmetric_conserves_heat_and_diagonal_is_hks(ellipsoid):
     B = cshape.fem_matrices(m)[1]
     src = np.array([0, 7, 300])
     t = 0.05
-    k = cshape.heat_kernel(b, t, src)
+    k = heat_kernel(b, t, src)
     assert k.shape == (m.n_vertices, 3)
     np.testing.assert_allclose(k[src], k[src].T, rtol=1e-12)
     np.testing.assert_allclose((B @ k).sum(axis=0), 1.0, rtol=1e-10)  # phi_i, i > 0, B-orth to 1
     np.testing.assert_allclose(k[src, [0, 1, 2]], cshape.hks(b, t)[src, 0])
-    np.testing.assert_allclose(cshape.heat_kernel(b, t, 7), k[:, 1])
+    np.testing.assert_allclose(heat_kernel(b, t, 7), k[:, 1])
     # as t grows the heat spreads out to the uniform 1 / area
-    k_late = cshape.heat_kernel(b, 50.0, 0)
+    k_late = heat_kernel(b, 50.0, 0)
     np.testing.assert_allclose(k_late, 1 / m.area, rtol=1e-6)
 
 
@@ -178,11 +179,11 @@ def test_invariant_to_rigid_motion_and_vertex_order(ellipsoid):
     np.testing.assert_allclose(cshape.hks(b2, t), cshape.hks(b, t)[perm], rtol=1e-6)
     e, s = sg.wks_energies(b, 30)
     np.testing.assert_allclose(cshape.wks(b2, e, s), cshape.wks(b, e, s)[perm], rtol=1e-6)
-    np.testing.assert_allclose(cshape.si_hks(b2), cshape.si_hks(b)[perm],
+    np.testing.assert_allclose(si_hks(b2), si_hks(b)[perm],
                                rtol=1e-6, atol=1e-9)
     # and the correspondence is found back from the signatures, up to the ellipsoid's
     # symmetries (sign flips of x, y, z: up to 8 vertices with the same HKS)
-    match = cshape.match_points(cshape.hks(b, t), cshape.hks(b2, t))
+    match = match_points(cshape.hks(b, t), cshape.hks(b2, t))
     found = np.abs(m.vertices[perm[match]])
     assert np.mean(np.abs(found - np.abs(m.vertices)).max(axis=1) < 1e-9) > 0.99
 
@@ -204,7 +205,7 @@ def test_scale_hks_at_scaled_times_and_invariant_forms(ellipsoid):
                                cshape.wks(b, normalization="area"), rtol=1e-8)
     np.testing.assert_allclose(sg.hks_times(b2, 30, normalization="area"),
                                sg.hks_times(b, 30, normalization="area"), rtol=1e-8)
-    si, si2 = cshape.si_hks(b), cshape.si_hks(b2)
+    si, si2 = si_hks(b), si_hks(b2)
     assert si.shape == (m.n_vertices, 6)
     np.testing.assert_allclose(si2, si, rtol=1e-4, atol=1e-4 * np.abs(si).max())
     # while the plain HKS at the same times is not
@@ -213,7 +214,7 @@ def test_scale_hks_at_scaled_times_and_invariant_forms(ellipsoid):
 
 def test_si_hks_is_not_trivially_constant(ellipsoid):
     m, b = ellipsoid
-    si = cshape.si_hks(b)
+    si = si_hks(b)
     # poles of the long axis and the short axis differ
     ends = [int(np.argmax(m.vertices[:, 0])), int(np.argmax(m.vertices[:, 2]))]
     assert np.abs(si[ends[0]] - si[ends[1]]).max() > 1e-2 * np.abs(si).max()
@@ -241,16 +242,16 @@ def test_match_points_identity_permutation_and_mutual():
     for k in (3, 20):  # the k-d tree path and the dense path
         X = rng.standard_normal((500, k))
         perm = rng.permutation(500)
-        np.testing.assert_array_equal(cshape.match_points(X, X), np.arange(500))
+        np.testing.assert_array_equal(match_points(X, X), np.arange(500))
         # row i of X is row inv[i] of X[perm]
-        np.testing.assert_array_equal(cshape.match_points(X, X[perm]), np.argsort(perm))
+        np.testing.assert_array_equal(match_points(X, X[perm]), np.argsort(perm))
     a = np.array([[0.0], [0.1], [5.0]])
     b = np.array([[0.05], [4.0]])
-    np.testing.assert_array_equal(cshape.match_points(a, b), [0, 0, 1])
+    np.testing.assert_array_equal(match_points(a, b), [0, 0, 1])
     # 0.1 and 0.0 are both nearest 0.05, whose nearest is 0.0 (0.05 away from both: ties
     # go to the first); 5.0 -> 4.0 -> 5.0 is mutual
-    np.testing.assert_array_equal(cshape.match_points(a, b, mutual=True), [0, -1, 1])
-    np.testing.assert_array_equal(cshape.match_points(a[:, 0], b[:, 0]), [0, 0, 1])
+    np.testing.assert_array_equal(match_points(a, b, mutual=True), [0, -1, 1])
+    np.testing.assert_array_equal(match_points(a[:, 0], b[:, 0]), [0, 0, 1])
 
 
 # ---------------------------------------------------------------------- bad arguments
@@ -284,27 +285,27 @@ BASIS = _basis(LAM, PHI)
         (lambda: cshape.wks(_basis([0.0, 1.0, 1.0], PHI)), ValueError, "two distinct non-zero"),
         (lambda: cshape.wks(BASIS, n_energies=20), ValueError,
          "n_energies must be at least 29 for the default width"),
-        (lambda: cshape.si_hks(BASIS, [0.0, 1.0, 3.0]), ValueError, "tau must be evenly"),
-        (lambda: cshape.si_hks(BASIS, [0.0, 1.0]), ValueError, "at least 3 log-times"),
-        (lambda: cshape.si_hks(BASIS, np.arange(-1, 1, 0.125)), ValueError,
+        (lambda: si_hks(BASIS, [0.0, 1.0, 3.0]), ValueError, "tau must be evenly"),
+        (lambda: si_hks(BASIS, [0.0, 1.0]), ValueError, "at least 3 log-times"),
+        (lambda: si_hks(BASIS, np.arange(-1, 1, 0.125)), ValueError,
          "tau does not cover"),
-        (lambda: cshape.si_hks(BASIS, n_freqs=400), ValueError, "n_freqs=400 is more than"),
-        (lambda: cshape.si_hks(BASIS, base=1.0), ValueError, "base must differ from 1"),
-        (lambda: cshape.si_hks(_basis(LAM, np.vstack([PHI, np.zeros(3)]))), ValueError,
+        (lambda: si_hks(BASIS, n_freqs=400), ValueError, "n_freqs=400 is more than"),
+        (lambda: si_hks(BASIS, base=1.0), ValueError, "base must differ from 1"),
+        (lambda: si_hks(_basis(LAM, np.vstack([PHI, np.zeros(3)]))), ValueError,
          "HKS vanishes at some vertices"),
-        (lambda: cshape.heat_kernel(BASIS, 1.0, 1.5), TypeError, "sources must be a vertex"),
-        (lambda: cshape.heat_kernel(BASIS, 1.0, [0, 4]), ValueError,
+        (lambda: heat_kernel(BASIS, 1.0, 1.5), TypeError, "sources must be a vertex"),
+        (lambda: heat_kernel(BASIS, 1.0, [0, 4]), ValueError,
          r"sources holds vertex index 4, outside \[0, 3\]"),
-        (lambda: cshape.heat_kernel(BASIS, [1.0, 2.0], 0), ValueError, "t must be one time"),
-        (lambda: cshape.heat_trace(BASIS, 0.0), ValueError, "t must be positive finite"),
-        (lambda: cshape.heat_trace(LAM, 1.0), TypeError, "basis must be a cshape.Eigenbasis"),
+        (lambda: heat_kernel(BASIS, [1.0, 2.0], 0), ValueError, "t must be one time"),
+        (lambda: heat_trace(BASIS, 0.0), ValueError, "t must be positive finite"),
+        (lambda: heat_trace(LAM, 1.0), TypeError, "basis must be a cshape.Eigenbasis"),
         (lambda: sg.hks_times(BASIS, normalization="unit"), ValueError,
          r"normalization must be one of"),
-        (lambda: cshape.match_points(PHI, PHI[:, :2]), ValueError, "sig_a has 3 scales and"),
-        (lambda: cshape.match_points(PHI, PHI, mutual=1), TypeError,
+        (lambda: match_points(PHI, PHI[:, :2]), ValueError, "sig_a has 3 scales and"),
+        (lambda: match_points(PHI, PHI, mutual=1), TypeError,
          "mutual must be True or False, got int 1"),
-        (lambda: cshape.match_points(PHI * np.nan, PHI), ValueError, "sig_a contains NaN"),
-        (lambda: cshape.match_points(PHI, np.ones((0, 3))), ValueError,
+        (lambda: match_points(PHI * np.nan, PHI), ValueError, "sig_a contains NaN"),
+        (lambda: match_points(PHI, np.ones((0, 3))), ValueError,
          r"sig_b must have shape \(n, n_scales\)"),
     ],
 )

@@ -99,7 +99,7 @@ def test_square_low_modes_are_accurate():
 def test_eigenpairs_are_b_orthonormal_and_satisfy_eq3():
     mesh = shapes.hemisphere(8)
     for bc in ("neumann", "dirichlet"):
-        lam, phi = cshape.eigenpairs(mesh, N=12, bc=bc)
+        lam, phi = cshape.spectrum.eigenpairs(mesh, N=12, bc=bc)
         assert phi.shape == (mesh.n_vertices, 12)
         A, B = cshape.fem_matrices(mesh)  # full Neumann matrices over all vertices
         if bc == "dirichlet":
@@ -152,7 +152,7 @@ def test_scale_invariance_after_area_normalisation():
     )
 
 
-@pytest.mark.parametrize("fn", [cshape.shape_dna, cshape.eigenpairs])
+@pytest.mark.parametrize("fn", [cshape.shape_dna, cshape.spectrum.eigenpairs])
 def test_every_parameter_of_the_spectrum_functions_is_described(fn):
     """The API page lists each parameter with a sentence, bc and mass included."""
     docscrape = pytest.importorskip("numpydoc.docscrape")

@@ -110,7 +110,7 @@ def test_eigenpairs_keep_the_eigenvalues_of_shape_dna(sparse_path, spy, ico3, N)
     # Rayleigh-Ritz step runs in both): the same bits as shape_dna's
     mesh, K, B, ref = ico3
     lam_dna = cshape.shape_dna(mesh, N=N)
-    lam, phi = cshape.eigenpairs(mesh, N=N)
+    lam, phi = cshape.spectrum.eigenpairs(mesh, N=N)
     assert spy["inside"] == [True, True] and 0 < spy["indefinite"][-1] < N
     np.testing.assert_array_equal(lam, lam_dna)
     np.testing.assert_allclose(lam[1:], ref[1:N], rtol=1e-10)
@@ -140,7 +140,7 @@ def test_inside_path_finds_every_icosahedral_copy(sparse_path, spy, ico3, N):
 
 def test_inside_path_eigenvectors_are_b_orthonormal_eigenvectors(sparse_path, spy, ico3):
     mesh, K, B, ref = ico3
-    lam, phi = cshape.eigenpairs(mesh, N=60)
+    lam, phi = cshape.spectrum.eigenpairs(mesh, N=60)
     assert spy["inside"] == [True]
     np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(60), atol=1e-10)
     resid = K @ phi - (B @ phi) * lam

@@ -2,7 +2,7 @@
 
 Known answers (dense LAPACK, ARPACK with ``tol=0``, exact sphere multiplicities) and
 properties (B-orthonormal vectors, determinism, several components).  No timings here:
-speed is measured by benchmarks/bench_spectrum.py.
+speed is measured by benchmarks/bench_sweep.py.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def test_sparse_path_agrees_with_dense_lapack(sparse_path, mesh, kw):
     mesh = mesh()
     N = 60
     lam_ref, phi_ref = _dense(mesh, N, **kw)
-    lam, phi = cshape.eigenpairs(mesh, N=N, **kw)
+    lam, phi = cshape.spectrum.eigenpairs(mesh, N=N, **kw)
     scale = np.where(np.abs(lam_ref) > 1e-9 * lam_ref[-1], np.abs(lam_ref), lam_ref[-1])
     assert np.max(np.abs(lam - lam_ref) / scale) < 1e-9
     # same invariant subspace: the projection of the dense vectors on ours is complete
@@ -114,7 +114,7 @@ def test_exact_sphere_multiplicities_at_10k_vertices():
 
 def test_eigenvectors_are_b_orthonormal_eigenvectors():
     mesh = shapes.icosphere(4)
-    lam, phi = cshape.eigenpairs(mesh, N=100)
+    lam, phi = cshape.spectrum.eigenpairs(mesh, N=100)
     K, B = _KB(mesh)
     np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(100), atol=1e-10)
     res = K @ phi - (B @ phi) * lam
@@ -125,8 +125,8 @@ def test_eigenvectors_are_b_orthonormal_eigenvectors():
 
 def test_results_are_deterministic():
     mesh = shapes.icosphere(4)
-    lam1, phi1 = cshape.eigenpairs(mesh, N=50)
-    lam2, phi2 = cshape.eigenpairs(mesh, N=50)
+    lam1, phi1 = cshape.spectrum.eigenpairs(mesh, N=50)
+    lam2, phi2 = cshape.spectrum.eigenpairs(mesh, N=50)
     np.testing.assert_array_equal(lam1, lam2)
     np.testing.assert_array_equal(phi1, phi2)
     np.testing.assert_array_equal(cshape.shape_dna(mesh, N=50), cshape.shape_dna(mesh, N=50))
@@ -137,7 +137,7 @@ def test_two_disjoint_spheres_give_two_zero_eigenvalues():
     V = np.vstack([one.vertices, one.vertices + [3.0, 0.0, 0.0]])
     F = np.vstack([one.faces, one.faces + one.n_vertices])
     with pytest.warns(CShapeWarning, match="2 connected components"):
-        lam, phi = cshape.eigenpairs((V, F), N=100)
+        lam, phi = cshape.spectrum.eigenpairs((V, F), N=100)
     assert lam[0] == 0.0 and lam[1] == 0.0 and lam[2] > 1.0
     # the union of two identical spectra: every eigenvalue twice, exactly as many copies
     single = cshape.shape_dna(one, N=50)
@@ -155,7 +155,7 @@ def test_fallback_to_arpack_when_block_lanczos_fails(monkeypatch):
         raise _lanczos.NoConvergence("forced by the test")
 
     monkeypatch.setattr(_lanczos, "block_lanczos", fail)
-    lam_arpack, phi = cshape.eigenpairs(mesh, N=40)
+    lam_arpack, phi = cshape.spectrum.eigenpairs(mesh, N=40)
     np.testing.assert_allclose(lam_arpack[1:], lam_block[1:], rtol=1e-10)
     _, B = _KB(mesh)
     np.testing.assert_allclose(phi.T @ (B @ phi), np.eye(40), atol=1e-10)

@@ -16,7 +16,8 @@ import pytest
 
 import cshape
 from cshape import PAPER, Descriptor, compare, shapes
-from cshape.batch import DescriptorTable, collection_distances
+from cshape.batch import DescriptorTable
+from cshape.batch.table import collection_distances
 from cshape.cli import main as cli_main
 from cshape.compare import retrieval_scores
 from cshape.descriptors import recipe
@@ -261,7 +262,7 @@ def test_suite_collections_are_in_the_manifest_dev_and_held_out():
 def test_generate_rejects_an_unknown_benchmark(tmp_path):
     import yaml
 
-    from cshape.data import validate_manifest
+    from cshape.data.manifest import validate_manifest
 
     doc = {"version": 1, "collections": [{
         "name": "x", "kind": "generated", "description": "d", "license": "l",

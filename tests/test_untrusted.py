@@ -94,7 +94,7 @@ def _package_sources():
         "!!python/object/apply:builtins.open ['{marker}', 'w']",
         "!!python/object/new:builtins.open ['{marker}', 'w']",
         "!!python/name:builtins.open",
-        "!!python/object:cshape.data.Item {{name: x}}",
+        "!!python/object:cshape.data.manifest.Item {{name: x}}",
     ],
 )
 def test_manifest_with_python_tags_raises_and_runs_nothing(tmp_path, monkeypatch, tag):
@@ -102,7 +102,7 @@ def test_manifest_with_python_tags_raises_and_runs_nothing(tmp_path, monkeypatch
     p = tmp_path / "evil.yaml"
     p.write_text(f"version: 1\ncollections:\n  - {tag.format(marker=marker)}\n")
     with pytest.raises(ValueError, match=r"evil\.yaml: not valid YAML"):
-        data.load_manifest(p)
+        data.manifest.load_manifest(p)
     monkeypatch.setenv("CSHAPE_MANIFEST", str(p))
     with pytest.raises(ValueError, match="not valid YAML"):
         data.list_collections()
@@ -134,7 +134,7 @@ def test_package_never_unpickles():
 
 def test_pickled_generated_cache_file_is_rebuilt_not_executed(tmp_path):
     marker = tmp_path / "EXECUTED"
-    man = data.load_manifest(_manifest(tmp_path, [TINY]))
+    man = data.manifest.load_manifest(_manifest(tmp_path, [TINY]))
     path = data.store._cache_file(man, "tiny", man["tiny"]["items"][0], tmp_path / "cache")
     path.parent.mkdir(parents=True)
     _pickled_npz(path, marker)
@@ -155,7 +155,8 @@ def test_pickled_npz_read_directly_is_a_clear_error(tmp_path):
 
 
 def test_pickled_eigenvalue_cache_entry_is_recomputed_not_executed(tmp_path):
-    from cshape.batch import describe, mesh_key
+    from cshape.batch import describe
+    from cshape.batch.cache import mesh_key
 
     marker = tmp_path / "EXECUTED"
     mesh = shapes.icosphere(1)
@@ -234,7 +235,7 @@ def test_download_with_a_wrong_checksum_is_refused_and_not_kept(tmp_path, fake_t
     fake_transport["bytes"] = TET_OFF.replace(b"0 0 1\n", b"0 0 9\n")  # a tampered mirror
     with pytest.raises(ValueError, match=r"(?i)hash.*does not match"):
         data.load("dl", "tet", download=True, manifest=man)
-    folder = data.collection_path("dl", manifest=man)
+    folder = data.paths.collection_path("dl", manifest=man)
     assert not folder.exists() or [p.name for p in folder.rglob("*")
                                    if p.is_file()] == []  # no file, no temporary
     with pytest.raises(FileNotFoundError, match="not downloaded yet"):
@@ -245,7 +246,7 @@ def test_download_with_a_wrong_checksum_is_refused_and_not_kept(tmp_path, fake_t
 def test_cached_download_is_verified_before_each_read(tmp_path, fake_transport, tamper):
     man = _download_manifest(tmp_path, TET_OFF)
     data.fetch("dl", manifest=man, progress=False)
-    f = data.collection_path("dl", manifest=man) / "tet.off"
+    f = data.paths.collection_path("dl", manifest=man) / "tet.off"
     good = f.read_bytes()
     f.write_bytes(good.replace(b"0 0 1\n", b"0 0 2\n") if tamper == "same_size"
                   else good + b"# appended\n")
@@ -265,7 +266,7 @@ def test_download_urls_must_be_https(tmp_path):
     for url in ["http://example.invalid/tet.off", "file:///etc/passwd", "ftp://x/tet.off"]:
         man["collections"][0]["items"][0]["url"] = url
         with pytest.raises(ValueError, match="field 'url' must be an https URL"):
-            data.validate_manifest(man)
+            data.manifest.validate_manifest(man)
 
 
 @pytest.mark.parametrize("bad", ["../escape.off", "/etc/passwd", "a/../../escape.off"])
@@ -273,7 +274,7 @@ def test_manifest_file_fields_cannot_point_outside(tmp_path, bad):
     man = yaml.safe_load(_download_manifest(tmp_path, TET_OFF).read_text())
     man["collections"][0]["items"][0]["file"] = bad
     with pytest.raises(ValueError, match="field 'file' must be a relative path inside"):
-        data.validate_manifest(man)
+        data.manifest.validate_manifest(man)
 
 
 # ====================================================================== archives
@@ -318,7 +319,7 @@ def test_zip_members_escaping_the_target_are_refused(tmp_path, name):
     z = _zip(tmp_path / "evil.zip", [("ok.txt", "fine"), (name, "bad")])
     before = _files_under(tmp_path)
     with pytest.raises(ValueError, match="outside the target folder"):
-        data.extract_archive(z, tmp_path / "out" / "target")
+        data.download.extract_archive(z, tmp_path / "out" / "target")
     assert _files_under(tmp_path) == before  # nothing written anywhere, target not created
 
 
@@ -342,7 +343,7 @@ def test_tar_members_escaping_or_special_are_refused(tmp_path, member, match):
     t = _tar(tmp_path / "evil.tar", [_tinfo("ok.txt"), member])
     before = _files_under(tmp_path)
     with pytest.raises(ValueError, match=match):
-        data.extract_archive(t, tmp_path / "out" / "target")
+        data.download.extract_archive(t, tmp_path / "out" / "target")
     assert _files_under(tmp_path) == before
 
 
@@ -350,7 +351,7 @@ def test_zip_symlink_entry_is_written_as_a_plain_file(tmp_path):
     info = zipfile.ZipInfo("link")
     info.external_attr = (stat.S_IFLNK | 0o777) << 16  # a Unix symlink entry
     z = _zip(tmp_path / "link.zip", [("/etc/passwd", info)])
-    out = data.extract_archive(z, tmp_path / "target")
+    out = data.download.extract_archive(z, tmp_path / "target")
     assert not (out / "link").is_symlink()
     assert (out / "link").read_text() == "/etc/passwd"  # the link text, as data
 
@@ -363,7 +364,7 @@ def test_existing_symlink_in_the_target_is_not_followed(tmp_path):
     target.mkdir()
     (target / "sub").symlink_to(outside, target_is_directory=True)
     z = _zip(tmp_path / "a.zip", [("sub/new.txt", "data")])
-    data.extract_archive(z, target)  # the link is replaced by the archive's folder
+    data.download.extract_archive(z, target)  # the link is replaced by the archive's folder
     assert not (target / "sub").is_symlink() and (target / "sub" / "new.txt").is_file()
     assert _files_under(outside) == ["precious.txt"]
     assert (outside / "precious.txt").read_text() == "keep"
@@ -374,7 +375,7 @@ def test_not_an_archive(tmp_path):
     p = tmp_path / "model.zip"
     p.write_bytes(b"\x89PNG\r\n\x1a\n" + b"\0" * 100)
     with pytest.raises(ValueError, match=r"model\.zip.*not a \.zip or \.tar archive"):
-        data.extract_archive(p, tmp_path / "target")
+        data.download.extract_archive(p, tmp_path / "target")
 
 
 def test_build_with_an_escaping_archive_writes_nothing(tmp_path):
@@ -554,14 +555,14 @@ def test_generated_item_names_cannot_escape_the_cache(tmp_path, name):
     """Item names become cache file names (<cache>/generated/<coll>/<item>-<key>.npz)."""
     entry = {**TINY, "items": [{**TINY["items"][0], "name": name}]}
     with pytest.raises(ValueError, match="item name must be letters, digits|missing required"):
-        data.load_manifest(_manifest(tmp_path, [entry]))
+        data.manifest.load_manifest(_manifest(tmp_path, [entry]))
     assert not list(tmp_path.rglob("*.npz"))
 
 
 def test_tar_extraction_drops_setuid_and_world_writable_bits(tmp_path):
     info = _tinfo("run.sh")
     info.mode = 0o6777  # setuid, setgid, writable by everyone
-    out = data.extract_archive(_tar(tmp_path / "suid.tar", [info]), tmp_path / "target")
+    out = data.download.extract_archive(_tar(tmp_path / "suid.tar", [info]), tmp_path / "target")
     mode = (out / "run.sh").stat().st_mode
     assert not mode & (stat.S_ISUID | stat.S_ISGID | stat.S_IWOTH)
 
@@ -575,7 +576,7 @@ def test_archive_larger_than_the_free_space_is_refused_before_writing(tmp_path, 
     monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(10**6, 10**6 - 4000, 4000))
     with pytest.raises(OSError, match=r"big\.zip' unpacks to 0\.0 MB but only 0\.0 MB are "
                                       r"free .*free disk space") as info:
-        data.extract_archive(z, tmp_path / "target")
+        data.download.extract_archive(z, tmp_path / "target")
     assert info.value.errno == errno.ENOSPC
     assert _files_under(tmp_path) == ["big.zip"]
 
@@ -583,7 +584,8 @@ def test_archive_larger_than_the_free_space_is_refused_before_writing(tmp_path, 
 def test_cache_file_of_another_recipe_is_not_taken_for_this_item(tmp_path):
     """A cache file copied over (or written) from another item is detected and rebuilt."""
     other = {**TINY["items"][0], "name": "t", "params": {"subdivisions": 1}}
-    man = data.load_manifest(_manifest(tmp_path, [{**TINY, "items": [TINY["items"][0], other]}]))
+    man = data.manifest.load_manifest(
+        _manifest(tmp_path, [{**TINY, "items": [TINY["items"][0], other]}]))
     data.load_collection("tiny", manifest=man, progress=False)
     root = tmp_path / "cache"
     s_path = data.store._cache_file(man, "tiny", man["tiny"]["items"][0], root)
@@ -601,4 +603,4 @@ def test_package_collection_path_stays_inside_the_package(tmp_path, bad):
              "citation": "n", "package": "pymeshlab", "path": bad,
              "items": [{"name": "a", "label": "a", "file": "a.ply"}]}
     with pytest.raises(ValueError, match="field 'path' must be a folder inside package"):
-        data.load_manifest(_manifest(tmp_path, [entry]))
+        data.manifest.load_manifest(_manifest(tmp_path, [entry]))

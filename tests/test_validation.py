@@ -33,11 +33,14 @@ from cshape._checks import (
     check_path,
     check_real,
 )
+from cshape._eigensolver.threads import solver_threads
 from cshape.batch import DescriptorTable, describe
-from cshape.descriptors import DESCRIPTOR_KINDS
+from cshape.descriptors import inverse_compact_shape_dna, log_weyl_ratio, real_form
+from cshape.descriptors.formulas import f1_feature, nonzero_eigenvalues
+from cshape.descriptors.recipe import DESCRIPTOR_KINDS
 from cshape.fem import _problem as fem
 from cshape.index import DescriptorIndex
-from cshape.spectrum import solve_eigenproblem, solver_threads
+from cshape.spectrum import solve_eigenproblem
 
 LAM = 4 * np.pi * np.arange(12.0) + np.sin(np.arange(12.0))  # a normalised Shape-DNA
 _NAN_V = TET_V.copy()
@@ -153,13 +156,13 @@ S1 = np.array([1.0 + 0j])  # a cShape-DNA with M = 0
 TAKES = {
     "N": {
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=v),
-        "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=v),
+        "eigenpairs": lambda v: cshape.spectrum.eigenpairs(sphere(), N=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=v),
         "point_map": lambda v: cshape.point_map(sphere(), sphere(), N=v, N0=2),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=0, N=v),
         "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=0, N=v,
                                                                      normalization="none"),
-        "inverse_compact_shape_dna": lambda v: cshape.inverse_compact_shape_dna(S1, N=v),
+        "inverse_compact_shape_dna": lambda v: inverse_compact_shape_dna(S1, N=v),
         "Descriptor": lambda v: Descriptor("shape-dna", N=v),
         "describe": lambda v: _describe(N=v),
         "sphere_spectrum": lambda v: shapes.sphere_spectrum(v),
@@ -178,7 +181,7 @@ TAKES = {
     "bc": {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), bc=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, bc=v),
-        "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=3, bc=v),
+        "eigenpairs": lambda v: cshape.spectrum.eigenpairs(sphere(), N=3, bc=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, bc=v),
         "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), bc=v),
         "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=1, N=5, bc=v),
@@ -189,7 +192,7 @@ TAKES = {
     "mass": {
         "fem_matrices": lambda v: cshape.fem_matrices(sphere(), mass=v),
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, mass=v),
-        "eigenpairs": lambda v: cshape.eigenpairs(sphere(), N=3, mass=v),
+        "eigenpairs": lambda v: cshape.spectrum.eigenpairs(sphere(), N=3, mass=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, mass=v),
         "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), mass=v),
         "DescriptorTable": lambda v: _bad_table(mass=v),
@@ -205,7 +208,7 @@ TAKES = {
     },
     "transform": {
         "compact_shape_dna": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5, transform=v),
-        "inverse_compact_shape_dna": lambda v: cshape.inverse_compact_shape_dna(S1, 5,
+        "inverse_compact_shape_dna": lambda v: inverse_compact_shape_dna(S1, 5,
                                                                                 transform=v),
         "Descriptor": lambda v: Descriptor("cshape", N=9, M=3, transform=v),
     },
@@ -213,14 +216,14 @@ TAKES = {
         "Descriptor": lambda v: Descriptor(v),
     },
     "length": {
-        "nonzero_eigenvalues": lambda v: cshape.nonzero_eigenvalues(LAM, length=v),
-        "log_weyl_ratio": lambda v: cshape.log_weyl_ratio(LAM, length=v),
-        "f1_feature": lambda v: cshape.f1_feature(LAM, length=v),
+        "nonzero_eigenvalues": lambda v: nonzero_eigenvalues(LAM, length=v),
+        "log_weyl_ratio": lambda v: log_weyl_ratio(LAM, length=v),
+        "f1_feature": lambda v: f1_feature(LAM, length=v),
     },
     "zero_modes": {
-        "nonzero_eigenvalues": lambda v: cshape.nonzero_eigenvalues(LAM, v),
-        "log_weyl_ratio": lambda v: cshape.log_weyl_ratio(LAM, v),
-        "f1_feature": lambda v: cshape.f1_feature(LAM, v),
+        "nonzero_eigenvalues": lambda v: nonzero_eigenvalues(LAM, v),
+        "log_weyl_ratio": lambda v: log_weyl_ratio(LAM, v),
+        "f1_feature": lambda v: f1_feature(LAM, v),
         "compact_shape_dna": lambda v: cshape.compact_shape_dna(
             LAM, M=1, N=5, normalization="none", transform="log-weyl", zero_modes=v),
         "compact_shape_dna(weyl)": lambda v: cshape.compact_shape_dna(
@@ -360,12 +363,12 @@ BAD_PAIRS = [
 #: Every public function of the core that takes a mesh, with valid other arguments.
 TAKES_A_MESH = {
     "Mesh": lambda vf: Mesh(*vf),
-    "as_mesh": lambda vf: cshape.as_mesh(vf),
+    "as_mesh": lambda vf: cshape.mesh.as_mesh(vf),
     "repair_mesh": lambda vf: cshape.repair_mesh(vf),
     "largest_component": lambda vf: cshape.largest_component(vf),
     "fem_matrices": lambda vf: cshape.fem_matrices(vf),
     "shape_dna": lambda vf: cshape.shape_dna(vf, N=3),
-    "eigenpairs": lambda vf: cshape.eigenpairs(vf, N=3),
+    "eigenpairs": lambda vf: cshape.spectrum.eigenpairs(vf, N=3),
     "compact_shape_dna": lambda vf: cshape.compact_shape_dna(vf, M=1, N=3),
 }
 MESH = [
@@ -377,11 +380,11 @@ MESH = [
       for name, vf, exc, match in BAD_PAIRS for fn in sorted(TAKES_A_MESH) if fn != "Mesh"],
     *[pytest.param(Mesh, dict(vertices=vf[0], faces=vf[1]), exc, match, id=f"Mesh-{name}")
       for name, vf, exc, match in BAD_PAIRS],
-    *[pytest.param(cshape.as_mesh, dict(mesh_or_vf=obj), TypeError,
+    *[pytest.param(cshape.mesh.as_mesh, dict(mesh_or_vf=obj), TypeError,
                    r"expected a mesh: a cshape.Mesh, a \(vertices, faces\) pair of arrays, or a "
                    r"mesh object of trimesh .*; got ", id=f"as_mesh-{i}")
       for i, obj in enumerate([(TET_V, TET_F, None), {"v": TET_V}, TET_V, 3, None])],
-    pytest.param(cshape.as_mesh, dict(mesh_or_vf="bunny.off"), TypeError,
+    pytest.param(cshape.mesh.as_mesh, dict(mesh_or_vf="bunny.off"), TypeError,
                  r"got a path \('bunny.off'\) where a mesh was expected; load it first",
                  id="as_mesh-path"),
     pytest.param(cshape.repair_mesh, dict(mesh=(TET_V, TET_F), merge_tol=-1.0), ValueError,
@@ -494,13 +497,13 @@ DESCRIPTORS = [
                                   r"eigenvalues; use M <= 4 or N >= 11$")]],
     pytest.param(lambda: cshape.compact_shape_dna(sphere(), M=1, N=1), {}, ValueError,
                  r"2M\+1 = 3 values cannot be kept from N = 1", id="M1-N1"),
-    pytest.param(lambda: cshape.inverse_compact_shape_dna(
+    pytest.param(lambda: inverse_compact_shape_dna(
         cshape.compact_shape_dna(LAM, M=2, N=9, normalization="none"), N=3), {}, ValueError,
         r"use M <= 1", id="inverse-M-too-large"),
-    pytest.param(lambda: cshape.inverse_compact_shape_dna(
+    pytest.param(lambda: inverse_compact_shape_dna(
         cshape.compact_shape_dna(LAM, M=2, N=9, normalization="none")[:4], N=9), {}, ValueError,
         "odd length", id="inverse-even-length"),
-    pytest.param(cshape.inverse_compact_shape_dna, dict(S_c=S9, N=9, add_weyl="no"), TypeError,
+    pytest.param(inverse_compact_shape_dna, dict(S_c=S9, N=9, add_weyl="no"), TypeError,
                  r"^add_weyl must be True or False, got str 'no'$", id="inverse-add_weyl"),
     pytest.param(cshape.compact_shape_dna, dict(mesh_or_lam=LAM, M=1, N=5, normalization=1),
                  TypeError, r"^normalization must be one of \{'area', 'fiedler', 'weyl', "
@@ -518,9 +521,9 @@ DESCRIPTORS = [
                    r"normalization must be one of \{'area', 'fiedler', 'weyl', 'none'\}",
                    id=f"normalization-{m!r}")
       for m, exc in [("max", ValueError), ("", ValueError), (None, TypeError), (1, TypeError)]],
-    pytest.param(cshape.real_form, dict(S_c=np.ones(4, complex)), ValueError,
+    pytest.param(real_form, dict(S_c=np.ones(4, complex)), ValueError,
                  "odd last dimension", id="real_form-even"),
-    pytest.param(cshape.real_form, dict(S_c=np.ones((2, 2, 3), complex)), ValueError,
+    pytest.param(real_form, dict(S_c=np.ones((2, 2, 3), complex)), ValueError,
                  "odd last dimension", id="real_form-3d"),
 ]
 
@@ -699,7 +702,7 @@ TOSCA = [
 
 @pytest.mark.parametrize("vert, tri, match", [t[1:] for t in TOSCA], ids=[t[0] for t in TOSCA])
 def test_data_tosca_files(tmp_path, vert, tri, match):
-    from cshape.data import read_vert_tri
+    from cshape.data.files import read_vert_tri
 
     (tmp_path / "cat0.vert").write_text(vert)
     (tmp_path / "cat0.tri").write_text(tri)
@@ -810,7 +813,7 @@ def test_accepted_array_forms(V, F):
 
 
 def test_real_form_of_a_stack():
-    assert cshape.real_form(np.ones((2, 3), complex)).shape == (2, 3)
+    assert real_form(np.ones((2, 3), complex)).shape == (2, 3)
 
 
 @pytest.mark.parametrize("make", [
@@ -835,8 +838,8 @@ def test_N_up_to_the_number_of_unknowns(bc, n_unknowns):
 
 # ------------------------------------------------------------------ mode names
 def test_mode_names_are_hyphenated_lower_case():
-    for names in (DESCRIPTOR_KINDS, cshape.descriptors.TRANSFORMS,
-                  cshape.descriptors.NORMALIZATIONS, cshape.fem.BOUNDARY_CONDITIONS,
+    for names in (DESCRIPTOR_KINDS, cshape.descriptors.formulas.TRANSFORMS,
+                  cshape.descriptors.formulas.NORMALIZATIONS, cshape.fem.BOUNDARY_CONDITIONS,
                   cshape.fem.MASS_TYPES):
         assert all(n == n.lower() and "_" not in n and " " not in n for n in names), names
 

@@ -211,7 +211,8 @@ def test_remesh_does_not_depend_on_earlier_pymeshlab_calls():
 
 def test_signatures_and_descriptors_share_one_zero_tolerance():
     import cshape.signatures as s
-    from cshape.descriptors import ZERO_RTOL, count_zero_modes
+    from cshape.descriptors import count_zero_modes
+    from cshape.descriptors.formulas import ZERO_RTOL
 
     assert s.ZERO_RTOL is ZERO_RTOL
     lam = np.array([0.5 * ZERO_RTOL, 1.0, 2.0, 3.0])

@@ -30,9 +30,9 @@ def test_the_packaged_manifest_is_the_top_level_file():
     )
     assert data.manifest._DEFAULT_MANIFEST.read_bytes() == top.read_bytes()
     default = data.manifest._DEFAULT_MANIFEST
-    assert list(data.load_manifest(default)) == list(data.load_manifest(top))
+    assert list(data.manifest.load_manifest(default)) == list(data.manifest.load_manifest(top))
     # relative 'local' paths still resolve against the repository, as before the move
-    entry = data.load_manifest(data.manifest._DEFAULT_MANIFEST)["shared-meshes"]
+    entry = data.manifest.load_manifest(data.manifest._DEFAULT_MANIFEST)["shared-meshes"]
     assert entry["_root"] == str(REPO.resolve())
 
 

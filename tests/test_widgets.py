@@ -8,6 +8,7 @@ import pytest
 import cshape
 from cshape import compare, shapes
 from cshape.batch import DescriptorTable
+from cshape.descriptors import inverse_compact_shape_dna
 from cshape.plots import widgets
 
 N = 24
@@ -54,7 +55,7 @@ def test_reconstruction_is_exact_when_nothing_is_cropped(collection):
     assert st.reconstruction_error.max() < 1e-12
     small = sweep.state(1, N=23)
     assert np.all(small.reconstruction_error > st.reconstruction_error)
-    rebuilt = cshape.inverse_compact_shape_dna(small.coefficients[0], 23, add_weyl=False)
+    rebuilt = inverse_compact_shape_dna(small.coefficients[0], 23, add_weyl=False)
     np.testing.assert_allclose(small.reconstruction[0], rebuilt, atol=1e-9)
 
 
@@ -163,7 +164,7 @@ def test_plots_return_figures_without_pyplot():
     from cshape import plots
 
     mesh = shapes.icosphere(1)
-    lam, phi = cshape.eigenpairs(mesh, 12)
+    lam, phi = cshape.spectrum.eigenpairs(mesh, 12)
     before = plt.get_fignums()
     figs = [
         plots.plot_mesh(mesh, phi[:, 1], colorbar=True),
@@ -207,7 +208,7 @@ def test_sweep_state_for_every_transform_matches_the_descriptors(collection, tra
     for i in range(6):
         S = cshape.compact_shape_dna(t.lam[i], M=4, N=N, area=t.areas[i], transform=transform)
         np.testing.assert_allclose(st.coefficients[i], S, rtol=1e-12, atol=1e-12)
-        rec = cshape.inverse_compact_shape_dna(S, N, add_weyl=False, transform=transform)
+        rec = inverse_compact_shape_dna(S, N, add_weyl=False, transform=transform)
         np.testing.assert_allclose(st.reconstruction[i], rec, atol=1e-12)
     X = cshape.Descriptor("cshape", N=N, M=4, transform=transform).matrix(t.lam, t.areas)
     np.testing.assert_allclose(st.D, compare.scale_255(compare.distance_matrix(X)), atol=1e-9)

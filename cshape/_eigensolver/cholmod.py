@@ -8,9 +8,9 @@ Cholesky).  Which build of CHOLMOD does the work decides most of the solve time:
     the CHOLMOD library that the ``cvxopt`` wheel ships (a core dependency), whose BLAS
     calls bind to the wheel's OpenBLAS (a single-threaded build), called directly through
     :mod:`ctypes` with multi-right-hand-side solves: the fastest factorisation and solves
-    of the three (measured figures: ``benchmarks/bench_floor.py``,
-    ``benchmarks/SCALE.md``).  The GIL is released during both.  cvxopt's own Python
-    interface is not used: it solves one right-hand side at a time.
+    of the three (measured figures: ``benchmarks/SCALE.md``, "The floor").  The GIL is
+    released during both.  cvxopt's own Python interface is not used: it solves one
+    right-hand side at a time.
 ``'cholespy'``
     the ``cholespy`` wheel (CHOLMOD with the reference BLAS), as LaPy uses it;
 ``'splu'``
@@ -37,8 +37,6 @@ import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-
-__all__ = ["BACKENDS", "backend", "factorize"]
 
 #: The backends, fastest first.
 BACKENDS = ("cholmod", "cholespy", "splu")

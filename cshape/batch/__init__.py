@@ -29,9 +29,10 @@ read (and its content key looked up) again.
 
 from __future__ import annotations
 
-from .cache import CACHE_VERSION, default_cache_dir, mesh_key
 from .run import describe
-from .table import CollectionDistances, DescriptorTable, collection_distances
+from .table import DescriptorTable
 
-__all__ = ["CACHE_VERSION", "CollectionDistances", "DescriptorTable", "collection_distances",
-           "default_cache_dir", "describe", "mesh_key"]
+__all__ = [
+    "DescriptorTable",
+    "describe",
+]

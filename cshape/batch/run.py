@@ -125,7 +125,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
           :func:`cshape.load_mesh` in the worker; named by its file stem (by the whole path
           when stems collide);
         * a :class:`cshape.Mesh`, a ``(vertices, faces)`` pair or a mesh object of another
-          library (read by :func:`cshape.as_mesh`), named ``mesh<i>``;
+          library (read by :func:`cshape.mesh.as_mesh`), named ``mesh<i>``;
         * a ``(name, mesh)`` or ``(name, label, mesh)`` tuple, ``mesh`` as above;
         * a record with attributes ``name``, ``label`` (optional) and ``mesh`` (or
           ``path``), e.g. the records of a cshape data collection;
@@ -394,7 +394,7 @@ def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]
     """Warn, before the eigensolves start, when they are estimated to take long.
 
     Only for ``N >= _ESTIMATE_MIN_N`` (the vertex counts of meshes given by path are read
-    for it, from the file).  The estimate is :func:`cshape.estimate_seconds` summed over the
+    for it, from the file).  The estimate is ``cshape.spectrum.estimate_seconds`` summed over the
     meshes not found in the cache.
     """
     if N < _ESTIMATE_MIN_N or not tasks:

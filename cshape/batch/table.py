@@ -88,7 +88,7 @@ class DescriptorTable:
         The area-normalised eigenvalues ``lam * area`` (Section 2.1).
     zero_modes : ndarray of int, shape (p,)
         Number of zero eigenvalues of each shape: its component count (Neumann), else
-        counted from its eigenvalues (:func:`cshape.count_zero_modes`).
+        counted from its eigenvalues (:func:`cshape.descriptors.count_zero_modes`).
 
     Notes
     -----

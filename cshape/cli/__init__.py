@@ -13,8 +13,8 @@ Heavy imports happen inside the commands.
 
 from __future__ import annotations
 
-from .output import EXPECTED_ERRORS, CommandError, one_line, print_warnings
-from .registry import build_parser, main
+from .registry import main
 
-__all__ = ["EXPECTED_ERRORS", "CommandError", "build_parser", "main", "one_line",
-           "print_warnings"]
+__all__ = [
+    "main",
+]

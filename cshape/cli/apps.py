@@ -19,8 +19,6 @@ if TYPE_CHECKING:
 
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
-__all__ = ["REPRODUCE_BENCHMARK", "REPRODUCE_COLLECTIONS", "add_demo", "add_reproduce"]
-
 
 def _demo(args: argparse.Namespace) -> int:
     import numpy as np

@@ -15,8 +15,6 @@ if TYPE_CHECKING:
 
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
-__all__ = ["add_assignments", "add_notebooks"]
-
 
 def _cmd_notebooks(args: argparse.Namespace) -> int:
     from ..course.lessons import default_notebook_dir, run_notebooks

@@ -14,7 +14,7 @@ if TYPE_CHECKING:
 
 # ============================================================================ data
 def _cmd_data_list(args: argparse.Namespace) -> int:
-    from ..data import load_manifest
+    from ..data.manifest import load_manifest
 
     entries = load_manifest(args.manifest)
     rows = []
@@ -42,7 +42,7 @@ def _cmd_data_build(args: argparse.Namespace) -> int:
 
 
 def _cmd_data_path(args: argparse.Namespace) -> int:
-    from ..data import collection_path
+    from ..data.paths import collection_path
 
     print(collection_path(args.name, cache_dir=args.cache_dir, manifest=args.manifest))
     return 0

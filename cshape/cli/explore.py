@@ -7,16 +7,16 @@
   :class:`cshape.DescriptorTable`;
 * ``cshape info MESH`` - size, area, topology, triangle quality and what the repair would
   change, from :mod:`cshape.mesh` (:class:`cshape.Mesh`, :func:`cshape.repair_mesh`) and
-  :func:`cshape.variants.mesh_quality`;
+  :func:`cshape.data.variants.mesh_quality`;
 * ``cshape query TABLE MESH_OR_NAME -k 5`` - the nearest shapes of a table, with their
   distances (:class:`cshape.DescriptorIndex`); with ``--plot FILE --meshes PATH`` also the
-  query and its neighbours as thumbnails (:func:`cshape.plots.explore.plot_neighbour_strip`,
-  .png/.svg/.pdf, or :func:`~cshape.plots.explore.neighbour_strip_plotly`, .html);
+  query and its neighbours as thumbnails (:func:`cshape.plots.overview.plot_neighbour_strip`,
+  .png/.svg/.pdf, or :func:`~cshape.plots.overview.neighbour_strip_plotly`, .html);
 * ``cshape data {list, build NAME, path NAME}`` - the shape collections of
   :mod:`cshape.data`.
 
 Only argument handling and printing live here; the work is done by the pipeline's
-functions.  Expected failures raise :class:`cshape.cli.CommandError` (or the pipeline's
+functions.  Expected failures raise :class:`cshape.cli.output.CommandError` (or the pipeline's
 ``ValueError`` / ``OSError``), which :func:`cshape.cli.registry` prints on one line with exit
 status 2.
 """
@@ -48,12 +48,9 @@ if TYPE_CHECKING:
 
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
-__all__ = ["add_describe", "add_info", "add_query", "check_figure_path", "collect_mesh_files",
-           "mesh_report", "write_neighbour_strip"]
-
 # ============================================================================ inputs
 def _mesh_suffixes() -> tuple[str, ...]:
-    from ..data import MESH_SUFFIXES
+    from ..readers import MESH_SUFFIXES
 
     return tuple(MESH_SUFFIXES)
 
@@ -168,7 +165,7 @@ def _progress(args: argparse.Namespace) -> bool:
 
 
 def _transforms() -> tuple[str, ...]:
-    from ..descriptors import TRANSFORMS
+    from ..descriptors.formulas import TRANSFORMS
 
     return TRANSFORMS
 
@@ -496,15 +493,14 @@ _KINDS = ("cshape", "shape-dna", "truncated", "truncated-log", "two-scale", "f1"
 
 def _default_label(N: int = 100) -> str:
     """The exploration default (cshape.DEFAULT, for N eigenvalues) in words."""
-    from ..descriptors.recipe import _given_or_default
-
-    return _given_or_default(None, N).label
+    return _descriptor_default(N).label
 
 
 def _descriptor_default(N: int) -> Descriptor:
-    from ..descriptors.recipe import _given_or_default
+    """The exploration default for spectra of ``N`` eigenvalues (read when called)."""
+    from ..descriptors import recipe
 
-    return _given_or_default(None, N)
+    return recipe.DEFAULT.for_N(N)
 
 
 def _table_label(table: DescriptorTable) -> str:
@@ -719,7 +715,7 @@ def write_neighbour_strip(args: argparse.Namespace, table: DescriptorTable,
     ``query_path`` is the mesh file of a query given as a file, else None (the query is the
     table's shape ``args.target``).
     """
-    from ..plots.explore import (
+    from ..plots.overview import (
         guess_vertical_axis,
         neighbour_strip_plotly,
         plot_neighbour_strip,

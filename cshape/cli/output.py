@@ -13,8 +13,6 @@ if TYPE_CHECKING:
     import warnings
     from collections.abc import Iterable
 
-__all__ = ["EXPECTED_ERRORS", "CommandError", "one_line", "print_warnings"]
-
 
 class CommandError(Exception):
     """An expected failure of a command; :func:`main` prints its message on one line."""

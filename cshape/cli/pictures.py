@@ -2,8 +2,8 @@
 
 ``cshape overview TABLE --out overview.html [--out overview.png]`` draws the MDS (outliers on
 the border, names and neighbours on hover), the distance matrix by class and a table of the
-classes (:func:`cshape.plots.explore.overview_html`,
-:func:`~cshape.plots.explore.plot_overview`).  The neighbour strip of ``cshape query ...
+classes (:func:`cshape.plots.overview.overview_html`,
+:func:`~cshape.plots.overview.plot_overview`).  The neighbour strip of ``cshape query ...
 --plot FILE`` lives with the query in :mod:`cshape.cli.explore`.
 
 Files are checked before any work (suffix, folder) and written atomically, after every
@@ -27,14 +27,13 @@ if TYPE_CHECKING:
 
     _SubParsers = argparse._SubParsersAction[Any]  # of the command line's parser class
 
-__all__ = ["add_overview"]
-
 # ============================================================================ overview
 def _cmd_overview(args: argparse.Namespace) -> int:
-    from ..batch import DescriptorTable, collection_distances
+    from ..batch import DescriptorTable
+    from ..batch.table import collection_distances
     from ..compare import mds_embedding
     from ..plots.collection import mds_layout
-    from ..plots.explore import collection_title, overview_html, plot_overview, save_figure
+    from ..plots.overview import collection_title, overview_html, plot_overview, save_figure
 
     outs = [check_figure_path(o, "--out") for o in args.out]
     if len({o.resolve() for o in outs}) < len(outs):

@@ -23,8 +23,6 @@ from .output import EXPECTED_ERRORS, one_line
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-__all__ = ["SUBCOMMANDS", "build_parser", "main"]
-
 
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose usage errors are one line too (argparse prints the usage

@@ -152,12 +152,13 @@ def retrieval_collection(small: bool | None = None) -> data.Collection:
     Returns
     -------
     cshape.data.Collection
-        Iterate for :class:`cshape.data.Item` (``name``, ``label``, ``mesh``).
+        Iterate for :class:`cshape.data.manifest.Item` (``name``, ``label``, ``mesh``).
     """
     small = SMALL if small is None else bool(small)
     if not small:
         return data.load_collection("creatures-dev", lazy=True)
-    return data.load_creatures(0, members=3, kinds=list(SMALL_CREATURES), vertices=[500, 1000],
+    return data.store.load_creatures(0, members=3, kinds=list(SMALL_CREATURES),
+                                     vertices=[500, 1000],
                                voxelsize=0.03, progress=False)
 
 

@@ -39,50 +39,20 @@ is an error, never a silently different mesh.
 
 from __future__ import annotations
 
-from ..readers import MESH_SUFFIXES
-from .download import extract_archive, fetch
-from .files import read_vert_tri
-from .folders import load_folder, read_mcgill, read_shrec07, read_tosca
-from .manifest import (
-    KINDS,
-    LAYOUTS,
-    MANIFEST_SCHEMA,
-    RECIPES,
-    RECIPES_VERSION,
-    Collection,
-    Item,
-    info,
-    list_collections,
-    load_manifest,
-    validate_manifest,
-)
-from .paths import cache_dir, collection_path
-from .store import build, load, load_collection, load_creatures
+from .download import fetch
+from .folders import load_folder
+from .manifest import Collection, info, list_collections
+from .paths import cache_dir
+from .store import build, load, load_collection
 
 __all__ = [
-    "KINDS",
-    "MESH_SUFFIXES",
-    "LAYOUTS",
-    "MANIFEST_SCHEMA",
-    "RECIPES",
-    "RECIPES_VERSION",
     "Collection",
-    "Item",
     "build",
     "cache_dir",
-    "collection_path",
-    "extract_archive",
     "fetch",
     "info",
     "list_collections",
     "load",
     "load_collection",
-    "load_creatures",
     "load_folder",
-    "load_manifest",
-    "read_mcgill",
-    "read_shrec07",
-    "read_tosca",
-    "read_vert_tri",
-    "validate_manifest",
 ]

@@ -15,7 +15,7 @@ every descriptor finds the right class every time (nearest neighbour = first tie
 * **noise**: every vertex moves along its normal by a uniform amount in ``[-a L, a L]``
   (``L`` the mean edge length) with ``a`` uniform in ``[0, noise]`` (default 0.3).
 
-A creature is a union of capsules (:class:`cshape.variants.Capsule`) meshed by PyMeshLab's
+A creature is a union of capsules (:class:`cshape.data.variants.Capsule`) meshed by PyMeshLab's
 marching cubes, isotropically remeshed and made noisy, all from one ``random_state``: the
 same seed gives the same mesh.  :func:`creature_items` lists the members of a benchmark
 instance for a collection seed; ``data_manifest.yaml`` has a development instance
@@ -49,7 +49,9 @@ from .variants import (
 if TYPE_CHECKING:
     from collections.abc import Iterable
 
-__all__ = ["CREATURE_KINDS", "creature", "creature_capsules", "creature_items"]
+__all__ = [
+    "creature",
+]
 
 #: The classes of :func:`creature`, in the order of the benchmark's items.
 CREATURE_KINDS = (

@@ -1,6 +1,6 @@
 """Poses that keep the template's vertices: articulated figures deformed by a skeleton.
 
-:func:`cshape.variants.articulated_figure` meshes every pose anew (marching cubes and
+:func:`cshape.data.variants.articulated_figure` meshes every pose anew (marching cubes and
 remeshing), so two poses share no vertex and a point-to-point map between them has no
 ground truth.  Here a figure is meshed **once**, in a rest pose (the *template*), and every
 pose moves the template's vertices by **linear blend skinning**: each bone turns about its
@@ -39,7 +39,9 @@ if TYPE_CHECKING:
     from ..mesh import MeshLike
 
 __all__ = [
-    "POSED_KINDS", "mirror_map", "pose", "pose_template", "posed_figure", "skin_weights",
+    "mirror_map",
+    "pose",
+    "posed_figure",
 ]
 
 #: The classes of :func:`posed_figure`.

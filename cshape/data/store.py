@@ -355,7 +355,7 @@ def load_creatures(seed: int = 1, members: int = 10, kinds: Iterable[str] | None
     Examples
     --------
     >>> import cshape.data
-    >>> small = cshape.data.load_creatures(0, members=2, kinds=["snake", "teddy"],
+    >>> small = cshape.data.store.load_creatures(0, members=2, kinds=["snake", "teddy"],
     ...                                    vertices=[400, 600], voxelsize=0.03)
     >>> small.names
     ['snake-00', 'snake-01', 'teddy-00', 'teddy-01']

@@ -62,17 +62,6 @@ if TYPE_CHECKING:
     #: the trunk's unit axis or None)
     _Scale = tuple[np.ndarray, float, float, np.ndarray | None]
 
-__all__ = [
-    "BENCHMARKS",
-    "IDENTITY_KINDS",
-    "RESOLUTION_LEVELS",
-    "SUITE",
-    "identity_items",
-    "identity_pose",
-    "resolution_items",
-    "resolution_shape",
-]
-
 #: The suite: benchmark name -> (development collection, held-out collection).
 SUITE = {
     "creatures": ("creatures-dev", "creatures"),

@@ -32,14 +32,8 @@ from .._checks import check_bool, check_choice, check_int, check_real
 from ..mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
 __all__ = [
-    "ARTICULATED_KINDS",
-    "NOISE_LEVELS",
-    "Capsule",
     "add_normal_noise",
     "articulated_figure",
-    "capsules_expression",
-    "eight",
-    "figure_capsules",
     "marching_cubes",
     "mesh_quality",
     "remesh",

@@ -13,37 +13,26 @@
 from __future__ import annotations
 
 from .formulas import (
-    NORMALIZATIONS,
-    TRANSFORMS,
-    ZERO_RTOL,
     compact_shape_dna,
     count_zero_modes,
     detrend,
-    f1_feature,
     inverse_compact_shape_dna,
     log_weyl_ratio,
-    nonzero_eigenvalues,
     normalize,
     real_form,
     weyl_subtract,
 )
-from .recipe import DEFAULT, DESCRIPTOR_KINDS, PAPER, Descriptor
+from .recipe import DEFAULT, PAPER, Descriptor
 
 __all__ = [
     "DEFAULT",
-    "DESCRIPTOR_KINDS",
-    "NORMALIZATIONS",
     "PAPER",
-    "TRANSFORMS",
-    "ZERO_RTOL",
     "Descriptor",
     "compact_shape_dna",
     "count_zero_modes",
     "detrend",
-    "f1_feature",
     "inverse_compact_shape_dna",
     "log_weyl_ratio",
-    "nonzero_eigenvalues",
     "normalize",
     "real_form",
     "weyl_subtract",

@@ -90,13 +90,7 @@ __all__ = [
     "detrend",
     "real_form",
     "inverse_compact_shape_dna",
-    "f1_feature",
     "count_zero_modes",
-    "nonzero_eigenvalues",
-    "NORMALIZATIONS",
-    "ZERO_RTOL",
-    "TRANSFORMS",
-    "TREND_DEGREE",
 ]
 
 #: The ``normalization=`` options (:func:`normalize`); ``'none'``: already normalised.

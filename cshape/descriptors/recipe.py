@@ -51,7 +51,11 @@ from .formulas import (
 )
 from .formulas import _zero_modes as _leading_zero_modes
 
-__all__ = ["DEFAULT", "DESCRIPTOR_KINDS", "PAPER", "Descriptor"]
+__all__ = [
+    "DEFAULT",
+    "PAPER",
+    "Descriptor",
+]
 
 #: The descriptor kinds (the table of :class:`Descriptor`).
 DESCRIPTOR_KINDS = ("shape-dna", "truncated", "cshape", "cshape-complex", "f1", "truncated-log",
@@ -80,13 +84,13 @@ class Descriptor:
     'truncated'      2M+1         the first ``2M+1`` values of the normalised Shape-DNA
                                   (Fig. 5 a-e: "the first 33, 17, 9, 5 and 3 eigenvalues")
     'cshape'         2M+1         cShape-DNA of ``lam[:N]`` (Eq. 8-10, or the ``transform``
-                                  given) in its real form (:func:`cshape.real_form`: same
-                                  Euclidean distances)
+                                  given) in its real form (``cshape.descriptors.real_form``:
+                                  same Euclidean distances)
     'cshape-complex' 2M+1         the cShape-DNA as :func:`cshape.compact_shape_dna` returns
                                   it (complex for the DFT transforms, real for the DCT)
     'f1'             N-2          F1 feature ``lam_1 / lam_i`` of ``lam[:N]`` (Fig. 5f)
     'truncated-log'  2M+1         the first ``2M+1`` log-Weyl ratios ``r_1 .. r_{2M+1}``
-                                  (:func:`cshape.log_weyl_ratio`; needs ``2M+2``
+                                  (:func:`cshape.descriptors.log_weyl_ratio`; needs ``2M+2``
                                   eigenvalues).  Its distances equal those of the truncated
                                   *log spectrum* ``log lam_1^norm .. log lam_{2M+1}^norm``:
                                   ``log 4 pi i`` is the same for every shape
@@ -103,7 +107,7 @@ class Descriptor:
     spectrum as it is, its ``k`` zeros included (Eq. 8 needs no logarithm).
     'truncated-log', the log-Weyl transforms and 'f1' drop the ``k`` zero modes and index
     the rest from 1 (``mu_i = lam_{k-1+i}``, normalised by the total area: Weyl's law of
-    the disjoint union; :func:`cshape.nonzero_eigenvalues`): 'truncated-log' is
+    the disjoint union; :func:`cshape.descriptors.formulas.nonzero_eigenvalues`): 'truncated-log' is
     ``r_1 .. r_{2M+1}`` of ``mu`` (needs ``N >= 2M+1+k``), the log-Weyl transforms extend
     the ``N-k`` ratios to ``N-1`` by Weyl's law (``r_i = r_{N-k}``) and need ``2M+1``
     measured ones, 'f1' is ``mu_1 / mu_i`` for ``i = 2..N-1``, extended the same way
@@ -290,7 +294,7 @@ class Descriptor:
             Surface area; needed when :attr:`needs_area`.
         zero_modes : int, optional
             Zero eigenvalues of the shape (its connected components); default: counted
-            (:func:`cshape.count_zero_modes`).
+            (:func:`cshape.descriptors.count_zero_modes`).
 
         Returns
         -------

@@ -4,7 +4,7 @@
   the paper's Fig. 1-2 and 9, the DFT, convergence, the M-sweep panels);
 * :mod:`cshape.plots.collection` - pictures of a collection: MDS scatter plots (Fig. 4-5, with
   outliers marked on the border) and distance-matrix images (Fig. 3, 6) with readable labels;
-* :mod:`cshape.plots.explore`    - exploring one's own collection: the interactive MDS (names
+* :mod:`cshape.plots.overview`    - exploring one's own collection: the interactive MDS (names
   and nearest neighbours on hover), the nearest-neighbour strip of thumbnails, the overview
   page (offline HTML or PNG);
 * :mod:`cshape.plots.maps`       - maps between shapes: a field carried across a point map with
@@ -23,22 +23,7 @@ from .._checks import require_extra
 
 require_extra("cshape.plots", "plots", ("matplotlib", "plotly"))
 
-from .collection import (  # noqa: E402
-    annotate_points,
-    matrix_ticks,
-    plot_distance_matrix,
-    plot_mds,
-    short_label,
-    short_labels,
-)
-from .explore import (  # noqa: E402
-    interactive_mds,
-    neighbour_strip_plotly,
-    overview_html,
-    plot_neighbour_strip,
-    plot_overview,
-    save_figure,
-)
+from .collection import plot_distance_matrix, plot_mds  # noqa: E402
 from .figures import (  # noqa: E402
     new_figure,
     plot_convergence,
@@ -52,13 +37,8 @@ from .figures import (  # noqa: E402
     plot_shape_dna_stages,
     plot_weyl,
 )
-from .maps import (  # noqa: E402
-    diagonal_share,
-    map_colours,
-    plot_functional_map,
-    plot_map,
-    view_map,
-)
+from .maps import diagonal_share, plot_functional_map, plot_map, view_map  # noqa: E402
+from .overview import interactive_mds, overview_html, plot_neighbour_strip, save_figure  # noqa: E402
 from .viewer import (  # noqa: E402
     eigenfunction_explorer,
     signature_explorer,
@@ -68,13 +48,9 @@ from .viewer import (  # noqa: E402
 )
 
 __all__ = [
-    "annotate_points",
     "diagonal_share",
     "eigenfunction_explorer",
     "interactive_mds",
-    "map_colours",
-    "matrix_ticks",
-    "neighbour_strip_plotly",
     "new_figure",
     "overview_html",
     "plot_convergence",
@@ -89,13 +65,10 @@ __all__ = [
     "plot_mds",
     "plot_mesh",
     "plot_neighbour_strip",
-    "plot_overview",
     "plot_reconstruction_error",
     "plot_shape_dna_stages",
     "plot_weyl",
     "save_figure",
-    "short_label",
-    "short_labels",
     "signature_explorer",
     "view_correspondence",
     "view_map",

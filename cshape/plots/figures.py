@@ -34,7 +34,6 @@ from .._checks import check_int
 from ..descriptors import inverse_compact_shape_dna, normalize, weyl_subtract
 from ..descriptors.formulas import FOUR_PI
 from ..mesh import as_mesh
-from .viewer import eigenfunction_explorer, view_mesh, view_meshes
 
 if TYPE_CHECKING:
     from collections.abc import Iterable, Sequence
@@ -46,23 +45,6 @@ if TYPE_CHECKING:
     from ..mesh import MeshLike
 
     _Size = tuple[float, float]  # a figure's (width, height) in inches
-
-__all__ = [
-    "new_figure",
-    "plot_convergence",
-    "plot_cshape_dna",
-    "plot_dft",
-    "plot_eigenfunctions",
-    "plot_m_sweep",
-    "plot_matrices",
-    "plot_mesh",
-    "plot_reconstruction_error",
-    "plot_shape_dna_stages",
-    "plot_weyl",
-    "eigenfunction_explorer",
-    "view_mesh",
-    "view_meshes",
-]
 
 
 def new_figure(figsize: _Size = (6.0, 4.0), **kwargs: Any) -> Figure:
@@ -154,7 +136,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
         if len(f) != mesh.n_vertices:
             raise ValueError(
                 f"f has {len(f)} values but the mesh has {mesh.n_vertices} vertices; pass one "
-                "value per vertex (e.g. phi[:, i] from cshape.eigenpairs on the same mesh)"
+                "value per vertex (e.g. phi[:, i] from cshape.spectrum.eigenpairs on the same mesh)"
             )
     fig, ax = _axes(ax, figsize, projection="3d")
     tris = V[F]
@@ -243,7 +225,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     if phi.ndim != 2 or phi.shape[0] != mesh.n_vertices:
         raise ValueError(
             f"phi must have shape (n_vertices, k) = ({mesh.n_vertices}, k), got {phi.shape}; "
-            "use the phi returned by cshape.eigenpairs for this mesh"
+            "use the phi returned by cshape.spectrum.eigenpairs for this mesh"
         )
     if indices is None:
         indices = range(min(phi.shape[1], 8))

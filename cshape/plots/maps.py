@@ -36,14 +36,6 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = [
-    "diagonal_share",
-    "map_colours",
-    "plot_functional_map",
-    "plot_map",
-    "view_map",
-]
-
 #: Colour map of the carried field (a smooth ramp whose colours are all told apart).
 FIELD_CMAP = "turbo"
 #: Qualitative colour map of the landmark pairs (pair ``j`` gets colour ``j mod 10``).
@@ -172,7 +164,7 @@ def diagonal_share(C: ArrayLike, band: int = 0) -> float:
     i, j = np.indices(C.shape)
     total = float(np.square(C).sum())
     if total == 0:
-        raise ValueError("C is all zeros; pass a functional map (cshape.functional_map)")
+        raise ValueError("C is all zeros; pass a functional map (cshape.maps.functional_map)")
     return float(np.square(C[np.abs(i - j) <= band]).sum() / total)
 
 
@@ -271,7 +263,7 @@ def plot_functional_map(C: ArrayLike, *, ax: Axes | None = None, cmap: str = MAP
     Parameters
     ----------
     C : array_like, shape (N_T, N_S)
-        From :func:`cshape.functional_map`, :func:`cshape.zoomout` or
+        From :func:`cshape.maps.functional_map`, :func:`cshape.maps.zoomout` or
         ``cshape.point_map(..., return_map=True)``.
     ax : matplotlib.axes.Axes, optional
         Draw here; by default a new Figure is made.

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._checks import check_choice, check_int, check_real
+from .._checks import check_choice, check_eigenbasis, check_int, check_real
 from ..mesh import as_mesh, repair_mesh
 
 if TYPE_CHECKING:
@@ -48,20 +48,6 @@ if TYPE_CHECKING:
 
     from ..mesh import Mesh, MeshLike
     from ..spectrum import Eigenbasis
-
-__all__ = [
-    "LIGHTING",
-    "add_mesh_view",
-    "default_eye",
-    "eigenfunction_explorer",
-    "fit_distance",
-    "mesh3d_arrays",
-    "mode_data",
-    "scene_layout",
-    "symmetric_limits",
-    "view_mesh",
-    "view_meshes",
-]
 
 #: Diverging colour map (blue < 0 < red) for signed functions, plotly's name.
 DIVERGING = "RdBu_r"
@@ -123,7 +109,7 @@ def mode_data(lam: ArrayLike, phi: ArrayLike, indices: Iterable[int] | None = No
     Parameters
     ----------
     lam : array_like, shape (k,)
-        Eigenvalues (``cshape.eigenpairs``).
+        Eigenvalues (``cshape.spectrum.eigenpairs``).
     phi : array_like, shape (n, k)
         Eigenfunctions on the vertices, ``phi[:, i]`` for ``lam[i]``.
     indices : sequence of int, optional
@@ -141,7 +127,7 @@ def mode_data(lam: ArrayLike, phi: ArrayLike, indices: Iterable[int] | None = No
     if phi.ndim != 2 or phi.shape[1] != len(lam):
         raise ValueError(
             f"phi must have shape (n_vertices, k) with k = len(lam) = {len(lam)}, got "
-            f"{phi.shape}; pass the lam, phi returned together by cshape.eigenpairs"
+            f"{phi.shape}; pass the lam, phi returned together by cshape.spectrum.eigenpairs"
         )
     k = len(lam)
     if indices is None:
@@ -196,7 +182,7 @@ def _scalars(mesh: Mesh, scalars: ArrayLike | None, name: str = "scalars") -> np
     if len(f) != mesh.n_vertices:
         raise ValueError(
             f"{name} has {len(f)} values but the mesh has {mesh.n_vertices} vertices; pass one "
-            "value per vertex (e.g. phi[:, i] from cshape.eigenpairs on the same mesh)"
+            "value per vertex (e.g. phi[:, i] from cshape.spectrum.eigenpairs on the same mesh)"
         )
     if not np.all(np.isfinite(f)):
         raise ValueError(f"{name} has NaN or infinite values; pass finite values on the vertices")
@@ -544,9 +530,7 @@ def _basis_of(mesh: Mesh, basis: object, N: int, at_least: int) -> Eigenbasis:
 
     if basis is None:
         return eigenbasis(mesh, N)
-    if not isinstance(basis, Eigenbasis):
-        raise TypeError(f"basis must be a cshape.Eigenbasis, got {type(basis).__name__}; "
-                        "compute it with cshape.eigenbasis(mesh, N)")
+    basis = check_eigenbasis("basis", basis, Eigenbasis)
     if basis.n_vertices != mesh.n_vertices or basis.N < at_least:
         raise ValueError(
             f"basis has {basis.N} eigenpairs on {basis.n_vertices} vertices, but the (repaired) "
@@ -773,7 +757,8 @@ def transfer_colours(values_a: ArrayLike, match_ba: ArrayLike) -> np.ndarray:
     values_a : array_like, shape (n_a,)
         A function on the vertices of a.
     match_ba : array_like of int, shape (n_b,)
-        For each vertex of b its matched vertex of a (``cshape.match_points(sig_b, sig_a)``);
+        For each vertex of b its matched vertex of a
+        (``cshape.signatures.match_points(sig_b, sig_a)``);
         ``-1`` (not matched, ``mutual=True``) gives NaN.
 
     Returns
@@ -790,7 +775,7 @@ def transfer_colours(values_a: ArrayLike, match_ba: ArrayLike) -> np.ndarray:
         raise ValueError(
             f"match_ba holds {int(m.max() if m.max() >= len(f) else m.min())}, outside "
             f"[-1, {len(f) - 1}] (vertices of a, -1 for unmatched); pass "
-            "cshape.match_points(sig_b, sig_a), b first"
+            "cshape.signatures.match_points(sig_b, sig_a), b first"
         )
     out = np.full(len(m), np.nan)
     ok = m >= 0

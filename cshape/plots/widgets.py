@@ -35,7 +35,8 @@ import numpy as np
 
 from .._checks import check_choice, check_int, require_extra
 from ..compare import distance_matrix, mds_embedding, retrieval_scores, scale_255
-from ..descriptors import NORMALIZATIONS, TRANSFORMS, log_weyl_ratio, normalize, weyl_subtract
+from ..descriptors import log_weyl_ratio, normalize, weyl_subtract
+from ..descriptors.formulas import NORMALIZATIONS, TRANSFORMS
 
 if TYPE_CHECKING:
     from collections.abc import Iterable
@@ -45,8 +46,10 @@ if TYPE_CHECKING:
 
     from ..batch import DescriptorTable
 
-__all__ = ["MSweep", "MSweepWidget", "SweepState", "clamp_M", "m_sweep_widget", "max_M",
-           "sweep_state"]
+__all__ = [
+    "MSweep",
+    "m_sweep_widget",
+]
 
 
 @dataclass

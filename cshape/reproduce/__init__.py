@@ -18,34 +18,12 @@ numbers, so tests and notebooks call them directly:
 
 from __future__ import annotations
 
-from .experiments import (
-    EXTENSIONS,
-    FAMILIES,
-    PAPER_RESULTS,
-    experiment_3_1,
-    experiment_3_2,
-    experiment_cost,
-    experiment_noise,
-    experiment_retrieval,
-    experiment_sizes,
-    family_descriptors,
-    size_verdict,
-)
-from .figures import fig1_selection
+from .experiments import FAMILIES, PAPER_RESULTS, experiment_retrieval
 from .report import reproduce
 
 __all__ = [
-    "EXTENSIONS",
     "FAMILIES",
     "PAPER_RESULTS",
-    "experiment_3_1",
-    "experiment_3_2",
-    "experiment_cost",
-    "experiment_noise",
     "experiment_retrieval",
-    "experiment_sizes",
-    "family_descriptors",
-    "fig1_selection",
     "reproduce",
-    "size_verdict",
 ]

@@ -42,7 +42,7 @@ def _drop_overlapping_texts(fig: Figure) -> int:
     """Draw ``fig`` once and remove each annotation that overlaps one kept before it in
     its axes, by their drawn extents.
 
-    :func:`cshape.plots.annotate_points` places texts from estimated sizes after a layout
+    :func:`cshape.plots.collection.annotate_points` places texts from estimated sizes after a layout
     pass; if the final layout still moves the axes (seen once in a long test run: two
     names of an MDS panel overlapping), this keeps the promise that names cover no other
     name.  The texts take no part in the layout, so a later draw keeps their places.

@@ -24,9 +24,6 @@ if TYPE_CHECKING:
 
     from ..batch import DescriptorTable
 
-__all__ = ["CANDIDATES", "MEASURES", "candidates", "choose_default", "default_row",
-           "suite_markdown", "suite_scores"]
-
 #: The families of the suite: (title, kind, transform, normalization).  Beyond the paper's
 #: area normalisation, the truncated log spectrum is also tried with the normalisations
 #: that need no area (:func:`cshape.normalize`): 'weyl' (the slope of the kept eigenvalues)

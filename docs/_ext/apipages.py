@@ -19,6 +19,19 @@ SECTIONS = [
     ("cshape", "Core: the method", "The pipeline, one module per stage: mesh and file "
      "reading, FEM matrices (Eq. 4-7), eigenvalues (Eq. 3), descriptors (Eq. 8-10), "
      "distances, retrieval and the nearest-neighbour index, per-point signatures."),
+    ("cshape.mesh", "Core: meshes", "The mesh container, repair, pieces, and the mesh "
+     "objects of other libraries."),
+    ("cshape.spectrum", "Core: the spectrum", "Eigenvalues and eigenpairs of "
+     "``A f = -lam B f`` (Eq. 3)."),
+    ("cshape.descriptors", "Core: descriptors", "The paper's formulas (Eq. 8-10) and their "
+     "variants, and the descriptor recipe."),
+    ("cshape.compare", "Core: distances and retrieval", "Distance matrices, the [0, 255] "
+     "scale, retrieval scores, nearest neighbours, MDS."),
+    ("cshape.signatures", "Core: per-point signatures", "Heat and wave kernel signatures "
+     "of an eigenbasis, and matching points by them."),
+    ("cshape.maps", "Core: maps between shapes", "Functional maps, ZoomOut, and point maps."),
+    ("cshape.geodesics", "Core: geodesics", "Geodesic distances by the heat method, and "
+     "the geodesic error of a map."),
     ("cshape.shapes", "Analytic test shapes", "Meshes built in code, with known spectra."),
     ("cshape.batch", "Batch runs", "Describe a whole collection into a table: cached, "
      "resumable, in local processes or on a Dask cluster."),
@@ -26,6 +39,10 @@ SECTIONS = [
      "generated and downloaded collections, folders of your own meshes."),
     ("cshape.data.variants", "Data: PyMeshLab variants", "Marching cubes, remeshing, "
      "subdivision, noise along normals, mesh quality (Section 3.3)."),
+    ("cshape.data.poses", "Data: posed figures", "Articulated figures in poses, with the "
+     "true vertex map between them (for maps)."),
+    ("cshape.data.creatures", "Data: creatures", "The creature benchmark's shapes, made in "
+     "code."),
     ("cshape.plots", "Plots: figures and the 3-D viewer", "The lessons' matplotlib figures "
      "and the plotly 3-D views (extra ``cshape[plots]``)."),
     ("cshape.plots.widgets", "Plots: widgets", "The M-sweep widget over pure functions."),

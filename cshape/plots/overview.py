@@ -1,6 +1,6 @@
 """Pictures for exploring one's own collection: which shapes lie near which.
 
-The distances they draw come from :func:`cshape.batch.collection_distances` (the rows that
+The distances they draw come from :func:`cshape.batch.table.collection_distances` (the rows that
 cannot be described left out and named), the neighbours and outliers from
 :func:`cshape.compare.nearest_neighbours` and :func:`cshape.compare.mds_outliers`.
 
@@ -54,20 +54,6 @@ if TYPE_CHECKING:
 
     #: a distance matrix, shape (p, p)
     _Matrix = np.ndarray | Sequence[Sequence[float]]
-
-__all__ = [
-    "class_summary",
-    "colour_limit",
-    "figure_html",
-    "guess_vertical_axis",
-    "interactive_mds",
-    "neighbour_strip_plotly",
-    "overview_html",
-    "plot_neighbour_strip",
-    "plot_overview",
-    "save_figure",
-    "thumbnail_mesh",
-]
 
 #: Most triangles of a thumbnail drawn by matplotlib (:func:`thumbnail_mesh`).
 THUMBNAIL_FACES = 6000
@@ -625,7 +611,7 @@ def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     Parameters
     ----------
     D : array_like, shape (p, p)
-        Distances (:func:`cshape.batch.collection_distances`).
+        Distances (:func:`cshape.batch.table.collection_distances`).
     names, labels : sequence of str, length p
         Name and class of each shape.
     Y : array_like, shape (p, 2), optional
