@@ -76,6 +76,8 @@ numpydoc_validation_exclude = {
     # is a ``#:`` comment, which has no quotes to place (GL02) and no sections, and PAPER
     # and DEFAULT are instances, which would be validated against their class's docstring
     r"^cshape(\.[a-z_][a-z0-9_]*)*\.[A-Z][A-Z0-9_]*$",
+    # the type alias of a mesh argument, module data with a #: comment like the constants
+    r"^cshape\.mesh\.MeshLike$",
 }
 
 # ---------------------------------------------------------------- notebooks and markdown
