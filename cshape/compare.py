@@ -277,7 +277,7 @@ def retrieval_scores(D: ArrayLike, labels: Sequence[Hashable] | ArrayLike, *,
 
     See Also
     --------
-    retrieval_per_query : the same measures for each query.
+    retrieval_per_query : The same measures for each query.
     """
     per = retrieval_per_query(D, labels, min_class_size=min_class_size)
     if np.all(np.isnan(per["nn"])):
@@ -339,12 +339,14 @@ def mds_embedding(D: ArrayLike, *, n_components: int = 2, random_state: Any = 0,
     D : array_like, shape (p, p)
         Symmetric distance matrix.
     n_components : int, default=2
+        Dimension of the embedding.
     random_state : int or None, default=0
         Seed of the SMACOF iterations; the result is reproducible for a fixed seed.
     n_init : int, default=4
         Random restarts (used by scikit-learn < 1.8; with >= 1.8 the iteration starts from
         classical MDS, which is deterministic, and ``n_init`` is ignored).
     max_iter : int, default=300
+        Most SMACOF iterations per start.
 
     Returns
     -------

@@ -387,6 +387,14 @@ def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"
         (``h`` the edge length); with the lumped mass that term has the opposite sign, and
         their average cancels most of it (see the resolution guide).
 
+    Returns
+    -------
+    A : scipy.sparse.csr_matrix, shape (k, k)
+        Symmetric negative semidefinite stiffness; ``k = n`` for Neumann, ``|V_I|``
+        for Dirichlet (in increasing vertex order).
+    B : scipy.sparse.csr_matrix, shape (k, k)
+        Symmetric positive definite mass; its entries sum to the surface area (Neumann).
+
     Raises
     ------
     TypeError
@@ -395,14 +403,6 @@ def fem_matrices(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent"
         If ``bc`` or ``mass`` is unknown, the mesh has zero total area (every triangle
         degenerate: vertices coincident or collinear), or ``bc='dirichlet'`` leaves no
         unknowns.
-
-    Returns
-    -------
-    A : scipy.sparse.csr_matrix, shape (k, k)
-        Symmetric negative semidefinite stiffness; ``k = n`` for Neumann, ``|V_I|``
-        for Dirichlet (in increasing vertex order).
-    B : scipy.sparse.csr_matrix, shape (k, k)
-        Symmetric positive definite mass; its entries sum to the surface area (Neumann).
 
     Notes
     -----

@@ -62,12 +62,14 @@ def face_gradients(mesh: MeshLike) -> tuple[sp.csr_matrix, NDArray[np.float64],
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The surface.
 
     Returns
     -------
     G : scipy.sparse.csr_matrix, shape (3 F, n)
         ``(G f)[3 t + c]`` is component ``c`` of the gradient of ``f`` on triangle ``t``.
     areas : ndarray, shape (F,)
+        Triangle areas ``|t|``.
     normals : ndarray, shape (F, 3)
         Unit normals (right-hand rule in the face order).
     """
@@ -141,6 +143,7 @@ class HeatGeodesics:
         Parameters
         ----------
         sources : array_like of int, shape (s,)
+            Vertex indices, one distance field each.
 
         Returns
         -------
@@ -165,6 +168,7 @@ class HeatGeodesics:
         Parameters
         ----------
         sources : int or array_like of int, shape (s,)
+            Vertex indices; the distance is to the nearest of them.
 
         Returns
         -------
@@ -212,6 +216,7 @@ def geodesic_distance(mesh: MeshLike, sources: ArrayLike, *, m: float = 1.0
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The surface, without duplicate or unreferenced vertices (:func:`cshape.repair_mesh`).
     sources : int or array_like of int, shape (s,)
         Vertex indices; the distance is to the nearest of them.
     m : float, default=1.0

@@ -51,13 +51,6 @@ class DescriptorIndex:
     n_jobs : int, optional
         Parallel queries (scikit-learn convention, -1 for all cores).
 
-    Raises
-    ------
-    TypeError
-        ``algorithm`` not a string, ``n_jobs`` not an integer, ``X`` not numeric.
-    ValueError
-        Unknown ``algorithm``, ``n_jobs`` 0 or below -1, ``X`` empty, not 2-D or not finite.
-
     Attributes
     ----------
     X_ : ndarray, shape (n, d')
@@ -71,6 +64,13 @@ class DescriptorIndex:
     rows_ : ndarray of int, shape (n,)
         The table row of each database row (:meth:`from_table` leaves out the shapes the
         descriptor cannot describe); ``arange(n)`` for an index built from descriptors.
+
+    Raises
+    ------
+    TypeError
+        ``algorithm`` not a string, ``n_jobs`` not an integer, ``X`` not numeric.
+    ValueError
+        Unknown ``algorithm``, ``n_jobs`` 0 or below -1, ``X`` empty, not 2-D or not finite.
 
     Examples
     --------
@@ -104,10 +104,13 @@ class DescriptorIndex:
         Parameters
         ----------
         table : DescriptorTable
+            The eigenvalues of the database's shapes (:func:`cshape.describe`).
         descriptor : Descriptor, optional
             Which descriptor (e.g. :data:`cshape.PAPER`); default: :data:`cshape.DEFAULT`
             at the table's ``N``.
-        algorithm, n_jobs
+        algorithm : {'auto', 'brute', 'kd_tree', 'ball_tree'}, default='auto'
+            As for the constructor.
+        n_jobs : int, optional
             As for the constructor.
 
         Returns
@@ -155,6 +158,7 @@ class DescriptorIndex:
         areas : array_like, shape (q,) or float, optional
             Surface areas (needed by the area normalisation).
         k : int, default=1
+            Neighbours per query.
         zero_modes : array_like of int, shape (q,), optional
             Zero eigenvalues of each query (its component count); default: counted.
         names : sequence of str, optional

@@ -458,6 +458,7 @@ def repair_mesh(mesh: MeshLike, *, merge_tol: float = 0.0, warn: bool = True) ->
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to repair.
     merge_tol : float, default=0.0
         Relative welding tolerance; 0 welds only exactly coincident vertices.
     warn : bool, default=True
@@ -580,6 +581,7 @@ def largest_component(mesh: MeshLike) -> Mesh:
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh, of one component or more.
 
     Returns
     -------

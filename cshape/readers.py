@@ -59,6 +59,7 @@ def load_mesh(path: str | os.PathLike[str], *, repair: bool = True) -> Mesh:
     Returns
     -------
     Mesh
+        The vertices and triangles of the file (repaired when ``repair`` is true).
 
     Raises
     ------
@@ -113,6 +114,18 @@ def split_mesh_name(path: str | os.PathLike[str]) -> tuple[str, str]:
 
     ``bunny.off`` and ``bunny.off.gz`` both give ``("bunny", ".off")``; the suffix is
     lower-case (``""`` when there is none).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A mesh file name, with or without folders.
+
+    Returns
+    -------
+    stem : str
+        The name without its format suffix and ``.gz``.
+    suffix : str
+        The format suffix, lower-case, with its dot (``".off"``), or ``""``.
 
     Examples
     --------

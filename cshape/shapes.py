@@ -44,6 +44,18 @@ def icosphere(subdivisions: int = 4, radius: float = 1.0) -> Mesh:
 
     Vertex counts ``10 * 4**s + 2``: 642 (s=3), 2562 (4), 10242 (5), 40962 (6), 163842 (7).
 
+    Parameters
+    ----------
+    subdivisions : int, default=4
+        Midpoint subdivisions of the icosahedron, 0 to 8.
+    radius : float, default=1.0
+        Radius of the sphere, positive.
+
+    Returns
+    -------
+    Mesh
+        A closed genus-0 mesh, centred at the origin, every vertex at distance ``radius``.
+
     Examples
     --------
     >>> from cshape import shapes
@@ -96,6 +108,18 @@ def square(n: int = 32, size: float = 1.0) -> Mesh:
     """Flat square ``[0, size]^2`` in the z=0 plane, an ``n x n`` grid of cells.
 
     Each cell is cut into two triangles along alternating diagonals.  ``(n+1)^2`` vertices.
+
+    Parameters
+    ----------
+    n : int, default=32
+        Cells per side, 1 to 4096.
+    size : float, default=1.0
+        Side length, positive.
+
+    Returns
+    -------
+    Mesh
+        An open mesh with one boundary loop, normals along +z.
     """
     n = check_int("n", n, min=1, max=4096)
     size = check_real("size", size, positive=True)
@@ -154,7 +178,22 @@ def _disk_param(rings: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def disk(rings: int = 24, radius: float = 1.0) -> Mesh:
-    """Flat disk of the given radius: ``1 + 3 rings (rings + 1)`` vertices on concentric rings."""
+    """Flat disk in the z=0 plane, centred at the origin, triangulated on concentric rings.
+
+    Ring ``k`` has ``6 k`` vertices: ``1 + 3 rings (rings + 1)`` vertices in all.
+
+    Parameters
+    ----------
+    rings : int, default=24
+        Rings around the centre, 1 to 2048.
+    radius : float, default=1.0
+        Radius of the disk, positive.
+
+    Returns
+    -------
+    Mesh
+        An open mesh with one boundary loop (the circle), normals along +z.
+    """
     rings = check_int("rings", rings, min=1, max=2048)
     radius = check_real("radius", radius, positive=True)
     r, th, F = _disk_param(rings)
@@ -163,9 +202,21 @@ def disk(rings: int = 24, radius: float = 1.0) -> Mesh:
 
 
 def hemisphere(rings: int = 24, radius: float = 1.0) -> Mesh:
-    """Upper unit hemisphere ``z >= 0``; its boundary is the equator.
+    """Upper hemisphere ``z >= 0`` of the sphere of the given radius; its boundary is the equator.
 
-    The disk triangulation mapped by polar angle ``phi = r pi / 2``.
+    The disk triangulation (:func:`disk`) mapped by polar angle ``phi = r pi / 2``.
+
+    Parameters
+    ----------
+    rings : int, default=24
+        Rings around the pole, 1 to 2048.
+    radius : float, default=1.0
+        Radius of the sphere, positive.
+
+    Returns
+    -------
+    Mesh
+        An open mesh with one boundary loop (the equator), normals pointing outwards.
     """
     rings = check_int("rings", rings, min=1, max=2048)
     radius = check_real("radius", radius, positive=True)
@@ -185,9 +236,25 @@ def _orient_up(mesh: Mesh) -> Mesh:
 
 
 def torus(n_major: int = 64, n_minor: int = 32, R: float = 1.0, r: float = 0.4) -> Mesh:
-    """Torus of revolution with major radius ``R`` and tube radius ``r`` (genus 1).
+    """Build a torus of revolution with major radius ``R`` and tube radius ``r`` (genus 1).
 
     The axis is z; ``n_major * n_minor`` vertices.
+
+    Parameters
+    ----------
+    n_major : int, default=64
+        Vertices around the axis, 3 to 8192.
+    n_minor : int, default=32
+        Vertices around the tube, 3 to 8192.
+    R : float, default=1.0
+        Distance from the axis to the centre of the tube.
+    r : float, default=0.4
+        Radius of the tube, ``0 < r < R``.
+
+    Returns
+    -------
+    Mesh
+        A closed genus-1 mesh, centred at the origin.
 
     Examples
     --------
@@ -220,6 +287,18 @@ def cube(n: int = 16, size: float = 1.0) -> Mesh:
     """Surface of the cube ``[0, size]^3``, each face an ``n x n`` grid (closed, welded).
 
     ``6 n^2 + 2`` vertices; the grid's diagonals alternate, as in :func:`square`.
+
+    Parameters
+    ----------
+    n : int, default=16
+        Cells per side of each face, 1 to 1024.
+    size : float, default=1.0
+        Edge length of the cube, positive.
+
+    Returns
+    -------
+    Mesh
+        A closed genus-0 mesh with one corner at the origin.
 
     Examples
     --------
@@ -254,6 +333,19 @@ def cube(n: int = 16, size: float = 1.0) -> Mesh:
 
 def sphere_spectrum(N: int, radius: float = 1.0) -> NDArray[np.float64]:
     """Return the first ``N`` exact sphere eigenvalues: ``l(l+1)/radius^2``, each ``2l+1`` times.
+
+    Parameters
+    ----------
+    N : int
+        How many eigenvalues, 0 or more.
+    radius : float, default=1.0
+        Radius of the sphere, positive.
+
+    Returns
+    -------
+    lam : ndarray, shape (N,)
+        Ascending eigenvalues of ``Delta f = -lam f`` on the sphere (Eq. 2), in units of
+        ``1 / radius^2``.
 
     Examples
     --------

@@ -157,6 +157,7 @@ def heat_trace(basis: Eigenbasis, t: ArrayLike, *, normalization: str = "none") 
     Returns
     -------
     ndarray, shape (T,)
+        ``Z(t)`` at each time (a float array of one value for a scalar ``t``).
     """
     lam = _eigenvalues(basis, normalization)
     t = _check_scales("t", t)
@@ -223,6 +224,7 @@ def hks_times(basis: Eigenbasis, n_times: int = 100, *, normalization: str = "no
     basis : Eigenbasis
         Only ``lam`` is used.
     n_times : int, default=100
+        Number of times.
     normalization : {'none', 'area'}, default='none'
         ``'area'``: times for the shape scaled to unit area (in units of the area).
 
@@ -309,7 +311,9 @@ def wks_energies(basis: Eigenbasis, n_energies: int = 100, *, normalization: str
     Returns
     -------
     energies : ndarray, shape (n_energies,)
+        Increasing log-energies ``e``.
     sigma : float
+        Width of the band filter ``g`` in log-energy, ``7 delta``.
     """
     lam = _eigenvalues(basis, normalization)
     return _wks_energies(lam, check_int("n_energies", n_energies, min=1))
@@ -364,6 +368,7 @@ def wks(basis: Eigenbasis, energies: ArrayLike | None = None, sigma: float | Non
     Returns
     -------
     ndarray, shape (n, E)
+        ``WKS(x, e)``: one row per vertex, one column per energy.
     """
     n_energies = check_int("n_energies", n_energies, min=1)
     sigma = _check_positive("sigma", sigma)
@@ -411,10 +416,12 @@ def si_hks_tau(step: float = 1 / 8) -> np.ndarray:
     Parameters
     ----------
     step : float, default=1/8
+        Spacing of ``tau``.
 
     Returns
     -------
     ndarray, shape (40 / step + 1,)
+        Increasing ``tau``, from -24 to 16.
     """
     step = check_real("step", step, positive=True)
     return np.arange(-24.0, 16.0 + step / 2, step)
@@ -455,6 +462,7 @@ def si_hks(basis: Eigenbasis, tau: ArrayLike | None = None, *, base: float = 2.0
     Returns
     -------
     ndarray, shape (n, n_freqs)
+        ``SI-HKS(x, w)``: one row per vertex, one column per frequency.
     """
     lam, phi = _pairs(basis, "none")
     base = check_real("base", base, positive=True)
@@ -545,6 +553,7 @@ def match_points(sig_a: ArrayLike, sig_b: ArrayLike, *, mutual: bool = False) ->
     Parameters
     ----------
     sig_a : array_like, shape (n_a, k) or (n_a,)
+        Signatures of shape a, one row per vertex.
     sig_b : array_like, shape (n_b, k) or (n_b,)
         Signatures at the same scales.
     mutual : bool, default=False

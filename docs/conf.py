@@ -57,6 +57,28 @@ autodoc_default_options = {"members": False}
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
+# Every docstring the API pages show is validated (numpydoc's checks, as LaPy's docs do; the
+# build runs with -W, so a failing docstring fails it).  "all" followed by codes means every
+# check but those codes.  tests/test_docstrings.py reads these two settings from this file
+# (keep them literals) and runs the same checks in the fast tier, without Sphinx.
+numpydoc_validation_checks = {
+    "all",
+    "GL01",  # summary on the line of the opening quotes is the house style (ruff's D212)
+    "ES01",  # an extended summary only where the summary line needs one
+    "SA01",  # See Also only where a related name helps; the API index groups the rest
+    "EX01",  # the lessons and guides are the examples; doctests live where they teach
+    "RT02",  # a single returned value is named ("lam : ndarray, shape (N,)"), as numpy does
+}
+# objects that cannot carry a numpydoc docstring of their own (regular expressions on the
+# full name); never a public function, class or method (tests/test_docstrings.py checks)
+numpydoc_validation_exclude = {
+    # module constants (``.. autodata::``, ``cshape.data.MESH_SUFFIXES``): their documentation
+    # is a ``#:`` comment, which has no quotes to place (GL02) and no sections, and PAPER
+    # and DEFAULT are instances, which would be validated against their class's docstring
+    r"^cshape(\.[a-z_][a-z0-9_]*)*\.[A-Z][A-Z0-9_]*$",
+    # the type alias of a mesh argument, module data with a #: comment like the constants
+    r"^cshape\.mesh\.MeshLike$",
+}
 
 # ---------------------------------------------------------------- notebooks and markdown
 nb_execution_mode = "off"  # the lessons are executed once, by `cshape notebooks`

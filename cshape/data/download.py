@@ -35,6 +35,13 @@ def extract_archive(archive: _StrPath, target: _StrPath) -> Path:
     rejected before anything is written; the archive is unpacked into a temporary folder
     beside ``target`` and moved into place, so a failure leaves ``target`` as it was.
 
+    Parameters
+    ----------
+    archive : str or os.PathLike
+        The ``.zip``, ``.tar``, ``.tar.gz``, ``.tar.bz2`` or ``.tar.xz`` file.
+    target : str or os.PathLike
+        The folder to unpack into; its parent is created if needed.
+
     Returns
     -------
     Path
@@ -122,10 +129,12 @@ def fetch(name: str, *, items: Iterable[str] | None = None, cache_dir: _StrPath 
         A ``download`` collection with pinned ``items``.
     items : list of str, optional
         Only these items (default: all).
-    cache_dir : optional
+    cache_dir : str or os.PathLike, optional
         Cache folder (default :func:`cache_dir`).
     progress : bool, default=True
-        pooch's progress bar per file.
+        Show pooch's progress bar per file.
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
 
     Returns
     -------

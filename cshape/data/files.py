@@ -90,7 +90,26 @@ class _VerifiedLoader(_FileLoader):
 
 
 def read_vert_tri(vert_path: str | os.PathLike[str]) -> Mesh:
-    """Read a TOSCA mesh: ``NAME.vert`` (x y z per line) and ``NAME.tri`` (1-based triangles)."""
+    """Read a TOSCA mesh: ``NAME.vert`` (x y z per line) and ``NAME.tri`` (1-based triangles).
+
+    Parameters
+    ----------
+    vert_path : str or os.PathLike
+        The ``.vert`` file; the ``.tri`` file of the same name must be beside it.
+
+    Returns
+    -------
+    Mesh
+        The vertices and the triangles, as 0-based indices.
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no ``.tri`` file beside ``vert_path``.
+    ValueError
+        If either file cannot be read as numbers, or the triangles are not 1-based indices
+        of the vertices.
+    """
     vert_path = Path(vert_path)
     tri_path = vert_path.with_suffix(".tri")
     if not tri_path.is_file():

@@ -141,6 +141,17 @@ def read_mcgill(folder: str | os.PathLike[str]) -> Collection:
     under ``articulated/`` and ``nonarticulated/`` group folders, with the meshes (``.ply``;
     ``.off`` and ``.obj`` also read) at any depth below, e.g. ``ants/Ply/b1.ply``.  The label
     is the class folder's name; medial-surface files (``.im``) are ignored.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The unpacked benchmark.
+
+    Returns
+    -------
+    Collection
+        Named ``mcgill-3dsb``; every mesh found, labelled by its class folder, loaded on
+        first access.
     """
     folder = Path(folder)
     files = [p for p in _mesh_files(folder) if _suffix(p) in (".ply", ".off", ".obj")]
@@ -170,6 +181,16 @@ def read_tosca(folder: str | os.PathLike[str]) -> Collection:
     copies are read too when there is no ``.vert``).  Label: the name without its trailing
     pose number (``cat``, ``centaur``, ``david``, ``dog``, ``gorilla``, ``horse``,
     ``michael``, ``victoria``, ``wolf``).
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The unpacked archive.
+
+    Returns
+    -------
+    Collection
+        Named ``tosca``; the meshes found, labelled by class, loaded on first access.
     """
     folder = Path(folder)
     files = _mesh_files(folder)
@@ -198,6 +219,16 @@ def read_shrec07(folder: str | os.PathLike[str]) -> Collection:
 
     Model ``n`` belongs to class ``SHREC07_CLASSES[(n - 1) // 20]``; files not named by a
     number from 1 to 400 are ignored.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The unpacked track.
+
+    Returns
+    -------
+    Collection
+        The models found, in number order, labelled by class, loaded on first access.
     """
     folder = Path(folder)
     found = {}

@@ -41,16 +41,22 @@ _DEFAULT_MANIFEST = Path(__file__).resolve().parent / "data_manifest.yaml"
 class Item:
     """One mesh of a collection: its name, class label and (lazily loaded) mesh.
 
-    Attributes
+    Parameters
     ----------
     name : str
         Unique within the collection.
     label : str
         Class label (for classification and MDS colouring).
-    collection : str
+    collection : str, default=''
         Name of the collection.
-    meta : dict
+    meta : dict, optional
         The manifest entry of the item (recipe, params, seed, file, license, ...).
+    _load : callable, optional
+        Returns the mesh; called on the first access to :attr:`mesh`.  The collection
+        readers set it.
+
+    Attributes
+    ----------
     mesh : Mesh
         Loaded on first access and kept.
     path : Path or None
@@ -80,11 +86,13 @@ class Item:
 class Collection:
     """A named list of :class:`Item`, indexable by position or item name.
 
-    Attributes
+    Parameters
     ----------
     name : str
+        Name of the collection.
     items : list of Item
-    info : dict
+        Its meshes, in order.
+    info : dict, optional
         The manifest entry (description, license, citation, ...).
     """
 
@@ -492,6 +500,11 @@ def load_manifest(path: ManifestSource = None) -> Entries:
         inside the package.  A dict is taken as an already parsed manifest.
         The file's folder is recorded (key ``_root`` of each entry) to resolve relative
         ``local`` paths.
+
+    Returns
+    -------
+    dict of str to dict
+        ``{collection name: entry}``, in manifest order.
     """
     if isinstance(path, dict):
         if "collections" in path:
@@ -531,7 +544,17 @@ def _entry(name: str, manifest: ManifestSource) -> Entry:
 
 
 def list_collections(manifest: ManifestSource = None) -> list[str]:
-    """Names of the collections in the manifest, in manifest order.
+    """Return the names of the collections in the manifest, in manifest order.
+
+    Parameters
+    ----------
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
+
+    Returns
+    -------
+    list of str
+        The collection names.
 
     Examples
     --------
@@ -543,7 +566,20 @@ def list_collections(manifest: ManifestSource = None) -> list[str]:
 
 
 def info(name: str, manifest: ManifestSource = None) -> dict[str, Any]:
-    """The manifest entry of collection ``name`` (description, kind, license, items, ...)."""
+    """Return the manifest entry of collection ``name`` (description, kind, license, items, ...).
+
+    Parameters
+    ----------
+    name : str
+        A collection of the manifest (:func:`list_collections`).
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
+
+    Returns
+    -------
+    dict
+        The entry, as :func:`load_manifest` validated it.
+    """
     return {k: v for k, v in _entry(name, manifest).items() if not k.startswith("_")}
 
 

@@ -15,8 +15,19 @@ if TYPE_CHECKING:
 
 
 def cache_dir(path: str | os.PathLike[str] | None = None) -> Path:
-    """The cache folder: ``path``, else ``$CSHAPE_CACHE``, else the user cache folder
-    (``~/.cache/cshape`` on Linux).  Not created here."""
+    """Return the cache folder of the data collections; it is not created here.
+
+    Parameters
+    ----------
+    path : str or os.PathLike, optional
+        The folder to use.  Default: ``$CSHAPE_CACHE``, else the user cache folder
+        (``~/.cache/cshape`` on Linux).
+
+    Returns
+    -------
+    Path
+        The cache folder.
+    """
     return cache_root(path)
 
 
@@ -29,11 +40,25 @@ def _env_path(entry: dict[str, Any]) -> Path | None:
 
 def collection_path(name: str, *, cache_dir: str | os.PathLike[str] | None = None,
                     manifest: str | os.PathLike[str] | dict[str, Any] | None = None) -> Path:
-    """Where collection ``name`` lives on disk (it may not exist yet).
+    """Return where collection ``name`` lives on disk (it may not exist yet).
 
     generated: ``<cache>/generated/<name>``; download: ``$<path_env>`` if set, else
     ``<cache>/downloads/<name>``; package: the folder inside the installed package;
     local: ``$<path_env>`` if set, else ``path`` relative to the manifest's folder.
+
+    Parameters
+    ----------
+    name : str
+        A collection of the manifest.
+    cache_dir : str or os.PathLike, optional
+        Cache folder (default :func:`cache_dir`).
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
+
+    Returns
+    -------
+    Path
+        The collection's folder.
     """
     entry = _entry(name, manifest)
     kind = entry["kind"]

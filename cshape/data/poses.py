@@ -201,6 +201,20 @@ def skin_weights(kind: str, vertices: ArrayLike, *, width: float = BLEND_WIDTH) 
     bone ``b``'s capsules and ``d_min`` the smallest over the bones; rows sum to 1.  A point
     farther than ``width`` from every other bone's region follows its bone rigidly; near a
     joint it blends the bones that meet there.
+
+    Parameters
+    ----------
+    kind : {'human', 'quadruped'}
+        The class, whose skeleton gives the bones.
+    vertices : array_like, shape (n, 3)
+        Points of the rest pose.
+    width : float, default=BLEND_WIDTH (0.06)
+        Width of the blend region, in the template's length units.
+
+    Returns
+    -------
+    ndarray, shape (n, number of bones)
+        The weights ``w_b``; each row sums to 1.
     """
     return _blend_weights(_skeleton(kind), vertices, width)
 
@@ -282,17 +296,20 @@ def pose(template: MeshLike, kind: str = "human",
 def posed_figure(kind: str = "human", random_state: int | np.random.Generator | None = 0, *,
                  rest: bool = False, voxelsize: float = 0.02, target_vertices: int = 3000
                  ) -> Mesh:
-    """A pose of a class: :func:`pose` of the class's cached :func:`pose_template`.
+    """Return a pose of a class: :func:`pose` of the class's cached :func:`pose_template`.
 
     Parameters
     ----------
     kind : {'human', 'quadruped'}, default='human'
+        The class.
     random_state : int, numpy.random.Generator or None, default=0
         Seed of the joint angles (see :func:`pose`).
     rest : bool, default=False
         Return the template itself (every angle 0).
-    voxelsize, target_vertices
-        Of the template (:func:`pose_template`).
+    voxelsize : float, default=0.02
+        Marching-cubes voxel of the template (:func:`pose_template`).
+    target_vertices : int, default=3000
+        Approximate vertex count of the template (:func:`pose_template`).
 
     Returns
     -------
@@ -306,11 +323,23 @@ def posed_figure(kind: str = "human", random_state: int | np.random.Generator | 
 
 
 def mirror_map(kind: str, mesh: Mesh) -> np.ndarray:
-    """The template's left-right mirror as a vertex map, shape (n,).
+    """Return the template's left-right mirror as a vertex map.
 
     ``mirror[i]`` is the vertex nearest to the reflection of vertex ``i`` of the rest pose
     (``x -> -x`` for the human, ``y -> -y`` for the quadruped); the remeshed template is
     symmetric up to about an edge length.
+
+    Parameters
+    ----------
+    kind : {'human', 'quadruped'}
+        The class, which sets the mirror plane.
+    mesh : Mesh
+        The rest pose (:func:`posed_figure` with ``rest=True``), or a pose with its faces.
+
+    Returns
+    -------
+    mirror : ndarray of int64, shape (n,)
+        The vertex nearest to each vertex's reflection.
     """
     from scipy.spatial import cKDTree
 

@@ -289,12 +289,17 @@ def load(name: str, item: str, *, cache_dir: _StrPath | None = None, download: b
         The collection.
     item : str
         The item's name (``load_collection(name).names``).
-    cache_dir, download, manifest
-        As for :func:`load_collection`.
+    cache_dir : str or os.PathLike, optional
+        Cache folder (default :func:`cache_dir`).
+    download : bool, default=False
+        Fetch a missing file of a ``download`` collection, as for :func:`load_collection`.
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
 
     Returns
     -------
     Mesh
+        The item's mesh.
     """
     entries = load_manifest(manifest)
     entry = _entry(name, entries)
@@ -332,8 +337,12 @@ def load_creatures(seed: int = 1, members: int = 10, kinds: Iterable[str] | None
         Members per class.
     kinds : sequence of str, optional
         Classes (default all of :data:`cshape.data.creatures.CREATURE_KINDS`).
-    cache_dir, progress, n_jobs
-        As for :func:`load_collection`.
+    cache_dir : str or os.PathLike, optional
+        Cache folder (default :func:`cache_dir`).
+    progress : bool or None, default=None
+        Progress bar while building, as for :func:`load_collection`.
+    n_jobs : int, default=1
+        Worker processes that build the missing meshes, as for :func:`load_collection`.
     **params
         Passed to :func:`cshape.data.creatures.creature` for every item (``variation``,
         ``vertices``, ``noise``, ``voxelsize``).
@@ -394,6 +403,30 @@ def build(name: str, *, cache_dir: _StrPath | None = None, progress: bool | None
     generated: build every missing item into the cache; download (pinned files): fetch them;
     download (benchmark): unpack ``archive`` (a file you downloaded by hand) into place with
     :func:`extract_archive`, then check it reads; package / local: check every file reads.
+
+    Parameters
+    ----------
+    name : str
+        A collection of the manifest (:func:`list_collections`).
+    cache_dir : str or os.PathLike, optional
+        Cache folder (default :func:`cache_dir`).
+    progress : bool or None, default=None
+        Progress bars, as for :func:`load_collection` (downloads show theirs unless
+        ``False``).
+    archive : str or os.PathLike, optional
+        For a ``download`` collection only: the archive to unpack into its folder.
+    manifest : path or dict, optional
+        Another manifest (default :func:`load_manifest`).
+
+    Returns
+    -------
+    Path
+        The collection's folder (:func:`collection_path`).
+
+    Raises
+    ------
+    ValueError
+        If ``archive`` is given for a collection that is not of kind ``download``.
     """
     entries = load_manifest(manifest)
     entry = _entry(name, entries)

@@ -238,6 +238,27 @@ def identity_items(seed: int = 1, identities: int = 6, poses: int = 8,
     Identity ``k`` of the kind at position ``c`` of :data:`IDENTITY_KINDS` gets the seed
     ``1_000_000 * seed + 1000 * c + k`` (two instances share no identity); its items are
     ``<kind>-<k>-p<pose>-v<vertices>``, labelled ``<kind>-<k>``.
+
+    Parameters
+    ----------
+    seed : int, default=1
+        Instance seed.
+    identities : int, default=6
+        Identities (classes) per kind, 1 to 999.
+    poses : int, default=8
+        Poses of each identity, 1 to 999.
+    resolutions : iterable of int, default=(1200, 2800)
+        Approximate vertex counts; every pose is meshed at each (at least 100).
+    kinds : iterable of str, default=('human', 'quadruped')
+        Kinds of :data:`IDENTITY_KINDS`.
+    params : dict, optional
+        Further recipe parameters of every item (merged into its ``params``).
+
+    Returns
+    -------
+    list of dict
+        One manifest item per identity, pose and resolution (``name``, ``label``,
+        ``recipe``, ``seed``, ``params``).
     """
     seed = _check_int("seed", seed, 0, 2000)
     identities = _check_int("identities", identities, 1, 999)
@@ -297,6 +318,8 @@ def resolution_shape(kind: str = "human", random_state: int = 0, *, level: str =
         See :data:`RESOLUTION_LEVELS`: isotropic remeshing to about 1000 or 2500 vertices, or
         quadric edge-collapse decimation to about 1800 (irregular triangles) of the
         marching-cubes surface (voxel ``min(voxelsize, thinnest radius / 2.2)``).
+    voxelsize : float, default=0.025
+        Largest marching-cubes voxel, in the creature's length units.
 
     Returns
     -------
@@ -315,11 +338,31 @@ def resolution_shape(kind: str = "human", random_state: int = 0, *, level: str =
 def resolution_items(seed: int = 1, members: int = 2, kinds: Iterable[str] | None = None,
                      levels: Iterable[str] = tuple(RESOLUTION_LEVELS),
                      params: dict[str, Any] | None = None) -> list[dict[str, Any]]:
-    """The items of a resolution benchmark instance: ``members`` creatures of every kind,
-    each a class ``<kind>-<k>``, in every meshing of ``levels`` (``<kind>-<k>-<level>``).
+    """Return the items of a resolution benchmark instance, as ``data_manifest.yaml`` items.
 
-    Creature seeds are those of :func:`cshape.data.creatures.creature_items` plus 500, so
-    no shape is also a member of a creature benchmark instance.
+    ``members`` creatures of every kind, each a class ``<kind>-<k>``, in every meshing of
+    ``levels`` (``<kind>-<k>-<level>``).  Creature seeds are those of
+    :func:`cshape.data.creatures.creature_items` plus 500, so no shape is also a member of
+    a creature benchmark instance.
+
+    Parameters
+    ----------
+    seed : int, default=1
+        Instance seed.
+    members : int, default=2
+        Creatures (classes) per kind.
+    kinds : iterable of str, optional
+        Kinds of :data:`cshape.data.creatures.CREATURE_KINDS` (default all).
+    levels : iterable of str, default=('coarse', 'fine', 'decimated')
+        Meshings of :data:`RESOLUTION_LEVELS`.
+    params : dict, optional
+        Further recipe parameters of every item (merged into its ``params``).
+
+    Returns
+    -------
+    list of dict
+        One manifest item per creature and level (``name``, ``label``, ``recipe``,
+        ``seed``, ``params``).
     """
     levels = [check_choice("levels", lv, tuple(RESOLUTION_LEVELS)) for lv in levels]
     out: list[dict[str, Any]] = []

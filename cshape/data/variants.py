@@ -216,6 +216,7 @@ def remesh(
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to remesh.
     target_length : float, optional
         Target edge length in the mesh's units.
     target_vertices : int, optional
@@ -223,6 +224,7 @@ def remesh(
         ``sqrt(area / (0.866 * target_vertices))`` (equilateral triangles, two per vertex).
         Give exactly one of the two.
     iterations : int, default=10
+        Remeshing iterations, 1 to 1000.
     feature_angle : float, default=90.0
         Edges whose dihedral angle exceeds this many degrees are kept as sharp features.
         The default 90 smooths the creases a union of capsules leaves (PyMeshLab's own
@@ -231,6 +233,7 @@ def remesh(
     Returns
     -------
     Mesh
+        The remeshed surface.
     """
     mesh = as_mesh(mesh)
     if (target_length is None) == (target_vertices is None):
@@ -285,7 +288,9 @@ def subdivide(mesh: MeshLike, iterations: int = 1, method: str = "loop") -> Mesh
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to refine.
     iterations : int, default=1
+        Subdivision steps, 0 to 8 (at most 20 million triangles in the result).
     method : {'loop', 'midpoint'}, default='loop'
         ``'loop'`` (smooths; the paper's D1 -> D2 refinement) or ``'midpoint'`` (keeps every
         face flat).
@@ -331,14 +336,28 @@ def subdivide(mesh: MeshLike, iterations: int = 1, method: str = "loop") -> Mesh
 # ---------------------------------------------------------------------- articulated figures
 @dataclass(frozen=True)
 class Capsule:
-    """A capsule: the points within ``radius`` of the segment from ``a`` to ``b``."""
+    """A capsule: the points within ``radius`` of the segment from ``a`` to ``b``.
+
+    Parameters
+    ----------
+    a, b : tuple of float
+        The segment's end points ``(x, y, z)``.
+    radius : float
+        Radius around the segment.
+    """
 
     a: tuple
     b: tuple
     radius: float
 
     def expression(self) -> str:
-        """Signed distance to the capsule in muparser syntax (negative inside)."""
+        """Return the signed distance to the capsule in muparser syntax (negative inside).
+
+        Returns
+        -------
+        str
+            An expression in ``x``, ``y`` and ``z`` for PyMeshLab's implicit surfaces.
+        """
         ax, ay, az = (float(c) for c in self.a)
         dx, dy, dz = (float(q) - float(p) for p, q in zip(self.a, self.b, strict=True))
         L2 = dx * dx + dy * dy + dz * dz
@@ -358,12 +377,18 @@ def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = N
     Parameters
     ----------
     capsules : iterable of Capsule
+        The capsules of the union.
     cutoff : float, optional
         If given, each capsule's distance is evaluated only inside its bounding box grown by
         ``cutoff`` (muparser's ``?:`` skips the other branch) and is ``cutoff`` outside it,
         where the true distance is at least ``cutoff``.  The zero level set is the same
         wherever the function is sampled no coarser than ``cutoff``, and marching cubes on a
         figure of many capsules evaluates far fewer distances.  Use a few voxels.
+
+    Returns
+    -------
+    str
+        The function in muparser syntax, negative inside the union.
     """
     capsules = list(capsules)
     if not capsules:
@@ -420,6 +445,7 @@ def figure_capsules(kind: str, random_state: int | np.random.Generator | None = 
     Returns
     -------
     list of Capsule
+        The figure's capsules, the union of which is its body.
     """
     kind = check_choice("kind", kind, ARTICULATED_KINDS)
     rng = np.random.default_rng(random_state)
@@ -532,6 +558,16 @@ def vertex_normals(mesh: MeshLike) -> NDArray[np.float64]:
     The faces' orientation is taken as given; for a closed mesh with negative signed volume
     (faces ordered clockwise seen from outside) the normals are flipped so they point
     outward.  A vertex in no triangle (or whose face normals cancel) gets the zero vector.
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+        The mesh.
+
+    Returns
+    -------
+    ndarray, shape (n, 3)
+        The unit normal of each vertex (or zero).
     """
     mesh = as_mesh(mesh)
     V, F = mesh.vertices, mesh.faces
@@ -563,6 +599,7 @@ def add_normal_noise(mesh: MeshLike, amplitude: float = 1.0,
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to displace.
     amplitude : float, default=1.0
         The paper's noise level ``>= 0``: the largest displacement as a fraction of the mean
         edge length ``L``; the paper uses 0.5, 1, 2, 4 and 10 (:data:`NOISE_LEVELS`).
@@ -602,6 +639,16 @@ def triangle_angles(mesh: MeshLike) -> NDArray[np.float64]:
     """Interior angles of every triangle in degrees, shape (m, 3), angle ``k`` at corner ``k``.
 
     A zero-area triangle has angles 0, 0, 180 (or 0 where two vertices coincide).
+
+    Parameters
+    ----------
+    mesh : Mesh or (vertices, faces)
+        The mesh.
+
+    Returns
+    -------
+    ndarray, shape (m, 3)
+        Angle ``k`` of each triangle at its corner ``k``, in degrees.
     """
     mesh = as_mesh(mesh)
     V, F = mesh.vertices, mesh.faces
@@ -622,6 +669,7 @@ def mesh_quality(mesh: MeshLike) -> dict[str, float]:
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to measure.
 
     Returns
     -------

@@ -141,6 +141,7 @@ def normalize(lam: ArrayLike, area: float | None = None, *,
     Returns
     -------
     lam_norm : ndarray, shape (N,)
+        The normalised eigenvalues ``lam^norm``, a new array.
 
     Raises
     ------
@@ -197,6 +198,7 @@ def weyl_subtract(lam_norm: ArrayLike) -> NDArray[np.float64]:
     Returns
     -------
     lam_prime : ndarray, shape (N,)
+        ``lam'_i``, the distance of each normalised eigenvalue from the Weyl line.
     """
     return _weyl_subtract(check_spectrum(lam_norm, "lam_norm"))
 
@@ -307,6 +309,7 @@ def nonzero_eigenvalues(lam: ArrayLike, zero_modes: int | None = None, *,
     Returns
     -------
     mu : ndarray, shape (N-k,) or (length,)
+        The positive eigenvalues ``mu_1, mu_2, ...``, ascending.
 
     Raises
     ------
@@ -529,7 +532,7 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
     Returns
     -------
     S_c : ndarray, shape (2M+1,)
-        complex128 for ``'weyl'`` and ``'log-weyl'``: the DFT coefficients of frequencies
+        Complex128 for ``'weyl'`` and ``'log-weyl'``: the DFT coefficients of frequencies
         ``-M, ..., M`` in that order, ``S_c[M]`` the zero frequency, conjugate-symmetric
         (``S_c[M+k] == conj(S_c[M-k])``) because the sequence is real.  float64 for
         ``'log-weyl-dct'``: ``(C_0, ..., C_{2M})``.
@@ -554,9 +557,9 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
 
     See Also
     --------
-    real_form : the same descriptor as 2M+1 real numbers with equal distances.
-    inverse_compact_shape_dna : what the 2M+1 coefficients keep of the Shape-DNA.
-    log_weyl_ratio : the sequence of the log-Weyl transforms.
+    real_form : The same descriptor as 2M+1 real numbers with equal distances.
+    inverse_compact_shape_dna : What the 2M+1 coefficients keep of the Shape-DNA.
+    log_weyl_ratio : The sequence of the log-Weyl transforms.
 
     Notes
     -----
@@ -634,6 +637,7 @@ def detrend(r: ArrayLike, degree: int = TREND_DEGREE) -> NDArray[np.float64]:
     r : array_like, shape (L,)
         A real sequence, ``L >= degree + 2``.
     degree : int, default=TREND_DEGREE (3)
+        Degree of the polynomial removed, 0 or more.
 
     Returns
     -------
@@ -690,6 +694,8 @@ def real_form(S_c: ArrayLike) -> NDArray[np.float64]:
     Returns
     -------
     ndarray of float64, same shape as ``S_c``
+        The real form of each descriptor; Euclidean distances between real forms equal
+        those between the complex descriptors.
     """
     S = np.asarray(S_c)
     if S.ndim not in (1, 2) or S.shape[-1] % 2 != 1:

@@ -234,7 +234,18 @@ class Descriptor:
                                                                                self.N)
 
     def replace(self, **changes: Any) -> Descriptor:
-        """Return a copy with some fields changed (checked again)."""
+        """Return a copy with some fields changed (checked again).
+
+        Parameters
+        ----------
+        **changes
+            New values of fields (``kind``, ``N``, ``M``, ``normalization``, ...).
+
+        Returns
+        -------
+        Descriptor
+            The copy; the constructor checks its fields as for a new descriptor.
+        """
         fields = {**dataclasses.asdict(self), **changes}
         return Descriptor(fields.pop("kind"), **fields)
 
@@ -242,6 +253,16 @@ class Descriptor:
         """Return the same descriptor for spectra of ``N`` eigenvalues.
 
         ``N`` is replaced and ``M`` lowered to the largest the kind allows (the label says so).
+
+        Parameters
+        ----------
+        N : int
+            Length of the spectra to describe.
+
+        Returns
+        -------
+        Descriptor
+            The descriptor with this ``N``.
 
         Raises
         ------
@@ -278,7 +299,7 @@ class Descriptor:
         Returns
         -------
         ndarray, shape (:attr:`size`,)
-            float64, or complex128 for 'cshape-complex' with a DFT transform.
+            Float64, or complex128 for 'cshape-complex' with a DFT transform.
 
         Raises
         ------
@@ -370,13 +391,23 @@ class Descriptor:
     def matrix(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
                zero_modes: ArrayLike | None = None,
                names: Sequence[str] | None = None) -> NDArray[Any]:
-        """Descriptors of many shapes, one row per shape; every shape must be describable.
+        """Return the descriptors of many shapes, one row per shape; all must be describable.
 
-        Takes the arguments of :meth:`rows`, and ``names`` (length p) for the message.
+        Parameters
+        ----------
+        lams : array_like, shape (p, n), or sequence of p 1-D arrays
+            Ascending eigenvalues of each shape, as for :meth:`rows`.
+        areas : array_like, shape (p,), optional
+            Surface areas; needed when :attr:`needs_area`.
+        zero_modes : array_like of int, shape (p,), optional
+            Zero eigenvalues of each shape; a negative entry: counted from its eigenvalues.
+        names : sequence of str, optional
+            Names of the ``p`` shapes, for the message of those that cannot be described.
 
         Returns
         -------
         X : ndarray, shape (p, size)
+            Row ``i``: the descriptor of shape ``i`` (:meth:`row`).
 
         Raises
         ------

@@ -63,8 +63,22 @@ GAP_POINTS = 1.5
 
 
 def short_label(name: object, width: int = LABEL_WIDTH) -> str:
-    """A name short enough for a plot: the part after the last ``/``, cut in the middle.
+    """Shorten a name for a plot: the part after the last ``/``, cut in the middle.
 
+    Parameters
+    ----------
+    name : object
+        A shape's name (a path-like name is cut after its last ``/``).
+    width : int, default=LABEL_WIDTH (20)
+        Most characters of the label.
+
+    Returns
+    -------
+    str
+        The label; an ellipsis marks a cut.
+
+    Examples
+    --------
     >>> short_label("animals/spot_low_resolution", 12)
     'spot_…lution'
     """
@@ -81,12 +95,26 @@ def _cut_middle(text: str, width: int) -> str:
 
 
 def short_labels(names: Iterable[object], width: int = LABEL_WIDTH) -> list[str]:
-    """:func:`short_label` of every name, kept distinct where the names are.
+    """Shorten every name with :func:`short_label`, keeping distinct names distinct.
 
     Names whose short labels would coincide (``a/spot`` and ``b/spot`` both give ``spot``)
     keep their parent folder (``a/spot``, ``b/spot``), cut in the middle to ``width``; if
     they still coincide, each gets its position in ``names`` as a suffix (``spot#3``).
 
+    Parameters
+    ----------
+    names : iterable of object
+        The shapes' names.
+    width : int, default=LABEL_WIDTH (20)
+        Most characters of a label.
+
+    Returns
+    -------
+    list of str
+        One label per name, in order.
+
+    Examples
+    --------
     >>> short_labels(["a/spot", "b/spot", "c/bob"])
     ['a/spot', 'b/spot', 'bob']
     """
@@ -359,8 +387,7 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
                     fontsize: str | float = "x-small", offset: float = 3.0,
                     safety: float = 1.15, points: ArrayLike | None = None,
                     required: int = 0) -> list[int]:
-    """Write ``texts[i]`` beside point ``Y[i]``, inside the axes, where it covers no text
-    already written and no point.
+    """Write ``texts[i]`` beside point ``Y[i]``, inside the axes, covering no text or point.
 
     Greedy, in order: a text's box is estimated from its length, the font size and the
     axes' size after a layout pass (``safety`` times larger) and tried above right, above
@@ -371,6 +398,18 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
 
     Parameters
     ----------
+    ax : matplotlib Axes
+        The axes the points are drawn on.
+    Y : array_like, shape (p, 2)
+        The points to name, in data coordinates.
+    texts : sequence of str, length p
+        One text per point.
+    fontsize : str or float, default='x-small'
+        Matplotlib font size.
+    offset : float, default=3.0
+        Distance of a text from its point, in points.
+    safety : float, default=1.15
+        Factor by which the estimated text boxes are enlarged.
     points : array_like, shape (q, 2), optional
         Every point drawn, which no text may cover (default: ``Y``).
     required : int, default=0
@@ -546,6 +585,7 @@ def plot_mds(Y: ArrayLike, names: Sequence[Any] | None = None,
     ax : matplotlib Axes, optional
         Draw here; by default a new Figure is made (not registered with pyplot).
     title : str, optional
+        Title of the axes.
     figsize : (float, float), default=(5.0, 4.5)
         Made taller for a legend in columns.
     max_names : int, default=MDS_MAX_NAMES
@@ -727,7 +767,7 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
                  labels: Sequence[Any] | None = None, *, max_names: int = MATRIX_MAX_NAMES,
                  fontsize: str | float = "x-small", safety: float = 1.5,
                  side_pt: float | None = None) -> float:
-    """Ticks of a (p, p) matrix image that never write over each other.
+    """Set the ticks of a (p, p) matrix image, so that they never write over each other.
 
     One tick per shape (short names) when there are at most ``max_names`` shapes and their
     labels fit the axes' height (in a font down to :data:`MIN_TICK_POINTS`); else one per
@@ -738,6 +778,21 @@ def matrix_ticks(ax: Axes, p: int, names: Sequence[str] | None = None,
 
     Parameters
     ----------
+    ax : matplotlib Axes
+        The axes showing the matrix.
+    p : int
+        Rows (and columns) of the matrix.
+    names : sequence of str, length p, optional
+        Shape names (shortened with :func:`short_labels`).
+    labels : sequence, length p, optional
+        Class of each row.
+    max_names : int, default=MATRIX_MAX_NAMES (100)
+        Most shapes that get a tick each.
+    fontsize : str or float, default='x-small'
+        Matplotlib font size of the ticks (made smaller, down to
+        :data:`MIN_TICK_POINTS`, to fit).
+    safety : float, default=1.5
+        Factor by which the room the tick labels take is estimated larger.
     side_pt : float, optional
         The axes' shorter side in points; measured (a layout pass) when not given.  Pass
         the value returned for one panel to give panels of one size the same ticks.
@@ -796,6 +851,7 @@ def plot_distance_matrix(D: ArrayLike, *, scale: bool = True, ax: Axes | None = 
     ax : matplotlib Axes, optional
         Draw here; by default a new Figure is made (not registered with pyplot).
     title : str, optional
+        Title of the axes.
     names : sequence of str, optional
         Tick labels, one per shape (shortened), drawn for at most
         :data:`MATRIX_MAX_NAMES` shapes.
@@ -808,7 +864,9 @@ def plot_distance_matrix(D: ArrayLike, *, scale: bool = True, ax: Axes | None = 
     vmax : float, optional
         Top of the colour range; default 255 when scaled, else ``D.max()``.
     colorbar : bool, default=True
+        Draw a colour bar.
     figsize : (float, float), default=(5.0, 4.5)
+        Size of a new figure, in inches.
 
     Returns
     -------

@@ -48,7 +48,20 @@ if TYPE_CHECKING:
 
 
 def new_figure(figsize: _Size = (6.0, 4.0), **kwargs: Any) -> Figure:
-    """A matplotlib Figure not registered with pyplot (so it is garbage collected)."""
+    """Make a matplotlib Figure not registered with pyplot (so it is garbage collected).
+
+    Parameters
+    ----------
+    figsize : (float, float), default=(6.0, 4.0)
+        Size of the figure, in inches.
+    **kwargs
+        Passed to :class:`matplotlib.figure.Figure`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure.
+    """
     from matplotlib.figure import Figure
 
     return Figure(figsize=figsize, layout="constrained", **kwargs)
@@ -77,6 +90,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to draw.
     f : array_like, shape (n,), optional
         Values on the vertices (an eigenfunction ``phi[:, i]``, a displacement, ...); each
         triangle is coloured by the mean of its three values.  Without ``f`` the mesh is
@@ -84,6 +98,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
     ax : mpl_toolkits.mplot3d.Axes3D, optional
         Draw here; by default a new Figure is made.
     cmap : str, default='RdBu_r'
+        Matplotlib colour map.
     elev, azim : float
         View angles in degrees.
     edges : bool, optional
@@ -95,8 +110,11 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
         Centre the colour range on 0 (right for eigenfunctions, whose sign is arbitrary);
         default: True when ``f`` takes both signs.
     colorbar : bool, default=False
+        Draw a colour bar.
     title : str, optional
+        Title of the axes.
     figsize : (float, float), default=(4.0, 4.0)
+        Size of a new figure, in inches.
     vertical_axis : {'z', 'y', 'x'}, default='z'
         The axis drawn upwards (``'y'`` for the many models stored y-up, e.g. Spot).
     limits : (float, float), optional
@@ -106,6 +124,7 @@ def plot_mesh(mesh: MeshLike, f: ArrayLike | None = None, *, ax: Any = None, cma
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     import matplotlib as mpl
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
@@ -179,6 +198,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to draw.
     phi : array_like, shape (n, k)
         Eigenfunctions on the vertices (``cshape.eigenbasis(mesh, N).phi``).
     indices : sequence of int, optional
@@ -186,8 +206,11 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     lam : array_like, shape (k,), optional
         Eigenvalues, written in the titles.
     ncols : int, default=4
+        Copies per row.
     cmap : str, default='RdBu_r'
+        Matplotlib colour map.
     elev, azim : float
+        View angles in degrees.
     size : float, default=2.6
         Size of one panel in inches.
     vertical_axis : {'z', 'y', 'x'}, default='z'
@@ -195,6 +218,7 @@ def plot_eigenfunctions(mesh: MeshLike, phi: ArrayLike, indices: Iterable[int] |
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     mesh = as_mesh(mesh)
     phi = np.asarray(phi, dtype=np.float64)
@@ -242,6 +266,7 @@ def plot_weyl(spectra: dict[str, ArrayLike], areas: dict[str, float], *,
     areas : dict of str to float
         Surface area of each model (same keys).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -280,14 +305,18 @@ def plot_shape_dna_stages(lam: ArrayLike, area: float, *, name: str = "",
     Parameters
     ----------
     lam : array_like, shape (N,)
+        Shape-DNA (raw eigenvalues, ascending).
     area : float
+        Surface area (the area normalisation).
     name : str, optional
         Model name for the titles.
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     lam = np.asarray(lam, dtype=np.float64)
     lam_norm = normalize(lam, area)
@@ -322,6 +351,7 @@ def plot_dft(lam: ArrayLike, area: float, M: int, *, N: int | None = None,
     N : int, optional
         Shape-DNA length (default ``len(lam)``).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -366,6 +396,7 @@ def plot_reconstruction_error(Ms: ArrayLike, errors: ArrayLike, *,
     Parameters
     ----------
     Ms : array_like, shape (k,)
+        Crop half-widths ``M``.
     errors : array_like, shape (k,) or (p, k)
         One error curve, or one per model (rows).
     labels : sequence of str, optional
@@ -373,11 +404,14 @@ def plot_reconstruction_error(Ms: ArrayLike, errors: ArrayLike, *,
     N : int, optional
         Shape-DNA length, written in the title.
     ax : Axes, optional
+        Draw here; by default a new Figure is made (not registered with pyplot).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     Ms = np.asarray(Ms)
     E = np.atleast_2d(np.asarray(errors, dtype=np.float64))
@@ -403,14 +437,18 @@ def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] |
     errors : array_like, shape (k,) or (p, k)
         Errors (rows: several quantities, e.g. several eigenvalues).
     labels : sequence of str, optional
+        A legend entry per row of ``errors``.
     order : float, default=2
         Slope of the dashed reference line ``C h^order``.
     ax : Axes, optional
+        Draw here; by default a new Figure is made (not registered with pyplot).
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     h = np.asarray(h, dtype=np.float64)
     E = np.atleast_2d(np.asarray(errors, dtype=np.float64))
@@ -434,19 +472,23 @@ def plot_convergence(h: ArrayLike, errors: ArrayLike, *, labels: Sequence[str] |
 
 def plot_cshape_dna(descriptors: dict[str, ArrayLike], *, ax: Axes | None = None,
                     title: str = "cShape-DNA", figsize: _Size = (6.0, 3.6)) -> Figure:
-    """Magnitudes of the cShape-DNAs of several models on one plot (the paper's Fig. 9).
+    """Plot the magnitudes of the cShape-DNAs of several models on one plot (the paper's Fig. 9).
 
     Parameters
     ----------
     descriptors : dict of str to array_like of complex, shape (2M+1,)
         ``cshape.compact_shape_dna`` of each model.
     ax : Axes, optional
+        Draw here; by default a new Figure is made (not registered with pyplot).
     title : str
+        Title of the axes.
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The new figure, or the figure (or subfigure) holding ``ax``.
     """
     items = _spectra({k: np.abs(np.asarray(v)) for k, v in descriptors.items()})
     fig, ax = _axes(ax, figsize)
@@ -467,15 +509,19 @@ def plot_matrices(matrices: Sequence[ArrayLike], titles: Sequence[str] | None = 
     Parameters
     ----------
     matrices : sequence of array_like, shape (p, p)
+        The matrices, one panel each.
     titles : sequence of str, optional
+        A title per panel.
     scale : bool, default=False
         Show ``scale_255`` of each matrix (distance matrices); differences are shown as is.
     vmax : float, optional
         Common top of the colour range (default: 255 when scaled, else the largest value).
     cmap : str, default='jet'
+        Matplotlib colour map.
     size : float, default=3.0
         Panel size in inches.
     colorbar : bool, default=True
+        Draw a colour bar.
     names, labels : sequence of length p, optional
         Shape names and classes of the rows, for the ticks: one per shape (shortened) up to
         :data:`cshape.compare.MATRIX_MAX_NAMES` shapes, else one per class with lines
@@ -484,6 +530,7 @@ def plot_matrices(matrices: Sequence[ArrayLike], titles: Sequence[str] | None = 
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     from ..compare import scale_255
     from .collection import matrix_ticks, plot_distance_matrix
@@ -526,10 +573,12 @@ def plot_m_sweep(state: Any, *, shape: int = 0, figsize: _Size = (12.0, 7.0)) ->
     shape : int, default=0
         Row of the shape whose coefficients and reconstruction are drawn.
     figsize : (float, float)
+        Size of a new figure, in inches.
 
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     import matplotlib as mpl
     from matplotlib.figure import Figure

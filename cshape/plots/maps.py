@@ -114,6 +114,7 @@ def map_colours(source: MeshLike, target: MeshLike, p2p: ArrayLike,
     Parameters
     ----------
     source, target : Mesh or (vertices, faces)
+        The two shapes.
     p2p : array_like of int, shape (n_T,)
         For each target vertex a source vertex (:func:`cshape.point_map`).
     values : array_like, shape (n_S,), optional
@@ -123,6 +124,7 @@ def map_colours(source: MeshLike, target: MeshLike, p2p: ArrayLike,
     Returns
     -------
     f_source : ndarray, shape (n_S,)
+        The field on the source.
     f_target : ndarray, shape (n_T,)
         ``f_source[p2p]``: a target vertex takes the value of its match.
     limits : (float, float)
@@ -148,6 +150,7 @@ def diagonal_share(C: ArrayLike, band: int = 0) -> float:
     Parameters
     ----------
     C : array_like, shape (N_T, N_S)
+        A functional map (:func:`cshape.maps.functional_map`).
     band : int, default=0
         Half-width of the band (0: the diagonal only).
 
@@ -194,6 +197,7 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     Parameters
     ----------
     source, target : Mesh or (vertices, faces)
+        The two shapes, the source on the left.
     p2p : array_like of int, shape (n_T,)
         For each target vertex a source vertex (:func:`cshape.point_map`).
     values : array_like, shape (n_S,), optional
@@ -202,6 +206,7 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     landmarks : array_like of int, shape (L, 2), optional
         Corresponding vertices ``(source vertex, target vertex)``.
     titles : (str, str), default=('source', 'target')
+        Titles of the two axes.
     cmap : str, default='turbo'
         A matplotlib colour map.
     elev, azim : float
@@ -210,6 +215,7 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     marker_size : float, default=40.0
         Area of the landmark markers in points^2.
     figsize : (float, float), default=(8.0, 4.0)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -247,8 +253,9 @@ def plot_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
 def plot_functional_map(C: ArrayLike, *, ax: Axes | None = None, cmap: str = MAP_CMAP,
                         title: str | None = "functional map C", colorbar: bool = True,
                         figsize: tuple[float, float] = (4.4, 4.0)) -> Figure:
-    """The functional map ``C`` as an image: row ``i`` a target, column ``j`` a source basis
-    function.
+    """Draw the functional map ``C`` as an image.
+
+    Row ``i`` is a target basis function, column ``j`` a source basis function.
 
     The colour range is centred on 0 (``[-max|C|, max|C|]``): between near-isometric shapes
     the image is a near-diagonal band of values near ``+-1`` (:func:`diagonal_share`).
@@ -263,8 +270,11 @@ def plot_functional_map(C: ArrayLike, *, ax: Axes | None = None, cmap: str = MAP
     cmap : str, default='RdBu_r'
         A matplotlib colour map (a diverging one: the sign matters).
     title : str or None, default='functional map C'
+        Title of the axes.
     colorbar : bool, default=True
+        Draw a colour bar.
     figsize : (float, float), default=(4.4, 4.0)
+        Size of a new figure, in inches.
 
     Returns
     -------
@@ -302,17 +312,22 @@ def view_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     Parameters
     ----------
     source, target : Mesh or (vertices, faces)
+        The two shapes, the source on the left.
     p2p : array_like of int, shape (n_T,)
+        For each target vertex a source vertex (:func:`cshape.point_map`).
     values : array_like, shape (n_S,), optional
         See :func:`plot_map`.
     landmarks : array_like of int, shape (L, 2), optional
+        Corresponding vertices ``(source vertex, target vertex)``.
     titles : (str, str), default=('source', 'target')
+        Titles of the two views.
     cmap : str, default='Turbo'
         A plotly colour scale.
     vertical_axis : {'z', 'y', 'x'}, default='z'
     marker_size : int, default=6
         Landmark marker diameter in pixels.
     height : int, default=420
+        Height of the figure, in pixels.
 
     Returns
     -------

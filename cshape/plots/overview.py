@@ -72,13 +72,16 @@ _PLOTLY_SYMBOLS = {"o": "circle", "s": "square", "^": "triangle-up", "D": "diamo
 
 # =========================================================================== classes
 def class_summary(D: ArrayLike, labels: Sequence[object]) -> list[dict[str, Any]]:
-    """One row per class: its size, spread, nearest other class and how often its shapes'
-    nearest neighbour is of the class.
+    """Summarise every class: its size, spread, nearest other class and neighbours.
+
+    The neighbours: how often the nearest neighbour of a shape of the class is of the class.
 
     Parameters
     ----------
     D : array_like, shape (p, p)
+        Distances between the shapes.
     labels : sequence, length p
+        Class of each shape.
 
     Returns
     -------
@@ -162,11 +165,15 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
     Parameters
     ----------
     Y : array_like, shape (p, 2)
+        MDS coordinates (:func:`cshape.mds_embedding`).
     names : sequence of str, length p
+        Shape names, shown on hover.
     labels : sequence, length p, optional
+        Classes; points of one class share a colour and a marker.
     D : array_like, shape (p, p), optional
         The distances; without it the hover shows no neighbours.
     k : int, default=3
+        Nearest neighbours listed on hover.
     title : str, optional
         Say which descriptor was compared (its :attr:`cshape.Descriptor.label`).
     outliers : 'auto', None or array_like of bool, default='auto'
@@ -245,8 +252,25 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
 
 def figure_html(fig: go.Figure, *, full_html: bool = True, include_plotlyjs: bool | str = True
                 ) -> str:
-    """A plotly figure as HTML that works offline: plotly.js embedded in the page (no CDN),
-    no MathJax."""
+    """Return a plotly figure as HTML that works offline.
+
+    plotly.js is embedded in the page (no CDN), and no MathJax is asked for.
+
+    Parameters
+    ----------
+    fig : plotly.graph_objects.Figure
+        The figure.
+    full_html : bool, default=True
+        A whole page; ``False`` gives a ``<div>`` to put in a page.
+    include_plotlyjs : bool or str, default=True
+        As for plotly's ``Figure.to_html``: ``True`` embeds plotly.js, ``False`` leaves it
+        out (for a page that has it already).
+
+    Returns
+    -------
+    str
+        The HTML.
+    """
     text = fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
                        include_mathjax=False, config={"displaylogo": False, "responsive": True},
                        default_width="100%", default_height="100vh")
@@ -267,11 +291,14 @@ def thumbnail_mesh(mesh: MeshLike, max_faces: int = THUMBNAIL_FACES
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh.
     max_faces : int, default=THUMBNAIL_FACES
+        Most triangles of the copy.
 
     Returns
     -------
     V : ndarray, shape (n', 3)
+        Vertices of the copy.
     F : ndarray, shape (m', 3)
         ``m' <= max_faces``; the mesh itself when it has no more triangles.
     """
@@ -300,8 +327,21 @@ def thumbnail_mesh(mesh: MeshLike, max_faces: int = THUMBNAIL_FACES
 
 
 def guess_vertical_axis(path: str | os.PathLike[str]) -> str:
-    """The up axis by the file format's habit: ``'y'`` for OBJ, glTF and COLLADA (modelling
-    tools), ``'z'`` for the rest (scanners and CAD: PLY, STL, OFF, ...)."""
+    """Guess the up axis of a mesh file from its format's habit.
+
+    ``'y'`` for OBJ, glTF and COLLADA (modelling tools), ``'z'`` for the rest (scanners
+    and CAD: PLY, STL, OFF, ...).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The mesh file (only its name is read).
+
+    Returns
+    -------
+    {'y', 'z'}
+        The axis to draw upwards.
+    """
     from ..readers import split_mesh_name
 
     suffix = split_mesh_name(Path(path))[1].lower()
@@ -357,6 +397,7 @@ def plot_neighbour_strip(meshes: Sequence[MeshLike], names: Sequence[object],
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     from matplotlib.figure import Figure
 
@@ -419,11 +460,34 @@ def neighbour_strip_plotly(meshes: Sequence[MeshLike], names: Sequence[object],
                            distances: ArrayLike, *, labels: Sequence[object] | None = None,
                            title: str | None = None, vertical_axis: str | Sequence[str] = "z",
                            max_faces: int = HTML_THUMBNAIL_FACES) -> go.Figure:
-    """:func:`plot_neighbour_strip` as an interactive plotly figure that fills its page: the
-    views on a grid (:func:`strip_grid`), each lit and framed by
-    :func:`cshape.plots.viewer.add_mesh_view`, each turning and zooming on its own; hover
-    shows a mesh's name.  Parameters as there; returns a ``plotly.graph_objects.Figure``
-    without a size (:func:`figure_html` gives it the window)."""
+    """Show a query and its nearest shapes as an interactive plotly figure that fills its page.
+
+    :func:`plot_neighbour_strip` in plotly: the views on a grid (:func:`strip_grid`), each
+    lit and framed by :func:`cshape.plots.viewer.add_mesh_view`, each turning and zooming
+    on its own; hover shows a mesh's name.
+
+    Parameters
+    ----------
+    meshes : sequence of Mesh or (vertices, faces)
+        The query first, then its neighbours, nearest first.
+    names : sequence of str
+        One per mesh.
+    distances : array_like, shape (len(meshes) - 1,)
+        Distance of each neighbour to the query.
+    labels : sequence of str, optional
+        Class of each mesh, written under its name.
+    title : str, optional
+        Say which descriptor was compared (its :attr:`cshape.Descriptor.label`).
+    vertical_axis : {'z', 'y', 'x'} or sequence of them, default='z'
+        The axis drawn upwards, for all meshes or each (see :func:`guess_vertical_axis`).
+    max_faces : int, default=HTML_THUMBNAIL_FACES
+        Meshes with more triangles are drawn from :func:`thumbnail_mesh`.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Without a size (:func:`figure_html` gives it the window); not shown.
+    """
     from plotly.subplots import make_subplots
 
     from .viewer import add_mesh_view
@@ -460,10 +524,26 @@ def neighbour_strip_plotly(meshes: Sequence[MeshLike], names: Sequence[object],
 
 # =========================================================================== overview
 def colour_limit(D: ArrayLike, outliers: ArrayLike | None) -> float:
-    """Top of a distance matrix's colour range: the largest distance between two shapes
-    that are not outliers (their rows would otherwise take the whole range, leaving the
-    rest one colour), or the largest distance when there is no outlier.
+    """Return the top of a distance matrix's colour range, outliers left out.
 
+    The largest distance between two shapes that are not outliers (their rows would
+    otherwise take the whole range, leaving the rest one colour), or the largest distance
+    when there is no outlier.
+
+    Parameters
+    ----------
+    D : array_like, shape (p, p)
+        Distances between the shapes.
+    outliers : array_like of bool, shape (p,), or None
+        Which shapes are outliers; ``None``: none.
+
+    Returns
+    -------
+    float
+        The top of the colour range.
+
+    Examples
+    --------
     >>> colour_limit([[0, 1, 9], [1, 0, 9], [9, 9, 0]], [False, False, True])
     1.0
     """
@@ -534,6 +614,7 @@ def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     D : array_like, shape (p, p)
         Distances (:func:`cshape.batch.table.collection_distances`).
     names, labels : sequence of str, length p
+        Name and class of each shape.
     Y : array_like, shape (p, 2), optional
         MDS coordinates; computed from ``D`` when not given.
     descriptor : Descriptor, optional
@@ -550,6 +631,7 @@ def plot_overview(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     Returns
     -------
     matplotlib.figure.Figure
+        A new figure (not registered with pyplot).
     """
     from matplotlib.figure import Figure
 
@@ -660,11 +742,31 @@ def overview_html(D: ArrayLike, names: Sequence[object], labels: Sequence[object
     hover), the distance matrix (hover: the two shapes and their distance; beyond
     :data:`HTML_MATRIX_MAX` shapes the class-by-class medians) and a table of the classes
     (:func:`class_summary`).  plotly.js is embedded once; the page asks the network for
-    nothing.  Parameters as :func:`plot_overview`; ``k`` neighbours on hover.
+    nothing.
+
+    Parameters
+    ----------
+    D : array_like, shape (p, p)
+        Distances (:func:`cshape.batch.collection_distances`).
+    names, labels : sequence of str, length p
+        Name and class of each shape.
+    Y : array_like, shape (p, 2), optional
+        MDS coordinates; computed from ``D`` when not given.
+    descriptor : Descriptor, optional
+        What was compared; its :attr:`~cshape.Descriptor.label` goes in the title.
+    title : str, optional
+        First line of the title (e.g. the table's file name).
+    left_out : sequence of (str, str)
+        Shapes that could not be described, named under the title.
+    k : int, default=3
+        Nearest neighbours listed on hover.
+    random_state : int, default=0
+        Of :func:`cshape.mds_embedding`.
 
     Returns
     -------
     str
+        The whole HTML page.
     """
     A, labels, Y = _overview_inputs(D, names, labels, Y, random_state)
     what = _compared(descriptor)
@@ -720,13 +822,24 @@ HTML_SUFFIXES = (".html", ".htm")
 
 def save_figure(fig: Figure | go.Figure | str, path: str | os.PathLike[str], *, dpi: float = 150
                 ) -> Path:
-    """Write a figure atomically (never a half-written file): a matplotlib figure as
-    ``.png``, ``.svg`` or ``.pdf``; a plotly figure or an HTML string as ``.html`` (offline,
-    plotly.js embedded).
+    """Write a figure atomically (never a half-written file).
+
+    A matplotlib figure as ``.png``, ``.svg`` or ``.pdf``; a plotly figure or an HTML
+    string as ``.html`` (offline, plotly.js embedded).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure, plotly.graph_objects.Figure or str
+        The figure, or a page of HTML.
+    path : str or os.PathLike
+        The file to write; its suffix chooses the format.
+    dpi : float, default=150
+        Dots per inch of a matplotlib figure.
 
     Returns
     -------
     pathlib.Path
+        The file written.
     """
     path = Path(os.fspath(path))
     suffix = path.suffix.lower()

@@ -150,6 +150,7 @@ def mesh3d_arrays(mesh: MeshLike) -> dict[str, np.ndarray]:
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to show.
 
     Returns
     -------
@@ -308,6 +309,7 @@ def scene_layout(vertices: ArrayLike, vertical_axis: str = "z", *, aspect: float
     aspect : float, default=1.0
         Width over height of the scene in pixels.
     margin : float, default=MARGIN
+        Part of the view's half-width and half-height left free around the mesh.
 
     Returns
     -------
@@ -345,7 +347,9 @@ def default_eye(vertices: ArrayLike, vertical_axis: str = "z", *, aspect: float 
     Parameters
     ----------
     vertices : array_like, shape (n, 3)
+        The mesh's vertices, in the figure's (upright) coordinates.
     vertical_axis : {'z', 'y', 'x'}, default='z'
+        The axis of ``vertices`` that points up.
     aspect : float, default=1.0
         Width over height of the scene in pixels.
 
@@ -361,8 +365,9 @@ def default_eye(vertices: ArrayLike, vertical_axis: str = "z", *, aspect: float 
 
 def add_mesh_view(fig: go.Figure, mesh: MeshLike, *, scene: str = "scene",
                   vertical_axis: str = "z", aspect: float = 1.0, **style: Any) -> None:
-    """Draw a mesh, lit and framed, into a scene of a plotly figure: the one way cshape makes
-    a 3-D view.
+    """Draw a mesh, lit and framed, into a scene of a plotly figure.
+
+    This is the one way cshape makes a 3-D view.
 
     Parameters
     ----------
@@ -370,7 +375,9 @@ def add_mesh_view(fig: go.Figure, mesh: MeshLike, *, scene: str = "scene",
         With a 3-D scene named ``scene`` (``make_subplots`` with ``{"type": "scene"}`` specs
         names them ``'scene'``, ``'scene2'``, ...).
     mesh : Mesh or (vertices, faces)
+        The mesh to show.
     scene : str, default='scene'
+        Name of the scene to draw into.
     vertical_axis : {'z', 'y', 'x'}, default='z'
         The mesh's axis that points up; the trace's coordinates are the mesh's with this
         axis as z (its columns permuted cyclically).
@@ -420,6 +427,7 @@ def view_meshes(meshes: dict[str, MeshLike], scalars: dict[str, ArrayLike] | Non
         view opens upright, the whole mesh in view, from :func:`default_eye`; the figure's
         coordinates are the mesh's with this axis as z (its columns permuted cyclically).
     title : str, optional
+        Title of the figure.
     height : int, default=420
         Pixels.
 
@@ -489,11 +497,22 @@ def view_mesh(mesh: MeshLike, scalars: ArrayLike | None = None, *, cmap: str | N
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
+        The mesh to show.
     scalars : array_like, shape (n,), optional
         One value per vertex (an eigenfunction ``phi[:, i]``, a displacement, ...),
         interpolated linearly over each triangle (the FEM's hat functions, Eq. 3).
-    cmap, symmetric, edges, vertical_axis, title, height
-        See :func:`view_meshes`.
+    cmap : str, optional
+        A plotly colour scale (see :func:`view_meshes`).
+    symmetric : bool, optional
+        Centre the colour range on 0 (see :func:`view_meshes`).
+    edges : bool, optional
+        Draw the triangle edges (see :func:`view_meshes`).
+    vertical_axis : {'z', 'y', 'x'}, default='z'
+        The axis that points up (see :func:`view_meshes`).
+    title : str, optional
+        Title of the figure.
+    height : int, default=420
+        Height of the figure, in pixels.
 
     Returns
     -------
@@ -674,8 +693,10 @@ def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
     start : int, optional
         The step shown first (default: the middle one).
     cmap : str, default='Viridis'
+        Plotly colour scale.
     vertical_axis : {'z', 'y', 'x'}, default='z'
     height : int, default=520
+        Height of the figure, in pixels.
 
     Returns
     -------
@@ -771,6 +792,7 @@ def view_correspondence(mesh_a: MeshLike, mesh_b: MeshLike, match_ba: ArrayLike,
     Parameters
     ----------
     mesh_a, mesh_b : Mesh or (vertices, faces)
+        The two shapes, a on the left.
     match_ba : array_like of int, shape (n_b,)
         For each vertex of b its matched vertex of a (:func:`transfer_colours`); unmatched
         vertices (``-1``) take the mean colour, and b's title says how many there are.
@@ -779,9 +801,12 @@ def view_correspondence(mesh_a: MeshLike, mesh_b: MeshLike, match_ba: ArrayLike,
         direction), a smooth ramp from one end to the other, so that a wrong match shows
         as a colour out of place on b.
     titles : (str, str), default=('a', 'b')
+        Titles of the two views.
     cmap : str, default='Turbo'
+        Plotly colour scale.
     vertical_axis : {'z', 'y', 'x'}, default='z'
     height : int, default=420
+        Height of the figure, in pixels.
 
     Returns
     -------

@@ -56,13 +56,14 @@ __all__ = [
 class SweepState:
     """Everything the M-sweep shows for one ``(M, N, normalization, transform)``.
 
-    Attributes
+    Parameters
     ----------
     M, N : int
         Crop half-width and Shape-DNA length (``2M+1 <= L``, the sequence length below).
     normalization : str
         See :func:`cshape.normalize`.
     names, labels : list of str, length p
+        Name and class of each shape.
     lam_norm : ndarray, shape (p, N)
         Normalised Shape-DNAs.
     lam_prime : ndarray, shape (p, L)
@@ -122,7 +123,14 @@ class SweepState:
         return 2 * self.M + 1
 
     def summary(self) -> str:
-        """One line of statistics, as the widget prints it."""
+        """Return one line of statistics, as the widget prints it.
+
+        Returns
+        -------
+        str
+            ``M``, ``2M+1`` and ``N``, the mean and standard deviation of
+            :attr:`difference` and, when known, the retrieval rates.
+        """
         tr = "" if self.transform == "weyl" else f" ({self.transform})"
         s = (f"M = {self.M}{tr}: 2M+1 = {self.size} values instead of N = {self.N}; difference "
              f"from Shape-DNA: mean {self.mean:.2f}, std {self.std:.2f} (scaled to [0, 255])")
@@ -134,14 +142,44 @@ class SweepState:
 
 
 def max_M(N: int, transform: str = "weyl") -> int:
-    """The largest ``M`` for a Shape-DNA of length ``N``: ``(N-1)//2``, or ``(N-2)//2`` for
-    the log-Weyl transforms (their sequence has ``N-1`` values: ``lam_0`` has no logarithm)."""
+    """Return the largest ``M`` for a Shape-DNA of length ``N``.
+
+    ``(N-1)//2``, or ``(N-2)//2`` for the log-Weyl transforms (their sequence has ``N-1``
+    values: ``lam_0`` has no logarithm).
+
+    Parameters
+    ----------
+    N : int
+        Shape-DNA length.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        See :func:`cshape.compact_shape_dna`.
+
+    Returns
+    -------
+    int
+        The largest crop half-width.
+    """
     transform = check_choice("transform", transform, TRANSFORMS)
     return (int(N) - 1) // 2 if transform == "weyl" else (int(N) - 2) // 2
 
 
 def clamp_M(M: float, N: int, transform: str = "weyl") -> int:
-    """``M`` clamped to the valid range ``[0, max_M(N, transform)]``."""
+    """Clamp ``M`` to the valid range ``[0, max_M(N, transform)]``.
+
+    Parameters
+    ----------
+    M : float
+        A slider value.
+    N : int
+        Shape-DNA length.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        See :func:`cshape.compact_shape_dna`.
+
+    Returns
+    -------
+    int
+        ``int(M)`` (truncated), clamped to the range.
+    """
     return int(min(max(int(M), 0), max_M(N, transform)))
 
 
@@ -217,7 +255,20 @@ class MSweep:
 
     @classmethod
     def from_table(cls, table: DescriptorTable, **kwargs: Any) -> MSweep:
-        """An :class:`MSweep` over a :class:`cshape.batch.DescriptorTable`."""
+        """Make an :class:`MSweep` over a :class:`cshape.batch.DescriptorTable`.
+
+        Parameters
+        ----------
+        table : DescriptorTable
+            Eigenvalues, areas, names and labels of the collection.
+        **kwargs
+            Further arguments of :class:`MSweep`.
+
+        Returns
+        -------
+        MSweep
+            The sweep of the table's shapes.
+        """
         labels = table.labels if any(table.labels) else None
         return cls(table.lam, table.areas, table.names, labels, **kwargs)
 
@@ -242,8 +293,26 @@ class MSweep:
 
     def base(self, N: int | None = None, normalization: str | None = None,
              transform: str | None = None) -> dict[str, Any]:
-        """The stages that do not depend on ``M`` (cached per ``N``, normalisation and
-        transform; the Shape-DNA reference and its MDS are shared by the transforms)."""
+        """Return the stages that do not depend on ``M``.
+
+        They are cached per ``N``, normalisation and transform; the Shape-DNA reference and
+        its MDS are shared by the transforms.
+
+        Parameters
+        ----------
+        N : int, optional
+            Shape-DNA length, default :attr:`N_max`.
+        normalization : {'area', 'fiedler', 'weyl'}, optional
+            Default: the sweep's.
+        transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, optional
+            Default: the sweep's.
+
+        Returns
+        -------
+        dict
+            ``lam_norm``, ``D_ref`` and ``lam_prime``, ``spectra`` as in
+            :class:`SweepState`, and ``Y_ref``, the MDS of ``D_ref``.
+        """
         N = self._check_N(N)
         norm = self.normalization if normalization is None else self._check_norm(normalization)
         tr = self.transform if transform is None else self._check_transform(transform)
@@ -284,8 +353,7 @@ class MSweep:
 
     def state(self, M: int, *, N: int | None = None, normalization: str | None = None,
               transform: str | None = None) -> SweepState:
-        """The sweep at one ``M`` (cached); raises ``ValueError`` unless
-        ``0 <= M <= max_M(N, transform)``.
+        """Return the sweep at one ``M`` (cached).
 
         Parameters
         ----------
@@ -301,6 +369,12 @@ class MSweep:
         Returns
         -------
         SweepState
+            Every stage at this ``M``.
+
+        Raises
+        ------
+        ValueError
+            Unless ``0 <= M <= max_M(N, transform)``.
         """
         N = self._check_N(N)
         norm = self.normalization if normalization is None else self._check_norm(normalization)
@@ -361,6 +435,7 @@ def sweep_state(lams: Iterable[ArrayLike], areas: ArrayLike, labels: Iterable[ob
     lams : array_like, shape (p, n) or sequence of p 1-D arrays
         Ascending eigenvalues of each shape.
     areas : array_like, shape (p,)
+        Surface areas (for the area normalisation).
     labels : sequence of str, optional
         Class labels.
     N : int, optional
@@ -369,18 +444,22 @@ def sweep_state(lams: Iterable[ArrayLike], areas: ArrayLike, labels: Iterable[ob
         Crop half-width, ``0 <= M <= (N-1)//2``.
     normalization : {'area', 'fiedler', 'weyl'}, default='area'
     names : sequence of str, optional
+        Shape names.
     mds : bool, default=True
+        Compute the MDS coordinates of the cShape-DNA distances.
     random_state : int, default=0
+        Seed; the same seed gives the same result.
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
         See :func:`cshape.compact_shape_dna`.
 
     Returns
     -------
     SweepState
+        Every stage at this ``M``.
 
     See Also
     --------
-    MSweep : the same with the ``M``-independent stages cached, for many ``M``.
+    MSweep : The same with the ``M``-independent stages cached, for many ``M``.
     """
     sweep = MSweep(lams, areas, names, labels, normalization=normalization, mds=mds,
                    random_state=random_state, transform=transform)
@@ -429,6 +508,23 @@ except ImportError:  # pragma: no cover
 
 class MSweepWidget(_VBox):
     """The M-sweep widget (an ``ipywidgets.VBox``); build it with :func:`m_sweep_widget`.
+
+    Parameters
+    ----------
+    sweeps : dict of str to MSweep
+        One sweep per collection, by name.
+    M : int, default=16
+        Initial crop half-width (clamped).
+    N : int, optional
+        Initial Shape-DNA length (default: all eigenvalues of the first collection).
+    normalization : {'area', 'fiedler', 'weyl'}, default='area'
+        Initial normalisation.
+    figsize : (float, float), default=(12.0, 7.0)
+        Size of the figure, in inches.
+    dpi : float, default=72
+        Resolution of the PNG image.
+    transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
+        Initial position of the transform toggle.
 
     Attributes
     ----------
@@ -522,8 +618,15 @@ class MSweepWidget(_VBox):
         self.refresh()
 
     def static_html(self) -> str:
-        """The widget's current picture and statistics as plain HTML (an embedded PNG): what
-        a page without a kernel shows in its place."""
+        """Return the widget's current picture and statistics as plain HTML.
+
+        What a page without a kernel shows in the widget's place.
+
+        Returns
+        -------
+        str
+            A ``<div>`` with the statistics and the picture as an embedded PNG.
+        """
         import base64
         import html
 
@@ -558,8 +661,7 @@ class MSweepWidget(_VBox):
 def m_sweep_widget(data: Any, *, M: int = 16, N: int | None = None, normalization: str = "area",
                    figsize: tuple[float, float] = (12.0, 7.0), dpi: float = 72,
                    transform: str = "weyl") -> MSweepWidget:
-    """An ipywidgets M sweep: slide ``M`` (and pick ``N``, collection, normalisation,
-    transform, shape).
+    """Make an ipywidgets M sweep: slide ``M``, pick ``N``, collection, normalisation, shape.
 
     Eigenvalues are given once (``data``); moving a control reruns only the cheap stages of
     :class:`MSweep` and redraws :func:`cshape.plots.plot_m_sweep`.  ``M`` is clamped to
@@ -578,6 +680,7 @@ def m_sweep_widget(data: Any, *, M: int = 16, N: int | None = None, normalizatio
         Initial Shape-DNA length (default: all eigenvalues of the first collection).
     normalization : {'area', 'fiedler', 'weyl'}, default='area'
     figsize : (float, float), default=(12.0, 7.0)
+        Size of a new figure, in inches.
     dpi : int, default=72
         Resolution of the PNG image.
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'

@@ -51,6 +51,15 @@ def _need(table: DescriptorTable, p: int = 3) -> None:
 def experiment_3_1(table: DescriptorTable, *, N: int = 100, M: int = 16) -> dict[str, Any]:
     """Section 3.1: Shape-DNA (``N``) against cShape-DNA (``M``).
 
+    Parameters
+    ----------
+    table : DescriptorTable
+        Eigenvalues and areas of the collection (:func:`cshape.describe`).
+    N : int, default=100
+        Shape-DNA length.
+    M : int, default=16
+        Crop half-width of the cShape-DNA (``2M+1`` values).
+
     Returns
     -------
     dict
@@ -75,6 +84,15 @@ def experiment_3_2(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 4, 2, 
     :func:`cshape.compact_shape_dna` ``transform=``, and the truncated log spectrum); F1
     (``N``) once.  A descriptor that cannot be computed for the table (a log-Weyl one on a
     shape with too few non-zero eigenvalues) is left out.
+
+    Parameters
+    ----------
+    table : DescriptorTable
+        Eigenvalues and areas of the collection (:func:`cshape.describe`).
+    Ms : sequence of int, default=(16, 8, 4, 2, 1)
+        Crop half-widths.
+    N : int, default=100
+        Shape-DNA length.
 
     Returns
     -------
@@ -118,17 +136,18 @@ def experiment_noise(clean: DescriptorTable, noisy: dict[float, DescriptorTable]
                      pairs: dict[float, Iterable[tuple[str, str]]] | None = None,
                      N: int = 100, M: int = 16
                      ) -> dict[float, dict[str, Any]]:
-    """Section 3.3: how noise changes the scaled distance matrices (Fig. 7) and descriptors
-    (Fig. 8).
+    """Section 3.3: how noise changes the distance matrices (Fig. 7) and descriptors (Fig. 8).
 
     Parameters
     ----------
     clean : DescriptorTable
+        The shapes without noise.
     noisy : dict of float to DescriptorTable
         One table per noise level, holding noisy copies of the clean shapes.
     pairs : dict of float to list of (str, str), optional
         ``(clean name, noisy name)`` for each level; default: the same names.
     N, M : int
+        Shape-DNA length (default 100) and cShape-DNA crop half-width (default 16).
 
     Returns
     -------
@@ -185,7 +204,23 @@ EXTENSIONS = ("log-Weyl DFT", "log-Weyl DCT", "truncated log spectrum")
 
 def family_descriptors(table: DescriptorTable, family: str, *, N: int = 100, M: int
                        ) -> np.ndarray:
-    """Descriptors of a :data:`FAMILIES` member with ``2M+1`` values, shape (p, 2M+1).
+    """Compute the descriptors of a :data:`FAMILIES` member with ``2M+1`` values.
+
+    Parameters
+    ----------
+    table : DescriptorTable
+        Eigenvalues and areas of the collection (:func:`cshape.describe`).
+    family : str
+        A member of :data:`FAMILIES`.
+    N : int, default=100
+        Shape-DNA length.
+    M : int
+        Crop half-width.
+
+    Returns
+    -------
+    ndarray, shape (p, 2M+1)
+        One descriptor per shape of the table.
 
     Raises
     ------
@@ -240,6 +275,15 @@ def experiment_retrieval(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 
     :data:`FAMILIES` with ``2M+1`` values.  A descriptor that cannot be computed for the
     table (see :func:`family_descriptors`) is left out.
 
+    Parameters
+    ----------
+    table : DescriptorTable
+        Eigenvalues, areas and class labels of the collection.
+    Ms : sequence of int, default=(16, 8, 4, 2, 1)
+        Crop half-widths.
+    N : int, default=100
+        Shape-DNA length.
+
     Returns
     -------
     list of dict
@@ -274,6 +318,7 @@ def experiment_sizes(table: DescriptorTable, *, Ms: Sequence[int] | None = None,
     Ms : sequence of int, optional
         Default ``16, 15, ..., 1``, limited to ``2M+1 <= N-2`` (F1 has ``N-2`` values).
     N : int, default=100
+        Shape-DNA length.
     measure : {'nn', 'ft', 'st', 'e', 'dcg', 'map'}, default='ft'
         The measure that decides the winner (first tier).
 
@@ -347,6 +392,13 @@ def _ranges(ms: Sequence[int]) -> str:
 def size_verdict(sizes: dict[str, Any], *, name: str = "this collection") -> list[str]:
     """The verdict under the size table, computed from :func:`experiment_sizes`' numbers.
 
+    Parameters
+    ----------
+    sizes : dict
+        The result of :func:`experiment_sizes`.
+    name : str, default='this collection'
+        The collection's name in the sentences.
+
     Returns
     -------
     list of str
@@ -417,6 +469,23 @@ def experiment_cost(table: DescriptorTable, *, Ms: Sequence[int] = (16, 8, 4, 2,
     proportional to the descriptor length), and the exact 10-nearest-neighbour search with
     :class:`cshape.compare.DescriptorIndex` (``search_seconds``, which adds a selection
     whose cost does not depend on the length).
+
+    Parameters
+    ----------
+    table : DescriptorTable
+        Eigenvalues and areas of the collection (:func:`cshape.describe`).
+    Ms : sequence of int, default=(16, 8, 4, 2, 1)
+        Crop half-widths of the cShape-DNAs timed.
+    N : int, default=100
+        Shape-DNA length.
+    repeats : int, default=5
+        Timings per measurement; the best is kept.
+    database_size : int, default=20000
+        Rows of the resampled database.
+    n_queries : int, default=100
+        Queries compared with the database.
+    random_state : int, default=0
+        Seed of the resampling, the jitter and the choice of queries.
 
     Returns
     -------

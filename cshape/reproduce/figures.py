@@ -98,9 +98,17 @@ def fig1_selection(table: DescriptorTable, max_shapes: int = FIG1_MAX_SHAPES
     ``max_shapes`` classes, the classes are taken evenly spread over their order.  Without
     class labels (or one class), the first ``max_shapes`` shapes.
 
+    Parameters
+    ----------
+    table : DescriptorTable
+        The collection.
+    max_shapes : int, default=8
+        Most shapes drawn.
+
     Returns
     -------
     names : list of str
+        The shapes drawn.
     note : str
         Empty when every shape is drawn.
     """

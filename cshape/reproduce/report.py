@@ -107,15 +107,25 @@ def reproduce(records: Iterable[Any], out_dir: str | os.PathLike[str], *, N: int
         Section 3.3's noise levels; every shape gets a noisy copy per level
         (:func:`cshape.data.variants.add_normal_noise`, seeded with ``noise_seed``).  ``()``
         skips the noise experiment.
+    noise_seed : int, default=0
+        Seed of the noise.
     quality : (str, str), optional
         Names of a low-quality mesh and its improved remesh (the paper's CM and CS), for
         Fig. 9.
     example : str, optional
         Shape of Fig. 2 (default: the first).
-    cache_dir, n_jobs, client, progress
-        Passed to :func:`cshape.describe` (eigenvalues are cached, runs resume).
+    cache_dir : str, os.PathLike, None or False, default=None
+        Eigenvalue cache, passed to :func:`cshape.describe` (runs resume).
+    n_jobs : int, default=1
+        Local worker processes, passed to :func:`cshape.describe`.
+    client : dask.distributed.Client or str, optional
+        A Dask cluster, passed to :func:`cshape.describe`.
+    progress : bool, default=True
+        Show progress bars.
     random_state : int, default=0
         Seed of the MDS embeddings.
+    title : str, default="cshape: the paper's Section 3 on our data"
+        Title of the report.
     benchmark : iterable, optional
         Labelled shapes for the retrieval tables (as ``records``), e.g.
         ``cshape.data.load_collection('creatures')`` (the held-out instance of the creature

@@ -51,6 +51,13 @@ MEASURES = ("nn", "ft", "st", "map")
 def candidates(N: int = 100, Ms: Sequence[int] = SUITE_MS) -> list[dict[str, Any]]:
     """The descriptors of the suite computable from ``N`` eigenvalues.
 
+    Parameters
+    ----------
+    N : int, default=100
+        Eigenvalues per shape.
+    Ms : sequence of int, default=(8, 16, 24, 32, 49)
+        Crop half-widths tried (each where the family allows it).
+
     Returns
     -------
     list of dict
@@ -131,14 +138,41 @@ def suite_scores(tables: dict[str, DescriptorTable], *,
 
 
 def choose_default(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
-    """The row with the highest worst first tier (ties: higher mean, then fewer values)."""
+    """Choose the row with the highest worst first tier (ties: higher mean, then fewer values).
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        The rows of :func:`suite_scores`.
+
+    Returns
+    -------
+    dict
+        The chosen row.
+
+    Raises
+    ------
+    ValueError
+        If ``rows`` is empty.
+    """
     if not rows:
         raise ValueError("rows is empty; score the candidates with suite_scores first")
     return max(rows, key=lambda r: (round(r["worst"], 12), round(r["mean"], 12), -r["size"]))
 
 
 def default_row(rows: Iterable[dict[str, Any]]) -> dict[str, Any] | None:
-    """The row of the exploration default :data:`cshape.DEFAULT`."""
+    """Find the row of the exploration default :data:`cshape.DEFAULT`.
+
+    Parameters
+    ----------
+    rows : iterable of dict
+        The rows of :func:`suite_scores`.
+
+    Returns
+    -------
+    dict or None
+        The row of the default, or None when no row is.
+    """
     d = recipe.DEFAULT  # read when called: the constant, wherever it is set
     for r in rows:
         if r["kind"] != d.kind:
@@ -154,9 +188,25 @@ def default_row(rows: Iterable[dict[str, Any]]) -> dict[str, Any] | None:
 
 def suite_markdown(rows: Sequence[dict[str, Any]], *, title: str, note: str = "",
                    measure: str = "ft", mark: str | None = None) -> str:
-    """A Markdown table: one row per descriptor, one column per benchmark, worst and mean.
+    """Write a Markdown table: one row per descriptor, a column per benchmark, worst and mean.
 
-    ``mark`` (a row's ``title``) is set in bold.
+    Parameters
+    ----------
+    rows : sequence of dict
+        The rows of :func:`suite_scores`.
+    title : str
+        Heading of the table (the measure's name is added).
+    note : str, default=''
+        A paragraph under the heading.
+    measure : {'ft', 'nn', 'st', 'map'}, default='ft'
+        The retrieval measure shown.
+    mark : str, optional
+        A row's ``title``, set in bold.
+
+    Returns
+    -------
+    str
+        The heading, the note and the table, in Markdown.
     """
     names = list(rows[0]["scores"]) if rows else []
     what = {"ft": "first tier", "nn": "nearest neighbour", "st": "second tier",
