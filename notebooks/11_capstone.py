@@ -22,9 +22,9 @@
 # 3. say what a test score means: what it estimates, how far it can move by chance, and how it compares with a
 #    ranking at random.
 #
-# This notebook is graded: five exercises are checked by the autograder (12 points, partly by tests you do not
-# see) and one written answer is graded by hand (3 points). Lessons 02 (Shape-DNA), 03 (Eq. 8-10) and 04
-# (retrieval measures) are what you need.
+# This notebook is graded: five exercises and one prediction are checked by the autograder (12 points, partly by
+# tests you do not see) and one written answer is graded by hand (3 points). Lessons 02 (Shape-DNA), 03
+# (Eq. 8-10) and 04 (retrieval measures) are what you need.
 #
 # **The question.** The lessons scored descriptors on *categories* (is this a spider or a snake?). Here the classes
 # are **identities**: one body, human or four-legged, with its own limb lengths and thicknesses, in several poses.
