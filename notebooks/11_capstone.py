@@ -193,7 +193,7 @@ def descriptors(lam, areas, M):
     ### BEGIN SOLUTION
     lam = np.asarray(lam, dtype=float)
     return np.array([cshape.compact_shape_dna(row, N=lam.shape[1], M=M, area=a)
-                     for row, a in zip(lam, areas)])
+                     for row, a in zip(lam, areas, strict=True)])
     ### END SOLUTION
 
 
@@ -204,7 +204,7 @@ def check_descriptors(lam, areas, M):
 
     n_values = lam.shape[1]
     want = np.array([cshape.compact_shape_dna(r, N=n_values, M=M, area=a)
-                     for r, a in zip(lam, areas)])
+                     for r, a in zip(lam, areas, strict=True)])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the mistakes below warn; the hint says more
         got = np.asarray(descriptors(lam, areas, M))
@@ -240,6 +240,7 @@ check_descriptors(2.0 * _ref, _ar / 2.0, 5)  # scaled shapes: the same normalise
 # out. Use the sizes printed above, work it out on paper, and write one number between 0 and 1.
 
 # %% nbgrader={"grade": false, "grade_id": "prediction", "locked": false, "schema_version": 3, "solution": true, "task": false}
+prediction = None  # your number between 0 and 1
 ### BEGIN SOLUTION
 _C, _p = POSES, len(dev_labels)
 prediction = (_C - 1) / (_p - 1)  # every other shape is relevant with probability (C-1)/(p-1)
@@ -295,6 +296,7 @@ def scores(lam, areas, labels, M):
     ### END SOLUTION
 
 
+dev_map = {}  # M -> the development split's mAP
 ### BEGIN SOLUTION
 dev_map = {M: scores(lam_dev, areas_dev, dev_labels, M)["map"] for M in Ms}
 ### END SOLUTION
@@ -305,7 +307,7 @@ print("development mAP:", {M: round(v, 3) for M, v in dev_map.items()})
 def reference_map(lam, areas, labels, M):
     """mAP of the cShape-DNA with half-width M, from cshape's functions."""
     X = np.array([cshape.compact_shape_dna(r, N=lam.shape[1], M=M, area=a)
-                  for r, a in zip(lam, areas)])
+                  for r, a in zip(lam, areas, strict=True)])
     return cshape.retrieval_scores(cshape.distance_matrix(X), labels)["map"]
 
 
@@ -335,6 +337,7 @@ for M in Ms:
 # tie, any of them; the smallest is the most compact).
 
 # %% nbgrader={"grade": false, "grade_id": "choose_M", "locked": false, "schema_version": 3, "solution": true, "task": false}
+M_best = None  # one M of Ms
 ### BEGIN SOLUTION
 M_best = max(Ms, key=lambda M: (dev_map[M], -M))
 ### END SOLUTION
@@ -364,6 +367,7 @@ if _want[M_best] < _best - 1e-12:
 # **test** split. This is the number you would put in a paper.
 
 # %% nbgrader={"grade": false, "grade_id": "report", "locked": false, "schema_version": 3, "solution": true, "task": false}
+test_report = {}  # the measures on the test split at M_best
 ### BEGIN SOLUTION
 test_report = scores(lam_test, areas_test, test_labels, M_best)
 ### END SOLUTION
@@ -373,7 +377,7 @@ print(f"test split, M = {M_best}:", {k: round(v, 3) for k, v in test_report.item
 assert set(test_report) >= {"nn", "ft", "map"}, "test_report is the dict that scores() returns"
 ### BEGIN HIDDEN TESTS
 _X = np.array([cshape.compact_shape_dna(r, N=lam_test.shape[1], M=M_best, area=a)
-               for r, a in zip(lam_test, areas_test)])
+               for r, a in zip(lam_test, areas_test, strict=True)])
 _want = cshape.retrieval_scores(cshape.distance_matrix(_X), test_labels)
 _dev = {M: reference_map(lam_dev, areas_dev, dev_labels, M) for M in Ms}
 _test = {M: reference_map(lam_test, areas_test, test_labels, M) for M in Ms}

@@ -212,7 +212,7 @@ def _typical_wrong_capstone(release, source):
         gid = c.metadata.get("nbgrader", {}).get("grade_id")
         if gid in solutions and c.cell_type == "code":
             c.source = "\n".join(ln for ln in solutions[gid].splitlines()
-                                  if "### BEGIN SOLUTION" not in ln and "### END SOLUTION" not in ln)
+                                  if not re.match(r"\s*### (BEGIN|END) SOLUTION", ln))
         if gid == "spectra":
             c.source = c.source.replace("cshape.shape_dna(m, N)",
                                         "cshape.shape_dna(m, N, mass='lumped')")
