@@ -1,9 +1,13 @@
-"""The course: nbgrader source notebooks, nbgrader's student release, the full grading cycle,
-and the lessons copied out of cshape by ``cshape lessons``."""
+"""The course: nbgrader source notebooks, nbgrader's student release, the course plan, the full
+grading cycle (and the feedback on typical wrong answers), and the lessons copied out of cshape
+by ``cshape lessons``."""
 
 from __future__ import annotations
 
+import ast
+import html
 import json
+import re
 import shutil
 import zipfile
 
@@ -16,6 +20,8 @@ from cshape.course import assignments as asg
 NB_DIR = asg.lessons_dir()
 LESSONS = sorted(NB_DIR.glob(asg.PATTERN))
 GRADED = [p for p in LESSONS if asg.is_graded(p)]
+ANSWERS = sorted((NB_DIR / asg.ANSWERS).glob("*.md"))
+CAPSTONE = NB_DIR / "11_capstone.ipynb"
 
 
 def _nbgrader_cells(path):
@@ -55,6 +61,40 @@ def test_graded_cells_carry_valid_nbgrader_metadata(path):
         if "### BEGIN HIDDEN TESTS" in c.source:
             assert m.get("grade") and not m.get("solution"), (
                 f"{path.name} cell {k}: hidden tests belong in an autograder-test cell")
+
+
+def test_course_plan_puts_every_lesson_in_one_assignment():
+    """At least four weekly assignments and the capstone, every lesson in exactly one, every
+    assignment with a graded lesson."""
+    assert len(asg.ASSIGNMENTS) >= 5 and list(asg.ASSIGNMENTS)[-1] == "capstone"
+    numbers = [nn for nns in asg.ASSIGNMENTS.values() for nn in nns]
+    assert len(numbers) == len(set(numbers)), asg.ASSIGNMENTS
+    groups = asg.plan(LESSONS)
+    assert sorted(p for paths in groups.values() for p in paths) == LESSONS
+    assert list(groups) == list(asg.ASSIGNMENTS)  # no assignment without a lesson
+    assert groups["capstone"] == [CAPSTONE]
+    for name, paths in groups.items():
+        assert any(asg.is_graded(p) for p in paths), f"{name}: no graded lesson"
+        assert all(p.name[:2] in asg.ASSIGNMENTS[name] for p in paths)
+
+
+def test_plan_names_a_lesson_outside_it(tmp_path):
+    with pytest.raises(ValueError, match=r"'12_extra.ipynb' is in no assignment.*ASSIGNMENTS"):
+        asg.plan([tmp_path / "01_a.ipynb", tmp_path / "12_extra.ipynb"])
+    assert asg.plan([tmp_path / "03_b.ipynb", tmp_path / "01_a.ipynb"]) == {
+        "week1": [tmp_path / "01_a.ipynb", tmp_path / "03_b.ipynb"]}
+
+
+def test_capstone_is_graded_beyond_the_walkthroughs():
+    """The capstone: at least 10 auto-graded points in several graded cells, hidden tests,
+    and a written answer graded by hand."""
+    _, cells = _nbgrader_cells(CAPSTONE)
+    auto = [m for _, c, m in cells if m["grade"] and not m["solution"]]
+    manual = [(c, m) for _, c, m in cells if m["grade"] and m["solution"]]
+    assert sum(m["points"] for m in auto) >= 10 and len(auto) >= 4, auto
+    assert any(c.cell_type == "markdown" for c, _ in manual), "a written answer graded by hand"
+    tests = [c.source for _, c, m in cells if m["grade"] and not m["solution"]]
+    assert sum("### BEGIN HIDDEN TESTS" in t for t in tests) >= 4
 
 
 @pytest.fixture(scope="module")
@@ -146,59 +186,129 @@ def test_cli_check(tmp_path, capsys):
     assert "does not exist" in capsys.readouterr().err
 
 
+def _hint(path, grade_id, word):
+    """The hint of a test cell: the string literal of its source that holds ``word``."""
+    nb = nbformat.read(path, as_version=4)
+    (cell,) = [c for c in nb.cells if c.metadata.get("nbgrader", {}).get("grade_id") == grade_id]
+    texts = [n.value for n in ast.walk(ast.parse(cell.source))
+             if isinstance(n, ast.Constant) and isinstance(n.value, str) and word in n.value]
+    assert texts, f"{path.name}: the test cell {grade_id} has no hint naming {word!r}"
+    return texts[0]
+
+
+def _page_text(page):
+    """The text of an HTML page, tags removed and entities decoded."""
+    return html.unescape(re.sub(r"<[^>]+>", "", page.read_text(encoding="utf-8")))
+
+
+def _typical_wrong_capstone(release, source):
+    """The capstone's release filled with the instructor's answers, except two typical
+    mistakes: the lumped mass in ``spectra`` and a prediction of one over the classes."""
+    nb = nbformat.read(release, as_version=4)
+    solutions = {c.metadata["nbgrader"]["grade_id"]: c.source
+                 for c in nbformat.read(source, as_version=4).cells
+                 if c.metadata.get("nbgrader", {}).get("solution")}
+    for c in nb.cells:
+        gid = c.metadata.get("nbgrader", {}).get("grade_id")
+        if gid in solutions and c.cell_type == "code":
+            c.source = "\n".join(ln for ln in solutions[gid].splitlines()
+                                  if not re.match(r"\s*### (BEGIN|END) SOLUTION", ln))
+        if gid == "spectra":
+            c.source = c.source.replace("cshape.shape_dna(m, N)",
+                                        "cshape.shape_dna(m, N, mass='lumped')")
+            assert "mass='lumped'" in c.source
+        if gid == "prediction":
+            c.source = "prediction = 1 / len(set(dev_labels))  # one class in so many"
+    return nb
+
+
 @pytest.mark.slow
 def test_nbgrader_course_full_cycle(tmp_path):
-    """Release, autograde two submissions, feedback: the instructor's solutions get full marks,
-    the untouched student release gets less and does not crash the grader."""
+    """Release, autograde three submissions, feedback, for every assignment of the plan at once:
+    the instructor's solutions get full marks on every auto-graded cell, the untouched student
+    release gets less and does not crash the grader, and typical wrong answers get feedback that
+    names the mistake (the hint of the lesson's own test cell)."""
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
     from nbgrader.api import Gradebook
 
-    course = asg.write_course(tmp_path / "course", GRADED)
-    asg.run_nbgrader("generate_assignment", asg.ASSIGNMENT, "--force", cwd=course)
-    release = course / "release" / asg.ASSIGNMENT
-    assert sorted(p.name for p in release.glob("*.ipynb")) == [p.name for p in GRADED]
-    submissions = {"instructor": course / "source" / asg.ASSIGNMENT, "untouched": release}
-    for student, folder in submissions.items():
-        shutil.copytree(folder, course / "submitted" / student / asg.ASSIGNMENT)
+    course = tmp_path / "course"
+    groups = asg.write_course(course, GRADED)
+    assert list(groups) == list(asg.ASSIGNMENTS)
+    asg.run_nbgrader("generate_assignment", "*", "--force", cwd=course)
+    for name, paths in groups.items():
+        release = course / "release" / name
+        assert sorted(p.name for p in release.iterdir()) == [p.name for p in paths], name
+        for student, folder in (("instructor", course / "source" / name), ("untouched", release)):
+            shutil.copytree(folder, course / "submitted" / student / name)
+    typical = course / "submitted" / "typical" / "capstone"
+    typical.mkdir(parents=True)
+    nbformat.write(_typical_wrong_capstone(course / "release" / "capstone" / CAPSTONE.name,
+                                           CAPSTONE), typical / CAPSTONE.name)
     env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")}
-    log = asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course, env=env)
+    log = asg.run_nbgrader("autograde", "*", "--force", cwd=course, env=env)
     # neither the solutions nor the untouched release changed a locked cell
     assert "has changed!" not in log, [ln for ln in log.splitlines() if "changed!" in ln]
-    asg.run_nbgrader("generate_feedback", asg.ASSIGNMENT, "--force", cwd=course)
+    asg.run_nbgrader("generate_feedback", "*", "--force", cwd=course)
 
+    manual = {m["grade_id"] for p in GRADED for _, _, m in _nbgrader_cells(p)[1]
+              if m["grade"] and m["solution"]}
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
-        scores = {}
-        for student in submissions:
-            sub = gb.find_submission(asg.ASSIGNMENT, student)
-            scores[student] = (sub.score, sub.max_score)
-            per_nb = {nb.name: (nb.score, nb.max_score) for nb in sub.notebooks}
-            assert sorted(per_nb) == [p.stem for p in GRADED], student
-            if student == "instructor":
-                assert all(s == m > 0 for s, m in per_nb.values()), per_nb
-        max_score = scores["instructor"][1]
-        assert max_score >= 2 * len(GRADED)
-        assert scores["instructor"][0] == max_score, scores
-        assert scores["untouched"][0] < max_score, scores
-    for student in submissions:
-        for path in GRADED:
-            page = course / "feedback" / student / asg.ASSIGNMENT / f"{path.stem}.html"
-            assert page.is_file() and page.stat().st_size > 1000, page
-            # equations typeset offline, by the course folder's MathJax copy
-            text = page.read_text()
-            assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
-            assert '<script src="../../../mathjax/MathJax.js?config=' in text
+        for name, paths in groups.items():
+            auto = {}
+            for student in ("instructor", "untouched"):
+                sub = gb.find_submission(name, student)
+                assert sorted(nb.name for nb in sub.notebooks) == [p.stem for p in paths]
+                grades = [g for nb in sub.notebooks for g in nb.grades if g.name not in manual]
+                auto[student] = (sum(g.auto_score or 0 for g in grades),
+                                 sum(g.max_score for g in grades))
+                if student == "instructor":
+                    wrong = [(g.notebook.name, g.name, g.auto_score, g.max_score)
+                             for g in grades if g.auto_score != g.max_score]
+                    assert wrong == [], f"{name}: the solutions lose points: {wrong}"
+                    # the written answers wait for the grader; an unanswered one scores 0
+                    waiting = [g for nb in sub.notebooks for g in nb.grades if g.name in manual]
+                    assert all(g.needs_manual_grade for g in waiting), name
+            assert auto["instructor"][1] >= 2 * len(paths), (name, auto)
+            assert auto["untouched"][0] < auto["instructor"][0], (name, auto)
+        typical_grades = {g.name: g for nb in gb.find_submission("capstone", "typical").notebooks
+                          for g in nb.grades}
+        assert typical_grades["test_spectra"].auto_score == 0
+        assert typical_grades["test_prediction"].auto_score == 0
+        assert typical_grades["test_descriptors"].auto_score == typical_grades[
+            "test_descriptors"].max_score  # the other answers are right
+    for student, assignments in (("instructor", groups), ("untouched", groups)):
+        for name, paths in assignments.items():
+            for path in paths:
+                page = course / "feedback" / student / name / f"{path.stem}.html"
+                assert page.is_file() and page.stat().st_size > 1000, page
+                # equations typeset offline, by the course folder's MathJax copy
+                text = page.read_text()
+                assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
+                assert '<script src="../../../mathjax/MathJax.js?config=' in text
     assert (course / "mathjax" / "MathJax.js").is_file()
+    # the feedback on typical wrong answers names each mistake, in the words of the test cell
+    feedback = _page_text(course / "feedback" / "typical" / "capstone" / f"{CAPSTONE.stem}.html")
+    lumped = _hint(CAPSTONE, "test_spectra", "lumped")
+    assert lumped in feedback, lumped
+    classes = _hint(CAPSTONE, "test_prediction", "number of classes")
+    assert classes.split("{")[0] in feedback, classes  # the text before its first number
+    assert "number of classes" in feedback
     # the solutions ran without an error anywhere, graded or not
-    for path in GRADED:
-        done = nbformat.read(course / "autograded" / "instructor" / asg.ASSIGNMENT / path.name,
-                             as_version=4)
-        errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
-                  for o in c.get("outputs", []) if o.output_type == "error"]
-        assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
+    for name, paths in groups.items():
+        for path in paths:
+            done = nbformat.read(course / "autograded" / "instructor" / name / path.name,
+                                 as_version=4)
+            errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
+                      for o in c.get("outputs", []) if o.output_type == "error"]
+            assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
     # the hidden tests ran in the autograder (they are in the graded copy, not in the release)
-    graded = (course / "autograded" / "untouched" / asg.ASSIGNMENT / GRADED[0].name).read_text()
+    first, paths = next(iter(groups.items()))
+    graded = (course / "autograded" / "untouched" / first / paths[0].name).read_text()
     assert "### BEGIN HIDDEN TESTS" in graded
-    assert "### BEGIN HIDDEN TESTS" not in (release / GRADED[0].name).read_text()
+    assert "### BEGIN HIDDEN TESTS" not in (course / "release" / first / paths[0].name).read_text()
+    # the answer keys are for instructors: nothing of them reaches a release
+    released = [p for p in (course / "release").rglob("*") if p.is_file()]
+    assert released and all(p.suffix == ".ipynb" for p in released)
 
 
 @pytest.mark.slow
@@ -207,23 +317,24 @@ def test_autograde_warns_of_an_edited_locked_cell_only(tmp_path):
     cell still is (nbgrader's warning, and the cell is graded as released)."""
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
     lesson = GRADED[0]
-    course = asg.write_course(tmp_path / "course", [lesson])
-    asg.run_nbgrader("generate_assignment", asg.ASSIGNMENT, "--force", cwd=course)
-    release = course / "release" / asg.ASSIGNMENT / lesson.name
+    (assignment,) = asg.write_course(tmp_path / "course", [lesson])
+    course = tmp_path / "course"
+    asg.run_nbgrader("generate_assignment", assignment, "--force", cwd=course)
+    release = course / "release" / assignment / lesson.name
     nb = nbformat.read(release, as_version=4)
     k, cell = next((k, c) for k, c in enumerate(nb.cells)
                    if c.metadata.get("nbgrader", {}).get("grade"))
     cell.source = "assert True  # edited\n" + cell.source
     for student, book in (("untouched", nbformat.read(release, as_version=4)), ("edited", nb)):
-        folder = course / "submitted" / student / asg.ASSIGNMENT
+        folder = course / "submitted" / student / assignment
         folder.mkdir(parents=True)
         nbformat.write(book, folder / lesson.name)
-    log = asg.run_nbgrader("autograde", asg.ASSIGNMENT, "--force", cwd=course,
+    log = asg.run_nbgrader("autograde", assignment, "--force", cwd=course,
                            env={"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")})
     changed = [ln for ln in log.splitlines() if "has changed!" in ln]
     grade_id = cell.metadata["nbgrader"]["grade_id"]
     assert len(changed) == 1 and f"'checksum' for cell {grade_id} has changed" in changed[0]
-    graded = nbformat.read(course / "autograded" / "edited" / asg.ASSIGNMENT / lesson.name,
+    graded = nbformat.read(course / "autograded" / "edited" / assignment / lesson.name,
                            as_version=4)
     assert "# edited" not in graded.cells[k].source
 
@@ -234,21 +345,37 @@ def test_copy_lessons_and_refuse_a_used_folder(tmp_path, capsys):
     names = {p.name for p in dest.glob(asg.PATTERN)}
     assert names == {p.name for p in LESSONS}
     assert {p.name for p in (dest / "student").glob(asg.PATTERN)} == {p.name for p in GRADED}
-    assert {p.name for p in (dest / "source" / asg.ASSIGNMENT).iterdir()} == {
-        p.name for p in GRADED}
+    # the course plan: one source folder per assignment, every lesson in the one that holds it
+    assert sorted(p.name for p in (dest / "source").iterdir()) == sorted(asg.ASSIGNMENTS)
+    for name, paths in asg.plan(LESSONS).items():
+        assert sorted(p.name for p in (dest / "source" / name).iterdir()) == [
+            p.name for p in paths], name
     assert "course_id" in (dest / "nbgrader_config.py").read_text()
-    # the README speaks to instructors, of this folder and the nbgrader cycle, not of the
-    # repository's tools
+    # the README speaks to instructors, of this folder, the plan and the nbgrader cycle, not of
+    # the repository's tools
     readme = (dest / "README.md").read_text()
-    for step in ("nbgrader generate_assignment lessons", "submitted/<student>/lessons/",
-                 "nbgrader autograde lessons", "nbgrader generate_feedback lessons",
-                 "nbgrader collect lessons", "nbgrader export"):
+    for step in ("nbgrader generate_assignment week1", "submitted/<student>/week1/",
+                 "nbgrader autograde week1", "nbgrader generate_feedback week1",
+                 "nbgrader collect week1", "nbgrader export", "answers/"):
         assert step in readme, step
+    for name, numbers in asg.ASSIGNMENTS.items():
+        row = next((ln for ln in readme.splitlines() if ln.startswith(f"| `{name}`")), None)
+        assert row is not None, f"the README's plan has no row for {name}"
+        assert all(nn in row for nn in numbers), (name, row)
+    for p in LESSONS:  # every lesson has its row of objectives, minutes and prerequisites
+        assert re.search(rf"^\| {p.name[:2]} ", readme, re.M), p.name
     for developers in ("make notebooks", "sync_notebooks", "commit the .py", "_topic.py"):
         assert developers not in readme, developers
     for p in LESSONS:
         assert json.loads((dest / p.name).read_text()) == json.loads(p.read_text())
-    assert "lessons" in capsys.readouterr().out
+    # the answer keys, for instructors only: in answers/, nowhere a student release is made from
+    assert [p.name for p in sorted((dest / asg.ANSWERS).iterdir())] == [p.name for p in ANSWERS]
+    for p in ANSWERS:
+        assert (dest / asg.ANSWERS / p.name).read_text() == p.read_text()
+    for folder in (dest / "student", dest / "source"):
+        assert [p for p in folder.rglob("*") if p.is_file() and p.suffix != ".ipynb"] == []
+    out = capsys.readouterr().out
+    assert "lessons" in out and "source/capstone/: 11_capstone" in out and "answers/" in out
     # a folder in use: one line, exit 2, nothing written
     before = sorted(dest.rglob("*"))
     assert main(["lessons", str(dest)]) == 2
@@ -277,7 +404,12 @@ def test_lessons_from_an_installed_wheel_run_there(installed_wheel_env):
     assert sorted(p.name for p in (dest / "student").glob(asg.PATTERN)) == [
         p.name for p in GRADED]
     assert (dest / "nbgrader_config.py").is_file()
-    assert "nbgrader autograde lessons" in (dest / "README.md").read_text()
+    assert "nbgrader autograde week1" in (dest / "README.md").read_text()
+    # the answer keys ship in the wheel, for `cshape lessons`, outside every student folder
+    keys = {n for n in names if "/answers/" in n}
+    assert keys == {f"cshape/lessons/answers/{p.name}" for p in ANSWERS}
+    assert sorted(p.name for p in (dest / asg.ANSWERS).iterdir()) == [p.name for p in ANSWERS]
+    assert not any("student/" in n and n.endswith(".md") for n in names)
     for extra in ([], ["--student"]):
         out = env.workdir / f"executed{'-'.join(extra)}"
         r = env.run("cshape", "notebooks", "01", "--small", "--no-html", "--src", dest,

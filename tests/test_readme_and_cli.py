@@ -83,11 +83,11 @@ def test_readme_teaching_commands_are_the_course_folders():
 
     lines = _bash_block((REPO / "README.md").read_text(), "Teaching")
     nbgrader = [ln for ln in lines if ln.startswith("nbgrader ")]
-    assert nbgrader == ["nbgrader generate_assignment lessons", "nbgrader autograde lessons",
-                        "nbgrader generate_feedback lessons"]
+    assert nbgrader == ["nbgrader generate_assignment week1", "nbgrader autograde week1",
+                        "nbgrader generate_feedback week1"]
     for doc in (INSTRUCTORS_README, REPO / "docs" / "guides" / "teaching.md"):
         text = doc.read_text()
         where = [text.index(cmd) for cmd in nbgrader]
         assert where == sorted(where), doc
-        assert "submitted/<student>/lessons/" in text
+        assert "submitted/<student>/week1/" in text
     assert lines[0] == "cshape lessons mycourse && cd mycourse"

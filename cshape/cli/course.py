@@ -76,7 +76,7 @@ def _installed(module: str) -> bool:
 
 
 def _cmd_lessons(args: argparse.Namespace) -> int:
-    from ..course.assignments import ASSIGNMENT, copy_lessons
+    from ..course.assignments import ANSWERS, ASSIGNMENTS, copy_lessons
 
     if not _installed("nbformat"):
         raise ImportError('cshape lessons reads the notebooks with nbformat, which is not '
@@ -84,18 +84,26 @@ def _cmd_lessons(args: argparse.Namespace) -> int:
                           "to grade them with nbgrader too)")
     files = copy_lessons(args.dir)
     lessons = [f for f in files if f.parent == Path(".") and f.suffix == ".ipynb"]
+    made = [name for name in ASSIGNMENTS
+            if any(f.parts[:2] == ("source", name) for f in files)]
+    keys = sum(f.parts[0] == ANSWERS for f in files)
     print(f"{len(lessons)} lessons, {sum(f.parts[0] == 'student' for f in files)} student "
-          f"versions and an nbgrader course (source/{ASSIGNMENT}/) in {args.dir}")
+          f"versions and an nbgrader course of {len(made)} assignments in {args.dir}:")
+    for name in made:
+        print(f"  source/{name}/: " + ", ".join(
+            f.stem for f in files if f.parts[:2] == ("source", name)))
+    if keys:
+        print(f"answer keys for instructors (never released to students): {ANSWERS}/")
     lab = "" if _installed("jupyterlab") else ' (needs pip install "cshape[notebooks]")'
     print(f"open them: jupyter lab {args.dir}{lab}")
-    print(f"{Path(args.dir) / 'README.md'} walks the grading cycle: release, collect, "
-          "autograde, feedback")
+    print(f"{Path(args.dir) / 'README.md'} gives the course plan and walks the grading cycle: "
+          "release, collect, autograde, feedback")
+    first = made[0] if made else "week1"
     if _installed("nbgrader"):
-        print(f"release: cd {args.dir} && nbgrader generate_assignment {ASSIGNMENT}")
+        print(f"release the first week: cd {args.dir} && nbgrader generate_assignment {first}")
     else:
         print('release and grade them with nbgrader, which is not installed: pip install '
-              f'"cshape[course]", then cd {args.dir} && nbgrader generate_assignment '
-              f"{ASSIGNMENT}")
+              f'"cshape[course]", then cd {args.dir} && nbgrader generate_assignment {first}')
     return 0
 
 
@@ -113,7 +121,8 @@ def add_assignments(sub: _SubParsers) -> None:
     p.set_defaults(func=_cmd_assignments)
     q = sub.add_parser(
         "lessons",
-        help="copy the lessons, their student versions and an nbgrader course into DIR",
+        help="copy the lessons, their student versions, an nbgrader course (one assignment "
+             "per week and the capstone) and the instructors' answer keys into DIR",
     )
     q.add_argument("dir", help="a new (or empty) folder")
     q.set_defaults(func=_cmd_lessons)

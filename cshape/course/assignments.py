@@ -14,16 +14,21 @@ read-only cells, stable ``grade_id`` s) with nbgrader's text markers inside::
     ...                               # run by the autograder, not shown to students
     ### END HIDDEN TESTS
 
+The course plan :data:`ASSIGNMENTS` groups the lessons into nbgrader assignments, one per
+week of a four-week module plus the capstone; every function here, the command line and the
+instructors' README follow it.
+
 nbgrader itself (the optional ``course`` extra: ``pip install "cshape[course]"``) makes the
 student release; this module only lays out a course folder and calls it:
 
 * :func:`write_course` writes an nbgrader course: ``nbgrader_config.py`` and
-  ``source/<assignment>/`` with the graded lessons;
+  ``source/<assignment>/`` with the lessons of each assignment of the plan;
 * :func:`generate` runs ``nbgrader generate_assignment`` in a throwaway course and writes
   the release into ``notebooks/student/`` (``cshape assignments``, ``make assignments``);
   ``check=True`` reports what is out of date instead (the test suite does this);
-* :func:`copy_lessons` copies the lessons, their student versions and a ready nbgrader
-  course into a folder, from an installed package as from a checkout (``cshape lessons``).
+* :func:`copy_lessons` copies the lessons, their student versions, a ready nbgrader
+  course and, for instructors only, the answer keys ``answers/NN_topic.md`` into a folder,
+  from an installed package as from a checkout (``cshape lessons``).
 """
 
 from __future__ import annotations
@@ -43,13 +48,15 @@ if TYPE_CHECKING:
     from collections.abc import Iterable
 
 __all__ = [
-    "ASSIGNMENT",
+    "ANSWERS",
+    "ASSIGNMENTS",
     "INSTRUCTORS_README",
     "NBGRADER_CONFIG",
     "copy_lessons",
     "generate",
     "is_graded",
     "lessons_dir",
+    "plan",
     "release_notebooks",
     "run_nbgrader",
     "update_folder",
@@ -60,8 +67,18 @@ __all__ = [
 PATTERN = "[0-9][0-9]_*.ipynb"
 #: The README of a course folder: what is in it and the nbgrader cycle, for instructors.
 INSTRUCTORS_README = Path(__file__).with_name("instructors.md")
-#: The nbgrader assignment that holds the graded lessons.
-ASSIGNMENT = "lessons"
+#: The course plan: nbgrader assignment -> the numbers ``NN`` of the lessons it holds, in the
+#: order of a four-week module (the instructors' README gives the same weeks).
+ASSIGNMENTS: dict[str, tuple[str, ...]] = {
+    "week1": ("01", "02", "03"),      # the FEM matrices, the spectrum and Weyl, the DFT crop
+    "week2": ("04", "05", "07"),      # distances, MDS and retrieval; noise; the M-sweep
+    "week3": ("06", "08"),            # your own collection; beyond the paper
+    "week4": ("09", "10"),            # signatures and correspondence; functional maps
+    "capstone": ("11",),              # the whole pipeline, chosen on dev, reported on test
+}
+#: The instructors' answer keys of the open exercises, ``answers/NN_topic.md`` beside the
+#: lessons: copied into a course folder's ``answers/``, never into a student release.
+ANSWERS = "answers"
 #: ``nbgrader_config.py`` of the course folders written here.
 NBGRADER_CONFIG = """\
 # nbgrader configuration of a cshape course (written by `cshape lessons`).
@@ -152,31 +169,74 @@ def run_nbgrader(*args: str, cwd: str | os.PathLike[str], env: dict[str, str] | 
     return log
 
 
-def write_course(dest: str | os.PathLike[str], lessons: Iterable[str | os.PathLike[str]], *,
-                 assignment: str = ASSIGNMENT) -> Path:
+def plan(lessons: Iterable[str | os.PathLike[str]]) -> dict[str, list[Path]]:
+    """Group lesson files by the assignment of :data:`ASSIGNMENTS` that holds them.
+
+    Parameters
+    ----------
+    lessons : iterable of path
+        Notebooks named ``NN_topic.ipynb``.
+
+    Returns
+    -------
+    dict
+        Assignment name -> its lessons, sorted, in the plan's order; assignments without any
+        of ``lessons`` are left out.
+
+    Raises
+    ------
+    ValueError
+        If a lesson's number is in no assignment of the plan.
+    """
+    number = {nn: name for name, nns in ASSIGNMENTS.items() for nn in nns}
+    out: dict[str, list[Path]] = {name: [] for name in ASSIGNMENTS}
+    for path in sorted(Path(p) for p in lessons):
+        nn = path.name[:2]
+        if nn not in number:
+            raise ValueError(
+                f"lesson {path.name!r} is in no assignment of the course plan "
+                f"{ {k: list(v) for k, v in ASSIGNMENTS.items()} }: add its number {nn!r} to "
+                "cshape.course.assignments.ASSIGNMENTS"
+            )
+        out[number[nn]].append(path)
+    return {name: paths for name, paths in out.items() if paths}
+
+
+def write_course(dest: str | os.PathLike[str], lessons: Iterable[str | os.PathLike[str]]
+                 ) -> dict[str, list[Path]]:
     """Lay out an nbgrader course folder: ``nbgrader_config.py`` and ``source/<assignment>/``.
+
+    Each lesson goes into the assignment of the course plan :data:`ASSIGNMENTS` that holds
+    its number.
 
     Parameters
     ----------
     dest : str or os.PathLike
         The course folder (created; existing files of the same names are replaced).
     lessons : iterable of path
-        The solution notebooks to put in the assignment.
-    assignment : str, default='lessons'
+        The solution notebooks to put in the course.
 
     Returns
     -------
-    pathlib.Path
-        ``dest``.
+    dict
+        Assignment name -> the lessons in its source folder (:func:`plan`).
+
+    Raises
+    ------
+    ValueError
+        See :func:`plan`.
     """
     dest = Path(dest)
-    source = dest / "source" / assignment
-    source.mkdir(parents=True, exist_ok=True)
+    groups = plan(lessons)
+    dest.mkdir(parents=True, exist_ok=True)
     atomic_write(dest / "nbgrader_config.py", lambda f: f.write(NBGRADER_CONFIG),
                  binary=False)
-    for path in lessons:
-        shutil.copyfile(path, source / Path(path).name)
-    return dest
+    for assignment, paths in groups.items():
+        source = dest / "source" / assignment
+        source.mkdir(parents=True, exist_ok=True)
+        for path in paths:
+            shutil.copyfile(path, source / path.name)
+    return groups
 
 
 def _render(path: str | os.PathLike[str]) -> str:
@@ -189,7 +249,8 @@ def _render(path: str | os.PathLike[str]) -> str:
 def release_notebooks(src: str | os.PathLike[str] | None = None) -> dict[str, str]:
     """nbgrader's student release of the graded lessons in ``src``: file name -> notebook text.
 
-    Runs ``nbgrader generate_assignment --no-db`` once in a throwaway course folder.
+    Runs ``nbgrader generate_assignment --no-db`` once, for every assignment of the course
+    plan, in a throwaway course folder.
     ``src`` defaults to :func:`lessons_dir`; lessons without nbgrader cells are left out.
 
     Raises
@@ -207,10 +268,10 @@ def release_notebooks(src: str | os.PathLike[str] | None = None) -> dict[str, st
     if not graded:
         return {}
     with tempfile.TemporaryDirectory(prefix="cshape-course-") as tmp:
-        write_course(tmp, graded)
-        run_nbgrader("generate_assignment", ASSIGNMENT, "--force", "--no-db", cwd=tmp)
-        release = Path(tmp) / "release" / ASSIGNMENT
-        return {p.name: _render(release / p.name) for p in graded}
+        groups = write_course(tmp, graded)
+        run_nbgrader("generate_assignment", "*", "--force", "--no-db", cwd=tmp)
+        return {p.name: _render(Path(tmp) / "release" / assignment / p.name)
+                for assignment, paths in groups.items() for p in paths}
 
 
 def update_folder(wanted: dict[str, str], dest: str | os.PathLike[str], *, check: bool = False
@@ -272,12 +333,14 @@ def generate(src: str | os.PathLike[str] | None = None, dest: str | os.PathLike[
 
 def copy_lessons(dest: str | os.PathLike[str], *, src: str | os.PathLike[str] | None = None
                  ) -> list[Path]:
-    """Copy the lessons, their student versions and an nbgrader course into ``dest``.
+    """Copy the lessons, their student versions, an nbgrader course and the answer keys.
 
-    ``dest`` gets ``README.md`` (for instructors: the folder, the lessons and the nbgrader
-    cycle, from :data:`INSTRUCTORS_README`), the lessons ``NN_*.ipynb`` (they run there:
-    they need only an installed cshape), ``student/NN_*.ipynb`` and, for ``nbgrader``,
-    ``nbgrader_config.py`` with the graded lessons in ``source/lessons/``.  Everything is
+    ``dest`` gets ``README.md`` (for instructors: the folder, the course plan, the lessons
+    and the nbgrader cycle, from :data:`INSTRUCTORS_README`), the lessons ``NN_*.ipynb``
+    (they run there: they need only an installed cshape), ``student/NN_*.ipynb``, the
+    answer keys of the open exercises ``answers/*.md`` (for instructors: no nbgrader command
+    releases them) and, for ``nbgrader``, ``nbgrader_config.py`` with the lessons in
+    ``source/<assignment>/``, one folder per assignment of :data:`ASSIGNMENTS`.  Everything is
     written to a temporary folder beside ``dest`` first and moved into place at the end, so
     a failure leaves no half-written folder.
 
@@ -315,7 +378,12 @@ def copy_lessons(dest: str | os.PathLike[str], *, src: str | os.PathLike[str] | 
             (tmp / "student").mkdir()
             for path in student:
                 shutil.copyfile(path, tmp / "student" / path.name)
-        write_course(tmp, [p for p in lessons if is_graded(p)])
+        answers = sorted((src / ANSWERS).glob("*.md"))
+        if answers:
+            (tmp / ANSWERS).mkdir()
+            for path in answers:
+                shutil.copyfile(path, tmp / ANSWERS / path.name)
+        write_course(tmp, lessons)
         if dest.exists():
             dest.rmdir()
         os.chmod(tmp, 0o777 & ~umask())  # mkdtemp makes 0700

@@ -239,14 +239,71 @@ _PLOTLY_CDN_MATHJAX = re.compile(
     r'<script src="https://cdnjs\.cloudflare\.com/ajax/libs/mathjax/[^"]*"></script>')
 
 
+#: The lesson pages' template: nbconvert's "lab" page without require.js, which it loads from a
+#: network host for widget JavaScript that a lesson page does not have (widgets show their
+#: static copy, see :func:`run_notebook`); plotly figures bring their own plotly.js.
+_LESSON_TEMPLATE = """\
+{%- extends 'index.html.j2' -%}
+{%- block html_head_js_requirejs -%}{%- endblock html_head_js_requirejs -%}
+"""
+
+
 def _html(nb: Any, mathjax_url: str | None = None) -> str:
+    import jinja2
     from nbconvert import HTMLExporter
 
-    exporter = HTMLExporter(template_name="lab")
+    exporter = HTMLExporter(
+        template_name="lab", template_file="cshape_lesson.html.j2",
+        extra_loaders=[jinja2.DictLoader({"cshape_lesson.html.j2": _LESSON_TEMPLATE})])
     if mathjax_url:
         exporter.mathjax_url = mathjax_url
     body, _ = exporter.from_notebook_node(nb)
     return _PLOTLY_CDN_MATHJAX.sub("", body) if mathjax_url else body
+
+
+#: The text a tqdm bar shows when it is displayed (``" 40%|####      | 2/5 [...]"``).
+_TQDM_TEXT = re.compile(r"\d+%\|")
+
+
+def _final_progress_text(nb: Any, widget_state: dict[str, dict[str, Any]]) -> int:
+    """Write each tqdm progress bar's final state into its text copy, in place.
+
+    A notebook progress bar (``tqdm.auto`` in a kernel) is a widget: its output keeps the text
+    it had when it was displayed ("0%"), and its later states live in the widget models only.
+    From the models' last states (``widget_state``: model id -> state, as nbclient records
+    them) the bar's text becomes what the widget showed last, e.g.
+    ``"describe: 100%|##########| 54/54 [00:10<00:00, 5.2mesh/s]"`` (with full blocks).
+
+    Returns
+    -------
+    int
+        The number of bars rewritten.
+    """
+    from html import unescape
+
+    done = 0
+    for cell in nb.cells:
+        for out in cell.get("outputs", []):
+            data = out.get("data", {})
+            view = data.get("application/vnd.jupyter.widget-view+json")
+            if not view or not _TQDM_TEXT.search(str(data.get("text/plain", ""))):
+                continue
+            box = widget_state.get(view.get("model_id", ""), {})
+            kids = [widget_state.get(str(c).removeprefix("IPY_MODEL_"), {})
+                    for c in box.get("children", [])]
+            if len(kids) != 3 or "max" not in kids[1]:
+                continue
+            left, bar, right = kids
+            total = float(bar.get("max") or 0)
+            frac = min(1.0, float(bar.get("value") or 0) / total) if total > 0 else 1.0
+            filled = round(10 * frac)
+            text = (f"{unescape(str(left.get('value', '')))}|"
+                    f"{chr(0x2588) * filled}{' ' * (10 - filled)}|"
+                    f"{unescape(str(right.get('value', '')))}")
+            # the widget pads with figure spaces and no-break spaces; text uses plain ones
+            data["text/plain"] = text.replace("\u2007", " ").replace("\xa0", " ")
+            done += 1
+    return done
 
 
 def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] | None = None, *,
@@ -294,10 +351,11 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
     kernel_env.setdefault("PLOTLY_RENDERER", "plotly_mimetype+notebook")
     kernel_env.update(env or {})
     km = kernel_manager()
-    # no widget state saved: a page without a kernel shows a widget's own static copy (the
-    # text/html of its display data) instead of an empty box waiting for widget JavaScript
+    # the widgets' states are recorded (for the progress bars' final text) but not saved: a
+    # page without a kernel shows a widget's own static copy (the text/html of its display
+    # data) instead of an empty box waiting for widget JavaScript from a network host
     client = NotebookClient(
-        nb, km=km, timeout=int(timeout), allow_errors=False, store_widget_state=False,
+        nb, km=km, timeout=int(timeout), allow_errors=False, store_widget_state=True,
         resources={"metadata": {"path": str(path.parent.resolve())}},
     )
     t0 = time.perf_counter()
@@ -317,6 +375,8 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
         if km.has_kernel:
             km.shutdown_kernel(now=True)
     seconds = time.perf_counter() - t0
+    _final_progress_text(nb, client.widget_state)
+    nb.metadata.pop("widgets", None)
     res = RunResult(path.name, ok, seconds, err, stub, stderr=stderr_outputs(nb))
     if out_dir is not None:
         out = Path(out_dir)
