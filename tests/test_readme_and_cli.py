@@ -50,9 +50,9 @@ def test_readme_own_meshes_commands_run_on_a_folder(tmp_path):
     from conftest import write_off
 
     from cshape import shapes
-    from cshape.course.teaching import spot
+    from cshape.course.teaching import real_mesh
 
-    cow = spot()
+    cow, _ = real_mesh(small=True)
     write_off(tmp_path / "meshes" / "cows" / "cow.off", cow)
     write_off(tmp_path / "meshes" / "cows" / "calf.off", (0.5 * cow.vertices, cow.faces))
     write_off(tmp_path / "meshes" / "balls" / "ball.off", shapes.icosphere(3))

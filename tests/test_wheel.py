@@ -59,8 +59,8 @@ def test_installed_cshape_ships_the_lessons_mesh(installed_wheel_env):
         names = set(zf.namelist())
     assert {"cshape/data/meshes/spot_low_resolution.obj.gz",
             "cshape/data/meshes/README.md"} <= names
-    r = installed_wheel_env.run("python", "-c", "from cshape.course.teaching import spot; "
-                                "m = spot(); print(m.n_vertices, m.n_faces)")
+    r = installed_wheel_env.run("python", "-c", "from cshape.course.teaching import real_mesh; "
+                                "m, _ = real_mesh(small=True); print(m.n_vertices, m.n_faces)")
     assert r.returncode == 0, r.stderr
     assert r.stdout.split() == ["829", "1654"]
 

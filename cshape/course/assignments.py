@@ -48,18 +48,10 @@ if TYPE_CHECKING:
     from collections.abc import Iterable
 
 __all__ = [
-    "ANSWERS",
     "ASSIGNMENTS",
-    "INSTRUCTORS_README",
-    "NBGRADER_CONFIG",
     "copy_lessons",
     "generate",
-    "is_graded",
-    "lessons_dir",
     "plan",
-    "release_notebooks",
-    "run_nbgrader",
-    "update_folder",
     "write_course",
 ]
 

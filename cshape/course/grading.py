@@ -34,7 +34,9 @@ from nbgrader.preprocessors import OverwriteCells as _NbgraderOverwriteCells
 from .._files import atomic_write
 from .lessons import offline_mathjax
 
-__all__ = ["OverwriteCells", "configure", "offline_feedback_math"]
+__all__ = [
+    "configure",
+]
 
 #: The MathJax that nbgrader's feedback template loads from the network.
 CDN_MATHJAX = ("https://cdnjs.cloudflare.com/ajax/libs/mathjax/2.7.7/latest.js"

@@ -38,14 +38,8 @@ if TYPE_CHECKING:
     from collections.abc import Callable, Iterable
 
 __all__ = [
-    "RunResult",
-    "default_notebook_dir",
-    "find_notebooks",
-    "kernel_manager",
-    "offline_mathjax",
     "run_notebook",
     "run_notebooks",
-    "stderr_outputs",
 ]
 
 #: Notebooks are named ``NN_topic.ipynb``.

@@ -37,7 +37,6 @@ __all__ = [
     "retrieval_collection",
     "retrieval_table",
     "size",
-    "spot",
 ]
 
 #: True when the environment has ``CSHAPE_SMALL=1``: the lessons then use small meshes and
@@ -63,7 +62,7 @@ def size(small: _T, full: _T) -> _T:
 SPOT_CREDIT = "spot (Spot the cow by Keenan Crane, public domain)"
 
 
-def spot() -> Mesh:
+def _spot() -> Mesh:
     """Spot the cow, low resolution: 829 vertices, 1,654 triangles, closed, genus 0.
 
     Shipped in the package (``cshape/data/meshes/spot_low_resolution.obj.gz``, public domain:
@@ -94,7 +93,7 @@ def real_mesh(small: bool | None = None) -> tuple[Mesh, str]:
         ``"spot (Spot the cow by Keenan Crane, public domain)"``.
     """
     small = SMALL if small is None else bool(small)
-    mesh = spot()
+    mesh = _spot()
     return (mesh if small else variants.subdivide(mesh, 1)), SPOT_CREDIT
 
 
