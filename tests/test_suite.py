@@ -64,9 +64,8 @@ def other_default(monkeypatch):
 
 # ---------------------------------------------------------------------- the constant
 def test_default_is_one_constant_and_compact_shape_dna_keeps_the_papers_form():
-    assert cshape.DEFAULT is recipe.DEFAULT is cshape.descriptors.DEFAULT
     assert cshape.DEFAULT == Descriptor("two-scale", N=100, M=4)
-    assert cshape.PAPER is recipe.PAPER and cshape.PAPER == Descriptor("cshape", N=100, M=16)
+    assert cshape.PAPER == Descriptor("cshape", N=100, M=16)
     for gone in ("DEFAULT_DESCRIPTOR", "PAPER_DESCRIPTOR", "default_descriptor",
                  "descriptor_label", "descriptor_size", "descriptor_matrix", "descriptor_rows",
                  "row_problems"):
