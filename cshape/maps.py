@@ -42,6 +42,8 @@ left from right; this term can, because it uses the surface's orientation (face 
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
@@ -59,7 +61,7 @@ from ._checks import (
 from ._eigensolver.threads import one_blas_thread
 from ._nearest import nearest_rows
 from .geodesics import _check_mesh, face_gradients
-from .mesh import MeshLike, as_mesh
+from .mesh import CShapeWarning, MeshLike, as_mesh
 from .signatures import heat_kernel, wks, wks_energies
 from .spectrum import Eigenbasis, eigenbasis
 
@@ -567,7 +569,7 @@ class _Start:
 
 
 def _search(C, start, N, zoom):
-    """Return the map that steps 4-6 of :func:`point_map` keep, at the common size."""
+    """Return the map that steps 4-7 of :func:`point_map` keep, at the common size."""
     bS, bT = start.bS, start.bT
     wT = np.asarray(bT.B.sum(axis=1)).ravel()
     with one_blas_thread():  # small products: spinning BLAS threads only slow them
@@ -576,6 +578,7 @@ def _search(C, start, N, zoom):
     m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
     ends = _candidates.extremities(bT.phi, bT.lam)
     found, maps, scores = [], [], []
+    names = ["the descriptors' map"] + [f"the sign pattern {_signs(C)}" for C in starts[1:]]
 
     def add(C):
         C = zoomout(C, bS, bT, m, **zoom)
@@ -592,7 +595,42 @@ def _search(C, start, N, zoom):
     best = min(r for r, _o, _d in scores)
     # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
     # already: a map from its extremities would fit them once more, and so win on the WKS)
-    for i in range(1, len(maps)):
+    for i in range(1, len(starts)):
         if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
             add(start(np.column_stack([maps[i][ends], ends])))
-    return found[_candidates.pick(scores, len(starts))]
+            names.append(f"the map from the extremities of {names[i]}")
+    keep = _candidates.pick(scores, len(starts))
+    # step 7: a rival within noise of the map kept is named in a warning
+    V = bS.mesh.vertices
+    dist = [float(np.linalg.norm(V[p] - V[maps[keep]], axis=1).mean() / np.sqrt(bS.mesh.area))
+            for p in maps]
+    floor = 1e-6 * float(np.linalg.norm(bT.phi[:, :m], axis=1).mean())
+    other = _candidates.rival(scores, dist, keep, floor)
+    if other is not None:
+        _warn_tie(names, scores, maps, keep, other, V)
+    return found[keep]
+
+
+def _signs(C):
+    """Return the signs of a sign pattern's first diagonal entries, e.g. ``(+-++-)``."""
+    d = np.diag(C)[1:_candidates.SIGN_SIZE]
+    return "(" + "".join("+" if x >= 0 else "-" for x in d) + ")"
+
+
+def _warn_tie(names, scores, maps, keep, other, V):
+    """Warn that two candidate maps are within noise, and name the landmarks that settle it."""
+    y = _candidates.settling_vertices(V, maps[keep], maps[other]).tolist()
+
+    def describe(i):
+        r, o, d = scores[i]
+        return (f"{names[i]} (residual {r:.3g}, orientation share {o:.2f}, descriptor error "
+                f"{d:.3g})")
+
+    warnings.warn(
+        f"point_map cannot tell two candidate maps apart: {describe(keep)}, returned, and "
+        f"{describe(other)} agree within noise (a nearly symmetric shape). They send target "
+        f"vertices {y} to source vertices {maps[keep][y].tolist()} and "
+        f"{maps[other][y].tolist()} respectively; landmarks settle it: pass "
+        "landmarks=[[source vertex, target vertex], ...] giving the true source vertex of the "
+        f"target vertices {y}",
+        CShapeWarning, stacklevel=4)
