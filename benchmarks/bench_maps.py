@@ -6,8 +6,11 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_maps.py             # every TOSCA pose pair (maps_tosca.md)
     .venv/bin/python benchmarks/bench_maps.py --timing    # 16K, 46K, 63K vertices (maps_timing.md)
     .venv/bin/python benchmarks/bench_maps.py --calibrate # orientation weight, generated poses
-    .venv/bin/python benchmarks/bench_maps.py --people after   # point_map between different
-                                                     # people (FAUST) and poses (maps_people.md)
+    .venv/bin/python benchmarks/bench_maps.py --people after   # point_map on FAUST remeshed
+                            # pairs, registrations and TOSCA poses (maps_people.md); a subset:
+                            # --groups remeshed-different --pairs 006->049,010->006 --limit 5
+    .venv/bin/python benchmarks/bench_maps.py --diagnose 006->049  # the search's candidates
+    .venv/bin/python benchmarks/bench_maps.py --people-landmarks   # failed pairs + landmarks
     .venv/bin/python benchmarks/bench_maps.py --people-pictures  # a failed and a repaired map
 
 Pairs whose true map is the identity (the same vertices, moved):
@@ -719,6 +722,97 @@ def write_people(command, labels=("before", "after")):
     return "\n".join(lines)
 
 
+def people_landmarks(pairs=("006->049", "010->006", "006->037"), k=5):
+    """Failed remeshed pairs with ``k`` true landmarks: the target's extremities (farthest
+    points of its commute-time embedding: hands, feet, head) and their true source vertices,
+    as a user would click them.  Written to ``maps_people_landmarks.md``."""
+    import _remeshed as rm
+
+    from cshape import _candidates
+
+    lines = _header("Landmarks settle the remeshed pairs that fail (`cshape.point_map`)",
+                    "--people-landmarks")
+    lines += [f"`point_map(source, target)` without and with {k} true landmarks at the "
+              "target's extremities (hands, feet, head), on pairs of `faust-dev-remeshed` "
+              "whose search fails; error as in `maps_people.md`.", "",
+              "| pair | without: err | 5 % | with landmarks: err | 5 % | s |",
+              "|---|---|---|---|---|---|"]
+    for label in pairs:
+        a, b = (int(x) for x in label.split("->"))
+        S, T, truth = rm.remeshed(a), rm.remeshed(b), rm.true_map(a, b)
+        v = rm.rows(T.n_vertices, N_EVAL_PEOPLE)
+        geo = cshape.HeatGeodesics(S)
+        bT = cshape.eigenbasis(T, 20)
+        y = _candidates.extremities(bT.phi, bT.lam, k)
+        out = []
+        for lm in (None, np.column_stack([truth[y], y])):
+            t = time.perf_counter()
+            p = cshape.point_map(S, T, landmarks=lm)
+            sec = time.perf_counter() - t
+            err = rm.errors(S, p, truth, geo, v)
+            out.append((err.mean(), (err <= THRESHOLD).mean(), sec))
+        lines.append(f"| {label} | {out[0][0]:.4f} | {out[0][1]:.3f} | {out[1][0]:.4f} | "
+                     f"{out[1][1]:.3f} | {out[1][2]:.1f} |")
+        print(lines[-1], flush=True)
+        (RESULTS / "maps_people_landmarks.md").write_text("\n".join(lines) + "\n")
+    return "\n".join(lines)
+
+
+def people_diagnose(label):
+    """Every candidate of the search of ``point_map`` on one ``faust-dev-remeshed`` pair
+    (e.g. ``006->049``): its residual, orientation share, descriptor error and true error at
+    the compared size, and those of the true map (its ``C`` at that size, and the vertex map
+    of that ``C``).  Printed, not written: a diagnosis."""
+    import _remeshed as rm
+
+    from cshape import _candidates as cand
+    from cshape.maps import _Start, map_to_pointwise, zoomout
+
+    a, b = (int(x) for x in label.split("->"))
+    S, T, truth = rm.remeshed(a), rm.remeshed(b), rm.true_map(a, b)
+    bS, bT = cshape.eigenbasis(S, N), cshape.eigenbasis(T, N)
+    start = _Start(bS, bT, K0, N_ENERGIES, True)
+    wT = np.asarray(bT.B.sum(axis=1)).ravel()
+    zoom = dict(step=1, sample=SAMPLE, bijective=False, random_state=0)
+    starts = [start(None)] + cand.sign_candidates(bS.phi, bT.phi, wT, np.random.default_rng(0))
+    m = cand.COMPARE_SIZE
+    geo = cshape.HeatGeodesics(S)
+    v = rm.rows(T.n_vertices, N_EVAL_PEOPLE)
+    rows, maps_, scores = [], [], []
+
+    def score(name, C, p):
+        sc = (cand.residual(C, bS.phi, bT.phi, p), cand.orientation_share(S, T, p),
+              cand.descriptor_error(start.dS, start.dT, wT, p))
+        rows.append(f"| {name} | {sc[0]:.4f} | {sc[1]:.3f} | {sc[2]:.4f} | "
+                    f"{rm.errors(S, p, truth, geo, v).mean():.4f} |")
+        return sc
+
+    def add(name, C):
+        C = zoomout(C, bS, bT, m, **zoom)
+        p = map_to_pointwise(C, bS, bT)
+        maps_.append(p)
+        scores.append(score(name, C, p))
+
+    for i, C in enumerate(starts):
+        add("descriptors' map" if i == 0 else f"sign pattern {i}", C)
+    best = min(sc[0] for sc in scores)
+    ends = cand.extremities(bT.phi, bT.lam)
+    for i in range(1, len(starts)):
+        if scores[i][0] <= cand.RESIDUAL_SLACK * best:
+            add(f"extremities of sign pattern {i}", start(np.column_stack([maps_[i][ends],
+                                                                           ends])))
+    keep = cand.pick(scores, len(starts))
+    Ct = bT.phi[:, :m].T @ (bT.B @ bS.phi[truth, :m])
+    score("true map (its C at the compared size)", Ct, truth)
+    score("vertex map of the true C", Ct, map_to_pointwise(Ct, bS, bT))
+    lams = (f"eigenvalues 1-5 over the first: source "
+            f"{np.round(bS.lam[1:6] / bS.lam[1], 2).tolist()}, target "
+            f"{np.round(bT.lam[1:6] / bT.lam[1], 2).tolist()}")
+    return "\n".join([f"{label}: kept row {keep + 1}; {lams}", "",
+                      "| candidate | residual | orientation share | descriptor error | "
+                      "true error |", "|---|---|---|---|---|", *rows])
+
+
 def people_pictures():
     """A failed and a repaired map between two generated bodies (no data needed):
     ``maps_people_failed.png`` (``initial='descriptors'``) and ``maps_people_repaired.png``
@@ -773,6 +867,12 @@ def main(argv=None):
                     help="with --people: only these pairs, comma-separated (e.g. 006->049)")
     ap.add_argument("--limit", type=int, default=0,
                     help="with --people: at most this many pairs per group")
+    ap.add_argument("--diagnose", metavar="PAIR", default="",
+                    help="print every candidate of the search on one faust-dev-remeshed pair "
+                         "(e.g. 006->049) and the true map's criteria")
+    ap.add_argument("--people-landmarks", action="store_true",
+                    help="failed remeshed pairs without and with five true landmarks "
+                         "(maps_people_landmarks.md)")
     ap.add_argument("--people-pictures", action="store_true",
                     help="a failed and a repaired map between generated bodies "
                          "(maps_people_failed.png, maps_people_repaired.png)")
@@ -782,6 +882,12 @@ def main(argv=None):
     command = " ".join(sys.argv[1:] if argv is None else argv)
     if args.calibrate:
         print(write_calibration(calibrate(), command))
+        return
+    if args.diagnose:
+        print(people_diagnose(args.diagnose))
+        return
+    if args.people_landmarks:
+        print(people_landmarks())
         return
     if args.people_pictures:
         print(people_pictures())

@@ -22,6 +22,11 @@ is oriented too, and fits the first eigenfunctions as well.  What tells it apart
 descriptors: the back does not look like the front (:func:`descriptor_error`).  The
 descriptors' map is fitted to the descriptors: they judge only the maps from extremities
 against the start kept (:func:`pick`).
+
+None of these criteria can tell two maps apart on a shape with a symmetry that keeps the
+orientation (a half turn): every criterion of its two maps agrees within noise.
+:func:`rival` finds such a map, and :func:`settling_vertices` the target vertices where
+landmarks would decide.
 """
 
 from __future__ import annotations

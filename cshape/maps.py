@@ -474,7 +474,12 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        and their images, upsampled alike; one whose residual is within 20 % of the smallest
        and whose orientation share is at most 0.1 below the kept map's replaces it if its
        WKS agree better (``mean_y |D_T[y] - D_S[p[y]]|``);
-    7. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
+    7. if another map that differs from the one kept (its images on average more than 0.1
+       ``sqrt(area)`` away) matches it within noise on all three criteria (residual within
+       5 %, orientation share within 0.03, descriptor error within 3 %), a
+       :class:`cshape.CShapeWarning` names both and the target vertices where they disagree
+       most: true landmarks there settle it;
+    8. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
 
     Parameters
     ----------
@@ -501,7 +506,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
     initial : {'search', 'descriptors'}, default='search'
         'search': the descriptors' map, the sign patterns and the maps from their
-        extremities compete (steps 4-6);
+        extremities compete (steps 4-7);
         'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
         'descriptors'.
     return_map : bool, default=False
@@ -514,6 +519,13 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         ``p2p[y]`` is the source vertex matched to target vertex ``y`` (pyFM's ``p2p_21``).
     C : ndarray, shape (N, N)
         Only with ``return_map=True``.
+
+    Warns
+    -----
+    CShapeWarning
+        Two candidate maps cannot be told apart (step 7): a nearly symmetric shape.  The
+        message names the target vertices whose true source vertices, passed as
+        ``landmarks``, settle the choice.
 
     Examples
     --------
