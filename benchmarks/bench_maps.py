@@ -668,7 +668,7 @@ def summary(errs, pairs):
             f"{int((e > 0.05).sum())} | {int((e > 0.1).sum())}")
 
 
-def write_people(command, labels=("before", "after")):
+def write_people(command, labels=("before", "after"), note=""):
     """``maps_people.md``: the per-pair tables of ``maps_people_<label>.csv`` side by side,
     and each group's summary."""
     got = {lab: _read_people(lab) for lab in labels}
@@ -695,7 +695,8 @@ def write_people(command, labels=("before", "after")):
         "`point_map` warned that two candidate maps tie (`-`: not recorded).  These are "
         "development sets: the search was chosen on faust-dev, and its failures were diagnosed "
         "on faust-dev-remeshed; held-out figures are not these.", "",
-        "Labels: " + "; ".join(f"*{lab}*" for lab in got) + ".", ""]
+        "Labels: " + "; ".join(f"*{lab}*" for lab in got) + ".", *([note] if note else []),
+        ""]
     for group in groups:
         sub = [k for k in keys if k[0] == group]
         lines += [f"## {group}", "", "| pair | vertices | " + " | ".join(
@@ -704,7 +705,7 @@ def write_people(command, labels=("before", "after")):
         for k in sub:
             nv = next(rows[k][0] for rows in got.values() if k in rows)
             cells = [" | ".join(["-"] * 4) if (r := rows.get(k)) is None else
-                     f"{r[1]:.4f} | {r[2]:.3f} | {r[3]:.1f} | "
+                     f"{r[1]:.4f} | {'-' if np.isnan(r[2]) else f'{r[2]:.3f}'} | {r[3]:.1f} | "
                      + ("-" if np.isnan(r[5]) else "yes" if r[5] else "no")
                      for rows in got.values()]
             lines.append(f"| {k[1]} | {nv} | " + " | ".join(cells) + " |")
@@ -714,8 +715,8 @@ def write_people(command, labels=("before", "after")):
             r = np.array([rows[k][1:] for k in sub if k in rows])
             if len(r):
                 names = [k[1] for k in sub if k in rows]
-                lines.append(f"| {lab} | {len(r)} | {summary(r[:, 0], names)} | "
-                             f"{r[:, 1].mean():.3f} "
+                share = "-" if np.isnan(r[:, 1]).any() else f"{r[:, 1].mean():.3f}"
+                lines.append(f"| {lab} | {len(r)} | {summary(r[:, 0], names)} | {share} "
                              f"| {np.median(r[:, 2]):.1f}, {r[:, 2].max():.1f} |")
         lines.append("")
     (RESULTS / "maps_people.md").write_text("\n".join(lines) + "\n")
