@@ -22,6 +22,11 @@ is oriented too, and fits the first eigenfunctions as well.  What tells it apart
 descriptors: the back does not look like the front (:func:`descriptor_error`).  The
 descriptors' map is fitted to the descriptors: they judge only the maps from extremities
 against the start kept (:func:`pick`).
+
+None of these criteria can tell two maps apart on a shape with a symmetry that keeps the
+orientation (a half turn): every criterion of its two maps agrees within noise.
+:func:`rival` finds such a map, and :func:`settling_vertices` the target vertices where
+landmarks would decide.
 """
 
 from __future__ import annotations
@@ -50,6 +55,15 @@ RESIDUAL_SLACK = 1.2
 #: A map from extremities whose orientation share is at most this below the kept start's
 #: competes with it on the descriptors (:func:`descriptor_error`).
 ORIENTATION_SLACK = 0.1
+#: Two candidate maps that differ are within noise of each other, and :func:`cshape.point_map`
+#: warns, if their residuals differ by at most this share, their orientation shares by at
+#: most ``TIE_ORIENTATION`` and their descriptor errors by at most ``TIE_DESCRIPTORS``.
+TIE_RESIDUAL = 0.05
+TIE_ORIENTATION = 0.03
+TIE_DESCRIPTORS = 0.03
+#: Two maps differ if their images of the target lie on average this far apart (in units of
+#: the square root of the source's area).
+TIE_DISTANCE = 0.1
 #: Landmarks taken from each candidate (the target's extremities and their images).
 EXTREMITIES = 5
 #: Eigenfunctions of the embedding in which the extremities are farthest points.
@@ -183,3 +197,38 @@ def pick(scores, n_starts):
               if scores[i][0] <= RESIDUAL_SLACK * best
               and scores[i][1] >= scores[keep][1] - ORIENTATION_SLACK]
     return min([keep, *rivals], key=lambda i: (scores[i][2], scores[i][0], i))
+
+
+def rival(scores, distances, keep, floor=0.0):
+    """Index of a candidate as good as the one kept, within noise, that differs from it; or None.
+
+    ``scores`` as for :func:`pick`; ``distances[i]``: the mean distance between the images of
+    candidate ``i`` and of the kept one (over the square root of the source's area).  Of the
+    candidates within ``TIE_RESIDUAL``, ``TIE_ORIENTATION`` and ``TIE_DESCRIPTORS`` of the
+    kept one and farther than ``TIE_DISTANCE`` from it, the one of the smallest residual.
+    ``floor``: a difference of residuals this small is round-off (exact maps of a symmetric
+    shape have residuals of round-off size).
+    """
+    r, o, d = scores[keep]
+    tied = [i for i, (ri, oi, di) in enumerate(scores)
+            if i != keep and distances[i] > TIE_DISTANCE
+            and abs(ri - r) <= TIE_RESIDUAL * max(r, ri) + floor
+            and abs(oi - o) <= TIE_ORIENTATION
+            and abs(di - d) <= TIE_DESCRIPTORS * max(d, di) + 1e-9]
+    return min(tied, key=lambda i: (scores[i][0], i)) if tied else None
+
+
+def settling_vertices(V, p, q, k=3):
+    """Return ``k`` target vertices where two vertex maps onto vertices ``V`` disagree most.
+
+    Farthest points (spread apart) among the quarter of the target whose images under ``p``
+    and ``q`` lie farthest apart.
+    """
+    gap = np.linalg.norm(V[p] - V[q], axis=1)
+    pool = np.argsort(gap)[::-1][:max(k, len(gap) // 4)]
+    out = [int(pool[0])]
+    d = np.linalg.norm(V[p[pool]] - V[p[out[0]]], axis=1)
+    while len(out) < min(k, len(pool)):
+        out.append(int(pool[np.argmax(d)]))
+        d = np.minimum(d, np.linalg.norm(V[p[pool]] - V[p[out[-1]]], axis=1))
+    return np.array(out, dtype=np.int64)

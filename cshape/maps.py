@@ -43,6 +43,8 @@ left from right; this term can, because it uses the surface's orientation (face 
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
@@ -60,7 +62,7 @@ from ._checks import (
 from ._eigensolver.threads import one_blas_thread
 from ._nearest import nearest_rows
 from .geodesics import _check_mesh, face_gradients
-from .mesh import MeshLike, as_mesh
+from .mesh import CShapeWarning, MeshLike, as_mesh
 from .signatures import heat_kernel, wks, wks_energies
 from .spectrum import Eigenbasis, eigenbasis
 
@@ -473,7 +475,12 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        and their images, upsampled alike; one whose residual is within 20 % of the smallest
        and whose orientation share is at most 0.1 below the kept map's replaces it if its
        WKS agree better (``mean_y |D_T[y] - D_S[p[y]]|``);
-    7. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
+    7. if another map that differs from the one kept (its images on average more than 0.1
+       ``sqrt(area)`` away) matches it within noise on all three criteria (residual within
+       5 %, orientation share within 0.03, descriptor error within 3 %), a
+       :class:`cshape.CShapeWarning` names both and the target vertices where they disagree
+       most: true landmarks there settle it;
+    8. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
 
     Parameters
     ----------
@@ -500,7 +507,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
     initial : {'search', 'descriptors'}, default='search'
         'search': the descriptors' map, the sign patterns and the maps from their
-        extremities compete (steps 4-6);
+        extremities compete (steps 4-7);
         'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
         'descriptors'.
     return_map : bool, default=False
@@ -513,6 +520,13 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         ``p2p[y]`` is the source vertex matched to target vertex ``y`` (pyFM's ``p2p_21``).
     C : ndarray, shape (N, N)
         Only with ``return_map=True``.
+
+    Warns
+    -----
+    CShapeWarning
+        Two candidate maps cannot be told apart (step 7): a nearly symmetric shape.  The
+        message names the target vertices whose true source vertices, passed as
+        ``landmarks``, settle the choice.
 
     Examples
     --------
@@ -568,7 +582,7 @@ class _Start:
 
 
 def _search(C, start, N, zoom):
-    """Return the map that steps 4-6 of :func:`point_map` keep, at the common size."""
+    """Return the map that steps 4-7 of :func:`point_map` keep, at the common size."""
     bS, bT = start.bS, start.bT
     wT = np.asarray(bT.B.sum(axis=1)).ravel()
     with one_blas_thread():  # small products: spinning BLAS threads only slow them
@@ -577,6 +591,7 @@ def _search(C, start, N, zoom):
     m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
     ends = _candidates.extremities(bT.phi, bT.lam)
     found, maps, scores = [], [], []
+    names = ["the descriptors' map"] + [f"the sign pattern {_signs(C)}" for C in starts[1:]]
 
     def add(C):
         C = zoomout(C, bS, bT, m, **zoom)
@@ -593,7 +608,42 @@ def _search(C, start, N, zoom):
     best = min(r for r, _o, _d in scores)
     # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
     # already: a map from its extremities would fit them once more, and so win on the WKS)
-    for i in range(1, len(maps)):
+    for i in range(1, len(starts)):
         if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
             add(start(np.column_stack([maps[i][ends], ends])))
-    return found[_candidates.pick(scores, len(starts))]
+            names.append(f"the map from the extremities of {names[i]}")
+    keep = _candidates.pick(scores, len(starts))
+    # step 7: a rival within noise of the map kept is named in a warning
+    V = bS.mesh.vertices
+    dist = [float(np.linalg.norm(V[p] - V[maps[keep]], axis=1).mean() / np.sqrt(bS.mesh.area))
+            for p in maps]
+    floor = 1e-6 * float(np.linalg.norm(bT.phi[:, :m], axis=1).mean())
+    other = _candidates.rival(scores, dist, keep, floor)
+    if other is not None:
+        _warn_tie(names, scores, maps, keep, other, V)
+    return found[keep]
+
+
+def _signs(C):
+    """Return the signs of a sign pattern's first diagonal entries, e.g. ``(+-++-)``."""
+    d = np.diag(C)[1:_candidates.SIGN_SIZE]
+    return "(" + "".join("+" if x >= 0 else "-" for x in d) + ")"
+
+
+def _warn_tie(names, scores, maps, keep, other, V):
+    """Warn that two candidate maps are within noise, and name the landmarks that settle it."""
+    y = _candidates.settling_vertices(V, maps[keep], maps[other]).tolist()
+
+    def describe(i):
+        r, o, d = scores[i]
+        return (f"{names[i]} (residual {r:.3g}, orientation share {o:.2f}, descriptor error "
+                f"{d:.3g})")
+
+    warnings.warn(
+        f"point_map cannot tell two candidate maps apart: {describe(keep)}, returned, and "
+        f"{describe(other)} agree within noise (a nearly symmetric shape). They send target "
+        f"vertices {y} to source vertices {maps[keep][y].tolist()} and "
+        f"{maps[other][y].tolist()} respectively; landmarks settle it: pass "
+        "landmarks=[[source vertex, target vertex], ...] giving the true source vertex of the "
+        f"target vertices {y}",
+        CShapeWarning, stacklevel=4)

@@ -428,3 +428,79 @@ def test_the_search_compares_the_maps_from_the_sign_patterns_extremities(monkeyp
     fits = sum(s[0] <= _candidates.RESIDUAL_SLACK * best for s in scores[1:3])
     assert len(scores) == 3 + fits
     assert (p == np.arange(S.n_vertices)).mean() > 0.95
+
+
+def _turn_symmetric():
+    """A shape whose only symmetry is the half turn about z (orientation kept), and its
+    vertex map: no intrinsic term and no orientation can tell the identity from the turn."""
+    m = shapes.icosphere(3)
+    U = m.vertices
+    V = U * [1.0, 0.7, 0.5]
+    for c in ([0.6, 0.5, 0.3], [-0.6, -0.5, 0.3]):
+        c = np.array(c) / np.linalg.norm(c)
+        V = V + 0.35 * np.exp(-np.sum((U - c) ** 2, axis=1) / 0.08)[:, None] * U
+    turn = np.array([np.argmin(np.linalg.norm(U - u * [-1, -1, 1], axis=1)) for u in U])
+    return cshape.Mesh(V, m.faces), turn
+
+
+@pytest.fixture(scope="module")
+def turned():
+    """The half-turn-symmetric shape, its turn, and point_map of it to itself with the
+    warnings it gave."""
+    import warnings
+
+    S, turn = _turn_symmetric()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        p = cshape.point_map(S, S, N=N, N0=N0)
+    return S, turn, p, [w for w in caught if issubclass(w.category, cshape.CShapeWarning)]
+
+
+def test_a_symmetric_shape_warns_that_two_maps_tie_and_names_them(turned):
+    S, turn, p, caught = turned
+    n = S.n_vertices
+    assert np.abs(S.vertices[turn] - S.vertices * [-1, -1, 1]).max() < 1e-12  # a symmetry
+    assert len(caught) == 1
+    message = str(caught[0].message)
+    assert "cannot tell two candidate maps apart" in message
+    assert message.count("orientation share") == 2  # both candidates, with their criteria
+    assert "landmarks=" in message
+    # the map returned is one of the two tied answers (which one is round-off's choice)
+    assert max((p == np.arange(n)).mean(), (p == turn).mean()) > 0.9
+
+
+@pytest.mark.parametrize("to_turn", [False, True])
+def test_landmarks_at_the_named_vertices_settle_the_symmetric_shape(turned, to_turn):
+    import re
+    import warnings
+
+    S, turn, _p, caught = turned
+    y = [int(v) for v in re.search(r"target vertices \[([\d, ]+)\]",
+                                   str(caught[0].message))[1].split(",")]
+    truth = turn if to_turn else np.arange(S.n_vertices)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cshape.CShapeWarning)
+        q = cshape.point_map(S, S, N=N, N0=N0, landmarks=np.column_stack([truth[y], y]))
+    assert (q == truth).mean() > 0.9
+
+
+def test_an_asymmetric_shape_does_not_warn(blob, shuffled):
+    import warnings
+
+    T, perm = shuffled
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cshape.CShapeWarning)
+        p = cshape.point_map(blob, T, N=N, N0=N0)
+    assert (p == perm).mean() > 0.9
+
+
+def test_two_candidates_tie_only_if_every_criterion_is_within_noise_and_the_maps_differ():
+    scores = [(1.0, 0.90, 1.0), (1.02, 0.91, 1.01)]
+    assert _candidates.rival(scores, [0.0, 0.5], 0) == 1
+    assert _candidates.rival(scores, [0.0, 0.01], 0) is None  # the same map
+    assert _candidates.rival([(1.0, 0.9, 1.0), (1.2, 0.9, 1.0)], [0.0, 0.5], 0) is None
+    assert _candidates.rival([(1.0, 0.9, 1.0), (1.0, 0.5, 1.0)], [0.0, 0.5], 0) is None
+    assert _candidates.rival([(1.0, 0.9, 1.0), (1.0, 0.9, 1.2)], [0.0, 0.5], 0) is None
+    # residuals of exact maps are round-off: a floor below which they are equal
+    assert _candidates.rival([(1e-16, 1.0, 0.0), (3e-14, 1.0, 0.0)], [0.0, 0.5], 0,
+                             floor=1e-9) == 1

@@ -1,0 +1,92 @@
+"""FAUST meshes remeshed each on its own (``faust-dev-remeshed``): loading, the true map, errors.
+
+The true image of remeshed vertex ``j`` of mesh ``b`` on mesh ``a`` is the remeshed vertex of
+``a`` nearest to vertex ``truth[b][j]`` of registration ``a`` (all registrations share one
+vertex order; ``faust-dev-remeshed/README``).  Errors are measured as the literature does:
+the geodesic distance on the source between the image and the true vertex, over the square
+root of the source's area.
+"""
+
+from __future__ import annotations
+
+import warnings
+from functools import cache, lru_cache
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+import cshape
+
+REALDEV = Path(__file__).resolve().parents[2] / "shared" / "realdev"
+if not REALDEV.exists():
+    REALDEV = Path("/work/shared/realdev")
+REMESHED = REALDEV / "faust-dev-remeshed"
+REGISTRATIONS = REALDEV / "faust-dev"
+THRESHOLD = 0.05
+
+
+@cache
+def _truth():
+    return dict(np.load(REMESHED / "truth.npz"))
+
+
+@lru_cache(maxsize=8)
+def remeshed(i):
+    with warnings.catch_warnings():  # one file has a duplicate vertex, welded on reading
+        warnings.simplefilter("ignore", cshape.CShapeWarning)
+        return cshape.load_mesh(REMESHED / f"tr_reg_{i:03d}.off.gz")
+
+
+@lru_cache(maxsize=8)
+def registration(i):
+    return cshape.load_mesh(REGISTRATIONS / f"tr_reg_{i:03d}.off.gz")
+
+
+def true_map(a, b):
+    """For each vertex of remeshed ``b`` (the target), its true image on remeshed ``a``."""
+    # the truth is per vertex of the file; a repaired mesh may have welded a duplicate
+    raw = cshape.load_mesh(REMESHED / f"tr_reg_{b:03d}.off.gz", repair=False).vertices
+    rows_of_file = cKDTree(raw).query(remeshed(b).vertices)[1]
+    reg = registration(a).vertices[_truth()[f"tr_reg_{b:03d}"][rows_of_file]]
+    return cKDTree(remeshed(a).vertices).query(reg)[1].astype(np.int64)
+
+
+#: Target vertices evaluated per pair (spread over the vertex numbers).
+N_EVAL = 300
+
+
+def rows(n, k=N_EVAL):
+    """``k`` target vertices spread over the vertex numbers ``0 .. n-1`` (all if fewer)."""
+    return np.unique(np.linspace(0, n - 1, min(k, n)).astype(np.int64))
+
+
+def errors(S, p, truth, geodesics=None, vertices=None):
+    """Geodesic error over sqrt(area) of the target vertices ``vertices`` (default
+    :func:`rows`) of a map ``p`` onto ``S``."""
+    geo = geodesics or cshape.geodesics.HeatGeodesics(S)
+    v = rows(len(p)) if vertices is None else vertices
+    return cshape.geodesics.geodesic_errors(S, p, truth, vertices=v,
+                                            geodesics=geo) / np.sqrt(S.area)
+
+
+def pairs_different(n=20, seed=0):
+    """``n`` random ordered pairs of meshes of different people (a fixed seed)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        a, b = (int(x) for x in rng.choice(50, 2, replace=False))
+        if a // 10 != b // 10 and (a, b) not in out:
+            out.append((a, b))
+    return out
+
+
+def pairs_same(n=10, seed=0):
+    """``n`` random ordered pairs of meshes of one person (a fixed seed)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        a, b = (int(x) for x in rng.choice(50, 2, replace=False))
+        if a // 10 == b // 10 and (a, b) not in out:
+            out.append((a, b))
+    return out
