@@ -362,6 +362,19 @@ class Eigenbasis:
         ----------
         N : int
             ``1 <= N <= self.N``.
+
+        Returns
+        -------
+        Eigenbasis
+            ``lam[:N]`` and ``phi[:, :N]``, with this basis's mass matrix ``B``, area, mesh
+            and conditions.
+
+        Raises
+        ------
+        TypeError
+            If ``N`` is not an integer.
+        ValueError
+            If ``N`` is outside ``1 .. self.N``.
         """
         N = check_int("N", N, min=1, max=self.N)
         out = object.__new__(Eigenbasis)

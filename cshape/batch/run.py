@@ -114,7 +114,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
              n_jobs: int | None = 1, client: Any = None, blas_threads: int | None = 1,
              progress: bool = True, on_error: str = "warn",
              refine: str = "none") -> DescriptorTable:
-    """Eigenvalues of every mesh of a collection: cached, resumable, parallel.
+    """Compute the eigenvalues of every mesh of a collection: cached, resumable, parallel.
 
     Parameters
     ----------
@@ -136,7 +136,9 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
         ``N`` eigenvalues (any ``M``, any transform) is derived from the table later,
         without another eigensolve.
     bc : {'neumann', 'dirichlet'}, default='neumann'
+        Boundary condition on the meshes' boundaries (see :func:`cshape.shape_dna`).
     mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
+        Mass matrix ``B`` (see :func:`cshape.fem_matrices`).
     cache_dir : str, os.PathLike, None or False, default=None
         Folder of the eigenvalue cache (see the module notes); ``None`` uses
         :func:`default_cache_dir`, ``False`` disables caching.
@@ -192,6 +194,12 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
         For failed meshes, corrupt cache entries (recomputed), and the warnings of the
         mesh stage (repairs, several components) prefixed by the mesh name.
 
+    Notes
+    -----
+    If a local worker process dies (killed, out of memory), the meshes it had not finished
+    are reported as failures; the finished ones are already cached, so calling
+    ``describe`` again computes only what is missing.
+
     Examples
     --------
     >>> from cshape import shapes
@@ -206,12 +214,6 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
     (3, 9)
     >>> table.distance_matrix(Descriptor("shape-dna", N=30)).shape
     (3, 3)
-
-    Notes
-    -----
-    If a local worker process dies (killed, out of memory), the meshes it had not finished
-    are reported as failures; the finished ones are already cached, so calling
-    ``describe`` again computes only what is missing.
     """
     N = check_int("N", N, min=1)
     bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)

@@ -60,9 +60,6 @@ class DescriptorTable:
         Class labels; ``''`` where unknown (the default).
     bc, mass : str
         How the eigenvalues were computed (see :func:`cshape.shape_dna`).
-    refine : {'none', 'extrapolate'}, default='none'
-        Which spectra the table holds (see :func:`cshape.shape_dna`): saved with the table;
-        files written before it existed load as ``'none'``.
     seconds : array_like, shape (p,), optional
         Wall time of each eigensolve (load + FEM + solve), in seconds; as stored in the
         cache for entries that were not recomputed.
@@ -73,6 +70,9 @@ class DescriptorTable:
     components : array_like of int, shape (p,), optional
         Number of connected components of each (repaired) mesh; ``-1`` where unknown (the
         default; tables written before it was stored).
+    refine : {'none', 'extrapolate'}, default='none'
+        Which spectra the table holds (see :func:`cshape.shape_dna`): saved with the table;
+        files written before it existed load as ``'none'``.
     descriptor : Descriptor, optional
         What the table compares when a method is given no descriptor: default
         :data:`cshape.DEFAULT` at the table's ``N``.  Saved with the table, so that a saved
@@ -174,8 +174,11 @@ class DescriptorTable:
 
     @property
     def zero_modes(self) -> np.ndarray:
-        """Zero eigenvalues per shape, shape (p,): the component count where it is known
-        and the boundary condition is Neumann, else counted from the eigenvalues."""
+        """Zero eigenvalues per shape, shape (p,).
+
+        The component count where it is known and the boundary condition is Neumann, else
+        counted from the eigenvalues (:func:`cshape.descriptors.count_zero_modes`).
+        """
         out = self.components.copy()
         for i in np.flatnonzero((out < 0) | (self.bc != "neumann")):
             out[i] = count_zero_modes(self.lam[i])
@@ -190,14 +193,47 @@ class DescriptorTable:
                 f"{fails})")
 
     def index(self, name: object) -> int:
-        """Row of the shape called ``name``."""
+        """Find the row of the shape called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Shape name (other objects are compared as ``str(name)``).
+
+        Returns
+        -------
+        int
+            Row of the shape in the table.
+
+        Raises
+        ------
+        KeyError
+            If no shape of the table is called ``name``.
+        """
         try:
             return self.names.index(str(name))
         except ValueError:
             raise KeyError(f"no shape named {name!r} in the table") from None
 
     def select(self, rows: Iterable[int | str] | np.ndarray) -> DescriptorTable:
-        """A table with the given rows (indices, names or a boolean mask), in that order."""
+        """Make a table of the given rows, in the order given.
+
+        Parameters
+        ----------
+        rows : iterable of int or str, or ndarray of bool
+            Row indices, shape names, or a boolean mask of shape (p,).
+
+        Returns
+        -------
+        DescriptorTable
+            The selected rows, with this table's ``bc``, ``mass``, ``refine``,
+            ``descriptor`` and failures.
+
+        Raises
+        ------
+        KeyError
+            If a name is not in the table.
+        """
         rows = list(rows) if not isinstance(rows, np.ndarray) else rows
         if isinstance(rows, np.ndarray) and rows.dtype == bool:
             idx = np.flatnonzero(rows)
@@ -213,7 +249,7 @@ class DescriptorTable:
 
     # ------------------------------------------------------------------ descriptors
     def usable(self, descriptor: Descriptor | None = None) -> np.ndarray:
-        """Which shapes the descriptor can describe: boolean mask, shape (p,).
+        """Mark the shapes the descriptor can describe.
 
         A shape cannot be described when it has too few non-zero eigenvalues for the
         descriptor (a mesh of many pieces), see :meth:`cshape.Descriptor.rows`.  Warns
@@ -222,7 +258,13 @@ class DescriptorTable:
         Parameters
         ----------
         descriptor : Descriptor, optional
-            Default: :data:`cshape.DEFAULT` at the table's ``N``.
+            Default: the table's :attr:`descriptor` (by default :data:`cshape.DEFAULT` at
+            the table's ``N``).
+
+        Returns
+        -------
+        ndarray of bool, shape (p,)
+            ``True`` for each row that the descriptor can describe.
         """
         d = _chosen(self, descriptor)
         _X, bad = d.rows(self.lam, self.areas, self.zero_modes)
@@ -274,11 +316,18 @@ class DescriptorTable:
 
     def described(self, descriptor: Descriptor | None = None, *, warn: bool = True,
                   stacklevel: int = 3) -> tuple[np.ndarray, np.ndarray]:
-        """The descriptors and the table rows they belong to, computed once.
+        """Compute the descriptors and the table rows they belong to, at once.
 
-        Takes the descriptor of :meth:`descriptors`; with ``warn`` (default) the rows left
-        out are named in a :class:`cshape.CShapeWarning`.  Unlike :meth:`descriptors`, no
-        row at all is not an error.
+        Unlike :meth:`descriptors`, no row at all is not an error.
+
+        Parameters
+        ----------
+        descriptor : Descriptor, optional
+            As in :meth:`descriptors`.
+        warn : bool, default=True
+            Name the rows left out in a :class:`cshape.CShapeWarning`.
+        stacklevel : int, default=3
+            ``stacklevel`` of that warning (for the methods that call this one).
 
         Returns
         -------
@@ -295,8 +344,26 @@ class DescriptorTable:
         return X, rows
 
     def distance_matrix(self, descriptor: Descriptor | None = None) -> np.ndarray:
-        """Euclidean distance matrix (q, q) of :meth:`descriptors` (the same rows and
-        default)."""
+        """Compute the Euclidean distance matrix of :meth:`descriptors`.
+
+        Parameters
+        ----------
+        descriptor : Descriptor, optional
+            As in :meth:`descriptors` (the same default).
+
+        Returns
+        -------
+        ndarray, shape (q, q)
+            Distances between the rows that :meth:`descriptors` returns (the shapes that
+            :meth:`usable` marks).
+
+        Raises
+        ------
+        TypeError
+            ``descriptor`` not a :class:`cshape.Descriptor`.
+        ValueError
+            As in :meth:`descriptors`.
+        """
         return distance_matrix(self.descriptors(descriptor))
 
     # ------------------------------------------------------------------ persistence
@@ -327,6 +394,12 @@ class DescriptorTable:
         Returns
         -------
         Path
+            The path written (the sidecar of a ``.csv`` is ``<path>.json``).
+
+        Raises
+        ------
+        ValueError
+            If ``path`` does not end in ``.npz`` or ``.csv``.
         """
         path = check_path("path", path)
         suffix = path.suffix.lower()
@@ -366,6 +439,16 @@ class DescriptorTable:
         CSV) and 2 load as well: their eigenvalues, areas, names and labels mean what they
         meant; the ``M`` and ``transform`` they store (the defaults of a keyword form of
         :meth:`descriptors`) are not used: a :class:`cshape.Descriptor` says them.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            A ``.npz`` or ``.csv`` file written by :meth:`save`.
+
+        Returns
+        -------
+        DescriptorTable
+            The table as it was saved.
 
         Raises
         ------

@@ -60,7 +60,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``cshape`` command line; returns the exit status (0, 2 on an expected error)."""
+    """Run the ``cshape`` command line.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments after ``cshape`` (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 on success, 2 on an expected error (one line on stderr), 130
+        when interrupted (Ctrl-C).
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -106,7 +106,13 @@ def offline_feedback_math(assignment: str = "", student: str = "", notebooks: An
 
 
 def configure(c: Any) -> None:
-    """Set a cshape course's grading options on nbgrader's config object ``c``."""
+    """Set a cshape course's grading options on nbgrader's config object ``c``.
+
+    Parameters
+    ----------
+    c : traitlets.config.Config
+        The ``c`` of an ``nbgrader_config.py`` (what ``get_config()`` returns there).
+    """
     c.Autograde.sanitize_preprocessors = [ClearOutput, DeduplicateIds, OverwriteKernelspec,
                                           OverwriteCells, CheckCellMetadata]
     c.GenerateFeedback.post_convert_hook = offline_feedback_math

@@ -314,9 +314,11 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
         None writes nothing.
     small : bool, default=False
         Set ``CSHAPE_SMALL=1`` in the kernel's environment (small meshes and ``N``).
-    timeout : int, default=1200
+    timeout : float, default=1200
         Seconds allowed for one cell.
     html : bool, default=True
+        Also write the notebook as a self-contained page, ``<out_dir>/<stem>.html`` (only
+        with ``out_dir``).
     stop_at_stub : bool, default=False
         For student versions: an exercise stub raising ``NotImplementedError`` ends the run
         successfully (the cells after it are not run).
@@ -326,6 +328,13 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
     Returns
     -------
     RunResult
+        Whether every cell ran, the error of the failing cell, the time taken, the stderr
+        outputs and the files written.
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no file at ``path``.
     """
     import nbformat
     from nbclient import NotebookClient
@@ -516,10 +525,19 @@ def run_notebooks(src: str | os.PathLike[str] | None = None,
     src : str or os.PathLike, optional
         Folder of ``NN_*.ipynb`` (default: the checkout's ``notebooks/``).
     out : str or os.PathLike, default='out/notebooks'
+        Folder of the executed notebooks, their HTML pages and ``index.html``, the page
+        that lists them; created when missing.
     names : sequence of str, optional
         Run only these (see :func:`find_notebooks`).
-    small, timeout, html, stop_at_stub
-        See :func:`run_notebook`.
+    small : bool, default=False
+        Run at small size (``CSHAPE_SMALL=1``), see :func:`run_notebook`.
+    timeout : float, default=1200
+        Seconds allowed for one cell.
+    html : bool, default=True
+        Also write each notebook's HTML page.
+    stop_at_stub : bool, default=False
+        End a notebook's run successfully at its first exercise stub, see
+        :func:`run_notebook`.
     progress : callable or None, default=print
         Called with one line per notebook when it starts and when it ends.
     n_jobs : int, default=1
@@ -531,6 +549,11 @@ def run_notebooks(src: str | os.PathLike[str] | None = None,
     -------
     list of RunResult
         In the order of the notebooks, whatever order they ended in.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``src`` holds no notebook ``NN_*.ipynb`` (of ``names``).
     """
     n_jobs = check_int("n_jobs", n_jobs, min=1)
     paths = find_notebooks(src, names)

@@ -49,7 +49,19 @@ CITATION = ("Z. Gao, Z. Yu and X. Pang, A compact shape descriptor for triangula
 
 
 def size(small: _T, full: _T) -> _T:
-    """``small`` when the lessons run at small size (:data:`SMALL`), else ``full``.
+    """Choose ``small`` when the lessons run at small size (:data:`SMALL`), else ``full``.
+
+    Parameters
+    ----------
+    small : object
+        The value at small size (``CSHAPE_SMALL=1``, the test suite).
+    full : object
+        The value at full size.
+
+    Returns
+    -------
+    object
+        ``small`` if :data:`SMALL`, else ``full``.
 
     Examples
     --------
@@ -78,7 +90,7 @@ def _spot() -> Mesh:
 
 
 def real_mesh(small: bool | None = None) -> tuple[Mesh, str]:
-    """``(mesh, credit)``: the lessons' real mesh, Spot the cow.
+    """Load the lessons' real mesh, Spot the cow, with its credit line.
 
     Parameters
     ----------
@@ -89,7 +101,9 @@ def real_mesh(small: bool | None = None) -> tuple[Mesh, str]:
     Returns
     -------
     mesh : Mesh
+        Spot the cow, at the size chosen.
     credit : str
+        Its credit line, for figure titles:
         ``"spot (Spot the cow by Keenan Crane, public domain)"``.
     """
     small = SMALL if small is None else bool(small)
@@ -103,7 +117,7 @@ def _build_jobs() -> int:
 
 
 def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
-    """``(name, label, mesh)`` triples: a few classes of shapes, all made in code.
+    """Make a few classes of shapes, all in code, as ``(name, label, mesh)`` triples.
 
     Small: spheres, cubes and tori at two resolutions, and two poses each of a human and a
     snake figure.  Full: cshape's "paper-models" (spheres S1-S3, cube, torus, eight, the
@@ -111,7 +125,17 @@ def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
     "articulated" (four classes x five poses), built with PyMeshLab once, on every core and
     with a progress bar, and then cached.
     Every class is a shape and its remeshings or poses, so Shape-DNA tells them apart
-    perfectly: the collection of the paper's Section 3.1.  Default size :data:`SMALL`.
+    perfectly: the collection of the paper's Section 3.1.
+
+    Parameters
+    ----------
+    small : bool, optional
+        Make the small collection, else the full one.  Default :data:`SMALL`.
+
+    Returns
+    -------
+    list of (str, str, Mesh)
+        ``(name, label, mesh)`` of every shape, the label naming its class.
     """
     small = SMALL if small is None else bool(small)
     if not small:
