@@ -170,6 +170,12 @@ def pointwise_to_map(p2p: ArrayLike, source: Eigenbasis, target: Eigenbasis
         The bases of the two shapes (:func:`cshape.eigenbasis`), of sizes ``N_S`` and
         ``N_T`` (``target.truncate(N)`` for fewer); ``Phi_T^T B_T`` is the projection onto
         the target basis.
+
+    Returns
+    -------
+    ndarray, shape (N_T, N_S)
+        The functional map ``C`` of the vertex map: it carries the coefficients of a
+        function in the source basis to those of its pull-back in the target basis.
     """
     source = _check_eigenbasis("source", source)
     target = _check_eigenbasis("target", target)
@@ -192,6 +198,7 @@ def transfer_function(f: ArrayLike, C: ArrayLike, source: Eigenbasis, target: Ei
     Parameters
     ----------
     f : array_like, shape (n_S,) or (n_S, m)
+        One function (or ``m`` functions, one per column) on the source's vertices.
     C : array_like, shape (N_T, N_S)
         At most the sizes of the bases (their first ``N_T``, ``N_S`` eigenfunctions are used).
     source, target : Eigenbasis
@@ -200,6 +207,7 @@ def transfer_function(f: ArrayLike, C: ArrayLike, source: Eigenbasis, target: Ei
     Returns
     -------
     ndarray, shape (n_T,) or (n_T, m)
+        The functions carried to the target's vertices (smooth, band-limited to the bases).
     """
     source = _check_eigenbasis("source", source)
     target = _check_eigenbasis("target", target)
@@ -278,6 +286,8 @@ def functional_map(source: Eigenbasis, target: Eigenbasis, desc_source: ArrayLik
     Returns
     -------
     ndarray, shape (N_T, N_S)
+        The functional map ``C``: row ``i`` gives the coefficients of the target's
+        eigenfunction ``i`` over the source's, ``C[i, j] ~ <phi_T_i, phi_S_j o p>``.
 
     Raises
     ------
@@ -374,6 +384,7 @@ def zoomout(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, N: int | None 
     Parameters
     ----------
     C : array_like, shape (N0, N0)
+        The functional map to start from (e.g. of :func:`functional_map`).
     source, target : Eigenbasis
         The bases of the two shapes (:func:`cshape.eigenbasis`), of at least ``N`` pairs.
     N : int, optional
@@ -391,6 +402,7 @@ def zoomout(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, N: int | None 
     Returns
     -------
     ndarray, shape (N, N)
+        The upsampled functional map (convert it with :func:`map_to_pointwise`).
     """
     source = _check_eigenbasis("source", source)
     target = _check_eigenbasis("target", target)
@@ -513,6 +525,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     return_map : bool, default=False
         Also return ``C`` (``N x N``).
     random_state : int, default=0
+        Seed of the vertices sampled by ZoomOut and the search (the same seed, the same map).
 
     Returns
     -------
