@@ -81,7 +81,7 @@ def connected_only(table):
 
     Shapes whose mesh has several components (lam_1 = 0: no logarithm) are left out, and said so.
     The zero modes are counted by the package's rule (table.zero_modes: the mesh's component
-    count, else cshape.count_zero_modes, eigenvalues at most ZERO_RTOL of the largest).
+    count, else cshape.descriptors.count_zero_modes, eigenvalues at most ZERO_RTOL of the largest).
     """
     ok = table.zero_modes <= 1
     if not ok.all():

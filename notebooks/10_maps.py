@@ -564,7 +564,7 @@ across = {}
 for initial in ("descriptors", "search"):
     t0 = time.perf_counter()
     across[initial] = cshape.point_map(body, stocky, N=50, N0=20, initial=initial)
-    err = cshape.geodesic_errors(body, across[initial], geodesics=geo_body)
+    err = cshape.geodesics.geodesic_errors(body, across[initial], geodesics=geo_body)
     print(f"initial={initial!r:<14} error/sqrt(area) {err.mean() / np.sqrt(body.area):.3f}  "
           f"({time.perf_counter() - t0:.1f} s)")
 left_right = body.vertices[:, 0]  # the human's mirror axis: one side blue, the other red
@@ -589,7 +589,11 @@ plots.plot_map(body, stocky, across["search"], values=left_right, cmap="coolwarm
 # oriented lose that, and even on good meshes the term can settle on the mirror (print the wrong-side share of
 # `measure` whenever the shape is symmetric). The measured tables (the real poses of TOSCA, the generated poses, and
 # `point_map` between different people of FAUST), and the cases where the orientation term picks the mirror, are in
-# the guide `docs/guides/maps.md` and in `benchmarks/results/`.
+# the guide `docs/guides/maps.md` and in `benchmarks/results/`. One failure matters most: between bodies remeshed
+# each on its own, a few pairs of different people end turned half about the vertical axis, and no criterion of
+# `point_map`'s search tells that map from the true one. When two candidate maps tie within noise, `point_map` warns
+# (a `CShapeWarning` that names both and the target vertices whose landmarks settle it); the guide shows how
+# landmarks repair such a pair, and how far.
 
 # %% [markdown]
 # ## Exercises

@@ -51,6 +51,10 @@ from .variants import (
     remesh,
 )
 
+__all__ = [
+    "identity_pose",
+]
+
 if TYPE_CHECKING:
     from collections.abc import Iterable
 

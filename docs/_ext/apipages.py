@@ -43,6 +43,8 @@ SECTIONS = [
      "true vertex map between them (for maps)."),
     ("cshape.data.creatures", "Data: creatures", "The creature benchmark's shapes, made in "
      "code."),
+    ("cshape.data.suite", "Data: the generated suite", "Bodies in poses made in code, the "
+     "identity benchmark's members (the capstone's collection)."),
     ("cshape.plots", "Plots: figures and the 3-D viewer", "The lessons' matplotlib figures "
      "and the plotly 3-D views (extra ``cshape[plots]``)."),
     ("cshape.plots.widgets", "Plots: widgets", "The M-sweep widget over pure functions."),
