@@ -58,6 +58,11 @@ SECTIONS = [
 ]
 
 
+#: The layers on top of the core: a name they define is documented in their section.
+LAYERS = ("cshape.batch", "cshape.data", "cshape.plots", "cshape.course", "cshape.reproduce",
+          "cshape.cli")
+
+
 @dataclass
 class Section:
     module: str
@@ -91,9 +96,15 @@ def collect() -> list[Section]:
             if _kind(obj) == "page":
                 listed.setdefault(id(obj), []).append(f"{sec.module}.{name}")
                 objects[id(obj)] = obj
+    # an entry point of the core that the top level exports (cshape.shape_dna) is documented
+    # there, under the name users write; its stage module's section links to it
     owner: dict[int, str] = {}
     for key, names in listed.items():
         defined = getattr(objects[key], "__module__", "") or ""
+        top = [n for n in names if n.rsplit(".", 1)[0] == "cshape"]
+        if top and not defined.startswith(LAYERS):
+            owner[key] = top[0]
+            continue
         fits = [n for n in names if defined == n.rsplit(".", 1)[0]
                 or defined.startswith(n.rsplit(".", 1)[0] + ".")]
         owner[key] = max(fits, key=lambda n: len(n.rsplit(".", 1)[0])) if fits else names[0]
