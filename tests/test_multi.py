@@ -306,7 +306,7 @@ def test_cli_describe_and_query_report_pieces(sphere, tmp_path, capsys):
     cap = capsys.readouterr()
     assert "2 with several components: dozen (12), two (2)" in cap.err
     line = next(x for x in cap.out.splitlines() if x.startswith("dozen"))
-    assert line.split()[3] == "12"  # name, label, area, pieces
+    assert line.split()[2] == "12"  # name, area, pieces (a flat folder: no label)
     assert main(["query", str(out), "two", "--kind", "truncated-log", "-M", "9", "-k",
                  "3"]) == 0
     cap = capsys.readouterr()
