@@ -218,3 +218,20 @@ def pairs(mesh, N=100, **kw):
 
     b = cshape.eigenbasis(mesh, N, **kw)
     return b.lam.copy(), b.phi.copy()
+
+
+def equilateral(subdivisions):
+    """The unit equilateral triangle split ``subdivisions`` times at its edge midpoints:
+    every level is the same pattern at half the size."""
+    from cshape import Mesh, _refine
+
+    m = Mesh([[0, 0, 0], [1, 0, 0], [0.5, np.sqrt(3) / 2, 0]], [[0, 1, 2]])
+    for _ in range(subdivisions):
+        m = _refine.midpoint_subdivision(m)
+    return m
+
+
+def equilateral_dirichlet(n):
+    """Lame: ``16 pi^2 / 9 (j^2 + jk + k^2)`` for ``j, k >= 1``, side 1."""
+    k = np.arange(1, 30)
+    return np.sort((16 * np.pi**2 / 9 * (np.add.outer(k**2, k**2) + np.outer(k, k))).ravel())[:n]

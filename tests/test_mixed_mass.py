@@ -12,10 +12,11 @@ import json
 
 import numpy as np
 import pytest
+from conftest import equilateral, equilateral_dirichlet
 from scipy.special import jn_zeros, jnp_zeros
 
 import cshape
-from cshape import _refine, shapes
+from cshape import shapes
 from cshape.batch import DescriptorTable, describe
 from cshape.batch.cache import mesh_key
 from cshape.cli import main as cli_main
@@ -56,20 +57,6 @@ def disk_spectrum(n, bc):
             z = np.concatenate([[0.0], z])
         vals += list(z**2) * (1 if order == 0 else 2)
     return np.sort(vals)[:n]
-
-
-def equilateral(subdivisions):
-    """The unit equilateral triangle split ``subdivisions`` times at its edge midpoints."""
-    m = Mesh([[0, 0, 0], [1, 0, 0], [0.5, np.sqrt(3) / 2, 0]], [[0, 1, 2]])
-    for _ in range(subdivisions):
-        m = _refine.midpoint_subdivision(m)
-    return m
-
-
-def equilateral_dirichlet(n):
-    """Lame: ``16 pi^2 / 9 (j^2 + jk + k^2)`` for ``j, k >= 1``, side 1."""
-    k = np.arange(1, 30)
-    return np.sort((16 * np.pi**2 / 9 * (np.add.outer(k**2, k**2) + np.outer(k, k))).ravel())[:n]
 
 
 # ----------------------------------------------------------------------------- the matrix

@@ -11,6 +11,7 @@ import json
 
 import numpy as np
 import pytest
+from conftest import equilateral, equilateral_dirichlet
 from scipy.special import jn_zeros, jnp_zeros
 
 import cshape
@@ -33,21 +34,6 @@ def rel_err(lam, ref):
 def square_spectrum(n, bc):
     k = np.arange(1 if bc == "dirichlet" else 0, 30)
     return np.sort(np.add.outer(k**2, k**2).ravel())[:n] * np.pi**2
-
-
-def equilateral(subdivisions):
-    """The unit equilateral triangle split ``subdivisions`` times at its edge midpoints:
-    every level is the same pattern at half the size."""
-    m = Mesh([[0, 0, 0], [1, 0, 0], [0.5, np.sqrt(3) / 2, 0]], [[0, 1, 2]])
-    for _ in range(subdivisions):
-        m = _refine.midpoint_subdivision(m)
-    return m
-
-
-def equilateral_dirichlet(n):
-    """Lame: ``16 pi^2 / 9 (j^2 + jk + k^2)`` for ``j, k >= 1``, side 1."""
-    k = np.arange(1, 30)
-    return np.sort((16 * np.pi**2 / 9 * (np.add.outer(k**2, k**2) + np.outer(k, k))).ravel())[:n]
 
 
 # ----------------------------------------------------------------------------- known answers
