@@ -326,8 +326,8 @@ def test_collect_mesh_files_names_labels_and_globs(tmp_path):
     assert [(n, lab, p.relative_to(tmp_path).as_posix()) for n, lab, p in got] == [
         ("a/cls/x", "cls", "a/cls/x.off"),   # same stem, same sub-folder: the path below
         ("b/cls/x", "cls", "b/cls/x.off"),   # the folder both are in
-        ("y", "", "b/y.off"),                 # once, although named three ways; directly
-                                              # in a folder given: no class
+        ("y", "b", "b/y.off"),                # once, although named three ways; directly
+                                              # in one of several folders given: its name
         ("z.off", "c", "c/z.off"),            # only the suffix differs: kept
         ("z.ply.gz", "c", "c/z.ply.gz"),
     ]
@@ -357,6 +357,13 @@ def test_flat_folder_has_no_classes_in_describe_and_query(tmp_path, capsys):
     write_off(tmp_path / "mixed" / "b.off", shapes.icosphere(1))
     got = {n: lab for n, lab, _ in collect_mesh_files([tmp_path / "mixed"])}
     assert got == {"a": "round", "b": ""}
+    # several flat folders given: each is a class, named after it (cats/ dogs/)
+    write_off(tmp_path / "cats" / "c1.off", shapes.icosphere(1))
+    write_off(tmp_path / "dogs" / "d1.off", shapes.icosphere(1))
+    got = {n: lab for n, lab, _ in collect_mesh_files([tmp_path / "cats", tmp_path / "dogs"])}
+    assert got == {"c1": "cats", "d1": "dogs"}
+    got = {n: lab for n, lab, _ in collect_mesh_files([f"{tmp_path}/[cd]*s"])}
+    assert got == {"c1": "cats", "d1": "dogs"}
 
 
 @pytest.mark.slow

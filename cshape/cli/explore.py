@@ -86,9 +86,11 @@ def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
         In the order of ``paths`` (a folder's files sorted), each file once.  ``name`` is the
         file stem; where stems repeat, the path relative to the folder it was found in, else
         to the folder all the files of that stem are in (without the suffix, unless only the
-        suffix differs); ``label`` is the first sub-folder below the folder given (``''``,
-        no class, for files directly in it: a flat folder has no classes) and, for a file or
-        glob match, the name of the folder holding the file.
+        suffix differs); ``label`` is the first sub-folder below the folder given and, for a
+        file or glob match, the name of the folder holding the file.  Files directly in a
+        folder given are labelled by that folder's name when several folders or files are
+        given (``cats/ dogs/``), and are in no class (``''``) when that folder is the only
+        path: one flat folder has no classes.
 
     Raises
     ------
@@ -100,17 +102,23 @@ def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
     from ..data import load_folder
 
     found: list[tuple[Path, str, Path]] = []  # (file, label, base for relative names)
+    flat: list[int] = []  # rows of files directly in a folder given (labelled at the end)
+    sources: list[Path] = []  # the folders and files given (or matched by a pattern)
 
     def add_folder(folder: Path) -> None:
         top = folder.resolve()
+        sources.append(top)
         for item in load_folder(folder):
             assert item.path is not None  # the items of a folder are its files
             path = Path(item.path)
-            # a file directly in the folder given is in no class (a flat folder has none)
-            label = "" if path.resolve().parent == top else item.label
-            found.append((path, label, folder))
+            if path.resolve().parent == top:
+                flat.append(len(found))
+                found.append((path, top.name, folder))
+            else:
+                found.append((path, item.label, folder))
 
     def add_file(path: Path) -> None:
+        sources.append(path.resolve())
         found.append((path, path.resolve().parent.name, path.parent))
 
     if not paths:
@@ -136,6 +144,9 @@ def collect_mesh_files(paths: Sequence[str | os.PathLike[str]] | None
                 )
         else:
             raise FileNotFoundError(f"no file or folder {str(arg)!r}")
+    if len(set(sources)) == 1:  # one folder alone: its own files are in no class
+        for r in flat:
+            found[r] = (found[r][0], "", found[r][2])
     # each file once, first occurrence kept
     seen, unique = set(), []
     for rec in found:
