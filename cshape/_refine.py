@@ -34,6 +34,9 @@ from .mesh import Mesh
 def midpoint_subdivision(mesh: Mesh) -> Mesh:
     """Split every triangle into four at its edge midpoints (flat triangles kept).
 
+    The one midpoint subdivision of the package: :func:`cshape.shapes.icosphere` refines
+    with it too (projecting the new vertices onto the sphere).
+
     Parameters
     ----------
     mesh : Mesh
@@ -42,9 +45,11 @@ def midpoint_subdivision(mesh: Mesh) -> Mesh:
     Returns
     -------
     Mesh
-        ``n + e`` vertices (``e`` unique edges; vertex ``n + k`` is the midpoint of
-        ``mesh.edges[k]``) and ``4 m`` faces, oriented as their parents.  Boundary edges
-        stay boundary, non-manifold edges stay non-manifold, pieces stay pieces.
+        ``n + e`` vertices (``e`` unique edges, ascending; vertex ``n + k`` is the midpoint
+        of ``mesh.edges[k]``) and ``4 m`` faces, oriented as their parents: the corner
+        triangles of every face at its corners ``f0``, ``f1``, ``f2`` (in that order, each
+        starting at its corner), then every middle triangle.  Boundary edges stay boundary,
+        non-manifold edges stay non-manifold, pieces stay pieces.
     """
     V, F = mesh.vertices, mesh.faces
     n, m = len(V), len(F)
@@ -54,8 +59,8 @@ def midpoint_subdivision(mesh: Mesh) -> Mesh:
     f0, f1, f2 = F[:, 0], F[:, 1], F[:, 2]
     faces = np.concatenate([
         np.stack([f0, m01, m20], axis=1),
-        np.stack([m01, f1, m12], axis=1),
-        np.stack([m20, m12, f2], axis=1),
+        np.stack([f1, m12, m01], axis=1),
+        np.stack([f2, m20, m12], axis=1),
         np.stack([m01, m12, m20], axis=1),
     ])
     vertices = np.concatenate([V, 0.5 * (V[edges[:, 0]] + V[edges[:, 1]])])

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._checks import check_int, check_real
+from ._refine import midpoint_subdivision
 from .mesh import Mesh, repair_mesh
 
 __all__ = [
@@ -85,23 +86,10 @@ def icosphere(subdivisions: int = 4, radius: float = 1.0) -> Mesh:
     )
     V /= np.linalg.norm(V, axis=1, keepdims=True)
     for _ in range(s):
-        V, F = _midpoint_subdivide(V, F)
-        V /= np.linalg.norm(V, axis=1, keepdims=True)
+        fine = midpoint_subdivision(Mesh(V, F))
+        V = fine.vertices / np.linalg.norm(fine.vertices, axis=1, keepdims=True)
+        F = fine.faces
     return Mesh(V * radius, F)
-
-
-def _midpoint_subdivide(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    uniq, inv = np.unique(e, axis=0, return_inverse=True)
-    inv = inv.reshape(3, -1).T + len(V)
-    mids = 0.5 * (V[uniq[:, 0]] + V[uniq[:, 1]])
-    a, b, c = F[:, 0], F[:, 1], F[:, 2]
-    ab, bc, ca = inv[:, 0], inv[:, 1], inv[:, 2]
-    F2 = np.concatenate(
-        [np.stack([a, ab, ca], 1), np.stack([b, bc, ab], 1), np.stack([c, ca, bc], 1),
-         np.stack([ab, bc, ca], 1)]
-    )
-    return np.vstack([V, mids]), F2
 
 
 def square(n: int = 32, size: float = 1.0) -> Mesh:

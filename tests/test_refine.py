@@ -71,6 +71,31 @@ def test_subdivision_lowers_every_eigenvalue_min_max():
         assert np.all(b <= a * (1 + 1e-10))
 
 
+def test_midpoint_subdivision_children_and_the_icosphere():
+    """Each face's four children: its corners' triangles (starting at the corner) and the
+    middle one; the icosphere is this subdivision, its new vertices pushed to the sphere."""
+    mesh = shapes.icosphere(1)
+    fine = _refine.midpoint_subdivision(mesh)
+    m, n = mesh.n_faces, mesh.n_vertices
+    F, G = mesh.faces, fine.faces
+    np.testing.assert_array_equal(G[:m, 0], F[:, 0])
+    np.testing.assert_array_equal(G[m:2 * m, 0], F[:, 1])
+    np.testing.assert_array_equal(G[2 * m:3 * m, 0], F[:, 2])
+    assert (G[3 * m:] >= n).all()  # the middle triangles have only new vertices
+    mids = fine.vertices[n:]
+    np.testing.assert_allclose(mids, 0.5 * mesh.vertices[mesh.edges].sum(axis=1), rtol=0, atol=0)
+    # every child keeps its parent's orientation: normals agree
+    def normals(mm):
+        v = mm.vertices[mm.faces]
+        return np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    parent = np.tile(normals(mesh), (4, 1))
+    assert (np.einsum("ij,ij->i", normals(fine), parent) > 0).all()
+    ico = shapes.icosphere(2)
+    np.testing.assert_array_equal(ico.faces, fine.faces)
+    np.testing.assert_array_equal(
+        ico.vertices, fine.vertices / np.linalg.norm(fine.vertices, axis=1, keepdims=True))
+
+
 @pytest.mark.parametrize("bc", ["dirichlet", "neumann"])
 def test_flat_square(bc):
     mesh = shapes.square(16)
