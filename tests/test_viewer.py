@@ -120,16 +120,16 @@ def test_explorer_repairs_the_mesh_once(sphere):
 
 
 @pytest.mark.parametrize("kwargs, exc, match", [
-    (dict(n_modes=0), ValueError, "n_modes must be an integer >= 1, got 0"),
-    (dict(n_modes=2.5), TypeError, "n_modes must be an integer, got float 2.5"),
-    (dict(n_modes=True), TypeError, "n_modes must be an integer, got bool True"),
-    (dict(n_modes=4, start=4), ValueError, r"start must be an integer in \[0, 3\], got 4"),
-    (dict(n_modes=4, vertical_axis="up"), ValueError, "vertical_axis must be one of"),
-    (dict(n_modes=4, height=10), ValueError, "height must be a finite number >= 100, got 10"),
-    (dict(n_modes=4, height="tall"), TypeError, "height must be a real number, got str"),
-    (dict(n_modes=20, basis=cshape.Eigenbasis(np.zeros(5), np.zeros((162, 5)), np.eye(162))),
+    (dict(N=0), ValueError, "N must be an integer >= 1, got 0"),
+    (dict(N=2.5), TypeError, "N must be an integer, got float 2.5"),
+    (dict(N=True), TypeError, "N must be an integer, got bool True"),
+    (dict(N=4, start=4), ValueError, r"start must be an integer in \[0, 3\], got 4"),
+    (dict(N=4, vertical_axis="up"), ValueError, "vertical_axis must be one of"),
+    (dict(N=4, height=10), ValueError, "height must be a finite number >= 100, got 10"),
+    (dict(N=4, height="tall"), TypeError, "height must be a real number, got str"),
+    (dict(N=20, basis=cshape.Eigenbasis(np.zeros(5), np.zeros((162, 5)), np.eye(162))),
      ValueError, "basis has 5 eigenpairs on 162 vertices.*N >= 20"),
-    (dict(n_modes=4, basis=(np.zeros(5), np.zeros((162, 5)))), TypeError,
+    (dict(N=4, basis=(np.zeros(5), np.zeros((162, 5)))), TypeError,
      "basis must be a cshape.Eigenbasis, got tuple"),
 ])
 def test_explorer_rejects_bad_arguments(sphere, kwargs, exc, match):

@@ -540,7 +540,7 @@ def _basis_of(mesh: Mesh, basis: object, N: int, at_least: int) -> Eigenbasis:
     return basis
 
 
-def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
+def eigenfunction_explorer(mesh: MeshLike, N: int = 12, *,
                            basis: Eigenbasis | None = None,
                            start: int = 1, cmap: str = DIVERGING, vertical_axis: str = "z",
                            height: int = 520) -> go.Figure:
@@ -556,10 +556,10 @@ def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
     ----------
     mesh : Mesh or (vertices, faces)
         Repaired first (:func:`cshape.repair_mesh`, with its warning) when it needs it.
-    n_modes : int, default=12
-        Number of eigenpairs ``lam_0 .. lam_{n_modes-1}`` on the slider.
+    N : int, default=12
+        Number of eigenpairs ``lam_0 .. lam_{N-1}`` on the slider.
     basis : Eigenbasis, optional
-        Already computed ``cshape.eigenbasis(mesh, N)`` with ``N >= n_modes``; skips the
+        Already computed ``cshape.eigenbasis(mesh, K)`` with ``K >= N``; skips the
         eigensolve.
     start : int, default=1
         The mode shown first (``phi_0`` is constant under Neumann conditions).
@@ -576,13 +576,13 @@ def eigenfunction_explorer(mesh: MeshLike, n_modes: int = 12, *,
     """
     import plotly.graph_objects as go
 
-    n_modes = check_int("n_modes", n_modes, min=1)
-    start = check_int("start", start, min=0, max=n_modes - 1)
+    N = check_int("N", N, min=1)
+    start = check_int("start", start, min=0, max=N - 1)
     vertical_axis = check_choice("vertical_axis", vertical_axis, tuple(_UP))
     height = _check_height(height)
     mesh = repair_mesh(as_mesh(mesh))
-    basis = _basis_of(mesh, basis, n_modes, n_modes)
-    modes = mode_data(basis.lam[:n_modes], basis.phi[:, :n_modes])
+    basis = _basis_of(mesh, basis, N, N)
+    modes = mode_data(basis.lam[:N], basis.phi[:, :N])
     first = modes[int(start)]
     fig = go.Figure()
     add_mesh_view(fig, mesh, vertical_axis=vertical_axis,
