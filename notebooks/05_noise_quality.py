@@ -259,18 +259,24 @@ fig
 # %%
 import warnings
 
+
+def cshape_dna(m):
+    """The paper's pipeline: Shape-DNA (the eigensolve), then Eq. (8)-(10) with the area."""
+    return cshape.compact_shape_dna(cshape.shape_dna(m, N), N=N, M=M, area=m.area)
+
+
 with warnings.catch_warnings():
     warnings.simplefilter("ignore", cshape.CShapeWarning)  # CM has near-degenerate triangles
-    S = {name: cshape.compact_shape_dna(m, N=N, M=M) for name, m in (("CM", CM), ("CS", CS))}
+    S = {name: cshape_dna(m) for name, m in (("CM", CM), ("CS", CS))}
 others = {"a sphere": shapes.icosphere(3), "a torus": shapes.torus(48, 24)}
 print(f"distance CM - CS:        {np.linalg.norm(S['CM'] - S['CS']):10.1f}")
 coarse = variants.remesh(CS, target_vertices=CS.n_vertices // 8)  # the same surface, 1/8 of the vertices
 # (remeshing this coarse also flattens thin parts a little: not only h changes)
-S["CS coarse"] = cshape.compact_shape_dna(coarse, N=N, M=M)
+S["CS coarse"] = cshape_dna(coarse)
 print(f"distance CS - CS coarse: {np.linalg.norm(S['CS'] - S['CS coarse']):10.1f}"
       f"   ({CS.n_vertices} vs {coarse.n_vertices} vertices)")
 for name, m in others.items():  # for scale: the distance to another shape
-    d = np.linalg.norm(S["CS"] - cshape.compact_shape_dna(m, N=N, M=M))
+    d = np.linalg.norm(S["CS"] - cshape_dna(m))
     print(f"distance CS - {name:9s} {d:10.1f}")
 plots.plot_cshape_dna(S, title="Fig. 9: cShape-DNA of CM and CS")
 

@@ -220,6 +220,18 @@ def pairs(mesh, N=100, **kw):
     return b.lam.copy(), b.phi.copy()
 
 
+def compact_of(mesh, *, N, M, bc="neumann", **kw):
+    """The cShape-DNA of a mesh, in the two steps of the pipeline: its Shape-DNA
+    (:func:`cshape.shape_dna`, repaired once there), then :func:`cshape.compact_shape_dna`
+    with its area."""
+    import cshape
+    from cshape.mesh import as_mesh
+
+    mesh = cshape.repair_mesh(as_mesh(mesh))
+    lam = cshape.shape_dna(mesh, N, bc=bc)
+    return cshape.compact_shape_dna(lam, N=N, M=M, area=mesh.area, **kw)
+
+
 def equilateral(subdivisions):
     """The unit equilateral triangle split ``subdivisions`` times at its edge midpoints:
     every level is the same pattern at half the size."""

@@ -258,10 +258,10 @@ def test_the_papers_descriptor_is_eq_8_to_10_bit_for_bit():
     np.testing.assert_array_equal(PAPER.row(_LAM, _AREA), real)
     np.testing.assert_allclose(PAPER.row(_LAM, _AREA)[list(_PAPER_ROW)],
                                list(_PAPER_ROW.values()), rtol=1e-12)
-    # the mesh form: the eigensolve, then the same formula on its spectrum and area
+    # a mesh's: its eigensolve, then the same formula on its spectrum and area
     mesh = shapes.icosphere(2)
     lam = cshape.shape_dna(mesh, N=100)
-    np.testing.assert_array_equal(cshape.compact_shape_dna(mesh),
+    np.testing.assert_array_equal(cshape.compact_shape_dna(lam, area=mesh.area),
                                   _paper_by_hand(lam, mesh.area))
 
 

@@ -9,7 +9,7 @@ import warnings
 
 import numpy as np
 import pytest
-from conftest import pairs
+from conftest import compact_of, pairs
 
 import cshape
 from cshape import CShapeWarning, Mesh, fem_matrices, shapes
@@ -67,8 +67,8 @@ def test_extreme_coordinate_scales_keep_finite_matrices(sphere, scale):
 
 @pytest.mark.parametrize("scale", [1e-20, 1e-3, 1e3])
 def test_descriptor_is_scale_invariant_over_many_orders(sphere, scale):
-    ref = cshape.compact_shape_dna(sphere, M=3, N=9)
-    got = cshape.compact_shape_dna(Mesh(sphere.vertices * scale, sphere.faces), M=3, N=9)
+    ref = compact_of(sphere, M=3, N=9)
+    got = compact_of(Mesh(sphere.vertices * scale, sphere.faces), M=3, N=9)
     np.testing.assert_allclose(got, ref, rtol=1e-8, atol=1e-8)
 
 
@@ -146,7 +146,7 @@ def test_unreferenced_vertices_are_dropped(sphere, sphere_lam):
 def test_clean_mesh_passes_without_any_warning(sphere):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        cshape.compact_shape_dna(sphere, M=2, N=9)
+        compact_of(sphere, M=2, N=9)
 
 
 # ------------------------------------------------------------ interpreted, documented

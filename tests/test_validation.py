@@ -158,8 +158,7 @@ TAKES = {
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=v),
         "point_map": lambda v: cshape.point_map(sphere(), sphere(), N=v, N0=2),
-        "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=0, N=v),
-        "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=0, N=v,
+        "compact_shape_dna": lambda v: cshape.compact_shape_dna(LAM, M=0, N=v,
                                                                      normalization="none"),
         "inverse_compact_shape_dna": lambda v: inverse_compact_shape_dna(S1, N=v),
         "Descriptor": lambda v: Descriptor("shape-dna", N=v),
@@ -167,8 +166,7 @@ TAKES = {
         "sphere_spectrum": lambda v: shapes.sphere_spectrum(v),
     },
     "M": {
-        "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=v, N=9),
-        "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=v, N=9,
+        "compact_shape_dna": lambda v: cshape.compact_shape_dna(LAM, M=v, N=9,
                                                                      normalization="none"),
         "Descriptor": lambda v: Descriptor("cshape", N=9, M=v),
     },
@@ -182,8 +180,6 @@ TAKES = {
         "shape_dna": lambda v: cshape.shape_dna(sphere(), N=3, bc=v),
         "eigenbasis": lambda v: cshape.eigenbasis(sphere(), N=3, bc=v),
         "Eigenbasis": lambda v: cshape.Eigenbasis(LAM, np.eye(12), np.eye(12), bc=v),
-        "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=1, N=5, bc=v),
-        "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5, bc=v),
         "DescriptorTable": lambda v: _bad_table(bc=v),
         "describe": lambda v: _describe(bc=v),
     },
@@ -196,9 +192,7 @@ TAKES = {
         "describe": lambda v: _describe(mass=v),
     },
     "normalization": {
-        "compact_shape_dna(mesh)": lambda v: cshape.compact_shape_dna(sphere(), M=1, N=5,
-                                                                      normalization=v),
-        "compact_shape_dna(lam)": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5,
+        "compact_shape_dna": lambda v: cshape.compact_shape_dna(LAM, M=1, N=5,
                                                                      normalization=v),
         "normalize": lambda v: cshape.normalize(LAM, 1.0, normalization=v),
         "Descriptor": lambda v: Descriptor("cshape", N=9, M=3, normalization=v),
@@ -366,7 +360,6 @@ TAKES_A_MESH = {
     "fem_matrices": lambda vf: cshape.fem_matrices(vf),
     "shape_dna": lambda vf: cshape.shape_dna(vf, N=3),
     "eigenbasis": lambda vf: cshape.eigenbasis(vf, N=3),
-    "compact_shape_dna": lambda vf: cshape.compact_shape_dna(vf, M=1, N=3),
 }
 MESH = [
     *[pytest.param(fn, dict(vertices=V, faces=F), exc, match, id=f"{fn_name}-{name}")
@@ -416,7 +409,7 @@ FEM = [
                    _ZERO_AREA, id=f"{fn}-{name}",
                    marks=pytest.mark.filterwarnings("ignore::cshape.CShapeWarning"))
       for name, make in [("collinear", lambda: _COLLINEAR), ("sphere_on_a_line", _sphere_on_a_line)]
-      for fn in ("fem_matrices", "shape_dna", "compact_shape_dna")],
+      for fn in ("fem_matrices", "shape_dna")],
     pytest.param(fem, dict(mesh=(np.zeros((4, 3)), TET_F), repair=False), ValueError,
                  "zero surface area", id="coincident-without-repair"),
     pytest.param(lambda: cshape.fem_matrices(Mesh(shapes.icosphere(2).vertices * 1e160,
@@ -443,7 +436,7 @@ def test_fem(call, kwargs, exc, match):
     (1e20, r"needle triangles: its area 1.71e\+20 is only 1.7e-20 of .* edge lengths from 1 "
            r"to 1e\+20"),
 ])
-@pytest.mark.parametrize("fn", ["fem_matrices", "shape_dna", "compact_shape_dna"])
+@pytest.mark.parametrize("fn", ["fem_matrices", "shape_dna"])
 @pytest.mark.filterwarnings("ignore::cshape.CShapeWarning")
 def test_one_far_vertex_is_named_not_called_zero_area(far, match, fn):
     """A tetrahedron with one vertex at 1e200 was refused as having "zero surface area
@@ -459,12 +452,8 @@ def test_one_far_vertex_is_named_not_called_zero_area(far, match, fn):
 SPECTRUM = [
     pytest.param(lambda: cshape.shape_dna(shapes.icosphere(1), N=50), {}, ValueError,
                  r"N=50 .*only 42 unknowns.*N <= 42", id="neumann-unknowns"),
-    pytest.param(lambda: cshape.compact_shape_dna(shapes.icosphere(1), M=2, N=50), {},
-                 ValueError, r"N <= 42", id="neumann-unknowns-compact"),
     pytest.param(lambda: cshape.shape_dna(shapes.square(6), N=50, bc="dirichlet"), {},
                  ValueError, r"N=50 .*only 25 unknowns.*N <= 25", id="dirichlet-unknowns"),
-    pytest.param(lambda: cshape.compact_shape_dna(shapes.square(6), M=2, N=50, bc="dirichlet"),
-                 {}, ValueError, r"N <= 25", id="dirichlet-unknowns-compact"),
     pytest.param(solve_eigenproblem, dict(A=np.eye(3), B=np.eye(3), N=2, return_vectors=1),
                  TypeError,
                  r"^return_vectors must be True or False, got int 1$", id="return_vectors"),
@@ -483,16 +472,14 @@ def test_spectrum(call, kwargs, exc, match):
 # ====================================================================== descriptors
 S9 = 4 * np.pi * np.arange(9.0)  # 2M+1 = 9 values: M = 4
 DESCRIPTORS = [
-    pytest.param(cshape.compact_shape_dna, dict(mesh_or_lam=LAM, M=2, N=20), ValueError,
+    pytest.param(cshape.compact_shape_dna, dict(lam=LAM, M=2, N=20), ValueError,
                  r"got 12 eigenvalues but N=20; pass N=12", id="fewer-eigenvalues-than-N"),
-    *[pytest.param(lambda src, M, N: cshape.compact_shape_dna(
-        sphere() if src == "mesh" else LAM, M=M, N=N), dict(src=src, M=M, N=N), ValueError,
-        match, id=f"M-too-large-{src}-N{N}")
-      for src in ("mesh", "lam")
+    *[pytest.param(lambda M, N: cshape.compact_shape_dna(LAM, M=M, N=N), dict(M=M, N=N),
+                   ValueError, match, id=f"M-too-large-N{N}")
       for M, N, match in [(5, 9, r"2M\+1 = 11 values cannot be kept from N = 9.*use M <= 4"),
                           (5, 10, r"^M=5: 2M\+1 = 11 values cannot be kept from N = 10 "
                                   r"eigenvalues; use M <= 4 or N >= 11$")]],
-    pytest.param(lambda: cshape.compact_shape_dna(sphere(), M=1, N=1), {}, ValueError,
+    pytest.param(lambda: cshape.compact_shape_dna(LAM, M=1, N=1), {}, ValueError,
                  r"2M\+1 = 3 values cannot be kept from N = 1", id="M1-N1"),
     pytest.param(lambda: inverse_compact_shape_dna(
         cshape.compact_shape_dna(LAM, M=2, N=9, normalization="none"), N=3), {}, ValueError,
@@ -502,7 +489,7 @@ DESCRIPTORS = [
         "odd length", id="inverse-even-length"),
     pytest.param(inverse_compact_shape_dna, dict(S_c=S9, N=9, add_weyl="no"), TypeError,
                  r"^add_weyl must be True or False, got str 'no'$", id="inverse-add_weyl"),
-    pytest.param(cshape.compact_shape_dna, dict(mesh_or_lam=LAM, M=1, N=5, normalization=1),
+    pytest.param(cshape.compact_shape_dna, dict(lam=LAM, M=1, N=5, normalization=1),
                  TypeError, r"^normalization must be one of \{'area', 'fiedler', 'weyl', "
                  r"'none'\}, got int 1$", id="normalization-none-type"),
     *[pytest.param(fn, dict(lam_or=lam), exc, match, id=f"{fn_name}-{name}")
@@ -754,14 +741,14 @@ def test_data_variants(call, kwargs, exc, match):
 def test_numpy_integer_N_and_M_are_accepted(N):
     lam = cshape.shape_dna(sphere(), N=N)
     assert lam.shape == (5,)
-    S = cshape.compact_shape_dna(sphere(), M=np.int64(2), N=N)
+    S = cshape.compact_shape_dna(lam, M=np.int64(2), N=N, area=sphere().area)
     assert S.shape == (5,)
     np.testing.assert_allclose(S, cshape.compact_shape_dna(lam, M=2, N=5, area=sphere().area))
 
 
 def test_N_equal_1_is_legal_for_shape_dna_and_for_compact_with_M_0():
     assert cshape.shape_dna(sphere(), N=1).tolist() == [0.0]
-    S = cshape.compact_shape_dna(sphere(), M=0, N=1)
+    S = cshape.compact_shape_dna(cshape.shape_dna(sphere(), N=1), M=0, N=1, area=1.0)
     assert S.shape == (1,) and S[0] == 0  # lam_0 = 0, Weyl line 0 at i = 0
 
 

@@ -80,7 +80,7 @@ from .._checks import (
     check_real,
     check_spectrum,
 )
-from ..mesh import MeshLike, is_mesh_like
+from ..mesh import is_mesh_like
 
 __all__ = [
     "normalize",
@@ -398,19 +398,11 @@ def _check_N(N: object) -> int:
     return check_int("N", N, min=1)
 
 
-def _is_mesh(x: object) -> bool:
-    return is_mesh_like(x)
-
-
-def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
-                         normalization: str) -> tuple[NDArray[np.float64], int | None]:
-    """Return the normalised Shape-DNA (N,) from a mesh or from eigenvalues.
-
-    Also return the mesh's number of components (None for eigenvalues).
-    """
+def _spectrum_from_input(lam: Any, N: int, area: float | None,
+                         normalization: str) -> NDArray[np.float64]:
+    """Return the normalised Shape-DNA (N,) from eigenvalues (checked here, once)."""
     N = _check_N(N)
     normalization = check_choice("normalization", normalization, NORMALIZATIONS)
-    check_choice("bc", bc, ("neumann", "dirichlet"))
     if area is not None:
         area = check_real("area", area, positive=True)
     if normalization == "none" and area is not None:
@@ -418,29 +410,20 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
             "pass either area=... (raw eigenvalues, multiplied by it) or "
             "normalization='none' (eigenvalues already normalised), not both"
         )
-    if _is_mesh(mesh_or_lam):
-        if normalization == "none":
-            raise ValueError(
-                "normalization='none' is for eigenvalues that are already normalised; a mesh "
-                "is normalised by its own area: use normalization='area' (the default)"
-            )
-        from ..mesh import as_mesh, repair_mesh
-        from ..spectrum import shape_dna
-
-        # repair here, once, so that the area is that of the surface whose spectrum is
-        # computed (a duplicated face would otherwise count twice in the area only)
-        mesh = repair_mesh(as_mesh(mesh_or_lam))
-        lam = shape_dna(mesh, N=N, bc=bc)  # N finite ascending eigenvalues: nothing to check
-        k = mesh.n_components if bc == "neumann" else None  # one zero mode per piece
-        return _normalize(lam, mesh.area if area is None else area, normalization), k
-    lam = check_spectrum(mesh_or_lam, "mesh_or_lam")  # the one check of the eigenvalues
+    if is_mesh_like(lam):
+        raise TypeError(
+            "compact_shape_dna takes eigenvalues, not a mesh: compute them first, "
+            "lam = cshape.shape_dna(mesh, N), then compact_shape_dna(lam, N=N, M=M, "
+            "area=mesh.area)"
+        )
+    lam = check_spectrum(lam, "lam")  # the one check of the eigenvalues
     if len(lam) < N:
         raise ValueError(
             f"got {len(lam)} eigenvalues but N={N}; pass N={len(lam)} or compute more eigenvalues"
         )
     lam = lam[:N]
     if normalization == "none":
-        return lam, None
+        return lam
     if normalization == "area" and area is None:
         import warnings
 
@@ -453,8 +436,8 @@ def _spectrum_from_input(mesh_or_lam: Any, N: int, area: float | None, bc: str,
             "normalization='none' to say they are normalised already",
             CShapeWarning, stacklevel=3,
         )
-        return lam, None
-    return _normalize(lam, area, normalization), None
+        return lam
+    return _normalize(lam, area, normalization)
 
 
 def _dft_crop(x: NDArray[np.float64], M: int) -> NDArray[np.complex128]:
@@ -471,8 +454,8 @@ def _dct(x: NDArray[np.float64]) -> NDArray[np.float64]:
     return dct(x, type=2, norm="ortho")
 
 
-def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int = 16,
-                      area: float | None = None, bc: str = "neumann",
+def compact_shape_dna(lam: ArrayLike, *, N: int = 100, M: int = 16,
+                      area: float | None = None,
                       normalization: str = "area", transform: str = "weyl",
                       zero_modes: int | None = None) -> NDArray[Any]:
     """Compact Shape-DNA (cShape-DNA), Eq. (8)-(10), and its log-Weyl extensions.
@@ -500,30 +483,28 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
 
     Parameters
     ----------
-    mesh_or_lam : Mesh, (vertices, faces) or array_like of shape (>= N,)
-        A mesh (everything is computed: Shape-DNA with ``N`` eigenvalues, its area), or
-        eigenvalues.  Raw eigenvalues need ``area`` (they are multiplied by it); already
-        normalised ones need ``normalization='none'``.  Eigenvalues with neither are taken as
-        normalised, with a :class:`cshape.CShapeWarning` (a raw spectrum would silently be
-        off by the area factor).  Only the first ``N`` are used.
+    lam : array_like, shape (>= N,)
+        Eigenvalues, ascending (:func:`cshape.shape_dna`; a formula takes numbers, only
+        the spectrum stage solves).  Raw eigenvalues need ``area`` (they are multiplied by
+        it); already normalised ones need ``normalization='none'``.  Eigenvalues with
+        neither are taken as normalised, with a :class:`cshape.CShapeWarning` (a raw
+        spectrum would silently be off by the area factor).  Only the first ``N`` are used.
     N : int, default=100
         Length of the Shape-DNA (``lam_0 .. lam_{N-1}``).
     M : int, default=16
         Crop half-width; the descriptor has ``2M+1`` values.  ``0 <= M <= (N-1)//2`` for
         ``'weyl'``, ``0 <= M <= (N-2)//2`` for the log-Weyl transforms (``2M+1 <= N-1``).
     area : float, optional
-        Surface area used for the normalisation (default for a mesh: ``mesh.area``).
-    bc : {'neumann', 'dirichlet'}, default='neumann'
-        Boundary condition, when a mesh is given.
+        Surface area used for the normalisation (``mesh.area``).
     normalization : {'area', 'fiedler', 'weyl', 'none'}, default='area'
         See :func:`normalize`; ``'none'``: the eigenvalues are already normalised
-        (``lam^norm``) and are used as they are (no ``area``; not for a mesh).
+        (``lam^norm``) and are used as they are (no ``area``).
     transform : {'weyl', 'log-weyl', 'log-weyl-dct'}, default='weyl'
         The sequence and transform, as above.
     zero_modes : int, optional
         Log-Weyl transforms only: the number ``k`` of zero eigenvalues (the mesh's
-        connected components).  Default: the mesh's component count (Neumann), else
-        counted from the eigenvalues (:func:`count_zero_modes`).  The ``k`` zero modes are
+        connected components).  Default: counted from the eigenvalues
+        (:func:`count_zero_modes`).  The ``k`` zero modes are
         dropped, the rest indexed from 1 and extended to ``N-1`` ratios by Weyl's law
         (``r_i = r_{N-k}`` for the last ``k-1``; see the module notes); at least ``2M+1``
         must be measured (``N >= 2M+1+k``).  ``'weyl'`` (Eq. 8) takes the spectrum as it
@@ -541,12 +522,12 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
     ------
     TypeError
         If ``N`` or ``M`` is not an integer (bools are refused), ``area`` not a real
-        number, a mode not a string, or the eigenvalues are complex.
+        number, a mode not a string, the eigenvalues are complex, or a mesh is given in
+        place of its eigenvalues.
     ValueError
         If ``N < 1``, ``M < 0``, ``2M+1`` exceeds the sequence length, ``area`` is not
-        positive, ``bc``, ``normalization`` or ``transform`` is unknown, fewer than ``N``
-        eigenvalues are given, both ``area`` and ``normalization='none'`` are given, or
-        ``normalization='none'`` with a mesh (all checked before any eigensolve), or, for
+        positive, ``normalization`` or ``transform`` is unknown, fewer than ``N``
+        eigenvalues are given, both ``area`` and ``normalization='none'`` are given, or, for
         the log-Weyl transforms, some ``lam_i <= 0`` with ``i >= 1``.
 
     Warns
@@ -583,8 +564,8 @@ def compact_shape_dna(mesh_or_lam: MeshLike | ArrayLike, *, N: int = 100, M: int
     M = _check_M(M, _check_N(N), transform)  # before the eigensolve
     if zero_modes is not None:
         zero_modes = check_int("zero_modes", zero_modes, min=0)
-    lam_norm, pieces = _spectrum_from_input(mesh_or_lam, N, area, bc, normalization)
-    return _compact(lam_norm, M, pieces if zero_modes is None else zero_modes, transform)
+    lam_norm = _spectrum_from_input(lam, N, area, normalization)
+    return _compact(lam_norm, M, zero_modes, transform)
 
 
 def _compact(lam_norm: NDArray[np.float64], M: int, zero_modes: int | None, transform: str
