@@ -68,6 +68,7 @@ from .mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
 __all__ = [
     "Eigenbasis",
+    "SpectrumSettings",
     "eigenbasis",
     "shape_dna",
 ]
@@ -84,6 +85,66 @@ ZERO_ROUNDOFF = 1e-10
 
 #: An eigensolve estimated (:func:`estimate_seconds`) to take longer warns before it starts.
 LONG_SOLVE_SECONDS = 60.0
+
+
+@dataclass(frozen=True)
+class SpectrumSettings:
+    """How a spectrum is computed: ``N``, ``bc``, ``mass`` and ``refine``, checked once.
+
+    The settings of :func:`shape_dna` as one frozen value, the way :class:`cshape.Descriptor`
+    carries a descriptor's: :func:`cshape.describe` makes it once from its arguments, its
+    tasks carry it to the workers, and a :class:`cshape.DescriptorTable` says with it how
+    its eigenvalues were computed (``table.settings``), so that one more mesh is described
+    the same way.
+
+    Parameters
+    ----------
+    N : int, default=100
+        Number of eigenvalues, lam_0 included, 1 or more.
+    bc : {'neumann', 'dirichlet'}, default='neumann'
+        Boundary condition (see :func:`shape_dna`).
+    mass : {'consistent', 'lumped', 'mixed'}, default='consistent'
+        Mass matrix (see :func:`shape_dna`).
+    refine : {'none', 'extrapolate'}, default='none'
+        Refinement of the eigenvalues (see :func:`shape_dna`).
+
+    Raises
+    ------
+    TypeError
+        ``N`` not an integer (bools are refused), a setting not a string.
+    ValueError
+        ``N < 1``, an unknown ``bc``, ``mass`` or ``refine``.
+
+    Examples
+    --------
+    >>> from cshape.spectrum import SpectrumSettings
+    >>> SpectrumSettings(30, mass="MIXED")
+    SpectrumSettings(N=30, bc='neumann', mass='mixed', refine='none')
+    >>> SpectrumSettings(30).as_kwargs()
+    {'N': 30, 'bc': 'neumann', 'mass': 'consistent', 'refine': 'none'}
+    """
+
+    N: int = 100
+    bc: str = "neumann"
+    mass: str = "consistent"
+    refine: str = "none"
+
+    def __post_init__(self) -> None:
+        """Check every setting and store it in its one spelling."""
+        object.__setattr__(self, "N", check_int("N", self.N, min=1))
+        object.__setattr__(self, "bc", check_choice("bc", self.bc, BOUNDARY_CONDITIONS))
+        object.__setattr__(self, "mass", check_choice("mass", self.mass, MASS_TYPES))
+        object.__setattr__(self, "refine", check_choice("refine", self.refine, REFINEMENTS))
+
+    def as_kwargs(self) -> dict[str, Any]:
+        """Return the settings as keyword arguments of :func:`shape_dna` and :func:`describe`.
+
+        Returns
+        -------
+        dict
+            ``{'N': ..., 'bc': ..., 'mass': ..., 'refine': ...}``.
+        """
+        return {"N": self.N, "bc": self.bc, "mass": self.mass, "refine": self.refine}
 
 
 def _check_N(N: object, n_unknowns: int, bc: str) -> int:
@@ -462,9 +523,10 @@ def eigenbasis(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "c
         ``N < 1`` or more than the unknowns, an unknown ``bc`` or ``mass``, an invalid or
         zero-area mesh.
     """
-    mesh, problem, lam, phi = _solve_pairs(mesh, N, bc, mass)
+    settings = SpectrumSettings(N, bc, mass)
+    mesh, problem, lam, phi = _solve_pairs(mesh, settings.N, settings.bc, settings.mass)
     return Eigenbasis(lam, phi, problem.B_vertices, problem.area, mesh=mesh, bc=problem.bc,
-                      mass=check_choice("mass", mass, MASS_TYPES))
+                      mass=settings.mass)
 
 
 def _solve_pairs(mesh, N, bc, mass):
@@ -533,16 +595,21 @@ def shape_dna(mesh: MeshLike, N: int = 100, bc: str = "neumann", mass: str = "co
     >>> lam.round(2)  # the unit sphere: 0, then 2 (three times)
     array([0.  , 2.01, 2.01, 2.01])
     """
-    refine = check_choice("refine", refine, REFINEMENTS)
-    mesh, problem = _prepare(mesh, N, bc, mass)
+    return _shape_dna(mesh, SpectrumSettings(N, bc, mass, refine))
+
+
+def _shape_dna(mesh: MeshLike, settings: SpectrumSettings) -> NDArray[np.float64]:
+    """:func:`shape_dna` with its settings checked already (the path of the batch workers)."""
+    N, mass = settings.N, settings.mass
+    mesh, problem = _prepare(mesh, N, settings.bc, mass)
     lam = solve_eigenproblem(problem.A, problem.B, N, return_vectors=False)
-    if refine == "none":
+    if settings.refine == "none":
         return lam
     fine = fem(_refine.midpoint_subdivision(mesh), bc=problem.bc, mass=mass, repair=False)
     long = long_solve_message(fine.n_unknowns, N)  # the subdivided mesh's solve
     if long:
         warnings.warn(f"refine='extrapolate' solves its midpoint subdivision too: {long}",
-                      CShapeWarning, stacklevel=2)
+                      CShapeWarning, stacklevel=_caller_stacklevel())
     lam_fine = solve_eigenproblem(fine.A, fine.B, N, return_vectors=False)
     return _refine.extrapolate(lam, lam_fine)
 

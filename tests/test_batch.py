@@ -19,6 +19,7 @@ from cshape import CShapeWarning, Descriptor, Mesh, shape_dna, shapes
 from cshape.batch import DescriptorTable, describe
 from cshape.batch._dask import _SAMPLERS, _pause_samplers, _resume_samplers
 from cshape.batch.cache import mesh_key
+from cshape.spectrum import SpectrumSettings
 
 N = 20
 
@@ -87,7 +88,7 @@ def test_cache_is_reused_for_smaller_N(tmp_path, reference):
     # a different boundary condition or mass matrix is a different key
     m = shapes.icosphere(2)
     assert mesh_key(m) == mesh_key(Mesh(m.vertices.copy(), m.faces.copy()))
-    assert mesh_key(m) != mesh_key(m, mass="lumped")
+    assert mesh_key(m) != mesh_key(m, SpectrumSettings(mass="lumped"))
 
 
 def test_corrupt_cache_entry_is_detected_and_recomputed(tmp_path, reference):
@@ -562,14 +563,16 @@ def test_a_task_is_a_frozen_record_with_named_fields(tmp_path):
     from cshape.batch.work import Task, _work
 
     mesh = shapes.icosphere(1)
-    t = Task(index=3, source=mesh, N=5, bc="neumann", mass="consistent", cache_dir=None,
-             key=None, refine="none")
+    t = Task(index=3, source=mesh, settings=SpectrumSettings(5), cache_dir=None, key=None)
     assert [f.name for f in dataclasses.fields(Task)] == [
-        "index", "source", "N", "bc", "mass", "cache_dir", "key", "refine"]
+        "index", "source", "settings", "cache_dir", "key"]
     back = pickle.loads(pickle.dumps(t))
-    assert back.index == 3 and back.N == 5 and back.source.n_vertices == mesh.n_vertices
+    assert back.index == 3 and back.settings == SpectrumSettings(5)
+    assert back.source.n_vertices == mesh.n_vertices
     with pytest.raises(dataclasses.FrozenInstanceError):
-        t.N = 6  # type: ignore[misc]
+        t.settings = SpectrumSettings(6)  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        t.settings.N = 6  # type: ignore[misc]
     res = _work(t)
     assert res["ok"] and res["index"] == 3
     np.testing.assert_array_equal(res["lam"], shape_dna(mesh, N=5))

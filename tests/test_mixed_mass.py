@@ -21,7 +21,7 @@ from cshape.batch import DescriptorTable, describe
 from cshape.batch.cache import mesh_key
 from cshape.cli import main as cli_main
 from cshape.mesh import Mesh
-from cshape.spectrum import solve_eigenproblem
+from cshape.spectrum import SpectrumSettings, solve_eigenproblem
 
 MASSES = ("consistent", "lumped", "mixed")
 
@@ -188,7 +188,8 @@ def test_default_is_eq5_bit_for_bit():
     np.testing.assert_array_equal(cshape.eigenbasis(mesh, 8).lam,
                                   cshape.eigenbasis(mesh, 8, mass="consistent").lam)
     assert cshape.eigenbasis(mesh, 8).mass == "consistent"
-    assert mesh_key(mesh) == mesh_key(mesh, mass="consistent") != mesh_key(mesh, mass="mixed")
+    assert mesh_key(mesh) == mesh_key(mesh, SpectrumSettings(mass="consistent")) != mesh_key(
+        mesh, SpectrumSettings(mass="mixed"))
 
 
 # ----------------------------------------------------------------------------- errors

@@ -21,7 +21,7 @@ from cshape.batch.cache import mesh_key
 from cshape.batch.work import Task
 from cshape.cli import main as cli_main
 from cshape.mesh import Mesh
-from cshape.spectrum import solve_eigenproblem
+from cshape.spectrum import SpectrumSettings, solve_eigenproblem
 
 EX = "extrapolate"
 
@@ -154,7 +154,8 @@ def test_default_is_the_linear_fem_bit_for_bit():
     plain = solve_eigenproblem(A, B, 30, return_vectors=False)
     np.testing.assert_array_equal(cshape.shape_dna(mesh, 30), plain)
     np.testing.assert_array_equal(cshape.shape_dna(mesh, 30, refine="none"), plain)
-    assert mesh_key(mesh) == mesh_key(mesh, refine="none") != mesh_key(mesh, refine=EX)
+    assert mesh_key(mesh) == mesh_key(mesh, SpectrumSettings(refine="none")) != mesh_key(
+        mesh, SpectrumSettings(refine=EX))
 
 
 def test_pieces_keep_their_zero_modes():
@@ -248,5 +249,5 @@ def test_describe_counts_the_subdivisions_in_its_estimate(monkeypatch):
     mesh = shapes.icosphere(2)  # 162 vertices: 81 s, 405 s with the 648 of a subdivision
     with pytest.warns(cshape.CShapeWarning, match=r"long run ahead: 1 eigensolve of N=6 \(and "
                       r"of their midpoint subdivisions\), about 7 min in all"):
-        run._warn_long_run([Task(0, mesh, 6, "neumann", "consistent", None, None, EX)],
-                           [("ball", "", mesh)], 6)
+        run._warn_long_run([Task(0, mesh, SpectrumSettings(6, refine=EX), None, None)],
+                           [("ball", "", mesh)], SpectrumSettings(6, refine=EX))

@@ -162,3 +162,36 @@ def test_every_parameter_of_the_spectrum_functions_is_described(fn):
     for name in ("N", "bc", "mass"):
         assert len(params[name]) > 20, (name, params[name])
     assert "Eq. (5)" in params["mass"] and "fem_matrices" in params["bc"]
+
+
+def test_spectrum_settings_check_once_and_travel_as_one_value(tmp_path):
+    """The settings of a spectrum are one frozen value: checked where they enter, spelt one
+    way, carried by describe to its table, which describes one more mesh the same way."""
+    import dataclasses
+
+    from cshape.spectrum import SpectrumSettings
+
+    s = SpectrumSettings(12, bc="Neumann", mass="MIXED")
+    assert (s.N, s.bc, s.mass, s.refine) == (12, "neumann", "mixed", "none")
+    same = SpectrumSettings(12, mass="mixed")
+    assert s == same and hash(s) == hash(same)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        s.N = 3  # type: ignore[misc]
+    for kwargs, exc, match in [
+            (dict(N=0), ValueError, "N must be an integer >= 1, got 0"),
+            (dict(N=2.0), TypeError, "N must be an integer, got float 2.0"),
+            (dict(mass="lump"), ValueError, "mass must be one of"),
+            (dict(refine="richardson"), ValueError, "refine must be one of")]:
+        with pytest.raises(exc, match=match):
+            SpectrumSettings(**kwargs)
+    sphere = shapes.icosphere(2)
+    np.testing.assert_array_equal(cshape.shape_dna(sphere, **s.as_kwargs()),
+                                  cshape.shape_dna(sphere, 12, mass="mixed"))
+    table = cshape.describe([("a", "", sphere)], N=12, mass="mixed", cache_dir=False,
+                            progress=False)
+    assert table.settings == s
+    again = cshape.describe([("b", "", shapes.torus(16, 8))], **table.settings.as_kwargs(),
+                            cache_dir=False, progress=False)
+    assert again.settings == s
+    table.save(tmp_path / "t.csv")
+    assert cshape.DescriptorTable.load(tmp_path / "t.csv").settings == s

@@ -13,6 +13,9 @@ import numpy as np
 
 from .._files import atomic_write, cache_root
 from ..mesh import CShapeWarning, as_mesh
+from ..spectrum import SpectrumSettings
+
+_DEFAULT_SETTINGS = SpectrumSettings()
 
 if TYPE_CHECKING:
     import os
@@ -31,15 +34,15 @@ def default_cache_dir() -> Path:
     return cache_root() / "eigenvalues"
 
 
-def mesh_key(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent",
-             refine: str = "none") -> str:
-    """Cache key: SHA-256 (hex) of the mesh content and the eigenvalue parameters.
+def mesh_key(mesh: MeshLike, settings: SpectrumSettings = _DEFAULT_SETTINGS) -> str:
+    """Cache key: SHA-256 (hex) of the mesh content and the eigenvalue settings.
 
     Parameters
     ----------
     mesh : Mesh or (vertices, faces)
-    bc, mass, refine : str
-        See :func:`cshape.shape_dna`.
+    settings : SpectrumSettings, default=SpectrumSettings()
+        Its ``bc``, ``mass`` and ``refine`` are part of the key; ``N`` is not (an entry
+        serves every ``N`` up to the number it holds).
 
     Returns
     -------
@@ -50,17 +53,19 @@ def mesh_key(mesh: MeshLike, bc: str = "neumann", mass: str = "consistent",
     V = np.ascontiguousarray(mesh.vertices, dtype="<f8")
     F = np.ascontiguousarray(mesh.faces, dtype="<i8")
     h = hashlib.sha256()
-    h.update(f"cshape-lam-v{CACHE_VERSION}|bc={bc}|mass={mass}|{_refine_tag(refine)}".encode())
+    h.update(f"cshape-lam-v{CACHE_VERSION}|{_settings_tag(settings)}".encode())
     h.update(f"{V.shape}|{F.shape}|".encode())
     h.update(V.tobytes())
     h.update(F.tobytes())
     return h.hexdigest()
 
 
-def _refine_tag(refine: str) -> str:
-    """The part of a key that names ``refine``: empty for ``'none'`` (the keys of plain
-    linear FEM are those written before the option existed)."""
-    return "" if refine == "none" else f"refine={refine}|"
+def _settings_tag(settings: SpectrumSettings) -> str:
+    """The part of a key that names the settings: ``bc``, ``mass`` and ``refine`` (``refine``
+    only when not ``'none'``: the keys of plain linear FEM are those written before the
+    option existed)."""
+    refine = "" if settings.refine == "none" else f"refine={settings.refine}|"
+    return f"bc={settings.bc}|mass={settings.mass}|{refine}"
 
 
 def _entry_path(cache_dir: str | os.PathLike[str], key: str) -> Path:
@@ -94,8 +99,8 @@ def _read_entry(cache_dir: str | os.PathLike[str], key: str, N: int) -> dict[str
             "components": components}
 
 
-def _file_alias(cache_dir: str | os.PathLike[str], path: str | os.PathLike[str], bc: str,
-                mass: str, refine: str = "none") -> Path | None:
+def _file_alias(cache_dir: str | os.PathLike[str], path: str | os.PathLike[str],
+                settings: SpectrumSettings) -> Path | None:
     """``cache_dir/files/<h>.key`` for a mesh file (see the module notes), None if unreadable."""
     try:
         p = Path(path).resolve()
@@ -103,7 +108,7 @@ def _file_alias(cache_dir: str | os.PathLike[str], path: str | os.PathLike[str],
     except OSError:
         return None
     h = hashlib.sha256(
-        f"cshape-file-v{CACHE_VERSION}|bc={bc}|mass={mass}|{_refine_tag(refine)}{p}|"
+        f"cshape-file-v{CACHE_VERSION}|{_settings_tag(settings)}{p}|"
         f"{st.st_size}|"
         f"{st.st_mtime_ns}".encode()).hexdigest()
     return Path(cache_dir) / "files" / f"{h}.key"

@@ -21,9 +21,13 @@ from .._checks import (
     check_path,
 )
 from .._files import atomic_write
-from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning, Mesh, as_mesh, is_mesh_like
-from ..spectrum import REFINEMENTS, components_message, estimate_seconds, long_solve_message
+from ..spectrum import (
+    SpectrumSettings,
+    components_message,
+    estimate_seconds,
+    long_solve_message,
+)
 from ._dask import _run_dask
 from .cache import _file_alias, _read_alias, _read_entry, _write_entry, default_cache_dir, mesh_key
 from .table import DescriptorTable
@@ -215,10 +219,7 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
     >>> table.distance_matrix(Descriptor("shape-dna", N=30)).shape
     (3, 3)
     """
-    N = check_int("N", N, min=1)
-    bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
-    mass = check_choice("mass", mass, MASS_TYPES)
-    refine = check_choice("refine", refine, REFINEMENTS)
+    settings = SpectrumSettings(N, bc, mass, refine)  # checked here, once
     n_jobs = check_n_jobs(n_jobs)
     n_jobs = 1 if n_jobs is None else (os.cpu_count() or 1) if n_jobs == -1 else n_jobs
     if blas_threads is not None:
@@ -228,12 +229,12 @@ def describe(collection: Any, N: int = 100, *, bc: str = "neumann",
     cache = _cache_folder(cache_dir)
     from tqdm.auto import tqdm
 
-    run = _Run(collection_records(collection), N, bc, mass, cache, on_error, refine)
+    run = _Run(collection_records(collection), settings, cache, on_error)
     run.bar = tqdm(total=len(run.records), desc="describe", unit="mesh",
                    disable=not progress)
     try:
         tasks = run.tasks()  # what the cache does not hold
-        _warn_long_run(tasks, run.records, N)
+        _warn_long_run(tasks, run.records, settings)
         if client is not None:
             _run_dask(tasks, client, run.finish)
         elif n_jobs == 1 or len(tasks) <= 1:
@@ -265,10 +266,9 @@ class _Run:
     :class:`DescriptorTable` of the successful meshes.
     """
 
-    def __init__(self, records: list[tuple[str, str, Any]], N: int, bc: str, mass: str,
-                 cache: Path | None, on_error: str, refine: str = "none") -> None:
-        self.records, self.N, self.bc, self.mass = records, N, bc, mass
-        self.refine = refine
+    def __init__(self, records: list[tuple[str, str, Any]], settings: SpectrumSettings,
+                 cache: Path | None, on_error: str) -> None:
+        self.records, self.settings = records, settings
         self.cache, self.on_error = cache, on_error
         self.results: list[Any] = [None] * len(records)  # a Result once row i is done
         self.failures: dict[int, str] = {}
@@ -284,22 +284,20 @@ class _Run:
         for i, (_name, _label, src) in enumerate(self.records):
             key = self._lookup(i, src)
             if key is not False:
-                tasks.append(Task(i, src, self.N, self.bc, self.mass,
-                                  None if self.cache is None else str(self.cache), key,
-                                  self.refine))
+                tasks.append(Task(i, src, self.settings,
+                                  None if self.cache is None else str(self.cache), key))
         return tasks
 
     def _lookup(self, i: int, src: Any) -> str | None | Literal[False]:
         """False when row ``i`` is finished (a cache hit or a failure), else its cache key
         (None for a mesh given by path: the worker reads the file and computes it)."""
-        cache, N = self.cache, self.N
+        cache, N = self.cache, self.settings.N
         if isinstance(src, _Failed):
             self.finish(i, {"ok": False, "error": src.message})
             return False
         if isinstance(src, (str, os.PathLike)):
             if cache is not None:
-                alias = self.aliases[i] = _file_alias(cache, src, self.bc, self.mass,
-                                                      self.refine)
+                alias = self.aliases[i] = _file_alias(cache, src, self.settings)
                 known = None if alias is None else _read_alias(alias)
                 hit = None if known is None else _read_entry(cache, known, N)
                 if hit is not None:
@@ -307,7 +305,7 @@ class _Run:
                     return False
             return None
         try:
-            key = mesh_key(src, self.bc, self.mass, self.refine)
+            key = mesh_key(src, self.settings)
         except (TypeError, ValueError) as exc:
             self.finish(i, {"ok": False, "error": f"{type(exc).__name__}: {exc}"})
             return False
@@ -365,7 +363,7 @@ class _Run:
     def table(self) -> DescriptorTable:
         """The successful meshes in the order of the collection; one warning lists the
         failures."""
-        records, results, N = self.records, self.results, self.N
+        records, results, N = self.records, self.results, self.settings.N
         p = len(records)
         ok = [i for i in range(p) if results[i] is not None]
         fail_list = [(records[i][0], self.failures[i]) for i in sorted(self.failures)]
@@ -379,10 +377,10 @@ class _Run:
             [records[i][0] for i in ok],
             np.array([results[i]["lam"][:N] for i in ok]).reshape(len(ok), N),
             [results[i]["area"] for i in ok],
-            [records[i][1] for i in ok], bc=self.bc, mass=self.mass,
+            [records[i][1] for i in ok], bc=self.settings.bc, mass=self.settings.mass,
             seconds=[results[i]["seconds"] for i in ok],
             cached=[results[i]["cached"] for i in ok], failures=fail_list,
-            refine=self.refine,
+            refine=self.settings.refine,
             components=[results[i]["components"] for i in ok])
 
 
@@ -391,17 +389,18 @@ class _Run:
 _ESTIMATE_MIN_N = 300
 
 
-def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]], N: int
-                   ) -> None:
+def _warn_long_run(tasks: Sequence[Task], records: Sequence[tuple[str, str, Any]],
+                   settings: SpectrumSettings) -> None:
     """Warn, before the eigensolves start, when they are estimated to take long.
 
     Only for ``N >= _ESTIMATE_MIN_N`` (the vertex counts of meshes given by path are read
     for it, from the file).  The estimate is ``cshape.spectrum.estimate_seconds`` summed over the
     meshes not found in the cache.
     """
+    N = settings.N
     if N < _ESTIMATE_MIN_N or not tasks:
         return
-    refined = tasks[0].refine != "none"
+    refined = settings.refine != "none"
     from ..readers import load_mesh
 
     sizes: list[tuple[int, str]] = []

@@ -15,14 +15,13 @@ from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from .._checks import check_choice, check_path
+from .._checks import check_path
 from .._files import atomic_write
 from ..compare import distance_matrix
 from ..descriptors import Descriptor, count_zero_modes
 from ..descriptors.recipe import _given_or_default
-from ..fem import BOUNDARY_CONDITIONS, MASS_TYPES
 from ..mesh import CShapeWarning
-from ..spectrum import REFINEMENTS
+from ..spectrum import SpectrumSettings
 
 if TYPE_CHECKING:
     import os
@@ -137,9 +136,8 @@ class DescriptorTable:
         self.labels = [""] * p if labels is None else ["" if x is None else str(x) for x in labels]
         if len(self.labels) != p:
             raise ValueError(f"labels has {len(self.labels)} entries for {p} names")
-        self.bc = check_choice("bc", bc, BOUNDARY_CONDITIONS)
-        self.mass = check_choice("mass", mass, MASS_TYPES)
-        self.refine = check_choice("refine", refine, REFINEMENTS)
+        how = SpectrumSettings(max(lam.shape[1], 1), bc, mass, refine)  # checked there
+        self.bc, self.mass, self.refine = how.bc, how.mass, how.refine
         self.descriptor: Descriptor | None = _table_descriptor(descriptor, lam.shape[1])
         if self.descriptor is not None and self.descriptor.min_eigenvalues > lam.shape[1]:
             raise ValueError(
@@ -163,6 +161,15 @@ class DescriptorTable:
     def N(self) -> int:
         """Number of eigenvalues per shape (``lam.shape[1]``)."""
         return int(self.lam.shape[1])
+
+    @property
+    def settings(self) -> SpectrumSettings:
+        """How the eigenvalues were computed: ``N``, ``bc``, ``mass`` and ``refine``.
+
+        Describe one more mesh the same way with
+        ``cshape.describe(meshes, **table.settings.as_kwargs())``.
+        """
+        return SpectrumSettings(self.N, self.bc, self.mass, self.refine)
 
     @property
     def lam_norm(self) -> np.ndarray:

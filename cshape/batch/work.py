@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..mesh import Mesh, as_mesh, repair_mesh
 from ..readers import load_mesh
-from ..spectrum import shape_dna
+from ..spectrum import SpectrumSettings, shape_dna
 from .cache import CACHE_VERSION, _read_entry, mesh_key
 
 if TYPE_CHECKING:
@@ -30,28 +30,19 @@ class Task:
         Row of the mesh in the collection.
     source : Mesh, (vertices, faces) or path
         The mesh, or the file to read it from.
-    N : int
-        Number of eigenvalues.
-    bc : str
-        Boundary condition, as :func:`cshape.shape_dna` takes it.
-    mass : str
-        Mass matrix, as :func:`cshape.shape_dna` takes it.
+    settings : SpectrumSettings
+        How the eigenvalues are computed (checked once, by :func:`cshape.describe`).
     cache_dir : str or None
         The cache folder, or None when caching is off.
     key : str or None
         The mesh's content key; None when the worker computes it from the file.
-    refine : str
-        Mesh refinement of the eigenvalues, as :func:`cshape.shape_dna` takes it.
     """
 
     index: int
     source: Any
-    N: int
-    bc: str
-    mass: str
+    settings: SpectrumSettings
     cache_dir: str | None
     key: str | None
-    refine: str
 
 
 #: What a worker sends back: ``{'index', 'ok', 'lam', 'area', ...}`` or ``{'ok': False,
@@ -85,26 +76,24 @@ def _work(task: Task) -> Result:
 
 
 def _work_inner(task: Task) -> Result:
-    index, N, bc, mass, key, refine = task.index, task.N, task.bc, task.mass, task.key, \
-        task.refine
+    index, settings, key = task.index, task.settings, task.key
     t0 = time.perf_counter()
     try:
         mesh = load_source(task.source)
         if key is None:
-            key = mesh_key(mesh, bc, mass, refine)
+            key = mesh_key(mesh, settings)
             if task.cache_dir is not None:
-                hit = _read_entry(task.cache_dir, key, N)
+                hit = _read_entry(task.cache_dir, key, settings.N)
                 if hit is not None:
                     hit.update(index=index, ok=True)
                     return hit
         fixed = repair_mesh(mesh)
-        lam = shape_dna(fixed, N=N, bc=bc, mass=mass, refine=refine)
+        lam = shape_dna(fixed, **settings.as_kwargs())
         return {"index": index, "ok": True, "lam": lam, "area": float(fixed.area),
                 "components": int(fixed.n_components),
                 "key": key, "seconds": time.perf_counter() - t0, "cached": False,
                 "n_vertices": mesh.n_vertices, "n_faces": mesh.n_faces,
-                "params": {"N": N, "bc": bc, "mass": mass, "refine": refine,
-                           "cache_version": CACHE_VERSION}}
+                "params": {**settings.as_kwargs(), "cache_version": CACHE_VERSION}}
     except Exception as exc:  # noqa: BLE001 - reported and skipped by describe
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
         return {"index": index, "ok": False, "error": f"{type(exc).__name__}: {msg}"}

@@ -577,8 +577,8 @@ def _query_target(args: argparse.Namespace, table: DescriptorTable
     if Path(target).is_file():
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            one = describe([(_stem(Path(target)), "", Path(target))], N=table.N,
-                           bc=table.bc, mass=table.mass, refine=table.refine,
+            one = describe([(_stem(Path(target)), "", Path(target))],
+                           **table.settings.as_kwargs(),
                            cache_dir=False if args.no_cache else args.cache_dir,
                            progress=False, on_error="warn")
         print_warnings(caught, "query", False, skip=("describe: ",))
