@@ -310,7 +310,7 @@ def test_surfaces_take_a_descriptor(table, spectra):
 @pytest.mark.parametrize("call", [
     lambda t: t.descriptors("cshape"),
     lambda t: t.distance_matrix("shape-dna"),
-    lambda t: t.usable("f1"),
+    lambda t: t.described("f1"),
     lambda t: cshape.DescriptorIndex.from_table(t, "cshape"),
     lambda t: cshape.batch.table.collection_distances(t, "cshape"),
 ])

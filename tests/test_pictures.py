@@ -195,8 +195,8 @@ def test_collection_distances_leaves_out_what_cannot_be_described():
     areas = t.areas.copy()
     areas[2] = 0.0
     table = DescriptorTable(t.names, t.lam, areas, t.labels)
-    with pytest.warns(CShapeWarning, match=r"1 of 5 shapes cannot be described by "
-                                           r"Shape-DNA \(30 values\) .* left out .*: shape2"):
+    with pytest.warns(CShapeWarning, match=r"Shape-DNA \(30 values\) cannot describe 1 of 5 "
+                                           r"shapes, left out: shape2"):
         c = collection_distances(table, SD30)
     assert c.rows.tolist() == [0, 1, 3, 4] and [n for n, _ in c.left_out] == ["shape2"]
     assert c.names == ["shape0", "shape1", "shape3", "shape4"]
@@ -211,7 +211,7 @@ def test_collection_distances_with_meshes_of_several_pieces():
     lam[1, 1] = 0.0  # two pieces
     lam[3, :25] = 0.0  # 25 pieces: 5 non-zero eigenvalues, truncated-log M=4 needs 10
     table = DescriptorTable(t.names, lam, t.areas, t.labels)
-    with pytest.warns(CShapeWarning, match=r"1 of 5 shapes cannot be described .*: shape3"):
+    with pytest.warns(CShapeWarning, match=r"cannot describe 1 of 5 shapes, left out: shape3"):
         c = collection_distances(table, LOG9)
     assert c.rows.tolist() == [0, 1, 2, 4] and [n for n, _ in c.left_out] == ["shape3"]
     assert np.allclose(c.D, distance_matrix(table.select([0, 1, 2, 4]).descriptors(LOG9)))

@@ -100,9 +100,9 @@ class DescriptorTable:
     (``'truncated-log'``, ``'f1'``, the log-Weyl transforms) drop each shape's zero modes
     (see :class:`cshape.Descriptor`).  A shape that still cannot be described (too few
     non-zero eigenvalues) is left out of :meth:`descriptors`, :meth:`distance_matrix` and
-    :class:`cshape.DescriptorIndex`, with a warning that names it; :meth:`usable` says
-    which rows are kept, and ``table.select(table.usable(descriptor))`` is the table of
-    those rows.
+    :class:`cshape.DescriptorIndex`, with a warning that names it; :meth:`described`
+    gives the rows kept, and ``table.select(table.described(descriptor)[1])`` is the
+    table of those rows.
 
     Examples
     --------
@@ -255,30 +255,6 @@ class DescriptorTable:
             components=self.components[idx])
 
     # ------------------------------------------------------------------ descriptors
-    def usable(self, descriptor: Descriptor | None = None) -> np.ndarray:
-        """Mark the shapes the descriptor can describe.
-
-        A shape cannot be described when it has too few non-zero eigenvalues for the
-        descriptor (a mesh of many pieces), see :meth:`cshape.Descriptor.rows`.  Warns
-        nothing.
-
-        Parameters
-        ----------
-        descriptor : Descriptor, optional
-            Default: the table's :attr:`descriptor` (by default :data:`cshape.DEFAULT` at
-            the table's ``N``).
-
-        Returns
-        -------
-        ndarray of bool, shape (p,)
-            ``True`` for each row that the descriptor can describe.
-        """
-        d = _chosen(self, descriptor)
-        _X, bad = d.rows(self.lam, self.areas, self.zero_modes)
-        mask = np.ones(len(self), dtype=bool)
-        mask[list(bad)] = False
-        return mask
-
     def _warn_left_out(self, d: Descriptor, bad: dict[int, str], stacklevel: int = 3) -> None:
         """A warning that names the rows left out."""
         if bad:
@@ -303,7 +279,8 @@ class DescriptorTable:
         -------
         ndarray, shape (q, size)
             One row per shape that can be described (``q = p`` unless some are left out,
-            with a :class:`cshape.CShapeWarning` naming them; :meth:`usable` marks them).
+            with a :class:`cshape.CShapeWarning` naming them; :meth:`described` gives their
+            rows).
 
         Raises
         ------
@@ -341,7 +318,7 @@ class DescriptorTable:
         X : ndarray, shape (q, size)
             As :meth:`descriptors`.
         rows : ndarray of int, shape (q,)
-            The table row of each row of ``X`` (those :meth:`usable` marks).
+            The table row of each row of ``X``.
         """
         d = _chosen(self, descriptor)
         X, bad = d.rows(self.lam, self.areas, self.zero_modes)
@@ -361,8 +338,7 @@ class DescriptorTable:
         Returns
         -------
         ndarray, shape (q, q)
-            Distances between the rows that :meth:`descriptors` returns (the shapes that
-            :meth:`usable` marks).
+            Distances between the rows that :meth:`descriptors` returns.
 
         Raises
         ------
@@ -582,16 +558,10 @@ def collection_distances(table: DescriptorTable, descriptor: Descriptor | None =
     """
     d = _chosen(table, descriptor)
     X, bad = d.rows(table.lam, table.areas, table.zero_modes)
+    table._warn_left_out(d, bad)
     rows = np.setdiff1d(np.arange(len(table)), np.fromiter(bad, dtype=np.int64))
     left_out = [(table.names[i], " ".join(str(why).split())) for i, why in bad.items()]
     p, title = len(table), d.label
-    if left_out:
-        shown = ", ".join(n for n, _ in left_out[:10])
-        more = f" and {len(left_out) - 10} more" if len(left_out) > 10 else ""
-        warnings.warn(
-            f"{len(left_out)} of {p} shapes cannot be described by {title} and are left "
-            f"out of the figures: {shown}{more} ({left_out[0][1]})",
-            CShapeWarning, stacklevel=2)
     if len(rows) < 2:
         raise ValueError(
             f"only {len(rows)} of the {p} shapes can be described by {title}; a picture "

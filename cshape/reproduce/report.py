@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import time
 from dataclasses import dataclass
+from functools import reduce
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
 
@@ -405,10 +406,11 @@ def _describable_rows(table: DescriptorTable, M: int, N: int) -> np.ndarray:
     """
     N = min(N, table.N)
     M = min(M, (N - 2) // 2)
-    ok = table.usable(Descriptor("truncated-log", N=N, M=M))
-    ok &= table.usable(Descriptor("cshape", N=N, M=M, transform="log-weyl-dct"))
-    ok &= table.usable(Descriptor("f1", N=N))
-    return np.flatnonzero(ok)
+    rows = [table.described(d, warn=False)[1]
+            for d in (Descriptor("truncated-log", N=N, M=M),
+                      Descriptor("cshape", N=N, M=M, transform="log-weyl-dct"),
+                      Descriptor("f1", N=N))]
+    return reduce(np.intersect1d, rows)
 
 
 def _collection_name(coll: object) -> str | None:
