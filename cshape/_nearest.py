@@ -1,4 +1,6 @@
-"""Exact nearest rows in spectral space, the engine of the vertex maps of :mod:`cshape.maps`.
+"""Exact nearest rows in spectral space, the one engine of maps and signature matches.
+
+It serves the vertex maps of :mod:`cshape.maps` and :func:`cshape.signatures.match_points`.
 
 Up to 3 dimensions a k-d tree; above (k-d and ball trees degrade to a scan in 30-100
 dimensions) blocks of dense matrix products, shared among threads with one BLAS thread each,

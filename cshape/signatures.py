@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._checks import check_bool, check_choice, check_eigenbasis, check_int, check_real
+from ._nearest import nearest_rows
 from .descriptors.formulas import ZERO_RTOL
 from .spectrum import Eigenbasis
 
@@ -528,21 +529,6 @@ def _as_signature(x: ArrayLike, name: str) -> np.ndarray:
     return a
 
 
-def _nearest(a: np.ndarray, b: np.ndarray, chunk: int = 2048) -> np.ndarray:
-    """Index of the nearest row of ``b`` for every row of ``a`` (Euclidean)."""
-    if a.shape[1] <= 8:
-        from scipy.spatial import cKDTree
-
-        return cKDTree(b).query(a)[1].astype(np.int64)
-    bb = np.einsum("ij,ij->i", b, b)
-    out = np.empty(len(a), dtype=np.int64)
-    for s in range(0, len(a), chunk):
-        block = a[s:s + chunk]
-        # |a - b|^2 = |a|^2 - 2 a.b + |b|^2; |a|^2 does not change the argmin
-        out[s:s + chunk] = np.argmin(bb[None, :] - 2.0 * (block @ b.T), axis=1)
-    return out
-
-
 def match_points(sig_a: ArrayLike, sig_b: ArrayLike, *, mutual: bool = False) -> np.ndarray:
     """Match every vertex of shape a to the vertex of shape b with the nearest signature.
 
@@ -573,8 +559,8 @@ def match_points(sig_a: ArrayLike, sig_b: ArrayLike, *, mutual: bool = False) ->
             f"sig_a has {a.shape[1]} scales and sig_b {b.shape[1]}; compute both at the same "
             "times or energies"
         )
-    ab = _nearest(a, b)
+    ab = nearest_rows(a, b)
     if not mutual:
         return ab
-    ba = _nearest(b, a)
+    ba = nearest_rows(b, a)
     return np.where(ba[ab] == np.arange(len(a)), ab, -1)
