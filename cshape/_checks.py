@@ -582,3 +582,4 @@ def check_eigenbasis(name: str, basis: object, cls: type) -> Any:
             "phi, B))"
         )
     return basis
+

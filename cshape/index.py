@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._checks import check_choice, check_descriptors, check_int, check_n_jobs
 from .descriptors import Descriptor
-from .descriptors.recipe import _given_or_default
+from .descriptors.recipe import check_descriptor
 
 #: The exact search methods of :class:`sklearn.neighbors.NearestNeighbors` (its spelling).
 ALGORITHMS = ("auto", "brute", "kd_tree", "ball_tree")
@@ -129,8 +129,8 @@ class DescriptorIndex:
             The descriptor can describe none of the shapes.
         """
         own = getattr(table, "descriptor", None)  # what the table compares, saved with it
-        d = own if descriptor is None and own is not None else _given_or_default(descriptor,
-                                                                                 table.N)
+        d = (own if descriptor is None and own is not None
+             else check_descriptor("descriptor", descriptor, table.N))
         # warns about and leaves out what it cannot describe
         X, rows = table.described(d, stacklevel=4)
         if len(X) == 0:

@@ -19,7 +19,7 @@ from .._checks import check_path
 from .._files import atomic_write
 from ..compare import distance_matrix
 from ..descriptors import Descriptor, count_zero_modes
-from ..descriptors.recipe import _given_or_default
+from ..descriptors.recipe import check_descriptor
 from ..mesh import CShapeWarning
 from ..spectrum import SpectrumSettings
 
@@ -644,9 +644,9 @@ def _table_descriptor(descriptor: Descriptor | None, N: int) -> Descriptor | Non
     ``N`` eigenvalues, or None when ``N`` is too small for any row of it (a method that
     needs a row then says so)."""
     if descriptor is not None:
-        return _given_or_default(descriptor, N)
+        return check_descriptor("descriptor", descriptor, N)
     try:
-        return _given_or_default(None, N)
+        return check_descriptor("descriptor", None, N)
     except ValueError:
         return None
 
@@ -655,4 +655,4 @@ def _chosen(table: DescriptorTable, descriptor: Descriptor | None) -> Descriptor
     """``descriptor`` checked, else the table's own (an error naming N when it has none)."""
     if descriptor is None and table.descriptor is not None:
         return table.descriptor
-    return _given_or_default(descriptor, table.N)
+    return check_descriptor("descriptor", descriptor, table.N)

@@ -501,16 +501,17 @@ PAPER = Descriptor("cshape", N=100, M=16, transform="weyl", normalization="area"
 DEFAULT = Descriptor("two-scale", N=100, M=4, transform="weyl", normalization="area")
 
 
-def _given_or_default(descriptor: object, N: int) -> Descriptor:
-    """``descriptor`` checked, or :data:`DEFAULT` for spectra of ``N`` eigenvalues when None.
+def check_descriptor(name: str, descriptor: object, N: int) -> Descriptor:
+    """Return ``descriptor`` checked, or :data:`cshape.DEFAULT` for ``N`` eigenvalues if None.
 
-    The one rule of the surfaces that take ``descriptor=`` (tables, the index, the figures).
+    The one rule of the surfaces that take ``descriptor=`` (tables, the index, the
+    figures); the error names ``name`` and, for a kind given by name, the fix.
     """
     if descriptor is None:
         return DEFAULT.for_N(N)
     if not isinstance(descriptor, Descriptor):
         hint = (f" (a kind: Descriptor({descriptor!r}, N=...))"
                 if isinstance(descriptor, str) else "")
-        raise TypeError("descriptor must be a cshape.Descriptor (e.g. cshape.PAPER) or None "
+        raise TypeError(f"{name} must be a cshape.Descriptor (e.g. cshape.PAPER) or None "
                         f"(cshape.DEFAULT), got {type(descriptor).__name__}{hint}")
     return descriptor
