@@ -35,7 +35,7 @@ Weight study (known answers only): ``B = (1 - w) B_consistent + w B_lumped`` for
 square, the disk and the equilateral triangle, and the best ``w`` of each on a fine grid.
 
 ``--candidates``: the first tier of the exploration default's candidates
-(:data:`cshape.reproduce.suite.CANDIDATES`) on the suite's development instances, with linear
+(:data:`cshape.reproduce.scores.CANDIDATES`) on the suite's development instances, with linear
 and with extrapolated spectra (``results/refine_candidates.md``).
 
 Costs: time and peak resident memory of each spectrum of tori of about 1K, 10K and 100K
@@ -304,7 +304,7 @@ def candidate_scores(N=N):
     """{refine: suite_scores rows} of the default's candidates on the suite's dev instances."""
     import cshape.data
     from cshape.data.suite import SUITE
-    from cshape.reproduce.suite import suite_scores
+    from cshape.reproduce.scores import suite_scores
 
     out = {}
     for refine in ("none", "extrapolate"):
@@ -320,7 +320,7 @@ def candidate_scores(N=N):
 
 def candidates_report(scores):
     """Markdown: first tier of every candidate with linear and extrapolated spectra."""
-    from cshape.reproduce.suite import choose_default
+    from cshape.reproduce.scores import choose_default
 
     lin = {r["title"]: r for r in scores["none"]}
     ext = {r["title"]: r for r in scores["extrapolate"]}

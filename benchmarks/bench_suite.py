@@ -10,12 +10,12 @@ animal), ``identities`` (instance level: 12 bodies of two kinds, each in 8 poses
 resolutions) and ``resolutions`` (the same shape meshed 3 ways).  Each has a development
 instance and a held-out one (other seeds).  The script
 
-1. scores every descriptor of :data:`cshape.reproduce.suite.CANDIDATES` (the paper's
+1. scores every descriptor of :data:`cshape.reproduce.scores.CANDIDATES` (the paper's
    cShape-DNA, the log-Weyl DFT and DCT, the truncated Shape-DNA, the truncated log spectrum
    and F1 at 17, 33, 49, 65 and 99 values, and Shape-DNA with all N) on the three
    **development** instances with :func:`cshape.compare.retrieval_scores`;
 2. names the descriptor with the highest **worst** first tier over them
-   (:func:`cshape.reproduce.suite.choose_default`);
+   (:func:`cshape.reproduce.scores.choose_default`);
 3. scores the same descriptors on the **held-out** instances, where that one is only
    reported;
 4. reports :data:`cshape.DEFAULT` beside it (the default is chosen by
@@ -65,7 +65,7 @@ def tables(instance, N, jobs):
 def paired_margin(tables, a, b):
     """Per benchmark: mean and standard error over the queries of ``ft(a) - ft(b)``."""
     from cshape.compare import distance_matrix, retrieval_per_query
-    from cshape.reproduce.suite import _descriptor
+    from cshape.reproduce.scores import _descriptor
 
     out = {}
     for name, table in tables.items():
@@ -85,7 +85,7 @@ def main(argv=None):
 
     from cshape.data.suite import BENCHMARKS, SUITE
     from cshape.descriptors import recipe
-    from cshape.reproduce.suite import (
+    from cshape.reproduce.scores import (
         MEASURES,
         choose_default,
         default_row,

@@ -22,7 +22,7 @@ from cshape.cli import main as cli_main
 from cshape.compare import retrieval_scores
 from cshape.descriptors import recipe
 from cshape.index import DescriptorIndex
-from cshape.reproduce.suite import candidates, choose_default, default_row, suite_scores
+from cshape.reproduce.scores import candidates, choose_default, default_row, suite_scores
 
 N = 30
 

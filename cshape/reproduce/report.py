@@ -139,9 +139,9 @@ def reproduce(records: Iterable[Any], out_dir: str | os.PathLike[str], *, N: int
     suite : dict of str to iterable, optional
         The benchmark suite (:data:`cshape.data.suite.SUITE`), benchmark name -> labelled
         shapes (e.g. the held-out instances): every descriptor of
-        :data:`cshape.reproduce.suite.CANDIDATES` on every benchmark, with the exploration
+        :data:`cshape.reproduce.scores.CANDIDATES` on every benchmark, with the exploration
         default (:data:`cshape.DEFAULT`) marked
-        (:func:`cshape.reproduce.suite.suite_scores`).
+        (:func:`cshape.reproduce.scores.suite_scores`).
     descriptor : Descriptor, optional
         The cShape-DNA of Section 3 as one value (:data:`cshape.PAPER` with another ``M`` or
         ``N``, e.g. ``cshape.PAPER.replace(M=8)``); instead of ``N`` and ``M``.  Section 3
@@ -277,7 +277,7 @@ def _compute_retrieval(table: DescriptorTable, out: Path, run: _Run,
 
 def _compute_suite(suite: Mapping[str, Iterable[Any]], run: _Run) -> dict[str, Any]:
     """The benchmark suite: every descriptor on every benchmark, the default marked."""
-    from .suite import default_row, suite_scores
+    from .scores import default_row, suite_scores
 
     tables: dict[str, DescriptorTable] = {}
     for name, recs in suite.items():
@@ -488,7 +488,7 @@ def _suite_report(res: dict[str, Any]) -> list[str]:
     st = res.get("suite")
     if not st:
         return []
-    from .suite import suite_markdown
+    from .scores import suite_markdown
 
     bench = ", ".join(f"{k} ({v['n_shapes']} shapes, {v['n_classes']} classes)"
                       for k, v in st["benchmarks"].items())
