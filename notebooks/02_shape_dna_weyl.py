@@ -469,7 +469,7 @@ fig
 #
 # 1. *(graded above)* The flat torus's spectrum, the square's counting functions (written), the cube's
 #    $\lambda_{49}$ (prediction), the Weyl line and the `'weyl'` normalisation.
-# 2. **Isometry.** Bend a mesh without stretching it (e.g. `cshape.data.variants.articulated_figure("human", seed)` for
+# 2. **Isometry.** Bend a mesh without stretching it (e.g. `cshape.data.bodies.articulated_figure("human", seed)` for
 #    two seeds gives two poses with the same bone lengths). Compare their normalised Shape-DNAs with those of two
 #    different classes.
 # 3. **How many eigenvalues?** Plot $\lambda'_i$ of the sphere for $N = 100$. Why does it look like a staircase?

@@ -57,7 +57,7 @@ from cshape import batch
 
 # a few classes made in code (small) or paper-models + articulated (full size)
 from cshape.course.teaching import demo_collection
-from cshape.data import variants
+from cshape.data import bodies, quality, variants
 
 collection = demo_collection()
 if not SMALL:  # leave out the largest meshes: every model is solved once per noise level
@@ -219,14 +219,14 @@ fig
 
 # %%
 if SMALL:
-    CM = variants.articulated_figure("quadruped", 0, voxelsize=0.04, target_vertices=None)
+    CM = bodies.articulated_figure("quadruped", 0, voxelsize=0.04, target_vertices=None)
     CS = variants.remesh(CM, target_vertices=1200)
 else:
     import cshape.data
 
     CM, CS = cshape.data.load("paper-models", "CM"), cshape.data.load("paper-models", "CS")
 for name, m in (("CM (marching cubes)", CM), ("CS (remeshed)", CS)):
-    q = variants.mesh_quality(m)
+    q = quality.mesh_quality(m)
     print(f"{name:20s} {q['n_vertices']:6d} vertices, smallest angle {q['min_angle']:5.2f} deg, "
           f"{q['pct_below_10']:5.1f}% of triangles below 10 deg, "
           f"worst aspect {q['aspect_max']:.3g}")
@@ -249,7 +249,7 @@ ax2 = fig.add_subplot(1, 3, 3)
 for ax, (name, m) in ((ax0, ("CM", CM)), (ax1, ("CS", CS))):
     plots.plot_mesh(close_up(m), ax=ax, edges=True, title=f"{name}, close up", elev=50, azim=-40)
 for name, m in (("CM", CM), ("CS", CS)):
-    ax2.hist(variants.triangle_angles(m).min(axis=1), bins=40, range=(0, 60), alpha=0.6,
+    ax2.hist(quality.triangle_angles(m).min(axis=1), bins=40, range=(0, 60), alpha=0.6,
              label=name)
 ax2.set(xlabel="smallest angle of a triangle (degrees)", ylabel="triangles",
         title="triangle quality")

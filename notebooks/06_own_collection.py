@@ -53,7 +53,7 @@ print("cshape", cshape.__version__, "(small sizes)" if SMALL else "")
 import tempfile
 from pathlib import Path
 
-from cshape.data import variants
+from cshape.data import bodies, variants
 
 
 def write_obj(mesh, path):
@@ -71,7 +71,7 @@ for k in range(3):
     write_obj(shapes.icosphere(size(2, 4), radius=1 + 0.5 * k), folder / "spheres" / f"sphere{k}.obj")
     write_obj(shapes.torus(16 * (k + 2), 8 * (k + 2)), folder / "tori" / f"torus{k}.obj")
     write_obj(shapes.cube(4 + 2 * k + size(0, 6)), folder / "cubes" / f"cube{k}.obj")
-    human = variants.articulated_figure("human", k, voxelsize=size(0.05, 0.03),
+    human = bodies.articulated_figure("human", k, voxelsize=size(0.05, 0.03),
                                         target_vertices=size(500, 2000))
     write_obj(human, folder / "humans" / f"human{k}.obj")
 print(sorted(str(p.relative_to(folder)) for p in folder.rglob("*.obj")))

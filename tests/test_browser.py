@@ -541,6 +541,10 @@ def _border_hits(px, rect, band=2):
     return int(not_white(edge).sum()), float(not_white(inside).mean())
 
 
+#: Pages of the framing test open at once (WebGL contexts and memory stay modest).
+FRAMING_BATCH = 4
+
+
 def _framing_views(tmp_path):
     """Every kind of 3-D view the lessons and the command line make, with the lessons' sizes:
     name -> a page of HTML (written into ``tmp_path``) and the viewport widths to try."""
@@ -608,17 +612,25 @@ def test_every_3d_view_is_framed_in_chromium(tmp_path):
     out = ARTIFACTS / "framing"
     out.mkdir(parents=True, exist_ok=True)
     problems, seen = [], 0
+    views = [(name, path, w, h) for name, (path, sizes) in pages.items() for w, h in sizes]
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
         try:
-            for name, (path, sizes) in pages.items():
-                for w, h in sizes:
+            # a few pages at a time: each loads and draws while the others wait
+            for start in range(0, len(views), FRAMING_BATCH):
+                batch = views[start:start + FRAMING_BATCH]
+                opened = []
+                for _name, path, w, h in batch:
                     page = browser.new_page(viewport={"width": w, "height": h})
                     page.goto(path.as_uri(), timeout=60_000)
+                    opened.append(page)
+                for page in opened:
                     page.locator(".js-plotly-plot .gl-container canvas").first.wait_for(
                         timeout=60_000)
-                    page.wait_for_timeout(2500)  # WebGL draws after the DOM is there
+                opened[-1].wait_for_timeout(2500)  # WebGL draws after the DOM is there
+                for page, (name, _path, w, h) in zip(opened, batch, strict=True):
                     png = out / f"{name}_{w}x{h}.png"
+                    page.bring_to_front()
                     page.screenshot(path=str(png), full_page=True)
                     rects = page.evaluate(_SCENE_RECTS)
                     page.close()

@@ -11,6 +11,7 @@ import pytest
 import cshape
 import cshape.data as data
 from cshape.compare import retrieval_scores
+from cshape.data import bodies
 from cshape.data import creatures as cr
 from cshape.data import variants as v
 
@@ -90,12 +91,12 @@ def test_capsules_expression_cutoff_keeps_the_surface():
     caps = cr.creature_capsules("starfish", 0)
     pts = np.array([c.a for c in caps] + [c.b for c in caps])
     box = (*(pts.min(0) - 0.3), *(pts.max(0) + 0.3))
-    full = v.marching_cubes(v.capsules_expression(caps), box, 0.04)
-    cut = v.marching_cubes(v.capsules_expression(caps, cutoff=0.12), box, 0.04)
+    full = v.marching_cubes(bodies.capsules_expression(caps), box, 0.04)
+    cut = v.marching_cubes(bodies.capsules_expression(caps, cutoff=0.12), box, 0.04)
     np.testing.assert_allclose(cut.vertices, full.vertices, atol=1e-9)
     np.testing.assert_array_equal(cut.faces, full.faces)
     with pytest.raises(ValueError, match="cutoff must be a positive finite number"):
-        v.capsules_expression(caps, cutoff=0)
+        bodies.capsules_expression(caps, cutoff=0)
 
 
 @pytest.mark.parametrize(

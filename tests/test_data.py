@@ -22,6 +22,7 @@ import yaml
 import cshape.data as data
 from cshape import CShapeWarning, shapes
 from cshape.cli import main
+from cshape.data import bodies, quality
 from cshape.data import variants as v
 
 REPO = Path(__file__).resolve().parents[1]
@@ -195,7 +196,7 @@ def test_paper_models_properties(built_paper):
     assert m["C"].area == pytest.approx(6.0)
     np.testing.assert_array_equal(m["S1"].vertices, shapes.icosphere(4).vertices)
     assert 3.5 < m["D2"].n_vertices / m["D1"].n_vertices < 4.5
-    qm, qs = v.mesh_quality(m["CM"]), v.mesh_quality(m["CS"])
+    qm, qs = quality.mesh_quality(m["CM"]), quality.mesh_quality(m["CS"])
     assert qm["min_angle"] < qs["min_angle"] and qm["mean_min_angle"] < qs["mean_min_angle"]
     assert coll["CM"].label == coll["CS"].label
     assert coll.labels.count("sphere") == 3
@@ -214,7 +215,7 @@ def test_noisy_item_is_bounded_by_lam_L(built_paper):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", v.ARTICULATED_KINDS)
+@pytest.mark.parametrize("kind", bodies.ARTICULATED_KINDS)
 def test_articulated_item_builds(kind):
     m = data.load("articulated", f"{kind}-0")
     assert m.is_closed and m.genus == 0 and 2000 < m.n_vertices < 4000

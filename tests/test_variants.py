@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from cshape import CShapeWarning, Mesh, shapes
+from cshape.data import bodies, quality
 from cshape.data import variants as v
 
 
@@ -53,9 +54,9 @@ def test_marching_cubes_errors(kwargs, match):
 
 def test_cm_has_worse_quality_than_cs():
     """The paper's CM (marching cubes) versus CS (its quality-improved remesh)."""
-    cm = v.articulated_figure("quadruped", 0, voxelsize=0.03, target_vertices=None)
+    cm = bodies.articulated_figure("quadruped", 0, voxelsize=0.03, target_vertices=None)
     cs = v.remesh(cm, target_vertices=2000)
-    qm, qs = v.mesh_quality(cm), v.mesh_quality(cs)
+    qm, qs = quality.mesh_quality(cm), quality.mesh_quality(cs)
     assert cm.is_closed and cs.is_closed and cm.genus == cs.genus == 0
     assert qm["min_angle"] < 2.0 < 10.0 < qs["min_angle"]
     assert qm["mean_min_angle"] < qs["mean_min_angle"]
@@ -91,18 +92,18 @@ def test_subdivide_bad_method():
 
 
 # ---------------------------------------------------------------------- articulated figures
-@pytest.mark.parametrize("kind", v.ARTICULATED_KINDS)
+@pytest.mark.parametrize("kind", bodies.ARTICULATED_KINDS)
 def test_articulated_figure_is_closed_genus0(kind):
-    m = v.articulated_figure(kind, 1, voxelsize=0.03, target_vertices=1200)
+    m = bodies.articulated_figure(kind, 1, voxelsize=0.03, target_vertices=1200)
     assert m.is_closed and m.n_components == 1 and m.genus == 0
     assert 900 < m.n_vertices < 1600
 
 
 @pytest.mark.slow
 def test_articulated_poses_near_isometric_and_seeded():
-    a = v.articulated_figure("human", 0, voxelsize=0.03, target_vertices=1000)
-    b = v.articulated_figure("human", 3, voxelsize=0.03, target_vertices=1000)
-    a2 = v.articulated_figure("human", 0, voxelsize=0.03, target_vertices=1000)
+    a = bodies.articulated_figure("human", 0, voxelsize=0.03, target_vertices=1000)
+    b = bodies.articulated_figure("human", 3, voxelsize=0.03, target_vertices=1000)
+    a2 = bodies.articulated_figure("human", 0, voxelsize=0.03, target_vertices=1000)
     np.testing.assert_array_equal(a.vertices, a2.vertices)  # same seed, same mesh
     np.testing.assert_array_equal(a.faces, a2.faces)
     assert a.n_vertices != b.n_vertices or not np.allclose(a.vertices, b.vertices)
@@ -110,9 +111,9 @@ def test_articulated_poses_near_isometric_and_seeded():
 
 
 def test_figure_capsules_bone_lengths_fixed():
-    for kind in v.ARTICULATED_KINDS:
+    for kind in bodies.ARTICULATED_KINDS:
         lengths = [
-            [np.linalg.norm(np.subtract(c.b, c.a)) for c in v.figure_capsules(kind, s)]
+            [np.linalg.norm(np.subtract(c.b, c.a)) for c in bodies.figure_capsules(kind, s)]
             for s in range(3)
         ]
         np.testing.assert_allclose(lengths[0], lengths[1])
@@ -121,7 +122,7 @@ def test_figure_capsules_bone_lengths_fixed():
 
 def test_figure_unknown_kind():
     with pytest.raises(ValueError, match="kind must be one of"):
-        v.figure_capsules("dragon")
+        bodies.figure_capsules("dragon")
 
 
 # ---------------------------------------------------------------------- noise (Section 3.3)
@@ -177,15 +178,15 @@ def test_vertex_normals_of_sphere_are_radial():
 
 # ---------------------------------------------------------------------- quality
 def test_triangle_angles_sum_to_180():
-    ang = v.triangle_angles(shapes.icosphere(2))
+    ang = quality.triangle_angles(shapes.icosphere(2))
     np.testing.assert_allclose(ang.sum(axis=1), 180.0)
 
 
 def test_quality_of_equilateral_and_degenerate():
     V = np.array([[0, 0, 0], [1, 0, 0], [0.5, np.sqrt(3) / 2, 0], [2, 0, 0.0]])
-    q = v.mesh_quality(Mesh(V[:3], [[0, 1, 2]]))
+    q = quality.mesh_quality(Mesh(V[:3], [[0, 1, 2]]))
     assert q["min_angle"] == pytest.approx(60) and q["aspect_max"] == pytest.approx(1)
-    q = v.mesh_quality(Mesh(V, [[0, 1, 2], [0, 1, 3]]))  # second triangle is flat
+    q = quality.mesh_quality(Mesh(V, [[0, 1, 2], [0, 1, 3]]))  # second triangle is flat
     assert q["min_angle"] == pytest.approx(0, abs=1e-9)
     assert q["n_degenerate"] == 1 and q["aspect_max"] == np.inf
     assert np.isfinite(q["aspect_mean"])

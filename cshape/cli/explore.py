@@ -7,7 +7,7 @@
   :class:`cshape.DescriptorTable`;
 * ``cshape info MESH`` - size, area, topology, triangle quality and what the repair would
   change, from :mod:`cshape.mesh` (:class:`cshape.Mesh`, :func:`cshape.repair_mesh`) and
-  :func:`cshape.data.variants.mesh_quality`;
+  :func:`cshape.data.quality.mesh_quality`;
 * ``cshape query TABLE MESH_OR_NAME -k 5`` - the nearest shapes of a table, with their
   distances (:class:`cshape.DescriptorIndex`); with ``--plot FILE --meshes PATH`` also the
   query and its neighbours as thumbnails (:func:`cshape.plots.overview.plot_neighbour_strip`,
@@ -391,7 +391,7 @@ def mesh_report(path: str | os.PathLike[str]) -> dict[str, Any]:
         ``pct_below_10`` (share of triangles with an angle under 10 degrees, percent),
         ``degenerate_faces``.
     """
-    from ..data.variants import mesh_quality
+    from ..data.quality import mesh_quality
     from ..mesh import CShapeWarning, repair_mesh
     from ..readers import load_mesh
 

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, TypeVar
 from .. import data, shapes
 from .._checks import check_int
 from ..data import variants
+from ..data.bodies import articulated_figure
 from ..mesh import Mesh
 from ..readers import load_mesh
 
@@ -147,7 +148,7 @@ def demo_collection(small: bool | None = None) -> list[tuple[str, str, Mesh]]:
     items += [(f"torus-{k}", "torus", shapes.torus(8 * k + 24, 4 * k + 12)) for k in (0, 1)]
     for kind in ("human", "snake"):
         for seed in (0, 1):
-            fig = variants.articulated_figure(kind, seed, voxelsize=0.05, target_vertices=500)
+            fig = articulated_figure(kind, seed, voxelsize=0.05, target_vertices=500)
             items.append((f"{kind}-{seed}", kind, fig))
     return items
 

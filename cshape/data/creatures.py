@@ -15,7 +15,7 @@ every descriptor finds the right class every time (nearest neighbour = first tie
 * **noise**: every vertex moves along its normal by a uniform amount in ``[-a L, a L]``
   (``L`` the mean edge length) with ``a`` uniform in ``[0, noise]`` (default 0.3).
 
-A creature is a union of capsules (:class:`cshape.data.variants.Capsule`) meshed by PyMeshLab's
+A creature is a union of capsules (:class:`cshape.data.bodies.Capsule`) meshed by PyMeshLab's
 marching cubes, isotropically remeshed and made noisy, all from one ``random_state``: the
 same seed gives the same mesh.  :func:`creature_items` lists the members of a benchmark
 instance for a collection seed; ``data_manifest.yaml`` has a development instance
@@ -33,18 +33,8 @@ import numpy as np
 
 from .._checks import check_choice, check_real
 from ..mesh import Mesh, largest_component
-from .variants import (
-    Capsule,
-    _bend,
-    _check_int,
-    _dir,
-    _limb,
-    _rot_z,
-    add_normal_noise,
-    capsules_expression,
-    marching_cubes,
-    remesh,
-)
+from .bodies import Capsule, _bend, _dir, _limb, _rot_z, capsules_expression
+from .variants import _check_int, add_normal_noise, marching_cubes, remesh
 
 if TYPE_CHECKING:
     from collections.abc import Iterable

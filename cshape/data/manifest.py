@@ -140,6 +140,7 @@ class Collection:
 def _recipes() -> dict[str, Recipe]:
     from .. import shapes
     from . import variants as v
+    from .bodies import articulated_figure
     from .creatures import creature
     from .poses import pose, pose_template
     from .suite import identity_pose, resolution_shape
@@ -150,7 +151,7 @@ def _recipes() -> dict[str, Recipe]:
         "torus": (shapes.torus, False, False),
         "cube": (_centred_cube, False, False),
         "eight": (v.eight, False, False),
-        "figure": (v.articulated_figure, False, True),
+        "figure": (articulated_figure, False, True),
         "remesh": (v.remesh, True, False),
         "subdivide": (v.subdivide, True, False),
         "noise": (v.add_normal_noise, True, True),
@@ -178,7 +179,7 @@ RECIPES = {
     "torus": "cshape.shapes.torus",
     "cube": "cshape.shapes.cube, centred at the origin",
     "eight": "cshape.data.variants.eight",
-    "figure": "cshape.data.variants.articulated_figure (seed -> random_state)",
+    "figure": "cshape.data.bodies.articulated_figure (seed -> random_state)",
     "remesh": "cshape.data.variants.remesh (base mesh)",
     "subdivide": "cshape.data.variants.subdivide (base mesh)",
     "noise": "cshape.data.variants.add_normal_noise (base mesh, seed -> random_state)",

@@ -1,6 +1,6 @@
 """Poses that keep the template's vertices: articulated figures deformed by a skeleton.
 
-:func:`cshape.data.variants.articulated_figure` meshes every pose anew (marching cubes and
+:func:`cshape.data.bodies.articulated_figure` meshes every pose anew (marching cubes and
 remeshing), so two poses share no vertex and a point-to-point map between them has no
 ground truth.  Here a figure is meshed **once**, in a rest pose (the *template*), and every
 pose moves the template's vertices by **linear blend skinning**: each bone turns about its
@@ -29,7 +29,8 @@ import numpy as np
 
 from .._checks import check_bool, check_choice, check_int, check_real
 from ..mesh import Mesh, as_mesh
-from .variants import Capsule, capsules_expression, marching_cubes, remesh
+from .bodies import Capsule, capsules_expression
+from .variants import marching_cubes, remesh
 
 if TYPE_CHECKING:
     from collections.abc import Sequence

@@ -38,15 +38,14 @@ import numpy as np
 
 from .._checks import check_choice, check_real
 from ..mesh import Mesh, largest_component
+from .bodies import Capsule, capsules_expression
 from .creatures import CREATURE_KINDS, creature_capsules, creature_items
 from .poses import POSED_KINDS, _blend_weights, _bone_transforms, _skeleton
 from .variants import (
-    Capsule,
     _check_int,
     _from_meshset,
     _meshset,
     add_normal_noise,
-    capsules_expression,
     marching_cubes,
     remesh,
 )

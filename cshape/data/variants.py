@@ -5,10 +5,11 @@ The paper's experiments (Section 3) compare a shape with versions of itself:
 * the same surface at several resolutions (spheres S1-S3, :func:`cshape.shapes.icosphere`;
   D1 / D2, :func:`subdivide`);
 * a marching-cubes mesh with needle and zero-area triangles ("CM", :func:`marching_cubes`)
-  and its quality-improved remesh ("CS", :func:`remesh`); :func:`mesh_quality` measures the
-  difference (minimum angle, aspect ratio);
-* near-isometric poses of an articulated figure (:func:`articulated_figure`: an implicit union
-  of capsules whose joint angles change, meshed by marching cubes and remeshed);
+  and its quality-improved remesh ("CS", :func:`remesh`);
+  :func:`cshape.data.quality.mesh_quality` measures the difference (minimum angle, aspect
+  ratio);
+* near-isometric poses of an articulated figure
+  (:func:`cshape.data.bodies.articulated_figure`);
 * noisy copies, each vertex moved along its outward normal by a uniform random amount of at
   most ``amplitude * L`` (Section 3.3, :func:`add_normal_noise`).
 
@@ -21,32 +22,25 @@ random choices take a ``random_state``.  The primitive shapes (sphere, torus, cu
 from __future__ import annotations
 
 import warnings
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from .._checks import check_bool, check_choice, check_int, check_real
 from ..mesh import CShapeWarning, Mesh, MeshLike, as_mesh, repair_mesh
 
 __all__ = [
     "add_normal_noise",
-    "articulated_figure",
     "marching_cubes",
-    "mesh_quality",
     "remesh",
     "subdivide",
-    "triangle_angles",
     "vertex_normals",
 ]
 
 #: The noise levels ``amplitude`` of Section 3.3 (maximum displacement ``amplitude * L``).
 NOISE_LEVELS = (0.5, 1.0, 2.0, 4.0, 10.0)
-
-#: The classes of :func:`articulated_figure`.
-ARTICULATED_KINDS = ("human", "quadruped", "spider", "snake")
 
 #: Largest mesh :func:`remesh` and :func:`subdivide` may produce (triangles): PyMeshLab
 #: allocates it natively, and a mistyped parameter would otherwise exhaust the memory.
@@ -333,224 +327,6 @@ def subdivide(mesh: MeshLike, iterations: int = 1, method: str = "loop") -> Mesh
     return _from_meshset(ms, what=f"{method} subdivision")
 
 
-# ---------------------------------------------------------------------- articulated figures
-@dataclass(frozen=True)
-class Capsule:
-    """A capsule: the points within ``radius`` of the segment from ``a`` to ``b``.
-
-    Parameters
-    ----------
-    a, b : tuple of float
-        The segment's end points ``(x, y, z)``.
-    radius : float
-        Radius around the segment.
-    """
-
-    a: tuple
-    b: tuple
-    radius: float
-
-    def expression(self) -> str:
-        """Return the signed distance to the capsule in muparser syntax (negative inside).
-
-        Returns
-        -------
-        str
-            An expression in ``x``, ``y`` and ``z`` for PyMeshLab's implicit surfaces.
-        """
-        ax, ay, az = (float(c) for c in self.a)
-        dx, dy, dz = (float(q) - float(p) for p, q in zip(self.a, self.b, strict=True))
-        L2 = dx * dx + dy * dy + dz * dz
-        px, py, pz = f"(x-({ax:.9g}))", f"(y-({ay:.9g}))", f"(z-({az:.9g}))"
-        if L2 < 1e-18:
-            return f"sqrt({px}^2+{py}^2+{pz}^2)-{self.radius:.9g}"
-        t = f"min(max(({px}*({dx:.9g})+{py}*({dy:.9g})+{pz}*({dz:.9g}))/{L2:.9g},0),1)"
-        return (
-            f"sqrt(({px}-{t}*({dx:.9g}))^2+({py}-{t}*({dy:.9g}))^2+({pz}-{t}*({dz:.9g}))^2)"
-            f"-{self.radius:.9g}"
-        )
-
-
-def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = None) -> str:
-    """Implicit function of the union of capsules: the minimum of their signed distances.
-
-    Parameters
-    ----------
-    capsules : iterable of Capsule
-        The capsules of the union.
-    cutoff : float, optional
-        If given, each capsule's distance is evaluated only inside its bounding box grown by
-        ``cutoff`` (muparser's ``?:`` skips the other branch) and is ``cutoff`` outside it,
-        where the true distance is at least ``cutoff``.  The zero level set is the same
-        wherever the function is sampled no coarser than ``cutoff``, and marching cubes on a
-        figure of many capsules evaluates far fewer distances.  Use a few voxels.
-
-    Returns
-    -------
-    str
-        The function in muparser syntax, negative inside the union.
-    """
-    capsules = list(capsules)
-    if not capsules:
-        raise ValueError("capsules is empty: a figure needs at least one capsule")
-    if cutoff is not None:
-        cutoff = _check_pos("cutoff", cutoff)
-    parts = []
-    for c in capsules:
-        e = c.expression()
-        if cutoff is not None:
-            a, b = np.asarray(c.a, dtype=float), np.asarray(c.b, dtype=float)
-            lo = np.minimum(a, b) - c.radius - cutoff
-            hi = np.maximum(a, b) + c.radius + cutoff
-            inside = "&&".join(f"({v}>{p:.9g})&&({v}<{q:.9g})"
-                               for v, p, q in zip("xyz", lo, hi, strict=True))
-            e = f"(({inside})?({e}):{cutoff:.9g})"
-        parts.append(e)
-    expr = parts[0]
-    for e in parts[1:]:
-        expr = f"min({expr},{e})"
-    return expr
-
-
-def _dir(azimuth: float, elevation: float) -> np.ndarray:
-    """Unit vector from azimuth (about z, from +x) and elevation (from the xy-plane), degrees."""
-    az, el = np.radians(azimuth), np.radians(elevation)
-    return np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
-
-
-def _limb(start: ArrayLike, dirs: Sequence[ArrayLike], lengths: Sequence[float], radius: float
-          ) -> list[Capsule]:
-    out, p = [], np.asarray(start, dtype=float)
-    for d, length in zip(dirs, lengths, strict=True):
-        q = p + length * np.asarray(d)
-        out.append(Capsule(tuple(p), tuple(q), radius))
-        p = q
-    return out
-
-
-def figure_capsules(kind: str, random_state: int | np.random.Generator | None = None
-                    ) -> list[Capsule]:
-    """The capsules of an articulated figure in a pose drawn from ``random_state``.
-
-    Every class has fixed bone lengths and radii; a pose only changes joint angles, drawn
-    uniformly from ranges chosen so limbs never touch each other or the body.  Different
-    poses of one class are therefore near-isometric (exactly so away from the joints).
-
-    Parameters
-    ----------
-    kind : {'human', 'quadruped', 'spider', 'snake'}
-    random_state : int, numpy.random.Generator or None
-        Seed of the pose.  ``None`` gives a fresh, unseeded pose.
-
-    Returns
-    -------
-    list of Capsule
-        The figure's capsules, the union of which is its body.
-    """
-    kind = check_choice("kind", kind, ARTICULATED_KINDS)
-    rng = np.random.default_rng(random_state)
-    u = rng.uniform
-    caps: list[Capsule] = []
-    if kind == "human":
-        caps.append(Capsule((0, 0, 0), (0, 0, 0.55), 0.16))  # torso
-        caps.append(Capsule((0, 0, 0.78), (0, 0, 0.86), 0.13))  # head
-        caps.append(Capsule((0, 0, 0.55), (0, 0, 0.72), 0.06))  # neck
-        for s in (-1, 1):
-            shoulder = (0.2 * s, 0, 0.5)
-            abduct, flex, fwd = u(25, 85), u(0, 80), u(-30, 30)
-            upper = np.array([s * np.sin(np.radians(abduct)), 0, -np.cos(np.radians(abduct))])
-            upper = _rot_z(upper, s * fwd)
-            fore = _bend(upper, flex, np.array([0, 1.0, 0]))
-            caps += _limb(shoulder, [upper, fore], [0.3, 0.28], 0.055)
-            hip = (0.09 * s, 0, 0.0)
-            spread, swing, knee = u(5, 25), u(-30, 30), u(0, 70)
-            thigh = np.array([s * np.sin(np.radians(spread)), 0, -np.cos(np.radians(spread))])
-            thigh = _bend(thigh, swing, np.array([0, 1.0, 0]))
-            shin = _bend(thigh, knee, np.array([0, -1.0, 0]))
-            caps += _limb(hip, [thigh, shin], [0.4, 0.4], 0.07)
-    elif kind == "quadruped":
-        caps.append(Capsule((-0.45, 0, 0), (0.45, 0, 0), 0.17))  # body
-        neck_el = u(20, 70)
-        neck = _limb((0.45, 0, 0.05), [_dir(0, neck_el)], [0.3], 0.08)
-        head_el = u(-40, 10)
-        head = _limb(neck[-1].b, [_dir(0, head_el)], [0.22], 0.09)
-        caps += neck + head
-        for sx in (-1, 1):
-            for sy in (-1, 1):
-                swing, knee = u(-30, 30), u(0, 60)
-                upper = _dir(0, -90 + swing)
-                lower = _dir(0, -90 + swing - sx * knee)
-                caps += _limb((0.34 * sx, 0.09 * sy, -0.05), [upper, lower], [0.28, 0.26], 0.055)
-        tail_az, tail_el = u(150, 210), u(-40, 40)
-        caps += _limb((-0.45, 0, 0.05), [_dir(tail_az, tail_el)], [0.32], 0.045)
-    elif kind == "spider":
-        caps.append(Capsule((0, 0, 0), (0, 0, 0.08), 0.22))  # body
-        for k in range(6):
-            az = 60 * k + u(-12, 12)
-            up, down = u(0, 35), u(-75, -25)
-            start = 0.18 * _dir(az, 0) + np.array([0, 0, 0.04])
-            caps += _limb(start, [_dir(az, up), _dir(az, down)], [0.32, 0.38], 0.05)
-    else:  # snake
-        p, heading, pitch = np.zeros(3), 0.0, 0.0
-        for _ in range(7):
-            heading += u(-25, 25)
-            pitch = float(np.clip(pitch + u(-12, 12), -20, 20))
-            q = p + 0.25 * _dir(heading, pitch)
-            caps.append(Capsule(tuple(p), tuple(q), 0.08))
-            p = q
-    return caps
-
-
-def _rot_z(v: np.ndarray, deg: float) -> np.ndarray:
-    c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
-    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]])
-
-
-def _bend(v: np.ndarray, deg: float, towards: np.ndarray) -> np.ndarray:
-    """Rotate unit vector ``v`` by ``deg`` degrees in the plane spanned by ``v`` and ``towards``."""
-    w = towards - np.dot(towards, v) * v
-    nw = np.linalg.norm(w)
-    if nw < 1e-12:
-        return v
-    w = w / nw
-    t = np.radians(deg)
-    return np.cos(t) * v + np.sin(t) * w
-
-
-def articulated_figure(
-    kind: str = "human", random_state: int | np.random.Generator | None = 0, *,
-    voxelsize: float = 0.02, target_vertices: int | None = 3000
-) -> Mesh:
-    """A pose of an articulated figure: union of capsules, marching cubes, isotropic remesh.
-
-    Parameters
-    ----------
-    kind : {'human', 'quadruped', 'spider', 'snake'}, default='human'
-        The class (see :func:`figure_capsules`).
-    random_state : int, numpy.random.Generator or None, default=0
-        Seed of the pose (joint angles); same seed, same mesh.
-    voxelsize : float, default=0.02
-        Marching-cubes voxel size; keep it below half the thinnest radius (0.045).
-    target_vertices : int or None, default=3000
-        Approximate vertex count after remeshing; ``None`` returns the raw marching-cubes
-        mesh (with its needle and zero-area triangles).
-
-    Returns
-    -------
-    Mesh
-        Closed, connected, genus 0.
-    """
-    caps = figure_capsules(kind, random_state)
-    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
-    rmax = max(c.radius for c in caps)
-    margin = rmax + 4 * voxelsize + 0.05  # PyMeshLab's grid may stop short of the max corner
-    lo, hi = pts.min(0) - margin, pts.max(0) + margin
-    mesh = marching_cubes(capsules_expression(caps), (*lo, *hi), voxelsize)
-    if target_vertices is None:
-        return mesh
-    return remesh(mesh, target_vertices=target_vertices)
-
-
 # ---------------------------------------------------------------------- noise (Section 3.3)
 def vertex_normals(mesh: MeshLike) -> NDArray[np.float64]:
     """Outward unit vertex normals, shape (n, 3): area-weighted means of the face normals.
@@ -632,82 +408,3 @@ def add_normal_noise(mesh: MeshLike, amplitude: float = 1.0,
     d = rng.uniform(lo, amplitude * L, size=mesh.n_vertices)
     V = mesh.vertices + d[:, None] * vertex_normals(mesh)
     return Mesh(V, mesh.faces)
-
-
-# ---------------------------------------------------------------------- mesh quality
-def triangle_angles(mesh: MeshLike) -> NDArray[np.float64]:
-    """Interior angles of every triangle in degrees, shape (m, 3), angle ``k`` at corner ``k``.
-
-    A zero-area triangle has angles 0, 0, 180 (or 0 where two vertices coincide).
-
-    Parameters
-    ----------
-    mesh : Mesh or (vertices, faces)
-        The mesh.
-
-    Returns
-    -------
-    ndarray, shape (m, 3)
-        Angle ``k`` of each triangle at its corner ``k``, in degrees.
-    """
-    mesh = as_mesh(mesh)
-    V, F = mesh.vertices, mesh.faces
-    out = np.empty(F.shape, dtype=np.float64)
-    for k in range(3):
-        u = V[F[:, (k + 1) % 3]] - V[F[:, k]]
-        w = V[F[:, (k + 2) % 3]] - V[F[:, k]]
-        nu, nw = np.linalg.norm(u, axis=1), np.linalg.norm(w, axis=1)
-        cos = np.einsum("ij,ij->i", u, w) / np.maximum(nu * nw, np.finfo(float).tiny)
-        sin = np.linalg.norm(np.cross(u, w), axis=1) / np.maximum(nu * nw, np.finfo(float).tiny)
-        out[:, k] = np.degrees(np.arctan2(sin, cos))
-    return out
-
-
-def mesh_quality(mesh: MeshLike) -> dict[str, float]:
-    """Triangle-quality figures of a mesh (e.g. the paper's "CM" versus "CS").
-
-    Parameters
-    ----------
-    mesh : Mesh or (vertices, faces)
-        The mesh to measure.
-
-    Returns
-    -------
-    dict
-        ``min_angle``, ``mean_min_angle``, ``max_angle`` (degrees); ``pct_below_10`` (share of
-        triangles with an angle under 10 degrees, in percent); ``aspect_max``,
-        ``aspect_mean`` (aspect ratio ``R / (2 r)``, circumradius over twice the inradius:
-        1 for an equilateral triangle, ``inf`` for a degenerate one); ``n_degenerate``
-        (triangles of area below ``1e-12`` times the mean); ``n_vertices``, ``n_faces``,
-        ``mean_edge_length``.
-
-    Examples
-    --------
-    >>> from cshape import shapes
-    >>> from cshape.data import variants
-    >>> q = variants.mesh_quality(shapes.icosphere(2))
-    >>> round(q["aspect_max"], 2) < 1.3
-    True
-    """
-    mesh = as_mesh(mesh)
-    ang = triangle_angles(mesh)
-    V, F = mesh.vertices, mesh.faces
-    e = np.stack([np.linalg.norm(V[F[:, (k + 1) % 3]] - V[F[:, k]], axis=1) for k in range(3)], 1)
-    A = mesh.face_areas
-    s = e.sum(1) / 2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        aspect = np.where(A > 0, e.prod(1) * s / (8 * A**2), np.inf)
-    min_ang = ang.min(1)
-    return {
-        "n_vertices": mesh.n_vertices,
-        "n_faces": mesh.n_faces,
-        "mean_edge_length": mesh.mean_edge_length,
-        "min_angle": float(min_ang.min()),
-        "mean_min_angle": float(min_ang.mean()),
-        "max_angle": float(ang.max()),
-        "pct_below_10": float(100 * np.mean(min_ang < 10)),
-        "aspect_max": float(aspect.max()),
-        "aspect_mean": float(np.mean(aspect[np.isfinite(aspect)])) if np.isfinite(aspect).any()
-        else float("inf"),
-        "n_degenerate": int(np.sum(A < 1e-12 * A.mean())),
-    }

@@ -38,7 +38,11 @@ SECTIONS = [
     ("cshape.data", "Data: collections and the manifest", "The data manifest, "
      "generated and downloaded collections, folders of your own meshes."),
     ("cshape.data.variants", "Data: PyMeshLab variants", "Marching cubes, remeshing, "
-     "subdivision, noise along normals, mesh quality (Section 3.3)."),
+     "subdivision, noise along normals (Section 3.3)."),
+    ("cshape.data.bodies", "Data: articulated bodies", "Figures made of capsules, meshed in "
+     "any pose (the isometry test's shapes)."),
+    ("cshape.data.quality", "Data: mesh quality", "Triangle angles and the quality summary "
+     "of a mesh (Section 3)."),
     ("cshape.data.poses", "Data: posed figures", "Articulated figures in poses, with the "
      "true vertex map between them (for maps)."),
     ("cshape.data.creatures", "Data: creatures", "The creature benchmark's shapes, made in "
