@@ -10,9 +10,16 @@ import sysconfig
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-import pytest
-from hypothesis import settings
+# A parallel run (pytest -n) shares the cores among its workers: each worker's BLAS and OpenMP
+# get their share (before numpy loads them here), as do the kernels and processes it starts.
+if os.environ.get("PYTEST_XDIST_WORKER"):
+    _share = max(1, (os.cpu_count() or 1) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")))
+    for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_var, str(_share))
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -24,13 +31,32 @@ settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
+#: Test modules whose tests a parallel run (``pytest -n``, ``make test``) spreads over its
+#: workers one by one: each of their tests stands alone and takes long (a lesson, an
+#: assignment graded by nbgrader, a browser page).  Every other module runs on one worker
+#: (``--dist loadgroup``), so that its module fixtures are built once.
+SPREAD_MODULES = {"test_assignments", "test_notebooks", "test_browser"}
+
+
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection
 def pytest_collection_modifyitems(config, items):
     """A browser test is in the slow tier (the other slow tests carry ``@pytest.mark.slow``:
-    those that take 5-90 s on a loaded 2-core machine, by ``pytest --durations``)."""
+    those that take 5-90 s on a loaded 2-core machine, by ``pytest --durations``).
+
+    For a parallel run, every test gets an ``xdist_group``: its module's, or, in
+    :data:`SPREAD_MODULES`, one of its own (the tests that share a JupyterLab server share
+    a group).
+    """
     for item in items:
         if item.get_closest_marker("browser") and not item.get_closest_marker("slow"):
             item.add_marker(pytest.mark.slow)
+        if item.get_closest_marker("xdist_group"):
+            continue
+        module = item.module.__name__.rsplit(".", 1)[-1]
+        if module not in SPREAD_MODULES:
+            item.add_marker(pytest.mark.xdist_group(module))
+        elif "jupyterlab" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.xdist_group(f"{module}-jupyterlab"))
 
 
 def in_ci() -> bool:

@@ -223,89 +223,94 @@ def _typical_wrong_capstone(release, source):
 
 
 @pytest.mark.slow
-def test_nbgrader_course_full_cycle(tmp_path):
-    """Release, autograde three submissions, feedback, for every assignment of the plan at once:
-    the instructor's solutions get full marks on every auto-graded cell, the untouched student
-    release gets less and does not crash the grader, and typical wrong answers get feedback that
-    names the mistake (the hint of the lesson's own test cell)."""
+@pytest.mark.parametrize("name", list(asg.ASSIGNMENTS))
+def test_nbgrader_course_full_cycle(tmp_path, name):
+    """Release, autograde three submissions, feedback, for each assignment of the plan (each
+    in a course folder of its own, so that a parallel run grades them at once): the
+    instructor's solutions get full marks on every auto-graded cell, the untouched student
+    release gets less and does not crash the grader, and typical wrong answers get feedback
+    that names the mistake (the hint of the lesson's own test cell)."""
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
     from nbgrader.api import Gradebook
 
     course = tmp_path / "course"
     groups = asg.write_course(course, GRADED)
     assert list(groups) == list(asg.ASSIGNMENTS)
-    asg.run_nbgrader("generate_assignment", "*", "--force", cwd=course)
-    for name, paths in groups.items():
-        release = course / "release" / name
-        assert sorted(p.name for p in release.iterdir()) == [p.name for p in paths], name
-        for student, folder in (("instructor", course / "source" / name), ("untouched", release)):
-            shutil.copytree(folder, course / "submitted" / student / name)
-    typical = course / "submitted" / "typical" / "capstone"
-    typical.mkdir(parents=True)
-    nbformat.write(_typical_wrong_capstone(course / "release" / "capstone" / CAPSTONE.name,
-                                           CAPSTONE), typical / CAPSTONE.name)
+    paths = groups[name]
+    asg.run_nbgrader("generate_assignment", name, "--force", cwd=course)
+    release = course / "release" / name
+    assert sorted(p.name for p in release.iterdir()) == [p.name for p in paths], name
+    for student, folder in (("instructor", course / "source" / name), ("untouched", release)):
+        shutil.copytree(folder, course / "submitted" / student / name)
+    students = ["instructor", "untouched"]
+    if name == "capstone":
+        typical = course / "submitted" / "typical" / "capstone"
+        typical.mkdir(parents=True)
+        nbformat.write(_typical_wrong_capstone(release / CAPSTONE.name, CAPSTONE),
+                       typical / CAPSTONE.name)
     env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")}
-    log = asg.run_nbgrader("autograde", "*", "--force", cwd=course, env=env)
+    log = asg.run_nbgrader("autograde", name, "--force", cwd=course, env=env)
     # neither the solutions nor the untouched release changed a locked cell
     assert "has changed!" not in log, [ln for ln in log.splitlines() if "changed!" in ln]
-    asg.run_nbgrader("generate_feedback", "*", "--force", cwd=course)
+    asg.run_nbgrader("generate_feedback", name, "--force", cwd=course)
 
     manual = {m["grade_id"] for p in GRADED for _, _, m in _nbgrader_cells(p)[1]
               if m["grade"] and m["solution"]}
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
-        for name, paths in groups.items():
-            auto = {}
-            for student in ("instructor", "untouched"):
-                sub = gb.find_submission(name, student)
-                assert sorted(nb.name for nb in sub.notebooks) == [p.stem for p in paths]
-                grades = [g for nb in sub.notebooks for g in nb.grades if g.name not in manual]
-                auto[student] = (sum(g.auto_score or 0 for g in grades),
-                                 sum(g.max_score for g in grades))
-                if student == "instructor":
-                    wrong = [(g.notebook.name, g.name, g.auto_score, g.max_score)
-                             for g in grades if g.auto_score != g.max_score]
-                    assert wrong == [], f"{name}: the solutions lose points: {wrong}"
-                    # the written answers wait for the grader; an unanswered one scores 0
-                    waiting = [g for nb in sub.notebooks for g in nb.grades if g.name in manual]
-                    assert all(g.needs_manual_grade for g in waiting), name
-            assert auto["instructor"][1] >= 2 * len(paths), (name, auto)
-            assert auto["untouched"][0] < auto["instructor"][0], (name, auto)
-        typical_grades = {g.name: g for nb in gb.find_submission("capstone", "typical").notebooks
-                          for g in nb.grades}
-        assert typical_grades["test_spectra"].auto_score == 0
-        assert typical_grades["test_prediction"].auto_score == 0
-        assert typical_grades["test_descriptors"].auto_score == typical_grades[
-            "test_descriptors"].max_score  # the other answers are right
-    for student, assignments in (("instructor", groups), ("untouched", groups)):
-        for name, paths in assignments.items():
-            for path in paths:
-                page = course / "feedback" / student / name / f"{path.stem}.html"
-                assert page.is_file() and page.stat().st_size > 1000, page
-                # equations typeset offline, by the course folder's MathJax copy
-                text = page.read_text()
-                assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
-                assert '<script src="../../../mathjax/MathJax.js?config=' in text
-    assert (course / "mathjax" / "MathJax.js").is_file()
-    # the feedback on typical wrong answers names each mistake, in the words of the test cell
-    feedback = _page_text(course / "feedback" / "typical" / "capstone" / f"{CAPSTONE.stem}.html")
-    lumped = _hint(CAPSTONE, "test_spectra", "lumped")
-    assert lumped in feedback, lumped
-    classes = _hint(CAPSTONE, "test_prediction", "number of classes")
-    assert classes.split("{")[0] in feedback, classes  # the text before its first number
-    assert "number of classes" in feedback
-    # the solutions ran without an error anywhere, graded or not
-    for name, paths in groups.items():
+        auto = {}
+        for student in students:
+            sub = gb.find_submission(name, student)
+            assert sorted(nb.name for nb in sub.notebooks) == [p.stem for p in paths]
+            grades = [g for nb in sub.notebooks for g in nb.grades if g.name not in manual]
+            auto[student] = (sum(g.auto_score or 0 for g in grades),
+                             sum(g.max_score for g in grades))
+            if student == "instructor":
+                wrong = [(g.notebook.name, g.name, g.auto_score, g.max_score)
+                         for g in grades if g.auto_score != g.max_score]
+                assert wrong == [], f"{name}: the solutions lose points: {wrong}"
+                # the written answers wait for the grader; an unanswered one scores 0
+                waiting = [g for nb in sub.notebooks for g in nb.grades if g.name in manual]
+                assert all(g.needs_manual_grade for g in waiting), name
+        assert auto["instructor"][1] >= 2 * len(paths), (name, auto)
+        assert auto["untouched"][0] < auto["instructor"][0], (name, auto)
+        if name == "capstone":
+            typical_grades = {g.name: g for nb in gb.find_submission("capstone",
+                                                                     "typical").notebooks
+                              for g in nb.grades}
+            assert typical_grades["test_spectra"].auto_score == 0
+            assert typical_grades["test_prediction"].auto_score == 0
+            assert typical_grades["test_descriptors"].auto_score == typical_grades[
+                "test_descriptors"].max_score  # the other answers are right
+    for student in students:
         for path in paths:
-            done = nbformat.read(course / "autograded" / "instructor" / name / path.name,
-                                 as_version=4)
-            errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
-                      for o in c.get("outputs", []) if o.output_type == "error"]
-            assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
+            page = course / "feedback" / student / name / f"{path.stem}.html"
+            assert page.is_file() and page.stat().st_size > 1000, page
+            # equations typeset offline, by the course folder's MathJax copy
+            text = page.read_text()
+            assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
+            assert '<script src="../../../mathjax/MathJax.js?config=' in text
+    assert (course / "mathjax" / "MathJax.js").is_file()
+    if name == "capstone":
+        # the feedback on typical wrong answers names each mistake, in the words of the test
+        # cell
+        feedback = _page_text(course / "feedback" / "typical" / "capstone"
+                              / f"{CAPSTONE.stem}.html")
+        lumped = _hint(CAPSTONE, "test_spectra", "lumped")
+        assert lumped in feedback, lumped
+        classes = _hint(CAPSTONE, "test_prediction", "number of classes")
+        assert classes.split("{")[0] in feedback, classes  # the text before its first number
+        assert "number of classes" in feedback
+    # the solutions ran without an error anywhere, graded or not
+    for path in paths:
+        done = nbformat.read(course / "autograded" / "instructor" / name / path.name,
+                             as_version=4)
+        errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
+                  for o in c.get("outputs", []) if o.output_type == "error"]
+        assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
     # the hidden tests ran in the autograder (they are in the graded copy, not in the release)
-    first, paths = next(iter(groups.items()))
-    graded = (course / "autograded" / "untouched" / first / paths[0].name).read_text()
+    graded = (course / "autograded" / "untouched" / name / paths[0].name).read_text()
     assert "### BEGIN HIDDEN TESTS" in graded
-    assert "### BEGIN HIDDEN TESTS" not in (course / "release" / first / paths[0].name).read_text()
+    assert "### BEGIN HIDDEN TESTS" not in (release / paths[0].name).read_text()
     # the answer keys are for instructors: nothing of them reaches a release
     released = [p for p in (course / "release").rglob("*") if p.is_file()]
     assert released and all(p.suffix == ".ipynb" for p in released)
