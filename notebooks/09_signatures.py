@@ -426,8 +426,7 @@ for name, (a, b) in descriptors.items():
 
 # %%
 a, b = descriptors["WKS"]
-plots.view_correspondence(rest, pose, sg.match_points(b, a), titles=("rest pose", "pose 1, by WKS"),
-                          height=380)
+plots.view_map(rest, pose, sg.match_points(b, a), titles=("rest pose", "pose 1, by WKS"), height=380)
 
 # %% [markdown]
 # **Written answer (graded by hand).** Look at the hands and feet in the picture above and at the two columns of the

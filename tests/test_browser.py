@@ -578,8 +578,8 @@ def _framing_views(tmp_path):
         "eigenfunction_explorer": plots.eigenfunction_explorer(rest, 12, basis=basis),
         "signature_explorer": plots.signature_explorer(rest, "wks", basis=basis,
                                                        n_scales=12),
-        "correspondence": plots.view_correspondence(rest, pose, match_points(b, a),
-                                                    titles=("rest", "pose"), height=380),
+        "correspondence": plots.view_map(rest, pose, match_points(b, a),
+                                         titles=("rest", "pose"), height=380),
         "view_map": plots.view_map(rest, pose, np.arange(pose.n_vertices), height=380,
                                    landmarks=np.array([[hand, hand], [0, 0]])),
     }

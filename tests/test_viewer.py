@@ -250,7 +250,7 @@ def test_every_3d_view_is_lit_alike():
     basis = cshape.eigenbasis(m, N=6)
     figs = [plots.view_mesh(m), plots.view_meshes({"a": m, "b": m}, {"a": basis.phi[:, 1]}),
             plots.eigenfunction_explorer(m, 6, basis=basis),
-            plots.view_correspondence(m, m, np.arange(m.n_vertices))]
+            plots.view_map(m, m, np.arange(m.n_vertices))]
     for fig in figs:
         for tr in fig.data:
             if tr.type == "mesh3d":

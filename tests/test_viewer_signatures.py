@@ -13,7 +13,7 @@ from cshape import signatures as sg
 go = pytest.importorskip("plotly.graph_objects")
 
 from cshape import plots  # noqa: E402
-from cshape.plots.viewer import scale_data, transfer_colours  # noqa: E402
+from cshape.plots.viewer import scale_data  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -86,29 +86,24 @@ def test_signature_explorer_rejects_bad_arguments(ellipsoid, basis, kwargs, exc,
         plots.signature_explorer(ellipsoid, **kwargs)
 
 
-def test_transfer_colours_through_a_map():
-    f = np.array([10.0, 20.0, 30.0])
-    np.testing.assert_array_equal(transfer_colours(f, [2, 2, 0, 1]), [30.0, 30.0, 10.0, 20.0])
-    out = transfer_colours(f, np.array([1, -1]))
-    assert out[0] == 20.0 and np.isnan(out[1])
-    with pytest.raises(ValueError, match=r"match_ba holds 3, outside \[-1, 2\]"):
-        transfer_colours(f, [0, 3])
-    with pytest.raises(ValueError, match="1-D integer array"):
-        transfer_colours(f, [0.5])
-
-
-def test_view_correspondence_identity_gives_the_same_colours(ellipsoid):
+def test_view_map_of_signature_matches_identity_gives_the_same_colours(ellipsoid):
+    """A map by nearest signatures (with unmatched vertices) is viewed like any point map."""
     n = ellipsoid.n_vertices
     moved = cshape.Mesh(ellipsoid.vertices + [3.0, 0, 0], ellipsoid.faces)
-    fig = plots.view_correspondence(ellipsoid, moved, np.arange(n), titles=("rest", "pose"))
+    fig = plots.view_map(ellipsoid, moved, np.arange(n), titles=("rest", "pose"))
     a, b = [tr for tr in fig.data if tr.type == "mesh3d"]
     np.testing.assert_allclose(a.intensity, b.intensity)
     assert (a.cmin, a.cmax) == (b.cmin, b.cmax)  # one colour range: same value, same colour
     # the default colours: position along the longest axis (x for this ellipsoid)
     assert abs(np.corrcoef(a.intensity, ellipsoid.vertices[:, 0])[0, 1]) > 0.99
     rev = np.arange(n)[::-1].copy()
-    rev[:4] = -1
-    fig2 = plots.view_correspondence(ellipsoid, moved, rev)
+    rev[:4] = -1  # match_points(..., mutual=True): not matched
+    fig2 = plots.view_map(ellipsoid, moved, rev)
     assert "4 unmatched" in fig2.layout.annotations[1].text
-    with pytest.raises(ValueError, match="match_ba has 3 entries but mesh_b has"):
-        plots.view_correspondence(ellipsoid, moved, [0, 1, 2])
+    b2 = [tr for tr in fig2.data if tr.type == "mesh3d"][1]
+    np.testing.assert_allclose(b2.intensity[4:], np.asarray(a.intensity)[rev[4:]])
+    np.testing.assert_allclose(b2.intensity[:4], np.mean(a.intensity))
+    with pytest.raises(ValueError, match="p2p has 3 entries but the target has"):
+        plots.view_map(ellipsoid, moved, [0, 1, 2])
+    with pytest.raises(ValueError, match=r"p2p holds -2, outside \[-1, "):
+        plots.view_map(ellipsoid, moved, np.full(n, -2))

@@ -42,7 +42,6 @@ from .overview import interactive_mds, overview_html, plot_neighbour_strip, save
 from .viewer import (  # noqa: E402
     eigenfunction_explorer,
     signature_explorer,
-    view_correspondence,
     view_mesh,
     view_meshes,
 )
@@ -70,7 +69,6 @@ __all__ = [
     "plot_weyl",
     "save_figure",
     "signature_explorer",
-    "view_correspondence",
     "view_map",
     "view_mesh",
     "view_meshes",

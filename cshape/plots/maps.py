@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from .._checks import check_choice, check_int, check_landmarks, check_real
 from ..mesh import Mesh, MeshLike, as_mesh
 from .figures import _axes, new_figure, plot_mesh
-from .viewer import _upright, view_correspondence
+from .viewer import _upright, view_meshes
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
@@ -53,7 +53,9 @@ def _mesh(name: str, mesh: Any) -> Mesh:
         raise type(err)(f"{name}: {err}") from None
 
 
-def _p2p(p2p: object, n_source: int, n_target: int) -> NDArray[np.int64]:
+def _p2p(p2p: object, n_source: int, n_target: int, unmatched: bool = False
+         ) -> NDArray[np.int64]:
+    """``p2p`` checked: one source vertex per target vertex (or -1 where ``unmatched``)."""
     p = np.asarray(p2p)
     if p.ndim != 1 or p.dtype.kind not in "iu":
         raise TypeError(f"p2p must be a 1-D integer array (a source vertex per target vertex, "
@@ -61,10 +63,12 @@ def _p2p(p2p: object, n_source: int, n_target: int) -> NDArray[np.int64]:
     if len(p) != n_target:
         raise ValueError(f"p2p has {len(p)} entries but the target has {n_target} vertices; "
                          "pass cshape.point_map(source, target), source first")
-    if p.size and (p.min() < 0 or p.max() >= n_source):
-        bad = int(p.min() if p.min() < 0 else p.max())
-        raise ValueError(f"p2p holds {bad}, outside [0, {n_source - 1}] (the source's "
-                         "vertices); pass cshape.point_map(source, target), source first")
+    low = -1 if unmatched else 0
+    if p.size and (p.min() < low or p.max() >= n_source):
+        bad = int(p.min() if p.min() < low else p.max())
+        raise ValueError(f"p2p holds {bad}, outside [{low}, {n_source - 1}] (the source's "
+                         f"vertices{', -1 for unmatched' if unmatched else ''}); pass "
+                         "cshape.point_map(source, target), source first")
     return p.astype(np.int64)
 
 
@@ -305,16 +309,22 @@ def view_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
              vertical_axis: str = "z", marker_size: int = 6, height: int = 420) -> go.Figure:
     """The interactive 3-D counterpart of :func:`plot_map`: two rotatable shapes (plotly).
 
-    :func:`cshape.plots.view_correspondence` (the target coloured through ``p2p``, one colour
-    range), with the landmark pairs as markers of one colour per pair.  Offline: the figure
-    is JSON drawn by plotly.js, which the exported lesson pages embed.
+    The source coloured by ``values``, the target by the same colours carried through the
+    map (one colour range: matched points share a colour, a wrong match shows as a colour
+    out of place), with the landmark pairs as markers of one colour per pair.  Any point
+    map: :func:`cshape.point_map`'s, or the nearest signatures of
+    :func:`cshape.signatures.match_points` (``match_points(sig_target, sig_source)``, target
+    first).  Offline: the figure is JSON drawn by plotly.js, which the exported lesson pages
+    embed.
 
     Parameters
     ----------
     source, target : Mesh or (vertices, faces)
         The two shapes, the source on the left.
     p2p : array_like of int, shape (n_T,)
-        For each target vertex a source vertex (:func:`cshape.point_map`).
+        For each target vertex a source vertex (:func:`cshape.point_map`), or -1 where it
+        has none (``match_points(..., mutual=True)``): such vertices take the mean colour,
+        and the target's title says how many there are.
     values : array_like, shape (n_S,), optional
         See :func:`plot_map`.
     landmarks : array_like of int, shape (L, 2), optional
@@ -337,13 +347,22 @@ def view_map(source: MeshLike, target: MeshLike, p2p: ArrayLike, *,
     import plotly.graph_objects as go
 
     S, T = _mesh("source", source), _mesh("target", target)
-    fS, _, _ = map_colours(S, T, p2p, values)
+    p = _p2p(p2p, S.n_vertices, T.n_vertices, unmatched=True)
+    fS = _values(values, S)
     lm = check_landmarks(landmarks, S.n_vertices, T.n_vertices)
-    ts = _titles(titles)
+    ta, tb = _titles(titles)
     marker_size = check_int("marker_size", marker_size, min=1)
     vertical_axis = check_choice("vertical_axis", vertical_axis, _VERTICAL)
-    fig = view_correspondence(S, T, _p2p(p2p, S.n_vertices, T.n_vertices), values_a=fS,
-                              titles=ts, cmap=cmap, vertical_axis=vertical_axis, height=height)
+    # unmatched vertices cannot be drawn without a colour: the mean one, counted in the title
+    fT = np.where(p >= 0, fS[np.maximum(p, 0)], fS.mean())
+    unmatched = int((p < 0).sum())
+    if unmatched:
+        tb = f"{tb} ({unmatched} unmatched)"
+    fig = view_meshes({ta: S, tb: T}, {ta: fS, tb: fT}, cmap=cmap, symmetric=False,
+                      edges=False, vertical_axis=vertical_axis, height=height)
+    # one colour range for both panels: the same value, the same colour
+    lo, hi = float(fS.min()), float(fS.max())
+    fig.update_traces(cmin=lo, cmax=hi, showscale=False, selector=dict(type="mesh3d"))
     if lm is not None:
         import matplotlib as mpl
 

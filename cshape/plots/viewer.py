@@ -5,9 +5,10 @@
 * :func:`eigenfunction_explorer` - a mesh coloured by ``phi_i``, with a slider over ``i`` and
                                    ``lam_i`` in the title (Eq. 3); the eigenpairs are computed once.
 * :func:`signature_explorer`     - a mesh coloured by its HKS or WKS (:mod:`cshape.signatures`),
-                                   with a slider over the time or the energy;
-* :func:`view_correspondence`    - two shapes side by side, the second coloured through a point
-                                   map from the first (matched points share a colour).
+                                   with a slider over the time or the energy.
+
+Two shapes and a point map between them are :func:`cshape.plots.view_map`'s
+(:mod:`cshape.plots.maps`).
 
 Every view is framed and lit one way, by :func:`add_mesh_view`: the mesh upright, lit by
 :data:`LIGHTING`, seen from above its longest side by a camera that :func:`scene_layout` places
@@ -745,97 +746,4 @@ def signature_explorer(mesh: MeshLike, signature: str = "hks", *,
     fig.frames = frames
     fig.update_layout(title=dict(text=first["title"]), sliders=[slider], height=height,
                       margin=dict(l=0, r=0, t=_TITLE, b=0))
-    return fig
-
-
-# ------------------------------------------------------------------------------ correspondence
-def transfer_colours(values_a: ArrayLike, match_ba: ArrayLike) -> np.ndarray:
-    """Values on shape b taken from shape a through a point map.
-
-    Parameters
-    ----------
-    values_a : array_like, shape (n_a,)
-        A function on the vertices of a.
-    match_ba : array_like of int, shape (n_b,)
-        For each vertex of b its matched vertex of a
-        (``cshape.signatures.match_points(sig_b, sig_a)``);
-        ``-1`` (not matched, ``mutual=True``) gives NaN.
-
-    Returns
-    -------
-    ndarray, shape (n_b,)
-        ``values_a[match_ba]``: matched points share a value (and a colour).
-    """
-    f = np.asarray(values_a, dtype=np.float64).reshape(-1)
-    m = np.asarray(match_ba)
-    if m.ndim != 1 or m.dtype.kind not in "iu":
-        raise ValueError(f"match_ba must be a 1-D integer array of vertex indices, got {m.dtype} "
-                         f"shape {m.shape}")
-    if m.size and (m.max() >= len(f) or m.min() < -1):
-        raise ValueError(
-            f"match_ba holds {int(m.max() if m.max() >= len(f) else m.min())}, outside "
-            f"[-1, {len(f) - 1}] (vertices of a, -1 for unmatched); pass "
-            "cshape.signatures.match_points(sig_b, sig_a), b first"
-        )
-    out = np.full(len(m), np.nan)
-    ok = m >= 0
-    out[ok] = f[m[ok]]
-    return out
-
-
-def view_correspondence(mesh_a: MeshLike, mesh_b: MeshLike, match_ba: ArrayLike, *,
-                        values_a: ArrayLike | None = None, titles: tuple[str, str] = ("a", "b"),
-                        cmap: str = "Turbo", vertical_axis: str = "z", height: int = 420
-                        ) -> go.Figure:
-    """Two shapes side by side; b is coloured by a's colours carried over by a point map.
-
-    Parameters
-    ----------
-    mesh_a, mesh_b : Mesh or (vertices, faces)
-        The two shapes, a on the left.
-    match_ba : array_like of int, shape (n_b,)
-        For each vertex of b its matched vertex of a (:func:`transfer_colours`); unmatched
-        vertices (``-1``) take the mean colour, and b's title says how many there are.
-    values_a : array_like, shape (n_a,), optional
-        The colours on a; default: the position along a's longest axis (principal
-        direction), a smooth ramp from one end to the other, so that a wrong match shows
-        as a colour out of place on b.
-    titles : (str, str), default=('a', 'b')
-        Titles of the two views.
-    cmap : str, default='Turbo'
-        Plotly colour scale.
-    vertical_axis : {'z', 'y', 'x'}, default='z'
-    height : int, default=420
-        Height of the figure, in pixels.
-
-    Returns
-    -------
-    plotly.graph_objects.Figure
-        Never displayed here.
-    """
-    a, b = as_mesh(mesh_a), as_mesh(mesh_b)
-    if values_a is None:
-        X = a.vertices - a.vertices.mean(axis=0)
-        axis = np.linalg.svd(X, full_matrices=False)[2][0]
-        values_a = X @ axis
-    fa = _scalars(a, values_a, name="values_a")
-    assert fa is not None  # values_a is given
-    fb = transfer_colours(fa, match_ba)
-    if len(fb) != b.n_vertices:
-        raise ValueError(
-            f"match_ba has {len(fb)} entries but mesh_b has {b.n_vertices} vertices; pass one "
-            "matched vertex of a per vertex of b"
-        )
-    # unmatched vertices (NaN) cannot be drawn by Mesh3d: the mean colour, counted in the title
-    unmatched = int(np.isnan(fb).sum())
-    fb = np.where(np.isnan(fb), np.nanmean(fb) if unmatched < len(fb) else 0.0, fb)
-    ta, tb = (str(t) for t in titles)
-    if unmatched:
-        tb = f"{tb} ({unmatched} unmatched)"
-    fig = view_meshes({ta: a, tb: b}, {ta: fa, tb: fb}, cmap=cmap, symmetric=False,
-                      edges=False, vertical_axis=vertical_axis, height=height)
-    # one colour range for both panels: the same value, the same colour
-    lo, hi = float(fa.min()), float(fa.max())
-    fig.update_traces(cmin=lo, cmax=hi, selector=dict(type="mesh3d"))
-    fig.update_traces(showscale=False, selector=dict(type="mesh3d"))
     return fig
