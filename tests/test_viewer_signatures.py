@@ -102,7 +102,7 @@ def test_view_map_of_signature_matches_identity_gives_the_same_colours(ellipsoid
     assert "4 unmatched" in fig2.layout.annotations[1].text
     b2 = [tr for tr in fig2.data if tr.type == "mesh3d"][1]
     np.testing.assert_allclose(b2.intensity[4:], np.asarray(a.intensity)[rev[4:]])
-    np.testing.assert_allclose(b2.intensity[:4], np.mean(a.intensity))
+    np.testing.assert_allclose(b2.intensity[:4], np.mean(a.intensity), atol=1e-12)
     with pytest.raises(ValueError, match="p2p has 3 entries but the target has"):
         plots.view_map(ellipsoid, moved, [0, 1, 2])
     with pytest.raises(ValueError, match=r"p2p holds -2, outside \[-1, "):
