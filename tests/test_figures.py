@@ -10,15 +10,12 @@ import pytest
 from cshape import Descriptor, plots
 from cshape.batch import DescriptorTable
 from cshape.plots.collection import (
-    LABEL_WIDTH,
     LEGEND_COLUMNS,
     MAX_LEGEND_CLASSES,
-    MDS_MAX_NAMES,
     plot_distance_matrix,
     plot_mds,
-    short_label,
-    short_labels,
 )
+from cshape.plots.layout import LABEL_WIDTH, MDS_MAX_NAMES, short_label, short_labels
 from cshape.reproduce.figures import _mds_figure, fig1_selection
 
 

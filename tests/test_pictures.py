@@ -22,13 +22,8 @@ from cshape.cli import main
 from cshape.compare import distance_matrix, mds_outliers, median_distances, nearest_neighbours
 from cshape.descriptors import recipe
 from cshape.mesh import CShapeWarning
-from cshape.plots.collection import (
-    border_points,
-    class_styles,
-    mds_layout,
-    plot_mds,
-    spread_on_border,
-)
+from cshape.plots.collection import class_styles, plot_mds
+from cshape.plots.layout import border_points, mds_layout, spread_on_border
 from cshape.plots.overview import (
     class_summary,
     colour_limit,
@@ -498,7 +493,7 @@ def test_overview_of_a_flat_folder_reads(p, long_names):
     """One class: the title counts shapes only, no class table, no class legend; the MDS
     names every shape when few, else the outlier and a sample; every name is whole, inside
     the figure and its axes, over no other name and no point; the matrix names its rows."""
-    from cshape.plots.collection import LABEL_WIDTH, MDS_SAMPLE_NAMES
+    from cshape.plots.layout import LABEL_WIDTH, MDS_SAMPLE_NAMES
 
     table = _flat_table(p, long_names=long_names)
     c = collection_distances(table, Descriptor("shape-dna", N=30))

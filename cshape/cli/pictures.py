@@ -38,7 +38,7 @@ def _cmd_overview(args: argparse.Namespace) -> int:
     from ..batch import DescriptorTable
     from ..batch.table import collection_distances
     from ..compare import mds_embedding
-    from ..plots.collection import mds_layout
+    from ..plots.layout import mds_layout
     from ..plots.overview import collection_title, overview_html, plot_overview, save_figure
 
     outs = [check_figure_path(o, "--out") for o in args.out]

@@ -274,7 +274,7 @@ def plot_weyl(spectra: dict[str, ArrayLike], areas: dict[str, float], *,
         Left: ``lam_i`` against ``i``, each model along its own line.  Right: ``area * lam_i``,
         all models around the common Weyl line ``4 pi i`` (dashed).
     """
-    from .collection import LABEL_WIDTH, short_label
+    from .layout import LABEL_WIDTH, short_label
 
     items = _spectra(spectra)
     missing = [k for k, _ in items if k not in areas]
@@ -583,7 +583,7 @@ def plot_m_sweep(state: Any, *, shape: int = 0, figsize: _Size = (12.0, 7.0)) ->
     import matplotlib as mpl
     from matplotlib.figure import Figure
 
-    from .collection import MDS_MAX_NAMES, _square_limits, annotate_points, short_labels
+    from .layout import MDS_MAX_NAMES, _square_limits, annotate_points, short_labels
 
     p = len(state.names)
     shape = check_int("shape", shape, min=0, max=p - 1)  # a row of the state

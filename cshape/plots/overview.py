@@ -15,7 +15,7 @@ cannot be described left out and named), the neighbours and outliers from
 
 Every figure names the descriptor it compared (its :attr:`cshape.Descriptor.label`).  The
 pure functions behind the pictures (:func:`class_summary`, :func:`thumbnail_mesh`,
-:func:`~cshape.plots.collection.mds_layout`) are tested directly.
+:func:`~cshape.plots.layout.mds_layout`) are tested directly.
 """
 
 from __future__ import annotations
@@ -31,16 +31,8 @@ from .._checks import check_entries, check_int, check_labels, check_points, chec
 from .._files import atomic_write
 from ..compare import nearest_neighbours
 from ..mesh import as_mesh
-from .collection import (
-    MATRIX_MAX_NAMES,
-    class_styles,
-    mds_layout,
-    named_points,
-    plot_distance_matrix,
-    plot_mds,
-    short_label,
-    short_labels,
-)
+from .collection import MATRIX_MAX_NAMES, class_styles, plot_distance_matrix, plot_mds
+from .layout import mds_layout, named_points, short_label, short_labels
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -177,7 +169,7 @@ def interactive_mds(Y: ArrayLike, names: Any, labels: Sequence[object] | None = 
     title : str, optional
         Say which descriptor was compared (its :attr:`cshape.Descriptor.label`).
     outliers : 'auto', None or array_like of bool, default='auto'
-        See :func:`cshape.plots.collection.mds_layout`.
+        See :func:`cshape.plots.layout.mds_layout`.
     height : int, default=650
         Pixels.
 

@@ -8,13 +8,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..compare import mds_embedding
-from ..plots.collection import (
-    MAX_LEGEND_CLASSES,
-    MDS_MAX_NAMES,
-    annotate_points,
-    plot_mds,
-    short_labels,
-)
+from ..plots.collection import MAX_LEGEND_CLASSES, plot_mds
+from ..plots.layout import MDS_MAX_NAMES, annotate_points, short_labels
 from .experiments import FIG1_MAX_SHAPES
 
 if TYPE_CHECKING:
@@ -42,7 +37,7 @@ def _drop_overlapping_texts(fig: Figure) -> int:
     """Draw ``fig`` once and remove each annotation that overlaps one kept before it in
     its axes, by their drawn extents.
 
-    :func:`cshape.plots.collection.annotate_points` places texts from estimated sizes after a layout
+    :func:`cshape.plots.layout.annotate_points` places texts from estimated sizes after a layout
     pass; if the final layout still moves the axes (seen once in a long test run: two
     names of an MDS panel overlapping), this keeps the promise that names cover no other
     name.  The texts take no part in the layout, so a later draw keeps their places.
