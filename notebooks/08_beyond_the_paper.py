@@ -169,7 +169,7 @@ def distance_share(X):
     return v / v.sum()
 
 
-lam_norm = table.lam_norm  # (P, N): lam_i * area, Section 2.1
+lam_norm = table.lam * table.areas[:, None]  # (P, N): lam_i * area, Section 2.1
 i = np.arange(N)
 share = distance_share(lam_norm)
 top = N - N // 3

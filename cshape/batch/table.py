@@ -83,8 +83,8 @@ class DescriptorTable:
     ----------
     N : int
         Number of eigenvalues per shape (``lam.shape[1]``).
-    lam_norm : ndarray, shape (p, N)
-        The area-normalised eigenvalues ``lam * area`` (Section 2.1).
+    settings : SpectrumSettings
+        How the eigenvalues were computed (``N``, ``bc``, ``mass``, ``refine``).
     zero_modes : ndarray of int, shape (p,)
         Number of zero eigenvalues of each shape: its component count (Neumann), else
         counted from its eigenvalues (:func:`cshape.descriptors.count_zero_modes`).
@@ -170,11 +170,6 @@ class DescriptorTable:
         ``cshape.describe(meshes, **table.settings.as_kwargs())``.
         """
         return SpectrumSettings(self.N, self.bc, self.mass, self.refine)
-
-    @property
-    def lam_norm(self) -> np.ndarray:
-        """The area-normalised eigenvalues ``lam * area`` (Section 2.1), shape (p, N)."""
-        return self.lam * self.areas[:, None]
 
     def __len__(self) -> int:
         return len(self.names)
