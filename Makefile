@@ -30,7 +30,7 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	bash tools/ensure_browser.sh
-	$(PY) -m pytest -m "slow or not slow" -n auto --dist loadgroup $(PYTEST_ARGS)
+	$(PY) -m pytest -m "slow or not slow" -n auto --dist loadscope $(PYTEST_ARGS)
 
 test-fast: $(STAMP)
 	$(PY) -m pytest $(PYTEST_ARGS)

@@ -33,30 +33,43 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 #: Test modules whose tests a parallel run (``pytest -n``, ``make test``) spreads over its
 #: workers one by one: each of their tests stands alone and takes long (a lesson, an
-#: assignment graded by nbgrader, a browser page).  Every other module runs on one worker
-#: (``--dist loadgroup``), so that its module fixtures are built once.
+#: assignment graded by nbgrader, a browser page).  Every other module runs on one worker,
+#: so that its module fixtures are built once.
 SPREAD_MODULES = {"test_assignments", "test_notebooks", "test_browser"}
+#: Tests of a spread module that share a module fixture (a JupyterLab server): one worker.
+SHARED_SERVER = {"test_m_sweep_in_chromium", "test_eigenfunction_explorer_in_jupyterlab"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection
 def pytest_collection_modifyitems(config, items):
     """A browser test is in the slow tier (the other slow tests carry ``@pytest.mark.slow``:
-    those that take 5-90 s on a loaded 2-core machine, by ``pytest --durations``).
-
-    For a parallel run, every test gets an ``xdist_group``: its module's, or, in
-    :data:`SPREAD_MODULES`, one of its own (the tests that share a JupyterLab server share
-    a group).
-    """
+    those that take 5-90 s on a loaded 2-core machine, by ``pytest --durations``)."""
     for item in items:
         if item.get_closest_marker("browser") and not item.get_closest_marker("slow"):
             item.add_marker(pytest.mark.slow)
-        if item.get_closest_marker("xdist_group"):
-            continue
-        module = item.module.__name__.rsplit(".", 1)[-1]
-        if module not in SPREAD_MODULES:
-            item.add_marker(pytest.mark.xdist_group(module))
-        elif "jupyterlab" in getattr(item, "fixturenames", ()):
-            item.add_marker(pytest.mark.xdist_group(f"{module}-jupyterlab"))
+
+
+def _scope(nodeid: str) -> str:
+    """The unit a parallel run sends to one worker: a test of :data:`SPREAD_MODULES` (or
+    the tests of one of them that share a server), else the test's whole module."""
+    path, _, rest = nodeid.partition("::")
+    if Path(path).stem not in SPREAD_MODULES:
+        return path
+    name = rest.split("[", 1)[0]
+    return f"{path}::server" if name in SHARED_SERVER else nodeid
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``make test``'s parallel run (``pytest -n auto --dist loadscope``): xdist's scope
+    scheduling with :func:`_scope` as the scope of a test."""
+    from xdist.scheduler import LoadScopeScheduling
+
+    class Scheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return _scope(nodeid)
+
+    return Scheduling(config, log)
 
 
 def in_ci() -> bool:
