@@ -179,7 +179,20 @@ def write(out: Path) -> dict[str, str]:
     index += ["   cli"]
     write_cli(out)
     _write_if_changed(out / "index.rst", "\n".join(index) + "\n")
+    _remove_stale(out, {section_page[s.module] for s in sections} | {"index", "cli"},
+                  {f"{s.module}.{n}" for s in sections for n in s.pages})
     return pages
+
+
+def _remove_stale(out: Path, sections: set[str], generated: set[str]) -> None:
+    """Remove the pages of names and modules that are no longer public: autosummary would
+    try to import them, and the build would fail on a name that moved."""
+    for f in out.glob("*.rst"):
+        if f.stem not in sections:
+            f.unlink()
+    for f in (out / "generated").glob("*.rst"):
+        if f.stem not in generated:
+            f.unlink()
 
 
 def write_cli(out: Path) -> None:
