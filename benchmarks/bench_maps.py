@@ -776,7 +776,8 @@ def people_diagnose(label):
     start = _Start(bS, bT, K0, N_ENERGIES, True)
     wT = np.asarray(bT.B.sum(axis=1)).ravel()
     zoom = dict(step=1, sample=SAMPLE, bijective=False, random_state=0)
-    starts = [start(None)] + cand.sign_candidates(bS.phi, bT.phi, wT, np.random.default_rng(0))
+    starts = [start(None)] + [C for _s, C in cand.sign_candidates(bS.phi, bT.phi, wT,
+                                                                   np.random.default_rng(0))]
     m = cand.COMPARE_SIZE
     geo = cshape.geodesics.HeatGeodesics(S)
     v = rm.rows(T.n_vertices, N_EVAL_PEOPLE)
