@@ -224,8 +224,8 @@ def descriptor_error(dS, dT, wT, p2p):
 def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
     """Misfit of the images ``V_S[p]`` to ``V_T`` after a rigid motion and a smooth bending.
 
-    The rotation (determinant +1, so a mirror image is not fitted), scale and translation of
-    least mass-weighted squares (Kabsch), then the misfit's projection on the target's first
+    The rotation (determinant +1, so a mirror image is not fitted) and translation of least
+    mass-weighted squares (Kabsch), the scale of the areas, then the misfit's projection on the target's first
     ``EXTRINSIC_BASIS`` eigenfunctions (a smooth bending: a change of pose or of build) is
     removed; the root mean square of what remains, over that of the target about its centre.
     A body looks nearly alike in front and behind to intrinsic measures: a half turn about its
@@ -239,10 +239,9 @@ def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
     b = target.vertices
     a = a - w @ a
     b = b - w @ b
-    U, s, Vt = np.linalg.svd((a * w[:, None]).T @ b)
+    U, _s, Vt = np.linalg.svd((a * w[:, None]).T @ b)
     D = np.array([1.0, 1.0, np.sign(np.linalg.det(U @ Vt)) or 1.0])
-    spread = float(w @ np.einsum("ij,ij->i", a, a))
-    scale = float((s * D).sum()) / spread if spread > 0 else 0.0
+    scale = np.sqrt(target.area / source.area)
     r = b - scale * (a @ (U * D) @ Vt)
     P = phiT[:, :EXTRINSIC_BASIS]
     r = r - P @ (P.T @ (BT @ r))
