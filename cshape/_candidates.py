@@ -227,7 +227,9 @@ def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
     The rotation (determinant +1, so a mirror image is not fitted) and translation of least
     mass-weighted squares (Kabsch), the scale of the areas, then the misfit's projection on the target's first
     ``EXTRINSIC_BASIS`` eigenfunctions (a smooth bending: a change of pose or of build) is
-    removed; the root mean square of what remains, over that of the target about its centre.
+    removed; the median (by area) of the distances that remain, over the root mean square
+    of the target about its centre (a median, so that a map right but for a limb is not
+    outweighed by one turned as a whole).
     A body looks nearly alike in front and behind to intrinsic measures: a half turn about its
     long axis fits the first eigenfunctions, keeps the orientation and agrees with the
     descriptors about as well as the true map; in space it turns the toes, the face and the
@@ -244,9 +246,11 @@ def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
     scale = np.sqrt(target.area / source.area)
     r = b - scale * (a @ (U * D) @ Vt)
     P = phiT[:, :EXTRINSIC_BASIS]
-    r = r - P @ (P.T @ (BT @ r))
-    size = float(w @ np.einsum("ij,ij->i", b, b))
-    return float(np.sqrt(w @ np.einsum("ij,ij->i", r, r) / size)) if size > 0 else 0.0
+    r = np.linalg.norm(r - P @ (P.T @ (BT @ r)), axis=1)
+    size = float(np.sqrt(w @ np.einsum("ij,ij->i", b, b)))
+    order = np.argsort(r)
+    median = r[order][min(np.searchsorted(np.cumsum(w[order]), 0.5), len(r) - 1)]
+    return float(median / size) if size > 0 else 0.0
 
 
 def pick_extrinsic(scores):
