@@ -762,57 +762,65 @@ def people_landmarks(pairs=("006->049", "010->006", "006->037"), k=5):
 
 def people_diagnose(label):
     """Every candidate of the search of ``point_map`` on one ``faust-dev-remeshed`` pair
-    (e.g. ``006->049``): its residual, orientation share, descriptor error and true error at
-    the compared size, and those of the true map (its ``C`` at that size, and the vertex map
-    of that ``C``).  Printed, not written: a diagnosis."""
+    (e.g. ``006->049``): its residual, orientation share, descriptor error, extrinsic misfit
+    and true error at the compared size (recorded from ``point_map`` itself), and those of
+    the true map (its ``C`` at that size, and the vertex map of that ``C``).  Printed, not
+    written: a diagnosis."""
     import _remeshed as rm
 
     from cshape import _candidates as cand
-    from cshape.maps import _Start, map_to_pointwise, zoomout
+    from cshape import maps as cmaps
 
     a, b = (int(x) for x in label.split("->"))
     S, T, truth = rm.remeshed(a), rm.remeshed(b), rm.true_map(a, b)
-    bS, bT = cshape.eigenbasis(S, N), cshape.eigenbasis(T, N)
-    start = _Start(bS, bT, K0, N_ENERGIES, True)
-    wT = np.asarray(bT.B.sum(axis=1)).ravel()
-    zoom = dict(step=1, sample=SAMPLE, bijective=False, random_state=0)
-    starts = [start(None)] + cand.sign_candidates(bS.phi, bT.phi, wT, np.random.default_rng(0))
-    m = cand.COMPARE_SIZE
     geo = cshape.geodesics.HeatGeodesics(S)
     v = rm.rows(T.n_vertices, N_EVAL_PEOPLE)
-    rows, maps_, scores = [], [], []
+    seen = {"maps": [], "bases": []}
+    pick, to_points, basis = cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis
 
-    def score(name, C, p):
-        sc = (cand.residual(C, bS.phi, bT.phi, p), cand.orientation_share(S, T, p),
-              cand.descriptor_error(start.dS, start.dT, wT, p))
-        rows.append(f"| {name} | {sc[0]:.4f} | {sc[1]:.3f} | {sc[2]:.4f} | "
-                    f"{rm.errors(S, p, truth, geo, v).mean():.4f} |")
-        return sc
+    def record_pick(scores):
+        seen["scores"], seen["keep"] = list(scores), pick(scores)
+        return seen["keep"]
 
-    def add(name, C):
-        C = zoomout(C, bS, bT, m, **zoom)
-        p = map_to_pointwise(C, bS, bT)
-        maps_.append(p)
-        scores.append(score(name, C, p))
+    def record_map(*args, **kw):
+        seen["maps"].append(to_points(*args, **kw))
+        return seen["maps"][-1]
 
-    for i, C in enumerate(starts):
-        add("descriptors' map" if i == 0 else f"sign pattern {i}", C)
-    best = min(sc[0] for sc in scores)
-    ends = cand.extremities(bT.phi, bT.lam)
-    for i in range(1, len(starts)):
-        if scores[i][0] <= cand.RESIDUAL_SLACK * best:
-            add(f"extremities of sign pattern {i}", start(np.column_stack([maps_[i][ends],
-                                                                           ends])))
-    keep = cand.pick(scores, len(starts))
+    def record_basis(*args, **kw):
+        seen["bases"].append(basis(*args, **kw))
+        return seen["bases"][-1]
+
+    cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = (record_pick, record_map,
+                                                                     record_basis)
+    try:
+        p = cshape.point_map(S, T)
+    finally:
+        cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = pick, to_points, basis
+    rows = []
+
+    def row(name, sc, q):
+        rows.append(f"| {name} | {sc[0]:.4f} | {sc[1]:.3f} | {sc[2]:.4f} | {sc[3]:.4f} | "
+                    f"{rm.errors(S, q, truth, geo, v).mean():.4f} |")
+
+    for i, (sc, q) in enumerate(zip(seen["scores"], seen["maps"], strict=False)):
+        row(f"candidate {i + 1}" + (" (kept)" if i == seen["keep"] else ""), sc, q)
+    bS, bT = seen["bases"]
+    m = cand.COMPARE_SIZE
+    wT = np.asarray(bT.B.sum(axis=1)).ravel()
+    start = cmaps._Start(bS, bT, K0, N_ENERGIES, True)
     Ct = bT.phi[:, :m].T @ (bT.B @ bS.phi[truth, :m])
-    score("true map (its C at the compared size)", Ct, truth)
-    score("vertex map of the true C", Ct, map_to_pointwise(Ct, bS, bT))
+    for name, q in (("true map (its C at the compared size)", truth),
+                    ("vertex map of the true C", to_points(Ct, bS, bT))):
+        row(name, (cand.residual(Ct, bS.phi, bT.phi, q), cand.orientation_share(S, T, q),
+                   cand.descriptor_error(start.dS, start.dT, wT, q),
+                   cand.extrinsic_residual(S, T, bT.phi, bT.B, q)), q)
+    row("returned", (float("nan"),) * 4, p)
     lams = (f"eigenvalues 1-5 over the first: source "
             f"{np.round(bS.lam[1:6] / bS.lam[1], 2).tolist()}, target "
             f"{np.round(bT.lam[1:6] / bT.lam[1], 2).tolist()}")
-    return "\n".join([f"{label}: kept row {keep + 1}; {lams}", "",
+    return "\n".join([f"{label}: {lams}", "",
                       "| candidate | residual | orientation share | descriptor error | "
-                      "true error |", "|---|---|---|---|---|", *rows])
+                      "extrinsic misfit | true error |", "|---|---|---|---|---|---|", *rows])
 
 
 def people_pictures():

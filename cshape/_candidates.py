@@ -4,29 +4,35 @@ The internals of :func:`cshape.point_map` when no landmarks are given (the ratio
 measurements: ``docs/guides/maps.md``, ``benchmarks/results/maps_people.md``).
 
 Between two people, the first few eigenfunctions still correspond one to one, up to their
-signs: the true ``C`` is close to ``diag(+-1)`` in its first ``SIGN_SIZE`` rows and columns,
-while the descriptors (WKS) of the two bodies no longer agree.  So every sign pattern is a
-candidate (``2^(SIGN_SIZE - 1)``; the constant eigenfunction's sign is known), each one
-upsampled by a sampled ZoomOut to ``SIGN_ZOOM`` eigenfunctions.  The candidates whose sampled
-vertex maps fit their ``C`` best (the smallest spectral residual ``|Phi_T[y] - C Phi_S[p[y]]|``)
-are kept, two that differ.  A left-right symmetric body has two such fits, the map and its
-mirror; no intrinsic energy tells them apart, the orientation of the surface does
-(:func:`orientation_share`).
+signs (and the order of two whose eigenvalues are close): the true ``C`` is close to a signed
+permutation in its first ``SIGN_SIZE`` rows and columns, while the descriptors (WKS) of the
+two bodies no longer agree.  So every sign pattern is a candidate (``2^(SIGN_SIZE - 1)``; the
+constant eigenfunction's sign is known), and those that swap two neighbours of close
+eigenvalues (:func:`_swaps`), each one upsampled by a sampled ZoomOut to ``SIGN_ZOOM``
+eigenfunctions.  The candidates whose sampled vertex maps fit their ``C`` best (the smallest
+spectral residual ``|Phi_T[y] - C Phi_S[p[y]]|``) are kept, two that differ.  The first
+eigenfunctions of a body are often all symmetric left to right: a pattern then fits the map
+and its mirror image alike, and ZoomOut ends on either.  :func:`cshape.point_map` therefore
+also starts from each pattern's oriented map (the pattern's eigenfunctions as descriptors,
+with the orientation term), which settles left and right.
 
 ZoomOut may end with a limb reflected about its own axis while the extremities (hands, feet,
 head) still land on the right limb.  So each candidate also gives landmarks: the target's
 ``EXTREMITIES`` farthest points (:func:`extremities`) and their images, from which the
-landmark route of :func:`cshape.point_map` computes one more candidate.  Those maps are all
-oriented; a map that turns the body about its vertical axis (front to back and left to right)
-is oriented too, and fits the first eigenfunctions as well.  What tells it apart is the
-descriptors: the back does not look like the front (:func:`descriptor_error`).  The
-descriptors' map is fitted to the descriptors: they judge only the maps from extremities
-against the start kept (:func:`pick`).
+landmark route of :func:`cshape.point_map` computes one more candidate.
+
+A map that turns a body about its long axis (front to back and left to right) keeps the
+orientation, fits the first eigenfunctions and agrees with the descriptors about as well as
+the true map: a body looks nearly alike in front and behind to every intrinsic measure.  In
+space it does not: the toes, the face and the chest point the other way.  Of the candidates
+that fit and keep the orientation, :func:`pick_extrinsic` keeps the one whose images are
+carried onto the target best by a rotation, a scale and a smooth bending
+(:func:`extrinsic_residual`).
 
 None of these criteria can tell two maps apart on a shape with a symmetry that keeps the
-orientation (a half turn): every criterion of its two maps agrees within noise.
-:func:`rival` finds such a map, and :func:`settling_vertices` the target vertices where
-landmarks would decide.
+orientation (a half turn of a shape symmetric in space too): every criterion of its two maps
+agrees within noise. :func:`rival` finds such a map, and :func:`settling_vertices` the target
+vertices where landmarks would decide.
 """
 
 from __future__ import annotations
@@ -40,10 +46,19 @@ from .mesh import Mesh
 
 #: Eigenfunctions whose signs are enumerated (the constant one included).
 SIGN_SIZE = 6
+#: Eigenfunctions of the target that span the smooth bending :func:`extrinsic_residual`
+#: forgives.
+EXTRINSIC_BASIS = 20
+#: Neighbouring eigenfunctions whose eigenvalues are within this ratio on either shape are
+#: also tried in swapped order (:func:`sign_candidates`).
+SWAP_RATIO = 1.3
 #: Size to which each sign pattern is upsampled before the candidates are compared.
 SIGN_ZOOM = 20
 #: Vertices per shape in that upsampling.
 SIGN_SAMPLE = 1000
+#: Vertices per shape in the upsampling of every candidate to ``COMPARE_SIZE`` (at most the
+#: ``sample`` of :func:`cshape.point_map`).
+COMPARE_SAMPLE = 1500
 #: Candidates of the sign patterns refined in full (those of the smallest residual that differ).
 SIGN_KEEP = 2
 #: Size to which every candidate is upsampled (ZoomOut) before they are compared; the one
@@ -61,6 +76,8 @@ ORIENTATION_SLACK = 0.1
 TIE_RESIDUAL = 0.05
 TIE_ORIENTATION = 0.03
 TIE_DESCRIPTORS = 0.03
+#: ... and their extrinsic misfits (:func:`extrinsic_residual`) by at most this share.
+TIE_EXTRINSIC = 0.05
 #: Two maps differ if their images of the target lie on average this far apart (in units of
 #: the square root of the source's area).
 TIE_DISTANCE = 0.1
@@ -100,10 +117,28 @@ def residual(C, phiS, phiT, p):
     return float(np.linalg.norm(phiT[:, :k] - phiS[p, :k] @ C.T, axis=1).mean())
 
 
-def sign_candidates(phiS, phiT, wT, rng):
+def _swaps(lamS, lamT, m):
+    """The eigenfunction pairs ``(i, i + 1)``, ``1 <= i < m - 1``, whose eigenvalues lie within
+    ``SWAP_RATIO`` of each other on either shape (their order may differ between the shapes)."""
+    if lamS is None or lamT is None:
+        return []
+    out = []
+    for i in range(1, m - 1):
+        ratios = [lam[i + 1] / lam[i] for lam in (lamS, lamT) if lam[i] > 0]
+        if ratios and min(ratios) < SWAP_RATIO:
+            out.append(i)
+    return out
+
+
+def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
     """Return the ``SIGN_KEEP`` sign patterns of the smallest residual, upsampled, that differ.
 
-    A list of ``C`` of size ``SIGN_ZOOM`` (at most the bases' sizes).
+    A pattern is a signed permutation ``P`` of the first ``SIGN_SIZE`` eigenfunctions (the
+    constant one first, its sign known): the diagonal ones, and, with the eigenvalues
+    ``lamS``, ``lamT``, those that swap two neighbours of close eigenvalues (:func:`_swaps`).
+    A list of ``(P, C)``: the pattern, ``P[i, j] = +-1`` if the target's eigenfunction ``i``
+    is the source's ``j``, and its ``C`` upsampled to size ``SIGN_ZOOM`` (at most the bases'
+    sizes).
     """
     k = min(SIGN_ZOOM, phiS.shape[1], phiT.shape[1])
     iS = np.sort(rng.choice(len(phiS), min(SIGN_SAMPLE, len(phiS)), replace=False))
@@ -111,10 +146,18 @@ def sign_candidates(phiS, phiT, wT, rng):
     subS, subT, w = phiS[iS], phiT[iT], wT[iT]
     s0 = np.sign(phiS[:, 0].sum() * phiT[:, 0].sum()) or 1.0
     m = min(SIGN_SIZE, k)
+    orders = [np.arange(m)]
+    for i in _swaps(lamS, lamT, m):
+        o = np.arange(m)
+        o[[i, i + 1]] = o[[i + 1, i]]
+        orders.append(o)
     found = []
-    for signs in itertools.product((1.0, -1.0), repeat=m - 1):
-        C, p = _zoom(np.diag([s0, *signs]), subS, subT, w, k)
-        found.append((residual(C, subS, subT, p), C, p))
+    for order in orders:
+        for signs in itertools.product((1.0, -1.0), repeat=m - 1):
+            P = np.zeros((m, m))
+            P[np.arange(m), order] = [s0, *signs]
+            C, p = _zoom(P, subS, subT, w, k)
+            found.append((residual(C, subS, subT, p), C, p, P))
     found.sort(key=lambda f: f[0])
     kept = [found[0]]
     for f in found[1:]:
@@ -122,7 +165,7 @@ def sign_candidates(phiS, phiT, wT, rng):
             break
         if all(np.mean(f[2] == g[2]) < 0.5 for g in kept):
             kept.append(f)
-    return [C for _r, C, _p in kept]
+    return [(P, C) for _r, C, _p, P in kept]
 
 
 def orientation_share(source: Mesh, target: Mesh, p2p: np.ndarray) -> float:
@@ -178,6 +221,56 @@ def descriptor_error(dS, dT, wT, p2p):
     return float(e @ wT / wT.sum())
 
 
+def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
+    """Misfit of the images ``V_S[p]`` to ``V_T`` after a rigid motion and a smooth bending.
+
+    The rotation (determinant +1, so a mirror image is not fitted) and translation of least
+    mass-weighted squares (Kabsch), the scale of the areas, then the misfit's projection on the target's first
+    ``EXTRINSIC_BASIS`` eigenfunctions (a smooth bending: a change of pose or of build) is
+    removed; the median (by area) of the distances that remain, over the root mean square
+    of the target about its centre (a median, so that a map right but for a limb is not
+    outweighed by one turned as a whole).
+    A body looks nearly alike in front and behind to intrinsic measures: a half turn about its
+    long axis fits the first eigenfunctions, keeps the orientation and agrees with the
+    descriptors about as well as the true map; in space it turns the toes, the face and the
+    chest to the back, which no smooth bending undoes.
+    """
+    w = np.asarray(BT.sum(axis=1)).ravel()
+    w = w / w.sum()
+    a = source.vertices[p2p]
+    b = target.vertices
+    a = a - w @ a
+    b = b - w @ b
+    U, _s, Vt = np.linalg.svd((a * w[:, None]).T @ b)
+    D = np.array([1.0, 1.0, np.sign(np.linalg.det(U @ Vt)) or 1.0])
+    scale = np.sqrt(target.area / source.area)
+    r = b - scale * (a @ (U * D) @ Vt)
+    P = phiT[:, :EXTRINSIC_BASIS]
+    r = np.linalg.norm(r - P @ (P.T @ (BT @ r)), axis=1)
+    size = float(np.sqrt(w @ np.einsum("ij,ij->i", b, b)))
+    order = np.argsort(r)
+    median = r[order][min(np.searchsorted(np.cumsum(w[order]), 0.5), len(r) - 1)]
+    return float(median / size) if size > 0 else 0.0
+
+
+def pick_extrinsic(scores):
+    """Return the index of the candidate to keep, by the extrinsic misfit.
+
+    ``scores``: a list of ``(residual, orientation share, descriptor error, extrinsic
+    misfit)`` (:func:`extrinsic_residual`).
+    Of the candidates that keep the orientation on more than half the area (all, if none
+    does), those whose residual is within ``RESIDUAL_SLACK`` of their smallest and whose
+    orientation share is at most ``ORIENTATION_SLACK`` below the best of those, the one of
+    the smallest :func:`extrinsic_residual` (of the smaller descriptor error on a tie).
+    """
+    pool = [i for i, s in enumerate(scores) if s[1] > 0.5] or list(range(len(scores)))
+    best = min(scores[i][0] for i in pool)
+    ok = [i for i in pool if scores[i][0] <= RESIDUAL_SLACK * best]
+    top = max(scores[i][1] for i in ok)
+    ok = [i for i in ok if scores[i][1] >= top - ORIENTATION_SLACK]
+    return min(ok, key=lambda i: (scores[i][3], scores[i][2], i))
+
+
 def pick(scores, n_starts):
     """Return the index of the candidate to keep.
 
@@ -202,19 +295,22 @@ def pick(scores, n_starts):
 def rival(scores, distances, keep, floor=0.0):
     """Index of a candidate as good as the one kept, within noise, that differs from it; or None.
 
-    ``scores`` as for :func:`pick`; ``distances[i]``: the mean distance between the images of
-    candidate ``i`` and of the kept one (over the square root of the source's area).  Of the
-    candidates within ``TIE_RESIDUAL``, ``TIE_ORIENTATION`` and ``TIE_DESCRIPTORS`` of the
-    kept one and farther than ``TIE_DISTANCE`` from it, the one of the smallest residual.
+    ``scores`` as for :func:`pick` or :func:`pick_extrinsic`; ``distances[i]``: the mean
+    distance between the images of candidate ``i`` and of the kept one (over the square root
+    of the source's area).  Of the candidates within ``TIE_RESIDUAL``, ``TIE_ORIENTATION``,
+    ``TIE_DESCRIPTORS`` (and ``TIE_EXTRINSIC``, with four scores) of the kept one and farther
+    than ``TIE_DISTANCE`` from it, the one of the smallest residual.
     ``floor``: a difference of residuals this small is round-off (exact maps of a symmetric
     shape have residuals of round-off size).
     """
-    r, o, d = scores[keep]
-    tied = [i for i, (ri, oi, di) in enumerate(scores)
+    r, o, d = scores[keep][:3]
+    e = scores[keep][3] if len(scores[keep]) > 3 else 0.0
+    tied = [i for i, (ri, oi, di, *ei) in enumerate(scores)
             if i != keep and distances[i] > TIE_DISTANCE
             and abs(ri - r) <= TIE_RESIDUAL * max(r, ri) + floor
             and abs(oi - o) <= TIE_ORIENTATION
-            and abs(di - d) <= TIE_DESCRIPTORS * max(d, di) + 1e-9]
+            and abs(di - d) <= TIE_DESCRIPTORS * max(d, di) + 1e-9
+            and (not ei or abs(ei[0] - e) <= TIE_EXTRINSIC * max(e, ei[0]) + 1e-6)]
     return min(tied, key=lambda i: (scores[i][0], i)) if tied else None
 
 

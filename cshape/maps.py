@@ -80,6 +80,8 @@ __all__ = [
 DESCRIPTOR_WEIGHT = 1.0
 LAPLACIAN_WEIGHT = 1e-2
 ORIENTATION_WEIGHT = 3e-4
+#: Orientation weight of the first map of a sign pattern (:func:`point_map`, step 4).
+SIGN_ORIENTATION_WEIGHT = 3e-3
 
 #: :func:`point_map` keeps every 5th of its WKS energies (pyFM's ``subsample_step``).
 DESCRIPTOR_STRIDE = 5
@@ -474,22 +476,28 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     3. ``C`` of size ``N0`` by :func:`functional_map` (with the orientation term);
     4. with ``initial='search'``, ZoomOut and no landmarks, more starting maps: every sign
        pattern of the first few eigenfunctions (between different bodies these still
-       correspond one to one, while the descriptors no longer agree), upsampled on samples,
-       the two of the smallest spectral residual that differ;
+       correspond one to one, up to sign and the order of two of close eigenvalues, while
+       the descriptors no longer agree), upsampled on samples, the two of the smallest
+       spectral residual that differ; each one also as an oriented map (step 3 with the
+       pattern's eigenfunctions among the descriptors, so that the orientation term settles
+       left and right, which those eigenfunctions often leave open);
     5. each start upsampled by :func:`zoomout` to a common size and its vertex map
-       (:func:`map_to_pointwise`); of those whose residual
-       ``mean_y |Phi_T[y] - C Phi_S[p[y]]|`` is within 20 % of the smallest, the one whose
-       image triangles keep the orientation of the source on the largest share of the
-       target's area (a mirror image reverses them all) is kept; without ``orientation``,
-       the one of the smallest residual;
-    6. for each sign pattern's map that fits (step 5), one more map: steps 2-3 with
-       landmarks, the target's extremities (farthest points of its commute-time embedding)
-       and their images, upsampled alike; one whose residual is within 20 % of the smallest
-       and whose orientation share is at most 0.1 below the kept map's replaces it if its
-       WKS agree better (``mean_y |D_T[y] - D_S[p[y]]|``);
-    7. if another map that differs from the one kept (its images on average more than 0.1
-       ``sqrt(area)`` away) matches it within noise on all three criteria (residual within
-       5 %, orientation share within 0.03, descriptor error within 3 %), a
+       (:func:`map_to_pointwise`), with its residual ``mean_y |Phi_T[y] - C Phi_S[p[y]]|``,
+       the share of the target's area whose image triangles keep the orientation of the
+       source (a mirror image reverses them all), the disagreement of the WKS and the
+       extrinsic misfit: what remains of ``V_T - V_S[p]`` after the best rotation, scale and
+       translation and a smooth bending (the span of the target's first eigenfunctions);
+    6. for each start that fits (residual within 20 % of the smallest), one more map: steps
+       2-3 with landmarks, the target's extremities (farthest points of its commute-time
+       embedding) and their images, upsampled alike;
+    7. of the maps that keep the orientation on more than half the area (all, if none
+       does), those whose residual is within 20 % of their smallest and whose orientation
+       share is at most 0.1 below the best of those, the one of the smallest extrinsic
+       misfit is kept (a body looks nearly alike in front and behind to every intrinsic
+       measure; a half turn moves its toes, face and chest in space); if another map that
+       differs from it (its images on average more than 0.1 ``sqrt(area)`` away) matches it
+       within noise on all four criteria (residual within 5 %, orientation share within
+       0.03, descriptor error within 3 %, extrinsic misfit within 5 %), a
        :class:`cshape.CShapeWarning` names both and the target vertices where they disagree
        most: true landmarks there settle it;
     8. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
@@ -518,8 +526,8 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     sample : int or None, default=3000
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
     initial : {'search', 'descriptors'}, default='search'
-        'search': the descriptors' map, the sign patterns and the maps from their
-        extremities compete (steps 4-7);
+        'search': the descriptors' map, the sign patterns, their oriented maps and the maps
+        from their extremities compete (steps 4-7);
         'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
         'descriptors'.
     return_map : bool, default=False
@@ -593,18 +601,38 @@ class _Start:
                               orientation_weight=ORIENTATION_WEIGHT if self.orientation
                               else 0.0)
 
+    def oriented(self, P):
+        """The first map of a sign pattern ``P`` (``m x m``): its eigenfunctions as descriptors.
+
+        The source's eigenfunctions ``1 .. m-1`` and their images under ``P`` on the target
+        join the descriptors; the orientation term (weight ``SIGN_ORIENTATION_WEIGHT``)
+        settles what they leave open (left and right, when every one of them is symmetric).
+        """
+        m = len(P)
+        dS = np.hstack([self.dS, self.bS.phi[:, 1:m]])
+        dT = np.hstack([self.dT, self.bT.phi[:, :m] @ P[:, 1:]])
+        return functional_map(self.bS.truncate(self.N0), self.bT.truncate(self.N0), dS, dT,
+                              orientation_weight=SIGN_ORIENTATION_WEIGHT)
+
 
 def _search(C, start, N, zoom):
     """Return the map that steps 4-7 of :func:`point_map` keep, at the common size."""
     bS, bT = start.bS, start.bT
     wT = np.asarray(bT.B.sum(axis=1)).ravel()
     with one_blas_thread():  # small products: spinning BLAS threads only slow them
-        starts = [C] + _candidates.sign_candidates(bS.phi, bT.phi, wT,
-                                                   np.random.default_rng(zoom["random_state"]))
+        patterns = _candidates.sign_candidates(bS.phi, bT.phi, wT,
+                                               np.random.default_rng(zoom["random_state"]),
+                                               bS.lam, bT.lam)
+    starts = [C] + [Cs for _P, Cs in patterns]
+    names = ["the descriptors' map"] + [f"the sign pattern {_signs(P)}" for P, _C in patterns]
+    if start.orientation:  # the same patterns, left and right settled by the orientation
+        starts += [start.oriented(P) for P, _C in patterns]
+        names += [f"the oriented map of the sign pattern {_signs(P)}" for P, _C in patterns]
     m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
     ends = _candidates.extremities(bT.phi, bT.lam)
     found, maps, scores = [], [], []
-    names = ["the descriptors' map"] + [f"the sign pattern {_signs(C)}" for C in starts[1:]]
+    zoom = dict(zoom, sample=None if zoom["sample"] is None
+                else min(zoom["sample"], _candidates.COMPARE_SAMPLE))
 
     def add(C):
         C = zoomout(C, bS, bT, m, **zoom)
@@ -614,18 +642,19 @@ def _search(C, start, N, zoom):
         scores.append((_candidates.residual(C, bS.phi, bT.phi, p),
                        _candidates.orientation_share(bS.mesh, bT.mesh, p)
                        if start.orientation else 0.0,
-                       _candidates.descriptor_error(start.dS, start.dT, wT, p)))
+                       _candidates.descriptor_error(start.dS, start.dT, wT, p),
+                       _candidates.extrinsic_residual(bS.mesh, bT.mesh, bT.phi, bT.B, p)))
 
     for C in starts:
         add(C)
-    best = min(r for r, _o, _d in scores)
+    best = min(s[0] for s in scores)
     # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
     # already: a map from its extremities would fit them once more, and so win on the WKS)
     for i in range(1, len(starts)):
         if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
             add(start(np.column_stack([maps[i][ends], ends])))
             names.append(f"the map from the extremities of {names[i]}")
-    keep = _candidates.pick(scores, len(starts))
+    keep = _candidates.pick_extrinsic(scores)
     # step 7: a rival within noise of the map kept is named in a warning
     V = bS.mesh.vertices
     dist = [float(np.linalg.norm(V[p] - V[maps[keep]], axis=1).mean() / np.sqrt(bS.mesh.area))
@@ -637,10 +666,13 @@ def _search(C, start, N, zoom):
     return found[keep]
 
 
-def _signs(C):
-    """Return the signs of a sign pattern's first diagonal entries, e.g. ``(+-++-)``."""
-    d = np.diag(C)[1:_candidates.SIGN_SIZE]
-    return "(" + "".join("+" if x >= 0 else "-" for x in d) + ")"
+def _signs(P):
+    """Return a sign pattern without its first (constant) entry, e.g. ``(+-++-)``, and the
+    eigenfunctions it swaps."""
+    rows = np.argmax(np.abs(P), axis=0)
+    out = "(" + "".join("+" if P[rows[j], j] >= 0 else "-" for j in range(1, len(P))) + ")"
+    swapped = [f"{j} and {rows[j]}" for j in range(1, len(P)) if rows[j] > j]
+    return out + "".join(f", eigenfunctions {s} swapped" for s in swapped)
 
 
 def _warn_tie(names, scores, maps, keep, other, V):
@@ -648,9 +680,9 @@ def _warn_tie(names, scores, maps, keep, other, V):
     y = _candidates.settling_vertices(V, maps[keep], maps[other]).tolist()
 
     def describe(i):
-        r, o, d = scores[i]
+        r, o, d, e = scores[i]
         return (f"{names[i]} (residual {r:.3g}, orientation share {o:.2f}, descriptor error "
-                f"{d:.3g})")
+                f"{d:.3g}, extrinsic misfit {e:.3g})")
 
     warnings.warn(
         f"point_map cannot tell two candidate maps apart: {describe(keep)}, returned, and "

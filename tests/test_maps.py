@@ -412,21 +412,30 @@ def test_landmarks_override_the_search(symmetric):
 
 
 def test_the_search_compares_the_maps_from_the_sign_patterns_extremities(monkeypatch, symmetric):
-    """Three starts, and one more map (from its own extremities as landmarks) for each sign
-    pattern's map that fits; the identity of a shape to itself is among them and kept."""
+    """The descriptors' map, each sign pattern's map and its oriented map, and one more map
+    (from its own extremities as landmarks) for each of those that fits; the identity of a
+    shape to itself is among them and kept."""
     S, _mirror = symmetric
-    seen, original = [], _candidates.pick
+    seen, patterns = [], []
+    pick, signs = _candidates.pick_extrinsic, _candidates.sign_candidates
 
-    def pick(scores, n_starts):
+    def record_pick(scores):
         seen.append(list(scores))
-        return original(scores, n_starts)
+        return pick(scores)
 
-    monkeypatch.setattr(_candidates, "pick", pick)
+    def record_signs(*args):
+        patterns.append(signs(*args))
+        return patterns[-1]
+
+    monkeypatch.setattr(_candidates, "pick_extrinsic", record_pick)
+    monkeypatch.setattr(_candidates, "sign_candidates", record_signs)
     p = cshape.point_map(S, S, N=N, N0=N0)
-    (scores,) = seen
-    best = min(s[0] for s in scores[:3])
-    fits = sum(s[0] <= _candidates.RESIDUAL_SLACK * best for s in scores[1:3])
-    assert len(scores) == 3 + fits
+    (scores,), (found,) = seen, patterns
+    n_starts = 1 + 2 * len(found)
+    best = min(s[0] for s in scores[:n_starts])
+    fits = sum(s[0] <= _candidates.RESIDUAL_SLACK * best for s in scores[1:n_starts])
+    assert len(scores) == n_starts + fits
+    assert all(len(s) == 4 for s in scores)  # residual, orientation, descriptors, extrinsic
     assert (p == np.arange(S.n_vertices)).mean() > 0.95
 
 
@@ -504,3 +513,94 @@ def test_two_candidates_tie_only_if_every_criterion_is_within_noise_and_the_maps
     # residuals of exact maps are round-off: a floor below which they are equal
     assert _candidates.rival([(1e-16, 1.0, 0.0), (3e-14, 1.0, 0.0)], [0.0, 0.5], 0,
                              floor=1e-9) == 1
+
+
+def test_the_extrinsic_misfit_is_zero_for_a_rigid_motion_and_refuses_a_mirror(blob, shuffled):
+    """A similarity transform (rotation, scale, translation) of the true map costs nothing;
+    a mirror image is not a rotation (the blob is nearly symmetric, so only its bumps misfit),
+    and a wrong map misfits by order one."""
+    T, perm = shuffled
+    small = cshape.Mesh(0.5 * T.vertices, T.faces)
+    bT = cshape.eigenbasis(small, 30)
+    assert _candidates.extrinsic_residual(blob, small, bT.phi, bT.B, perm) < 1e-9
+    mirrored = cshape.Mesh(small.vertices * [1.0, 1.0, -1.0], small.faces[:, ::-1])
+    bM = cshape.eigenbasis(mirrored, 30)
+    assert _candidates.extrinsic_residual(blob, mirrored, bM.phi, bM.B, perm) > 0.01
+    wrong = np.random.default_rng(0).permutation(perm)
+    assert _candidates.extrinsic_residual(blob, small, bT.phi, bT.B, wrong) > 0.5
+
+
+def test_the_extrinsic_misfit_forgives_a_smooth_bending_and_not_a_half_turn():
+    """An ellipsoid with a bump in front, bent smoothly: the true map misfits little once
+    the bending is forgiven; the half turn about the long axis sends the bump to the back
+    and misfits more, though it keeps the orientation."""
+    m = shapes.icosphere(3)
+    U = m.vertices
+    V = U * [0.5, 0.3, 1.0]
+    V = V + 0.15 * np.exp(-np.sum((U - [1.0, 0.0, 0.0]) ** 2, axis=1) / 0.1)[:, None] * U
+    S = cshape.Mesh(V, m.faces)
+    bent = V + [0.3, 0.0, 0.0] * (V[:, 2:3] ** 2)  # a smooth bow along the long axis
+    T = cshape.Mesh(bent, m.faces)
+    turn = np.array([np.argmin(np.linalg.norm(U - u * [-1, -1, 1], axis=1)) for u in U])
+    bT = cshape.eigenbasis(T, 30)
+    ident = np.arange(len(U))
+    assert _candidates.orientation_share(S, T, turn) > 0.9  # the turn keeps the orientation
+    true = _candidates.extrinsic_residual(S, T, bT.phi, bT.B, ident)
+    turned = _candidates.extrinsic_residual(S, T, bT.phi, bT.B, turn)
+    assert true < 0.015
+    assert turned > 2 * true
+
+
+def test_the_search_keeps_the_map_of_least_extrinsic_misfit_among_those_that_fit():
+    """Scores (residual, orientation share, descriptor error, extrinsic misfit)."""
+    # both fit and keep the orientation: the smaller misfit wins over better descriptors
+    assert _candidates.pick_extrinsic([(1.0, 0.9, 0.5, 0.2), (1.1, 0.88, 0.9, 0.1)]) == 1
+    # a residual beyond RESIDUAL_SLACK of the best does not compete
+    assert _candidates.pick_extrinsic([(1.0, 0.9, 0.5, 0.2), (1.5, 0.9, 0.5, 0.1)]) == 0
+    # nor an orientation share ORIENTATION_SLACK below the best of those that fit
+    assert _candidates.pick_extrinsic([(1.0, 0.9, 0.5, 0.2), (1.0, 0.7, 0.5, 0.1)]) == 0
+    # a mirror image (orientation share below one half) competes only if all are mirrors
+    assert _candidates.pick_extrinsic([(1.0, 0.1, 0.5, 0.1), (1.15, 0.9, 0.5, 0.2)]) == 1
+    assert _candidates.pick_extrinsic([(1.0, 0.1, 0.5, 0.2), (1.1, 0.15, 0.5, 0.1)]) == 1
+
+
+def test_neighbouring_eigenfunctions_of_close_eigenvalues_are_also_tried_swapped():
+    lamS = np.array([0.0, 1.0, 1.5, 1.8, 3.0, 5.0])
+    lamT = np.array([0.0, 1.0, 2.0, 2.2, 3.0, 5.0])
+    # 1.8 / 1.5 and 2.2 / 2.0 are within SWAP_RATIO; 1.5 / 1.0 and 2.0 / 1.0 are not; 3 / 2.2
+    # is not; 3 / 1.8 is not
+    assert _candidates._swaps(lamS, lamT, 6) == [2]
+    assert _candidates._swaps(lamS, lamT, 3) == []
+    assert _candidates._swaps(None, lamT, 6) == []
+
+
+def test_a_sign_pattern_with_two_swapped_eigenfunctions_is_found(blob):
+    """A map whose C swaps two eigenfunctions (a target built from the source's basis with
+    eigenfunctions 2 and 3 exchanged): the swapped pattern fits best."""
+    b = cshape.eigenbasis(blob, 30)
+    phiT = b.phi.copy()
+    phiT[:, [2, 3]] = phiT[:, [3, 2]]
+    phiT[:, 1] *= -1
+    lam = b.lam.copy()
+    lam[2] = lam[3] = 0.5 * (lam[2] + lam[3])  # close: the order is not to be trusted
+    w = np.asarray(b.B.sum(axis=1)).ravel()
+    (P, _C), *_rest = _candidates.sign_candidates(b.phi, phiT, w, np.random.default_rng(0),
+                                                  lam, lam)
+    expected = np.eye(len(P))
+    expected[[2, 3]] = expected[[3, 2]]
+    expected[1, 1] = -1
+    np.testing.assert_array_equal(P, expected)
+
+
+def test_the_oriented_map_of_a_sign_pattern_refuses_the_mirror_image(symmetric):
+    """On a mirror-symmetric shape mapped to itself, the identity's sign pattern leaves left
+    and right open; its oriented map is the identity, not the reflection."""
+    from cshape.maps import _Start
+
+    S, mirror = symmetric
+    b = cshape.eigenbasis(S, N)
+    start = _Start(b, b, N0, 100, True)
+    C = start.oriented(np.eye(_candidates.SIGN_SIZE))
+    p = cshape.maps.map_to_pointwise(cshape.maps.zoomout(C, b, b, 40), b, b)
+    assert (p == np.arange(S.n_vertices)).mean() > 0.9
+    assert (p == mirror).mean() < 0.1
