@@ -118,8 +118,11 @@ def residual(C, phiS, phiT, p):
 
 
 def _swaps(lamS, lamT, m):
-    """The eigenfunction pairs ``(i, i + 1)``, ``1 <= i < m - 1``, whose eigenvalues lie within
-    ``SWAP_RATIO`` of each other on either shape (their order may differ between the shapes)."""
+    """Return the eigenfunction pairs ``(i, i + 1)`` whose order may differ between the shapes.
+
+    Those with ``1 <= i < m - 1`` whose eigenvalues lie within ``SWAP_RATIO`` of each other
+    on either shape.
+    """
     if lamS is None or lamT is None:
         return []
     out = []
@@ -225,11 +228,11 @@ def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
     """Misfit of the images ``V_S[p]`` to ``V_T`` after a rigid motion and a smooth bending.
 
     The rotation (determinant +1, so a mirror image is not fitted) and translation of least
-    mass-weighted squares (Kabsch), the scale of the areas, then the misfit's projection on the target's first
-    ``EXTRINSIC_BASIS`` eigenfunctions (a smooth bending: a change of pose or of build) is
-    removed; the median (by area) of the distances that remain, over the root mean square
-    of the target about its centre (a median, so that a map right but for a limb is not
-    outweighed by one turned as a whole).
+    mass-weighted squares (Kabsch), the scale of the areas, then the misfit's projection on
+    the target's first ``EXTRINSIC_BASIS`` eigenfunctions (a smooth bending: a change of
+    pose or of build) is removed; the median (by area) of the distances that remain, over
+    the root mean square of the target about its centre (a median, so that a map right but
+    for a limb is not outweighed by one turned as a whole).
     A body looks nearly alike in front and behind to intrinsic measures: a half turn about its
     long axis fits the first eigenfunctions, keeps the orientation and agrees with the
     descriptors about as well as the true map; in space it turns the toes, the face and the

@@ -54,6 +54,7 @@ from ._candidates import _fit
 from ._checks import (
     check_bool,
     check_choice,
+    check_eigenbasis,
     check_int,
     check_landmarks,
     check_real,
@@ -89,13 +90,9 @@ DESCRIPTOR_STRIDE = 5
 
 # ---------------------------------------------------------------------- checks
 def _check_eigenbasis(name: str, basis: object) -> Eigenbasis:
-    if not isinstance(basis, Eigenbasis):
-        raise TypeError(
-            f"{name} must be a cshape.Eigenbasis, got {type(basis).__name__}; compute it with "
-            f"cshape.eigenbasis(mesh, N) (or build one from arrays: cshape.Eigenbasis(lam, "
-            "phi, B))"
-        )
-    return basis
+    """Check an eigenbasis argument, with the package's one check of it."""
+    checked: Eigenbasis = check_eigenbasis(name, basis, Eigenbasis)
+    return checked
 
 
 def _check_array(name, x, n=None) -> np.ndarray:
@@ -463,7 +460,7 @@ def _with_landmarks(source, target, dS, dT, landmarks):
 
 def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
               n_descriptors: int = 100, orientation: bool = True,
-              zoomout_steps: bool | int = True, landmarks: ArrayLike | None = None,
+              step: int = 1, landmarks: ArrayLike | None = None,
               bijective: bool = False, sample: int | None = 3000,
               initial: str = "search", return_map: bool = False, random_state: int = 0
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
@@ -516,9 +513,9 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     orientation : bool, default=True
         Use the orientation-preserving term (Ren et al. 2018): without it a left-right
         symmetric shape may be mapped onto its mirror image.
-    zoomout_steps : bool or int, default=True
-        ZoomOut from ``N0`` to ``N`` (an int: basis functions added per step; True: 1).
-        False: the map of the size-``N0`` ``C``.
+    step : int, default=1
+        ZoomOut from ``N0`` to ``N``, adding ``step`` basis functions per iteration (as
+        :func:`zoomout`'s ``step``); 0: no ZoomOut, the map of the size-``N0`` ``C``.
     landmarks : array_like of int, shape (L, 2), optional
         Known corresponding vertices ``(source vertex, target vertex)``.
     bijective : bool, default=False
@@ -563,10 +560,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     N0 = check_int("N0", N0, min=2, max=N)
     n_descriptors = check_int("n_descriptors", n_descriptors, min=int(4 * 7) + 1)
     orientation = check_bool("orientation", orientation)
-    if isinstance(zoomout_steps, (bool, np.bool_)):
-        step = 1 if zoomout_steps else 0
-    else:
-        step = check_int("zoomout_steps", zoomout_steps, min=1)
+    step = check_int("step", step, min=0)
     bijective = check_bool("bijective", bijective)
     initial = check_choice("initial", initial, ("search", "descriptors"))
     return_map = check_bool("return_map", return_map)
@@ -602,7 +596,7 @@ class _Start:
                               else 0.0)
 
     def oriented(self, P):
-        """The first map of a sign pattern ``P`` (``m x m``): its eigenfunctions as descriptors.
+        """Return the first map of a sign pattern ``P`` (``m x m``), with its eigenfunctions.
 
         The source's eigenfunctions ``1 .. m-1`` and their images under ``P`` on the target
         join the descriptors; the orientation term (weight ``SIGN_ORIENTATION_WEIGHT``)
@@ -667,8 +661,10 @@ def _search(C, start, N, zoom):
 
 
 def _signs(P):
-    """Return a sign pattern without its first (constant) entry, e.g. ``(+-++-)``, and the
-    eigenfunctions it swaps."""
+    """Return a sign pattern without its first entry, and the eigenfunctions it swaps.
+
+    The pattern is written as ``(+-++-)`` (the first, constant, eigenfunction left out).
+    """
     rows = np.argmax(np.abs(P), axis=0)
     out = "(" + "".join("+" if P[rows[j], j] >= 0 else "-" for j in range(1, len(P))) + ")"
     swapped = [f"{j} and {rows[j]}" for j in range(1, len(P)) if rows[j] > j]

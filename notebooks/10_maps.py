@@ -525,8 +525,8 @@ feet = [int(np.argmin(np.where((np.sign(along) == sx) & (np.sign(side) == sy), h
         for sx in (-1, 1) for sy in (-1, 1)]
 tips = feet + [int(np.argmax(along)), int(np.argmin(along))]  # the four feet, the head, the tail
 landmarks = np.column_stack([tips, tips])
-p_lm = cshape.point_map(rest, pose, N=N, N0=N0, orientation=False, zoomout_steps=False, landmarks=landmarks)
-p_no = cshape.point_map(rest, pose, N=N, N0=N0, orientation=False, zoomout_steps=False)
+p_lm = cshape.point_map(rest, pose, N=N, N0=N0, orientation=False, step=0, landmarks=landmarks)
+p_no = cshape.point_map(rest, pose, N=N, N0=N0, orientation=False, step=0)
 for name, p in (("no orientation, no landmarks", p_no), ("no orientation, 6 landmarks", p_lm)):
     err, within, wrong = measure(p)
     print(f"{name:<30} within 5 %: {within:.1%}  wrong side: {wrong:.1%}")

@@ -81,13 +81,13 @@ def test_point_map_of_a_mesh_to_itself_is_the_identity(blob):
     assert (p == np.arange(blob.n_vertices)).mean() > 0.95
 
 
-@pytest.mark.parametrize("options", [{}, {"orientation": False}, {"zoomout_steps": False},
+@pytest.mark.parametrize("options", [{}, {"orientation": False}, {"step": 0},
                                      {"bijective": True}])
 def test_point_map_recovers_a_permutation_and_a_rigid_motion(blob, shuffled, options):
     target, perm = shuffled
     p, C = cshape.point_map(blob, target, N=N, N0=N0, return_map=True, **options)
     assert p.shape == (target.n_vertices,)
-    assert C.shape == ((N, N) if options.get("zoomout_steps", True) else (N0, N0))
+    assert C.shape == ((N, N) if options.get("step", 1) else (N0, N0))
     assert (p == perm).mean() > 0.9
 
 
