@@ -604,15 +604,19 @@ def _framing_views(tmp_path):
 
 
 @pytest.mark.slow
-def test_every_3d_view_is_framed_in_chromium(tmp_path):
+@pytest.mark.parametrize("part", [0, 1])
+def test_every_3d_view_is_framed_in_chromium(tmp_path, part):
     """Every 3-D view, rendered by plotly.js in Chromium on a white page: no mesh pixel on the
-    border of its scene (nothing cut by the frame), and the mesh fills a good part of it."""
+    border of its scene (nothing cut by the frame), and the mesh fills a good part of it.
+    The views and sizes in two halves (every other one), which a parallel run renders at
+    once."""
     sync_api = _playwright()
     pages = _framing_views(tmp_path)
     out = ARTIFACTS / "framing"
     out.mkdir(parents=True, exist_ok=True)
     problems, seen = [], 0
-    views = [(name, path, w, h) for name, (path, sizes) in pages.items() for w, h in sizes]
+    views = [(name, path, w, h) for name, (path, sizes) in pages.items()
+             for w, h in sizes][part::2]
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
         try:
@@ -643,5 +647,5 @@ def test_every_3d_view_is_framed_in_chromium(tmp_path):
                                             f"pixels on the border, {filled:.1%} filled")
         finally:
             browser.close()
-    assert seen >= 30
+    assert seen >= 15
     assert not problems, problems
