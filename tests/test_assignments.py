@@ -16,6 +16,7 @@ import pytest
 
 from cshape.cli import main
 from cshape.course import assignments as asg
+from cshape.course.lessons import stderr_outputs
 
 NB_DIR = asg.lessons_dir()
 LESSONS = sorted(NB_DIR.glob(asg.PATTERN))
@@ -248,8 +249,14 @@ def test_nbgrader_course_full_cycle(tmp_path, name):
         typical.mkdir(parents=True)
         nbformat.write(_typical_wrong_capstone(release / CAPSTONE.name, CAPSTONE),
                        typical / CAPSTONE.name)
-    env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")}
+    # the kernels' temporary folder, to see what they leave behind: this autograde is also
+    # the lessons' run (tests/test_notebooks.py), in the environment an instructor grades in
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache"), "TMPDIR": str(tmp)}
     log = asg.run_nbgrader("autograde", name, "--force", cwd=course, env=env)
+    left = sorted(p.name for p in tmp.iterdir() if p.name.startswith("cshape"))
+    assert left == [], f"{name}: the lessons leave temporary folders behind: {left}"
     # neither the solutions nor the untouched release changed a locked cell
     assert "has changed!" not in log, [ln for ln in log.splitlines() if "changed!" in ln]
     asg.run_nbgrader("generate_feedback", name, "--force", cwd=course)
@@ -309,6 +316,8 @@ def test_nbgrader_course_full_cycle(tmp_path, name):
         errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
                   for o in c.get("outputs", []) if o.output_type == "error"]
         assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
+        # no warning boxes in a lesson, unless a cell tagged expect-stderr is about that warning
+        assert stderr_outputs(done) == [], f"{path.name} has stderr outputs"
         release_run = nbformat.read(course / "autograded" / "untouched" / name / path.name,
                                     as_version=4)
         first = next(((k, o.get("ename")) for k, c in enumerate(release_run.cells)
