@@ -77,5 +77,5 @@ def test_a_descriptor_row_checks_its_spectrum_once(count_checks, sphere, lam, de
     descriptor.row(lam, sphere.area)
     assert len(count_checks) == 1
     count_checks.clear()
-    descriptor.rows([lam, lam, lam], [sphere.area] * 3)
+    descriptor._rows([lam, lam, lam], [sphere.area] * 3)
     assert len(count_checks) == 3  # one per row

@@ -174,12 +174,12 @@ def test_matrix_stacks_the_rows_and_names_what_it_cannot_describe(spectra):
         assert X.shape == (3, d.size)
         np.testing.assert_array_equal(
             X, np.vstack([d.row(lam, a) for lam, a in zip(lams, areas, strict=True)]))
-        X2, problems = d.rows(list(lams), areas)
+        X2, problems = d._rows(list(lams), areas)
         np.testing.assert_array_equal(X2, X)
         assert problems == {}
     bad = lams.copy()
     bad[1, :20] = 0.0  # 20 zero modes: 10 non-zero eigenvalues, fewer than 2M+1 = 17
-    X, problems = TL.for_N(N).rows(bad, areas)
+    X, problems = TL.for_N(N)._rows(bad, areas)
     assert X.shape == (2, 17) and list(problems) == [1]
     with pytest.raises(ValueError, match=r"kind='truncated-log' cannot describe 1 of 3 "
                                          r"shapes \(torus: 20 of its 30 eigenvalues"):

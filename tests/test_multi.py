@@ -210,7 +210,7 @@ def test_matrix_names_every_row_it_cannot_describe(table):
         Descriptor("truncated-log", N=N, M=9).matrix(table.lam, table.areas,
                                                      names=table.names,
                                                      zero_modes=table.zero_modes)
-    bad = Descriptor("truncated-log", N=N, M=9).rows(table.lam, table.areas)[1]
+    bad = Descriptor("truncated-log", N=N, M=9)._rows(table.lam, table.areas)[1]
     assert list(bad) == [3] and "2M+1 = 19 are needed" in bad[3]
 
 

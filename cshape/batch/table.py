@@ -261,7 +261,7 @@ class DescriptorTable:
                 CShapeWarning, stacklevel=stacklevel)
 
     def descriptors(self, descriptor: Descriptor | None = None) -> np.ndarray:
-        """Descriptor matrix, one row per shape (:meth:`cshape.Descriptor.rows`).
+        """Descriptor matrix, one row per shape (:meth:`cshape.Descriptor.row` of each).
 
         Parameters
         ----------
@@ -316,7 +316,7 @@ class DescriptorTable:
             The table row of each row of ``X``.
         """
         d = _chosen(self, descriptor)
-        X, bad = d.rows(self.lam, self.areas, self.zero_modes)
+        X, bad = d._rows(self.lam, self.areas, self.zero_modes)
         if warn:
             self._warn_left_out(d, bad, stacklevel=stacklevel)
         rows = np.setdiff1d(np.arange(len(self)), np.fromiter(bad, dtype=np.int64))
@@ -552,7 +552,7 @@ def collection_distances(table: DescriptorTable, descriptor: Descriptor | None =
         If no shape (or a single one) can be described.
     """
     d = _chosen(table, descriptor)
-    X, bad = d.rows(table.lam, table.areas, table.zero_modes)
+    X, bad = d._rows(table.lam, table.areas, table.zero_modes)
     table._warn_left_out(d, bad)
     rows = np.setdiff1d(np.arange(len(table)), np.fromiter(bad, dtype=np.int64))
     left_out = [(table.names[i], " ".join(str(why).split())) for i, why in bad.items()]

@@ -12,8 +12,8 @@ A descriptor is a recipe of five fields, checked once when it is made:
 * ``normalization`` - the scale normalisation (:func:`cshape.normalize`).
 
 It knows its :attr:`~Descriptor.size` and its :attr:`~Descriptor.label`, and builds a
-:meth:`~Descriptor.row` from one spectrum, or the :meth:`~Descriptor.matrix` (or
-:meth:`~Descriptor.rows`) of many.  Two are shipped: :data:`PAPER`, the paper's cShape-DNA
+:meth:`~Descriptor.row` from one spectrum, or the :meth:`~Descriptor.matrix` of many (a
+:class:`cshape.DescriptorTable` leaves out, with a warning, the shapes it cannot describe).  Two are shipped: :data:`PAPER`, the paper's cShape-DNA
 (Eq. 8-10, ``M = 16`` of ``N = 100``, area-normalised), and :data:`DEFAULT`, the exploration
 default that tables, the index, the figures and the command line compare when no descriptor
 is given.
@@ -112,7 +112,7 @@ class Descriptor:
     the ``N-k`` ratios to ``N-1`` by Weyl's law (``r_i = r_{N-k}``) and need ``2M+1``
     measured ones, 'f1' is ``mu_1 / mu_i`` for ``i = 2..N-1``, extended the same way
     (``mu_i = mu_{N-k} i / (N-k)``), and needs two.  A row without enough non-zero
-    eigenvalues cannot be described: :meth:`rows` says which and why.
+    eigenvalues cannot be described: :meth:`matrix` names them and says why.
 
     Parameters
     ----------
@@ -349,7 +349,7 @@ class Descriptor:
         S = _compact(_normalize(r[:N], area, norm), M, k, self.transform)
         return S if kind == "cshape-complex" else real_form(S)
 
-    def rows(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
+    def _rows(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None = None,
              zero_modes: ArrayLike | None = None) -> tuple[NDArray[Any], dict[int, str]]:
         """Return the descriptors of the shapes that can be described, and why the others cannot.
 
@@ -396,7 +396,8 @@ class Descriptor:
         Parameters
         ----------
         lams : array_like, shape (p, n), or sequence of p 1-D arrays
-            Ascending eigenvalues of each shape, as for :meth:`rows`.
+            Ascending eigenvalues of each shape (ragged rows allowed), each with at least
+            :attr:`min_eigenvalues` values.
         areas : array_like, shape (p,), optional
             Surface areas; needed when :attr:`needs_area`.
         zero_modes : array_like of int, shape (p,), optional
@@ -412,10 +413,11 @@ class Descriptor:
         Raises
         ------
         ValueError
-            As :meth:`rows`, and when some shapes cannot be described (all named, with the
-            reason).
+            ``lams`` empty or of a short row, ``areas`` missing or of the wrong length,
+            ``zero_modes`` not one integer per row; and when some shapes cannot be described
+            (all named, with the reason).
         """
-        X, problems = self.rows(lams, areas, zero_modes)
+        X, problems = self._rows(lams, areas, zero_modes)
         p = len(X) + len(problems)
         labels = _row_names(names, p)
         if problems:
@@ -423,8 +425,8 @@ class Descriptor:
             more = f"; and {len(problems) - 5} more" if len(problems) > 5 else ""
             raise ValueError(
                 f"kind={self.kind!r} cannot describe {len(problems)} of {p} shapes "
-                f"({shown}{more}); leave them out (Descriptor.rows lists them; "
-                "a DescriptorTable leaves them out with a warning) or choose another kind")
+                f"({shown}{more}); leave them out (a DescriptorTable leaves them out "
+                "with a warning: table.described) or choose another kind")
         return X
 
     def _prepare(self, lams: ArrayLike | Sequence[ArrayLike], areas: ArrayLike | None,
