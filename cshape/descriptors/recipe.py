@@ -13,8 +13,9 @@ A descriptor is a recipe of five fields, checked once when it is made:
 
 It knows its :attr:`~Descriptor.size` and its :attr:`~Descriptor.label`, and builds a
 :meth:`~Descriptor.row` from one spectrum, or the :meth:`~Descriptor.matrix` of many (a
-:class:`cshape.DescriptorTable` leaves out, with a warning, the shapes it cannot describe).  Two are shipped: :data:`PAPER`, the paper's cShape-DNA
-(Eq. 8-10, ``M = 16`` of ``N = 100``, area-normalised), and :data:`DEFAULT`, the exploration
+:class:`cshape.DescriptorTable` leaves out, with a warning, the shapes it cannot describe).
+Two are shipped: :data:`PAPER`, the paper's cShape-DNA (Eq. 8-10, ``M = 16`` of ``N = 100``,
+area-normalised), and :data:`DEFAULT`, the exploration
 default that tables, the index, the figures and the command line compare when no descriptor
 is given.
 
