@@ -110,6 +110,20 @@ def test_articulated_poses_near_isometric_and_seeded():
     assert b.area == pytest.approx(a.area, rel=0.03)  # bone lengths fixed: same area
 
 
+@pytest.mark.parametrize("kind", ["spider", "snake"])
+def test_articulated_figure_is_the_marching_cubes_of_the_whole_union(kind):
+    """The figure evaluates each capsule only near it (a cutoff of three voxels), and gets
+    the marching-cubes mesh of the full union of capsules, bit for bit."""
+    caps, vs = bodies.figure_capsules(kind, 2), 0.04
+    got = bodies.articulated_figure(kind, 2, voxelsize=vs, target_vertices=None)
+    pts = np.array([c.a for c in caps] + [c.b for c in caps])
+    margin = max(c.radius for c in caps) + 4 * vs + 0.05
+    full = v.marching_cubes(bodies.capsules_expression(caps),
+                            (*(pts.min(0) - margin), *(pts.max(0) + margin)), vs)
+    np.testing.assert_array_equal(got.vertices, full.vertices)
+    np.testing.assert_array_equal(got.faces, full.faces)
+
+
 def test_figure_capsules_bone_lengths_fixed():
     for kind in bodies.ARTICULATED_KINDS:
         lengths = [

@@ -241,7 +241,7 @@ def articulated_figure(
     rmax = max(c.radius for c in caps)
     margin = rmax + 4 * voxelsize + 0.05  # PyMeshLab's grid may stop short of the max corner
     lo, hi = pts.min(0) - margin, pts.max(0) + margin
-    mesh = marching_cubes(capsules_expression(caps), (*lo, *hi), voxelsize)
+    mesh = marching_cubes(capsules_expression(caps, cutoff=3 * voxelsize), (*lo, *hi), voxelsize)
     if target_vertices is None:
         return mesh
     return remesh(mesh, target_vertices=target_vertices)

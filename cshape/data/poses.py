@@ -158,7 +158,7 @@ def _template(kind: str, voxelsize: float, target_vertices: int) -> Mesh:
     pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
     margin = max(c.radius for c in caps) + 4 * voxelsize + 0.05
     lo, hi = pts.min(0) - margin, pts.max(0) + margin
-    mesh = marching_cubes(capsules_expression(caps), (*lo, *hi), voxelsize)
+    mesh = marching_cubes(capsules_expression(caps, cutoff=3 * voxelsize), (*lo, *hi), voxelsize)
     return remesh(mesh, target_vertices=target_vertices)
 
 
