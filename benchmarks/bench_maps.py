@@ -778,13 +778,15 @@ def people_diagnose(label):
     seen = {"maps": [], "bases": []}
     pick, to_points, basis = cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis
 
-    def record_pick(scores):
-        seen["scores"], seen["keep"] = list(scores), pick(scores)
+    def record_pick(scores, *args):
+        seen["scores"], seen["keep"] = list(scores), pick(scores, *args)
         return seen["keep"]
 
     def record_map(*args, **kw):
-        seen["maps"].append(to_points(*args, **kw))
-        return seen["maps"][-1]
+        q = to_points(*args, **kw)
+        if args[1] is not args[2]:  # not the source's map to itself (its mirror symmetry)
+            seen["maps"].append(q)
+        return q
 
     def record_basis(*args, **kw):
         seen["bases"].append(basis(*args, **kw))

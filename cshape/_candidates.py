@@ -61,6 +61,12 @@ SIGN_SAMPLE = 1000
 COMPARE_SAMPLE = 1500
 #: Candidates of the sign patterns refined in full (those of the smallest residual that differ).
 SIGN_KEEP = 2
+#: A candidate that keeps the orientation on at most this share of the area is a mirror image
+#: (:func:`cshape.point_map` also tries it turned in space, :func:`turned_in_space`).
+MIRROR_SHARE = 0.5
+#: Weight of the normals in :func:`turned_in_space` (per unit of normal, in ``sqrt(area)``).
+NORMAL_WEIGHT = 0.1
+TURN_BASIS = 10
 #: Size to which every candidate is upsampled (ZoomOut) before they are compared; the one
 #: kept goes on to the final size.
 COMPARE_SIZE = 50
@@ -111,6 +117,37 @@ def _zoom(C, subS, subT, w, k):
         C = _fit(subT[:, :kc], subS[p, :kc], w, None)
 
 
+def _zoom_all(starts, subS, subT, w, k):
+    """:func:`_zoom` of every map in ``starts``, each ZoomOut followed once.
+
+    A ZoomOut step depends only on the vertex map of the step before, so two starts whose
+    vertex maps meet go on alike from there: only the first of them is followed, the others
+    give ``(None, None)``.
+    """
+    out, live = [None] * len(starts), {}
+    for i, C in enumerate(starts):
+        live[i] = C
+    kc = min(C.shape[0] for C in starts)
+    while live:
+        seen = {}
+        for i in list(live):
+            C = live[i]
+            p = nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T)
+            key = p.tobytes()
+            if key in seen:
+                del live[i]
+                out[i] = (None, None)
+                continue
+            seen[key] = i
+            if kc >= k:
+                out[i] = (C, p)
+                del live[i]
+            else:
+                live[i] = _fit(subT[:, :kc + 1], subS[p, :kc + 1], w, None)
+        kc += 1
+    return out
+
+
 def residual(C, phiS, phiT, p):
     """Mean spectral residual ``|Phi_T[y] - C Phi_S[p[y]]|`` of a map and its ``C``."""
     k = C.shape[0]
@@ -154,13 +191,15 @@ def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
         o = np.arange(m)
         o[[i, i + 1]] = o[[i + 1, i]]
         orders.append(o)
-    found = []
+    patterns = []
     for order in orders:
         for signs in itertools.product((1.0, -1.0), repeat=m - 1):
             P = np.zeros((m, m))
             P[np.arange(m), order] = [s0, *signs]
-            C, p = _zoom(P, subS, subT, w, k)
-            found.append((residual(C, subS, subT, p), C, p, P))
+            patterns.append(P)
+    found = [(residual(C, subS, subT, p), C, p, P)
+             for P, (C, p) in zip(patterns, _zoom_all(patterns, subS, subT, w, k),
+                                  strict=True) if C is not None]
     found.sort(key=lambda f: f[0])
     kept = [found[0]]
     for f in found[1:]:
@@ -169,6 +208,46 @@ def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
         if all(np.mean(f[2] == g[2]) < 0.5 for g in kept):
             kept.append(f)
     return [(P, C) for _r, C, _p, P in kept]
+
+
+def _vertex_normals(mesh):
+    V, F = mesh.vertices, mesh.faces
+    fn = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    vn = np.zeros_like(V)
+    for j in range(3):
+        np.add.at(vn, F[:, j], fn)
+    return vn / np.maximum(np.linalg.norm(vn, axis=1), np.finfo(float).tiny)[:, None]
+
+
+def turned_in_space(source: Mesh, target: Mesh, BT, p2p, phiT=None) -> np.ndarray:
+    """Return a mirror-image map turned the right way round in space.
+
+    The rotation, scale and translation of least mass-weighted squares that carry the images
+    ``V_S[p]`` onto ``V_T`` (as in :func:`extrinsic_residual`) place the source over the
+    target; each target vertex then takes the source vertex nearest to it in position and
+    normal (``NORMAL_WEIGHT`` times ``sqrt(area)`` per unit of normal).  A map that sends the
+    front of a body to its back places the source well but its normals the wrong way: the
+    nearest vertex whose normal agrees is on the right side.
+    """
+    from scipy.spatial import cKDTree
+
+    w = np.asarray(BT.sum(axis=1)).ravel()
+    w = w / w.sum()
+    a, b = source.vertices[p2p], target.vertices
+    ca, cb = w @ a, w @ b
+    U, _s, Vt = np.linalg.svd(((a - ca) * w[:, None]).T @ (b - cb))
+    D = np.array([1.0, 1.0, np.sign(np.linalg.det(U @ Vt)) or 1.0])
+    R = (U * D) @ Vt
+    scale = np.sqrt(target.area / source.area)
+    h = NORMAL_WEIGHT * np.sqrt(target.area)
+    emb_S = np.hstack([scale * (source.vertices - ca) @ R + cb, h * (_vertex_normals(source) @ R)])
+    bt = b
+    if phiT is not None:
+        r = b - (scale * (a - ca) @ R + cb)
+        P = phiT[:, :TURN_BASIS]
+        bt = b - P @ (P.T @ (BT @ r))
+    emb_T = np.hstack([bt, h * _vertex_normals(target)])
+    return cKDTree(emb_S).query(emb_T)[1].astype(np.int64)
 
 
 def orientation_share(source: Mesh, target: Mesh, p2p: np.ndarray) -> float:
@@ -256,7 +335,7 @@ def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
     return float(median / size) if size > 0 else 0.0
 
 
-def pick_extrinsic(scores):
+def pick_extrinsic(scores, turned=()):
     """Return the index of the candidate to keep, by the extrinsic misfit.
 
     ``scores``: a list of ``(residual, orientation share, descriptor error, extrinsic
@@ -265,12 +344,19 @@ def pick_extrinsic(scores):
     does), those whose residual is within ``RESIDUAL_SLACK`` of their smallest and whose
     orientation share is at most ``ORIENTATION_SLACK`` below the best of those, the one of
     the smallest :func:`extrinsic_residual` (of the smaller descriptor error on a tie).
+    A candidate of ``turned`` (a mirror image turned in space, :func:`turned_in_space`: a
+    repair fitted in space, whose extrinsic misfit is small by construction) is one of them
+    only if no other is better on all three intrinsic criteria (a smaller residual, a larger
+    orientation share and a smaller descriptor error).
     """
     pool = [i for i, s in enumerate(scores) if s[1] > 0.5] or list(range(len(scores)))
     best = min(scores[i][0] for i in pool)
     ok = [i for i in pool if scores[i][0] <= RESIDUAL_SLACK * best]
     top = max(scores[i][1] for i in ok)
     ok = [i for i in ok if scores[i][1] >= top - ORIENTATION_SLACK]
+    ok = [i for i in ok if i not in turned or not any(
+        scores[j][0] < scores[i][0] and scores[j][1] > scores[i][1]
+        and scores[j][2] < scores[i][2] for j in ok if j != i)]
     return min(ok, key=lambda i: (scores[i][3], scores[i][2], i))
 
 
