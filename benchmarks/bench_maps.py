@@ -558,7 +558,11 @@ REMESHED_SEED = 11
 GROUPS = {"remeshed-different": "remeshed, different people",
           "remeshed-same": "remeshed, same person",
           "registrations": "registrations",
-          "tosca": "TOSCA poses"}
+          "tosca": "TOSCA poses",
+          "dense": "dense remeshed, different people"}
+#: Pairs of ``dense`` (registrations remeshed on their own to about 55K vertices,
+#: ``_remeshed.dense``).
+DENSE_PAIRS = ((26, 3), (10, 6))
 
 
 def people_pairs(groups=tuple(GROUPS), only=(), limit=0):
@@ -591,6 +595,10 @@ def people_pairs(groups=tuple(GROUPS), only=(), limit=0):
         tosca = [(lab.replace(" -> ", "->"), S, T) for lab, S, T, _t in tosca_pairs(chars)]
         out += [(GROUPS["tosca"], lab, (lambda S=S, T=T: (S, T, np.arange(T.n_vertices))))
                 for lab, S, T in tosca if lab in wanted]
+    if "dense" in groups and FAUST.exists():
+        out += [(GROUPS["dense"], f"{a:03d}->{b:03d}",
+                 (lambda a=a, b=b: (rm.dense(a)[0], rm.dense(b)[0], rm.dense_true_map(a, b))))
+                for a, b in DENSE_PAIRS]
     if only:
         out = [p for p in out if p[1] in only]
     if limit:

@@ -86,7 +86,7 @@ SIGN_ORIENTATION_WEIGHT = 3e-3
 
 #: :func:`point_map` maps meshes of more vertices than this through coarse copies of about
 #: this many vertices (its ``coarse``).
-COARSE_VERTICES = 10000
+COARSE_VERTICES = 8000
 
 #: Unknowns of ``C`` (``N_T N_S``) up to which :func:`functional_map` solves its normal
 #: equations with the orientation term directly (one dense matrix); above, by conjugate
