@@ -802,10 +802,12 @@ def people_diagnose(label):
 
     cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = (record_pick, record_map,
                                                                      record_basis)
+    threads, cmaps.SEARCH_THREADS = cmaps.SEARCH_THREADS, 1  # the maps in candidate order
     try:
         p = cshape.point_map(S, T)
     finally:
         cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = pick, to_points, basis
+        cmaps.SEARCH_THREADS = threads
     rows = []
 
     def row(name, sc, q):

@@ -29,6 +29,15 @@ that fit and keep the orientation, :func:`pick_extrinsic` keeps the one whose im
 carried onto the target best by a rotation, a scale and a smooth bending
 (:func:`extrinsic_residual`).
 
+Between bodies of different build, ZoomOut may also end on a map that sends the front of the
+body to its back: it keeps every part in place (the error is about the body's thickness) but
+reverses the orientation, and the oriented map of its pattern need not repair it.  Placed in
+space, such a map carries the source over the target (:func:`extrinsic_residual`'s rotation
+and smooth bending); each target vertex then takes the source vertex nearest in position and
+normal, and the normals put it on the right side (:func:`turned_in_space`).  Fitted in space,
+that map's extrinsic misfit is small by construction: :func:`pick_extrinsic` lets it compete
+only if no other candidate beats it on all three intrinsic criteria.
+
 None of these criteria can tell two maps apart on a shape with a symmetry that keeps the
 orientation (a half turn of a shape symmetric in space too): every criterion of its two maps
 agrees within noise. :func:`rival` finds such a map, and :func:`settling_vertices` the target
@@ -38,6 +47,7 @@ vertices where landmarks would decide.
 from __future__ import annotations
 
 import itertools
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -66,6 +76,8 @@ SIGN_KEEP = 2
 MIRROR_SHARE = 0.5
 #: Weight of the normals in :func:`turned_in_space` (per unit of normal, in ``sqrt(area)``).
 NORMAL_WEIGHT = 0.1
+#: Eigenfunctions of the target that span the smooth bending :func:`turned_in_space` undoes
+#: (fewer than ``EXTRINSIC_BASIS``: front and back of a limb must not be bent into each other).
 TURN_BASIS = 10
 #: Size to which every candidate is upsampled (ZoomOut) before they are compared; the one
 #: kept goes on to the final size.
@@ -117,34 +129,39 @@ def _zoom(C, subS, subT, w, k):
         C = _fit(subT[:, :kc], subS[p, :kc], w, None)
 
 
-def _zoom_all(starts, subS, subT, w, k):
+def _zoom_all(starts, subS, subT, w, k, threads=1):
     """:func:`_zoom` of every map in ``starts``, each ZoomOut followed once.
 
     A ZoomOut step depends only on the vertex map of the step before, so two starts whose
     vertex maps meet go on alike from there: only the first of them is followed, the others
-    give ``(None, None)``.
+    give ``(None, None)``.  The starts of one step are shared among ``threads`` threads (the
+    same result).
     """
-    out, live = [None] * len(starts), {}
-    for i, C in enumerate(starts):
-        live[i] = C
+    out, live = [None] * len(starts), dict(enumerate(starts))
     kc = min(C.shape[0] for C in starts)
-    while live:
-        seen = {}
-        for i in list(live):
-            C = live[i]
-            p = nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T)
-            key = p.tobytes()
-            if key in seen:
-                del live[i]
-                out[i] = (None, None)
-                continue
-            seen[key] = i
-            if kc >= k:
-                out[i] = (C, p)
-                del live[i]
-            else:
-                live[i] = _fit(subT[:, :kc + 1], subS[p, :kc + 1], w, None)
-        kc += 1
+
+    def nearest(item):
+        i, C = item
+        return i, nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T)
+
+    def fit(item):
+        return _fit(subT[:, :kc + 1], subS[item[1], :kc + 1], w, None)
+
+    with ThreadPoolExecutor(threads) as pool:
+        while live:
+            seen, going = set(), {}
+            for i, p in pool.map(nearest, live.items()):  # in the order of the starts
+                key = p.tobytes()
+                if key in seen:
+                    out[i] = (None, None)
+                elif kc >= k:
+                    seen.add(key)
+                    out[i] = (live[i], p)
+                else:
+                    seen.add(key)
+                    going[i] = p
+            live = dict(zip(going, pool.map(fit, going.items()), strict=True))
+            kc += 1
     return out
 
 
@@ -170,7 +187,7 @@ def _swaps(lamS, lamT, m):
     return out
 
 
-def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
+def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None, threads=1):
     """Return the ``SIGN_KEEP`` sign patterns of the smallest residual, upsampled, that differ.
 
     A pattern is a signed permutation ``P`` of the first ``SIGN_SIZE`` eigenfunctions (the
@@ -198,7 +215,7 @@ def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
             P[np.arange(m), order] = [s0, *signs]
             patterns.append(P)
     found = [(residual(C, subS, subT, p), C, p, P)
-             for P, (C, p) in zip(patterns, _zoom_all(patterns, subS, subT, w, k),
+             for P, (C, p) in zip(patterns, _zoom_all(patterns, subS, subT, w, k, threads),
                                   strict=True) if C is not None]
     found.sort(key=lambda f: f[0])
     kept = [found[0]]
@@ -211,6 +228,7 @@ def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
 
 
 def _vertex_normals(mesh):
+    """Return unit vertex normals (the area-weighted sum of the faces' normals)."""
     V, F = mesh.vertices, mesh.faces
     fn = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
     vn = np.zeros_like(V)
@@ -224,10 +242,12 @@ def turned_in_space(source: Mesh, target: Mesh, BT, p2p, phiT=None) -> np.ndarra
 
     The rotation, scale and translation of least mass-weighted squares that carry the images
     ``V_S[p]`` onto ``V_T`` (as in :func:`extrinsic_residual`) place the source over the
-    target; each target vertex then takes the source vertex nearest to it in position and
-    normal (``NORMAL_WEIGHT`` times ``sqrt(area)`` per unit of normal).  A map that sends the
-    front of a body to its back places the source well but its normals the wrong way: the
-    nearest vertex whose normal agrees is on the right side.
+    target; with ``phiT`` (the target's eigenfunctions) the target is also unbent by the
+    misfit's projection on its first ``TURN_BASIS`` eigenfunctions.  Each target vertex then
+    takes the source vertex nearest to it in position and normal (``NORMAL_WEIGHT`` times
+    ``sqrt(area)`` per unit of normal).  A map that sends the front of a body to its back
+    places the source well but its normals the wrong way: the nearest vertex whose normal
+    agrees is on the right side.  Returns a vertex map, shape ``(n_T,)``.
     """
     from scipy.spatial import cKDTree
 
@@ -240,7 +260,8 @@ def turned_in_space(source: Mesh, target: Mesh, BT, p2p, phiT=None) -> np.ndarra
     R = (U * D) @ Vt
     scale = np.sqrt(target.area / source.area)
     h = NORMAL_WEIGHT * np.sqrt(target.area)
-    emb_S = np.hstack([scale * (source.vertices - ca) @ R + cb, h * (_vertex_normals(source) @ R)])
+    emb_S = np.hstack([scale * (source.vertices - ca) @ R + cb,
+                       h * (_vertex_normals(source) @ R)])
     bt = b
     if phiT is not None:
         r = b - (scale * (a - ca) @ R + cb)

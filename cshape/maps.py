@@ -43,7 +43,9 @@ left from right; this term can, because it uses the surface's orientation (face 
 
 from __future__ import annotations
 
+import os
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -87,6 +89,9 @@ SIGN_ORIENTATION_WEIGHT = 3e-3
 #: :func:`point_map` maps meshes of more vertices than this through coarse copies of about
 #: this many vertices (its ``coarse``).
 COARSE_VERTICES = 8000
+
+#: Threads among which :func:`point_map` shares its candidate maps (at most the CPUs).
+SEARCH_THREADS = 2
 
 #: Unknowns of ``C`` (``N_T N_S``) up to which :func:`functional_map` solves its normal
 #: equations with the orientation term directly (one dense matrix); above, by conjugate
@@ -305,7 +310,6 @@ def functional_map(source: Eigenbasis, target: Eigenbasis, desc_source: ArrayLik
     """
     source = _check_eigenbasis("source", source)
     target = _check_eigenbasis("target", target)
-    lS, lT = source.lam, target.lam
     pS, pT = source.phi, target.phi
     FS = _check_array("desc_source", _columns(desc_source), len(pS))
     FT = _check_array("desc_target", _columns(desc_target), len(pT))
@@ -331,9 +335,11 @@ def functional_map(source: Eigenbasis, target: Eigenbasis, desc_source: ArrayLik
 
 
 def _fit_descriptors(source, target, FS, FT, wd, wl, wo, maxiter, cache=None):
-    """:func:`functional_map` of checked arguments; ``cache``: a dict that keeps the
-    orientation operators of the first descriptors it is given, for later calls whose
-    descriptors begin with the same columns."""
+    """Return :func:`functional_map` of checked arguments.
+
+    ``cache``: a dict that keeps the orientation operators of the first descriptors it is
+    given, for later calls whose descriptors begin with the same columns.
+    """
     lS, lT = source.lam, target.lam
     pS, pT = source.phi, target.phi
     B_source, B_target = source.B, target.B
@@ -399,7 +405,7 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT, c
 
 
 def _solve_direct(H, M, wl, wo, OS, OT, R):
-    """The minimiser of the energy of :func:`functional_map`, by one dense solve.
+    """Return the minimiser of the energy of :func:`functional_map`, by one dense solve.
 
     With ``x`` the rows of ``C`` one after another, ``vec(X A) = (I kron A^T) x`` and
     ``vec(A X) = (A kron I) x``; the orientation residual of descriptor ``f`` is ``L_f x``,
@@ -689,10 +695,11 @@ def coarse_copy(mesh, n):
 def _via_coarse(S, T, n, lm, return_map, options):
     """:func:`point_map` of two big meshes through coarse copies, carried to the full meshes.
 
-    Each mesh of more than ``n`` vertices is replaced by a copy of about ``n`` (:func:`coarse_copy`);
-    the landmarks go to the nearest vertices of the copies.  Each vertex of the full target
-    takes the images of its three nearest vertices of the target's copy, blended by inverse
-    distance, and then the source vertex nearest to that point.
+    Each mesh of more than ``n`` vertices is replaced by a copy of about ``n``
+    (:func:`coarse_copy`); the landmarks go to the nearest vertices of the copies.  Each
+    vertex of the full target takes the images of its three nearest vertices of the
+    target's copy, blended by inverse distance, and then the source vertex nearest to that
+    point.
     """
     from scipy.spatial import cKDTree
 
@@ -752,50 +759,12 @@ class _Start:
 def _search(C, start, N, zoom):
     """Return the map that steps 4-8 of :func:`point_map` keep, at the common size."""
     bS, bT = start.bS, start.bT
-    wT = np.asarray(bT.B.sum(axis=1)).ravel()
-    with one_blas_thread():  # small products: spinning BLAS threads only slow them
-        patterns = _candidates.sign_candidates(bS.phi, bT.phi, wT,
-                                               np.random.default_rng(zoom["random_state"]),
-                                               bS.lam, bT.lam)
-    starts = [C] + [Cs for _P, Cs in patterns]
-    names = ["the descriptors' map"] + [f"the sign pattern {_signs(P)}" for P, _C in patterns]
-    if start.orientation:  # the same patterns, left and right settled by the orientation
-        starts += [start.oriented(P) for P, _C in patterns]
-        names += [f"the oriented map of the sign pattern {_signs(P)}" for P, _C in patterns]
-    m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
-    ends = _candidates.extremities(bT.phi, bT.lam)
-    found, maps, scores = [], [], []
-    zoom = dict(zoom, sample=None if zoom["sample"] is None
-                else min(zoom["sample"], _candidates.COMPARE_SAMPLE))
-
-    def add(C):
-        C = zoomout(C, bS, bT, m, **zoom)
-        p = map_to_pointwise(C, bS, bT)
-        found.append(C)
-        maps.append(p)
-        scores.append((_candidates.residual(C, bS.phi, bT.phi, p),
-                       _candidates.orientation_share(bS.mesh, bT.mesh, p)
-                       if start.orientation else 0.0,
-                       _candidates.descriptor_error(start.dS, start.dT, wT, p),
-                       _candidates.extrinsic_residual(bS.mesh, bT.mesh, bT.phi, bT.B, p)))
-
-    for C in starts:
-        add(C)
-    # a mirror image (front to back on a body) turned the right way round in space
-    k0, turned = min(_candidates.SIGN_ZOOM, m), []
-    for i in range(len(maps)):
-        if start.orientation and scores[i][1] <= _candidates.MIRROR_SHARE:
-            q = _candidates.turned_in_space(bS.mesh, bT.mesh, bT.B, maps[i], bT.phi)
-            turned.append(len(maps))
-            add(pointwise_to_map(q, bS.truncate(k0), bT.truncate(k0)))
-            names.append(f"{names[i]}, turned in space")
-    best, n_starts = min(s[0] for s in scores), len(maps)
-    # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
-    # already: a map from its extremities would fit them once more, and so win on the WKS)
-    for i in range(1, n_starts):
-        if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
-            add(start(np.column_stack([maps[i][ends], ends])))
-            names.append(f"the map from the extremities of {names[i]}")
+    threads = max(1, min(SEARCH_THREADS, os.cpu_count() or 1))
+    with one_blas_thread(), ThreadPoolExecutor(threads) as pool:
+        # small products: spinning BLAS threads only slow them; the candidates are shared
+        # among threads instead (the same result)
+        found, maps, scores, names, turned, m = _candidates_of(C, start, N, zoom, pool,
+                                                               threads)
     keep = _candidates.pick_extrinsic(scores, turned)
     # step 8: a rival within noise of the map kept is named in a warning
     V = bS.mesh.vertices
@@ -806,6 +775,66 @@ def _search(C, start, N, zoom):
     if other is not None:
         _warn_tie(names, scores, maps, keep, other, V)
     return found[keep]
+
+
+def _candidates_of(C, start, N, zoom, pool, threads):
+    """Every candidate of steps 4-7 of :func:`point_map`, at the common size ``m``.
+
+    Returns the lists of their ``C``, vertex maps, scores (residual, orientation share,
+    descriptor error, extrinsic misfit) and names, the indices of the maps turned in space,
+    and ``m``; ``pool`` shares the candidates among ``threads`` threads.
+    """
+    bS, bT = start.bS, start.bT
+    wT = np.asarray(bT.B.sum(axis=1)).ravel()
+    patterns = _candidates.sign_candidates(bS.phi, bT.phi, wT,
+                                           np.random.default_rng(zoom["random_state"]),
+                                           bS.lam, bT.lam, threads=threads)
+    starts = [C] + [Cs for _P, Cs in patterns]
+    names = ["the descriptors' map"] + [f"the sign pattern {_signs(P)}" for P, _C in patterns]
+    if start.orientation:  # the same patterns, left and right settled by the orientation
+        starts += list(pool.map(start.oriented, [P for P, _C in patterns]))
+        names += [f"the oriented map of the sign pattern {_signs(P)}" for P, _C in patterns]
+    m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
+    ends = _candidates.extremities(bT.phi, bT.lam)
+    found, maps, scores = [], [], []
+    zoom = dict(zoom, sample=None if zoom["sample"] is None
+                else min(zoom["sample"], _candidates.COMPARE_SAMPLE))
+
+    def evaluate(make):
+        C = zoomout(make(), bS, bT, m, **zoom)
+        p = map_to_pointwise(C, bS, bT)
+        return C, p, (_candidates.residual(C, bS.phi, bT.phi, p),
+                      _candidates.orientation_share(bS.mesh, bT.mesh, p)
+                      if start.orientation else 0.0,
+                      _candidates.descriptor_error(start.dS, start.dT, wT, p),
+                      _candidates.extrinsic_residual(bS.mesh, bT.mesh, bT.phi, bT.B, p))
+
+    def add(makers):  # evaluated in the threads, kept in order
+        for C, p, s in pool.map(evaluate, makers):
+            found.append(C)
+            maps.append(p)
+            scores.append(s)
+
+    add([lambda C=C: C for C in starts])
+    # a mirror image (front to back on a body) turned the right way round in space
+    k0 = min(_candidates.SIGN_ZOOM, m)
+    mirrors = [i for i in range(len(maps))
+               if start.orientation and scores[i][1] <= _candidates.MIRROR_SHARE]
+    turned = list(range(len(maps), len(maps) + len(mirrors)))
+
+    def turn(i):
+        q = _candidates.turned_in_space(bS.mesh, bT.mesh, bT.B, maps[i], bT.phi)
+        return pointwise_to_map(q, bS.truncate(k0), bT.truncate(k0))
+
+    add([lambda i=i: turn(i) for i in mirrors])
+    names += [f"{names[i]}, turned in space" for i in mirrors]
+    best, n_starts = min(s[0] for s in scores), len(maps)
+    # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
+    # already: a map from its extremities would fit them once more, and so win on the WKS)
+    fits = [i for i in range(1, n_starts) if scores[i][0] <= _candidates.RESIDUAL_SLACK * best]
+    add([lambda i=i: start(np.column_stack([maps[i][ends], ends])) for i in fits])
+    names += [f"the map from the extremities of {names[i]}" for i in fits]
+    return found, maps, scores, names, turned, m
 
 
 def _signs(P):

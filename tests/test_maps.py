@@ -424,8 +424,8 @@ def test_the_search_compares_the_maps_from_the_sign_patterns_extremities(monkeyp
         seen.append(list(scores))
         return pick(scores, *args)
 
-    def record_signs(*args):
-        patterns.append(signs(*args))
+    def record_signs(*args, **kwargs):
+        patterns.append(signs(*args, **kwargs))
         return patterns[-1]
 
     monkeypatch.setattr(_candidates, "pick_extrinsic", record_pick)
@@ -679,3 +679,43 @@ def test_the_search_turns_each_mirror_image_in_space(monkeypatch):
     assert all(_candidates.orientation_share(S, T, p) <= _candidates.MIRROR_SHARE for p in maps)
     n_before = min(turned)
     assert len(maps) == sum(s[1] <= _candidates.MIRROR_SHARE for s in scores[:n_before])
+
+
+def test_a_coarse_copy_keeps_vertices_of_the_mesh(blob):
+    copy, index = cshape.maps.coarse_copy(blob, 300)
+    assert 250 <= copy.n_vertices <= 350
+    np.testing.assert_array_equal(copy.vertices, blob.vertices[index])
+    assert len(np.unique(index)) == copy.n_vertices
+    assert copy.area == pytest.approx(blob.area, rel=0.05)
+
+
+@pytest.fixture(scope="module")
+def through_copies(blob, shuffled):
+    """point_map of the blob to its moved, renumbered copy through coarse copies of 300
+    vertices, with two landmarks, and without coarse copies."""
+    T, perm = shuffled
+    lm = np.array([[perm[5], 5], [perm[40], 40]])
+    p, C = cshape.point_map(blob, T, N=N, N0=N0, coarse=300, landmarks=lm, return_map=True)
+    return p, C, lm, cshape.point_map(blob, T, N=N, N0=N0, coarse=None)
+
+
+def test_point_map_through_coarse_copies_finds_the_map(blob, shuffled, through_copies):
+    """The map of the copies, carried to the full meshes, is the true map up to about the
+    copies' spacing; the landmarks are kept as given; C is that of the full bases."""
+    T, perm = shuffled
+    p, C, lm, full = through_copies
+    size = np.sqrt(blob.area)
+    err = np.linalg.norm(blob.vertices[p] - blob.vertices[perm], axis=1) / size
+    edge = np.sqrt(blob.area / (0.866 * 300)) / size  # the copies' edge length
+    assert np.median(err) < edge
+    assert (err < 2 * edge).mean() > 0.9
+    np.testing.assert_array_equal(p[lm[:, 1]], lm[:, 0])
+    assert C.shape == (N, N)
+    assert (full == perm).mean() > 0.95  # without copies: the exact map
+
+
+def test_point_map_rejects_a_bad_coarse_size(blob):
+    with pytest.raises(ValueError, match="coarse"):
+        cshape.point_map(blob, blob, N=N, N0=N0, coarse=10)
+    with pytest.raises(TypeError, match="coarse"):
+        cshape.point_map(blob, blob, N=N, N0=N0, coarse=1.5)
