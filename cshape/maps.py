@@ -668,7 +668,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     return (p2p, C) if return_map else p2p
 
 
-def coarse_copy(mesh, n):
+def _coarse_copy(mesh, n):
     """Return a copy of ``mesh`` with about ``n`` vertices, and the vertex of ``mesh`` of each.
 
     PyMeshLab's quadric edge collapse, keeping the topology, the normals' directions and the
@@ -696,15 +696,15 @@ def _via_coarse(S, T, n, lm, return_map, options):
     """:func:`point_map` of two big meshes through coarse copies, carried to the full meshes.
 
     Each mesh of more than ``n`` vertices is replaced by a copy of about ``n``
-    (:func:`coarse_copy`); the landmarks go to the nearest vertices of the copies.  Each
+    (:func:`_coarse_copy`); the landmarks go to the nearest vertices of the copies.  Each
     vertex of the full target takes the images of its three nearest vertices of the
     target's copy, blended by inverse distance, and then the source vertex nearest to that
     point.
     """
     from scipy.spatial import cKDTree
 
-    Sc, iS = coarse_copy(S, n) if S.n_vertices > n else (S, np.arange(S.n_vertices))
-    Tc, iT = coarse_copy(T, n) if T.n_vertices > n else (T, np.arange(T.n_vertices))
+    Sc = _coarse_copy(S, n)[0] if S.n_vertices > n else S
+    Tc = _coarse_copy(T, n)[0] if T.n_vertices > n else T
     lmc = None
     if lm is not None:
         lmc = np.column_stack([cKDTree(Sc.vertices).query(S.vertices[lm[:, 0]])[1],

@@ -682,7 +682,7 @@ def test_the_search_turns_each_mirror_image_in_space(monkeypatch):
 
 
 def test_a_coarse_copy_keeps_vertices_of_the_mesh(blob):
-    copy, index = cshape.maps.coarse_copy(blob, 300)
+    copy, index = cshape.maps._coarse_copy(blob, 300)
     assert 250 <= copy.n_vertices <= 350
     np.testing.assert_array_equal(copy.vertices, blob.vertices[index])
     assert len(np.unique(index)) == copy.n_vertices
