@@ -9,6 +9,8 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_maps.py --people after   # point_map on FAUST remeshed
                             # pairs, registrations and TOSCA poses (maps_people.md); a subset:
                             # --groups remeshed-different --pairs 006->049,010->006 --limit 5
+                            # (groups: remeshed-different, remeshed-same, registrations,
+                            # tosca, dense: 54K-vertex remeshed registrations)
     .venv/bin/python benchmarks/bench_maps.py --diagnose 006->049  # the search's candidates
     .venv/bin/python benchmarks/bench_maps.py --people-landmarks   # failed pairs + landmarks
     .venv/bin/python benchmarks/bench_maps.py --people-pictures  # a failed and a repaired map
