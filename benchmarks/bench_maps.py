@@ -9,6 +9,8 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_maps.py --people after   # point_map on FAUST remeshed
                             # pairs, registrations and TOSCA poses (maps_people.md); a subset:
                             # --groups remeshed-different --pairs 006->049,010->006 --limit 5
+                            # (groups: remeshed-different, remeshed-same, registrations,
+                            # tosca, dense: 54K-vertex remeshed registrations)
     .venv/bin/python benchmarks/bench_maps.py --diagnose 006->049  # the search's candidates
     .venv/bin/python benchmarks/bench_maps.py --people-landmarks   # failed pairs + landmarks
     .venv/bin/python benchmarks/bench_maps.py --people-pictures  # a failed and a repaired map
@@ -558,7 +560,11 @@ REMESHED_SEED = 11
 GROUPS = {"remeshed-different": "remeshed, different people",
           "remeshed-same": "remeshed, same person",
           "registrations": "registrations",
-          "tosca": "TOSCA poses"}
+          "tosca": "TOSCA poses",
+          "dense": "dense remeshed, different people"}
+#: Pairs of ``dense`` (registrations remeshed on their own to about 55K vertices,
+#: ``_remeshed.dense``).
+DENSE_PAIRS = ((26, 3), (10, 6))
 
 
 def people_pairs(groups=tuple(GROUPS), only=(), limit=0):
@@ -591,6 +597,10 @@ def people_pairs(groups=tuple(GROUPS), only=(), limit=0):
         tosca = [(lab.replace(" -> ", "->"), S, T) for lab, S, T, _t in tosca_pairs(chars)]
         out += [(GROUPS["tosca"], lab, (lambda S=S, T=T: (S, T, np.arange(T.n_vertices))))
                 for lab, S, T in tosca if lab in wanted]
+    if "dense" in groups and FAUST.exists():
+        out += [(GROUPS["dense"], f"{a:03d}->{b:03d}",
+                 (lambda a=a, b=b: (rm.dense(a)[0], rm.dense(b)[0], rm.dense_true_map(a, b))))
+                for a, b in DENSE_PAIRS]
     if only:
         out = [p for p in out if p[1] in only]
     if limit:
@@ -778,13 +788,15 @@ def people_diagnose(label):
     seen = {"maps": [], "bases": []}
     pick, to_points, basis = cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis
 
-    def record_pick(scores):
-        seen["scores"], seen["keep"] = list(scores), pick(scores)
+    def record_pick(scores, *args):
+        seen["scores"], seen["keep"] = list(scores), pick(scores, *args)
         return seen["keep"]
 
     def record_map(*args, **kw):
-        seen["maps"].append(to_points(*args, **kw))
-        return seen["maps"][-1]
+        q = to_points(*args, **kw)
+        if args[1] is not args[2]:  # not the source's map to itself (its mirror symmetry)
+            seen["maps"].append(q)
+        return q
 
     def record_basis(*args, **kw):
         seen["bases"].append(basis(*args, **kw))
@@ -792,10 +804,12 @@ def people_diagnose(label):
 
     cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = (record_pick, record_map,
                                                                      record_basis)
+    threads, cmaps.SEARCH_THREADS = cmaps.SEARCH_THREADS, 1  # the maps in candidate order
     try:
         p = cshape.point_map(S, T)
     finally:
         cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = pick, to_points, basis
+        cmaps.SEARCH_THREADS = threads
     rows = []
 
     def row(name, sc, q):

@@ -29,6 +29,15 @@ that fit and keep the orientation, :func:`pick_extrinsic` keeps the one whose im
 carried onto the target best by a rotation, a scale and a smooth bending
 (:func:`extrinsic_residual`).
 
+Between bodies of different build, ZoomOut may also end on a map that sends the front of the
+body to its back: it keeps every part in place (the error is about the body's thickness) but
+reverses the orientation, and the oriented map of its pattern need not repair it.  Placed in
+space, such a map carries the source over the target (:func:`extrinsic_residual`'s rotation
+and smooth bending); each target vertex then takes the source vertex nearest in position and
+normal, and the normals put it on the right side (:func:`turned_in_space`).  Fitted in space,
+that map's extrinsic misfit is small by construction: :func:`pick_extrinsic` lets it compete
+only if no other candidate beats it on all three intrinsic criteria.
+
 None of these criteria can tell two maps apart on a shape with a symmetry that keeps the
 orientation (a half turn of a shape symmetric in space too): every criterion of its two maps
 agrees within noise. :func:`rival` finds such a map, and :func:`settling_vertices` the target
@@ -38,6 +47,7 @@ vertices where landmarks would decide.
 from __future__ import annotations
 
 import itertools
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -61,6 +71,14 @@ SIGN_SAMPLE = 1000
 COMPARE_SAMPLE = 1500
 #: Candidates of the sign patterns refined in full (those of the smallest residual that differ).
 SIGN_KEEP = 2
+#: A candidate that keeps the orientation on at most this share of the area is a mirror image
+#: (:func:`cshape.point_map` also tries it turned in space, :func:`turned_in_space`).
+MIRROR_SHARE = 0.5
+#: Weight of the normals in :func:`turned_in_space` (per unit of normal, in ``sqrt(area)``).
+NORMAL_WEIGHT = 0.1
+#: Eigenfunctions of the target that span the smooth bending :func:`turned_in_space` undoes
+#: (fewer than ``EXTRINSIC_BASIS``: front and back of a limb must not be bent into each other).
+TURN_BASIS = 10
 #: Size to which every candidate is upsampled (ZoomOut) before they are compared; the one
 #: kept goes on to the final size.
 COMPARE_SIZE = 50
@@ -111,6 +129,42 @@ def _zoom(C, subS, subT, w, k):
         C = _fit(subT[:, :kc], subS[p, :kc], w, None)
 
 
+def _zoom_all(starts, subS, subT, w, k, threads=1):
+    """:func:`_zoom` of every map in ``starts``, each ZoomOut followed once.
+
+    A ZoomOut step depends only on the vertex map of the step before, so two starts whose
+    vertex maps meet go on alike from there: only the first of them is followed, the others
+    give ``(None, None)``.  The starts of one step are shared among ``threads`` threads (the
+    same result).
+    """
+    out, live = [None] * len(starts), dict(enumerate(starts))
+    kc = min(C.shape[0] for C in starts)
+
+    def nearest(item):
+        i, C = item
+        return i, nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T)
+
+    def fit(item):
+        return _fit(subT[:, :kc + 1], subS[item[1], :kc + 1], w, None)
+
+    with ThreadPoolExecutor(threads) as pool:
+        while live:
+            seen, going = set(), {}
+            for i, p in pool.map(nearest, live.items()):  # in the order of the starts
+                key = p.tobytes()
+                if key in seen:
+                    out[i] = (None, None)
+                elif kc >= k:
+                    seen.add(key)
+                    out[i] = (live[i], p)
+                else:
+                    seen.add(key)
+                    going[i] = p
+            live = dict(zip(going, pool.map(fit, going.items()), strict=True))
+            kc += 1
+    return out
+
+
 def residual(C, phiS, phiT, p):
     """Mean spectral residual ``|Phi_T[y] - C Phi_S[p[y]]|`` of a map and its ``C``."""
     k = C.shape[0]
@@ -133,7 +187,7 @@ def _swaps(lamS, lamT, m):
     return out
 
 
-def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
+def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None, threads=1):
     """Return the ``SIGN_KEEP`` sign patterns of the smallest residual, upsampled, that differ.
 
     A pattern is a signed permutation ``P`` of the first ``SIGN_SIZE`` eigenfunctions (the
@@ -154,13 +208,15 @@ def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
         o = np.arange(m)
         o[[i, i + 1]] = o[[i + 1, i]]
         orders.append(o)
-    found = []
+    patterns = []
     for order in orders:
         for signs in itertools.product((1.0, -1.0), repeat=m - 1):
             P = np.zeros((m, m))
             P[np.arange(m), order] = [s0, *signs]
-            C, p = _zoom(P, subS, subT, w, k)
-            found.append((residual(C, subS, subT, p), C, p, P))
+            patterns.append(P)
+    found = [(residual(C, subS, subT, p), C, p, P)
+             for P, (C, p) in zip(patterns, _zoom_all(patterns, subS, subT, w, k, threads),
+                                  strict=True) if C is not None]
     found.sort(key=lambda f: f[0])
     kept = [found[0]]
     for f in found[1:]:
@@ -169,6 +225,50 @@ def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None):
         if all(np.mean(f[2] == g[2]) < 0.5 for g in kept):
             kept.append(f)
     return [(P, C) for _r, C, _p, P in kept]
+
+
+def _vertex_normals(mesh):
+    """Return unit vertex normals (the area-weighted sum of the faces' normals)."""
+    V, F = mesh.vertices, mesh.faces
+    fn = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    vn = np.zeros_like(V)
+    for j in range(3):
+        np.add.at(vn, F[:, j], fn)
+    return vn / np.maximum(np.linalg.norm(vn, axis=1), np.finfo(float).tiny)[:, None]
+
+
+def turned_in_space(source: Mesh, target: Mesh, BT, p2p, phiT=None) -> np.ndarray:
+    """Return a mirror-image map turned the right way round in space.
+
+    The rotation, scale and translation of least mass-weighted squares that carry the images
+    ``V_S[p]`` onto ``V_T`` (as in :func:`extrinsic_residual`) place the source over the
+    target; with ``phiT`` (the target's eigenfunctions) the target is also unbent by the
+    misfit's projection on its first ``TURN_BASIS`` eigenfunctions.  Each target vertex then
+    takes the source vertex nearest to it in position and normal (``NORMAL_WEIGHT`` times
+    ``sqrt(area)`` per unit of normal).  A map that sends the front of a body to its back
+    places the source well but its normals the wrong way: the nearest vertex whose normal
+    agrees is on the right side.  Returns a vertex map, shape ``(n_T,)``.
+    """
+    from scipy.spatial import cKDTree
+
+    w = np.asarray(BT.sum(axis=1)).ravel()
+    w = w / w.sum()
+    a, b = source.vertices[p2p], target.vertices
+    ca, cb = w @ a, w @ b
+    U, _s, Vt = np.linalg.svd(((a - ca) * w[:, None]).T @ (b - cb))
+    D = np.array([1.0, 1.0, np.sign(np.linalg.det(U @ Vt)) or 1.0])
+    R = (U * D) @ Vt
+    scale = np.sqrt(target.area / source.area)
+    h = NORMAL_WEIGHT * np.sqrt(target.area)
+    emb_S = np.hstack([scale * (source.vertices - ca) @ R + cb,
+                       h * (_vertex_normals(source) @ R)])
+    bt = b
+    if phiT is not None:
+        r = b - (scale * (a - ca) @ R + cb)
+        P = phiT[:, :TURN_BASIS]
+        bt = b - P @ (P.T @ (BT @ r))
+    emb_T = np.hstack([bt, h * _vertex_normals(target)])
+    return cKDTree(emb_S).query(emb_T)[1].astype(np.int64)
 
 
 def orientation_share(source: Mesh, target: Mesh, p2p: np.ndarray) -> float:
@@ -256,7 +356,7 @@ def extrinsic_residual(source: Mesh, target: Mesh, phiT, BT, p2p) -> float:
     return float(median / size) if size > 0 else 0.0
 
 
-def pick_extrinsic(scores):
+def pick_extrinsic(scores, turned=()):
     """Return the index of the candidate to keep, by the extrinsic misfit.
 
     ``scores``: a list of ``(residual, orientation share, descriptor error, extrinsic
@@ -265,12 +365,19 @@ def pick_extrinsic(scores):
     does), those whose residual is within ``RESIDUAL_SLACK`` of their smallest and whose
     orientation share is at most ``ORIENTATION_SLACK`` below the best of those, the one of
     the smallest :func:`extrinsic_residual` (of the smaller descriptor error on a tie).
+    A candidate of ``turned`` (a mirror image turned in space, :func:`turned_in_space`: a
+    repair fitted in space, whose extrinsic misfit is small by construction) is one of them
+    only if no other is better on all three intrinsic criteria (a smaller residual, a larger
+    orientation share and a smaller descriptor error).
     """
     pool = [i for i, s in enumerate(scores) if s[1] > 0.5] or list(range(len(scores)))
     best = min(scores[i][0] for i in pool)
     ok = [i for i in pool if scores[i][0] <= RESIDUAL_SLACK * best]
     top = max(scores[i][1] for i in ok)
     ok = [i for i in ok if scores[i][1] >= top - ORIENTATION_SLACK]
+    ok = [i for i in ok if i not in turned or not any(
+        scores[j][0] < scores[i][0] and scores[j][1] > scores[i][1]
+        and scores[j][2] < scores[i][2] for j in ok if j != i)]
     return min(ok, key=lambda i: (scores[i][3], scores[i][2], i))
 
 

@@ -25,7 +25,7 @@ NN_THREADS = 2
 
 #: From this many (query, point) pairs on, the blocks are shared among threads (below, starting
 #: the threads costs more than they gain).
-NN_THREAD_PAIRS = 10**7
+NN_THREAD_PAIRS = 4 * 10**6
 
 #: From this many (query, point) pairs on, scikit-learn's brute-force search (the full-size
 #: map of 10K-vertex meshes and up); below, the blocks above.

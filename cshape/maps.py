@@ -43,7 +43,9 @@ left from right; this term can, because it uses the surface's orientation (face 
 
 from __future__ import annotations
 
+import os
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -83,6 +85,18 @@ LAPLACIAN_WEIGHT = 1e-2
 ORIENTATION_WEIGHT = 3e-4
 #: Orientation weight of the first map of a sign pattern (:func:`point_map`, step 4).
 SIGN_ORIENTATION_WEIGHT = 3e-3
+
+#: :func:`point_map` maps meshes of more vertices than this through coarse copies of about
+#: this many vertices (its ``coarse``).
+COARSE_VERTICES = 8000
+
+#: Threads among which :func:`point_map` shares its candidate maps (at most the CPUs).
+SEARCH_THREADS = 2
+
+#: Unknowns of ``C`` (``N_T N_S``) up to which :func:`functional_map` solves its normal
+#: equations with the orientation term directly (one dense matrix); above, by conjugate
+#: gradients.
+DIRECT_UNKNOWNS = 2500
 
 #: :func:`point_map` keeps every 5th of its WKS energies (pyFM's ``subsample_step``).
 DESCRIPTOR_STRIDE = 5
@@ -296,7 +310,6 @@ def functional_map(source: Eigenbasis, target: Eigenbasis, desc_source: ArrayLik
     """
     source = _check_eigenbasis("source", source)
     target = _check_eigenbasis("target", target)
-    lS, lT = source.lam, target.lam
     pS, pT = source.phi, target.phi
     FS = _check_array("desc_source", _columns(desc_source), len(pS))
     FT = _check_array("desc_target", _columns(desc_target), len(pT))
@@ -318,6 +331,17 @@ def functional_map(source: Eigenbasis, target: Eigenbasis, desc_source: ArrayLik
                     f"{wo:g}) needs its faces; compute the basis with cshape.eigenbasis(mesh) "
                     "or pass orientation_weight=0"
                 )
+    return _fit_descriptors(source, target, FS, FT, wd, wl, wo, maxiter)
+
+
+def _fit_descriptors(source, target, FS, FT, wd, wl, wo, maxiter, cache=None):
+    """Return :func:`functional_map` of checked arguments.
+
+    ``cache``: a dict that keeps the orientation operators of the first descriptors it is
+    given, for later calls whose descriptors begin with the same columns.
+    """
+    lS, lT = source.lam, target.lam
+    pS, pT = source.phi, target.phi
     B_source, B_target = source.B, target.B
     nS = np.sqrt(np.einsum("ij,ij->j", FS, B_source @ FS))
     nT = np.sqrt(np.einsum("ij,ij->j", FT, B_target @ FT))
@@ -329,10 +353,26 @@ def functional_map(source: Eigenbasis, target: Eigenbasis, desc_source: ArrayLik
     # closed form per row: (wd DS DS^T + wl diag(M_i)) c_i = wd DS DT_i
     with one_blas_thread():  # N x N products: spinning BLAS threads only slow them
         return _solve_map(DS, DT, M, wd, wl, wo, maxiter, source.mesh, target.mesh, pS, pT,
-                          FS, FT)
+                          FS, FT, cache)
 
 
-def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
+def _cached_ops(cache, side, mesh, phi, F):
+    """:func:`_orientation_ops`, reusing those of the first columns kept in ``cache``."""
+    if cache is None:
+        return _orientation_ops(mesh, phi, F)
+    if side not in cache:
+        cache[side] = (F, _orientation_ops(mesh, phi, F))
+        return cache[side][1]
+    F0, O0 = cache[side]
+    k0 = F0.shape[1]
+    if k0 > F.shape[1] or F0.shape[0] != F.shape[0] or not np.array_equal(F[:, :k0], F0):
+        return _orientation_ops(mesh, phi, F)
+    if k0 == F.shape[1]:
+        return O0
+    return np.concatenate([O0, _orientation_ops(mesh, phi, F[:, k0:])])
+
+
+def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT, cache=None):
     """Minimise the energy of :func:`functional_map` (its arguments checked)."""
     kT, kS = M.shape
     H = wd * (DS @ DS.T)
@@ -342,9 +382,11 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
         C[i] = np.linalg.solve(H + wl * np.diag(M[i]) + 1e-12 * np.eye(kS), R[:, i])
     if wo == 0 or maxiter == 0:
         return C
-    OS = _orientation_ops(source, pS, FS)
-    OT = _orientation_ops(target, pT, FT)
+    OS = _cached_ops(cache, "S", source, pS, FS)
+    OT = _cached_ops(cache, "T", target, pT, FT)
 
+    if kT * kS <= DIRECT_UNKNOWNS:
+        return _solve_direct(H, M, wl, wo, OS, OT, R)
     OSt, OTt = OS.transpose(0, 2, 1).copy(), OT.transpose(0, 2, 1).copy()
 
     # E is a convex quadratic in C: its minimiser solves the normal equations H vec(C) = r,
@@ -360,6 +402,27 @@ def _solve_map(DS, DT, M, wd, wl, wo, maxiter, source, target, pS, pT, FS, FT):
     rhs = R.T.ravel()  # wd DT DS^T
     x, _info = spla.cg(op, rhs, x0=C.ravel(), rtol=1e-10, atol=0.0, maxiter=maxiter)
     return x.reshape(kT, kS)
+
+
+def _solve_direct(H, M, wl, wo, OS, OT, R):
+    """Return the minimiser of the energy of :func:`functional_map`, by one dense solve.
+
+    With ``x`` the rows of ``C`` one after another, ``vec(X A) = (I kron A^T) x`` and
+    ``vec(A X) = (A kron I) x``; the orientation residual of descriptor ``f`` is ``L_f x``,
+    ``L_f = I kron O_S,f^T - O_T,f kron I``, and the normal equations read
+    ``(I kron H + diag(w_l M) + w_o sum_f L_f^T L_f) x = vec(R^T)``, with
+    ``L_f^T L_f = I kron O_S O_S^T - O_T kron O_S - O_T^T kron O_S^T + O_T^T O_T kron I``.
+    """
+    kT, kS = M.shape
+    IT, IS = np.eye(kT), np.eye(kS)
+    K = np.kron(IT, H + wo * np.einsum("fij,fkj->ik", OS, OS))
+    K += wo * np.kron(np.einsum("fji,fjk->ik", OT, OT), IS)
+    # sum_f O_T,f kron O_S,f, entry ((i, k), (j, l)) = sum_f O_T,f[i, j] O_S,f[k, l]; the
+    # sum of O_T,f^T kron O_S,f^T is its transpose
+    X = np.tensordot(OT, OS, axes=([0], [0])).transpose(0, 2, 1, 3).reshape(kT * kS, -1)
+    K -= wo * (X + X.T)
+    K[np.diag_indices_from(K)] += wl * M.ravel() + 1e-12
+    return np.linalg.solve(K, R.T.ravel()).reshape(kT, kS)
 
 
 # ---------------------------------------------------------------------- ZoomOut
@@ -462,7 +525,8 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
               n_descriptors: int = 100, orientation: bool = True,
               step: int = 1, landmarks: ArrayLike | None = None,
               bijective: bool = False, sample: int | None = 3000,
-              initial: str = "search", return_map: bool = False, random_state: int = 0
+              initial: str = "search", return_map: bool = False, random_state: int = 0,
+              coarse: int | None = COARSE_VERTICES
               ) -> NDArray[np.int64] | tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Map the vertices of two meshes in one call, by functional maps and ZoomOut.
 
@@ -484,10 +548,16 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        source (a mirror image reverses them all), the disagreement of the WKS and the
        extrinsic misfit: what remains of ``V_T - V_S[p]`` after the best rotation, scale and
        translation and a smooth bending (the span of the target's first eigenfunctions);
-    6. for each start that fits (residual within 20 % of the smallest), one more map: steps
+    6. each map that reverses the orientation on most of the area (a mirror image: on a body,
+       often front to back) once more, turned the right way round in space: the rotation and
+       smooth bending that carry its images onto the target place the source over the
+       target, and each target vertex takes the source vertex nearest in position and normal
+       (upsampled alike); it competes in step 8 only if no other map beats it on all three
+       intrinsic criteria (residual, orientation share, descriptor error);
+    7. for each start that fits (residual within 20 % of the smallest), one more map: steps
        2-3 with landmarks, the target's extremities (farthest points of its commute-time
        embedding) and their images, upsampled alike;
-    7. of the maps that keep the orientation on more than half the area (all, if none
+    8. of the maps that keep the orientation on more than half the area (all, if none
        does), those whose residual is within 20 % of their smallest and whose orientation
        share is at most 0.1 below the best of those, the one of the smallest extrinsic
        misfit is kept (a body looks nearly alike in front and behind to every intrinsic
@@ -497,7 +567,13 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        0.03, descriptor error within 3 %, extrinsic misfit within 5 %), a
        :class:`cshape.CShapeWarning` names both and the target vertices where they disagree
        most: true landmarks there settle it;
-    8. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
+    9. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
+
+    A mesh of more than ``coarse`` vertices is replaced by a copy of about ``coarse``
+    vertices (PyMeshLab's quadric edge collapse, the vertices kept where they are) for
+    steps 1-9; each vertex of the full target then takes the images of its three nearest
+    vertices of the copy, blended by inverse distance, and the source vertex nearest to that
+    point.
 
     Parameters
     ----------
@@ -523,14 +599,19 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     sample : int or None, default=3000
         Vertices per shape in the ZoomOut iterations (None: all; slower on big meshes).
     initial : {'search', 'descriptors'}, default='search'
-        'search': the descriptors' map, the sign patterns, their oriented maps and the maps
-        from their extremities compete (steps 4-7);
+        'search': the descriptors' map, the sign patterns, their oriented maps, the mirror
+        images turned in space and the maps from their extremities compete (steps 4-8);
         'descriptors': the descriptors' map alone.  Landmarks, or no ZoomOut, imply
         'descriptors'.
     return_map : bool, default=False
         Also return ``C`` (``N x N``).
     random_state : int, default=0
         Seed of the vertices sampled by ZoomOut and the search (the same seed, the same map).
+    coarse : int or None, default=COARSE_VERTICES
+        Meshes of more vertices are mapped through coarse copies of about this many
+        vertices, as described above (at least ``max(N, 100)``; None: never).  With
+        ``return_map=True`` the returned ``C`` is that of the full meshes' bases, fitted to
+        the vertex map (:func:`pointwise_to_map`).
 
     Returns
     -------
@@ -542,7 +623,7 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     Warns
     -----
     CShapeWarning
-        Two candidate maps cannot be told apart (step 7): a nearly symmetric shape.  The
+        Two candidate maps cannot be told apart (step 8): a nearly symmetric shape.  The
         message names the target vertices whose true source vertices, passed as
         ``landmarks``, settle the choice.
 
@@ -568,6 +649,12 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     if N > min(S.n_vertices, T.n_vertices):
         raise ValueError(f"N={N} is more than the vertices of the smaller mesh "
                          f"({min(S.n_vertices, T.n_vertices)}); use a smaller N")
+    if coarse is not None:
+        coarse = check_int("coarse", coarse, min=max(N, 100))
+    if coarse is not None and max(S.n_vertices, T.n_vertices) > coarse:
+        return _via_coarse(S, T, coarse, lm, return_map, dict(
+            N=N, N0=N0, n_descriptors=n_descriptors, orientation=orientation, step=step,
+            bijective=bijective, sample=sample, initial=initial, random_state=random_state))
     bS, bT = eigenbasis(S, N), eigenbasis(T, N)
     start = _Start(bS, bT, N0, n_descriptors, orientation)
     C = start(lm)
@@ -581,19 +668,80 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     return (p2p, C) if return_map else p2p
 
 
+def _coarse_copy(mesh, n):
+    """Return a copy of ``mesh`` with about ``n`` vertices, and the vertex of ``mesh`` of each.
+
+    PyMeshLab's quadric edge collapse, keeping the topology, the normals' directions and the
+    vertices where they are (each vertex of the copy is one of ``mesh``).
+    """
+    import pymeshlab
+    from scipy.spatial import cKDTree
+
+    from .mesh import Mesh
+
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=mesh.vertices, face_matrix=mesh.faces))
+    # every parameter given: one left out may take an earlier call's value (data.variants)
+    ms.meshing_decimation_quadric_edge_collapse(
+        targetfacenum=int(2 * n), targetperc=0.0, qualitythr=0.3, preserveboundary=True,
+        boundaryweight=1.0, preservenormal=True, preservetopology=True,
+        optimalplacement=False, planarquadric=True, planarweight=0.001, qualityweight=False,
+        autoclean=True, selected=False)
+    m = ms.current_mesh()
+    copy = Mesh(m.vertex_matrix(), m.face_matrix())
+    return copy, cKDTree(mesh.vertices).query(copy.vertices)[1].astype(np.int64)
+
+
+def _via_coarse(S, T, n, lm, return_map, options):
+    """:func:`point_map` of two big meshes through coarse copies, carried to the full meshes.
+
+    Each mesh of more than ``n`` vertices is replaced by a copy of about ``n``
+    (:func:`_coarse_copy`); the landmarks go to the nearest vertices of the copies.  Each
+    vertex of the full target takes the images of its three nearest vertices of the
+    target's copy, blended by inverse distance, and then the source vertex nearest to that
+    point.
+    """
+    from scipy.spatial import cKDTree
+
+    Sc = _coarse_copy(S, n)[0] if S.n_vertices > n else S
+    Tc = _coarse_copy(T, n)[0] if T.n_vertices > n else T
+    lmc = None
+    if lm is not None:
+        lmc = np.column_stack([cKDTree(Sc.vertices).query(S.vertices[lm[:, 0]])[1],
+                               cKDTree(Tc.vertices).query(T.vertices[lm[:, 1]])[1]])
+    pc = point_map(Sc, Tc, landmarks=lmc, coarse=None, **options)
+    images = Sc.vertices[pc]
+    d, j = cKDTree(Tc.vertices).query(T.vertices, k=3)
+    w = 1.0 / np.maximum(d, 1e-12 * np.sqrt(T.area))
+    w /= w.sum(axis=1, keepdims=True)
+    p2p = cKDTree(S.vertices).query(np.einsum("yk,ykc->yc", w, images[j]))[1].astype(np.int64)
+    if lm is not None:
+        p2p[lm[:, 1]] = lm[:, 0]
+    if not return_map:
+        return p2p
+    N = options["N"]
+    return p2p, pointwise_to_map(p2p, eigenbasis(S, N), eigenbasis(T, N))
+
+
 class _Start:
     """The first functional map of :func:`point_map` (steps 2-3), from landmarks or none."""
 
     def __init__(self, bS, bT, N0, n_descriptors, orientation):
         self.bS, self.bT, self.N0, self.orientation = bS, bT, N0, orientation
         self.dS, self.dT = _descriptors(bS, bT, n_descriptors, None)
+        self.cache = {}
 
     def __call__(self, lm):
         dS, dT = ((self.dS, self.dT) if lm is None else
                   _with_landmarks(self.bS, self.bT, self.dS, self.dT, lm))
-        return functional_map(self.bS.truncate(self.N0), self.bT.truncate(self.N0), dS, dT,
-                              orientation_weight=ORIENTATION_WEIGHT if self.orientation
-                              else 0.0)
+        return self._fit(dS, dT, ORIENTATION_WEIGHT if self.orientation else 0.0)
+
+    def _fit(self, dS, dT, wo):
+        """:func:`functional_map` at size ``N0`` (the orientation operators of the WKS once)."""
+        with one_blas_thread():
+            return _fit_descriptors(self.bS.truncate(self.N0), self.bT.truncate(self.N0),
+                                    dS, dT, DESCRIPTOR_WEIGHT, LAPLACIAN_WEIGHT, wo, 1000,
+                                    self.cache)
 
     def oriented(self, P):
         """Return the first map of a sign pattern ``P`` (``m x m``), with its eigenfunctions.
@@ -605,51 +753,20 @@ class _Start:
         m = len(P)
         dS = np.hstack([self.dS, self.bS.phi[:, 1:m]])
         dT = np.hstack([self.dT, self.bT.phi[:, :m] @ P[:, 1:]])
-        return functional_map(self.bS.truncate(self.N0), self.bT.truncate(self.N0), dS, dT,
-                              orientation_weight=SIGN_ORIENTATION_WEIGHT)
+        return self._fit(dS, dT, SIGN_ORIENTATION_WEIGHT)
 
 
 def _search(C, start, N, zoom):
-    """Return the map that steps 4-7 of :func:`point_map` keep, at the common size."""
+    """Return the map that steps 4-8 of :func:`point_map` keep, at the common size."""
     bS, bT = start.bS, start.bT
-    wT = np.asarray(bT.B.sum(axis=1)).ravel()
-    with one_blas_thread():  # small products: spinning BLAS threads only slow them
-        patterns = _candidates.sign_candidates(bS.phi, bT.phi, wT,
-                                               np.random.default_rng(zoom["random_state"]),
-                                               bS.lam, bT.lam)
-    starts = [C] + [Cs for _P, Cs in patterns]
-    names = ["the descriptors' map"] + [f"the sign pattern {_signs(P)}" for P, _C in patterns]
-    if start.orientation:  # the same patterns, left and right settled by the orientation
-        starts += [start.oriented(P) for P, _C in patterns]
-        names += [f"the oriented map of the sign pattern {_signs(P)}" for P, _C in patterns]
-    m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
-    ends = _candidates.extremities(bT.phi, bT.lam)
-    found, maps, scores = [], [], []
-    zoom = dict(zoom, sample=None if zoom["sample"] is None
-                else min(zoom["sample"], _candidates.COMPARE_SAMPLE))
-
-    def add(C):
-        C = zoomout(C, bS, bT, m, **zoom)
-        p = map_to_pointwise(C, bS, bT)
-        found.append(C)
-        maps.append(p)
-        scores.append((_candidates.residual(C, bS.phi, bT.phi, p),
-                       _candidates.orientation_share(bS.mesh, bT.mesh, p)
-                       if start.orientation else 0.0,
-                       _candidates.descriptor_error(start.dS, start.dT, wT, p),
-                       _candidates.extrinsic_residual(bS.mesh, bT.mesh, bT.phi, bT.B, p)))
-
-    for C in starts:
-        add(C)
-    best = min(s[0] for s in scores)
-    # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
-    # already: a map from its extremities would fit them once more, and so win on the WKS)
-    for i in range(1, len(starts)):
-        if scores[i][0] <= _candidates.RESIDUAL_SLACK * best:
-            add(start(np.column_stack([maps[i][ends], ends])))
-            names.append(f"the map from the extremities of {names[i]}")
-    keep = _candidates.pick_extrinsic(scores)
-    # step 7: a rival within noise of the map kept is named in a warning
+    threads = max(1, min(SEARCH_THREADS, os.cpu_count() or 1))
+    with one_blas_thread(), ThreadPoolExecutor(threads) as pool:
+        # small products: spinning BLAS threads only slow them; the candidates are shared
+        # among threads instead (the same result)
+        found, maps, scores, names, turned, m = _candidates_of(C, start, N, zoom, pool,
+                                                               threads)
+    keep = _candidates.pick_extrinsic(scores, turned)
+    # step 8: a rival within noise of the map kept is named in a warning
     V = bS.mesh.vertices
     dist = [float(np.linalg.norm(V[p] - V[maps[keep]], axis=1).mean() / np.sqrt(bS.mesh.area))
             for p in maps]
@@ -658,6 +775,66 @@ def _search(C, start, N, zoom):
     if other is not None:
         _warn_tie(names, scores, maps, keep, other, V)
     return found[keep]
+
+
+def _candidates_of(C, start, N, zoom, pool, threads):
+    """Every candidate of steps 4-7 of :func:`point_map`, at the common size ``m``.
+
+    Returns the lists of their ``C``, vertex maps, scores (residual, orientation share,
+    descriptor error, extrinsic misfit) and names, the indices of the maps turned in space,
+    and ``m``; ``pool`` shares the candidates among ``threads`` threads.
+    """
+    bS, bT = start.bS, start.bT
+    wT = np.asarray(bT.B.sum(axis=1)).ravel()
+    patterns = _candidates.sign_candidates(bS.phi, bT.phi, wT,
+                                           np.random.default_rng(zoom["random_state"]),
+                                           bS.lam, bT.lam, threads=threads)
+    starts = [C] + [Cs for _P, Cs in patterns]
+    names = ["the descriptors' map"] + [f"the sign pattern {_signs(P)}" for P, _C in patterns]
+    if start.orientation:  # the same patterns, left and right settled by the orientation
+        starts += list(pool.map(start.oriented, [P for P, _C in patterns]))
+        names += [f"the oriented map of the sign pattern {_signs(P)}" for P, _C in patterns]
+    m = max(min(N, _candidates.COMPARE_SIZE), max(C.shape[0] for C in starts))
+    ends = _candidates.extremities(bT.phi, bT.lam)
+    found, maps, scores = [], [], []
+    zoom = dict(zoom, sample=None if zoom["sample"] is None
+                else min(zoom["sample"], _candidates.COMPARE_SAMPLE))
+
+    def evaluate(make):
+        C = zoomout(make(), bS, bT, m, **zoom)
+        p = map_to_pointwise(C, bS, bT)
+        return C, p, (_candidates.residual(C, bS.phi, bT.phi, p),
+                      _candidates.orientation_share(bS.mesh, bT.mesh, p)
+                      if start.orientation else 0.0,
+                      _candidates.descriptor_error(start.dS, start.dT, wT, p),
+                      _candidates.extrinsic_residual(bS.mesh, bT.mesh, bT.phi, bT.B, p))
+
+    def add(makers):  # evaluated in the threads, kept in order
+        for C, p, s in pool.map(evaluate, makers):
+            found.append(C)
+            maps.append(p)
+            scores.append(s)
+
+    add([lambda C=C: C for C in starts])
+    # a mirror image (front to back on a body) turned the right way round in space
+    k0 = min(_candidates.SIGN_ZOOM, m)
+    mirrors = [i for i in range(len(maps))
+               if start.orientation and scores[i][1] <= _candidates.MIRROR_SHARE]
+    turned = list(range(len(maps), len(maps) + len(mirrors)))
+
+    def turn(i):
+        q = _candidates.turned_in_space(bS.mesh, bT.mesh, bT.B, maps[i], bT.phi)
+        return pointwise_to_map(q, bS.truncate(k0), bT.truncate(k0))
+
+    add([lambda i=i: turn(i) for i in mirrors])
+    names += [f"{names[i]}, turned in space" for i in mirrors]
+    best, n_starts = min(s[0] for s in scores), len(maps)
+    # self-landmarks from the sign patterns' maps (the descriptors' map is fitted to the WKS
+    # already: a map from its extremities would fit them once more, and so win on the WKS)
+    fits = [i for i in range(1, n_starts) if scores[i][0] <= _candidates.RESIDUAL_SLACK * best]
+    add([lambda i=i: start(np.column_stack([maps[i][ends], ends])) for i in fits])
+    names += [f"the map from the extremities of {names[i]}" for i in fits]
+    return found, maps, scores, names, turned, m
 
 
 def _signs(P):

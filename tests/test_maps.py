@@ -412,19 +412,20 @@ def test_landmarks_override_the_search(symmetric):
 
 
 def test_the_search_compares_the_maps_from_the_sign_patterns_extremities(monkeypatch, symmetric):
-    """The descriptors' map, each sign pattern's map and its oriented map, and one more map
-    (from its own extremities as landmarks) for each of those that fits; the identity of a
-    shape to itself is among them and kept."""
+    """The descriptors' map, each sign pattern's map and its oriented map, each of those that
+    reverses the orientation turned in space, and one more map (from its own extremities as
+    landmarks) for each of those that fits; the identity of a shape to itself is among them
+    and kept."""
     S, _mirror = symmetric
     seen, patterns = [], []
     pick, signs = _candidates.pick_extrinsic, _candidates.sign_candidates
 
-    def record_pick(scores):
+    def record_pick(scores, *args):
         seen.append(list(scores))
-        return pick(scores)
+        return pick(scores, *args)
 
-    def record_signs(*args):
-        patterns.append(signs(*args))
+    def record_signs(*args, **kwargs):
+        patterns.append(signs(*args, **kwargs))
         return patterns[-1]
 
     monkeypatch.setattr(_candidates, "pick_extrinsic", record_pick)
@@ -432,6 +433,7 @@ def test_the_search_compares_the_maps_from_the_sign_patterns_extremities(monkeyp
     p = cshape.point_map(S, S, N=N, N0=N0)
     (scores,), (found,) = seen, patterns
     n_starts = 1 + 2 * len(found)
+    n_starts += sum(s[1] <= _candidates.MIRROR_SHARE for s in scores[:n_starts])
     best = min(s[0] for s in scores[:n_starts])
     fits = sum(s[0] <= _candidates.RESIDUAL_SLACK * best for s in scores[1:n_starts])
     assert len(scores) == n_starts + fits
@@ -604,3 +606,116 @@ def test_the_oriented_map_of_a_sign_pattern_refuses_the_mirror_image(symmetric):
     p = cshape.maps.map_to_pointwise(cshape.maps.zoomout(C, b, b, 40), b, b)
     assert (p == np.arange(S.n_vertices)).mean() > 0.9
     assert (p == mirror).mean() < 0.1
+
+
+def _flat_ellipsoid():
+    """A flat ellipsoid (thin along z) with a bump on top, and the map through z = 0: every
+    vertex to the vertex nearest its reflection (the top to the bottom)."""
+    m = shapes.icosphere(3)
+    U = m.vertices
+    V = U * [1.0, 0.6, 0.15]
+    V = V + 0.1 * np.exp(-np.sum((U - [0.5, 0.0, 0.8]) ** 2, axis=1) / 0.1)[:, None] * U
+    flip = np.array([np.argmin(np.linalg.norm(U - u * [1, 1, -1], axis=1)) for u in U])
+    return cshape.Mesh(V, m.faces), flip
+
+
+def test_a_mirror_image_turned_in_space_is_the_true_map():
+    """The front-to-back mirror image of a shape onto a rotated, bent copy of itself places
+    the source over the target but reverses the orientation; turned in space, by position
+    and normal, it is the identity again."""
+    S, flip = _flat_ellipsoid()
+    R = _rotation(0.3, 0.2, -0.4)
+    V = S.vertices + [0.0, 0.0, 0.1] * (S.vertices[:, :1] ** 2)  # a smooth bow
+    T = cshape.Mesh(V @ R.T + [2.0, 0.0, 1.0], S.faces)
+    bT = cshape.eigenbasis(T, 30)
+    assert _candidates.orientation_share(S, T, flip) < 0.1
+    q = _candidates.turned_in_space(S, T, bT.B, flip, bT.phi)
+
+    def error(p):  # mean distance to the true vertex, over the shape's length
+        return np.linalg.norm(S.vertices[p] - S.vertices, axis=1).mean() / 2.0
+
+    assert error(flip) > 0.05
+    assert error(q) < 0.1 * error(flip)
+    assert (q == np.arange(S.n_vertices)).mean() > 0.8
+    assert _candidates.orientation_share(S, T, q) > 0.9
+
+
+def test_a_turned_map_competes_only_if_no_other_beats_it_on_every_intrinsic_criterion():
+    """Scores (residual, orientation share, descriptor error, extrinsic misfit); candidate 1
+    is a mirror image turned in space."""
+    # beaten on residual, orientation and descriptors by candidate 0: not kept, though its
+    # extrinsic misfit is the smallest
+    scores = [(1.0, 0.9, 0.5, 0.2), (1.05, 0.88, 0.6, 0.1)]
+    assert _candidates.pick_extrinsic(scores, turned=[1]) == 0
+    assert _candidates.pick_extrinsic(scores) == 1  # an ordinary candidate competes
+    # better on one intrinsic criterion: it competes, and its misfit decides
+    assert _candidates.pick_extrinsic([(1.0, 0.9, 0.5, 0.2), (1.05, 0.92, 0.6, 0.1)],
+                                      turned=[1]) == 1
+    assert _candidates.pick_extrinsic([(1.0, 0.9, 0.5, 0.2), (0.98, 0.88, 0.6, 0.1)],
+                                      turned=[1]) == 1
+
+
+def test_the_search_turns_each_mirror_image_in_space(monkeypatch):
+    """point_map turns in space each candidate that reverses the orientation (and only
+    those), and marks the maps it gets as turned for the choice."""
+    seen, maps = [], []
+    pick, turn = _candidates.pick_extrinsic, _candidates.turned_in_space
+
+    def record_pick(scores, turned=()):
+        seen.append((list(scores), list(turned)))
+        return pick(scores, turned)
+
+    def record_turn(source, target, BT, p2p, phiT=None):
+        maps.append(p2p)
+        return turn(source, target, BT, p2p, phiT)
+
+    monkeypatch.setattr(_candidates, "pick_extrinsic", record_pick)
+    monkeypatch.setattr(_candidates, "turned_in_space", record_turn)
+    S, flip = _flat_ellipsoid()
+    T = cshape.Mesh(S.vertices * [1.0, 1.0, -1.0], S.faces[:, ::-1])  # the mirror image
+    cshape.point_map(S, T, N=N, N0=N0, orientation=True)
+    ((scores, turned),) = seen
+    assert len(turned) == len(maps) > 0
+    assert all(_candidates.orientation_share(S, T, p) <= _candidates.MIRROR_SHARE for p in maps)
+    n_before = min(turned)
+    assert len(maps) == sum(s[1] <= _candidates.MIRROR_SHARE for s in scores[:n_before])
+
+
+def test_a_coarse_copy_keeps_vertices_of_the_mesh(blob):
+    copy, index = cshape.maps._coarse_copy(blob, 300)
+    assert 250 <= copy.n_vertices <= 350
+    np.testing.assert_array_equal(copy.vertices, blob.vertices[index])
+    assert len(np.unique(index)) == copy.n_vertices
+    assert copy.area == pytest.approx(blob.area, rel=0.05)
+
+
+@pytest.fixture(scope="module")
+def through_copies(blob, shuffled):
+    """point_map of the blob to its moved, renumbered copy through coarse copies of 300
+    vertices, with two landmarks, and without coarse copies."""
+    T, perm = shuffled
+    lm = np.array([[perm[5], 5], [perm[40], 40]])
+    p, C = cshape.point_map(blob, T, N=N, N0=N0, coarse=300, landmarks=lm, return_map=True)
+    return p, C, lm, cshape.point_map(blob, T, N=N, N0=N0, coarse=None)
+
+
+def test_point_map_through_coarse_copies_finds_the_map(blob, shuffled, through_copies):
+    """The map of the copies, carried to the full meshes, is the true map up to about the
+    copies' spacing; the landmarks are kept as given; C is that of the full bases."""
+    T, perm = shuffled
+    p, C, lm, full = through_copies
+    size = np.sqrt(blob.area)
+    err = np.linalg.norm(blob.vertices[p] - blob.vertices[perm], axis=1) / size
+    edge = np.sqrt(blob.area / (0.866 * 300)) / size  # the copies' edge length
+    assert np.median(err) < edge
+    assert (err < 2 * edge).mean() > 0.9
+    np.testing.assert_array_equal(p[lm[:, 1]], lm[:, 0])
+    assert C.shape == (N, N)
+    assert (full == perm).mean() > 0.95  # without copies: the exact map
+
+
+def test_point_map_rejects_a_bad_coarse_size(blob):
+    with pytest.raises(ValueError, match="coarse"):
+        cshape.point_map(blob, blob, N=N, N0=N0, coarse=10)
+    with pytest.raises(TypeError, match="coarse"):
+        cshape.point_map(blob, blob, N=N, N0=N0, coarse=1.5)
