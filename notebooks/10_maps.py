@@ -593,10 +593,12 @@ plots.plot_map(body, stocky, across["search"], values=left_right, cmap="coolwarm
 # `measure` whenever the shape is symmetric). The measured tables (the real poses of TOSCA, the generated poses, and
 # `point_map` between different people of FAUST), and the cases where the orientation term picks the mirror, are in
 # the guide `docs/guides/maps.md` and in `benchmarks/results/`. One failure matters most: between bodies remeshed
-# each on its own, a few pairs of different people end turned half about the vertical axis, and no criterion of
-# `point_map`'s search tells that map from the true one. When two candidate maps tie within noise, `point_map` warns
-# (a `CShapeWarning` that names both and the target vertices whose landmarks settle it); the guide shows how
-# landmarks repair such a pair, and how far.
+# each on its own, a candidate map can end turned half about the vertical axis, or front to back, and the intrinsic
+# criteria (the energy's residual, the orientation, the descriptors) rate it like the true one. So `point_map`'s search
+# also lays each candidate over the target in space (a rotation, a scale and a smooth bending, never a mirror) and
+# prefers the map that fits there best; that uses the vertices' positions, so it assumes a change of pose is mostly a
+# bending. When two candidate maps still tie within noise, `point_map` warns (a `CShapeWarning` that names both and
+# the target vertices whose landmarks settle it); the guide shows how landmarks repair such a pair, and how far.
 
 # %% [markdown]
 # ## Exercises
