@@ -104,16 +104,21 @@ print("classes:", ", ".join(classes))
 
 # %% [markdown]
 # One member of each class, and the three first members of one class: proportions, pose, resolution and a
-# little noise vary within a class (`cshape data list` describes the variation).
+# little noise vary within a class (`cshape data list` describes the variation). At full size the members of the
+# top rows are drawn from coarse copies, as in lesson 04 (the member's own seed on a coarser grid: the same
+# creature, fewer vertices); the bottom row draws the meshes themselves.
 
 # %%
+from cshape.data import creatures as cr
+
 coll = dev
 ncols = 6
 fig = plots.new_figure((2.2 * ncols, 2.3 * (-(-len(classes) // ncols) + 1)))
 nrows = -(-len(classes) // ncols) + 1
 for k, lab in enumerate(classes):
     item = next(it for it in coll if it.label == lab and it.name in table.names)
-    plots.plot_mesh(item.mesh, ax=fig.add_subplot(nrows, ncols, k + 1, projection="3d"),
+    mesh = item.mesh if SMALL else cr.creature(lab, item.meta["seed"], voxelsize=0.035, vertices=900)
+    plots.plot_mesh(mesh, ax=fig.add_subplot(nrows, ncols, k + 1, projection="3d"),
                     title=lab, edges=False)
 shown = "human" if "human" in classes else classes[0]
 members = [it for it in coll if it.label == shown][:3]
