@@ -108,6 +108,31 @@ def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = N
     return expr
 
 
+def capsules_surface(capsules: Sequence[Capsule], voxelsize: float) -> Mesh:
+    """The surface of a union of capsules: marching cubes of :func:`capsules_expression`.
+
+    The sampled box holds every capsule with a margin of a few voxels (PyMeshLab's grid may
+    stop short of the max corner), and each capsule's distance is evaluated only within three
+    voxels of it (``cutoff``), which gives the mesh of the whole union, bit for bit.
+
+    Parameters
+    ----------
+    capsules : sequence of Capsule
+        The capsules of the union.
+    voxelsize : float
+        Marching-cubes voxel size; keep it below half the thinnest radius.
+
+    Returns
+    -------
+    Mesh
+        The raw marching-cubes mesh (see :func:`cshape.data.variants.marching_cubes`).
+    """
+    pts = np.array([c.a for c in capsules] + [c.b for c in capsules], dtype=float)
+    margin = max(c.radius for c in capsules) + 4 * voxelsize + 0.05
+    box = (*(pts.min(0) - margin), *(pts.max(0) + margin))
+    return marching_cubes(capsules_expression(capsules, cutoff=3 * voxelsize), box, voxelsize)
+
+
 def _dir(azimuth: float, elevation: float) -> np.ndarray:
     """Unit vector from azimuth (about z, from +x) and elevation (from the xy-plane), degrees."""
     az, el = np.radians(azimuth), np.radians(elevation)
@@ -236,12 +261,7 @@ def articulated_figure(
     Mesh
         Closed, connected, genus 0.
     """
-    caps = figure_capsules(kind, random_state)
-    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
-    rmax = max(c.radius for c in caps)
-    margin = rmax + 4 * voxelsize + 0.05  # PyMeshLab's grid may stop short of the max corner
-    lo, hi = pts.min(0) - margin, pts.max(0) + margin
-    mesh = marching_cubes(capsules_expression(caps, cutoff=3 * voxelsize), (*lo, *hi), voxelsize)
+    mesh = capsules_surface(figure_capsules(kind, random_state), voxelsize)
     if target_vertices is None:
         return mesh
     return remesh(mesh, target_vertices=target_vertices)

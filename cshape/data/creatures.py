@@ -33,8 +33,8 @@ import numpy as np
 
 from .._checks import check_choice, check_real
 from ..mesh import Mesh, largest_component
-from .bodies import Capsule, _bend, _dir, _limb, _rot_z, capsules_expression
-from .variants import _check_int, add_normal_noise, marching_cubes, remesh
+from .bodies import Capsule, _bend, _dir, _limb, _rot_z, capsules_surface
+from .variants import _check_int, add_normal_noise, remesh
 
 if TYPE_CHECKING:
     from collections.abc import Iterable
@@ -430,10 +430,7 @@ def creature(kind: str = "human", random_state: int | np.random.Generator | None
     caps = creature_capsules(kind, rng, variation=variation)
     rmin = min(c.radius for c in caps)
     vs = min(0.025, rmin / 2.2) if voxelsize is None else float(voxelsize)
-    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
-    margin = max(c.radius for c in caps) + 4 * vs + 0.05
-    box = (*(pts.min(0) - margin), *(pts.max(0) + margin))
-    mesh = marching_cubes(capsules_expression(caps, cutoff=3 * vs), box, vs)
+    mesh = capsules_surface(caps, vs)
     mesh = remesh(mesh, target_vertices=int(rng.integers(lo, hi + 1)))
     if mesh.n_components > 1:
         # where limbs cross, marching cubes can enclose a small void: an inner shell of a few

@@ -29,8 +29,8 @@ import numpy as np
 
 from .._checks import check_bool, check_choice, check_int, check_real
 from ..mesh import Mesh, as_mesh
-from .bodies import Capsule, capsules_expression
-from .variants import marching_cubes, remesh
+from .bodies import Capsule, capsules_surface
+from .variants import remesh
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -154,11 +154,7 @@ def _skeleton(kind: str) -> list[_Bone]:
 
 @lru_cache(maxsize=8)
 def _template(kind: str, voxelsize: float, target_vertices: int) -> Mesh:
-    caps = [c for b in _skeleton(kind) for c in b.capsules]
-    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
-    margin = max(c.radius for c in caps) + 4 * voxelsize + 0.05
-    lo, hi = pts.min(0) - margin, pts.max(0) + margin
-    mesh = marching_cubes(capsules_expression(caps, cutoff=3 * voxelsize), (*lo, *hi), voxelsize)
+    mesh = capsules_surface([c for b in _skeleton(kind) for c in b.capsules], voxelsize)
     return remesh(mesh, target_vertices=target_vertices)
 
 

@@ -38,7 +38,7 @@ import numpy as np
 
 from .._checks import check_choice, check_real
 from ..mesh import Mesh, largest_component
-from .bodies import Capsule, capsules_expression
+from .bodies import Capsule, capsules_surface
 from .creatures import CREATURE_KINDS, creature_capsules, creature_items
 from .poses import POSED_KINDS, _blend_weights, _bone_transforms, _skeleton
 from .variants import (
@@ -46,7 +46,6 @@ from .variants import (
     _from_meshset,
     _meshset,
     add_normal_noise,
-    marching_cubes,
     remesh,
 )
 
@@ -166,10 +165,7 @@ def identity_bones(kind: str = "human", random_state: int | np.random.Generator 
 @lru_cache(maxsize=64)
 def _identity_surface(kind: str, seed: int, variation: float, voxelsize: float) -> Mesh:
     caps = [c for b in identity_bones(kind, seed, variation=variation) for c in b.capsules]
-    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
-    margin = max(c.radius for c in caps) + 4 * voxelsize + 0.05
-    box = (*(pts.min(0) - margin), *(pts.max(0) + margin))
-    return marching_cubes(capsules_expression(caps, cutoff=3 * voxelsize), box, voxelsize)
+    return capsules_surface(caps, voxelsize)
 
 
 @lru_cache(maxsize=64)
@@ -288,11 +284,7 @@ def identity_items(seed: int = 1, identities: int = 6, poses: int = 8,
 def _fine_surface(kind: str, seed: int, voxelsize: float) -> Mesh:
     caps = creature_capsules(kind, seed)
     rmin = min(c.radius for c in caps)
-    vs = min(voxelsize, rmin / 2.2)
-    pts = np.array([c.a for c in caps] + [c.b for c in caps], dtype=float)
-    margin = max(c.radius for c in caps) + 4 * vs + 0.05
-    box = (*(pts.min(0) - margin), *(pts.max(0) + margin))
-    return marching_cubes(capsules_expression(caps, cutoff=3 * vs), box, vs)
+    return capsules_surface(caps, min(voxelsize, rmin / 2.2))
 
 
 def _decimate(mesh: Mesh, vertices: int) -> Mesh:
