@@ -16,7 +16,7 @@ import pytest
 
 from cshape.cli import main
 from cshape.course import assignments as asg
-from cshape.course.lessons import stderr_outputs
+from cshape.course.lessons import run_notebook, stderr_outputs
 
 NB_DIR = asg.lessons_dir()
 LESSONS = sorted(NB_DIR.glob(asg.PATTERN))
@@ -226,11 +226,12 @@ def _typical_wrong_capstone(release, source):
 @pytest.mark.slow
 @pytest.mark.parametrize("name", list(asg.ASSIGNMENTS))
 def test_nbgrader_course_full_cycle(tmp_path, name):
-    """Release, autograde three submissions, feedback, for each assignment of the plan (each
-    in a course folder of its own, so that a parallel run grades them at once): the
-    instructor's solutions get full marks on every auto-graded cell, the untouched student
-    release gets less and does not crash the grader, and typical wrong answers get feedback
-    that names the mistake (the hint of the lesson's own test cell)."""
+    """Release, autograde, feedback, for each assignment of the plan (each in a course folder
+    of its own, so that a parallel run grades them at once): the instructor's solutions get
+    full marks on every auto-graded cell, typical wrong answers get feedback that names the
+    mistake (the hint of the lesson's own test cell), and a student who runs the untouched
+    release meets the first exercise's stub before any other error. (How nbgrader grades an
+    untouched release and an edited locked cell: ``test_nbgrader_grades_a_small_assignment``.)"""
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
     from nbgrader.api import Gradebook
 
@@ -241,10 +242,10 @@ def test_nbgrader_course_full_cycle(tmp_path, name):
     asg.run_nbgrader("generate_assignment", name, "--force", cwd=course)
     release = course / "release" / name
     assert sorted(p.name for p in release.iterdir()) == [p.name for p in paths], name
-    for student, folder in (("instructor", course / "source" / name), ("untouched", release)):
-        shutil.copytree(folder, course / "submitted" / student / name)
-    students = ["instructor", "untouched"]
+    shutil.copytree(course / "source" / name, course / "submitted" / "instructor" / name)
+    students = ["instructor"]
     if name == "capstone":
+        students.append("typical")
         typical = course / "submitted" / "typical" / "capstone"
         typical.mkdir(parents=True)
         nbformat.write(_typical_wrong_capstone(release / CAPSTONE.name, CAPSTONE),
@@ -257,29 +258,23 @@ def test_nbgrader_course_full_cycle(tmp_path, name):
     log = asg.run_nbgrader("autograde", name, "--force", cwd=course, env=env)
     left = sorted(p.name for p in tmp.iterdir() if p.name.startswith("cshape"))
     assert left == [], f"{name}: the lessons leave temporary folders behind: {left}"
-    # neither the solutions nor the untouched release changed a locked cell
+    # the solutions changed no locked cell
     assert "has changed!" not in log, [ln for ln in log.splitlines() if "changed!" in ln]
     asg.run_nbgrader("generate_feedback", name, "--force", cwd=course)
 
     manual = {m["grade_id"] for p in GRADED for _, _, m in _nbgrader_cells(p)[1]
               if m["grade"] and m["solution"]}
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
-        auto = {}
-        for student in students:
-            sub = gb.find_submission(name, student)
-            assert sorted(nb.name for nb in sub.notebooks) == [p.stem for p in paths]
-            grades = [g for nb in sub.notebooks for g in nb.grades if g.name not in manual]
-            auto[student] = (sum(g.auto_score or 0 for g in grades),
-                             sum(g.max_score for g in grades))
-            if student == "instructor":
-                wrong = [(g.notebook.name, g.name, g.auto_score, g.max_score)
-                         for g in grades if g.auto_score != g.max_score]
-                assert wrong == [], f"{name}: the solutions lose points: {wrong}"
-                # the written answers wait for the grader; an unanswered one scores 0
-                waiting = [g for nb in sub.notebooks for g in nb.grades if g.name in manual]
-                assert all(g.needs_manual_grade for g in waiting), name
-        assert auto["instructor"][1] >= 2 * len(paths), (name, auto)
-        assert auto["untouched"][0] < auto["instructor"][0], (name, auto)
+        sub = gb.find_submission(name, "instructor")
+        assert sorted(nb.name for nb in sub.notebooks) == [p.stem for p in paths]
+        grades = [g for nb in sub.notebooks for g in nb.grades if g.name not in manual]
+        wrong = [(g.notebook.name, g.name, g.auto_score, g.max_score)
+                 for g in grades if g.auto_score != g.max_score]
+        assert wrong == [], f"{name}: the solutions lose points: {wrong}"
+        assert sum(g.max_score for g in grades) >= 2 * len(paths), name
+        # the written answers wait for the grader
+        waiting = [g for nb in sub.notebooks for g in nb.grades if g.name in manual]
+        assert all(g.needs_manual_grade for g in waiting), name
         if name == "capstone":
             typical_grades = {g.name: g for nb in gb.find_submission("capstone",
                                                                      "typical").notebooks
@@ -289,7 +284,7 @@ def test_nbgrader_course_full_cycle(tmp_path, name):
             assert typical_grades["test_descriptors"].auto_score == typical_grades[
                 "test_descriptors"].max_score  # the other answers are right
     for student in students:
-        for path in paths:
+        for path in paths if student == "instructor" else [CAPSTONE]:
             page = course / "feedback" / student / name / f"{path.stem}.html"
             assert page.is_file() and page.stat().st_size > 1000, page
             # equations typeset offline, by the course folder's MathJax copy
@@ -307,10 +302,8 @@ def test_nbgrader_course_full_cycle(tmp_path, name):
         classes = _hint(CAPSTONE, "test_prediction", "number of classes")
         assert classes.split("{")[0] in feedback, classes  # the text before its first number
         assert "number of classes" in feedback
-    # the solutions ran without an error anywhere, graded or not; the untouched release ran
-    # up to its first exercise, whose stub raises NotImplementedError where it is first
-    # called (a student meets no other error first)
     for path in paths:
+        # the solutions ran without an error anywhere, graded or not
         done = nbformat.read(course / "autograded" / "instructor" / name / path.name,
                              as_version=4)
         errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
@@ -318,49 +311,89 @@ def test_nbgrader_course_full_cycle(tmp_path, name):
         assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
         # no warning boxes in a lesson, unless a cell tagged expect-stderr is about that warning
         assert stderr_outputs(done) == [], f"{path.name} has stderr outputs"
-        release_run = nbformat.read(course / "autograded" / "untouched" / name / path.name,
-                                    as_version=4)
-        first = next(((k, o.get("ename")) for k, c in enumerate(release_run.cells)
-                      for o in c.get("outputs", []) if o.output_type == "error"), None)
-        assert first is not None, f"student {path.name} has no exercise stub that raises"
-        k, ename = first
-        assert ename == "NotImplementedError", (
-            f"student {path.name} fails in cell {k} before its first stub: {ename}")
-    # the hidden tests ran in the autograder (they are in the graded copy, not in the release)
-    graded = (course / "autograded" / "untouched" / name / paths[0].name).read_text()
-    assert "### BEGIN HIDDEN TESTS" in graded
-    assert "### BEGIN HIDDEN TESTS" not in (release / paths[0].name).read_text()
+        # the hidden tests ran in the autograder (they are in the graded copy, not in the
+        # release)
+        assert "### BEGIN HIDDEN TESTS" in (course / "autograded" / "instructor" / name
+                                            / path.name).read_text()
+        assert "### BEGIN HIDDEN TESTS" not in (release / path.name).read_text()
+        # a student who runs the release as given meets the first exercise's stub, raising
+        # NotImplementedError where it is first called, before any other error
+        run = run_notebook(release / path.name, small=True, html=False, stop_at_stub=True,
+                           timeout=600, env={"CSHAPE_CACHE": str(tmp_path / "cache"),
+                                             "TMPDIR": str(tmp)})
+        assert run.ok and run.stopped_at_stub, (
+            f"student {path.name}: {run.error or 'no exercise stub raises'}")
     # the answer keys are for instructors: nothing of them reaches a release
     released = [p for p in (course / "release").rglob("*") if p.is_file()]
     assert released and all(p.suffix == ".ipynb" for p in released)
 
 
+def _small_assignment(path):
+    """A graded notebook of four cells, in the lessons' nbgrader layout: a locked set-up
+    cell, an exercise, its test cell with a hidden test, and a plain cell."""
+    def cell(source, grade_id, *, solution=False, grade=False, locked=False, points=None):
+        c = nbformat.v4.new_code_cell(source)
+        c.metadata["nbgrader"] = {"grade": grade, "grade_id": grade_id, "locked": locked,
+                                  "schema_version": 3, "solution": solution, "task": False}
+        if points is not None:
+            c.metadata["nbgrader"]["points"] = points
+        return c
+
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    nb.cells = [
+        cell("scale = 2", "setup", locked=True),
+        cell("def double(x):\n    ### BEGIN SOLUTION\n    return scale * x\n"
+             "    ### END SOLUTION", "double", solution=True),
+        cell('assert double(1) == 2, "double(1) should be 2"\n### BEGIN HIDDEN TESTS\n'
+             'assert double(3) == 6, "double(3) should be 6"\n### END HIDDEN TESTS',
+             "test_double", grade=True, locked=True, points=2),
+        nbformat.v4.new_code_cell('print("after the exercise")'),
+    ]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(nb, path)
+    return path
+
+
 @pytest.mark.slow
-def test_autograde_warns_of_an_edited_locked_cell_only(tmp_path):
-    """The hidden tests the release left out are no change; a student's edit of a locked
-    cell still is (nbgrader's warning, and the cell is graded as released)."""
+def test_nbgrader_grades_a_small_assignment(tmp_path):
+    """With the course's configuration: the solutions get full marks, the untouched release
+    gets less (its stub raises) and the grader goes on to the last cell; the hidden tests the
+    release left out are no change, and a student's edit of a locked cell is (nbgrader's
+    warning, and the cell is graded as released)."""
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
-    lesson = GRADED[0]
-    (assignment,) = asg.write_course(tmp_path / "course", [lesson])
+    from nbgrader.api import Gradebook
+
+    lesson = _small_assignment(tmp_path / "nb" / "01_small.ipynb")
     course = tmp_path / "course"
+    (assignment,) = asg.write_course(course, [lesson])
     asg.run_nbgrader("generate_assignment", assignment, "--force", cwd=course)
     release = course / "release" / assignment / lesson.name
+    assert "raise NotImplementedError()" in release.read_text()
+    assert "### BEGIN HIDDEN TESTS" not in release.read_text()
     nb = nbformat.read(release, as_version=4)
-    k, cell = next((k, c) for k, c in enumerate(nb.cells)
-                   if c.metadata.get("nbgrader", {}).get("grade"))
-    cell.source = "assert True  # edited\n" + cell.source
-    for student, book in (("untouched", nbformat.read(release, as_version=4)), ("edited", nb)):
+    k = next(k for k, c in enumerate(nb.cells) if c.metadata["nbgrader"].get("grade"))
+    nb.cells[k].source = "assert True  # edited\n" + nb.cells[k].source
+    for student, book in (("instructor", nbformat.read(lesson, as_version=4)),
+                          ("untouched", nbformat.read(release, as_version=4)),
+                          ("edited", nb)):
         folder = course / "submitted" / student / assignment
         folder.mkdir(parents=True)
         nbformat.write(book, folder / lesson.name)
-    log = asg.run_nbgrader("autograde", assignment, "--force", cwd=course,
-                           env={"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache")})
+    log = asg.run_nbgrader("autograde", assignment, "--force", cwd=course)
     changed = [ln for ln in log.splitlines() if "has changed!" in ln]
-    grade_id = cell.metadata["nbgrader"]["grade_id"]
-    assert len(changed) == 1 and f"'checksum' for cell {grade_id} has changed" in changed[0]
+    assert len(changed) == 1 and "'checksum' for cell test_double has changed" in changed[0]
     graded = nbformat.read(course / "autograded" / "edited" / assignment / lesson.name,
                            as_version=4)
     assert "# edited" not in graded.cells[k].source
+    untouched = nbformat.read(course / "autograded" / "untouched" / assignment / lesson.name,
+                              as_version=4)
+    assert [o["text"] for o in untouched.cells[-1].outputs] == ["after the exercise\n"]
+    with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
+        score = {s: gb.find_submission(assignment, s).score
+                 for s in ("instructor", "untouched", "edited")}
+    assert score == {"instructor": 2, "untouched": 0, "edited": 0}, score
 
 
 def test_copy_lessons_and_refuse_a_used_folder(tmp_path, capsys):

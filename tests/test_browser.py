@@ -608,43 +608,56 @@ def _framing_views(tmp_path):
 def test_every_3d_view_is_framed_in_chromium(tmp_path, part):
     """Every 3-D view, rendered by plotly.js in Chromium on a white page: no mesh pixel on the
     border of its scene (nothing cut by the frame), and the mesh fills a good part of it.
-    The views and sizes in two halves (every other one), which a parallel run renders at
-    once."""
+    Each page opens at its first size and is then resized to the others (the figures follow
+    the window, as in a browser a user resizes). The pages in two halves (every other one),
+    which a parallel run renders at once."""
     sync_api = _playwright()
-    pages = _framing_views(tmp_path)
+    pages = list(_framing_views(tmp_path).items())[part::2]
     out = ARTIFACTS / "framing"
     out.mkdir(parents=True, exist_ok=True)
     problems, seen = [], 0
-    views = [(name, path, w, h) for name, (path, sizes) in pages.items()
-             for w, h in sizes][part::2]
+
+    def look(page, name, w, h):
+        nonlocal seen
+        png = out / f"{name}_{w}x{h}.png"
+        page.bring_to_front()
+        page.screenshot(path=str(png), full_page=True)
+        rects = page.evaluate(_SCENE_RECTS)
+        px = _canvas_pixels(png.read_bytes())
+        for k, rect in enumerate(rects):
+            hits, filled = _border_hits(px, rect)
+            seen += 1
+            if hits or filled < 0.03:
+                problems.append(f"{name} at {w}x{h}, scene {k + 1}: {hits} mesh "
+                                f"pixels on the border, {filled:.1%} filled")
+
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
         try:
             # a few pages at a time: each loads and draws while the others wait
-            for start in range(0, len(views), FRAMING_BATCH):
-                batch = views[start:start + FRAMING_BATCH]
+            for start in range(0, len(pages), FRAMING_BATCH):
+                batch = pages[start:start + FRAMING_BATCH]
                 opened = []
-                for _name, path, w, h in batch:
+                for _name, (path, sizes) in batch:
+                    w, h = sizes[0]
                     page = browser.new_page(viewport={"width": w, "height": h})
                     page.goto(path.as_uri(), timeout=60_000)
                     opened.append(page)
                 for page in opened:
                     page.locator(".js-plotly-plot .gl-container canvas").first.wait_for(
                         timeout=60_000)
-                opened[-1].wait_for_timeout(2500)  # WebGL draws after the DOM is there
-                for page, (name, _path, w, h) in zip(opened, batch, strict=True):
-                    png = out / f"{name}_{w}x{h}.png"
-                    page.bring_to_front()
-                    page.screenshot(path=str(png), full_page=True)
-                    rects = page.evaluate(_SCENE_RECTS)
+                for k in range(max(len(sizes) for _, (_, sizes) in batch)):
+                    if k:
+                        for page, (_name, (_path, sizes)) in zip(opened, batch, strict=True):
+                            if k < len(sizes):
+                                w, h = sizes[k]
+                                page.set_viewport_size({"width": w, "height": h})
+                    opened[-1].wait_for_timeout(2500)  # WebGL draws after the DOM is there
+                    for page, (name, (_path, sizes)) in zip(opened, batch, strict=True):
+                        if k < len(sizes):
+                            look(page, name, *sizes[k])
+                for page in opened:
                     page.close()
-                    px = _canvas_pixels(png.read_bytes())
-                    for k, rect in enumerate(rects):
-                        hits, filled = _border_hits(px, rect)
-                        seen += 1
-                        if hits or filled < 0.03:
-                            problems.append(f"{name} at {w}x{h}, scene {k + 1}: {hits} mesh "
-                                            f"pixels on the border, {filled:.1%} filled")
         finally:
             browser.close()
     assert seen >= 15
