@@ -77,7 +77,9 @@
 
 # %%
 # %matplotlib inline
+import re
 import time
+import warnings
 
 import numpy as np
 
@@ -85,7 +87,7 @@ import cshape
 from cshape import maps, plots
 from cshape import signatures as sg
 from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and k
-from cshape.data import poses
+from cshape.data import poses, variants
 
 np.set_printoptions(precision=3, suppress=True, linewidth=100)
 N = size(50, 100)  # eigenpairs of each shape: the final size of the map
@@ -583,6 +585,98 @@ plots.plot_map(body, stocky, across["search"], values=left_right, cmap="coolwarm
 # left and right has more maps that fit and keep the orientation (the generated figure is built from capsules, the
 # same in front and behind, so a half turn about the vertical axis is one of them). Where a map must be right, give a
 # few landmarks (section 5): they override the search.
+#
+# **A pair remeshed on its own.** The stocky body above keeps the vertices and triangles of the rest pose, so the two
+# meshes are triangulated alike. Real collections are not: every scan is meshed on its own (the published benchmark
+# FAUST_r remeshes each body on purpose). Remesh the stocky body with PyMeshLab's isotropic remeshing
+# (`cshape.data.variants.remesh`): new vertices, new triangles, the same surface. There is no shared vertex any more,
+# so the truth of a remeshed vertex is the vertex of the unremeshed stocky body nearest to it in space (and that
+# vertex's own truth is the identity, as above). *Predict* before you run: does the descriptors' map do better or
+# worse than on the pair triangulated alike, and does the default `point_map` still find the body's front and left?
+
+# %%
+remeshed = variants.remesh(stocky, target_vertices=stocky.n_vertices)  # a triangulation of its own
+truth_re = sg.match_points(remeshed.vertices, stocky.vertices)  # nearest stocky vertex = its body vertex
+print(f"body: {body.n_vertices} vertices, {body.n_faces} triangles; remeshed stocky body: "
+      f"{remeshed.n_vertices} vertices, {remeshed.n_faces} triangles")
+across_re = {}
+for initial in ("descriptors", "search"):
+    t0 = time.perf_counter()
+    across_re[initial] = cshape.point_map(body, remeshed, N=50, N0=20, initial=initial)
+    err = cshape.geodesics.geodesic_errors(body, across_re[initial], truth_re, geodesics=geo_body)
+    print(f"remeshed, initial={initial!r:<14} error/sqrt(area) {err.mean() / np.sqrt(body.area):.3f}  "
+          f"({time.perf_counter() - t0:.1f} s)")
+plots.plot_map(body, remeshed, across_re["search"], values=left_right, cmap="coolwarm",
+               titles=("body at rest, coloured by x", "remeshed stocky body, point_map's defaults"))
+
+# %% [markdown]
+# The first line shows that the two meshes share neither their vertex count nor their triangles. The error of the
+# descriptors' map alone (`initial='descriptors'`) is the "before": what a map between differently meshed bodies
+# gives without the search. The default (`initial='search'`) is the "after": compare its error with the one of the
+# pair triangulated alike, and the colours of the picture (blue and red on the same sides as on the body at rest).
+#
+# **What the warning means.** The search chooses among candidate maps by four criteria: the residual of the
+# functional map's energy, the share of the surface whose orientation the map keeps, the disagreement of the
+# descriptors (the WKS), and the misfit of the source laid over the target in space. Take a shape whose one symmetry is a half
+# turn about the vertical axis: an ellipsoid with two bumps, one the half turn of the other. The turn is an isometry,
+# so it keeps every intrinsic quantity (the eigenvalues, the WKS, the energy's residual); it is a rotation, not a
+# mirror, so it keeps the orientation; and a rigid motion lays the shape over itself exactly, so the misfit in space
+# is zero too. Map the shape to itself: the identity and the turn are two candidate maps that every criterion rates
+# alike, and nothing in the two meshes says which one you mean. `point_map` then returns one of them (which one is
+# round-off's choice) and warns. The warning is caught and printed here, with the share of vertices the returned map
+# sends to themselves and to their turned image.
+
+# %%
+ball = cshape.shapes.icosphere(2)  # 162 vertices
+U = ball.vertices
+V = U * [1.0, 0.7, 0.5]  # an ellipsoid
+for c in ([0.6, 0.5, 0.3], [-0.6, -0.5, 0.3]):  # two bumps, each the half turn of the other about z
+    c = np.array(c) / np.linalg.norm(c)
+    V = V + 0.35 * np.exp(-np.sum((U - c) ** 2, axis=1) / 0.08)[:, None] * U
+twofold = cshape.Mesh(V, ball.faces)
+turn = sg.match_points(U * [-1, -1, 1], U)  # the vertex each vertex goes to under the half turn
+identity = np.arange(twofold.n_vertices)
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always", cshape.CShapeWarning)
+    p_tie = cshape.point_map(twofold, twofold, N=50, N0=20)
+message = "\n".join(str(w.message) for w in caught if issubclass(w.category, cshape.CShapeWarning))
+print(message)
+b_two = cshape.eigenbasis(twofold, 6)
+C_turn = maps.pointwise_to_map(turn, b_two, b_two)  # the turn's functional map, 6 x 6
+print("diagonal of the turn's C (eigenfunctions 1-5):", np.diag(C_turn)[1:].round(3))
+print(f"the map returned: {(p_tie == identity).mean():.1%} of the vertices on themselves, "
+      f"{(p_tie == turn).mean():.1%} on their turned image")
+
+# %% [markdown]
+# Read the message: it names the two candidates, each with its four criteria (equal up to round-off), and three
+# target vertices where the two maps disagree most, with the image of each under either map. The turn's functional
+# map is diagonal with entries $\pm 1$: it keeps the eigenfunctions the turn leaves alone and reverses the sign of the
+# others, so a start from that sign pattern of the first eigenfunctions (compare the printed diagonal with the
+# pattern of `+` and `-` the message names) leads ZoomOut to the turn: one candidate is the identity, the other the turn.
+# The warning does not say the map returned is wrong: it says the meshes alone cannot tell.
+#
+# **Landmarks settle it.** Only you know which map you mean. Read the named target vertices out of the message,
+# give each its true source vertex as a landmark (`landmarks=[[source vertex, target vertex], ...]`), and map again:
+# once meaning the identity, once meaning the turn.
+
+# %%
+named = [int(v) for v in re.search(r"target vertices \[([\d, ]+)\]", message)[1].split(",")]
+print("target vertices named by the warning:", named)
+for name, chosen in (("the identity", identity), ("the turn", turn)):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", cshape.CShapeWarning)
+        p_chosen = cshape.point_map(twofold, twofold, N=50, N0=20,
+                                    landmarks=np.column_stack([chosen[named], named]))
+    print(f"landmarks meaning {name:<12}: {len(caught)} warnings, {(p_chosen == chosen).mean():.1%} of the "
+          f"vertices go where {name} sends them")
+plots.plot_map(twofold, twofold, p_chosen, values=twofold.vertices[:, 0], cmap="coolwarm", elev=70,
+               landmarks=np.column_stack([turn[named], named]),
+               titles=("the shape, coloured by x", "landmarks meaning the turn"))
+
+# %% [markdown]
+# With the landmarks the search is off (they decide), no warning comes, and the map is the one the landmarks meant,
+# either way: in the picture the turn carries the blue side of the shape to the red side and back. On a real body the
+# same three target vertices are where to look (or any few well-spread points: hands, feet, head).
 
 # %% [markdown]
 # **Where it loses.** The functional map needs near-isometric shapes with the same topology: a pose that stretches the
@@ -590,15 +684,11 @@ plots.plot_map(body, stocky, across["search"], values=left_right, cmap="coolwarm
 # Laplacian. The descriptors must agree (the WKS at the same energies, both shapes scaled to unit area). And a
 # perfectly symmetric shape is only told from its mirror by its orientation: meshes whose faces are not consistently
 # oriented lose that, and even on good meshes the term can settle on the mirror (print the wrong-side share of
-# `measure` whenever the shape is symmetric). The measured tables (the real poses of TOSCA, the generated poses, and
-# `point_map` between different people of FAUST), and the cases where the orientation term picks the mirror, are in
-# the guide `docs/guides/maps.md` and in `benchmarks/results/`. One failure matters most: between bodies remeshed
-# each on its own, a candidate map can end turned half about the vertical axis, or front to back, and the intrinsic
-# criteria (the energy's residual, the orientation, the descriptors) rate it like the true one. So `point_map`'s search
-# also lays each candidate over the target in space (a rotation, a scale and a smooth bending, never a mirror) and
-# prefers the map that fits there best; that uses the vertices' positions, so it assumes a change of pose is mostly a
-# bending. When two candidate maps still tie within noise, `point_map` warns (a `CShapeWarning` that names both and
-# the target vertices whose landmarks settle it); the guide shows how landmarks repair such a pair, and how far.
+# `measure` whenever the shape is symmetric). The search lays each candidate over the target in space (a rotation, a
+# scale and a smooth bending, never a mirror); that uses the vertices' positions, so it assumes a change of pose is
+# mostly a bending. The measured tables (the real poses of TOSCA, the generated poses, `point_map` between different
+# people of FAUST, each body remeshed on its own, and the pairs where the search or the landmarks fall short) are in
+# the guide `docs/guides/maps.md` and in `benchmarks/results/`.
 
 # %% [markdown]
 # ## Exercises
