@@ -617,7 +617,7 @@ plots.plot_map(body, remeshed, across_re["search"], values=left_right, cmap="coo
 #
 # **What the warning means.** The search chooses among candidate maps by four criteria: the residual of the
 # functional map's energy, the share of the surface whose orientation the map keeps, the disagreement of the
-# descriptors (the WKS), and the misfit of the source laid over the target in space. Take a shape whose one symmetry is a half
+# descriptors (the WKS), and the misfit of the source laid over the target in space. Take a shape whose only symmetry is a half
 # turn about the vertical axis: an ellipsoid with two bumps, one the half turn of the other. The turn is an isometry,
 # so it keeps every intrinsic quantity (the eigenvalues, the WKS, the energy's residual); it is a rotation, not a
 # mirror, so it keeps the orientation; and a rigid motion lays the shape over itself exactly, so the misfit in space
