@@ -692,6 +692,27 @@ def summary(errs, pairs):
             f"{int((e > 0.05).sum())} | {int((e > 0.1).sum())}")
 
 
+#: What the labels of ``maps_people.md`` stand for.
+PEOPLE_NOTE = (
+    "*before*: `point_map` before its nearest-row searches went to single precision (the "
+    "rows of the previous `maps_people_after.csv`: the maps are deterministic, so a re-run "
+    "changes only the seconds; those were measured at load 1-3, and without processor "
+    "seconds; *TOSCA poses, remeshed*: measured now, with that version, beside *after*).  "
+    "*after*: this version: the nearest rows of the search and of the ZoomOut iterations in "
+    "single precision, and the sign patterns beyond the 24 of the smallest residual stopped "
+    "at size 12 (`_candidates.SIGN_PRUNE_SIZE`, `SIGN_PRUNE_KEEP`; on 33 faust-dev pairs "
+    "that keeps the same two patterns on all but `029->040`; the other 19 pairs of *remeshed, "
+    "different people* were measured just before the pruning was added, which leaves their "
+    "maps as they are and saves 1-3 processor seconds a pair).  Every timing here is under "
+    "the load of other work on the two cores (the *load* columns: 1-minute load average at "
+    "the start of the pair; a load of 3-6 means that this process had about one core or "
+    "less), so *s* is not a quiet time; *cpu s* (processor seconds of the process, all its "
+    "threads) varies less.  Where the time goes: `maps_stages.md`.  *TOSCA poses, remeshed* "
+    "is new: pose 0 of cat and of centaur to each of their other poses, each pose remeshed "
+    "on its own; it was not used to choose anything (held out from the tuning, though not "
+    "from the developers' eyes).")
+
+
 def write_people(command, labels=("before", "after"), note=""):
     """``maps_people.md``: the per-pair tables of ``maps_people_<label>.csv`` side by side,
     and each group's summary."""
@@ -832,6 +853,30 @@ def stages(label, pairs=("000->013", "010->006", "006->049")):
     return path
 
 
+def wall(label, pairs=("000->013", "010->006", "006->049"), repeats=2):
+    """Wall and processor seconds of ``cshape.point_map`` with its defaults (two threads),
+    the fastest of ``repeats`` runs per pair, into ``maps_wall_<label>.csv`` (run the labels
+    one after the other, so that they meet the same load; :func:`write_stages` shows the
+    ratio)."""
+    group_of = {p[1]: p for p in people_pairs(("remeshed-different", "registrations"))}
+    path = RESULTS / f"maps_wall_{label}.csv"
+    lines = ["pair,vertices,load,wall,cpu"]
+    for pair in pairs:
+        S, T, _truth = group_of[pair][2]()
+        cshape.eigenbasis(S, N), cshape.eigenbasis(T, N)  # warm the caches of the imports
+        runs = []
+        for _ in range(repeats):
+            la = load_average()[0]
+            t, c = time.perf_counter(), time.process_time()
+            cshape.point_map(S, T)
+            runs.append((time.perf_counter() - t, time.process_time() - c, la))
+        w, c, la = min(runs)
+        lines.append(f"{pair},{T.n_vertices},{la:.2f},{w:.2f},{c:.2f}")
+        print(lines[-1], flush=True)
+        path.write_text("\n".join(lines) + "\n")
+    return path
+
+
 def write_stages(command):
     """``maps_stages.md``: the seconds of each stage, every label side by side."""
     import csv
@@ -843,8 +888,13 @@ def write_stages(command):
         "cores the candidates, the sign patterns and the big nearest-row searches are shared "
         "among two threads and the wall time is less (`maps_people.md`).  *load*: the "
         "machine's 1-minute load average at the start (other work shares the two cores, so "
-        "even processor seconds grow with it).", ""]
-    for path in sorted(RESULTS.glob("maps_stages_*.csv")):
+        "even processor seconds grow with it).  *before*: `point_map` before its nearest-row "
+        "searches went to single precision and its sign patterns were pruned (that checkout "
+        "first on `PYTHONPATH`, this script); *after*: this version.", ""]
+    def order(path):  # "before" first
+        return (not path.stem.endswith("_before"), path.stem)
+
+    for path in sorted(RESULTS.glob("maps_stages_*.csv"), key=order):
         label = path.stem.removeprefix("maps_stages_")
         rows = list(csv.reader(path.read_text().splitlines()))
         head, body = rows[0], rows[1:]
@@ -853,6 +903,30 @@ def write_stages(command):
                   + " |", "|---|" + "---|" * len(body)]
         for j, stage in enumerate(head[4:], start=4):
             lines.append(f"| {stage} | " + " | ".join(r[j] for r in body) + " |")
+        lines.append("")
+    walls = {path.stem.removeprefix("maps_wall_"): list(csv.reader(
+        path.read_text().splitlines()))[1:]
+        for path in sorted(RESULTS.glob("maps_wall_*.csv"), key=order)}
+    if walls:
+        labs = list(walls)
+        lines += ["## wall time, two threads", "",
+                  "`python benchmarks/bench_maps.py --wall LABEL` (each label with its own "
+                  "version of cshape, run one after the other): `point_map` with its defaults "
+                  "(`SEARCH_THREADS = 2`), the fastest of two runs; *load* at the start of "
+                  "that run.", "",
+                  "| pair | vertices | " + " | ".join(
+                      f"{lab} s | {lab} cpu s | {lab} load" for lab in labs)
+                  + (f" | speed-up ({labs[0]} s / {labs[1]} s) | ({labs[0]} cpu s / "
+                     f"{labs[1]} cpu s) |" if len(labs) == 2 else " |"),
+                  "|---|---|" + "---|---|---|" * len(labs) + ("---|---|" if len(labs) == 2
+                                                             else "")]
+        for i, r0 in enumerate(walls[labs[0]]):
+            rs = [w[i] for w in walls.values() if i < len(w)]
+            row = f"| {r0[0]} | {r0[1]} | " + " | ".join(f"{r[3]} | {r[4]} | {r[2]}" for r in rs)
+            if len(rs) == 2:
+                row += (f" | {float(rs[0][3]) / float(rs[1][3]):.2f} | "
+                        f"{float(rs[0][4]) / float(rs[1][4]):.2f}")
+            lines.append(row + " |")
         lines.append("")
     (RESULTS / "maps_stages.md").write_text("\n".join(lines) + "\n")
     return "\n".join(lines)
@@ -1021,6 +1095,9 @@ def main(argv=None):
     ap.add_argument("--stages", metavar="LABEL", default="",
                     help="processor seconds of each stage of point_map on three pairs, one "
                          "thread (maps_stages_LABEL.csv, maps_stages.md)")
+    ap.add_argument("--wall", metavar="LABEL", default="",
+                    help="wall and processor seconds of point_map on three pairs, two "
+                         "threads (maps_wall_LABEL.csv, shown in maps_stages.md)")
     ap.add_argument("--people-landmarks", action="store_true",
                     help="failed remeshed pairs without and with five true landmarks "
                          "(maps_people_landmarks.md)")
@@ -1037,6 +1114,11 @@ def main(argv=None):
     if args.diagnose:
         print(people_diagnose(args.diagnose))
         return
+    if args.wall:
+        wall(args.wall, tuple(p for p in args.pairs.split(",") if p)
+             or ("000->013", "010->006", "006->049"))
+        print(write_stages(command))
+        return
     if args.stages:
         stages(args.stages, tuple(p for p in args.pairs.split(",") if p)
                or ("000->013", "010->006", "006->049"))
@@ -1051,7 +1133,7 @@ def main(argv=None):
     if args.people:
         people(args.people, tuple(g for g in args.groups.split(",") if g),
                tuple(p for p in args.pairs.split(",") if p), args.limit)
-        print(write_people(command))
+        print(write_people(command, note=PEOPLE_NOTE))
         return
     if args.timing_63k:
         print(append_point_map_times(point_map_times(), command))

@@ -639,6 +639,21 @@ def test_the_sign_search_drops_only_patterns_that_fit_worse_than_those_it_keeps(
     assert dropped and min(r[i] for i in dropped) >= max(r[i] for i in going)
 
 
+def test_point_map_checks_its_arguments_once_where_they_enter(monkeypatch, blob, shuffled):
+    """point_map checks its arguments itself; the maps it builds inside are not checked again
+    (the public zoomout, map_to_pointwise, pointwise_to_map and functional_map still are)."""
+    def checked_again(*args, **kwargs):
+        raise AssertionError("an argument was checked again inside point_map")
+
+    monkeypatch.setattr(cshape.maps, "_check_eigenbasis", checked_again)
+    monkeypatch.setattr(cshape.maps, "_check_C", checked_again)
+    monkeypatch.setattr(cshape.maps, "_check_array", checked_again)
+    p = cshape.point_map(blob, shuffled[0], N=N, N0=N0)
+    assert (p == shuffled[1]).mean() > 0.95
+    with pytest.raises(AssertionError, match="checked again"):
+        cshape.maps.zoomout(np.eye(N0), cshape.eigenbasis(blob, N), cshape.eigenbasis(blob, N))
+
+
 def test_point_map_checks_sample_where_it_enters(blob):
     with pytest.raises(ValueError, match="sample must be an integer >= 1, got 0"):
         cshape.point_map(blob, blob, N=N, N0=N0, sample=0)
