@@ -969,7 +969,8 @@ def people_landmarks(pairs=("006->049", "010->006", "006->037"), k=5):
 
 def people_diagnose(label):
     """Every candidate of the search of ``point_map`` on one ``faust-dev-remeshed`` pair
-    (e.g. ``006->049``): its residual, orientation share, descriptor error, extrinsic misfit
+    (e.g. ``006->049``) or remeshed TOSCA pair (e.g. ``cat0->cat2``): its residual,
+    orientation share, descriptor error, extrinsic misfit
     and true error at the compared size (recorded from ``point_map`` itself), and those of
     the true map (its ``C`` at that size, and the vertex map of that ``C``).  Printed, not
     written: a diagnosis."""
@@ -978,12 +979,17 @@ def people_diagnose(label):
     from cshape import _candidates as cand
     from cshape import maps as cmaps
 
-    a, b = (int(x) for x in label.split("->"))
-    S, T, truth = rm.remeshed(a), rm.remeshed(b), rm.true_map(a, b)
+    a, b = label.split("->")
+    if a.isdigit():
+        a, b = int(a), int(b)
+        S, T, truth = rm.remeshed(a), rm.remeshed(b), rm.true_map(a, b)
+    else:
+        S, T = rm.tosca_remeshed(a)[0], rm.tosca_remeshed(b)[0]
+        truth = rm.tosca_true_map(a, b)
     geo = cshape.geodesics.HeatGeodesics(S)
     v = rm.rows(T.n_vertices, N_EVAL_PEOPLE)
     seen = {"maps": [], "bases": []}
-    pick, to_points, basis = cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis
+    pick, to_points, basis = cand.pick_extrinsic, cmaps._pointwise, cmaps.eigenbasis
 
     def record_pick(scores, *args):
         seen["scores"], seen["keep"] = list(scores), pick(scores, *args)
@@ -999,13 +1005,13 @@ def people_diagnose(label):
         seen["bases"].append(basis(*args, **kw))
         return seen["bases"][-1]
 
-    cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = (record_pick, record_map,
-                                                                     record_basis)
+    cand.pick_extrinsic, cmaps._pointwise, cmaps.eigenbasis = (record_pick, record_map,
+                                                               record_basis)
     threads, cmaps.SEARCH_THREADS = cmaps.SEARCH_THREADS, 1  # the maps in candidate order
     try:
         p = cshape.point_map(S, T)
     finally:
-        cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = pick, to_points, basis
+        cand.pick_extrinsic, cmaps._pointwise, cmaps.eigenbasis = pick, to_points, basis
         cmaps.SEARCH_THREADS = threads
     rows = []
 
@@ -1021,7 +1027,7 @@ def people_diagnose(label):
     start = cmaps._Start(bS, bT, K0, N_ENERGIES, True)
     Ct = bT.phi[:, :m].T @ (bT.B @ bS.phi[truth, :m])
     for name, q in (("true map (its C at the compared size)", truth),
-                    ("vertex map of the true C", to_points(Ct, bS, bT))):
+                    ("vertex map of the true C", to_points(Ct, bS.phi, bT.phi))):
         row(name, (cand.residual(Ct, bS.phi, bT.phi, q), cand.orientation_share(S, T, q),
                    cand.descriptor_error(start.dS, start.dT, wT, q),
                    cand.extrinsic_residual(S, T, bT.phi, bT.B, q)), q)
@@ -1090,7 +1096,8 @@ def main(argv=None):
                     help="with --people: at most this many pairs per group")
     ap.add_argument("--diagnose", metavar="PAIR", default="",
                     help="print every candidate of the search on one faust-dev-remeshed pair "
-                         "(e.g. 006->049) and the true map's criteria")
+                         "(e.g. 006->049) or remeshed TOSCA pair (cat0->cat2) and the true "
+                         "map's criteria")
     ap.add_argument("--stages", metavar="LABEL", default="",
                     help="processor seconds of each stage of point_map on three pairs, one "
                          "thread (maps_stages_LABEL.csv, maps_stages.md)")
