@@ -125,3 +125,49 @@ def dense_true_map(a, b, vertices=DENSE_VERTICES):
     """For each vertex of dense ``b`` (the target), its true image on dense ``a``."""
     (ma, _ta), (_mb, tb) = dense(a, vertices), dense(b, vertices)
     return cKDTree(ma.vertices).query(registration(a).vertices[tb])[1].astype(np.int64)
+
+
+TOSCA = REALDEV / "tosca-dev"
+#: Vertices of each remeshed TOSCA pose (:func:`tosca_remeshed`), about those of
+#: ``faust-dev-remeshed``.
+TOSCA_VERTICES = 5000
+
+
+@lru_cache(maxsize=16)
+def tosca_original(name):
+    """TOSCA mesh ``name`` (e.g. ``cat3``) as published: the poses of a character share one
+    vertex order."""
+    return cshape.load_mesh(TOSCA / f"{name}.off.gz")
+
+
+@lru_cache(maxsize=16)
+def tosca_remeshed(name, vertices=TOSCA_VERTICES):
+    """TOSCA pose ``name`` remeshed on its own to about ``vertices`` vertices, and its truth.
+
+    PyMeshLab isotropic explicit remeshing (:func:`cshape.data.variants.remesh`, 6
+    iterations), as ``faust-dev-remeshed``: no two poses share a triangulation.  The truth is
+    carried as there: for each vertex of the remeshed pose, its nearest vertex of the
+    published pose (the poses of one character share one vertex order).  Built here and
+    cached in the temporary folder, never shipped.
+    """
+    import tempfile
+
+    from cshape.data import variants
+
+    path = Path(tempfile.gettempdir()) / "cshape-bench" / f"tosca_{name}_{vertices}.npz"
+    if path.exists():
+        z = np.load(path)
+        return cshape.Mesh(z["vertices"], z["faces"]), z["truth"]
+    orig = tosca_original(name)
+    m = variants.remesh(orig, target_vertices=vertices, iterations=6)
+    truth = cKDTree(orig.vertices).query(m.vertices)[1].astype(np.int64)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(path, vertices=m.vertices, faces=m.faces, truth=truth)
+    return m, truth
+
+
+def tosca_true_map(a, b, vertices=TOSCA_VERTICES):
+    """For each vertex of remeshed pose ``b`` (the target), its true image on remeshed ``a``
+    (poses of one character)."""
+    (ma, _ta), (_mb, tb) = tosca_remeshed(a, vertices), tosca_remeshed(b, vertices)
+    return cKDTree(ma.vertices).query(tosca_original(a).vertices[tb])[1].astype(np.int64)

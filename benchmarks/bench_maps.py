@@ -10,7 +10,8 @@ Run from the repository root::
                             # pairs, registrations and TOSCA poses (maps_people.md); a subset:
                             # --groups remeshed-different --pairs 006->049,010->006 --limit 5
                             # (groups: remeshed-different, remeshed-same, registrations,
-                            # tosca, dense: 54K-vertex remeshed registrations)
+                            # tosca, tosca-remeshed: cat and centaur poses remeshed each on
+                            # its own, dense: 54K-vertex remeshed registrations)
     .venv/bin/python benchmarks/bench_maps.py --diagnose 006->049  # the search's candidates
     .venv/bin/python benchmarks/bench_maps.py --people-landmarks   # failed pairs + landmarks
     .venv/bin/python benchmarks/bench_maps.py --people-pictures  # a failed and a repaired map
@@ -561,7 +562,11 @@ GROUPS = {"remeshed-different": "remeshed, different people",
           "remeshed-same": "remeshed, same person",
           "registrations": "registrations",
           "tosca": "TOSCA poses",
+          "tosca-remeshed": "TOSCA poses, remeshed",
           "dense": "dense remeshed, different people"}
+#: Characters of ``tosca-remeshed``: each pose remeshed on its own
+#: (``_remeshed.tosca_remeshed``), pose 0 against every other pose.
+TOSCA_REMESHED = ("cat", "centaur")
 #: Pairs of ``dense`` (registrations remeshed on their own to about 55K vertices,
 #: ``_remeshed.dense``).
 DENSE_PAIRS = ((26, 3), (10, 6))
@@ -597,6 +602,12 @@ def people_pairs(groups=tuple(GROUPS), only=(), limit=0):
         tosca = [(lab.replace(" -> ", "->"), S, T) for lab, S, T, _t in tosca_pairs(chars)]
         out += [(GROUPS["tosca"], lab, (lambda S=S, T=T: (S, T, np.arange(T.n_vertices))))
                 for lab, S, T in tosca if lab in wanted]
+    if "tosca-remeshed" in groups and TOSCA.exists():
+        for lab, _S, _T, _t in tosca_pairs(TOSCA_REMESHED):  # the poses that share vertices
+            a, b = lab.split(" -> ")
+            out.append((GROUPS["tosca-remeshed"], f"{a}->{b}", (
+                lambda a=a, b=b: (rm.tosca_remeshed(a)[0], rm.tosca_remeshed(b)[0],
+                                  rm.tosca_true_map(a, b)))))
     if "dense" in groups and FAUST.exists():
         out += [(GROUPS["dense"], f"{a:03d}->{b:03d}",
                  (lambda a=a, b=b: (rm.dense(a)[0], rm.dense(b)[0], rm.dense_true_map(a, b))))
@@ -615,7 +626,8 @@ def measure_point_map(S, T, truth):
     measures them.
 
     Returns ``(mean geodesic error / sqrt(area of S), share of them at most 0.05, seconds,
-    1-minute load at the start, 1 if point_map warned that two maps tie else 0)`` over
+    1-minute load at the start, 1 if point_map warned that two maps tie else 0, processor
+    seconds of this process, all its threads)`` over
     ``N_EVAL_PEOPLE`` target vertices spread over the vertex numbers (heat method on the
     source)."""
     import warnings
@@ -623,17 +635,18 @@ def measure_point_map(S, T, truth):
     import _remeshed as rm
 
     la = load_average()[0]
-    t = time.perf_counter()
+    t, cpu = time.perf_counter(), time.process_time()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", cshape.CShapeWarning)
         p = cshape.point_map(S, T)
-    seconds = time.perf_counter() - t
+    seconds, cpu = time.perf_counter() - t, time.process_time() - cpu
     warned = any("cannot tell two candidate maps apart" in str(w.message) for w in caught)
     err = rm.errors(S, p, truth, vertices=rm.rows(T.n_vertices, N_EVAL_PEOPLE))
-    return float(err.mean()), float((err <= THRESHOLD).mean()), seconds, la, float(warned)
+    return (float(err.mean()), float((err <= THRESHOLD).mean()), seconds, la, float(warned),
+            cpu)
 
 
-HEADER = "group,pair,vertices,geo_err,within5,seconds,load,warned"
+HEADER = "group,pair,vertices,geo_err,within5,seconds,load,warned,cpu_seconds"
 
 
 def people(label, groups=tuple(GROUPS), only=(), limit=0):
@@ -666,7 +679,7 @@ def _read_people(label):
         r = line.split(",")
         i = next(j for j, x in enumerate(r) if "->" in x)  # the group's name has commas
         values = [float(x) for x in r[i + 2:]]
-        values += [np.nan] * (5 - len(values))  # "warned" not recorded in older rows
+        values += [np.nan] * (6 - len(values))  # "warned", "cpu" not recorded in older rows
         out[(",".join(r[:i]), r[i])] = (int(r[i + 1]), *values)
     return out
 
@@ -677,6 +690,26 @@ def summary(errs, pairs):
     e = np.asarray(errs)
     return (f"**{e.mean():.4f}** | {np.median(e):.4f} | {e.max():.4f} ({pairs[e.argmax()]}) | "
             f"{int((e > 0.05).sum())} | {int((e > 0.1).sum())}")
+
+
+#: What the labels of ``maps_people.md`` stand for.
+PEOPLE_NOTE = (
+    "*before*: `point_map` before its nearest-row searches went to single precision (the "
+    "rows of the previous `maps_people_after.csv`: the maps are deterministic, so a re-run "
+    "changes only the seconds; those were measured at load 1-3, and without processor "
+    "seconds; *TOSCA poses, remeshed*: measured now, with that version, beside *after*).  "
+    "*after*: this version: the nearest rows of the search and of the ZoomOut iterations in "
+    "single precision, and the sign patterns beyond the 24 of the smallest residual stopped "
+    "at size 12 (`_candidates.SIGN_PRUNE_SIZE`, `SIGN_PRUNE_KEEP`; on 33 faust-dev pairs "
+    "that keeps the same two patterns on all but `029->040`, where the map barely moves, "
+    "and saves 1-3 processor seconds a pair).  Every timing here is under "
+    "the load of other work on the two cores (the *load* columns: 1-minute load average at "
+    "the start of the pair; a load of 3-6 means that this process had about one core or "
+    "less), so *s* is not a quiet time; *cpu s* (processor seconds of the process, all its "
+    "threads) varies less.  Where the time goes: `maps_stages.md`.  *TOSCA poses, remeshed* "
+    "is new: pose 0 of cat and of centaur to each of their other poses, each pose remeshed "
+    "on its own; it was not used to choose anything (held out from the tuning, though not "
+    "from the developers' eyes).")
 
 
 def write_people(command, labels=("before", "after"), note=""):
@@ -697,7 +730,11 @@ def write_people(command, labels=("before", "after"), note=""):
         f"people and 10 of one person (seed {REMESHED_SEED}), the true map from `truth.npz`; "
         "*registrations*: `faust-dev` (6,890 vertices, one connectivity: the true map is the "
         "identity), pairs `faust_pairs()`; *TOSCA poses*: `tosca-dev`, pose 0 to another pose "
-        "(the identity checked as in `maps_tosca.md`).  "
+        "(the identity checked as in `maps_tosca.md`); *TOSCA poses, remeshed*: the poses "
+        "of cat and centaur that pass that check, each remeshed on its own to about 5,000 "
+        "vertices as faust-dev-remeshed (`_remeshed.tosca_remeshed`, built at benchmark time "
+        "into a cache in the temporary folder), the truth carried by each remeshed vertex's "
+        "nearest vertex of the published pose, pose 0 to each other pose.  "
         f"*err*: mean geodesic error over sqrt(area) of {N_EVAL_PEOPLE} target vertices "
         "(spread over the vertex numbers; heat method on the source), as the literature "
         "measures it; *5 %*: share of them with an error at most 0.05; *s*: seconds of the "
@@ -711,26 +748,186 @@ def write_people(command, labels=("before", "after"), note=""):
     for group in groups:
         sub = [k for k in keys if k[0] == group]
         lines += [f"## {group}", "", "| pair | vertices | " + " | ".join(
-            f"{lab} err | {lab} 5 % | {lab} s | {lab} warned" for lab in got) + " |",
-            "|---|---|" + "---|---|---|---|" * len(got)]
+            f"{lab} err | {lab} 5 % | {lab} s | {lab} cpu s | {lab} load | {lab} warned"
+            for lab in got) + " |",
+            "|---|---|" + "---|---|---|---|---|---|" * len(got)]
         for k in sub:
             nv = next(rows[k][0] for rows in got.values() if k in rows)
-            cells = [" | ".join(["-"] * 4) if (r := rows.get(k)) is None else
+            cells = [" | ".join(["-"] * 6) if (r := rows.get(k)) is None else
                      f"{r[1]:.4f} | {'-' if np.isnan(r[2]) else f'{r[2]:.3f}'} | {r[3]:.1f} | "
+                     + ("-" if np.isnan(r[6]) else f"{r[6]:.1f}") + f" | {r[4]:.1f} | "
                      + ("-" if np.isnan(r[5]) else "yes" if r[5] else "no")
                      for rows in got.values()]
             lines.append(f"| {k[1]} | {nv} | " + " | ".join(cells) + " |")
         lines += ["", "| label | pairs | mean err | median | worst | over 0.05 | over 0.1 | "
-                  "5 % (mean) | s (median, max) |", "|---|---|---|---|---|---|---|---|---|"]
+                  "5 % (mean) | s (median, max) | cpu s (median) |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
         for lab, rows in got.items():
             r = np.array([rows[k][1:] for k in sub if k in rows])
             if len(r):
                 names = [k[1] for k in sub if k in rows]
                 share = "-" if np.isnan(r[:, 1]).any() else f"{r[:, 1].mean():.3f}"
                 lines.append(f"| {lab} | {len(r)} | {summary(r[:, 0], names)} | {share} "
-                             f"| {np.median(r[:, 2]):.1f}, {r[:, 2].max():.1f} |")
+                             f"| {np.median(r[:, 2]):.1f}, {r[:, 2].max():.1f} | "
+                             + ("-" if np.isnan(r[:, 5]).all()
+                                else f"{np.nanmedian(r[:, 5]):.1f}") + " |")
         lines.append("")
     (RESULTS / "maps_people.md").write_text("\n".join(lines) + "\n")
+    return "\n".join(lines)
+
+
+#: Stages of :func:`stages`, in the order of ``point_map``.
+STAGES = ("eigenbases (2 x 100)", "descriptors and first map", "sign patterns (6 -> 20)",
+          "candidates' ZoomOuts to 50", "candidates' vertex maps (full size, k=50)",
+          "candidates' other (oriented and landmark maps, scores, turning)",
+          "final ZoomOut to 100", "final vertex map (k=100)")
+
+
+def stage_seconds(S, T):
+    """Processor seconds of each stage of ``cshape.point_map(S, T)`` (:data:`STAGES`), with
+    one thread everywhere (so that the seconds of a stage are its own), and the total.
+
+    The stages are found by wrapping the functions ``point_map`` calls (the ZoomOut and the
+    vertex map by their size: below ``N`` inside the search, ``N`` at the end)."""
+    from cshape import _candidates, _nearest
+
+    clock, spent = time.process_time, dict.fromkeys(STAGES, 0.0)
+    saved, inside = [], [False]
+
+    def wrap(mod, name, stage, search=False):
+        f = getattr(mod, name, None)
+        if f is None:
+            return
+
+        def g(*a, **k):
+            label = stage(a, k)
+            inside[0] |= search
+            t = clock()
+            try:
+                return f(*a, **k)
+            finally:
+                spent[label] += clock() - t
+                inside[0] &= not search
+        saved.append((mod, name, f))
+        setattr(mod, name, g)
+    zoom_name = "_zoomout" if hasattr(maps, "_zoomout") else "zoomout"
+    map_name = "_pointwise" if hasattr(maps, "_pointwise") else "map_to_pointwise"
+    threads = (maps.SEARCH_THREADS, _nearest.NN_THREADS)
+    maps.SEARCH_THREADS = _nearest.NN_THREADS = 1
+    wrap(maps, "eigenbasis", lambda a, k: STAGES[0])
+    wrap(_candidates, "sign_candidates", lambda a, k: STAGES[2])
+    wrap(maps, zoom_name, lambda a, k: STAGES[3] if inside[0] else STAGES[6])
+    wrap(maps, map_name, lambda a, k: STAGES[4] if inside[0] else STAGES[7])
+    wrap(maps, "_candidates_of", lambda a, k: STAGES[5], search=True)
+    try:
+        t = clock()
+        cshape.point_map(S, T)
+        total = clock() - t
+    finally:
+        for mod, name, f in reversed(saved):
+            setattr(mod, name, f)
+        maps.SEARCH_THREADS, _nearest.NN_THREADS = threads
+    # _candidates_of holds the sign patterns and the candidates' ZoomOuts and maps
+    spent[STAGES[5]] -= spent[STAGES[2]] + spent[STAGES[3]] + spent[STAGES[4]]
+    spent[STAGES[1]] = total - sum(v for s, v in spent.items() if s != STAGES[1])
+    return spent, total
+
+
+def stages(label, pairs=("000->013", "010->006", "006->049")):
+    """:func:`stage_seconds` of registration and remeshed pairs, into
+    ``maps_stages_<label>.csv``; ``maps_stages.md`` shows every label."""
+    group_of = {p[1]: p for p in people_pairs(("remeshed-different", "registrations"))}
+    RESULTS.mkdir(exist_ok=True)
+    path = RESULTS / f"maps_stages_{label}.csv"
+    lines = ["group,pair,vertices,load," + ",".join(f'"{s}"' for s in STAGES) + ",total"]
+    for pair in pairs:
+        group, _lab, load = group_of[pair]
+        S, T, _truth = load()
+        la = load_average()[0]
+        spent, total = stage_seconds(S, T)
+        lines.append(f'"{group}",{pair},{T.n_vertices},{la:.2f},'
+                     + ",".join(f"{v:.2f}" for v in spent.values()) + f",{total:.2f}")
+        print(lines[-1], flush=True)
+        path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def wall(label, pairs=("000->013", "010->006", "006->049"), repeats=2):
+    """Wall and processor seconds of ``cshape.point_map`` with its defaults (two threads),
+    the fastest of ``repeats`` runs per pair, into ``maps_wall_<label>.csv`` (run the labels
+    one after the other, so that they meet the same load; :func:`write_stages` shows the
+    ratio)."""
+    group_of = {p[1]: p for p in people_pairs(("remeshed-different", "registrations"))}
+    path = RESULTS / f"maps_wall_{label}.csv"
+    lines = ["pair,vertices,load,wall,cpu"]
+    for pair in pairs:
+        S, T, _truth = group_of[pair][2]()
+        cshape.eigenbasis(S, N), cshape.eigenbasis(T, N)  # warm the caches of the imports
+        runs = []
+        for _ in range(repeats):
+            la = load_average()[0]
+            t, c = time.perf_counter(), time.process_time()
+            cshape.point_map(S, T)
+            runs.append((time.perf_counter() - t, time.process_time() - c, la))
+        w, c, la = min(runs)
+        lines.append(f"{pair},{T.n_vertices},{la:.2f},{w:.2f},{c:.2f}")
+        print(lines[-1], flush=True)
+        path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def write_stages(command):
+    """``maps_stages.md``: the seconds of each stage, every label side by side."""
+    import csv
+
+    lines = _header("Where the time of `cshape.point_map` goes", command) + [
+        "Processor seconds of each stage of `cshape.point_map(source, target)` (its "
+        "defaults), with one thread everywhere (`SEARCH_THREADS` and the nearest-row "
+        "searches' threads set to 1), so that a stage's seconds are its own; on two free "
+        "cores the candidates, the sign patterns and the big nearest-row searches are shared "
+        "among two threads and the wall time is less (`maps_people.md`).  *load*: the "
+        "machine's 1-minute load average at the start (other work shares the two cores, so "
+        "even processor seconds grow with it).  *before*: `point_map` before its nearest-row "
+        "searches went to single precision and its sign patterns were pruned (that checkout "
+        "first on `PYTHONPATH`, this script); *after*: this version.", ""]
+    def order(path):  # "before" first
+        return (not path.stem.endswith("_before"), path.stem)
+
+    for path in sorted(RESULTS.glob("maps_stages_*.csv"), key=order):
+        label = path.stem.removeprefix("maps_stages_")
+        rows = list(csv.reader(path.read_text().splitlines()))
+        head, body = rows[0], rows[1:]
+        lines += [f"## {label}", "",
+                  "| stage | " + " | ".join(f"{r[1]} ({r[2]} v., load {r[3]})" for r in body)
+                  + " |", "|---|" + "---|" * len(body)]
+        for j, stage in enumerate(head[4:], start=4):
+            lines.append(f"| {stage} | " + " | ".join(r[j] for r in body) + " |")
+        lines.append("")
+    walls = {path.stem.removeprefix("maps_wall_"): list(csv.reader(
+        path.read_text().splitlines()))[1:]
+        for path in sorted(RESULTS.glob("maps_wall_*.csv"), key=order)}
+    if walls:
+        labs = list(walls)
+        lines += ["## wall time, two threads", "",
+                  "`python benchmarks/bench_maps.py --wall LABEL` (each label with its own "
+                  "version of cshape, run one after the other): `point_map` with its defaults "
+                  "(`SEARCH_THREADS = 2`), the fastest of two runs; *load* at the start of "
+                  "that run.", "",
+                  "| pair | vertices | " + " | ".join(
+                      f"{lab} s | {lab} cpu s | {lab} load" for lab in labs)
+                  + (f" | speed-up ({labs[0]} s / {labs[1]} s) | ({labs[0]} cpu s / "
+                     f"{labs[1]} cpu s) |" if len(labs) == 2 else " |"),
+                  "|---|---|" + "---|---|---|" * len(labs) + ("---|---|" if len(labs) == 2
+                                                             else "")]
+        for i, r0 in enumerate(walls[labs[0]]):
+            rs = [w[i] for w in walls.values() if i < len(w)]
+            row = f"| {r0[0]} | {r0[1]} | " + " | ".join(f"{r[3]} | {r[4]} | {r[2]}" for r in rs)
+            if len(rs) == 2:
+                row += (f" | {float(rs[0][3]) / float(rs[1][3]):.2f} | "
+                        f"{float(rs[0][4]) / float(rs[1][4]):.2f}")
+            lines.append(row + " |")
+        lines.append("")
+    (RESULTS / "maps_stages.md").write_text("\n".join(lines) + "\n")
     return "\n".join(lines)
 
 
@@ -772,7 +969,8 @@ def people_landmarks(pairs=("006->049", "010->006", "006->037"), k=5):
 
 def people_diagnose(label):
     """Every candidate of the search of ``point_map`` on one ``faust-dev-remeshed`` pair
-    (e.g. ``006->049``): its residual, orientation share, descriptor error, extrinsic misfit
+    (e.g. ``006->049``) or remeshed TOSCA pair (e.g. ``cat0->cat2``): its residual,
+    orientation share, descriptor error, extrinsic misfit
     and true error at the compared size (recorded from ``point_map`` itself), and those of
     the true map (its ``C`` at that size, and the vertex map of that ``C``).  Printed, not
     written: a diagnosis."""
@@ -781,12 +979,17 @@ def people_diagnose(label):
     from cshape import _candidates as cand
     from cshape import maps as cmaps
 
-    a, b = (int(x) for x in label.split("->"))
-    S, T, truth = rm.remeshed(a), rm.remeshed(b), rm.true_map(a, b)
+    a, b = label.split("->")
+    if a.isdigit():
+        a, b = int(a), int(b)
+        S, T, truth = rm.remeshed(a), rm.remeshed(b), rm.true_map(a, b)
+    else:
+        S, T = rm.tosca_remeshed(a)[0], rm.tosca_remeshed(b)[0]
+        truth = rm.tosca_true_map(a, b)
     geo = cshape.geodesics.HeatGeodesics(S)
     v = rm.rows(T.n_vertices, N_EVAL_PEOPLE)
     seen = {"maps": [], "bases": []}
-    pick, to_points, basis = cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis
+    pick, to_points, basis = cand.pick_extrinsic, cmaps._pointwise, cmaps.eigenbasis
 
     def record_pick(scores, *args):
         seen["scores"], seen["keep"] = list(scores), pick(scores, *args)
@@ -802,13 +1005,13 @@ def people_diagnose(label):
         seen["bases"].append(basis(*args, **kw))
         return seen["bases"][-1]
 
-    cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = (record_pick, record_map,
-                                                                     record_basis)
+    cand.pick_extrinsic, cmaps._pointwise, cmaps.eigenbasis = (record_pick, record_map,
+                                                               record_basis)
     threads, cmaps.SEARCH_THREADS = cmaps.SEARCH_THREADS, 1  # the maps in candidate order
     try:
         p = cshape.point_map(S, T)
     finally:
-        cand.pick_extrinsic, cmaps.map_to_pointwise, cmaps.eigenbasis = pick, to_points, basis
+        cand.pick_extrinsic, cmaps._pointwise, cmaps.eigenbasis = pick, to_points, basis
         cmaps.SEARCH_THREADS = threads
     rows = []
 
@@ -824,7 +1027,7 @@ def people_diagnose(label):
     start = cmaps._Start(bS, bT, K0, N_ENERGIES, True)
     Ct = bT.phi[:, :m].T @ (bT.B @ bS.phi[truth, :m])
     for name, q in (("true map (its C at the compared size)", truth),
-                    ("vertex map of the true C", to_points(Ct, bS, bT))):
+                    ("vertex map of the true C", to_points(Ct, bS.phi, bT.phi))):
         row(name, (cand.residual(Ct, bS.phi, bT.phi, q), cand.orientation_share(S, T, q),
                    cand.descriptor_error(start.dS, start.dT, wT, q),
                    cand.extrinsic_residual(S, T, bT.phi, bT.B, q)), q)
@@ -893,7 +1096,14 @@ def main(argv=None):
                     help="with --people: at most this many pairs per group")
     ap.add_argument("--diagnose", metavar="PAIR", default="",
                     help="print every candidate of the search on one faust-dev-remeshed pair "
-                         "(e.g. 006->049) and the true map's criteria")
+                         "(e.g. 006->049) or remeshed TOSCA pair (cat0->cat2) and the true "
+                         "map's criteria")
+    ap.add_argument("--stages", metavar="LABEL", default="",
+                    help="processor seconds of each stage of point_map on three pairs, one "
+                         "thread (maps_stages_LABEL.csv, maps_stages.md)")
+    ap.add_argument("--wall", metavar="LABEL", default="",
+                    help="wall and processor seconds of point_map on three pairs, two "
+                         "threads (maps_wall_LABEL.csv, shown in maps_stages.md)")
     ap.add_argument("--people-landmarks", action="store_true",
                     help="failed remeshed pairs without and with five true landmarks "
                          "(maps_people_landmarks.md)")
@@ -910,6 +1120,16 @@ def main(argv=None):
     if args.diagnose:
         print(people_diagnose(args.diagnose))
         return
+    if args.wall:
+        wall(args.wall, tuple(p for p in args.pairs.split(",") if p)
+             or ("000->013", "010->006", "006->049"))
+        print(write_stages(command))
+        return
+    if args.stages:
+        stages(args.stages, tuple(p for p in args.pairs.split(",") if p)
+               or ("000->013", "010->006", "006->049"))
+        print(write_stages(command))
+        return
     if args.people_landmarks:
         print(people_landmarks())
         return
@@ -919,7 +1139,7 @@ def main(argv=None):
     if args.people:
         people(args.people, tuple(g for g in args.groups.split(",") if g),
                tuple(p for p in args.pairs.split(",") if p), args.limit)
-        print(write_people(command))
+        print(write_people(command, note=PEOPLE_NOTE))
         return
     if args.timing_63k:
         print(append_point_map_times(point_map_times(), command))

@@ -66,6 +66,10 @@ SWAP_RATIO = 1.3
 SIGN_ZOOM = 20
 #: Vertices per shape in that upsampling.
 SIGN_SAMPLE = 1000
+#: At this size of the upsampling only the ``SIGN_PRUNE_KEEP`` patterns of the smallest
+#: residual go on (the two kept in the end rank well among them from about this size on).
+SIGN_PRUNE_SIZE = 12
+SIGN_PRUNE_KEEP = 24
 #: Vertices per shape in the upsampling of every candidate to ``COMPARE_SIZE`` (at most the
 #: ``sample`` of :func:`cshape.point_map`).
 COMPARE_SAMPLE = 1500
@@ -122,27 +126,29 @@ def _zoom(C, subS, subT, w, k):
     """Upsample ``C`` to size ``k`` by ZoomOut on samples (mass-weighted least squares)."""
     kc = C.shape[0]
     while True:
-        p = nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T)
+        p = nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T, single=True)
         if kc >= k:
             return C, p
         kc += 1
         C = _fit(subT[:, :kc], subS[p, :kc], w, None)
 
 
-def _zoom_all(starts, subS, subT, w, k, threads=1):
+def _zoom_all(starts, subS, subT, w, k, threads=1, prune=None):
     """:func:`_zoom` of every map in ``starts``, each ZoomOut followed once.
 
     A ZoomOut step depends only on the vertex map of the step before, so two starts whose
     vertex maps meet go on alike from there: only the first of them is followed, the others
     give ``(None, None)``.  The starts of one step are shared among ``threads`` threads (the
-    same result).
+    same result).  ``prune=(size, keep)``: at that size only the ``keep`` maps of the
+    smallest :func:`residual` go on; the others give ``(None, None)``.
     """
     out, live = [None] * len(starts), dict(enumerate(starts))
     kc = min(C.shape[0] for C in starts)
 
     def nearest(item):
         i, C = item
-        return i, nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T)
+        return i, nearest_rows(np.ascontiguousarray(subT[:, :kc]), subS[:, :kc] @ C.T,
+                               single=True)
 
     def fit(item):
         return _fit(subT[:, :kc + 1], subS[item[1], :kc + 1], w, None)
@@ -160,6 +166,13 @@ def _zoom_all(starts, subS, subT, w, k, threads=1):
                 else:
                     seen.add(key)
                     going[i] = p
+            if prune is not None and kc == prune[0] and len(going) > prune[1]:
+                r = {i: residual(live[i], subS, subT, p) for i, p in going.items()}
+                best = set(sorted(going, key=lambda i: (r[i], i))[:prune[1]])
+                for i in going:
+                    if i not in best:
+                        out[i] = (None, None)
+                going = {i: p for i, p in going.items() if i in best}
             live = dict(zip(going, pool.map(fit, going.items()), strict=True))
             kc += 1
     return out
@@ -215,7 +228,8 @@ def sign_candidates(phiS, phiT, wT, rng, lamS=None, lamT=None, threads=1):
             P[np.arange(m), order] = [s0, *signs]
             patterns.append(P)
     found = [(residual(C, subS, subT, p), C, p, P)
-             for P, (C, p) in zip(patterns, _zoom_all(patterns, subS, subT, w, k, threads),
+             for P, (C, p) in zip(patterns, _zoom_all(patterns, subS, subT, w, k, threads,
+                                                      (SIGN_PRUNE_SIZE, SIGN_PRUNE_KEEP)),
                                   strict=True) if C is not None]
     found.sort(key=lambda f: f[0])
     kept = [found[0]]

@@ -167,8 +167,16 @@ def map_to_pointwise(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, *,
     pT = target.phi
     if vertices is not None:
         pT = pT[check_vertex_indices("vertices", vertices, target.n_vertices)]
+    return _pointwise(C, source.phi, pT)
+
+
+def _pointwise(C, phiS, phiT, single=False):
+    """:func:`map_to_pointwise` of checked arguments (the eigenfunctions' arrays).
+
+    ``single``: the search in single precision (:func:`cshape._nearest.nearest_rows`).
+    """
     kT, kS = C.shape
-    return nearest_rows(np.ascontiguousarray(pT[:, :kT]), source.phi[:, :kS] @ C.T)
+    return nearest_rows(np.ascontiguousarray(phiT[:, :kT]), phiS[:, :kS] @ C.T, single=single)
 
 
 def pointwise_to_map(p2p: ArrayLike, source: Eigenbasis, target: Eigenbasis
@@ -197,7 +205,12 @@ def pointwise_to_map(p2p: ArrayLike, source: Eigenbasis, target: Eigenbasis
     if len(p2p) != len(pT):
         raise ValueError(f"p2p has {len(p2p)} entries but the target {len(pT)} vertices; p2p "
                          "has one source vertex per target vertex")
-    return pT.T @ (target.B @ pS[p2p])
+    return _to_map(p2p, source, target)
+
+
+def _to_map(p2p, source, target):
+    """:func:`pointwise_to_map` of checked arguments."""
+    return target.phi.T @ (target.B @ source.phi[p2p])
 
 
 def transfer_function(f: ArrayLike, C: ArrayLike, source: Eigenbasis, target: Eigenbasis
@@ -468,17 +481,27 @@ def zoomout(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, N: int | None 
     """
     source = _check_eigenbasis("source", source)
     target = _check_eigenbasis("target", target)
-    pS, pT = source.phi, target.phi
-    B_source, B_target = source.B, target.B
-    C = _check_C(C, pT.shape[1], pS.shape[1])
-    kmax = min(pS.shape[1], pT.shape[1])
+    C = _check_C(C, target.phi.shape[1], source.phi.shape[1])
+    kmax = min(source.phi.shape[1], target.phi.shape[1])
     k = kmax if N is None else check_int("N", N, min=max(C.shape), max=kmax)
     step = check_int("step", step, min=1)
     bijective = check_bool("bijective", bijective)
+    if sample is not None:
+        sample = check_int("sample", sample, min=1)
+    return _zoomout(C, source, target, k, step=step, sample=sample, bijective=bijective,
+                    random_state=random_state)
+
+
+def _zoomout(C, source, target, k, *, step, sample, bijective, random_state, single=False):
+    """:func:`zoomout` of checked arguments, to size ``k``.
+
+    ``single``: its searches in single precision (:func:`cshape._nearest.nearest_rows`).
+    """
+    pS, pT = source.phi, target.phi
+    B_source, B_target = source.B, target.B
     wT = np.asarray(B_target.sum(axis=1)).ravel()
     wS = np.asarray(B_source.sum(axis=1)).ravel()
     if sample is not None:
-        sample = check_int("sample", sample, min=1)
         rng = np.random.default_rng(random_state)
         iS = np.sort(rng.choice(len(pS), min(sample, len(pS)), replace=False))
         iT = np.sort(rng.choice(len(pT), min(sample, len(pT)), replace=False))
@@ -490,13 +513,15 @@ def zoomout(C: ArrayLike, source: Eigenbasis, target: Eigenbasis, N: int | None 
         kc = C.shape[0]
         while True:
             kT, kS = C.shape
-            p = nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T)
+            p = nearest_rows(np.ascontiguousarray(subT[:, :kT]), subS[:, :kS] @ C.T,
+                             single=single)
             if kc >= k and kT >= k:
                 break
             kc = min(kc + step, k)
             C = _fit(subT[:, :kc], subS[p, :kc], wT[iT], B_target if full else None)
             if bijective:
-                q = nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS])
+                q = nearest_rows(np.ascontiguousarray(subS[:, :kS]), subT[:, :kT] @ C[:kT, :kS],
+                                 single=single)
                 C2 = _fit(subS[:, :kc], subT[q, :kc], wS[iS], B_source if full else None)
                 C = 0.5 * (C + C2.T)
             if kc >= k:
@@ -568,6 +593,10 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
        :class:`cshape.CShapeWarning` names both and the target vertices where they disagree
        most: true landmarks there settle it;
     9. :func:`zoomout` to size ``N`` and the vertex map :func:`map_to_pointwise`.
+
+    The nearest rows of the search (steps 4-8) and of the ZoomOut iterations are searched in
+    single precision (a query may get either of two rows that tie to that round-off; each
+    step's map is fitted again at the next); the final vertex map is exact.
 
     A mesh of more than ``coarse`` vertices is replaced by a copy of about ``coarse``
     vertices (PyMeshLab's quadric edge collapse, the vertices kept where they are) for
@@ -649,12 +678,22 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
     if N > min(S.n_vertices, T.n_vertices):
         raise ValueError(f"N={N} is more than the vertices of the smaller mesh "
                          f"({min(S.n_vertices, T.n_vertices)}); use a smaller N")
+    if sample is not None:
+        sample = check_int("sample", sample, min=1)
     if coarse is not None:
         coarse = check_int("coarse", coarse, min=max(N, 100))
+    options = dict(N=N, N0=N0, n_descriptors=n_descriptors, orientation=orientation,
+                   step=step, bijective=bijective, sample=sample, initial=initial,
+                   random_state=random_state)
     if coarse is not None and max(S.n_vertices, T.n_vertices) > coarse:
-        return _via_coarse(S, T, coarse, lm, return_map, dict(
-            N=N, N0=N0, n_descriptors=n_descriptors, orientation=orientation, step=step,
-            bijective=bijective, sample=sample, initial=initial, random_state=random_state))
+        return _via_coarse(S, T, coarse, lm, return_map, options)
+    p2p, C = _point_map(S, T, lm, **options)
+    return (p2p, C) if return_map else p2p
+
+
+def _point_map(S, T, lm, *, N, N0, n_descriptors, orientation, step, bijective, sample,
+               initial, random_state):
+    """:func:`point_map` of checked arguments, without coarse copies: ``p2p`` and ``C``."""
     bS, bT = eigenbasis(S, N), eigenbasis(T, N)
     start = _Start(bS, bT, N0, n_descriptors, orientation)
     C = start(lm)
@@ -662,10 +701,9 @@ def point_map(source: MeshLike, target: MeshLike, *, N: int = 100, N0: int = 30,
         C = _search(C, start, N, dict(step=step, sample=sample, bijective=bijective,
                                       random_state=random_state))
     if step:
-        C = zoomout(C, bS, bT, N, step=step, sample=sample, bijective=bijective,
-                    random_state=random_state)
-    p2p = map_to_pointwise(C, bS, bT)
-    return (p2p, C) if return_map else p2p
+        C = _zoomout(C, bS, bT, N, step=step, sample=sample, bijective=bijective,
+                     random_state=random_state, single=True)
+    return _pointwise(C, bS.phi, bT.phi), C
 
 
 def _coarse_copy(mesh, n):
@@ -709,7 +747,7 @@ def _via_coarse(S, T, n, lm, return_map, options):
     if lm is not None:
         lmc = np.column_stack([cKDTree(Sc.vertices).query(S.vertices[lm[:, 0]])[1],
                                cKDTree(Tc.vertices).query(T.vertices[lm[:, 1]])[1]])
-    pc = point_map(Sc, Tc, landmarks=lmc, coarse=None, **options)
+    pc = _point_map(Sc, Tc, lmc, **options)[0]
     images = Sc.vertices[pc]
     d, j = cKDTree(Tc.vertices).query(T.vertices, k=3)
     w = 1.0 / np.maximum(d, 1e-12 * np.sqrt(T.area))
@@ -720,7 +758,7 @@ def _via_coarse(S, T, n, lm, return_map, options):
     if not return_map:
         return p2p
     N = options["N"]
-    return p2p, pointwise_to_map(p2p, eigenbasis(S, N), eigenbasis(T, N))
+    return p2p, _to_map(p2p, eigenbasis(S, N), eigenbasis(T, N))
 
 
 class _Start:
@@ -801,8 +839,8 @@ def _candidates_of(C, start, N, zoom, pool, threads):
                 else min(zoom["sample"], _candidates.COMPARE_SAMPLE))
 
     def evaluate(make):
-        C = zoomout(make(), bS, bT, m, **zoom)
-        p = map_to_pointwise(C, bS, bT)
+        C = _zoomout(make(), bS, bT, m, **zoom, single=True)
+        p = _pointwise(C, bS.phi, bT.phi, single=True)
         return C, p, (_candidates.residual(C, bS.phi, bT.phi, p),
                       _candidates.orientation_share(bS.mesh, bT.mesh, p)
                       if start.orientation else 0.0,
@@ -824,7 +862,7 @@ def _candidates_of(C, start, N, zoom, pool, threads):
 
     def turn(i):
         q = _candidates.turned_in_space(bS.mesh, bT.mesh, bT.B, maps[i], bT.phi)
-        return pointwise_to_map(q, bS.truncate(k0), bT.truncate(k0))
+        return _to_map(q, bS.truncate(k0), bT.truncate(k0))
 
     add([lambda i=i: turn(i) for i in mirrors])
     names += [f"{names[i]}, turned in space" for i in mirrors]

@@ -321,6 +321,25 @@ def test_map_to_pointwise_is_the_exact_nearest_neighbour(monkeypatch, big):
         np.testing.assert_array_equal(p, np.argmin(full, axis=1))
 
 
+def test_the_single_precision_search_finds_a_nearest_row_within_its_round_off():
+    """``single=True``: each answer's distance is the smallest to within single precision
+    (a query may get either of two rows that tie to round-off), and well-separated rows are
+    found exactly; the default stays the exact argmin."""
+    rng = np.random.default_rng(4)
+    for n_q, n_p, k in ((700, 900, 20), (1500, 1200, 50)):
+        Q, P = rng.standard_normal((n_q, k)), rng.standard_normal((n_p, k))
+        full = cdist(Q, P, "sqeuclidean")
+        best = full.min(axis=1)
+        p = _nearest.nearest_rows(Q, P, single=True)
+        scale = np.einsum("ij,ij->i", Q, Q) + np.einsum("ij,ij->i", P, P).max()
+        assert (full[np.arange(n_q), p] - best <= 1e-5 * scale).all()
+        np.testing.assert_array_equal(_nearest.nearest_rows(Q, P), np.argmin(full, axis=1))
+        # rows well apart: a query next to a row gets that row in single precision too
+        near = P[rng.choice(n_p, n_q)] + 1e-3 * rng.standard_normal((n_q, k))
+        np.testing.assert_array_equal(_nearest.nearest_rows(near, P, single=True),
+                                      np.argmin(cdist(near, P, "sqeuclidean"), axis=1))
+
+
 def test_pointwise_to_map_of_the_identity_is_the_identity_matrix(basis):
     n = basis.n_vertices
     np.testing.assert_allclose(cshape.maps.pointwise_to_map(np.arange(n), basis, basis), np.eye(N),
@@ -592,6 +611,54 @@ def test_a_sign_pattern_with_two_swapped_eigenfunctions_is_found(blob):
     expected[[2, 3]] = expected[[3, 2]]
     expected[1, 1] = -1
     np.testing.assert_array_equal(P, expected)
+
+
+def test_the_sign_search_drops_only_patterns_that_fit_worse_than_those_it_keeps(blob):
+    """At ``SIGN_PRUNE_SIZE`` the patterns beyond the ``SIGN_PRUNE_KEEP`` of the smallest
+    residual stop; those kept go on exactly as without the pruning."""
+    b = cshape.eigenbasis(blob, 30)
+    phiT = b.phi.copy()
+    phiT[:, [1, 3]] *= -1
+    rng = np.random.default_rng(5)
+    subS, subT = b.phi[rng.choice(b.n_vertices, 300, replace=False)], phiT[:300]
+    w = np.ones(300)
+    m = _candidates.SIGN_SIZE
+    starts = [np.diag([1.0, *s]) for s in
+              np.array(np.meshgrid(*[[1.0, -1.0]] * (m - 1))).reshape(m - 1, -1).T]
+    k, size, keep = 20, 10, 5
+    full = _candidates._zoom_all(starts, subS, subT, w, k)
+    pruned = _candidates._zoom_all(starts, subS, subT, w, k, prune=(size, keep))
+    going = [i for i, (C, _p) in enumerate(pruned) if C is not None]
+    assert 0 < len(going) <= keep
+    for i in going:
+        np.testing.assert_array_equal(pruned[i][1], full[i][1])
+    # each one dropped fitted worse, at that size, than every one kept
+    at = _candidates._zoom_all(starts, subS, subT, w, size)
+    r = [np.inf if C is None else _candidates.residual(C, subS, subT, p) for C, p in at]
+    dropped = [i for i in range(len(starts)) if i not in going and at[i][0] is not None]
+    assert dropped and min(r[i] for i in dropped) >= max(r[i] for i in going)
+
+
+def test_point_map_checks_its_arguments_once_where_they_enter(monkeypatch, blob, shuffled):
+    """point_map checks its arguments itself; the maps it builds inside are not checked again
+    (the public zoomout, map_to_pointwise, pointwise_to_map and functional_map still are)."""
+    def checked_again(*args, **kwargs):
+        raise AssertionError("an argument was checked again inside point_map")
+
+    monkeypatch.setattr(cshape.maps, "_check_eigenbasis", checked_again)
+    monkeypatch.setattr(cshape.maps, "_check_C", checked_again)
+    monkeypatch.setattr(cshape.maps, "_check_array", checked_again)
+    p = cshape.point_map(blob, shuffled[0], N=N, N0=N0)
+    assert (p == shuffled[1]).mean() > 0.95
+    with pytest.raises(AssertionError, match="checked again"):
+        cshape.maps.zoomout(np.eye(N0), cshape.eigenbasis(blob, N), cshape.eigenbasis(blob, N))
+
+
+def test_point_map_checks_sample_where_it_enters(blob):
+    with pytest.raises(ValueError, match="sample must be an integer >= 1, got 0"):
+        cshape.point_map(blob, blob, N=N, N0=N0, sample=0)
+    with pytest.raises(TypeError, match="sample must be an integer, got float"):
+        cshape.point_map(blob, blob, N=N, N0=N0, sample=1.5)
 
 
 def test_the_oriented_map_of_a_sign_pattern_refuses_the_mirror_image(symmetric):
