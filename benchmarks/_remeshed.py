@@ -96,35 +96,48 @@ def pairs_same(n=10, seed=0):
 DENSE_VERTICES = 55000
 
 
-@lru_cache(maxsize=4)
-def dense(i, vertices=DENSE_VERTICES):
-    """Registration ``i`` remeshed on its own to about ``vertices`` vertices, and its truth.
-
-    PyMeshLab isotropic explicit remeshing (:func:`cshape.data.variants.remesh`, 6
-    iterations), as ``faust-dev-remeshed`` but finer.  The truth is carried as there: for each
-    vertex of the dense mesh, its nearest vertex of the registration (all registrations share
-    one vertex order).  Cached in the temporary folder (the remeshing takes a while).
-    """
+def _remeshed_on_its_own(original, key, vertices):
+    """``original`` remeshed on its own to about ``vertices`` vertices (PyMeshLab isotropic
+    explicit remeshing, :func:`cshape.data.variants.remesh`, 6 iterations), and for each of
+    its vertices the nearest vertex of ``original``.  Cached in the temporary folder as
+    ``<key>_<vertices>.npz`` (the remeshing takes a while), never shipped."""
     import tempfile
 
     from cshape.data import variants
 
-    path = Path(tempfile.gettempdir()) / "cshape-bench" / f"dense_{i:03d}_{vertices}.npz"
+    path = Path(tempfile.gettempdir()) / "cshape-bench" / f"{key}_{vertices}.npz"
     if path.exists():
         z = np.load(path)
         return cshape.Mesh(z["vertices"], z["faces"]), z["truth"]
-    reg = registration(i)
-    m = variants.remesh(reg, target_vertices=vertices, iterations=6)
-    truth = cKDTree(reg.vertices).query(m.vertices)[1].astype(np.int64)
+    orig = original()
+    m = variants.remesh(orig, target_vertices=vertices, iterations=6)
+    truth = cKDTree(orig.vertices).query(m.vertices)[1].astype(np.int64)
     path.parent.mkdir(parents=True, exist_ok=True)
     np.savez(path, vertices=m.vertices, faces=m.faces, truth=truth)
     return m, truth
 
 
+def _carried(a, original_a, b):
+    """For each vertex of remeshed ``b = (mesh, truth)``, its true image on remeshed ``a``:
+    the vertex of ``a`` nearest to the original vertex ``b``'s truth names (the originals of
+    ``a`` and ``b`` share one vertex order)."""
+    return cKDTree(a[0].vertices).query(original_a.vertices[b[1]])[1].astype(np.int64)
+
+
+@lru_cache(maxsize=4)
+def dense(i, vertices=DENSE_VERTICES):
+    """Registration ``i`` remeshed on its own to about ``vertices`` vertices, and its truth.
+
+    As ``faust-dev-remeshed`` but finer (:func:`_remeshed_on_its_own`): the truth of each
+    vertex is its nearest vertex of the registration (all registrations share one vertex
+    order).
+    """
+    return _remeshed_on_its_own(lambda: registration(i), f"dense_{i:03d}", vertices)
+
+
 def dense_true_map(a, b, vertices=DENSE_VERTICES):
     """For each vertex of dense ``b`` (the target), its true image on dense ``a``."""
-    (ma, _ta), (_mb, tb) = dense(a, vertices), dense(b, vertices)
-    return cKDTree(ma.vertices).query(registration(a).vertices[tb])[1].astype(np.int64)
+    return _carried(dense(a, vertices), registration(a), dense(b, vertices))
 
 
 TOSCA = REALDEV / "tosca-dev"
@@ -144,30 +157,14 @@ def tosca_original(name):
 def tosca_remeshed(name, vertices=TOSCA_VERTICES):
     """TOSCA pose ``name`` remeshed on its own to about ``vertices`` vertices, and its truth.
 
-    PyMeshLab isotropic explicit remeshing (:func:`cshape.data.variants.remesh`, 6
-    iterations), as ``faust-dev-remeshed``: no two poses share a triangulation.  The truth is
-    carried as there: for each vertex of the remeshed pose, its nearest vertex of the
-    published pose (the poses of one character share one vertex order).  Built here and
-    cached in the temporary folder, never shipped.
+    As ``faust-dev-remeshed`` (:func:`_remeshed_on_its_own`): no two poses share a
+    triangulation; the truth of each vertex is its nearest vertex of the published pose (the
+    poses of one character share one vertex order).
     """
-    import tempfile
-
-    from cshape.data import variants
-
-    path = Path(tempfile.gettempdir()) / "cshape-bench" / f"tosca_{name}_{vertices}.npz"
-    if path.exists():
-        z = np.load(path)
-        return cshape.Mesh(z["vertices"], z["faces"]), z["truth"]
-    orig = tosca_original(name)
-    m = variants.remesh(orig, target_vertices=vertices, iterations=6)
-    truth = cKDTree(orig.vertices).query(m.vertices)[1].astype(np.int64)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(path, vertices=m.vertices, faces=m.faces, truth=truth)
-    return m, truth
+    return _remeshed_on_its_own(lambda: tosca_original(name), f"tosca_{name}", vertices)
 
 
 def tosca_true_map(a, b, vertices=TOSCA_VERTICES):
     """For each vertex of remeshed pose ``b`` (the target), its true image on remeshed ``a``
     (poses of one character)."""
-    (ma, _ta), (_mb, tb) = tosca_remeshed(a, vertices), tosca_remeshed(b, vertices)
-    return cKDTree(ma.vertices).query(tosca_original(a).vertices[tb])[1].astype(np.int64)
+    return _carried(tosca_remeshed(a, vertices), tosca_original(a), tosca_remeshed(b, vertices))
