@@ -514,15 +514,24 @@ def test_collection_pictures_in_chromium_offline(tmp_path):
 
 
 # ------------------------------------------------------------------------------ framing
-#: JavaScript: the pixel rectangle (left, top, width, height) of every 3-D scene of the page's
-#: plotly figures, from plotly's own layout (the plot area less the margins, times the domain).
-_SCENE_RECTS = """() => Array.from(document.querySelectorAll('.js-plotly-plot')).flatMap(gd => {
+#: JavaScript: the pixel rectangle (left, top, width, height), in the window, of every 3-D
+#: scene of the plotly figures inside the elements that ``selector`` picks, from plotly's own
+#: layout (the plot area less the margins, times the domain).
+_SCENE_RECTS = """selector => Array.from(document.querySelectorAll(selector))
+    .flatMap(el => Array.from(el.querySelectorAll('.js-plotly-plot'))).flatMap(gd => {
     const L = gd._fullLayout, s = L._size, box = gd.getBoundingClientRect();
     return (L._subplots.gl3d || []).map(id => {
         const d = L[id].domain;
-        return [box.left + window.scrollX + s.l + d.x[0] * s.w,
-                box.top + window.scrollY + s.t + (1 - d.y[1]) * s.h,
+        return [box.left + s.l + d.x[0] * s.w, box.top + s.t + (1 - d.y[1]) * s.h,
                 (d.x[1] - d.x[0]) * s.w, (d.y[1] - d.y[0]) * s.h]; }); })"""
+
+
+#: JavaScript: every plotly figure of the page is laid out at its element's width (after a
+#: load or a resize of the window).
+_LAID_OUT = """() => Array.from(document.querySelectorAll('.js-plotly-plot')).every(gd =>
+    gd._fullLayout && Math.abs(gd._fullLayout.width - gd.getBoundingClientRect().width) < 1.5)"""
+#: JavaScript: a promise that settles after the browser has drawn two more frames.
+_FRAMES = "() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))"
 
 
 def _border_hits(px, rect, band=2):
@@ -541,14 +550,13 @@ def _border_hits(px, rect, band=2):
     return int(not_white(edge).sum()), float(not_white(inside).mean())
 
 
-#: Pages of the framing test open at once (WebGL contexts and memory stay modest).
-FRAMING_BATCH = 4
-
-
 def _framing_views(tmp_path):
     """Every kind of 3-D view the lessons and the command line make, with the lessons' sizes:
-    name -> a page of HTML (written into ``tmp_path``) and the viewport widths to try."""
+    ``[(page, viewport sizes, views)]``.  The lessons' figures share one page, as in a
+    notebook (``figure_html(fig, full_html=False)`` below plotly.js, each in an element
+    ``data-view=NAME``); ``cshape query --plot`` writes a page of its own."""
     from conftest import write_off
+    from plotly.offline import get_plotlyjs
 
     from cshape import eigenbasis, plots, shapes, wks
     from cshape import signatures as sg
@@ -583,11 +591,12 @@ def _framing_views(tmp_path):
         "view_map": plots.view_map(rest, pose, np.arange(pose.n_vertices), height=380,
                                    landmarks=np.array([[hand, hand], [0, 0]])),
     }
-    pages = {}
-    for name, fig in figs.items():
-        path = tmp_path / f"{name}.html"
-        path.write_text(figure_html(fig))
-        pages[name] = (path, [(760, 700), (1200, 800)])
+    lessons = tmp_path / "lessons.html"
+    lessons.write_text(
+        f'<html><head><meta charset="utf-8"><script>{get_plotlyjs()}</script></head>'
+        '<body style="margin:0">' + "".join(
+            f'<div data-view="{name}">{figure_html(fig, full_html=False, include_plotlyjs=False)}'
+            "</div>" for name, fig in figs.items()) + "</body></html>")
     # the command line: cshape query ... --plot view.html, on a folder of meshes
     meshes = tmp_path / "meshes"
     write_off(meshes / "rest.off", rest)
@@ -599,34 +608,38 @@ def _framing_views(tmp_path):
                  "--no-cache", "-q"]) == 0
     assert main(["query", str(tmp_path / "m.csv"), "rest", "-k", "4", "--plot",
                  str(tmp_path / "query.html"), "--meshes", str(meshes)]) == 0
-    pages["query_plot"] = (tmp_path / "query.html", [(1200, 900), (1280, 720), (1000, 800)])
-    return pages
+    return [(lessons, [(760, 700), (1200, 800)], list(figs)),
+            (tmp_path / "query.html", [(1200, 900), (1280, 720), (1000, 800)], [None])]
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("part", [0, 1])
-def test_every_3d_view_is_framed_in_chromium(tmp_path, part):
+def test_every_3d_view_is_framed_in_chromium(tmp_path):
     """Every 3-D view, rendered by plotly.js in Chromium on a white page: no mesh pixel on the
     border of its scene (nothing cut by the frame), and the mesh fills a good part of it.
     Each page opens at its first size and is then resized to the others (the figures follow
-    the window, as in a browser a user resizes). The pages in two halves (every other one),
-    which a parallel run renders at once."""
+    the window, as in a browser a user resizes); each view is scrolled to the top of the
+    window and photographed there."""
     sync_api = _playwright()
-    pages = list(_framing_views(tmp_path).items())[part::2]
     out = ARTIFACTS / "framing"
     out.mkdir(parents=True, exist_ok=True)
-    problems, seen = [], 0
+    problems, seen = [], set()
 
     def look(page, name, w, h):
-        nonlocal seen
+        selector = "body" if name is None else f'[data-view="{name}"]'
+        name = name or page.url.rsplit("/", 1)[-1].removesuffix(".html")
         png = out / f"{name}_{w}x{h}.png"
-        page.bring_to_front()
-        page.screenshot(path=str(png), full_page=True)
-        rects = page.evaluate(_SCENE_RECTS)
+        page.evaluate("s => document.querySelector(s).scrollIntoView({block: 'start'})",
+                      selector)
+        page.screenshot(path=str(png))
+        rects = page.evaluate(_SCENE_RECTS, selector)
         px = _canvas_pixels(png.read_bytes())
+        assert rects, f"{name}: no 3-D scene"
         for k, rect in enumerate(rects):
+            x0, y0, rw, rh = rect
+            assert x0 >= 0 and y0 >= 0 and x0 + rw <= px.shape[1] and y0 + rh <= px.shape[0], (
+                f"{name} at {w}x{h}, scene {k + 1}: {rect} is not inside the window")
             hits, filled = _border_hits(px, rect)
-            seen += 1
+            seen.add(name)
             if hits or filled < 0.03:
                 problems.append(f"{name} at {w}x{h}, scene {k + 1}: {hits} mesh "
                                 f"pixels on the border, {filled:.1%} filled")
@@ -634,31 +647,24 @@ def test_every_3d_view_is_framed_in_chromium(tmp_path, part):
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
         try:
-            # a few pages at a time: each loads and draws while the others wait
-            for start in range(0, len(pages), FRAMING_BATCH):
-                batch = pages[start:start + FRAMING_BATCH]
-                opened = []
-                for _name, (path, sizes) in batch:
-                    w, h = sizes[0]
-                    page = browser.new_page(viewport={"width": w, "height": h})
-                    page.goto(path.as_uri(), timeout=60_000)
-                    opened.append(page)
-                for page in opened:
-                    page.locator(".js-plotly-plot .gl-container canvas").first.wait_for(
-                        timeout=60_000)
-                for k in range(max(len(sizes) for _, (_, sizes) in batch)):
+            for path, sizes, views in _framing_views(tmp_path):
+                page = browser.new_page(viewport={"width": sizes[0][0], "height": sizes[0][1]})
+                page.goto(path.as_uri(), timeout=60_000)
+                page.wait_for_function(  # every figure has its WebGL canvas
+                    "() => Array.from(document.querySelectorAll('.js-plotly-plot'))"
+                    ".every(gd => gd.querySelector('.gl-container canvas'))", timeout=60_000)
+                for k, (w, h) in enumerate(sizes):
                     if k:
-                        for page, (_name, (_path, sizes)) in zip(opened, batch, strict=True):
-                            if k < len(sizes):
-                                w, h = sizes[k]
-                                page.set_viewport_size({"width": w, "height": h})
-                    opened[-1].wait_for_timeout(2500)  # WebGL draws after the DOM is there
-                    for page, (name, (_path, sizes)) in zip(opened, batch, strict=True):
-                        if k < len(sizes):
-                            look(page, name, *sizes[k])
-                for page in opened:
-                    page.close()
+                        page.set_viewport_size({"width": w, "height": h})
+                    # plotly has laid every figure out at the window's width, then WebGL
+                    # draws in the next frames
+                    page.wait_for_function(_LAID_OUT, timeout=60_000)
+                    page.evaluate(_FRAMES)
+                    page.wait_for_timeout(300)
+                    for name in views:
+                        look(page, name, w, h)
+                page.close()
         finally:
             browser.close()
-    assert seen >= 15
+    assert len(seen) == 10, seen
     assert not problems, problems

@@ -246,7 +246,9 @@ def figure_html(fig: go.Figure, *, full_html: bool = True, include_plotlyjs: boo
                 ) -> str:
     """Return a plotly figure as HTML that works offline.
 
-    plotly.js is embedded in the page (no CDN), and no MathJax is asked for.
+    plotly.js is embedded in the page (no CDN), and no MathJax is asked for.  The page opens
+    on the figure as it was made: a figure with frames (an explorer's slider) does not play
+    them when the page loads.
 
     Parameters
     ----------
@@ -264,7 +266,8 @@ def figure_html(fig: go.Figure, *, full_html: bool = True, include_plotlyjs: boo
         The HTML.
     """
     text = fig.to_html(full_html=full_html, include_plotlyjs=include_plotlyjs,
-                       include_mathjax=False, config={"displaylogo": False, "responsive": True},
+                       include_mathjax=False, auto_play=False,
+                       config={"displaylogo": False, "responsive": True},
                        default_width="100%", default_height="100vh")
     # a figure without a height fills the window: no page margin, no scroll bar
     return text.replace("<body>", '<body style="margin:0">', 1) if full_html else text
