@@ -37,7 +37,7 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 #: so that its module fixtures are built once.
 SPREAD_MODULES = {"test_assignments", "test_notebooks", "test_browser"}
 #: Tests of a spread module that share a module fixture (a JupyterLab server): one worker.
-SHARED_SERVER = {"test_m_sweep_in_chromium", "test_eigenfunction_explorer_in_jupyterlab"}
+SHARED_SERVER = {"test_widgets_in_jupyterlab"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection
