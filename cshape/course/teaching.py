@@ -183,7 +183,7 @@ def retrieval_collection(small: bool | None = None) -> data.Collection:
         return data.load_collection("creatures-dev", lazy=True)
     return data.store.load_creatures(0, members=3, kinds=list(SMALL_CREATURES),
                                      vertices=[500, 1000],
-                               voxelsize=0.03, progress=False)
+                               voxelsize=0.04, progress=False)
 
 
 #: The eigenvalues of ``creatures-dev`` shipped with the package (``N = 100``, linear FEM,
