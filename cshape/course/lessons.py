@@ -179,11 +179,14 @@ def kernel_manager() -> Any:
 #: Folder of the MathJax copy, next to the HTML pages.
 MATHJAX_DIR = "mathjax"
 #: MathJax's own configuration files in the copy (jupyter-server-mathjax ships these two) and
-#: ours: the HTML-CSS output with the STIX-Web fonts, the only web fonts in the copy.
+#: ours: the HTML-CSS output with the STIX-Web fonts, the only web fonts in the copy, and no
+#: fast preview (a first, rough typesetting of every equation, redone by HTML-CSS: a page
+#: full of equations is typeset once instead of twice).
 _MATHJAX_CONFIG = "TeX-AMS-MML_HTMLorMML-full,Safe,local/cshape"
 _MATHJAX_LOCAL = """\
 MathJax.Hub.Config({
   "HTML-CSS": {availableFonts: [], preferredFont: null, webFont: "STIX-Web", imageFont: null},
+  "fast-preview": {disabled: true},
   MathMenu: {showRenderer: false},
   messageStyle: "none"
 });
@@ -222,6 +225,7 @@ def offline_mathjax(out_dir: str | os.PathLike[str]) -> str | None:
             == (src / "MathJax.js").stat().st_size):
         # copies with the user's permissions (copy2 would keep the package files' modes)
         shutil.copytree(src, dest, dirs_exist_ok=True, copy_function=shutil.copyfile)
+    if not (local.is_file() and local.read_text() == _MATHJAX_LOCAL):
         local.parent.mkdir(parents=True, exist_ok=True)
         atomic_write(local, lambda f: f.write(_MATHJAX_LOCAL), binary=False)
     return f"{MATHJAX_DIR}/MathJax.js?config={_MATHJAX_CONFIG}"
