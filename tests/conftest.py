@@ -36,8 +36,10 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 #: assignment graded by nbgrader, a browser page).  Every other module runs on one worker,
 #: so that its module fixtures are built once.
 SPREAD_MODULES = {"test_assignments", "test_notebooks", "test_browser"}
-#: Tests of a spread module that share a module fixture (a JupyterLab server): one worker.
-SHARED_SERVER = {"test_widgets_in_jupyterlab"}
+#: Modules that take long in all (a module fixture builds a site or a collection, or one test
+#: runs a type check or a whole report): a parallel run starts them right after the spread
+#: tests.
+LONG_MODULES = {"test_docs", "test_creatures", "test_typing", "test_reproduce"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection
@@ -50,24 +52,40 @@ def pytest_collection_modifyitems(config, items):
 
 
 def _scope(nodeid: str) -> str:
-    """The unit a parallel run sends to one worker: a test of :data:`SPREAD_MODULES` (or
-    the tests of one of them that share a server), else the test's whole module."""
-    path, _, rest = nodeid.partition("::")
-    if Path(path).stem not in SPREAD_MODULES:
-        return path
-    name = rest.split("[", 1)[0]
-    return f"{path}::server" if name in SHARED_SERVER else nodeid
+    """The unit a parallel run sends to one worker: a test of :data:`SPREAD_MODULES`, else
+    the test's whole module."""
+    path, _, _rest = nodeid.partition("::")
+    return nodeid if Path(path).stem in SPREAD_MODULES else path
+
+
+def _order(scope: str, n_tests: int) -> tuple[int, int]:
+    """Where a parallel run queues a scope of ``n_tests`` tests: the spread tests first, then
+    :data:`LONG_MODULES`, then the other modules, more tests first.  (xdist's own order, more
+    tests first, would start the long tests that stand alone last, and a worker would end
+    the run alone on one of them.)"""
+    if "::" in scope:
+        return (0, 0)
+    return (1, 0) if Path(scope).stem in LONG_MODULES else (2, -n_tests)
 
 
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config, log):
     """``make test``'s parallel run (``pytest -n auto --dist loadscope``): xdist's scope
-    scheduling with :func:`_scope` as the scope of a test."""
+    scheduling with :func:`_scope` as the scope of a test, in the order of :func:`_order`."""
     from xdist.scheduler import LoadScopeScheduling
 
     class Scheduling(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
             return _scope(nodeid)
+
+        def schedule(self) -> None:
+            initial = self.collection is None
+            self.config.option.loadscopereorder = False  # the collection's order, then ours
+            super().schedule()
+            if initial and self.workqueue:  # after the first unit or two of each worker
+                units = sorted(self.workqueue.items(), key=lambda u: _order(u[0], len(u[1])))
+                self.workqueue.clear()
+                self.workqueue.update(units)
 
     return Scheduling(config, log)
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from conftest import SHARED_SERVER, SPREAD_MODULES, _scope
+from conftest import LONG_MODULES, SPREAD_MODULES, _order, _scope
 
 
 def test_a_module_runs_on_one_worker_unless_its_tests_are_spread():
@@ -11,14 +11,12 @@ def test_a_module_runs_on_one_worker_unless_its_tests_are_spread():
     one, two = ("tests/test_assignments.py::test_nbgrader_course_full_cycle[week1]",
                 "tests/test_assignments.py::test_nbgrader_course_full_cycle[week2]")
     assert _scope(one) == one and _scope(two) == two
-    # the browser tests that share a JupyterLab server share a worker
-    a, b = (f"tests/test_browser.py::{name}" for name in sorted(SHARED_SERVER))
-    alone = "tests/test_browser.py::test_ensure_browser_is_idempotent"
-    assert _scope(a) == _scope(b) != _scope(alone)
     assert {"test_assignments", "test_notebooks", "test_browser"} <= SPREAD_MODULES
 
 
-def test_the_shared_server_tests_exist():
-    import test_browser
-
-    assert all(hasattr(test_browser, name) for name in SHARED_SERVER)
+def test_the_long_tests_are_queued_first():
+    spread = "tests/test_assignments.py::test_nbgrader_course_full_cycle[week1]"
+    docs, fem, small = "tests/test_docs.py", "tests/test_fem.py", "tests/test_mesh.py"
+    assert "test_docs" in LONG_MODULES
+    queue = sorted([(small, 3), (fem, 40), (docs, 5), (spread, 1)], key=lambda u: _order(*u))
+    assert [scope for scope, _ in queue] == [spread, docs, fem, small]
