@@ -688,7 +688,7 @@ def test_every_3d_view_is_framed_in_chromium(tmp_path):
                     # draws in the next frames
                     page.wait_for_function(_LAID_OUT, timeout=60_000)
                     page.evaluate(_FRAMES)
-                    page.wait_for_timeout(300)
+                    page.wait_for_timeout(1000)  # margin for a loaded machine
                     for name in views:
                         look(page, name, w, h)
                 page.close()
