@@ -776,6 +776,9 @@ def write_people(command, labels=("before", "after"), note=""):
     return "\n".join(lines)
 
 
+#: The pairs whose time :func:`stages` and :func:`wall` measure: one of registrations, two
+#: remeshed each on its own.
+TIMED_PAIRS = ("000->013", "010->006", "006->049")
 #: Stages of :func:`stages`, in the order of ``point_map``.
 STAGES = ("eigenbases (2 x 100)", "descriptors and first map", "sign patterns (6 -> 20)",
           "candidates' ZoomOuts to 50", "candidates' vertex maps (full size, k=50)",
@@ -833,7 +836,7 @@ def stage_seconds(S, T):
     return spent, total
 
 
-def stages(label, pairs=("000->013", "010->006", "006->049")):
+def stages(label, pairs=TIMED_PAIRS):
     """:func:`stage_seconds` of registration and remeshed pairs, into
     ``maps_stages_<label>.csv``; ``maps_stages.md`` shows every label."""
     group_of = {p[1]: p for p in people_pairs(("remeshed-different", "registrations"))}
@@ -852,7 +855,7 @@ def stages(label, pairs=("000->013", "010->006", "006->049")):
     return path
 
 
-def wall(label, pairs=("000->013", "010->006", "006->049"), repeats=2):
+def wall(label, pairs=TIMED_PAIRS, repeats=2):
     """Wall and processor seconds of ``cshape.point_map`` with its defaults (two threads),
     the fastest of ``repeats`` runs per pair, into ``maps_wall_<label>.csv`` (run the labels
     one after the other, so that they meet the same load; :func:`write_stages` shows the
@@ -1122,12 +1125,12 @@ def main(argv=None):
         return
     if args.wall:
         wall(args.wall, tuple(p for p in args.pairs.split(",") if p)
-             or ("000->013", "010->006", "006->049"))
+             or TIMED_PAIRS)
         print(write_stages(command))
         return
     if args.stages:
         stages(args.stages, tuple(p for p in args.pairs.split(",") if p)
-               or ("000->013", "010->006", "006->049"))
+               or TIMED_PAIRS)
         print(write_stages(command))
         return
     if args.people_landmarks:

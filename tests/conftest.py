@@ -54,7 +54,7 @@ def pytest_collection_modifyitems(config, items):
 def _scope(nodeid: str) -> str:
     """The unit a parallel run sends to one worker: a test of :data:`SPREAD_MODULES`, else
     the test's whole module."""
-    path, _, _rest = nodeid.partition("::")
+    path = nodeid.split("::", 1)[0]
     return nodeid if Path(path).stem in SPREAD_MODULES else path
 
 

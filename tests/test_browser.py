@@ -581,10 +581,9 @@ def _border_hits(px, rect, band=2):
 def _framing_views(tmp_path):
     """Every kind of 3-D view the lessons and the command line make, with the lessons' sizes:
     ``[(page, viewport sizes, views)]``.  The lessons' figures share one page, as in a
-    notebook (``figure_html(fig, full_html=False)`` below plotly.js, each in an element
+    notebook (``figure_html(fig, full_html=False)``, plotly.js with the first, each in an element
     ``data-view=NAME``); ``cshape query --plot`` writes a page of its own."""
     from conftest import write_off
-    from plotly.offline import get_plotlyjs
 
     from cshape import eigenbasis, plots, shapes, wks
     from cshape import signatures as sg
@@ -619,12 +618,11 @@ def _framing_views(tmp_path):
         "view_map": plots.view_map(rest, pose, np.arange(pose.n_vertices), height=380,
                                    landmarks=np.array([[hand, hand], [0, 0]])),
     }
-    lessons = tmp_path / "lessons.html"
-    lessons.write_text(
-        f'<html><head><meta charset="utf-8"><script>{get_plotlyjs()}</script></head>'
-        '<body style="margin:0">' + "".join(
-            f'<div data-view="{name}">{figure_html(fig, full_html=False, include_plotlyjs=False)}'
-            "</div>" for name, fig in figs.items()) + "</body></html>")
+    lessons = tmp_path / "lessons.html"  # plotly.js once, with the first figure
+    lessons.write_text('<html><head><meta charset="utf-8"></head><body style="margin:0">' + "".join(
+        f'<div data-view="{name}">'
+        f"{figure_html(fig, full_html=False, include_plotlyjs=k == 0)}</div>"
+        for k, (name, fig) in enumerate(figs.items())) + "</body></html>")
     # the command line: cshape query ... --plot view.html, on a folder of meshes
     meshes = tmp_path / "meshes"
     write_off(meshes / "rest.off", rest)
