@@ -16,7 +16,7 @@ import pytest
 
 from cshape.cli import main
 from cshape.course import assignments as asg
-from cshape.course.lessons import run_notebook, stderr_outputs
+from cshape.course.lessons import stderr_outputs
 
 NB_DIR = asg.lessons_dir()
 LESSONS = sorted(NB_DIR.glob(asg.PATTERN))
@@ -223,108 +223,143 @@ def _typical_wrong_capstone(release, source):
     return nb
 
 
+def _releases_stop_at_their_stubs(paths, env):
+    """Run each untouched release of ``paths`` the way a student does, cell after cell, until a
+    cell raises; return ``{name: (cell number, error name)}`` of the first error of each
+    (``None`` when every cell ran).
+
+    The releases take turns in one kernel (``CSHAPE_SMALL=1``), each after ``%reset -f`` in
+    its own folder: its names are its own, and the kernel's start and imports are paid once.
+    """
+    import os
+
+    from cshape.course.lessons import kernel_manager
+
+    km = kernel_manager()
+    km.start_kernel(env=dict(os.environ, CSHAPE_SMALL="1",
+                             MPLBACKEND="module://matplotlib_inline.backend_inline",
+                             PLOTLY_RENDERER="plotly_mimetype+notebook", **env))
+    kc = km.client()
+    kc.start_channels()
+
+    def run(code):
+        reply = kc.execute_interactive(code, timeout=600, output_hook=lambda msg: None,
+                                       store_history=False)
+        return None if reply["content"]["status"] == "ok" else reply["content"]["ename"]
+
+    first = {}
+    try:
+        kc.wait_for_ready(timeout=120)
+        for path in paths:
+            assert run(f"%reset -f\nimport os\nos.chdir({str(path.parent)!r})") is None
+            cells = nbformat.read(path, as_version=4).cells
+            first[path.name] = next(((k, e) for k, c in enumerate(cells)
+                                     if c.cell_type == "code" and (e := run(c.source))), None)
+    finally:
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+    return first
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("name", list(asg.ASSIGNMENTS))
-def test_nbgrader_course_full_cycle(tmp_path, name):
-    """Release and autograde for each assignment of the plan (each in a course folder of its
-    own, so that a parallel run grades them at once): the instructor's solutions get full marks
-    on every auto-graded cell, and a student who runs the untouched release meets the first
-    exercise's stub before any other error.  The capstone's cycle goes on to the feedback
-    (``generate_feedback`` is the same command for every assignment): typical wrong answers
-    get feedback that names the mistake (the hint of the lesson's own test cell), with the
-    equations typeset offline.  (How nbgrader grades an untouched release and an edited
-    locked cell: ``test_nbgrader_grades_a_small_assignment``.)"""
+def test_nbgrader_course_full_cycle(tmp_path):
+    """The whole course, as an instructor runs it: ``generate_assignment`` and ``autograde``
+    of every assignment of the plan in one course folder.  The instructor's solutions get full
+    marks on every auto-graded cell and run without an error or a warning box anywhere, and a
+    student who runs an untouched release meets the first exercise's stub before any other
+    error.  The capstone's cycle goes on to the feedback (``generate_feedback`` is the same
+    command for every assignment): typical wrong answers get feedback that names the mistake
+    (the hint of the lesson's own test cell), with the equations typeset offline.  (How
+    nbgrader grades an untouched release and an edited locked cell:
+    ``test_nbgrader_grades_a_small_assignment``.)"""
     pytest.importorskip("nbgrader", reason="the course extra: pip install 'cshape[course]'")
     from nbgrader.api import Gradebook
 
     course = tmp_path / "course"
     groups = asg.write_course(course, GRADED)
     assert list(groups) == list(asg.ASSIGNMENTS)
-    paths = groups[name]
-    asg.run_nbgrader("generate_assignment", name, "--force", cwd=course)
-    release = course / "release" / name
-    assert sorted(p.name for p in release.iterdir()) == [p.name for p in paths], name
-    shutil.copytree(course / "source" / name, course / "submitted" / "instructor" / name)
-    students = ["instructor"]
-    if name == "capstone":
-        students.append("typical")
-        typical = course / "submitted" / "typical" / "capstone"
-        typical.mkdir(parents=True)
-        nbformat.write(_typical_wrong_capstone(release / CAPSTONE.name, CAPSTONE),
-                       typical / CAPSTONE.name)
+    asg.run_nbgrader("generate_assignment", "*", "--force", cwd=course)
+    for name, paths in groups.items():
+        release = course / "release" / name
+        assert sorted(p.name for p in release.iterdir()) == [p.name for p in paths], name
+        shutil.copytree(course / "source" / name, course / "submitted" / "instructor" / name)
+    typical = course / "submitted" / "typical" / "capstone"
+    typical.mkdir(parents=True)
+    nbformat.write(_typical_wrong_capstone(course / "release" / "capstone" / CAPSTONE.name,
+                                           CAPSTONE), typical / CAPSTONE.name)
     # the kernels' temporary folder, to see what they leave behind: this autograde is also
-    # the lessons' run (tests/test_notebooks.py), in the environment an instructor grades in
+    # the lessons' run (tests/test_notebooks.py), in the environment an instructor grades in,
+    # with one cache, as one instructor's machine has it
     tmp = tmp_path / "tmp"
     tmp.mkdir()
-    env = {"CSHAPE_SMALL": "1", "CSHAPE_CACHE": str(tmp_path / "cache"), "TMPDIR": str(tmp)}
-    log = asg.run_nbgrader("autograde", name, "--force", cwd=course, env=env)
+    env = {"CSHAPE_CACHE": str(tmp_path / "cache"), "TMPDIR": str(tmp)}
+    log = asg.run_nbgrader("autograde", "*", "--force", cwd=course,
+                           env={"CSHAPE_SMALL": "1", **env})
     left = sorted(p.name for p in tmp.iterdir() if p.name.startswith("cshape"))
-    assert left == [], f"{name}: the lessons leave temporary folders behind: {left}"
+    assert left == [], f"the lessons leave temporary folders behind: {left}"
     # the solutions changed no locked cell
     assert "has changed!" not in log, [ln for ln in log.splitlines() if "changed!" in ln]
-    if name == "capstone":
-        asg.run_nbgrader("generate_feedback", name, "--force", cwd=course)
+    asg.run_nbgrader("generate_feedback", "capstone", "--force", cwd=course)
 
     manual = {m["grade_id"] for p in GRADED for _, _, m in _nbgrader_cells(p)[1]
               if m["grade"] and m["solution"]}
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
-        sub = gb.find_submission(name, "instructor")
-        assert sorted(nb.name for nb in sub.notebooks) == [p.stem for p in paths]
-        grades = [g for nb in sub.notebooks for g in nb.grades if g.name not in manual]
-        wrong = [(g.notebook.name, g.name, g.auto_score, g.max_score)
-                 for g in grades if g.auto_score != g.max_score]
-        assert wrong == [], f"{name}: the solutions lose points: {wrong}"
-        assert sum(g.max_score for g in grades) >= 2 * len(paths), name
-        # the written answers wait for the grader
-        waiting = [g for nb in sub.notebooks for g in nb.grades if g.name in manual]
-        assert all(g.needs_manual_grade for g in waiting), name
-        if name == "capstone":
-            typical_grades = {g.name: g for nb in gb.find_submission("capstone",
-                                                                     "typical").notebooks
-                              for g in nb.grades}
-            assert typical_grades["test_spectra"].auto_score == 0
-            assert typical_grades["test_prediction"].auto_score == 0
-            assert typical_grades["test_descriptors"].auto_score == typical_grades[
-                "test_descriptors"].max_score  # the other answers are right
-    if name == "capstone":
-        for student in students:
-            page = course / "feedback" / student / name / f"{CAPSTONE.stem}.html"
-            assert page.is_file() and page.stat().st_size > 1000, page
-            # equations typeset offline, by the course folder's MathJax copy
-            text = page.read_text()
-            assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
-            assert '<script src="../../../mathjax/MathJax.js?config=' in text
-        assert (course / "mathjax" / "MathJax.js").is_file()
-        # the feedback on typical wrong answers names each mistake, in the words of the test
-        # cell
-        feedback = _page_text(course / "feedback" / "typical" / "capstone"
-                              / f"{CAPSTONE.stem}.html")
-        lumped = _hint(CAPSTONE, "test_spectra", "lumped")
-        assert lumped in feedback, lumped
-        classes = _hint(CAPSTONE, "test_prediction", "number of classes")
-        assert classes.split("{")[0] in feedback, classes  # the text before its first number
-        assert "number of classes" in feedback
-    for path in paths:
-        # the solutions ran without an error anywhere, graded or not
-        done = nbformat.read(course / "autograded" / "instructor" / name / path.name,
-                             as_version=4)
-        errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
-                  for o in c.get("outputs", []) if o.output_type == "error"]
-        assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
-        # no warning boxes in a lesson, unless a cell tagged expect-stderr is about that warning
-        assert stderr_outputs(done) == [], f"{path.name} has stderr outputs"
-        # the hidden tests ran in the autograder (they are in the graded copy, not in the
-        # release)
-        assert "### BEGIN HIDDEN TESTS" in (course / "autograded" / "instructor" / name
-                                            / path.name).read_text()
-        assert "### BEGIN HIDDEN TESTS" not in (release / path.name).read_text()
-        # a student who runs the release as given meets the first exercise's stub, raising
-        # NotImplementedError where it is first called, before any other error
-        run = run_notebook(release / path.name, small=True, html=False, stop_at_stub=True,
-                           timeout=600, env={"CSHAPE_CACHE": str(tmp_path / "cache"),
-                                             "TMPDIR": str(tmp)})
-        assert run.ok and run.stopped_at_stub, (
-            f"student {path.name}: {run.error or 'no exercise stub raises'}")
+        for name, paths in groups.items():
+            sub = gb.find_submission(name, "instructor")
+            assert sorted(nb.name for nb in sub.notebooks) == [p.stem for p in paths]
+            grades = [g for nb in sub.notebooks for g in nb.grades if g.name not in manual]
+            wrong = [(g.notebook.name, g.name, g.auto_score, g.max_score)
+                     for g in grades if g.auto_score != g.max_score]
+            assert wrong == [], f"{name}: the solutions lose points: {wrong}"
+            assert sum(g.max_score for g in grades) >= 2 * len(paths), name
+            # the written answers wait for the grader
+            waiting = [g for nb in sub.notebooks for g in nb.grades if g.name in manual]
+            assert all(g.needs_manual_grade for g in waiting), name
+        typical_grades = {g.name: g for nb in gb.find_submission("capstone", "typical").notebooks
+                          for g in nb.grades}
+        assert typical_grades["test_spectra"].auto_score == 0
+        assert typical_grades["test_prediction"].auto_score == 0
+        assert typical_grades["test_descriptors"].auto_score == typical_grades[
+            "test_descriptors"].max_score  # the other answers are right
+    for student in ("instructor", "typical"):
+        page = course / "feedback" / student / "capstone" / f"{CAPSTONE.stem}.html"
+        assert page.is_file() and page.stat().st_size > 1000, page
+        # equations typeset offline, by the course folder's MathJax copy
+        text = page.read_text()
+        assert "cdnjs.cloudflare.com/ajax/libs/mathjax" not in text
+        assert '<script src="../../../mathjax/MathJax.js?config=' in text
+    assert (course / "mathjax" / "MathJax.js").is_file()
+    # the feedback on typical wrong answers names each mistake, in the words of the test cell
+    feedback = _page_text(course / "feedback" / "typical" / "capstone"
+                          / f"{CAPSTONE.stem}.html")
+    lumped = _hint(CAPSTONE, "test_spectra", "lumped")
+    assert lumped in feedback, lumped
+    classes = _hint(CAPSTONE, "test_prediction", "number of classes")
+    assert classes.split("{")[0] in feedback, classes  # the text before its first number
+    assert "number of classes" in feedback
+
+    releases = []
+    for name, paths in groups.items():
+        for path in paths:
+            # the solutions ran without an error anywhere, graded or not
+            graded = course / "autograded" / "instructor" / name / path.name
+            done = nbformat.read(graded, as_version=4)
+            errors = [(k, o.get("ename")) for k, c in enumerate(done.cells)
+                      for o in c.get("outputs", []) if o.output_type == "error"]
+            assert errors == [], f"{path.name}: errors in the instructor's run: {errors}"
+            # no warning boxes in a lesson, unless a cell tagged expect-stderr is about that
+            # warning
+            assert stderr_outputs(done) == [], f"{path.name} has stderr outputs"
+            # the hidden tests ran in the autograder (they are in the graded copy, not in the
+            # release)
+            assert "### BEGIN HIDDEN TESTS" in graded.read_text()
+            releases.append(course / "release" / name / path.name)
+            assert "### BEGIN HIDDEN TESTS" not in releases[-1].read_text()
+    # a student who runs the release as given meets the first exercise's stub, raising
+    # NotImplementedError where it is first called, before any other error
+    first = _releases_stop_at_their_stubs(releases, env)
+    other = {name: e for name, e in first.items() if e is None or e[1] != "NotImplementedError"}
+    assert other == {}, f"untouched releases that do not stop at a stub (cell, error): {other}"
     # the answer keys are for instructors: nothing of them reaches a release
     released = [p for p in (course / "release").rglob("*") if p.is_file()]
     assert released and all(p.suffix == ".ipynb" for p in released)
