@@ -286,13 +286,14 @@ def named_points(P: ArrayLike, outliers: ArrayLike, max_names: int = MDS_MAX_NAM
         gap = np.minimum(gap, np.linalg.norm(Q - Q[j], axis=1))
     return np.concatenate([np.flatnonzero(out), inner[taken]]).astype(np.int64)
 
-def _axes_points(ax: Axes) -> tuple[float, float]:
-    """The width and height of ``ax`` in points, at least 1 (after a layout pass, if the
-    figure has a layout engine; a fixed layout, as the M-sweep widget's, needs none)."""
+def _axes_points(ax: Axes, layout: bool = True) -> tuple[float, float]:
+    """The width and height of ``ax`` in points, at least 1 (after a layout pass, if
+    ``layout`` and the figure has a layout engine; a fixed layout, as the M-sweep widget's,
+    needs none)."""
     fig: Any = ax.figure
     while getattr(fig, "figure", fig) is not fig:  # the root figure of a subfigure
         fig = fig.figure
-    if fig.get_layout_engine() is not None:
+    if layout and fig.get_layout_engine() is not None:
         fig.draw_without_rendering()  # the axes get their final size
     box = ax.get_window_extent()
     return max(72.0 * box.width / fig.dpi, 1.0), max(72.0 * box.height / fig.dpi, 1.0)
@@ -305,7 +306,7 @@ def _overlap(a: tuple[float, float, float, float], b: tuple[float, float, float,
 def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
                     fontsize: str | float = "x-small", offset: float = 3.0,
                     safety: float = 1.15, points: ArrayLike | None = None,
-                    required: int = 0) -> list[int]:
+                    required: int = 0, layout: bool = True) -> list[int]:
     """Write ``texts[i]`` beside point ``Y[i]``, inside the axes, covering no text or point.
 
     Greedy, in order: a text's box is estimated from its length, the font size and the
@@ -334,6 +335,10 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
     required : int, default=0
         The first ``required`` texts (an outlier's name) are written in any case: over a
         point, or even over a text, where no free place is found inside the axes.
+    layout : bool, default=True
+        Run the figure's layout first, so that the axes have their final size.  Pass False
+        for the second and later axes of a figure annotated in turn, with nothing else
+        added in between: the texts take no part in the layout, so it has not changed.
 
     Returns
     -------
@@ -345,7 +350,7 @@ def annotate_points(ax: Axes, Y: ArrayLike, texts: Sequence[str], *,
     Y = np.asarray(Y, dtype=np.float64)
     x0, x1 = (float(v) for v in ax.get_xlim())
     y0, y1 = (float(v) for v in ax.get_ylim())
-    width, height = _axes_points(ax)
+    width, height = _axes_points(ax, layout)
     ux, uy = abs(x1 - x0) / width, abs(y1 - y0) / height  # data units per point
     size = FontProperties(size=fontsize).get_size_in_points()
     dx, dy = offset * ux, offset * uy  # the true offsets: larger ones would hide overlaps

@@ -79,8 +79,8 @@ def _mds_figure(table: DescriptorTable,
         fig.suptitle(f"{len(handles)} classes (colours repeat)", fontsize="small")
     if len(table) <= MDS_MAX_NAMES:  # names last: they are placed in the final layout
         short = short_labels(table.names)
-        for ax, Y in zip(axs, Ys, strict=False):
-            annotate_points(ax, Y, short)
+        for k, (ax, Y) in enumerate(zip(axs, Ys, strict=False)):
+            annotate_points(ax, Y, short, layout=k == 0)  # one layout pass for the figure
         _drop_overlapping_texts(fig)  # in the final layout, by the drawn extents
     return fig
 
