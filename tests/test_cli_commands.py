@@ -1,4 +1,6 @@
-"""`cshape describe`, `cshape info`, `cshape query` run as subprocesses on meshes built in code.
+"""`cshape describe`, `cshape info`, `cshape query` on meshes built in code, run through
+`cshape.cli.main` in the test's process (the code `python -m cshape` runs) and, where a process
+shows more, as `python -m cshape`.
 
 Every expected failure must end in one line on stderr, exit status 2, no traceback and no
 file written.
@@ -7,11 +9,13 @@ file written.
 from __future__ import annotations
 
 import contextlib
+import io
 import json
 import os
 import socket
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -20,17 +24,44 @@ from conftest import write_off
 import cshape
 from cshape import Descriptor, shapes
 from cshape.batch import DescriptorTable
+from cshape.cli import main
 from cshape.cli.explore import collect_mesh_files
 
 N, M = 20, 4
 
 
-def cli(*args, cache=None, check=False, env=None):
-    env = {**os.environ, **(env or {})}
+def cli(*args, cache=None, check=False, env=None, process=False):
+    """Run ``cshape ARGS``: in this process, through :func:`cshape.cli.main` (what
+    ``python -m cshape`` runs), with stdout and stderr captured and the warnings filters of a
+    fresh interpreter; ``process=True`` starts ``python -m cshape`` instead (for what only a
+    process shows: its exit status and its last line of stderr, an interrupt).  Returns a
+    ``subprocess.CompletedProcess``."""
+    env = {**(env or {})}
     if cache is not None:
         env["CSHAPE_CACHE"] = str(cache)
-    res = subprocess.run([sys.executable, "-m", "cshape", *map(str, args)],
-                         capture_output=True, text=True, timeout=600, env=env)
+    argv = [str(a) for a in args]
+    if process:
+        res = subprocess.run([sys.executable, "-m", "cshape", *argv], capture_output=True,
+                             text=True, timeout=600, env={**os.environ, **env})
+    else:
+        out, err = io.StringIO(), io.StringIO()
+        saved = {k: os.environ.get(k) for k in env}
+        os.environ.update(env)
+        try:
+            with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
+                    warnings.catch_warnings():
+                warnings.resetwarnings()
+                try:
+                    code = main(argv)
+                except SystemExit as exc:  # argparse's usage errors
+                    code = exc.code
+        finally:
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+        res = subprocess.CompletedProcess(argv, code, out.getvalue(), err.getvalue())
     if check:
         assert res.returncode == 0, res.stderr
     return res
@@ -124,16 +155,20 @@ def test_describe_failure_list_and_exit_status(folder, tmp_path):
 @pytest.mark.slow
 @pytest.mark.parametrize("args, match", [
     (["describe", "no/such/folder"], "no file or folder 'no/such/folder'"),
+    (["PROCESS", "describe", "no/such/folder"], "no file or folder 'no/such/folder'"),
     (["describe", "MESHES", "--out", "table.txt"], "--out must end in .csv or .npz"),
     (["describe", "MESHES/*.stl"], "matches no mesh file"),
     (["info", "no_such.obj"], "no mesh file at 'no_such.obj'"),
     (["query", "no_such.csv", "x"], "no descriptor table at 'no_such.csv'"),
     (["describe"], "the following arguments are required: PATH"),  # argparse's errors too
     (["describe", "MESHES", "-N", "x"], "argument -N: invalid int value: 'x'"),
+    (["PROCESS", "describe", "MESHES", "-N", "x"], "argument -N: invalid int value: 'x'"),
 ])
 def test_expected_failures_end_in_one_line(folder, tmp_path, args, match):
+    """(PROCESS: as ``python -m cshape``, its exit status and stderr.)"""
     args = [str(folder) + a[6:] if a.startswith("MESHES") else a for a in args]
-    res = cli(*args, cache=tmp_path / "c")
+    process = args[0] == "PROCESS"
+    res = cli(*args[process:], cache=tmp_path / "c", process=process)
     assert_one_line_error(res, match)
     assert len(res.stderr.strip().splitlines()) == 1, res.stderr
     assert list(tmp_path.iterdir()) == []  # nothing written, not even the cache folder
@@ -272,7 +307,7 @@ def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
                                   protocol="tcp://", host="127.0.0.1",
                                   dashboard_address=":0") as cluster:
         cli("describe", folder, "--dask", cluster.scheduler_address, "--out", out, "-N", N,
-            "--no-cache", check=True)
+            "--no-cache", check=True, process=True)
     table = DescriptorTable.load(out)
     lam = cshape.shape_dna(cshape.load_mesh(folder / "torus" / "ring.off"), N=N)
     np.testing.assert_allclose(table.lam[table.index("ring")], lam, rtol=1e-12, atol=1e-12)
@@ -280,8 +315,9 @@ def test_describe_on_a_dask_cluster_and_an_unreachable_one(folder, tmp_path):
     with socket_port() as port:  # nobody listens there
         pass
     env = {"DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"}
+    # (dask reads its configuration from the environment when it is imported: a process)
     res = cli("describe", folder, "--dask", f"tcp://127.0.0.1:{port}", "--no-cache",
-              "-N", N, env=env)
+              "-N", N, env=env, process=True)
     assert_one_line_error(res, f"Timed out trying to connect to tcp://127.0.0.1:{port}")
 
 
