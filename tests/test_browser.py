@@ -28,33 +28,34 @@ pytestmark = pytest.mark.browser
 CHROMIUM = Path("/usr/bin/chromium")
 REPO = Path(__file__).resolve().parents[1]
 ARTIFACTS = REPO / "test-artifacts"
-#: The JupyterLab tests' notebooks: lesson 07's M-sweep widget and lesson 02's eigenfunction
-#: explorer, each made by its lesson's own lines (checked below against the lessons' sources),
-#: without the rest of the lesson (the lessons themselves run in nbgrader's autograde,
-#: tests/test_assignments.py).
-NOTEBOOK = "m_sweep.ipynb"
-EXPLORER_NOTEBOOK = "explorer.ipynb"
-LAB_NOTEBOOKS = {
-    NOTEBOOK: ("07_m_sweep.py", [
-        "from cshape import batch\n"
-        "from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N\n"
-        "from cshape.course.teaching import demo_collection\n"
-        "from cshape.plots import widgets\n"
-        "N = size(40, 100)\n"
-        "table = batch.describe(demo_collection(), N=N, progress=not SMALL)",
-        'no_spheres = table.select([i for i, lab in enumerate(table.labels) if lab != "sphere"])\n'
-        'w = widgets.m_sweep_widget({"all shapes": table, "without spheres": no_spheres}, M=8, '
-        "N=N)\nw"]),
-    EXPLORER_NOTEBOOK: ("02_shape_dna_weyl.py", [
-        "import cshape\n"
-        "from cshape import plots, shapes\n"
-        "from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N\n"
-        "from cshape.course.teaching import real_mesh  # Spot the cow, shipped with cshape\n"
-        "N = size(50, 100)\n"
-        "real, real_name = real_mesh()\n"
-        "basis = cshape.eigenbasis(real, N)  # the eigenpairs, with B, the area and the mesh",
-        'plots.eigenfunction_explorer(real, 21, basis=basis, vertical_axis="y")']),
-}
+#: The JupyterLab test's notebook: lesson 02's eigenfunction explorer and lesson 07's M-sweep
+#: widget, each made by its lesson's own lines (``(lesson, cell)``, checked below against the
+#: lessons' sources), without the rest of the lessons (the lessons themselves run in nbgrader's
+#: autograde, tests/test_assignments.py).
+NOTEBOOK = "widgets.ipynb"
+LAB_CELLS = [
+    ("02_shape_dna_weyl.py",
+     "import cshape\n"
+     "from cshape import plots, shapes\n"
+     "from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N\n"
+     "from cshape.course.teaching import real_mesh  # Spot the cow, shipped with cshape\n"
+     "N = size(50, 100)\n"
+     "real, real_name = real_mesh()\n"
+     "basis = cshape.eigenbasis(real, N)  # the eigenpairs, with B, the area and the mesh"),
+    ("02_shape_dna_weyl.py",
+     'plots.eigenfunction_explorer(real, 21, basis=basis, vertical_axis="y")'),
+    ("07_m_sweep.py",
+     "from cshape import batch\n"
+     "from cshape.course.teaching import SMALL, size  # CSHAPE_SMALL=1: small meshes and N\n"
+     "from cshape.course.teaching import demo_collection\n"
+     "from cshape.plots import widgets\n"
+     "N = size(40, 100)\n"
+     "table = batch.describe(demo_collection(), N=N, progress=not SMALL)"),
+    ("07_m_sweep.py",
+     'no_spheres = table.select([i for i, lab in enumerate(table.labels) if lab != "sphere"])\n'
+     'w = widgets.m_sweep_widget({"all shapes": table, "without spheres": no_spheres}, M=8, '
+     "N=N)\nw"),
+]
 FLAGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
@@ -83,20 +84,19 @@ def _wait_for_server(url, proc, timeout=90.0):
 
 @pytest.fixture(scope="module")
 def jupyterlab_server(tmp_path_factory):
-    """A JupyterLab server on 127.0.0.1 with a random port and token, serving a copy of the
-    M-sweep and the Shape-DNA notebooks; the kernels see CSHAPE_SMALL=1.  Started once for
+    """A JupyterLab server on 127.0.0.1 with a random port and token, serving the notebook of
+    :data:`LAB_CELLS`; the kernels see CSHAPE_SMALL=1.  Started once for
     the module (its start-up is most of a test's time); each test gets its own workspace
     and browser profile through :func:`jupyterlab`."""
     pytest.importorskip("jupyterlab", reason="jupyterlab is not installed")
     tmp_path = tmp_path_factory.mktemp("jupyterlab")
     root = tmp_path / "root"
     root.mkdir()
-    for name, (_lesson, cells) in LAB_NOTEBOOKS.items():
-        nb = nbformat.v4.new_notebook()
-        nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
-                                     "language": "python"}
-        nb.cells = [nbformat.v4.new_code_cell(c) for c in cells]
-        nbformat.write(nb, root / name)
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    nb.cells = [nbformat.v4.new_code_cell(c) for _lesson, c in LAB_CELLS]
+    nbformat.write(nb, root / NOTEBOOK)
     # no "get notified about Jupyter news?" toast over the plot
     notif = tmp_path / "settings" / "@jupyterlab" / "apputils-extension"
     notif.mkdir(parents=True)
@@ -203,18 +203,17 @@ def _lab_context(p, tmp):
     )
 
 
-def test_lab_notebooks_make_the_widgets_as_their_lessons_do():
-    """Every line of the JupyterLab tests' notebooks is a line of its lesson's source."""
-    for name, (lesson, cells) in LAB_NOTEBOOKS.items():
-        source = (REPO / "notebooks" / lesson).read_text()
-        lines = {ln.strip() for ln in source.splitlines()}
-        missing = [ln for c in cells for ln in c.splitlines() if ln.strip() not in lines]
-        assert missing == [], f"{name}: not in {lesson}: {missing}"
+def test_lab_notebook_makes_the_widgets_as_their_lessons_do():
+    """Every line of the JupyterLab test's notebook is a line of its lesson's source."""
+    for lesson, cell in LAB_CELLS:
+        lines = {ln.strip() for ln in (REPO / "notebooks" / lesson).read_text().splitlines()}
+        missing = [ln for ln in cell.splitlines() if ln.strip() not in lines]
+        assert missing == [], f"not in {lesson}: {missing}"
 
 
 def _run_all(page, notebook):
-    """Open ``notebook`` in the page's JupyterLab (a new tab of the same application), wait
-    for its kernel, then Run > Run All Cells (the menu's command)."""
+    """Open ``notebook`` in the page's JupyterLab, wait for its kernel, then Run > Run All
+    Cells (the menu's command)."""
     page.evaluate("p => window.jupyterapp.commands.execute('docmanager:open', {path: p})",
                   notebook)
     page.wait_for_function(
@@ -234,10 +233,11 @@ def _failed(page, what, png):
 
 
 def test_widgets_in_jupyterlab(jupyterlab):
-    """In one JupyterLab page, as a student has it: lesson 07's M-sweep widget appears, and
-    moving its M slider one step changes the statistics and the plot; then lesson 02's
-    eigenfunction explorer (plotly, rendered by the lab extension) appears in another tab,
-    and moving its slider to phi_10 re-renders the 3-D canvas."""
+    """In JupyterLab, as a student has them: Run All Cells of a notebook of lesson 02's and
+    lesson 07's lines.  The M-sweep widget appears, and moving its M slider one step changes
+    the statistics and the plot; lesson 02's eigenfunction explorer (plotly, rendered by the
+    lab extension) is there too, and moving its slider to phi_10 re-renders the 3-D
+    canvas."""
     sync_api = _playwright()
     base, token, tmp, workspace = jupyterlab
     ARTIFACTS.mkdir(exist_ok=True)
@@ -248,12 +248,12 @@ def test_widgets_in_jupyterlab(jupyterlab):
             page.goto(f"{base}/lab/workspaces/{workspace}?token={token}", timeout=90_000)
             page.wait_for_function("() => window.jupyterapp !== undefined", timeout=90_000)
             page.evaluate("() => window.jupyterapp.restored.then(() => true)")
-
-            # ---- the M-sweep widget
             _run_all(page, NOTEBOOK)
+
+            # ---- the M-sweep widget (made by the last cell: every cell has run)
             stats = page.locator(".cshape-msweep-stats")
             try:
-                stats.wait_for(timeout=180_000)
+                stats.wait_for(timeout=240_000)
             except sync_api.TimeoutError:
                 raise _failed(page, "the M-sweep widget", "m_sweep_browser_failed.png") from None
             plot = page.locator("img.cshape-msweep-plot")
@@ -282,13 +282,12 @@ def test_widgets_in_jupyterlab(jupyterlab):
             assert plot.get_attribute("src") != src0
             assert plot.screenshot() != png0, "the plot image did not change"
 
-            # ---- the eigenfunction explorer, in a second tab
-            _run_all(page, EXPLORER_NOTEBOOK)
+            # ---- the eigenfunction explorer, above it
             # the first plotly figure with a slider: the explorer of the real mesh
             plot = page.locator(".js-plotly-plot").filter(
                 has=page.locator(".slider-rail-rect")).first
             try:
-                plot.wait_for(timeout=240_000)
+                plot.wait_for(timeout=60_000)
             except sync_api.TimeoutError:
                 raise _failed(page, "the eigenfunction explorer",
                               "explorer_browser_failed.png") from None

@@ -72,11 +72,16 @@ def _parse(path: Path) -> _Refs:
     return p
 
 
-def test_internal_links_resolve(site):
-    # the pages (not the theme's templates that Sphinx copies into _static/ as they are)
+@pytest.fixture(scope="module")
+def parsed(site):
+    """Every page of the site (not the theme's templates that Sphinx copies into _static/ as
+    they are), parsed: page -> :class:`_Refs`."""
     pages = sorted(p for p in site.rglob("*.html") if "_static" not in p.relative_to(site).parts)
-    assert len(pages) > 50, len(pages)
-    parsed = {p: _parse(p) for p in pages}
+    return {p: _parse(p) for p in pages}
+
+
+def test_internal_links_resolve(site, parsed):
+    assert len(parsed) > 50, len(parsed)
     broken = []
     for page, refs in parsed.items():
         for _tag, _attr, value in refs.refs:
@@ -93,13 +98,11 @@ def test_internal_links_resolve(site):
     assert broken == [], "\n".join(broken[:40])
 
 
-def test_nothing_is_loaded_from_the_network(site):
+def test_nothing_is_loaded_from_the_network(site, parsed):
     """Scripts, styles, images and frames are all local (links to other sites may stay)."""
     remote = []
-    for page in site.rglob("*.html"):
-        if "_static" in page.relative_to(site).parts:
-            continue
-        for tag, attr, value in _parse(page).refs:
+    for page, refs in parsed.items():
+        for tag, attr, value in refs.refs:
             loads = attr == "src" or (tag == "link" and attr == "href")
             if loads and re.match(r"(https?:)?//", value):
                 remote.append(f"{page.relative_to(site)}: <{tag} {attr}={value}>")
