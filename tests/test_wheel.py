@@ -9,14 +9,20 @@ from __future__ import annotations
 import zipfile
 from pathlib import Path
 
+import nbformat
 import numpy as np
 import pytest
 from conftest import REPO, save_mesh
 
 import cshape
 from cshape import data, shapes
+from cshape.course import assignments as asg
 
 pytestmark = pytest.mark.slow
+
+LESSONS = sorted(asg.lessons_dir().glob(asg.PATTERN))
+GRADED = [p for p in LESSONS if asg.is_graded(p)]
+ANSWERS = sorted((asg.lessons_dir() / asg.ANSWERS).glob("*.md"))
 
 
 def test_the_packaged_manifest_is_the_top_level_file():
@@ -215,3 +221,37 @@ def test_wheel_without_extras_describes_and_queries(installed_wheel_env, tmp_pat
                        env=run_env)
     assert r.returncode != 0
     assert "pip install 'cshape[plots]'" in r.stderr.strip().splitlines()[-1]
+
+
+def test_lessons_from_an_installed_wheel_run_there(installed_wheel_env):
+    """`pip install cshape`, no clone: `cshape lessons DIR` copies the lessons out of the
+    package, and a lesson and its student version run in DIR with the installed cshape."""
+    env = installed_wheel_env
+    with zipfile.ZipFile(env.wheel) as zf:
+        names = set(zf.namelist())
+    packages = {f"{p.parent.relative_to(REPO).as_posix()}/__init__.py"
+                for p in (REPO / "cshape").rglob("__init__.py")}
+    assert packages <= names, f"add to [tool.setuptools] packages: {sorted(packages - names)}"
+    dest = env.workdir / "my-course"
+    r = env.run("cshape", "lessons", dest)
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in dest.glob(asg.PATTERN)) == [p.name for p in LESSONS]
+    assert sorted(p.name for p in (dest / "student").glob(asg.PATTERN)) == [
+        p.name for p in GRADED]
+    assert (dest / "nbgrader_config.py").is_file()
+    assert "nbgrader autograde week1" in (dest / "README.md").read_text()
+    # the answer keys ship in the wheel, for `cshape lessons`, outside every student folder
+    keys = {n for n in names if "/answers/" in n}
+    assert keys == {f"cshape/lessons/answers/{p.name}" for p in ANSWERS}
+    assert sorted(p.name for p in (dest / asg.ANSWERS).iterdir()) == [p.name for p in ANSWERS]
+    assert not any("student/" in n and n.endswith(".md") for n in names)
+    for extra in ([], ["--student"]):
+        out = env.workdir / f"executed{'-'.join(extra)}"
+        # lesson 03, the shortest to run
+        r = env.run("cshape", "notebooks", "03", "--small", "--no-html", "--src", dest,
+                    "--out", out, *extra)
+        assert r.returncode == 0, r.stdout + r.stderr
+        assert "03_dft_compression.ipynb: ok" in r.stdout, r.stdout
+        executed = nbformat.read(out / "03_dft_compression.ipynb", as_version=4)
+        printed = "".join(o.get("text", "") for o in executed.cells[1].outputs)
+        assert printed.startswith("cshape ") and "(small sizes)" in printed, printed
