@@ -6,7 +6,7 @@ Run from the repository root::
     .venv/bin/python benchmarks/bench_maps.py             # every TOSCA pose pair (maps_tosca.md)
     .venv/bin/python benchmarks/bench_maps.py --timing    # 16K, 46K, 63K vertices (maps_timing.md)
     .venv/bin/python benchmarks/bench_maps.py --calibrate # orientation weight, generated poses
-    .venv/bin/python benchmarks/bench_maps.py --people after   # point_map on FAUST remeshed
+    .venv/bin/python benchmarks/bench_maps.py --people current # point_map on FAUST remeshed
                             # pairs, registrations and TOSCA poses (maps_people.md); a subset:
                             # --groups remeshed-different --pairs 006->049,010->006 --limit 5
                             # (groups: remeshed-different, remeshed-same, registrations,
@@ -692,30 +692,35 @@ def summary(errs, pairs):
             f"{int((e > 0.05).sum())} | {int((e > 0.1).sum())}")
 
 
-#: What the labels of ``maps_people.md`` stand for.
+#: The results kept carry this label; another label (a branch's version, run with its
+#: checkout first on ``PYTHONPATH``) is shown beside them.
+CURRENT = "current"
+
+#: How ``maps_people.md`` was measured.
 PEOPLE_NOTE = (
-    "*before*: `point_map` before its nearest-row searches went to single precision (the "
-    "rows of the previous `maps_people_after.csv`: the maps are deterministic, so a re-run "
-    "changes only the seconds; those were measured at load 1-3, and without processor "
-    "seconds; *TOSCA poses, remeshed*: measured now, with that version, beside *after*).  "
-    "*after*: this version: the nearest rows of the search and of the ZoomOut iterations in "
-    "single precision, and the sign patterns beyond the 24 of the smallest residual stopped "
-    "at size 12 (`_candidates.SIGN_PRUNE_SIZE`, `SIGN_PRUNE_KEEP`; on 33 faust-dev pairs "
-    "that keeps the same two patterns on all but `029->040`, where the map barely moves, "
-    "and saves 1-3 processor seconds a pair).  Every timing here is under "
-    "the load of other work on the two cores (the *load* columns: 1-minute load average at "
-    "the start of the pair; a load of 3-6 means that this process had about one core or "
-    "less), so *s* is not a quiet time; *cpu s* (processor seconds of the process, all its "
-    "threads) varies less.  Where the time goes: `maps_stages.md`.  *TOSCA poses, remeshed* "
-    "is new: pose 0 of cat and of centaur to each of their other poses, each pose remeshed "
-    "on its own; it was not used to choose anything (held out from the tuning, though not "
-    "from the developers' eyes).")
+    "*current*: this version of `point_map` (the nearest rows of the search and of the "
+    "ZoomOut iterations in single precision, and the sign patterns beyond the 24 of the "
+    "smallest residual stopped at size 12: `_candidates.SIGN_PRUNE_SIZE`, "
+    "`SIGN_PRUNE_KEEP`).  Every timing here is under the load of other work on the two "
+    "cores (the *load* columns: 1-minute load average at the start of the pair; a load of "
+    "3-6 means that this process had about one core or less), so *s* is not a quiet time; "
+    "*cpu s* (processor seconds of the process, all its threads) varies less.  Where the "
+    "time goes: `maps_stages.md`.  *TOSCA poses, remeshed*: pose 0 of cat and of centaur "
+    "to each of their other poses, each pose remeshed on its own; it was not used to choose "
+    "anything (held out from the tuning, though not from the developers' eyes).")
 
 
-def write_people(command, labels=("before", "after"), note=""):
-    """``maps_people.md``: the per-pair tables of ``maps_people_<label>.csv`` side by side,
-    and each group's summary."""
-    got = {lab: _read_people(lab) for lab in labels}
+def _labels(kind):
+    """The labels of the ``maps_<kind>_<label>.csv`` files in ``results/``: the kept
+    results' (:data:`CURRENT`) first."""
+    found = [p.stem.removeprefix(f"maps_{kind}_") for p in RESULTS.glob(f"maps_{kind}_*.csv")]
+    return sorted(found, key=lambda lab: (lab != CURRENT, lab))
+
+
+def write_people(command, labels=None, note=""):
+    """``maps_people.md``: the per-pair tables of ``maps_people_<label>.csv`` (default: every
+    label there is) side by side, and each group's summary."""
+    got = {lab: _read_people(lab) for lab in (labels or _labels("people"))}
     got = {lab: rows for lab, rows in got.items() if rows}
     keys = list(dict.fromkeys(k for rows in got.values() for k in rows))
     order = list(GROUPS.values())
@@ -890,15 +895,11 @@ def write_stages(command):
         "cores the candidates, the sign patterns and the big nearest-row searches are shared "
         "among two threads and the wall time is less (`maps_people.md`).  *load*: the "
         "machine's 1-minute load average at the start (other work shares the two cores, so "
-        "even processor seconds grow with it).  *before*: `point_map` before its nearest-row "
-        "searches went to single precision and its sign patterns were pruned (that checkout "
-        "first on `PYTHONPATH`, this script); *after*: this version.", ""]
-    def order(path):  # "before" first
-        return (not path.stem.endswith("_before"), path.stem)
-
-    for path in sorted(RESULTS.glob("maps_stages_*.csv"), key=order):
-        label = path.stem.removeprefix("maps_stages_")
-        rows = list(csv.reader(path.read_text().splitlines()))
+        "even processor seconds grow with it).  *current*: this version; another label is "
+        "another version of cshape (its checkout first on `PYTHONPATH`, this script).", ""]
+    for label in _labels("stages"):
+        rows = list(csv.reader((RESULTS / f"maps_stages_{label}.csv").read_text()
+                               .splitlines()))
         head, body = rows[0], rows[1:]
         lines += [f"## {label}", "",
                   "| stage | " + " | ".join(f"{r[1]} ({r[2]} v., load {r[3]})" for r in body)
@@ -906,9 +907,8 @@ def write_stages(command):
         for j, stage in enumerate(head[4:], start=4):
             lines.append(f"| {stage} | " + " | ".join(r[j] for r in body) + " |")
         lines.append("")
-    walls = {path.stem.removeprefix("maps_wall_"): list(csv.reader(
-        path.read_text().splitlines()))[1:]
-        for path in sorted(RESULTS.glob("maps_wall_*.csv"), key=order)}
+    walls = {label: list(csv.reader((RESULTS / f"maps_wall_{label}.csv").read_text()
+                                    .splitlines()))[1:] for label in _labels("wall")}
     if walls:
         labs = list(walls)
         lines += ["## wall time, two threads", "",
@@ -1088,8 +1088,8 @@ def main(argv=None):
     ap.add_argument("--people", metavar="LABEL", default="",
                     help="point_map on FAUST remeshed pairs (different people, one person), "
                          "the registrations and TOSCA pose pairs, saved as "
-                         "maps_people_LABEL.csv; maps_people.md shows the labels 'before' and "
-                         "'after' side by side")
+                         "maps_people_LABEL.csv; maps_people.md shows every label side by "
+                         "side (the results kept: 'current')")
     ap.add_argument("--groups", default=",".join(GROUPS),
                     help="with --people: groups of pairs, comma-separated, of "
                          + ", ".join(GROUPS))

@@ -376,3 +376,23 @@ def test_choices_bench_compares_like_with_like(tmp_path, capsys):
              "--out", str(tmp_path / "c.md")])
     text = (tmp_path / "c.md").read_text()
     assert text.count("\n| ") == 4 and "Processor:" in text
+
+
+def test_maps_people_and_stages_tables_show_every_label(tmp_path, monkeypatch):
+    """The kept results' label first, another version's beside it, each file's rows as they
+    are."""
+    bm = _load("bench_maps")
+    monkeypatch.setattr(bm, "RESULTS", tmp_path)
+    group = bm.GROUPS["remeshed-different"]
+    for label, err in (("branch", 0.0300), (bm.CURRENT, 0.0201)):
+        (tmp_path / f"maps_people_{label}.csv").write_text(
+            f"{bm.HEADER}\n{group},006->049,4676,{err:.4f},0.8180,12.5,2.7,0.0000,12.6\n")
+        (tmp_path / f"maps_stages_{label}.csv").write_text(
+            'group,pair,vertices,load,"eigenbases",total\n'
+            f'"{group}",006->049,4676,3.32,0.50,{err * 500:.2f}\n')
+    people = bm.write_people("--people current")
+    assert "Labels: *current*; *branch*." in people
+    assert "| 006->049 | 4676 | 0.0201 | 0.818 | 12.5 | 12.6 | 2.7 | no | 0.0300 |" in people
+    stages = bm.write_stages("--stages current")
+    assert stages.index("## current") < stages.index("## branch")
+    assert "| total | 10.05 |" in stages and "| total | 15.00 |" in stages
