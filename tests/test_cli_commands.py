@@ -331,7 +331,11 @@ def test_interrupt_ends_in_one_line_and_leaves_complete_cache_entries(tmp_path):
         write_off(tmp_path / "in" / f"s{k:02d}.off", ((1 + k / 40) * ico.vertices, ico.faces))
     cache, out = tmp_path / "c", tmp_path / "t.csv"
     env = {**os.environ, "CSHAPE_CACHE": str(cache)}
-    proc = subprocess.Popen([sys.executable, "-m", "cshape", "describe", str(tmp_path / "in"),
+    # `python -m cshape` with Python's own Ctrl-C handler, as in a terminal: a suite started
+    # as a background job (`make test &`) passes its ignored SIGINT down to its processes
+    start = ("import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler);"
+             " sys.argv[0] = 'cshape'; runpy.run_module('cshape', run_name='__main__')")
+    proc = subprocess.Popen([sys.executable, "-c", start, "describe", str(tmp_path / "in"),
                              "--out", str(out), "-N", "60"], stderr=subprocess.PIPE,
                             text=True, env=env)
     entries = cache / "eigenvalues"
