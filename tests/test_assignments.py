@@ -230,14 +230,10 @@ def _releases_stop_at_their_stubs(paths, env):
     The releases take turns in one kernel (``CSHAPE_SMALL=1``), each after ``%reset -f`` in
     its own folder: its names are its own, and the kernel's start and imports are paid once.
     """
-    import os
-
-    from cshape.course.lessons import kernel_manager
+    from cshape.course.lessons import _kernel_env, kernel_manager
 
     km = kernel_manager()
-    km.start_kernel(env=dict(os.environ, CSHAPE_SMALL="1",
-                             MPLBACKEND="module://matplotlib_inline.backend_inline",
-                             PLOTLY_RENDERER="plotly_mimetype+notebook", **env))
+    km.start_kernel(env=_kernel_env(small=True, env=env))  # as run_notebook's kernels
     kc = km.client()
     kc.start_channels()
 

@@ -16,6 +16,7 @@ import socket
 import subprocess
 import sys
 import warnings
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -45,22 +46,13 @@ def cli(*args, cache=None, check=False, env=None, process=False):
                              text=True, timeout=600, env={**os.environ, **env})
     else:
         out, err = io.StringIO(), io.StringIO()
-        saved = {k: os.environ.get(k) for k in env}
-        os.environ.update(env)
-        try:
-            with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
-                    warnings.catch_warnings():
-                warnings.resetwarnings()
-                try:
-                    code = main(argv)
-                except SystemExit as exc:  # argparse's usage errors
-                    code = exc.code
-        finally:
-            for k, v in saved.items():
-                if v is None:
-                    os.environ.pop(k, None)
-                else:
-                    os.environ[k] = v
+        with mock.patch.dict(os.environ, env), contextlib.redirect_stdout(out), \
+                contextlib.redirect_stderr(err), warnings.catch_warnings():
+            warnings.resetwarnings()
+            try:
+                code = main(argv)
+            except SystemExit as exc:  # argparse's usage errors
+                code = exc.code
         res = subprocess.CompletedProcess(argv, code, out.getvalue(), err.getvalue())
     if check:
         assert res.returncode == 0, res.stderr

@@ -304,6 +304,21 @@ def _final_progress_text(nb: Any, widget_state: dict[str, dict[str, Any]]) -> in
     return done
 
 
+def _kernel_env(small: bool, env: dict[str, str] | None = None) -> dict[str, str]:
+    """The environment of a lesson's kernel: this process's, ``CSHAPE_SMALL=1`` only with
+    ``small``, inline matplotlib and plotly's renderers (unless set), then ``env``."""
+    kernel_env = dict(os.environ)
+    kernel_env.pop("CSHAPE_SMALL", None)
+    if small:
+        kernel_env["CSHAPE_SMALL"] = "1"
+    kernel_env.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
+    # plotly figures: the lab extension's mime type for JupyterLab, plus HTML with plotly.js
+    # embedded once per notebook for the exported page (works offline, no kernel needed)
+    kernel_env.setdefault("PLOTLY_RENDERER", "plotly_mimetype+notebook")
+    kernel_env.update(env or {})
+    return kernel_env
+
+
 def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] | None = None, *,
                  small: bool = False, timeout: float = 1200, html: bool = True,
                  stop_at_stub: bool = False, env: dict[str, str] | None = None) -> RunResult:
@@ -348,15 +363,7 @@ def run_notebook(path: str | os.PathLike[str], out_dir: str | os.PathLike[str] |
     if not path.is_file():
         raise FileNotFoundError(f"notebook {str(path)!r} does not exist")
     nb = nbformat.read(path, as_version=4)
-    kernel_env = dict(os.environ)
-    kernel_env.pop("CSHAPE_SMALL", None)
-    if small:
-        kernel_env["CSHAPE_SMALL"] = "1"
-    kernel_env.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
-    # plotly figures: the lab extension's mime type for JupyterLab, plus HTML with plotly.js
-    # embedded once per notebook for the exported page (works offline, no kernel needed)
-    kernel_env.setdefault("PLOTLY_RENDERER", "plotly_mimetype+notebook")
-    kernel_env.update(env or {})
+    kernel_env = _kernel_env(small, env)
     km = kernel_manager()
     # the widgets' states are recorded (for the progress bars' final text) but not saved: a
     # page without a kernel shows a widget's own static copy (the text/html of its display
