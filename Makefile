@@ -11,6 +11,10 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+# Python keeps the compiled modules of cshape and of the tests (__pycache__/, ignored by git)
+# for every command here: `make test` starts about 140 interpreters and notebook kernels, and
+# where the environment sets PYTHONDONTWRITEBYTECODE each of them would compile the package again
+unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: demo test test-fast bench reproduce notebooks assignments docs lint setup clean
 
@@ -60,3 +64,4 @@ lint: $(STAMP)
 clean:
 	rm -rf $(VENV) .pytest_cache build *.egg-info out test-artifacts docs/api/generated \
 		docs/api/*.rst docs/lessons/[0-9][0-9]_*.ipynb docs/jupyter_execute
+	find cshape tests tools docs benchmarks -name __pycache__ -type d -prune -exec rm -rf {} +
