@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import shutil
 import subprocess
 import sys
 import sysconfig
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from unittest import mock
 
 # A parallel run (pytest -n) shares the cores among its workers: each worker's BLAS and OpenMP
 # get their share (before numpy loads them here), as do the kernels and processes it starts.
@@ -145,6 +149,41 @@ def shared_meshes() -> Path:
     if not d.is_dir():
         pytest.skip(f"real meshes not found at {d} (set CSHAPE_SHARED_MESHES to their folder)")
     return d
+
+
+def cli(*args, cache=None, check=False, env=None, process=False, cwd=None):
+    """Run ``cshape ARGS`` in the folder ``cwd`` (default: the current one): in this process,
+    through :func:`cshape.cli.main` (what ``python -m cshape`` runs), with stdout and stderr
+    captured and the warnings filters of a fresh interpreter; ``process=True`` starts
+    ``python -m cshape`` instead (for what only a process shows: its exit status and its last
+    line of stderr, an interrupt).  Returns a ``subprocess.CompletedProcess``."""
+    env = {**(env or {})}
+    if cache is not None:
+        env["CSHAPE_CACHE"] = str(cache)
+    argv = [str(a) for a in args]
+    if process:
+        res = subprocess.run([sys.executable, "-m", "cshape", *argv], capture_output=True,
+                             text=True, timeout=600, env={**os.environ, **env}, cwd=cwd)
+    else:
+        from cshape.cli import main
+
+        out, err = io.StringIO(), io.StringIO()
+        here = os.getcwd()
+        if cwd is not None:
+            os.chdir(cwd)
+        with mock.patch.dict(os.environ, env), contextlib.redirect_stdout(out), \
+                contextlib.redirect_stderr(err), warnings.catch_warnings():
+            warnings.resetwarnings()
+            try:
+                code = main(argv)
+            except SystemExit as exc:  # argparse's usage errors
+                code = exc.code
+            finally:
+                os.chdir(here)
+        res = subprocess.CompletedProcess(argv, code, out.getvalue(), err.getvalue())
+    if check:
+        assert res.returncode == 0, res.stderr
+    return res
 
 
 def write_off(path, mesh):

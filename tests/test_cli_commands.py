@@ -9,18 +9,15 @@ file written.
 from __future__ import annotations
 
 import contextlib
-import io
 import json
 import os
 import socket
 import subprocess
 import sys
-import warnings
-from unittest import mock
 
 import numpy as np
 import pytest
-from conftest import write_off
+from conftest import cli, write_off
 
 import cshape
 from cshape import Descriptor, shapes
@@ -29,34 +26,6 @@ from cshape.cli import main
 from cshape.cli.explore import collect_mesh_files
 
 N, M = 20, 4
-
-
-def cli(*args, cache=None, check=False, env=None, process=False):
-    """Run ``cshape ARGS``: in this process, through :func:`cshape.cli.main` (what
-    ``python -m cshape`` runs), with stdout and stderr captured and the warnings filters of a
-    fresh interpreter; ``process=True`` starts ``python -m cshape`` instead (for what only a
-    process shows: its exit status and its last line of stderr, an interrupt).  Returns a
-    ``subprocess.CompletedProcess``."""
-    env = {**(env or {})}
-    if cache is not None:
-        env["CSHAPE_CACHE"] = str(cache)
-    argv = [str(a) for a in args]
-    if process:
-        res = subprocess.run([sys.executable, "-m", "cshape", *argv], capture_output=True,
-                             text=True, timeout=600, env={**os.environ, **env})
-    else:
-        out, err = io.StringIO(), io.StringIO()
-        with mock.patch.dict(os.environ, env), contextlib.redirect_stdout(out), \
-                contextlib.redirect_stderr(err), warnings.catch_warnings():
-            warnings.resetwarnings()
-            try:
-                code = main(argv)
-            except SystemExit as exc:  # argparse's usage errors
-                code = exc.code
-        res = subprocess.CompletedProcess(argv, code, out.getvalue(), err.getvalue())
-    if check:
-        assert res.returncode == 0, res.stderr
-    return res
 
 
 @contextlib.contextmanager
@@ -368,7 +337,6 @@ def test_collect_mesh_files_names_labels_and_globs(tmp_path):
 
 
 def test_flat_folder_has_no_classes_in_describe_and_query(tmp_path, capsys):
-    from cshape.cli import main
 
     flat = tmp_path / "my-meshes"
     write_off(flat / "ball.off", shapes.icosphere(1))

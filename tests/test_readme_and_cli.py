@@ -47,7 +47,7 @@ def _bash_block(text, heading):
 @pytest.mark.slow
 def test_readme_own_meshes_commands_run_on_a_folder(tmp_path):
     """The README's command-line example, line by line, on a folder of two classes."""
-    from conftest import write_off
+    from conftest import cli, write_off
 
     from cshape import shapes
     from cshape.course.teaching import real_mesh
@@ -60,12 +60,9 @@ def test_readme_own_meshes_commands_run_on_a_folder(tmp_path):
     lines = _bash_block((REPO / "README.md").read_text(), "Your own meshes")
     assert [ln.split()[1] for ln in lines] == ["info", "describe", "query", "query",
                                                "overview"]
-    env = {**__import__("os").environ, "CSHAPE_CACHE": str(tmp_path / "cache")}
     outs = []
-    for line in lines:
-        args = line.split()[1:]
-        res = subprocess.run([sys.executable, "-m", "cshape", *args], cwd=tmp_path, env=env,
-                             capture_output=True, text=True, timeout=600)
+    for line in lines:  # `cshape ARGS` runs cshape.cli.main(ARGS)
+        res = cli(*line.split()[1:], cache=tmp_path / "cache", cwd=tmp_path)
         assert res.returncode == 0, (line, res.stderr)
         outs.append(res.stdout)
     assert outs[0].count("\nfile ") + outs[0].startswith("file ") == 4  # info: four files
