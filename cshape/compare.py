@@ -334,6 +334,15 @@ def mds_embedding(D: ArrayLike, *, n_components: int = 2, random_state: Any = 0,
                   n_init: int = 4, max_iter: int = 300) -> NDArray[np.float64]:
     """Metric multidimensional scaling of a distance matrix (Fig. 4-5).
 
+    Classical (Torgerson) scaling gives the start: the top ``n_components`` eigenvectors of
+    the double-centred matrix ``-J D**2 J / 2``, each scaled by the square root of its
+    eigenvalue and signed so that its largest entry is positive.  SMACOF's Guttman transforms
+    then lower the raw stress ``sum_{i<j} (|y_i - y_j| - D_ij)**2`` until it falls by less
+    than ``1e-6`` of ``sum_{i<j} |y_i - y_j|**2`` in one step, or ``max_iter`` steps are
+    done.  These are the iterations of scikit-learn's
+    ``MDS(metric="precomputed", init="classical_mds")`` (scikit-learn 1.8 and later), in plain
+    NumPy and SciPy: the same coordinates, whatever version is installed, without its import.
+
     Parameters
     ----------
     D : array_like, shape (p, p)
@@ -341,45 +350,76 @@ def mds_embedding(D: ArrayLike, *, n_components: int = 2, random_state: Any = 0,
     n_components : int, default=2
         Dimension of the embedding.
     random_state : int or None, default=0
-        Seed of the SMACOF iterations; the result is reproducible for a fixed seed.
+        No effect: the start is classical scaling, which is deterministic (kept so that calls
+        written for random starts run unchanged).
     n_init : int, default=4
-        Random restarts (used by scikit-learn < 1.8; with >= 1.8 the iteration starts from
-        classical MDS, which is deterministic, and ``n_init`` is ignored).
+        No effect, as ``random_state`` (there is one start).
     max_iter : int, default=300
-        Most SMACOF iterations per start.
+        Most SMACOF iterations.
 
     Returns
     -------
     Y : ndarray, shape (p, n_components)
         Coordinates whose distances approximate ``D``.  The embedding is defined up to
-        rotation and reflection.
+        rotation and reflection; this one is reproducible bit for bit on one machine.
 
     Raises
     ------
     ValueError
         If ``D`` is not a square, symmetric, non-negative matrix with at least 2 rows.
     """
-    import inspect
+    from scipy import linalg
 
-    from sklearn.manifold import MDS
-
+    del random_state  # one deterministic start
     n_components = check_int("n_components", n_components, min=1)
-    n_init = check_int("n_init", n_init, min=1)
+    check_int("n_init", n_init, min=1)
     max_iter = check_int("max_iter", max_iter, min=1)
     A = check_square(D, "D")
     if len(A) < 2:
         raise ValueError(f"D needs at least 2 models for an embedding, got {len(A)}")
     if not np.allclose(A, A.T, rtol=1e-10, atol=1e-12 * max(1.0, float(A.max()))):
         raise ValueError("D must be symmetric for MDS; use (D + D.T) / 2")
-    A = 0.5 * (A + A.T)
-    params = inspect.signature(MDS.__init__).parameters
-    if "metric_mds" in params:  # scikit-learn >= 1.8
-        mds = MDS(n_components=n_components, metric="precomputed", init="classical_mds",
-                  random_state=random_state, max_iter=max_iter, normalized_stress="auto")
-    else:  # pragma: no cover - older scikit-learn
-        mds = MDS(n_components=n_components, dissimilarity="precomputed", n_init=n_init,
-                  random_state=random_state, max_iter=max_iter)
-    return mds.fit_transform(A)
+    A = np.ascontiguousarray(0.5 * (A + A.T), dtype=np.float64)
+    p = len(A)
+    # the start: classical scaling
+    B = A**2
+    B -= np.mean(B, axis=0)
+    B -= np.mean(B, axis=1, keepdims=True)
+    B *= -0.5
+    w, U = linalg.eigh(B)
+    w, U = w[::-1][:n_components], U[:, ::-1][:, :n_components]
+    U = U * np.sign(U[np.argmax(np.abs(U), axis=0), np.arange(U.shape[1])])
+    Y = np.sqrt(w) * U
+    # SMACOF: Guttman transforms until the stress stops falling
+    dist = _row_distances(Y)
+    old = None
+    diag = np.arange(p)
+    for _ in range(max_iter):
+        dist[dist == 0] = 1e-5
+        ratio = A / dist
+        G = -ratio
+        G[diag, diag] += ratio.sum(axis=1)
+        Y = 1.0 / p * np.dot(G, Y)
+        dist = _row_distances(Y)
+        stress = ((dist.ravel() - A.ravel()) ** 2).sum() / 2
+        if old is not None and (old - stress) / ((dist.ravel() ** 2).sum() / 2) < 1e-6:
+            break
+        old = stress
+    return Y
+
+
+def _row_distances(Y: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Euclidean distances between the rows of ``Y``, as scikit-learn's ``euclidean_distances``.
+
+    ``sqrt(|a|^2 - 2 a.b + |b|^2)``, clipped at 0, with a zero diagonal.
+    """
+    sq = np.einsum("ij,ij->i", Y, Y)[:, None]
+    d2 = -2 * (Y @ Y.T)
+    d2 += sq
+    d2 += sq.T
+    np.maximum(d2, 0, out=d2)
+    np.fill_diagonal(d2, 0)
+    return np.sqrt(d2)
 
 
 def median_distances(Y: ArrayLike, *, reference: int = OUTLIER_REFERENCE_POINTS

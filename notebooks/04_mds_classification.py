@@ -204,8 +204,8 @@ if abs(_p / ratio - 1) >= 0.25:
 # eigenvalues measure what the picture loses, and negative eigenvalues of $B$ say that no point set has these
 # distances.
 #
-# **Metric MDS by SMACOF.** Classical MDS fits inner products, not distances. `cshape.mds_embedding` (scikit-learn's
-# metric MDS) minimises the raw *stress*
+# **Metric MDS by SMACOF.** Classical MDS fits inner products, not distances. `cshape.mds_embedding` (metric MDS, the
+# iterations of scikit-learn's) minimises the raw *stress*
 #
 # $$\sigma(Y) = \sum_{i<j} \big(D_{ij} - \lVert y_i - y_j\rVert\big)^2$$
 #
@@ -213,8 +213,8 @@ if abs(_p / ratio - 1) >= 0.25:
 # function that lies above $\sigma$ everywhere and touches it at $Y$ (the majorizer, from the Cauchy-Schwarz
 # inequality), and jumps to that quadratic's minimum, the Guttman transform $Y \leftarrow \tfrac1p B(Y)\,Y$ with
 # $B(Y)_{ij} = -D_{ij}/\lVert y_i - y_j\rVert$ off the diagonal and rows summing to zero. Each step can only lower
-# $\sigma$. It starts from classical MDS (scikit-learn 1.8 and later; earlier versions from random starts) and stops
-# at a local minimum. We report Kruskal's **stress-1**,
+# $\sigma$. It starts from classical MDS and stops at a local minimum (when a step lowers $\sigma$ by less than a
+# millionth of $\sum_{i<j} \lVert y_i - y_j\rVert^2$). We report Kruskal's **stress-1**,
 # $\sqrt{\sigma(Y) / \sum_{i<j} D_{ij}^2}$: 0 is a perfect picture; Kruskal (1964) called 0.05 good and 0.2 poor.
 
 # %% [markdown] nbgrader={"grade": false, "grade_id": "mds_task", "locked": true, "schema_version": 3, "solution": false, "task": false}

@@ -292,6 +292,48 @@ def test_mds_recovers_planar_configuration():
     np.testing.assert_array_equal(Y, mds_embedding(D, random_state=0))  # seeded
 
 
+def test_mds_is_scikit_learns_mds_from_classical_scaling():
+    """The same coordinates as scikit-learn's metric MDS started from classical scaling
+    (scikit-learn >= 1.8), on Euclidean distances and on distances no point set has."""
+    sklearn = pytest.importorskip("sklearn")
+    if tuple(int(x) for x in sklearn.__version__.split(".")[:2]) < (1, 8):
+        pytest.skip("init='classical_mds' comes with scikit-learn 1.8")
+    from sklearn.manifold import MDS
+
+    rng = np.random.default_rng(5)
+    for p, d in ((2, 1), (5, 3), (12, 2), (40, 30)):
+        D = distance_matrix(rng.normal(size=(p, d)) * 7.0)
+        noisy = D + rng.uniform(0, D.mean(), D.shape)
+        noisy = (noisy + noisy.T) / 2
+        np.fill_diagonal(noisy, 0)
+        for A in (D, noisy):
+            theirs = MDS(n_components=2, metric="precomputed", init="classical_mds",
+                         max_iter=300, normalized_stress="auto").fit_transform(A)
+            np.testing.assert_allclose(mds_embedding(A), theirs, rtol=0,
+                                       atol=1e-12 * A.max())
+
+
+def test_mds_starts_from_classical_scaling_and_lowers_the_stress():
+    """Distances of three points on a line are embedded exactly; on distances no point set
+    has, the iterations go on lowering the stress after the first one."""
+    D = distance_matrix(np.array([[0.0], [1.0], [3.0]]))
+    Y = mds_embedding(D)
+    np.testing.assert_allclose(distance_matrix(Y), D, atol=1e-12)
+    # a line: the second axis is unused (up to the square root of round-off, sqrt(1e-16))
+    np.testing.assert_allclose(Y[:, 1], 0, atol=1e-6)
+    assert Y[np.argmax(np.abs(Y[:, 0])), 0] > 0  # the largest coordinate is positive
+
+    def stress(Y, A):
+        return float(((distance_matrix(Y) - A) ** 2).sum())
+
+    rng = np.random.default_rng(6)
+    A = distance_matrix(rng.normal(size=(15, 6)))
+    A = A + rng.uniform(0, 1, A.shape)
+    A = (A + A.T) / 2
+    np.fill_diagonal(A, 0)
+    assert stress(mds_embedding(A), A) < stress(mds_embedding(A, max_iter=1), A)
+
+
 def test_mds_rejects_asymmetric():
     D = np.array([[0.0, 1.0], [2.0, 0.0]])
     with pytest.raises(ValueError, match=r"D must be symmetric"):
