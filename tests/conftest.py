@@ -40,10 +40,12 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 #: assignment graded by nbgrader, a browser page).  Every other module runs on one worker,
 #: so that its module fixtures are built once.
 SPREAD_MODULES = {"test_assignments", "test_notebooks", "test_browser"}
-#: Modules that take long in all (a module fixture builds a site or a collection, or one test
-#: runs a type check or a whole report): a parallel run starts them right after the spread
-#: tests.
-LONG_MODULES = {"test_docs", "test_creatures", "test_typing", "test_reproduce"}
+#: Modules that take long in all although they hold few tests (a fixture builds a site, a
+#: collection or a wheel and its environment, or one test runs a type check, a whole report or
+#: lessons): a parallel run starts them right after the spread tests, so that no worker ends
+#: the run alone on one of them.
+LONG_MODULES = {"test_docs", "test_creatures", "test_typing", "test_reproduce", "test_wheel",
+                "test_prepared"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before pytest's own -m selection
