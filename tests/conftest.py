@@ -171,12 +171,12 @@ def cli(*args, cache=None, check=False, env=None, process=False, cwd=None):
 
         out, err = io.StringIO(), io.StringIO()
         here = os.getcwd()
-        if cwd is not None:
-            os.chdir(cwd)
         with mock.patch.dict(os.environ, env), contextlib.redirect_stdout(out), \
                 contextlib.redirect_stderr(err), warnings.catch_warnings():
             warnings.resetwarnings()
             try:
+                if cwd is not None:
+                    os.chdir(cwd)
                 code = main(argv)
             except SystemExit as exc:  # argparse's usage errors
                 code = exc.code

@@ -337,7 +337,6 @@ def test_collect_mesh_files_names_labels_and_globs(tmp_path):
 
 
 def test_flat_folder_has_no_classes_in_describe_and_query(tmp_path, capsys):
-
     flat = tmp_path / "my-meshes"
     write_off(flat / "ball.off", shapes.icosphere(1))
     write_off(flat / "big.off", (2.0 * shapes.icosphere(1).vertices, shapes.icosphere(1).faces))
