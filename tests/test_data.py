@@ -173,6 +173,24 @@ def test_bad_manifest_file_errors(tmp_path):
         data.manifest.load_manifest(tmp_path / "missing.yaml")
 
 
+def test_a_manifest_file_is_read_again_when_it_changes(tmp_path):
+    """A file read before gives its entries again, each call its own copy; a file rewritten in
+    place (the same size, at once) is read and checked again."""
+    p = tmp_path / "m.yaml"
+    entry = ("version: 1\ncollections:\n- name: {name}\n  kind: generated\n  description: d\n"
+             "  license: BSD-3-Clause\n  citation: none\n  items:\n  - {{name: s, label: sphere, "
+             "recipe: sphere, params: {{subdivisions: 1}}}}\n")
+    p.write_text(entry.format(name="aaaa"))
+    first = data.manifest.load_manifest(p)
+    first["aaaa"]["description"] = "changed by the caller"
+    assert data.manifest.load_manifest(p)["aaaa"]["description"] == "d"
+    p.write_text(entry.format(name="bbbb"))
+    assert list(data.manifest.load_manifest(p)) == ["bbbb"]
+    p.write_text(entry.format(name="cccc") + "  bad_field: 1\n")
+    with pytest.raises(ValueError, match="bad_field"):
+        data.manifest.load_manifest(p)
+
+
 def test_unknown_collection_and_item():
     with pytest.raises(ValueError, match="unknown collection 'nope'; known collections"):
         data.load_collection("nope")

@@ -35,6 +35,10 @@ RECIPES_VERSION = 3
 #: wheel stores the file itself (``[tool.setuptools.package-data]`` in pyproject.toml).
 _DEFAULT_MANIFEST = Path(__file__).resolve().parent / "data_manifest.yaml"
 
+#: The validated manifests read from files: ``{resolved path: (text, entries)}``.  A file is
+#: parsed and checked again when its text changes; each call gets its own copy.
+_READ: dict[str, tuple[str, Entries]] = {}
+
 
 # ====================================================================== records
 @dataclass(eq=False)
@@ -520,12 +524,16 @@ def load_manifest(path: ManifestSource = None) -> Entries:
         raise FileNotFoundError(
             f"no data manifest at {str(p)!r}; pass manifest=PATH or set CSHAPE_MANIFEST"
         )
-    with open(p, encoding="utf-8") as fh:
-        try:
-            doc = yaml.safe_load(fh)
+    where, text = p.resolve(), p.read_text(encoding="utf-8")
+    known = _READ.get(str(where))
+    if known is None or known[0] != text:
+        try:  # libyaml's parser where PyYAML has it, else PyYAML's own
+            doc = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
         except yaml.YAMLError as exc:
             raise ValueError(f"{p.name}: not valid YAML ({exc})") from None
-    return _with_root(validate_manifest(doc, source=p.name), p.resolve().parent)
+        known = (text, _with_root(validate_manifest(doc, source=p.name), where.parent))
+        _READ[str(where)] = known
+    return copy.deepcopy(known[1])
 
 
 def _with_root(entries: Entries, root: str | os.PathLike[str]) -> Entries:
