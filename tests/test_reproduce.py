@@ -4,11 +4,10 @@ retrieval tables (every descriptor, every size, the computed verdict) on a bench
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
+from conftest import cli
 
 from cshape import CShapeWarning, Descriptor, data, shapes
 from cshape.batch import DescriptorTable
@@ -196,13 +195,9 @@ def test_cli_reproduce_on_a_folder(tmp_path):
         _write_off(folder / label / f"{name}.off", mesh)
     assert cshape.load_mesh(folder / "sphere" / "S2.off").n_vertices == 162
     bench = _folder_benchmark(tmp_path / "bench")
-    res = subprocess.run(
-        [sys.executable, "-m", "cshape", "reproduce", "--folder", str(folder), "--out",
-         str(tmp_path / "rep"), "-N", "20", "-M", "3", "--noise", "", "--jobs", "1",
-         "--benchmark", str(bench.info["path"])],
-        capture_output=True, text=True, timeout=600,
-        env={**__import__("os").environ, "CSHAPE_CACHE": str(tmp_path / "cache")},
-    )
+    res = cli("reproduce", "--folder", folder, "--out", tmp_path / "rep", "-N", "20", "-M", "3",
+              "--noise", "", "--jobs", "1", "--benchmark", bench.info["path"],
+              cache=tmp_path / "cache")
     assert res.returncode == 0, res.stderr[-2000:]
     assert (tmp_path / "rep" / "report.md").exists()
     assert "retrieval on bench, 6 shapes" in res.stdout and "Verdict on bench" in res.stdout
