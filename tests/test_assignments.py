@@ -9,6 +9,7 @@ import html
 import json
 import re
 import shutil
+import sys
 
 import nbformat
 import pytest
@@ -426,6 +427,12 @@ def test_nbgrader_grades_a_small_assignment(tmp_path):
         score = {s: gb.find_submission(assignment, s).score
                  for s in ("instructor", "untouched", "edited")}
     assert score == {"instructor": 2, "untouched": 0, "edited": 0}, score
+
+
+def test_run_nbgrader_without_nbgrader_says_how_to_install_it(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "nbgrader", None)  # as if it were not installed
+    with pytest.raises(ImportError, match=r"nbgrader is not installed.*cshape\[course\]"):
+        asg.run_nbgrader("generate_assignment", "week1", cwd=tmp_path)
 
 
 def test_copy_lessons_and_refuse_a_used_folder(tmp_path, capsys):

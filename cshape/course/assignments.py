@@ -33,6 +33,7 @@ student release; this module only lays out a course folder and calls it:
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import re
 import shutil
@@ -142,12 +143,10 @@ def run_nbgrader(*args: str, cwd: str | os.PathLike[str], env: dict[str, str] | 
     RuntimeError
         When nbgrader fails; the message ends with nbgrader's error line.
     """
-    try:
-        import nbgrader  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("nbgrader") is None:  # without importing it (seconds)
         raise ImportError(
             'nbgrader is not installed; it makes the student versions: pip install "cshape[course]"'
-        ) from None
+        )
     full_env = _nbgrader_env()
     full_env.update(env or {})
     r = subprocess.run([sys.executable, "-m", "nbgrader", *args], cwd=str(cwd), env=full_env,
