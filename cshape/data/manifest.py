@@ -504,7 +504,8 @@ def load_manifest(path: ManifestSource = None) -> Entries:
         The YAML file; default ``$CSHAPE_MANIFEST`` or the ``data_manifest.yaml`` shipped
         inside the package.  A dict is taken as an already parsed manifest.
         The file's folder is recorded (key ``_root`` of each entry) to resolve relative
-        ``local`` paths.
+        ``local`` paths.  A file read before is parsed and validated again only when its
+        text has changed.
 
     Returns
     -------
