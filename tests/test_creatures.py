@@ -99,6 +99,33 @@ def test_capsules_expression_cutoff_keeps_the_surface():
         bodies.capsules_expression(caps, cutoff=0)
 
 
+@pytest.mark.parametrize("kind", ["octopus", "crab", "human"])
+def test_capsules_expression_tree_gives_the_bits_of_one_capsule_at_a_time(kind):
+    """With a cutoff, the capsules are tested in a tree of boxes; the marching cubes are those
+    of the capsules tested one by one (written out here), to the last bit: creatures and
+    figures are the same meshes as before the tree."""
+    caps = cr.creature_capsules(kind, 3)
+    cutoff, voxel = 0.12, 0.04
+    flat = []
+    for c in caps:
+        a, b = np.asarray(c.a, dtype=float), np.asarray(c.b, dtype=float)
+        lo, hi = np.minimum(a, b) - c.radius - cutoff, np.maximum(a, b) + c.radius + cutoff
+        inside = "&&".join(f"({x}>{p:.9g})&&({x}<{q:.9g})"
+                           for x, p, q in zip("xyz", lo, hi, strict=True))
+        flat.append(f"(({inside})?({c.expression()}):{cutoff:.9g})")
+    one_by_one = flat[0]
+    for e in flat[1:]:
+        one_by_one = f"min({one_by_one},{e})"
+    tree = bodies.capsules_expression(caps, cutoff=cutoff)
+    assert tree.count("?") > len(caps)  # the groups' boxes are tested too
+    pts = np.array([c.a for c in caps] + [c.b for c in caps])
+    box = (*(pts.min(0) - 0.3), *(pts.max(0) + 0.3))
+    ref = v.marching_cubes(one_by_one, box, voxel)
+    got = v.marching_cubes(tree, box, voxel)
+    np.testing.assert_array_equal(got.vertices, ref.vertices)
+    np.testing.assert_array_equal(got.faces, ref.faces)
+
+
 @pytest.mark.parametrize(
     "call, match",
     [
