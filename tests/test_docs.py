@@ -9,6 +9,7 @@ other lessons from their sources without outputs: the site's build never execute
 
 from __future__ import annotations
 
+import functools
 import importlib
 import os
 import re
@@ -83,13 +84,20 @@ def parsed(site):
 def test_internal_links_resolve(site, parsed):
     assert len(parsed) > 50, len(parsed)
     broken = []
+
+    @functools.cache  # every page links the same sidebar: resolve each address once
+    def resolve(folder, path):
+        target = (folder / path).resolve()
+        return target, target.exists()
+
     for page, refs in parsed.items():
         for _tag, _attr, value in refs.refs:
             url = urlsplit(value)
             if url.scheme or value.startswith(("//", "mailto:", "javascript:")):
                 continue
-            target = page if not url.path else (page.parent / unquote(url.path)).resolve()
-            if not target.exists():
+            target, exists = (page, True) if not url.path else resolve(page.parent,
+                                                                       unquote(url.path))
+            if not exists:
                 broken.append(f"{page.relative_to(site)}: {value}")
             elif url.fragment and target.suffix == ".html":
                 ids = parsed[target].ids if target in parsed else _parse(target).ids
@@ -152,7 +160,7 @@ def test_site_in_chromium_offline(site):
     """Home page, lesson 02 and the API page of shape_dna in headless Chromium, with every
     request that is not for a local file blocked and recorded: no request is made, the
     equations are typeset (no raw TeX left), the lesson's 3-D viewer draws."""
-    from test_browser import CHROMIUM, FLAGS, _canvas_pixels, _not_blank, _playwright
+    from test_browser import CHROMIUM, FLAGS, _drawn, _not_blank, _playwright
 
     sync_api = _playwright()
     ARTIFACTS.mkdir(exist_ok=True)
@@ -190,8 +198,7 @@ def test_site_in_chromium_offline(site):
             canvas = page.locator(".js-plotly-plot .gl-container canvas").first
             canvas.wait_for(timeout=60_000)
             canvas.scroll_into_view_if_needed()
-            page.wait_for_timeout(2000)  # WebGL draws after the DOM is there
-            px = _canvas_pixels(canvas.screenshot())
+            px = _drawn(canvas)
             assert _not_blank(px), "the 3-D viewer is blank"
             title = page.locator(".js-plotly-plot .gtitle").first.text_content()
             assert "λ" in title and "φ" in title, title
