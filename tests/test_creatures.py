@@ -29,7 +29,7 @@ def _isolated_cache(tmp_path, monkeypatch):
 def small(tmp_path_factory):
     """creatures-small (12 classes x 3, as shipped) built once, and its Shape-DNA N=100."""
     cache = tmp_path_factory.mktemp("creatures-cache")
-    coll = data.load_collection("creatures-small", cache_dir=cache, progress=False, n_jobs=2)
+    coll = data.load_collection("creatures-small", cache_dir=cache, progress=False)
     table = cshape.describe(coll, N=100, cache_dir=cache / "eig", progress=False, n_jobs=1)
     return cache, coll, table
 
