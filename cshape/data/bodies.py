@@ -94,10 +94,7 @@ def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = N
     if not capsules:
         raise ValueError("capsules is empty: a figure needs at least one capsule")
     if cutoff is None:
-        expr = capsules[0].expression()
-        for c in capsules[1:]:
-            expr = f"min({expr},{c.expression()})"
-        return expr
+        return _minimum([c.expression() for c in capsules])
     cutoff = _check_pos("cutoff", cutoff)
     leaves = []
     for c in capsules:
@@ -107,6 +104,14 @@ def capsules_expression(capsules: Iterable[Capsule], *, cutoff: float | None = N
         leaves.append((f"(({_inside(lo, hi)})?({c.expression()}):{cutoff:.9g})", lo, hi,
                        (a + b) / 2))
     return _box_tree(leaves, cutoff)[0]
+
+
+def _minimum(exprs: Sequence[str]) -> str:
+    """muparser: the minimum of ``exprs``, as nested ``min(a,b)`` from the first on."""
+    expr = exprs[0]
+    for e in exprs[1:]:
+        expr = f"min({expr},{e})"
+    return expr
 
 
 def _as_written(values: np.ndarray) -> np.ndarray:
@@ -128,16 +133,14 @@ def _box_tree(leaves: list, cutoff: float) -> tuple[str, np.ndarray, np.ndarray]
     lo = np.min([leaf[1] for leaf in leaves], axis=0)
     hi = np.max([leaf[2] for leaf in leaves], axis=0)
     if len(leaves) <= 2:
-        expr = leaves[0][0]
-        for leaf in leaves[1:]:
-            expr = f"min({expr},{leaf[0]})"
-        return expr, lo, hi
+        return _minimum([leaf[0] for leaf in leaves]), lo, hi
     centres = np.array([leaf[3] for leaf in leaves])
     order = np.argsort(centres[:, int(np.argmax(np.ptp(centres, axis=0)))], kind="stable")
     half = len(leaves) // 2
     left = _box_tree([leaves[k] for k in order[:half]], cutoff)
     right = _box_tree([leaves[k] for k in order[half:]], cutoff)
-    return (f"(({_inside(lo, hi)})?(min({left[0]},{right[0]})):{cutoff:.9g})", lo, hi)
+    both = _minimum([left[0], right[0]])
+    return f"(({_inside(lo, hi)})?({both}):{cutoff:.9g})", lo, hi
 
 
 def capsules_surface(capsules: Sequence[Capsule], voxelsize: float) -> Mesh:
